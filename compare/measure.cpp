@@ -1,0 +1,165 @@
+#include "compare/measure.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace slipfront::compare {
+
+double tip_position(std::span<const double> x, std::span<const double> area, double threshold) {
+  for (std::size_t i = area.size(); i-- > 0;) {
+    if (area[i] < threshold) {
+      if (i + 1 == area.size()) return x[i];
+      const double a0 = area[i], a1 = area[i + 1];
+      return x[i] + (threshold - a0) / (a1 - a0) * (x[i + 1] - x[i]);
+    }
+  }
+  return nan;
+}
+
+double ls_slope(std::span<const double> t, std::span<const double> y) {
+  const std::size_t n = t.size();
+  if (n < 2) return nan;
+  double mt = 0, my = 0;
+  for (std::size_t i = 0; i < n; ++i) { mt += t[i]; my += y[i]; }
+  mt /= static_cast<double>(n);
+  my /= static_cast<double>(n);
+  double stt = 0, sty = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    stt += (t[i] - mt) * (t[i] - mt);
+    sty += (t[i] - mt) * (y[i] - my);
+  }
+  return stt > 0 ? sty / stt : nan;
+}
+
+FrontTracker::FrontTracker(const continuum::MeasureParams& p, std::vector<double> x)
+    : p_(p), x_(std::move(x)) {}
+
+void FrontTracker::observe_step(double t0, double t1, bool yielded, double max_v) {
+  if (yielded && std::isnan(ev_.t_star)) ev_.t_star = t0;
+  const double t_mid = 0.5 * (t0 + t1);  // v^{n+1/2} lives at the midpoint
+  if (std::isnan(ev_.t_hat) && max_v > p_.v_event) {
+    const double f = (p_.v_event - prev_max_v_) / (max_v - prev_max_v_);
+    ev_.t_hat = prev_max_v_ <= p_.v_event && f >= 0 && f <= 1 ? prev_t_mid_ + f * (t_mid - prev_t_mid_) : t_mid;
+    in_transient_ = true;
+  } else if (in_transient_ && max_v < p_.v_event / 5.0) {
+    in_transient_ = false;
+    ev_.t_arrest = t_mid;
+  }
+  prev_max_v_ = max_v;
+  prev_t_mid_ = t_mid;
+}
+
+double FrontTracker::sample_tip(double t, std::span<const double> area) {
+  const double tip = tip_position(x_, area, p_.A_tip);
+  last_tip_alt_ = tip_position(x_, area, p_.A_tip_alt);
+  ts_.push_back(t);
+  tips_.push_back(tip);
+  tips_alt_.push_back(last_tip_alt_);
+  next_sample_ = t + p_.sample_dt * (1.0 - 1e-9);
+  return tip;
+}
+
+namespace {
+// Samples (t, tip) with t in [a, b]; false if the tip is undefined (no front) at any of them.
+bool window(const std::vector<double>& ts, const std::vector<double>& tips, double a, double b,
+            std::vector<double>& wt, std::vector<double>& wy) {
+  wt.clear();
+  wy.clear();
+  bool complete = true;
+  for (std::size_t i = 0; i < ts.size(); ++i)
+    if (ts[i] >= a && ts[i] <= b) {
+      if (!std::isfinite(tips[i])) { complete = false; continue; }
+      wt.push_back(ts[i]);
+      wy.push_back(tips[i]);
+    }
+  return complete;
+}
+
+// LS slope over the samples whose tip lies in the middle half of [x0, x1] (distance run).
+double slope_middle_distance(const std::vector<double>& t, const std::vector<double>& y, double x0, double x1) {
+  std::vector<double> ft, fy;
+  const double lo = x0 + 0.25 * (x1 - x0), hi = x0 + 0.75 * (x1 - x0);
+  for (std::size_t i = 0; i < t.size(); ++i)
+    if (y[i] >= lo && y[i] <= hi) { ft.push_back(t[i]); fy.push_back(y[i]); }
+  return ls_slope(ft, fy);
+}
+}  // namespace
+
+Events FrontTracker::finish(bool homogeneous, bool alt) const {
+  Events ev = ev_;
+  const std::vector<double>& tips = alt ? tips_alt_ : tips_;
+  std::vector<double> wt, wy;
+  if (std::isfinite(ev.t_star) && std::isfinite(ev.t_hat) && ev.t_hat > ev.t_star) {
+    const double d = ev.t_hat - ev.t_star;
+    if (window(ts_, tips, ev.t_star + 0.25 * d, ev.t_hat - 0.25 * d, wt, wy)) ev.c_slow = ls_slope(wt, wy);
+  }
+  if (std::isfinite(ev.t_hat)) {
+    const double t_end = std::isfinite(ev.t_arrest) ? ev.t_arrest : (ts_.empty() ? ev.t_hat : ts_.back());
+    window(ts_, tips, ev.t_hat, t_end, wt, wy);
+    if (!wy.empty()) {
+      // The transient runs from its position at t^ to the farthest tip reached.
+      const double x0 = wy.front();
+      const double x1 = *std::max_element(wy.begin(), wy.end());
+      if (std::isfinite(ev.t_arrest)) ev.x_arrest = x1;
+      if (x1 > x0) {
+        ev.c_transient = slope_middle_distance(wt, wy, x0, x1);
+        double peak = nan;
+        std::size_t j = 0;
+        for (std::size_t i = 0; i < wt.size(); ++i) {
+          while (j < wt.size() && wt[j] < wt[i] + 0.5 - 1e-12) ++j;
+          if (j == wt.size()) break;
+          const double s = (wy[j] - wy[i]) / (wt[j] - wt[i]);
+          if (!(s <= peak)) peak = s;
+        }
+        ev.c_transient_peak = peak;
+      }
+    }
+  }
+  if (homogeneous) {
+    window(ts_, tips, -1.0, ts_.empty() ? 0.0 : ts_.back(), wt, wy);
+    if (!wy.empty()) {
+      const double x1 = *std::max_element(wy.begin(), wy.end());
+      ev.c_front = slope_middle_distance(wt, wy, wy.front(), x1);
+    }
+  }
+  return ev;
+}
+
+BatchMeans::BatchMeans(double t_from, double t_end, int batches)
+    : t_from_(t_from), t_end_(t_end), sum_(static_cast<std::size_t>(batches), 0.0),
+      weight_(static_cast<std::size_t>(batches), 0.0) {}
+
+void BatchMeans::add(double t0, double t1, double y) {
+  if (t1 <= t_from_ || t0 >= t_end_) return;
+  const double nb = static_cast<double>(sum_.size()), len = (t_end_ - t_from_) / nb;
+  double a = std::max(t0, t_from_);
+  const double b = std::min(t1, t_end_);
+  while (a < b) {  // split [a, b] over the batches it covers
+    auto k = static_cast<std::size_t>(std::min(nb - 1.0, std::floor((a - t_from_) / len)));
+    const double edge = std::min(b, t_from_ + static_cast<double>(k + 1) * len);
+    const double w = edge - a;
+    if (w <= 0) { a = std::nextafter(a, b); continue; }
+    sum_[k] += w * y;
+    weight_[k] += w;
+    a = edge;
+  }
+}
+
+double BatchMeans::mean() const {
+  double s = 0;
+  int n = 0;
+  for (std::size_t k = 0; k < sum_.size(); ++k)
+    if (weight_[k] > 0) { s += sum_[k] / weight_[k]; ++n; }
+  return n ? s / n : nan;
+}
+
+double BatchMeans::stderr_of_mean() const {
+  const double m = mean();
+  double s = 0;
+  int n = 0;
+  for (std::size_t k = 0; k < sum_.size(); ++k)
+    if (weight_[k] > 0) { const double d = sum_[k] / weight_[k] - m; s += d * d; ++n; }
+  return n > 1 ? std::sqrt(s / (n - 1) / n) : nan;
+}
+
+}  // namespace slipfront::compare

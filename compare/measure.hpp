@@ -1,0 +1,79 @@
+#pragma once
+// Measurements of MODEL §3, written once and applied to every model (continuum and discrete).
+// FrontTracker is fed online by the runner: observe_step() every step, sample_tip() at a cadence.
+#include <cstddef>
+#include <limits>
+#include <span>
+#include <vector>
+
+#include "continuum/params.hpp"
+
+namespace slipfront::compare {
+
+inline constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+
+/// Event times and front speeds (NaN where the run had no such event).
+struct Events {
+  double t_star = nan;            ///< first yield: first step at whose start some site has Θ = 1
+  double t_hat = nan;             ///< instability: first time max_x v > v_event (interpolated)
+  double c_slow = nan;            ///< LS slope of x_tip(t) over the middle half of [t*, t^]
+  double c_transient = nan;       ///< LS slope of x_tip over the middle half of the transient's run
+  double c_transient_peak = nan;  ///< peak tip speed over 0.5 time units during the transient
+  double x_arrest = nan;          ///< largest x_tip reached before max v < v_event/5 after t^
+  double t_arrest = nan;          ///< time at which max v fell back below v_event/5
+  double c_front = nan;           ///< homogeneous loading: LS slope of x_tip over the middle half of its run
+};
+
+/// Largest x with A < threshold, interpolated linearly between nodes; NaN if A ≥ threshold everywhere.
+double tip_position(std::span<const double> x, std::span<const double> area, double threshold);
+
+/// Least-squares slope of y(t); NaN with fewer than 2 distinct points.
+double ls_slope(std::span<const double> t, std::span<const double> y);
+
+class FrontTracker {
+ public:
+  FrontTracker(const continuum::MeasureParams& p, std::vector<double> x);
+
+  /// Every step [t0, t1]: whether some site yielded at t0, and max |v| over the step.
+  void observe_step(double t0, double t1, bool yielded, double max_v);
+  /// Whether a tip sample is due at time t (cadence measure.sample_dt).
+  bool sample_due(double t) const { return t >= next_sample_; }
+  /// Record the tip positions (both thresholds) at time t; returns the A_tip position.
+  double sample_tip(double t, std::span<const double> area);
+
+  const std::vector<double>& sample_times() const { return ts_; }
+  const std::vector<double>& tips() const { return tips_; }
+  const std::vector<double>& tips_alt() const { return tips_alt_; }
+  double last_tip() const { return tips_.empty() ? nan : tips_.back(); }
+  double last_tip_alt() const { return last_tip_alt_; }
+
+  /// Speeds and arrest from the recorded samples of the A_tip front (alt: the A_tip_alt front).
+  /// `homogeneous` adds c_front. A speed needs the tip defined at every sample of its window.
+  Events finish(bool homogeneous, bool alt = false) const;
+
+ private:
+  continuum::MeasureParams p_;
+  std::vector<double> x_;
+  std::vector<double> ts_, tips_, tips_alt_;
+  double next_sample_ = 0.0, last_tip_alt_ = nan;
+  Events ev_;
+  double prev_max_v_ = 0.0, prev_t_mid_ = 0.0;
+  bool in_transient_ = false;
+};
+
+/// Steady friction law measurement (MODEL §3): time average of σ over [t_from, t_end] with its
+/// standard error from `batches` batch means of equal duration.
+class BatchMeans {
+ public:
+  BatchMeans(double t_from, double t_end, int batches);
+  /// Add the value y held over [t0, t1] (time-weighted).
+  void add(double t0, double t1, double y);
+  double mean() const;
+  double stderr_of_mean() const;
+
+ private:
+  double t_from_, t_end_;
+  std::vector<double> sum_, weight_;
+};
+
+}  // namespace slipfront::compare

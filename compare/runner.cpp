@@ -1,0 +1,36 @@
+#include "compare/runner.hpp"
+
+#include <stdexcept>
+
+namespace slipfront::compare {
+
+double dynamic_time_step(const Scene& s) {
+  const continuum::Bulk bulk(s.bulk, s.drive, s.interface, s.grid.dx);
+  const double dt = s.time.dt > 0 ? s.time.dt : s.time.cfl * bulk.stable_dt();
+  const double n = std::max(1.0, std::ceil(s.time.t_end / dt - 1e-9));
+  return s.time.t_end / n;
+}
+
+std::vector<double> sweep_rates(const continuum::DriveParams& d) {
+  std::vector<double> v(static_cast<std::size_t>(d.sweep_points));
+  const double a = std::log(d.v_min), b = std::log(d.v_max);
+  for (std::size_t k = 0; k < v.size(); ++k)
+    v[k] = std::exp(a + (b - a) * static_cast<double>(k) / static_cast<double>(v.size() - 1));
+  return v;
+}
+
+std::vector<ModelResult> run_scene(const Scene& s, const RunControl& ctl) {
+  std::vector<ModelResult> out;
+  for (const auto& m : s.models) {
+    if (m == "continuum") {
+      auto make = [&](std::size_t n) { return continuum::FrictionLaw(s.interface, n); };
+      out.push_back(run_model<continuum::FrictionLaw>(s, make, m, ctl));
+    } else {
+      throw std::invalid_argument("unknown model '" + m + "'");
+    }
+    if (out.back().status != "complete") break;
+  }
+  return out;
+}
+
+}  // namespace slipfront::compare

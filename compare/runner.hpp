@@ -1,0 +1,311 @@
+#pragma once
+// Runs one model on one scene: the loop that drives Simulation<Law> (1D, spring block) or the law
+// alone (imposed slip rate), feeds the shared measurements and records what the scene asks for.
+// Templated on the interface law so the continuum and discrete models share every line of it.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "compare/measure.hpp"
+#include "compare/result.hpp"
+#include "compare/scene.hpp"
+#include "continuum/bulk.hpp"
+#include "continuum/friction_law.hpp"
+#include "continuum/stepper.hpp"
+
+namespace slipfront::compare {
+
+/// Hooks of the caller (CLI): a stop request (Ctrl-C) polled between steps, and progress.
+struct RunControl {
+  std::function<bool()> stop = [] { return false; };
+  std::function<void(const std::string& model, double t, double t_end)> progress =
+      [](const std::string&, double, double) {};
+};
+
+/// The time step a dynamic scene will use: time.dt, or time.cfl × the explicit limit, shortened so
+/// that t_end is a whole number of steps.
+double dynamic_time_step(const Scene& s);
+
+/// Slip-rate grid of an imposed-rate sweep (log spaced, MODEL §4 friction_law).
+std::vector<double> sweep_rates(const continuum::DriveParams& d);
+
+namespace detail {
+
+// Cadence helper: due(t) is true at the first step at or after each multiple of `every`.
+class Cadence {
+ public:
+  explicit Cadence(double every) : every_(every) {}
+  bool due(double t) {
+    if (every_ < 0) return false;
+    if (t + 1e-9 * every_ < next_) return false;
+    next_ = every_ > 0 ? (std::floor(t / every_ + 1e-9) + 1.0) * every_ : t;
+    return true;
+  }
+ private:
+  double every_, next_ = 0.0;
+};
+
+inline void push(Columns& c, const char* name, double v) { c[name].push_back(v); }
+inline void append(Columns& c, const char* name, std::span<const double> v) {
+  auto& col = c[name];
+  col.insert(col.end(), v.begin(), v.end());
+}
+
+// Stick–slip cycles of the spring block: a cycle's slip event starts when v > v_event and ends
+// when v < v_event/5; F_peak is the largest F since the previous event, F_residual the smallest F
+// during the event.
+class CycleDetector {
+ public:
+  explicit CycleDetector(double v_event) : v_event_(v_event) {}
+  void observe(double t, double force, double v, Columns& out) {
+    if (!slipping_) {
+      peak_ = std::max(peak_, force);
+      if (v > v_event_) { slipping_ = true; t_start_ = t; low_ = force; }
+    } else {
+      low_ = std::min(low_, force);
+      if (v < v_event_ / 5.0) {
+        push(out, "t_start", t_start_);
+        push(out, "F_peak", peak_);
+        push(out, "F_residual", low_);
+        slipping_ = false;
+        peak_ = -HUGE_VAL;
+      }
+    }
+  }
+ private:
+  double v_event_, peak_ = -HUGE_VAL, low_ = HUGE_VAL, t_start_ = 0.0;
+  bool slipping_ = false;
+};
+
+template <class Law>
+void set_initial_conditions(const Scene& s, continuum::Simulation<Law>& sim) {
+  using continuum::Loading;
+  if (s.drive.loading != Loading::homogeneous) return;  // edge, spring block: u = v = 0, A = 1, σ̄ = 0
+  // MODEL §1 homogeneous loading: stuck state, and a nucleation patch in steady sliding at σ_d.
+  const auto& ip = s.interface;
+  const double sd = s.drive.sigma_d;
+  const double vs = continuum::strengthening_branch_velocity(ip, sd);
+  const auto& x = sim.bulk().x();
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const bool patch = std::isfinite(vs) && x[i] < s.drive.nucleation_length;
+    if (patch) {
+      const auto ss = continuum::steady_sliding(ip, vs);
+      sim.law().set_site(i, ss.area, ss.sigma_bar);
+      sim.set_initial(i, sd / ip.alpha, vs);
+    } else {
+      sim.law().set_site(i, 1.0, sd);
+      sim.set_initial(i, sd / ip.alpha, 0.0);
+    }
+  }
+}
+
+}  // namespace detail
+
+/// Bulk scenes: edge and homogeneous loading (1D), spring block (0D).
+template <class Law>
+ModelResult run_dynamic(const Scene& s, Law law, const std::string& model, const RunControl& ctl) {
+  using namespace continuum;
+  const auto wall0 = std::chrono::steady_clock::now();
+  ModelResult r;
+  r.model = model;
+  Bulk bulk(s.bulk, s.drive, s.interface, s.grid.dx);
+  const double dt = dynamic_time_step(s);
+  const auto nsteps = static_cast<std::int64_t>(std::llround(s.time.t_end / dt));
+  r.x = bulk.x();
+  r.scalars["dt"] = dt;
+  r.scalars["stable_dt"] = bulk.stable_dt();
+  Simulation<Law> sim(std::move(bulk), std::move(law), s.interface.eta, dt);
+  sim.track_energy(s.output.energy);
+  detail::set_initial_conditions(s, sim);
+
+  const bool one_d = is_one_dimensional(s.drive.loading);
+  FrontTracker tracker(s.measure, r.x);
+  detail::Cadence series_due(s.output.series_dt), snap_due(s.output.snapshot_dt > 0 ? s.output.snapshot_dt : -1);
+  detail::CycleDetector cycles(s.measure.v_event);
+
+  auto record = [&] {
+    const double t = sim.time();
+    const auto area = sim.law().contact_area();
+    if (one_d && tracker.sample_due(t)) tracker.sample_tip(t, area);
+    if (series_due.due(t)) {
+      detail::push(r.series, "t", t);
+      detail::push(r.series, "drive_force", sim.drive_force());
+      detail::push(r.series, "max_v", sim.max_slip_rate());
+      if (one_d) {
+        detail::push(r.series, "tip_x", tracker.last_tip());
+        detail::push(r.series, "tip_x_alt", tracker.last_tip_alt());
+      } else {
+        const double sb = sim.law().sigma_bar()[0], v = sim.slip_rate()[0];
+        detail::push(r.series, "A", area[0]);
+        detail::push(r.series, "sigma_bar", sb);
+        detail::push(r.series, "sigma", sb + s.interface.eta * v);
+        detail::push(r.series, "slip_rate", v);
+        detail::push(r.series, "slip", sim.slip()[0]);
+      }
+      if (const auto& e = sim.energy(); e && !std::isnan(e->mechanical0)) {
+        detail::push(r.series, "energy_drive_work", e->drive_work);
+        detail::push(r.series, "energy_mechanical", e->mechanical() - e->mechanical0);
+        detail::push(r.series, "energy_viscous", e->viscous);
+        detail::push(r.series, "energy_interfacial", e->interfacial);
+        detail::push(r.series, "energy_residual", e->residual());
+      }
+    }
+    if (one_d && snap_due.due(t)) {
+      r.snapshot_t.push_back(t);
+      detail::append(r.snapshots, "A", area);
+      detail::append(r.snapshots, "sigma_bar", sim.law().sigma_bar());
+      detail::append(r.snapshots, "v", sim.slip_rate());
+      detail::append(r.snapshots, "u", sim.slip());
+    }
+  };
+
+  record();
+  try {
+    for (std::int64_t n = 0; n < nsteps; ++n) {
+      const double t0 = sim.time();
+      sim.step();
+      tracker.observe_step(t0, sim.time(), sim.yielded(), sim.max_slip_rate());
+      if (!one_d) cycles.observe(sim.time(), sim.drive_force(), sim.slip_rate()[0], r.cycles);
+      record();
+      if ((n & 1023) == 1023) {
+        ctl.progress(model, sim.time(), s.time.t_end);
+        if (ctl.stop()) {
+          r.status = "interrupted";
+          r.message = "stopped at t = " + std::to_string(sim.time());
+          break;
+        }
+      }
+    }
+  } catch (const NumericalError& e) {
+    r.status = "failed";
+    r.message = e.what();
+  }
+  r.events = tracker.finish(s.drive.loading == Loading::homogeneous);
+  r.events_alt = tracker.finish(s.drive.loading == Loading::homogeneous, true);
+  r.scalars["steps"] = static_cast<double>(sim.steps());
+  r.scalars["t_reached"] = sim.time();
+  r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  return r;
+}
+
+/// Steady friction at imposed v (MODEL §3): run one site for t_end + slip_end/|v| in `steps` exact
+/// steps and average σ = σ̄ + ηv over the last (1 − average_from) of the run by batch means.
+struct SteadyPoint {
+  double v, sigma, sigma_stderr, area;
+};
+template <class Law>
+SteadyPoint steady_point(const Scene& s, Law law, double v) {
+  const double T = s.time.t_end + s.time.slip_end / std::abs(v);
+  const double dt = T / s.time.steps;
+  BatchMeans sig(s.measure.average_from * T, T, s.measure.batches), area(s.measure.average_from * T, T, 2);
+  const double vv[1] = {v};
+  for (int n = 0; n < s.time.steps; ++n) {
+    law.advance(dt, vv);
+    const double t0 = n * dt, t1 = (n + 1) * dt;
+    sig.add(t0, t1, law.sigma_bar()[0] + s.interface.eta * v);
+    area.add(t0, t1, law.contact_area()[0]);
+  }
+  return {v, sig.mean(), sig.stderr_of_mean(), area.mean()};
+}
+
+/// Imposed slip rate (0D): a sweep over v (friction law) or one piecewise-constant history v(t).
+template <class Law, class MakeLaw>
+ModelResult run_imposed_rate(const Scene& s, MakeLaw make_law, const std::string& model, const RunControl& ctl) {
+  using namespace continuum;
+  const auto wall0 = std::chrono::steady_clock::now();
+  ModelResult r;
+  r.model = model;
+  r.x = {0.0};
+  if (s.drive.sweep_points > 0) {
+    const auto rates = sweep_rates(s.drive);
+    for (std::size_t k = 0; k < rates.size(); ++k) {
+      const SteadyPoint p = steady_point<Law>(s, make_law(std::size_t{1}), rates[k]);
+      detail::push(r.friction_law, "v", p.v);
+      detail::push(r.friction_law, "sigma", p.sigma);
+      detail::push(r.friction_law, "sigma_stderr", p.sigma_stderr);
+      detail::push(r.friction_law, "A", p.area);
+      detail::push(r.friction_law, "sigma_closed_form", steady_sliding(s.interface, p.v).sigma);
+      ctl.progress(model, static_cast<double>(k + 1), static_cast<double>(rates.size()));
+      if (ctl.stop()) { r.status = "interrupted"; r.message = "stopped during the sweep"; break; }
+    }
+    // Numerical minimum: parabola in log v through the smallest tabulated σ and its neighbours.
+    const auto& sv = r.friction_law["sigma"];
+    const auto& vv = r.friction_law["v"];
+    if (sv.size() >= 3) {
+      auto k = static_cast<std::size_t>(std::min_element(sv.begin(), sv.end()) - sv.begin());
+      k = std::clamp<std::size_t>(k, 1, sv.size() - 2);
+      const double x0 = std::log(vv[k - 1]), x1 = std::log(vv[k]), x2 = std::log(vv[k + 1]);
+      const double y0 = sv[k - 1], y1 = sv[k], y2 = sv[k + 1];
+      const double d = (x0 - x1) * (x0 - x2) * (x1 - x2);
+      const double a = (x2 * (y1 - y0) + x1 * (y0 - y2) + x0 * (y2 - y1)) / d;
+      const double b = (x2 * x2 * (y0 - y1) + x1 * x1 * (y2 - y0) + x0 * x0 * (y1 - y2)) / d;
+      const double c = (x1 * x2 * (x1 - x2) * y0 + x2 * x0 * (x2 - x0) * y1 + x0 * x1 * (x0 - x1) * y2) / d;
+      if (a > 0) {
+        const double xm = -b / (2 * a);
+        r.scalars["v_m_fit"] = std::exp(xm);
+        r.scalars["sigma_c_fit"] = c - b * b / (4 * a);
+      }
+    }
+  } else {
+    // One history: piecewise-constant v, steps aligned with the switch times.
+    Law law = make_law(std::size_t{1});
+    const auto& vs = s.drive.v;
+    const auto& ts = s.drive.v_times;
+    const double dt_target = s.time.dt > 0 ? s.time.dt : s.time.t_end / s.time.steps;
+    FrontTracker tracker(s.measure, r.x);
+    detail::Cadence series_due(s.output.series_dt);
+    double t = 0.0;
+    auto record = [&](double v) {
+      if (!series_due.due(t)) return;
+      const double sb = law.sigma_bar()[0];
+      detail::push(r.series, "t", t);
+      detail::push(r.series, "slip_rate", v);
+      detail::push(r.series, "A", law.contact_area()[0]);
+      detail::push(r.series, "sigma_bar", sb);
+      detail::push(r.series, "sigma", sb + s.interface.eta * v);
+      detail::push(r.series, "drive_force", sb + s.interface.eta * v);
+      detail::push(r.series, "max_v", std::abs(v));
+    };
+    record(vs[0]);
+    std::int64_t steps = 0;
+    for (std::size_t k = 0; k < vs.size() && r.status == "complete"; ++k) {
+      const double t_seg_end = k + 1 < vs.size() ? std::min(ts[k + 1], s.time.t_end) : s.time.t_end;
+      if (t_seg_end <= ts[k]) break;
+      const auto n = static_cast<std::int64_t>(std::ceil((t_seg_end - ts[k]) / dt_target - 1e-9));
+      const double dt = (t_seg_end - ts[k]) / static_cast<double>(n);
+      const double v[1] = {vs[k]};
+      for (std::int64_t j = 0; j < n; ++j) {
+        const double t0 = t;
+        const bool yielded = law.advance(dt, v).any_yield;
+        t = ts[k] + static_cast<double>(j + 1) * dt;
+        tracker.observe_step(t0, t, yielded, std::abs(v[0]));
+        record(v[0]);
+        if ((++steps & 1023) == 0) {
+          ctl.progress(model, t, s.time.t_end);
+          if (ctl.stop()) { r.status = "interrupted"; r.message = "stopped at t = " + std::to_string(t); break; }
+        }
+      }
+    }
+    r.events = tracker.finish(false);
+    r.scalars["steps"] = static_cast<double>(steps);
+  }
+  r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  return r;
+}
+
+/// Run one model on a scene, whichever loading it has. make_law(n_sites) builds the law.
+template <class Law, class MakeLaw>
+ModelResult run_model(const Scene& s, MakeLaw make_law, const std::string& model, const RunControl& ctl) {
+  if (s.drive.loading == continuum::Loading::imposed_rate) return run_imposed_rate<Law>(s, make_law, model, ctl);
+  const continuum::Bulk probe(s.bulk, s.drive, s.interface, s.grid.dx);
+  return run_dynamic<Law>(s, make_law(probe.nodes()), model, ctl);
+}
+
+/// Every model the scene lists, in order (continuum; discrete from issue 3 on).
+std::vector<ModelResult> run_scene(const Scene& s, const RunControl& ctl);
+
+}  // namespace slipfront::compare

@@ -1,0 +1,31 @@
+#include "compare/scene.hpp"
+
+#include "continuum/bulk.hpp"
+
+namespace slipfront::compare {
+
+void Scene::validate() const {
+  using continuum::ParamError;
+  if (models.empty()) throw ParamError("models", "must list at least one model");
+  for (const auto& m : models)
+    if (m != "continuum" && m != "discrete")
+      throw ParamError("models", "unknown model '" + m + "' (expected continuum or discrete)");
+  const bool one_d = continuum::is_one_dimensional(drive.loading);
+  interface.validate();
+  bulk.validate(one_d);
+  drive.validate();
+  grid.validate(bulk, one_d);
+  time.validate(drive.loading);
+  measure.validate();
+  output.validate();
+  for (const auto& m : models)
+    if (m == "discrete") discrete.validate();
+  if (drive.loading != continuum::Loading::imposed_rate && time.dt > 0) {
+    const continuum::Bulk b(bulk, drive, interface, grid.dx);
+    if (time.dt > b.stable_dt())
+      throw ParamError("time.dt", "exceeds the explicit stability limit " + std::to_string(b.stable_dt()) +
+                                      " of this grid (use time.cfl <= 1 or a smaller dt)");
+  }
+}
+
+}  // namespace slipfront::compare

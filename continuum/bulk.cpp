@@ -1,0 +1,45 @@
+#include "continuum/bulk.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace slipfront::continuum {
+
+Bulk::Bulk(const BulkParams& bulk, const DriveParams& drive, const InterfaceParams& law, double dx)
+    : rho_(bulk.rho) {
+  double omega2 = law.alpha / bulk.rho;
+  switch (drive.loading) {
+    case Loading::edge:
+    case Loading::homogeneous: {
+      const auto cells = static_cast<std::size_t>(std::llround(bulk.length / dx));
+      if (cells < 1) throw std::invalid_argument("Bulk: bulk.length must hold at least one cell");
+      dx_ = dx;
+      x_.resize(cells + 1);
+      for (std::size_t i = 0; i <= cells; ++i) x_[i] = static_cast<double>(i) * dx;
+      k_ = bulk.mu / dx;
+      w_in_ = dx;
+      w_end_ = 0.5 * dx;
+      omega2 += 4.0 * bulk.mu / (bulk.rho * dx * dx);
+      if (drive.loading == Loading::edge) {
+        spring_K_ = drive.K;
+        v_d_ = drive.v_d;
+        omega2 += spring_K_ / (bulk.rho * w_end_);
+      } else {
+        sigma_d_ = drive.sigma_d;
+      }
+      break;
+    }
+    case Loading::spring_block:
+      dx_ = 1.0;
+      x_ = {0.0};
+      spring_K_ = drive.K;
+      v_d_ = drive.v_d;
+      omega2 += spring_K_ / bulk.rho;
+      break;
+    case Loading::imposed_rate:
+      throw std::invalid_argument("Bulk: an imposed slip rate scene has no bulk");
+  }
+  stable_dt_ = 2.0 / std::sqrt(omega2);
+}
+
+}  // namespace slipfront::continuum

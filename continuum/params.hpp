@@ -1,0 +1,95 @@
+#pragma once
+// Plain parameter structs of the continuum model (MODEL.md §1, §4).
+// Each has validate(): it throws ParamError naming the config key and the reason.
+// Filling them from TOML is the job of apps/config; nothing here knows about files.
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace slipfront::continuum {
+
+/// A parameter value that is out of range. `key` is the dotted config key ("bulk.rho").
+struct ParamError : std::runtime_error {
+  std::string key;
+  std::string reason;
+  ParamError(std::string k, std::string r)
+      : std::runtime_error(k + ": " + r), key(std::move(k)), reason(std::move(r)) {}
+};
+
+/// Interface law parameters: MODEL §1 friction law.
+struct InterfaceParams {
+  double alpha = 1.05;  ///< interfacial stiffness (≥ 1 for a self-consistent sliding branch)
+  double kappa = 8.0;   ///< area-decay factor
+  double eta = 0.1;     ///< viscous strengthening
+  void validate() const;
+};
+
+/// Elastic bulk: ρ u_tt = μ u_xx + f − σ̄ − η u_t on [0, L].
+struct BulkParams {
+  double rho = 0.01;     ///< inertia
+  double mu = 300.0;     ///< shear stiffness (unused in 0D scenes)
+  double length = 300.0; ///< L (unused in 0D scenes)
+  void validate(bool one_dimensional) const;
+};
+
+enum class Loading {
+  edge,          ///< 1D, spring K pulled at v_d attached at x = 0 (paper Fig. 1)
+  homogeneous,   ///< 1D, uniform σ_d, nucleation patch at x = 0
+  imposed_rate,  ///< 0D, imposed slip rate v(t) (piecewise constant), or a sweep over v
+  spring_block,  ///< 0D, block of mass ρ pulled through a spring K at v_d
+};
+const char* to_string(Loading l);
+Loading loading_from_string(const std::string& s);  // throws ParamError("drive.loading", ...)
+bool is_one_dimensional(Loading l);
+
+/// Drive. Which fields matter depends on `loading`.
+struct DriveParams {
+  Loading loading = Loading::edge;
+  double K = 2.5;                    ///< edge / spring_block: spring stiffness
+  double v_d = 0.3;                  ///< edge / spring_block: driver velocity
+  double sigma_d = 0.5;              ///< homogeneous: applied stress
+  double nucleation_length = 150.0;  ///< homogeneous: patch 0 ≤ x < ℓ_n put in steady sliding
+  /// imposed_rate: slip rates v_k applied from times v_times_k (v_times[0] == 0); one value = constant.
+  std::vector<double> v{1.0};
+  std::vector<double> v_times{0.0};
+  /// imposed_rate sweep (friction law): if sweep_points > 0, run one 0D site per v on a log grid.
+  double v_min = 1e-3, v_max = 1e2;
+  int sweep_points = 0;
+  void validate() const;
+};
+
+struct GridParams {
+  double dx = 0.5;
+  void validate(const BulkParams& bulk, bool one_dimensional) const;
+};
+
+struct TimeParams {
+  double t_end = 100.0;
+  double dt = 0.0;   ///< fixed step if > 0
+  double cfl = 0.5;  ///< otherwise dt = cfl · explicit stability limit (1D, spring block)
+  /// imposed_rate: each sweep point runs t_end + slip_end/|v| with `steps` steps (exact updates).
+  double slip_end = 50.0;
+  int steps = 4000;
+  void validate(Loading l) const;
+};
+
+/// Measurement definitions, MODEL §3.
+struct MeasureParams {
+  double A_tip = 0.5;          ///< front tip: largest x with A < A_tip
+  double A_tip_alt = 0.9;      ///< reported too
+  double v_event = 0.5;        ///< instability time: first max v > v_event
+  double sample_dt = 0.01;     ///< cadence at which the tip is tracked
+  double average_from = 0.5;   ///< friction law: average σ over the last (1 − average_from) of the run
+  int batches = 20;            ///< friction law: batch means for the standard error
+  void validate() const;
+};
+
+/// What the scene asks to store (MODEL §5: nothing nobody asked for).
+struct OutputParams {
+  double series_dt = 0.05;    ///< cadence of /series (0: every step)
+  double snapshot_dt = 1.0;   ///< cadence of /snapshots (0: none)
+  bool energy = false;        ///< store the energy budget series
+  void validate() const;
+};
+
+}  // namespace slipfront::continuum

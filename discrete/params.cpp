@@ -1,0 +1,28 @@
+#include "discrete/params.hpp"
+
+#include <cmath>
+
+#include "continuum/params.hpp"
+
+namespace slipfront::discrete {
+
+void DiscreteParams::validate() const {
+  using continuum::ParamError;
+  if (contacts_per_site < 1)
+    throw ParamError("discrete.contacts_per_site", "must be >= 1, got " + std::to_string(contacts_per_site));
+  if (threshold != "delta" && threshold != "uniform" && threshold != "gaussian" && threshold != "weibull")
+    throw ParamError("discrete.threshold",
+                     "unknown distribution '" + threshold + "' (expected delta, uniform, gaussian or weibull)");
+  if (!std::isfinite(width) || width < 0.0)
+    throw ParamError("discrete.width", "must be >= 0, got " + std::to_string(width));
+  if (threshold == "uniform" && width > 1.0 / std::sqrt(3.0))
+    throw ParamError("discrete.width", "a uniform distribution with mean 1 and positive support needs w <= 1/sqrt(3)");
+  if (renewal != "fresh" && renewal != "quenched")
+    throw ParamError("discrete.renewal", "unknown renewal '" + renewal + "' (expected fresh or quenched)");
+  if (representation != "count" && representation != "agent")
+    throw ParamError("discrete.representation",
+                     "unknown representation '" + representation + "' (expected count or agent)");
+  if (bins < 1) throw ParamError("discrete.bins", "must be >= 1");
+}
+
+}  // namespace slipfront::discrete

@@ -10,6 +10,12 @@ namespace slipfront::compare {
 
 using Columns = std::map<std::string, std::vector<double>>;
 
+/// A row-major 2D table [data.size() / cols, cols].
+struct Table2D {
+  std::size_t cols = 0;
+  std::vector<double> data;
+};
+
 struct ModelResult {
   std::string model;                ///< "continuum", "discrete"
   std::string status = "complete";  ///< complete | interrupted | failed
@@ -22,7 +28,10 @@ struct ModelResult {
   Events events_alt;                ///< the same measured on the A_tip_alt front (0.9)
   Columns cycles;                   ///< spring block stick–slip cycles: t_start, F_peak, F_residual
   Columns friction_law;             ///< imposed-rate sweep: v, sigma, sigma_stderr, A, sigma_closed_form
-  std::map<std::string, double> scalars;  ///< dt, steps, stable_dt, v_m_fit, ... (written as attributes)
+  std::map<std::string, double> scalars;       ///< dt, steps, stable_dt, v_m_fit, ... (attributes of /<model>)
+  std::map<std::string, std::string> labels;   ///< string attributes of /<model> (representation, ...)
+  Columns contacts;                            ///< discrete, agent: /<model>/contacts/<name> [n]
+  std::map<std::string, Table2D> contacts_2d;  ///< discrete, agent: /<model>/contacts/<name> [rows, cols]
   double wall_seconds = 0.0;
 };
 

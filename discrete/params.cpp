@@ -19,10 +19,14 @@ void DiscreteParams::validate() const {
     throw ParamError("discrete.width", "a uniform distribution with mean 1 and positive support needs w <= 1/sqrt(3)");
   if (renewal != "fresh" && renewal != "quenched")
     throw ParamError("discrete.renewal", "unknown renewal '" + renewal + "' (expected fresh or quenched)");
-  if (representation != "count" && representation != "agent")
+  if (representation != "count" && representation != "agent" &&
+      representation != "naive")
     throw ParamError("discrete.representation",
-                     "unknown representation '" + representation + "' (expected count or agent)");
+                     "unknown representation '" + representation + "' (expected count, agent or naive)");
   if (bins < 1) throw ParamError("discrete.bins", "must be >= 1");
+  if (threads < 1) throw ParamError("discrete.threads", "must be >= 1");
+  if (threshold == "delta" && width != 0.0)
+    throw ParamError("discrete.width", "a delta distribution has width 0 (choose uniform, gaussian or weibull)");
 }
 
 }  // namespace slipfront::discrete

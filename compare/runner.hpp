@@ -146,13 +146,14 @@ ModelResult run_dynamic(const Scene& s, Law law, const std::string& model, const
         detail::push(r.series, "slip_rate", v);
         detail::push(r.series, "slip", sim.slip()[0]);
       }
-      if (const auto& e = sim.energy()) {  // every term is 0 at t = 0, before the first step
+      if (const auto& e = sim.energy()) {  // the budget at t^n (one step behind t); all 0 at t = 0
         const bool started = !std::isnan(e->mechanical0);
         detail::push(r.series, "energy_drive_work", started ? e->drive_work : 0.0);
         detail::push(r.series, "energy_mechanical", started ? e->mechanical() - e->mechanical0 : 0.0);
         detail::push(r.series, "energy_viscous", started ? e->viscous : 0.0);
         detail::push(r.series, "energy_interfacial", started ? e->interfacial : 0.0);
         detail::push(r.series, "energy_residual", started ? e->residual() : 0.0);
+        detail::push(r.series, "energy_time", started ? e->time : 0.0);
       }
     }
     if (one_d && snap_due.due(t)) {

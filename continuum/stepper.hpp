@@ -34,8 +34,10 @@ struct NumericalError : std::runtime_error {
 };
 
 /// Energy budget (drive work = kinetic + elastic + viscous + interfacial work), accumulated when
-/// asked for; every term is second-order accurate in Δt, so is the residual.
+/// asked for. Every term holds at the same time `time` = t^n of the last step's start (the kinetic
+/// energy at t^n needs v^{n+1/2}); each is second-order accurate in Δt, and so is the residual.
 struct EnergyBudget {
+  double time = 0;                                      ///< t^n
   double kinetic = 0, elastic = 0, spring = 0;          ///< at t^n
   double drive_work = 0, viscous = 0, interfacial = 0;  ///< integrated over [0, t^n]
   double mechanical0 = std::numeric_limits<double>::quiet_NaN();
@@ -140,8 +142,12 @@ class Simulation {
       if (i + 1 < n) ela += 0.5 * bulk_.stiffness() * (u_[i + 1] - u_[i]) * (u_[i + 1] - u_[i]);
     }
     const double stretch = bulk_.driver_velocity() * time() - u_[0];
+    e.time = time();
     e.kinetic = kin;
     e.elastic = ela;
+    e.drive_work = acc_drive_;
+    e.viscous = acc_viscous_;
+    e.interfacial = acc_interfacial_;
     e.spring = bulk_.has_drive_spring() ? 0.5 * bulk_.spring_K() * stretch * stretch : 0.0;
     if (std::isnan(e.mechanical0)) e.mechanical0 = e.mechanical();
     f_start_ = bulk_.drive_force(time(), u_[0]);
@@ -149,7 +155,6 @@ class Simulation {
 
   // Work and dissipation over [t^n, t^{n+1}] by the midpoint rule on v^{n+1/2}.
   void energy_over_step(const std::vector<double>& sb_start) {
-    EnergyBudget& e = *energy_;
     const std::size_t n = u_.size();
     const std::span<const double> sb = law_.sigma_bar();
     double visc = 0.0, inter = 0.0, uniform = 0.0;
@@ -160,9 +165,9 @@ class Simulation {
       uniform += w * bulk_.uniform_stress() * vi;
     }
     const double f_end = bulk_.drive_force(time(), u_[0]);
-    e.viscous += dt_ * visc;
-    e.interfacial += dt_ * inter;
-    e.drive_work += dt_ * (uniform + bulk_.driver_velocity() * 0.5 * (f_start_ + f_end));
+    acc_viscous_ += dt_ * visc;
+    acc_interfacial_ += dt_ * inter;
+    acc_drive_ += dt_ * (uniform + bulk_.driver_velocity() * 0.5 * (f_start_ + f_end));
   }
 
   [[noreturn]] void report_non_finite() const {
@@ -181,6 +186,7 @@ class Simulation {
   std::optional<EnergyBudget> energy_;
   std::vector<double> sb_buf_;
   double f_start_ = 0.0;
+  double acc_drive_ = 0.0, acc_viscous_ = 0.0, acc_interfacial_ = 0.0;  // over [0, t^{n+1}]
 };
 
 }  // namespace slipfront::continuum

@@ -1,0 +1,26 @@
+#pragma once
+// Fits for convergence studies: least-squares lines with confidence intervals (Student t), and
+// power laws fitted as lines in log–log. Written by hand (a dozen lines of algebra) rather than
+// pulling in a statistics library; the t quantile comes from Boost.Math.
+#include <span>
+
+namespace slipfront::compare {
+
+struct LineFit {
+  double slope, intercept;
+  double slope_stderr, intercept_stderr;
+  double slope_ci_low, slope_ci_high;  ///< two-sided confidence interval at `confidence`
+  double r2;
+  int n;
+  double confidence;
+};
+
+/// Ordinary least squares y = a + b x (optionally weighted by 1/sigma²); NaN fields with n < 3.
+LineFit fit_line(std::span<const double> x, std::span<const double> y, double confidence = 0.95);
+LineFit fit_line_weighted(std::span<const double> x, std::span<const double> y, std::span<const double> sigma,
+                          double confidence = 0.95);
+
+/// err ≈ C x^p: the line fit of log err against log x (slope = p); points with err ≤ 0 are dropped.
+LineFit fit_power_law(std::span<const double> x, std::span<const double> err, double confidence = 0.95);
+
+}  // namespace slipfront::compare

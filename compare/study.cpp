@@ -1,0 +1,385 @@
+#include "compare/study.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numeric>
+#include <set>
+#include <stdexcept>
+
+#include "compare/fit.hpp"
+
+namespace slipfront::compare {
+namespace {
+
+std::string run_id(std::size_t i) {
+  char buf[16];
+  std::snprintf(buf, sizeof buf, "%04zu", i);
+  return buf;
+}
+
+double mean_of(const std::vector<double>& v) {
+  double s = 0;
+  int n = 0;
+  for (double x : v)
+    if (std::isfinite(x)) { s += x; ++n; }
+  return n ? s / n : nan;
+}
+double sd_of(const std::vector<double>& v) {
+  const double m = mean_of(v);
+  double s = 0;
+  int n = 0;
+  for (double x : v)
+    if (std::isfinite(x)) { s += (x - m) * (x - m); ++n; }
+  return n > 1 ? std::sqrt(s / (n - 1)) : nan;
+}
+int finite_count(const std::vector<double>& v) {
+  return static_cast<int>(std::count_if(v.begin(), v.end(), [](double x) { return std::isfinite(x); }));
+}
+
+// Runs grouped by one varied key's numeric value (seeds pooled), in increasing order of the value.
+std::map<double, std::vector<std::size_t>> by_value(const std::vector<StudyRun>& runs, const std::string& key) {
+  std::map<double, std::vector<std::size_t>> g;
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    const auto it = runs[i].point.find(key);
+    if (it != runs[i].point.end()) g[std::stod(it->second)].push_back(i);
+  }
+  return g;
+}
+
+void put_fit(StudyReport& rep, const std::string& name, const LineFit& f, const std::string& what) {
+  rep.scalars[name] = f.slope;
+  rep.scalars[name + "_ci_low"] = f.slope_ci_low;
+  rep.scalars[name + "_ci_high"] = f.slope_ci_high;
+  rep.scalars[name + "_points"] = f.n;
+  rep.definitions[name] = what + " (least-squares slope in log-log; _ci_low/_ci_high: 95% Student-t interval)";
+}
+
+double rel_rms(const std::vector<double>& a, const std::vector<double>& b) {
+  const std::size_t n = std::min(a.size(), b.size());
+  double num = 0, den = 0;
+  for (std::size_t i = 0; i < n; ++i) { num += (a[i] - b[i]) * (a[i] - b[i]); den += b[i] * b[i]; }
+  return den > 0 ? std::sqrt(num / den) : nan;
+}
+
+const std::vector<double>& column(const Columns& c, const std::string& name) {
+  static const std::vector<double> empty;
+  const auto it = c.find(name);
+  return it == c.end() ? empty : it->second;
+}
+
+// ---------------------------------------------------------------------------------------------
+// friction_law: discrete steady friction vs the continuum as N grows (noise on, w = 0).
+void friction_law_vs_N(StudyReport& rep, const std::vector<StudyRun>& runs,
+                       const std::vector<std::vector<ModelResult>>& res) {
+  const std::string key = "discrete.contacts_per_site";
+  Columns t;
+  for (const auto& [N, idx] : by_value(runs, key)) {
+    // e[s][k] = (σ_disc − σ_cont)/σ_cont at rate v_k for seed s; se[s][k] its batch-means error.
+    std::vector<std::vector<double>> e, se;
+    for (std::size_t i : idx) {
+      const auto* c = find_model(res[i], "continuum");
+      const auto* d = find_model(res[i], "discrete");
+      if (!c || !d) continue;
+      const auto& sc = column(c->friction_law, "sigma");
+      const auto& sd = column(d->friction_law, "sigma");
+      const auto& ss = column(d->friction_law, "sigma_stderr");
+      std::vector<double> ei, si;
+      for (std::size_t k = 0; k < std::min(sc.size(), sd.size()); ++k) {
+        ei.push_back((sd[k] - sc[k]) / sc[k]);
+        si.push_back(ss[k] / sc[k]);
+      }
+      e.push_back(ei);
+      se.push_back(si);
+    }
+    if (e.empty()) continue;
+    const std::size_t S = e.size(), K = e[0].size();
+    double var_sum = 0, bias_sum = 0, tot = 0, se_sum = 0;
+    for (std::size_t k = 0; k < K; ++k) {
+      std::vector<double> col;
+      for (std::size_t s = 0; s < S; ++s) { col.push_back(e[s][k]); tot += e[s][k] * e[s][k]; se_sum += se[s][k] * se[s][k]; }
+      const double m = mean_of(col), v = S > 1 ? sd_of(col) * sd_of(col) : 0.0;
+      var_sum += v;
+      bias_sum += std::max(0.0, m * m - v / static_cast<double>(S));
+    }
+    const double Kd = static_cast<double>(K), Sd = static_cast<double>(S);
+    t["N"].push_back(N);
+    t["random"].push_back(S > 1 ? std::sqrt(var_sum / Kd) : std::sqrt(se_sum / (Kd * Sd)));
+    t["bias"].push_back(std::sqrt(bias_sum / Kd));
+    t["total"].push_back(std::sqrt(tot / (Kd * Sd)));
+    t["batch_stderr"].push_back(std::sqrt(se_sum / (Kd * Sd)));
+    t["seeds"].push_back(static_cast<double>(S));
+  }
+  rep.tables["friction_law_error"] = t;
+  rep.definitions["friction_law_error/random"] =
+      "RMS over v of the standard deviation over seeds of (sigma_discrete - sigma_continuum)/sigma_continuum "
+      "(one seed: RMS of the batch-means standard error)";
+  rep.definitions["friction_law_error/bias"] =
+      "RMS over v of the seed-mean relative error, with the random part's share var/S removed";
+  rep.definitions["friction_law_error/total"] = "RMS over v and seeds of the relative error";
+  rep.definitions["friction_law_error/batch_stderr"] = "RMS over v and seeds of the relative batch-means standard error";
+  if (t["N"].size() >= 3)
+    put_fit(rep, "friction_law_random_exponent", fit_power_law(t["N"], t["random"]),
+            "exponent p of random(N) ~ N^p (mean-field limit predicts -1/2)");
+}
+
+// threshold_width: noise off, the distance of the discrete steady law to the continuum vs w.
+void friction_law_vs_width(StudyReport& rep, const std::vector<StudyRun>& runs,
+                           const std::vector<std::vector<ModelResult>>& res) {
+  Columns t;
+  for (const auto& [w, idx] : by_value(runs, "discrete.width")) {
+    const auto* c = find_model(res[idx[0]], "continuum");
+    const auto* d = find_model(res[idx[0]], "discrete");
+    if (!c || !d) continue;
+    const auto& sc = column(c->friction_law, "sigma");
+    const auto& sd = column(d->friction_law, "sigma");
+    std::vector<double> diff;
+    double s2 = 0;
+    for (std::size_t k = 0; k < std::min(sc.size(), sd.size()); ++k) {
+      const double e = (sd[k] - sc[k]) / sc[k];
+      s2 += e * e;
+    }
+    t["width"].push_back(w);
+    t["distance"].push_back(std::sqrt(s2 / static_cast<double>(std::max<std::size_t>(1, sc.size()))));
+    t["sigma_at_vmin"].push_back(sd.empty() ? nan : sd.front());
+    t["sigma_min"].push_back(sd.empty() ? nan : *std::min_element(sd.begin(), sd.end()));
+    const auto it = d->scalars.find("v_m_fit");
+    t["v_m_fit"].push_back(it == d->scalars.end() ? nan : it->second);
+  }
+  rep.tables["threshold_width"] = t;
+  rep.definitions["threshold_width/distance"] =
+      "RMS over v of (sigma_discrete - sigma_continuum)/sigma_continuum, noise off";
+  rep.definitions["threshold_width/sigma_at_vmin"] = "discrete steady friction at the smallest v (static peak side)";
+  rep.definitions["threshold_width/sigma_min"] = "smallest tabulated discrete steady friction (weakening branch bottom)";
+  if (t["width"].size() >= 3)
+    put_fit(rep, "threshold_width_exponent", fit_power_law(t["width"], t["distance"]),
+            "exponent p of distance(w) ~ w^p");
+}
+
+// transient_friction: curve distance between discrete and continuum friction histories vs N.
+void transient_vs_N(StudyReport& rep, const std::vector<StudyRun>& runs, const std::vector<Scene>& scenes,
+                    const std::vector<std::vector<ModelResult>>& res) {
+  Columns t;
+  for (const auto& [N, idx] : by_value(runs, "discrete.contacts_per_site")) {
+    std::vector<double> d;
+    for (std::size_t i : idx) {
+      const auto* c = find_model(res[i], "continuum");
+      const auto* m = find_model(res[i], "discrete");
+      if (!c || !m) continue;
+      const char* col = scenes[i].drive.loading == continuum::Loading::imposed_rate ? "sigma" : "drive_force";
+      d.push_back(rel_rms(column(m->series, col), column(c->series, col)));
+    }
+    t["N"].push_back(N);
+    t["distance_mean"].push_back(mean_of(d));
+    t["distance_sd"].push_back(sd_of(d));
+    t["seeds"].push_back(static_cast<double>(d.size()));
+  }
+  rep.tables["transient_friction"] = t;
+  rep.definitions["transient_friction/distance_mean"] =
+      "mean over seeds of the relative RMS distance of the friction history (sigma(t) for an imposed rate, "
+      "F(t) for the spring block) between the discrete and the continuum model";
+  if (t["N"].size() >= 3)
+    put_fit(rep, "transient_distance_exponent", fit_power_law(t["N"], t["distance_mean"]),
+            "exponent p of distance_mean(N) ~ N^p");
+}
+
+// front_speeds: fig1 event times and speeds of the discrete model over seeds vs N.
+void fronts_vs_N(StudyReport& rep, const std::vector<StudyRun>& runs, const std::vector<std::vector<ModelResult>>& res) {
+  struct Obs { const char* name; double Events::*field; bool alt; };
+  const Obs obs[] = {{"t_star", &Events::t_star, false},          {"t_hat", &Events::t_hat, false},
+                     {"c_slow_alt", &Events::c_slow, true},         {"c_transient", &Events::c_transient, false},
+                     {"c_transient_peak", &Events::c_transient_peak, false}, {"x_arrest", &Events::x_arrest, false}};
+  Columns t;
+  for (const auto& [N, idx] : by_value(runs, "discrete.contacts_per_site")) {
+    t["N"].push_back(N);
+    for (const Obs& o : obs) {
+      std::vector<double> d;
+      double cont = nan;
+      for (std::size_t i : idx) {
+        const auto* c = find_model(res[i], "continuum");
+        const auto* m = find_model(res[i], "discrete");
+        if (c) cont = (o.alt ? c->events_alt : c->events).*o.field;
+        if (m) d.push_back((o.alt ? m->events_alt : m->events).*o.field);
+      }
+      const std::string n = o.name;
+      t[n + "_continuum"].push_back(cont);
+      t[n + "_mean"].push_back(mean_of(d));
+      t[n + "_sd"].push_back(sd_of(d));
+      t[n + "_finite"].push_back(finite_count(d));
+      t[n + "_rel_diff"].push_back((mean_of(d) - cont) / cont);
+    }
+  }
+  for (const Obs& o : obs) {
+    const std::string n = o.name;
+    rep.definitions["front_speeds/" + n + "_mean"] = "mean over seeds of the discrete " + n + " (MODEL §3)";
+    rep.definitions["front_speeds/" + n + "_sd"] = "standard deviation over seeds of the discrete " + n;
+    rep.definitions["front_speeds/" + n + "_rel_diff"] = "(mean - continuum) / continuum";
+    if (t["N"].size() >= 3) {
+      put_fit(rep, "front_" + n + "_sd_exponent", fit_power_law(t["N"], t[n + "_sd"]),
+              "exponent p of the seed spread of " + n + " ~ N^p");
+      std::vector<double> absdiff;
+      for (double x : t[n + "_rel_diff"]) absdiff.push_back(std::abs(x));
+      put_fit(rep, "front_" + n + "_bias_exponent", fit_power_law(t["N"], absdiff),
+              "exponent p of |mean - continuum|/continuum of " + n + " ~ N^p");
+    }
+  }
+  rep.tables["front_speeds"] = t;
+}
+
+// fig2: transient front speed against sqrt(mu alpha/(eta kappa)), one group per varied parameter.
+void fig2(StudyReport& rep, const std::vector<StudyRun>& runs, const std::vector<Scene>& scenes,
+          const std::vector<std::vector<ModelResult>>& res) {
+  std::map<std::string, Columns> groups;
+  Columns all;
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    const auto& s = scenes[i];
+    const double X = std::sqrt(s.bulk.mu * s.interface.alpha / (s.interface.eta * s.interface.kappa));
+    const auto* c = find_model(res[i], "continuum");
+    const auto* d = find_model(res[i], "discrete");
+    Columns& g = groups[runs[i].group];
+    const double value = runs[i].point.empty() ? nan : std::stod(runs[i].point.begin()->second);
+    for (Columns* t : {&g, &all}) {
+      (*t)["X"].push_back(X);
+      (*t)["value"].push_back(value);
+      (*t)["c_continuum"].push_back(c ? c->events.c_transient : nan);
+      (*t)["c_discrete"].push_back(d ? d->events.c_transient : nan);
+      (*t)["x_arrest_continuum"].push_back(c ? c->events.x_arrest : nan);
+    }
+  }
+  auto slope_through_origin = [](const std::vector<double>& x, const std::vector<double>& y) {
+    double sxy = 0, sxx = 0;
+    for (std::size_t k = 0; k < x.size(); ++k)
+      if (std::isfinite(y[k])) { sxy += x[k] * y[k]; sxx += x[k] * x[k]; }
+    return sxx > 0 ? sxy / sxx : nan;
+  };
+  for (auto& [name, g] : groups) {
+    for (const char* m : {"continuum", "discrete"}) {
+      const std::string col = std::string("c_") + m;
+      rep.scalars["fig2_slope_" + name + "_" + m] = slope_through_origin(g["X"], g[col]);
+      rep.definitions["fig2_slope_" + name + "_" + m] =
+          "least-squares slope through the origin of c_transient (" + std::string(m) + ") vs sqrt(mu alpha/(eta kappa)), varying " + name;
+    }
+    rep.tables["fig2_" + name] = g;
+  }
+  for (const char* m : {"continuum", "discrete"}) {
+    const std::string col = std::string("c_") + m;
+    rep.scalars[std::string("fig2_slope_all_") + m] = slope_through_origin(all["X"], all[col]);
+    rep.definitions[std::string("fig2_slope_all_") + m] =
+        "least-squares slope through the origin of c_transient vs sqrt(mu alpha/(eta kappa)), all runs";
+    int missing = 0;
+    for (double c : all[col]) missing += std::isfinite(c) ? 0 : 1;
+    if (missing && col == "c_continuum")
+      rep.notes.push_back(std::to_string(missing) + " run(s) had no measurable transient front (" + m + "); see fig2_* tables");
+  }
+  rep.tables["fig2_all"] = all;
+  rep.definitions["fig2_all/X"] = "sqrt(mu alpha/(eta kappa)), the scaling estimate of the minimal steady front speed";
+}
+
+// front_spectrum: steady front speed of homogeneous loading vs sigma_d.
+void spectrum(StudyReport& rep, const std::vector<StudyRun>& runs, const std::vector<Scene>& scenes,
+              const std::vector<std::vector<ModelResult>>& res) {
+  Columns t;
+  for (const auto& [sd, idx] : by_value(runs, "drive.sigma_d")) {
+    const auto* c = find_model(res[idx[0]], "continuum");
+    const auto* d = find_model(res[idx[0]], "discrete");
+    const auto& s = scenes[idx[0]];
+    t["sigma_d"].push_back(sd);
+    t["c_front_continuum"].push_back(c ? c->events.c_front : nan);
+    t["c_front_discrete"].push_back(d ? d->events.c_front : nan);
+    t["v_behind_continuum"].push_back(c ? c->events.v_behind : nan);
+    t["v_behind_discrete"].push_back(d ? d->events.v_behind : nan);
+    t["sigma_c_d"].push_back(2.0 * std::sqrt(s.interface.alpha * s.interface.eta / s.interface.kappa) -
+                             s.interface.eta / s.interface.kappa);
+    if (c && !std::isfinite(c->events.c_front))
+      rep.notes.push_back("sigma_d = " + std::to_string(sd) + ": no front started or it did not reach a steady speed (continuum)");
+  }
+  rep.tables["front_spectrum"] = t;
+  rep.definitions["front_spectrum/c_front_continuum"] =
+      "least-squares slope of x_tip(t) over the middle half of the front's run (homogeneous loading)";
+  rep.definitions["front_spectrum/v_behind_continuum"] =
+      "mean slip rate over [nucleation_length, x_tip - 10] when the tip passes 3/4 of the system";
+  // The lower end of the spectrum: the slowest steady front measured.
+  double cmin = nan, sdmin = nan;
+  for (std::size_t k = 0; k < t["sigma_d"].size(); ++k)
+    if (std::isfinite(t["c_front_continuum"][k]) && !(t["c_front_continuum"][k] >= cmin)) {
+      cmin = t["c_front_continuum"][k];
+      sdmin = t["sigma_d"][k];
+    }
+  rep.scalars["spectrum_slowest_front"] = cmin;
+  rep.scalars["spectrum_slowest_front_sigma_d"] = sdmin;
+  rep.definitions["spectrum_slowest_front"] = "slowest steady front speed measured (continuum) and its sigma_d";
+}
+
+}  // namespace
+
+const std::vector<std::pair<std::string, std::string>>& study_kinds() {
+  static const std::vector<std::pair<std::string, std::string>> k{
+      {"friction_law", "steady friction of the discrete model vs the continuum as contacts_per_site grows"},
+      {"threshold_width", "noise off: distance of the discrete steady law to the continuum vs the threshold width"},
+      {"transient_friction", "velocity_step / spring_block friction histories, discrete vs continuum, vs N"},
+      {"front_speeds", "fig1 event times and front speeds of the discrete model over seeds vs N"},
+      {"fig2", "transient front speed vs sqrt(mu alpha/(eta kappa)), one group per varied parameter"},
+      {"front_spectrum", "steady front speed of homogeneous loading vs sigma_d"},
+      {"runs", "no analysis: just run every point"}};
+  return k;
+}
+
+std::vector<StudyRun> expand(const StudySpec& spec) {
+  std::vector<StudyRun> out;
+  const std::vector<StudyGroup> groups = spec.groups.empty() ? std::vector<StudyGroup>{StudyGroup{}} : spec.groups;
+  for (const auto& g : groups) {
+    // Cartesian product of the group's varied keys (first key slowest).
+    std::vector<std::size_t> idx(g.vary.size(), 0);
+    for (;;) {
+      for (int seed = 1; seed <= std::max(1, spec.seeds); ++seed) {
+        StudyRun r;
+        r.group = g.name;
+        r.seed = seed;
+        r.overrides = spec.common;
+        for (std::size_t k = 0; k < g.vary.size(); ++k) {
+          const auto& [key, values] = g.vary[k];
+          r.point[key] = values[idx[k]];
+          r.overrides.push_back(key + "=" + values[idx[k]]);
+        }
+        if (spec.seeds > 1) r.overrides.push_back("discrete.seed=" + std::to_string(seed));
+        r.id = run_id(out.size());
+        out.push_back(std::move(r));
+      }
+      std::size_t k = g.vary.size();
+      while (k > 0) {
+        --k;
+        if (++idx[k] < g.vary[k].second.size()) break;
+        idx[k] = 0;
+        if (k == 0) { k = g.vary.size() + 1; break; }
+      }
+      if (g.vary.empty() || k == g.vary.size() + 1) break;
+    }
+  }
+  return out;
+}
+
+const ModelResult* find_model(const std::vector<ModelResult>& r, const std::string& model) {
+  for (const auto& m : r)
+    if (m.model == model) return &m;
+  return nullptr;
+}
+
+StudyReport analyse_study(const StudySpec& spec, const std::vector<StudyRun>& runs, const std::vector<Scene>& scenes,
+                          const std::vector<std::vector<ModelResult>>& results) {
+  StudyReport rep;
+  if (runs.size() != results.size() || runs.size() != scenes.size())
+    throw std::invalid_argument("analyse_study: runs, scenes and results differ in length");
+  for (std::size_t i = 0; i < results.size(); ++i)
+    for (const auto& m : results[i])
+      if (m.status != "complete") rep.notes.push_back("run " + runs[i].id + " (" + m.model + "): " + m.status + " " + m.message);
+  if (spec.kind == "friction_law") friction_law_vs_N(rep, runs, results);
+  else if (spec.kind == "threshold_width") friction_law_vs_width(rep, runs, results);
+  else if (spec.kind == "transient_friction") transient_vs_N(rep, runs, scenes, results);
+  else if (spec.kind == "front_speeds") fronts_vs_N(rep, runs, results);
+  else if (spec.kind == "fig2") fig2(rep, runs, scenes, results);
+  else if (spec.kind == "front_spectrum") spectrum(rep, runs, scenes, results);
+  else if (spec.kind != "runs") throw std::invalid_argument("unknown study kind '" + spec.kind + "'");
+  return rep;
+}
+
+}  // namespace slipfront::compare

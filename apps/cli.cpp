@@ -1,0 +1,352 @@
+#include "apps/cli.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <cstring>
+#include <iostream>
+#include <sstream>
+
+#include "apps/build_info.hpp"
+#include "apps/config.hpp"
+#include "apps/h5out.hpp"
+#include "compare/runner.hpp"
+
+namespace slipfront::app {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+// ---------------------------------------------------------------------------------------------
+// Stop requests: SIGINT/SIGTERM set a flag that the runner polls between steps (RunControl::stop).
+// A second signal while stopping kills the program at once (default action).
+
+std::atomic<int> stop_signal{0};
+static_assert(std::atomic<int>::is_always_lock_free, "the signal handler needs a lock-free flag");
+
+extern "C" void on_stop_signal(int sig) {
+  if (stop_signal.exchange(sig) != 0) {
+    std::signal(sig, SIG_DFL);
+    std::raise(sig);
+    return;
+  }
+  static const char msg[] =
+      "\nslipfront: stopping at the next check (signal again to abort); the partial results will be written\n";
+  [[maybe_unused]] const auto n = ::write(STDERR_FILENO, msg, sizeof msg - 1);
+}
+
+class StopSignals {
+ public:
+  StopSignals() {
+    stop_signal.store(0);
+    struct sigaction sa {};
+    sa.sa_handler = on_stop_signal;
+    sigemptyset(&sa.sa_mask);
+    sa.sa_flags = SA_RESTART;
+    sigaction(SIGINT, &sa, &old_int_);
+    sigaction(SIGTERM, &sa, &old_term_);
+  }
+  ~StopSignals() {
+    sigaction(SIGINT, &old_int_, nullptr);
+    sigaction(SIGTERM, &old_term_, nullptr);
+  }
+  StopSignals(const StopSignals&) = delete;
+  StopSignals& operator=(const StopSignals&) = delete;
+  static bool requested() { return stop_signal.load(std::memory_order_relaxed) != 0; }
+
+ private:
+  struct sigaction old_int_ {}, old_term_ {};
+};
+
+// ---------------------------------------------------------------------------------------------
+// The progress line: stderr, only on a terminal, only once the run has lasted a second, at most
+// five refreshes a second, erased at the end.
+
+class Progress {
+ public:
+  Progress(std::ostream& err, std::string scene, bool enabled) : err_(err), scene_(std::move(scene)), on_(enabled) {}
+  ~Progress() { clear(); }
+  Progress(const Progress&) = delete;
+  Progress& operator=(const Progress&) = delete;
+
+  void update(const std::string& model, double t, double t_end) {
+    const auto now = Clock::now();
+    if (model != model_) model_ = model, model_start_ = now;
+    if (!on_) return;
+    const double elapsed = seconds(start_, now);
+    if (elapsed < 1.0 || (width_ > 0 && seconds(last_, now) < 0.2)) return;
+    last_ = now;
+    const double in_model = seconds(model_start_, now);
+    char line[256];
+    const double pct = t_end > 0 ? 100.0 * t / t_end : 0.0;
+    int n = std::snprintf(line, sizeof line, "[%s %s] t = %.2f / %g (%.0f%%)  elapsed %.1f s", scene_.c_str(),
+                          model.c_str(), t, t_end, pct, elapsed);
+    if (t > 0 && t < t_end && n > 0 && n < static_cast<int>(sizeof line))
+      n += std::snprintf(line + n, sizeof line - static_cast<std::size_t>(n), "  eta %.1f s",
+                         in_model * (t_end - t) / t);
+    std::string text(line);
+    const std::size_t len = text.size();
+    if (len < width_) text.append(width_ - len, ' ');
+    width_ = std::max(width_, len);
+    err_ << '\r' << text << std::flush;
+  }
+
+  void clear() {
+    if (width_ == 0) return;
+    err_ << '\r' << std::string(width_, ' ') << '\r' << std::flush;
+    width_ = 0;
+  }
+
+ private:
+  static double seconds(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); }
+  std::ostream& err_;
+  std::string scene_, model_;
+  bool on_;
+  Clock::time_point start_ = Clock::now(), last_ = start_, model_start_ = start_;
+  std::size_t width_ = 0;  // length of the longest line shown (0: nothing on screen)
+};
+
+// ---------------------------------------------------------------------------------------------
+
+void print_error(std::ostream& err, const std::string& message) { err << "slipfront: error: " << message << "\n"; }
+
+// The output directory: created, free of results.h5 (unless --force) and writable, before any work.
+// Returns an error message, or "" if the directory is usable.
+std::string prepare_output_dir(const fs::path& dir, bool force) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) return "cannot create the output directory '" + dir.string() + "': " + ec.message();
+  if (!fs::is_directory(dir, ec)) return "the output path '" + dir.string() + "' is not a directory";
+  const fs::path file = dir / "results.h5";
+  if (fs::exists(fs::symlink_status(file, ec))) {
+    if (!force) return "'" + file.string() + "' already exists (use --force to overwrite it)";
+    if (fs::is_directory(file, ec)) return "'" + file.string() + "' is a directory";
+  }
+  const fs::path probe = dir / (".slipfront-probe." + std::to_string(::getpid()));
+  const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0644);
+  if (fd < 0) return "the output directory '" + dir.string() + "' is not writable: " + std::strerror(errno);
+  ::close(fd);
+  ::unlink(probe.c_str());
+  return "";
+}
+
+std::string format_number(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", x);
+  return buf;
+}
+
+std::string format_seconds(double s) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.2f s", s);
+  return buf;
+}
+
+// The events that are not NaN; with `primary`, only those that differ from it.
+std::string format_events(const compare::Events& e, const compare::Events* primary = nullptr) {
+  using E = compare::Events;
+  const std::pair<const char*, double E::*> items[] = {
+      {"t_star", &E::t_star},           {"t_hat", &E::t_hat},       {"c_slow", &E::c_slow},
+      {"c_transient", &E::c_transient}, {"c_transient_peak", &E::c_transient_peak},
+      {"x_arrest", &E::x_arrest},       {"t_arrest", &E::t_arrest}, {"c_front", &E::c_front},
+  };
+  std::string out;
+  for (const auto& [name, member] : items) {
+    const double value = e.*member;
+    if (std::isnan(value) || (primary && value == primary->*member)) continue;
+    out += std::string(out.empty() ? "" : "  ") + name + " = " + format_number(value);
+  }
+  return out;
+}
+
+void print_summary(std::ostream& out, const compare::Scene& scene, const std::vector<compare::ModelResult>& results,
+                   const std::string& status, double wall, const fs::path& file) {
+  out << scene.name << ": " << status << " in " << format_seconds(wall) << " -> " << file.string() << "\n";
+  for (const auto& r : results) {
+    out << "  " << r.model << ": " << r.status << ", " << format_seconds(r.wall_seconds);
+    if (const auto it = r.scalars.find("steps"); it != r.scalars.end())
+      out << ", " << format_number(it->second) << " steps";
+    out << "\n";
+    if (!r.message.empty()) out << "    message: " << r.message << "\n";
+    if (const auto ev = format_events(r.events); !ev.empty()) out << "    events: " << ev << "\n";
+    if (const auto ev = format_events(r.events_alt, &r.events); !ev.empty())
+      out << "    events on the A_tip_alt front (where different): " << ev << "\n";
+    if (const auto it = r.cycles.find("t_start"); it != r.cycles.end())
+      out << "    stick-slip cycles: " << it->second.size() << "\n";
+    const auto vm = r.scalars.find("v_m_fit"), sc = r.scalars.find("sigma_c_fit");
+    if (vm != r.scalars.end() && sc != r.scalars.end()) {
+      out << "    friction law minimum (fit): sigma_c = " << format_number(sc->second)
+          << " at v_m = " << format_number(vm->second) << "\n";
+    } else if (const auto s = r.friction_law.find("sigma"); s != r.friction_law.end() && !s->second.empty()) {
+      const auto k = static_cast<std::size_t>(std::min_element(s->second.begin(), s->second.end()) - s->second.begin());
+      out << "    friction law minimum (tabulated): sigma = " << format_number(s->second[k]);
+      if (const auto v = r.friction_law.find("v"); v != r.friction_law.end() && k < v->second.size())
+        out << " at v = " << format_number(v->second[k]);
+      out << "\n";
+    }
+  }
+}
+
+int exit_code_of(const std::string& status) {
+  if (status == "complete") return exit_code::ok;
+  if (status == "interrupted") return exit_code::interrupted;
+  return exit_code::failed;
+}
+
+std::string shell_quote(const std::string& arg) {
+  if (!arg.empty() && arg.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789"
+                                            "-_./=:,+@%") == std::string::npos)
+    return arg;
+  std::string q = "'";
+  for (const char c : arg) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+}  // namespace
+
+std::string version_string() {
+  return std::string("slipfront ") + build_info::version + " (git " + build_info::git_commit + ")";
+}
+
+int check_command(const fs::path& config, const std::vector<std::string>& overrides, std::ostream& out,
+                  std::ostream& err) {
+  try {
+    std::vector<std::string> notes;
+    const compare::Scene scene = load_scene(config, overrides, &notes);
+    for (const auto& n : notes) err << "slipfront: note: " << n << "\n";
+    out << to_toml(scene);
+    return exit_code::ok;
+  } catch (const ConfigError& e) {
+    print_error(err, e.what());
+    return exit_code::usage;
+  }
+}
+
+int run_command(const RunOptions& opts, std::ostream& out, std::ostream& err) {
+  const auto wall0 = Clock::now();
+  // (a) the configuration
+  compare::Scene scene;
+  std::vector<std::string> notes;
+  try {
+    scene = load_scene(opts.config, opts.overrides, &notes);
+  } catch (const ConfigError& e) {
+    print_error(err, e.what());
+    return exit_code::usage;
+  }
+  if (!opts.quiet)
+    for (const auto& n : notes) err << "slipfront: note: " << n << "\n";
+  const std::string resolved = to_toml(scene);
+
+  // (b) the output directory, before any work
+  const fs::path dir = opts.out.empty() ? fs::path("out") / scene.name : opts.out;
+  if (const std::string problem = prepare_output_dir(dir, opts.force); !problem.empty()) {
+    print_error(err, problem);
+    return exit_code::usage;
+  }
+  const fs::path file = dir / "results.h5";
+
+  // (c)–(e) the run, stoppable by SIGINT/SIGTERM (the handler stays until the file is written: a first
+  // signal while writing does not lose the results), with a progress line on a terminal
+  const StopSignals signals;
+  RunMeta meta;
+  meta.command_line = opts.command_line;
+  std::vector<compare::ModelResult> results;
+  {
+    Progress progress(err, scene.name, !opts.quiet && ::isatty(STDERR_FILENO));
+    compare::RunControl control;
+    control.stop = [] { return StopSignals::requested(); };
+    control.progress = [&](const std::string& model, double t, double t_end) { progress.update(model, t, t_end); };
+    try {
+      results = compare::run_scene(scene, control);
+    } catch (const std::exception& e) {
+      meta.status = "failed";
+      meta.message = std::string("the run stopped with an error: ") + e.what();
+    }
+    progress.clear();
+    if (StopSignals::requested() && meta.status == "complete" && overall_status(results) == "complete") {
+      // The signal came after the last poll: the results are complete; say so in the message only.
+      meta.message = "a stop was requested after the run had finished";
+    }
+  }
+  if (meta.status == "failed") print_error(err, meta.message);
+
+  // (f) the file, whatever the status
+  meta.wall_seconds = std::chrono::duration<double>(Clock::now() - wall0).count();
+  const std::string status = overall_status(results, meta.status);
+  try {
+    write_results(file, scene, resolved, results, meta);
+  } catch (const std::exception& e) {
+    print_error(err, "cannot write " + file.string() + ": " + e.what());
+    return exit_code::failed;
+  }
+
+  // (g) the summary
+  print_summary(out, scene, results, status, meta.wall_seconds, file);
+  if (status == "interrupted") err << "slipfront: interrupted; partial results written to " << file.string() << "\n";
+  for (const auto& r : results)
+    if (r.status == "failed") print_error(err, r.model + " failed: " + r.message + " (results written to " + file.string() + ")");
+  return exit_code_of(status);
+}
+
+int main_cli(int argc, char** argv) {
+  CLI::App app{"slipfront: the onset of frictional sliding, continuum and discrete microcontact models.\n"
+               "Runs one scene (a TOML file) and writes DIR/results.h5 (layout: docs/output.md).",
+               "slipfront"};
+  app.set_version_flag("--version", version_string(), "Print the version and the git commit, then exit");
+  app.require_subcommand(1);
+  app.footer(
+      "Exit codes: 0 success; 1 a model failed or the results could not be written;\n"
+      "            2 bad command line, configuration or output directory; 130 interrupted (partial results "
+      "written).\n"
+      "Configuration keys, types, defaults and ranges: docs/cli.md (`slipfront check CONFIG` prints them resolved).");
+
+  RunOptions run_opts;
+  auto* run = app.add_subcommand("run", "Run one scene and write DIR/results.h5");
+  run->add_option("config", run_opts.config, "Scene configuration file (TOML)")->required();
+  run->add_option("-o,--out", run_opts.out, "Output directory DIR (default: out/<scene name>); created if missing");
+  run->add_option("-s,--set", run_opts.overrides,
+                  "Override one key before validation, e.g. --set bulk.mu=200, --set 'drive.v=[0.1,1.0]', "
+                  "--set discrete.threshold=uniform (the value is read as TOML, else as a bare string); "
+                  "repeatable")
+      ->allow_extra_args(false)
+      ->type_name("SECTION.KEY=VALUE");
+  run->add_flag("-f,--force", run_opts.force, "Overwrite an existing DIR/results.h5");
+  run->add_flag("-q,--quiet", run_opts.quiet, "No progress line and no notes on stderr (errors still shown)");
+  run->footer(
+      "The configuration is validated and DIR is created and checked (results.h5 absent unless --force,\n"
+      "writable) before any simulation work. Ctrl-C (SIGINT) or SIGTERM stops the run at the next check and\n"
+      "writes the partial results with /meta status = interrupted (exit code 130); a second signal aborts.\n"
+      "A failed model (non-finite state) still writes the file, with status = failed (exit code 1).\n"
+      "The results are written to a temporary file in DIR and renamed to results.h5 when complete.");
+
+  std::filesystem::path check_config;
+  std::vector<std::string> check_overrides;
+  auto* check = app.add_subcommand("check", "Validate a scene and print its fully resolved configuration (TOML)");
+  check->add_option("config", check_config, "Scene configuration file (TOML)")->required();
+  check->add_option("-s,--set", check_overrides, "Override one key, as for run; repeatable")
+      ->allow_extra_args(false)
+      ->type_name("SECTION.KEY=VALUE");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+    print_error(std::cerr, std::string(e.what()) + " (see slipfront --help)");
+    return exit_code::usage;
+  }
+
+  if (*run) {
+    for (int i = 0; i < argc; ++i) run_opts.command_line += (i ? " " : "") + shell_quote(argv[i]);
+    return run_command(run_opts, std::cout, std::cerr);
+  }
+  return check_command(check_config, check_overrides, std::cout, std::cerr);
+}
+
+}  // namespace slipfront::app

@@ -1,0 +1,664 @@
+#include "apps/config.hpp"
+
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <set>
+#include <sstream>
+#include <string_view>
+#include <variant>
+
+namespace slipfront::app {
+
+ConfigError::ConfigError(std::string f, std::string k, std::string r)
+    : std::runtime_error(f + ": " + (k.empty() ? "" : k + ": ") + r),
+      file(std::move(f)),
+      key(std::move(k)),
+      reason(std::move(r)) {}
+
+ConfigError::ConfigError(std::string f, long line, long column, std::string r)
+    : std::runtime_error(f + ":" + std::to_string(line) + ":" + std::to_string(column) + ": " + r),
+      file(std::move(f)),
+      reason(std::move(r)) {}
+
+namespace {
+
+using compare::Scene;
+using continuum::Loading;
+
+// ---------------------------------------------------------------------------------------------
+// The schema: one row per key. `target` points into the Scene; `used` says whether the run uses
+// the key (keys not used are accepted, noted and reset to their defaults); `required` says whether
+// the file must give it (nullptr: optional, the struct default applies).
+// To add a key: add a member to the param struct and one row below (and a line in docs/cli.md).
+
+using Target = std::variant<double*, int*, long*, std::uint64_t*, bool*, std::string*, std::vector<std::string>*,
+                            std::vector<double>*, Loading*>;
+using Predicate = bool (*)(const Scene&);
+
+struct Field {
+  const char* key;               ///< key inside its section
+  Target (*target)(Scene&);      ///< where the value lives
+  Predicate used;                ///< does this scene use the key?
+  const char* used_when;         ///< human version of `used`, for notes
+  Predicate required = nullptr;  ///< must the file give it? (nullptr: optional)
+  bool scalar_ok = false;        ///< list: a single element is accepted too (v = 1.0, models = "discrete")
+};
+
+struct Section {
+  const char* name;  ///< "" for the top level
+  std::vector<Field> fields;
+};
+
+bool always(const Scene&) { return true; }
+bool one_d(const Scene& s) { return continuum::is_one_dimensional(s.drive.loading); }
+bool spring_driven(const Scene& s) {
+  return s.drive.loading == Loading::edge || s.drive.loading == Loading::spring_block;
+}
+bool homogeneous(const Scene& s) { return s.drive.loading == Loading::homogeneous; }
+bool imposed(const Scene& s) { return s.drive.loading == Loading::imposed_rate; }
+bool imposed_history(const Scene& s) { return imposed(s) && s.drive.sweep_points == 0; }
+bool imposed_sweep(const Scene& s) { return imposed(s) && s.drive.sweep_points != 0; }
+bool dt_given(const Scene& s) { return s.time.dt != 0.0; }
+bool cfl_used(const Scene& s) { return !imposed(s) && s.time.dt == 0.0; }
+bool discrete_listed(const Scene& s) {
+  return std::find(s.models.begin(), s.models.end(), "discrete") != s.models.end();
+}
+
+// Pointer to member `M` of section `S` of a Scene, as a Target.
+template <auto S, auto M>
+Target at(Scene& s) {
+  return &((s.*S).*M);
+}
+
+const std::vector<Section>& schema() {
+  using namespace continuum;
+  using D = discrete::DiscreteParams;
+  static const std::vector<Section> sections = {
+      {"",
+       {
+           {"scene", [](Scene& s) -> Target { return &s.name; }, always, "always", always},
+           {"description", [](Scene& s) -> Target { return &s.description; }, always, "always"},
+           {"models", [](Scene& s) -> Target { return &s.models; }, always, "always", nullptr, true},
+       }},
+      {"interface",
+       {
+           {"alpha", at<&Scene::interface, &InterfaceParams::alpha>, always, "always", always},
+           {"kappa", at<&Scene::interface, &InterfaceParams::kappa>, always, "always", always},
+           {"eta", at<&Scene::interface, &InterfaceParams::eta>, always, "always", always},
+       }},
+      {"bulk",
+       {
+           {"rho", at<&Scene::bulk, &BulkParams::rho>, always, "always", always},
+           {"mu", at<&Scene::bulk, &BulkParams::mu>, one_d, "with drive.loading = edge or homogeneous", one_d},
+           {"length", at<&Scene::bulk, &BulkParams::length>, one_d, "with drive.loading = edge or homogeneous",
+            one_d},
+       }},
+      {"drive",
+       {
+           {"loading", at<&Scene::drive, &DriveParams::loading>, always, "always", always},
+           {"K", at<&Scene::drive, &DriveParams::K>, spring_driven, "with drive.loading = edge or spring_block",
+            spring_driven},
+           {"v_d", at<&Scene::drive, &DriveParams::v_d>, spring_driven,
+            "with drive.loading = edge or spring_block", spring_driven},
+           {"sigma_d", at<&Scene::drive, &DriveParams::sigma_d>, homogeneous, "with drive.loading = homogeneous",
+            homogeneous},
+           {"nucleation_length", at<&Scene::drive, &DriveParams::nucleation_length>, homogeneous,
+            "with drive.loading = homogeneous", homogeneous},
+           {"v", at<&Scene::drive, &DriveParams::v>, imposed_history,
+            "with drive.loading = imposed_rate and no sweep (drive.points)", imposed_history, true},
+           {"switch_times", at<&Scene::drive, &DriveParams::v_times>, imposed_history,
+            "with drive.loading = imposed_rate and no sweep (drive.points)"},
+           {"v_min", at<&Scene::drive, &DriveParams::v_min>, imposed_sweep,
+            "for a sweep (drive.loading = imposed_rate with drive.points)"},
+           {"v_max", at<&Scene::drive, &DriveParams::v_max>, imposed_sweep,
+            "for a sweep (drive.loading = imposed_rate with drive.points)"},
+           {"points", at<&Scene::drive, &DriveParams::sweep_points>, imposed_sweep,
+            "with drive.loading = imposed_rate"},
+       }},
+      {"grid",
+       {
+           {"dx", at<&Scene::grid, &GridParams::dx>, one_d, "with drive.loading = edge or homogeneous", one_d},
+       }},
+      {"time",
+       {
+           {"t_end", at<&Scene::time, &TimeParams::t_end>, always, "always", always},
+           {"dt", at<&Scene::time, &TimeParams::dt>, dt_given, "when not 0"},
+           {"cfl", at<&Scene::time, &TimeParams::cfl>, cfl_used,
+            "when time.dt is not given and drive.loading is not imposed_rate"},
+           {"slip_end", at<&Scene::time, &TimeParams::slip_end>, imposed, "with drive.loading = imposed_rate"},
+           {"steps", at<&Scene::time, &TimeParams::steps>, imposed, "with drive.loading = imposed_rate"},
+       }},
+      {"measure",
+       {
+           {"A_tip", at<&Scene::measure, &MeasureParams::A_tip>, always, "always"},
+           {"A_tip_alt", at<&Scene::measure, &MeasureParams::A_tip_alt>, always, "always"},
+           {"v_event", at<&Scene::measure, &MeasureParams::v_event>, always, "always"},
+           {"sample_dt", at<&Scene::measure, &MeasureParams::sample_dt>, always, "always"},
+           {"average_from", at<&Scene::measure, &MeasureParams::average_from>, always, "always"},
+           {"batches", at<&Scene::measure, &MeasureParams::batches>, always, "always"},
+       }},
+      {"output",
+       {
+           {"series_dt", at<&Scene::output, &OutputParams::series_dt>, always, "always"},
+           {"snapshot_dt", at<&Scene::output, &OutputParams::snapshot_dt>, always, "always"},
+           {"energy", at<&Scene::output, &OutputParams::energy>, always, "always"},
+       }},
+      {"discrete",
+       {
+           {"contacts_per_site", at<&Scene::discrete, &D::contacts_per_site>, discrete_listed,
+            "when models lists discrete"},
+           {"threshold", at<&Scene::discrete, &D::threshold>, discrete_listed, "when models lists discrete"},
+           {"width", at<&Scene::discrete, &D::width>, discrete_listed, "when models lists discrete"},
+           {"renewal", at<&Scene::discrete, &D::renewal>, discrete_listed, "when models lists discrete"},
+           {"representation", at<&Scene::discrete, &D::representation>, discrete_listed,
+            "when models lists discrete"},
+           {"noise", at<&Scene::discrete, &D::noise>, discrete_listed, "when models lists discrete"},
+           {"seed", at<&Scene::discrete, &D::seed>, discrete_listed, "when models lists discrete"},
+           {"bins", at<&Scene::discrete, &D::bins>, discrete_listed, "when models lists discrete"},
+           {"contact_statistics", at<&Scene::discrete, &D::contact_statistics>, discrete_listed,
+            "when models lists discrete"},
+           {"threads", at<&Scene::discrete, &D::threads>, discrete_listed, "when models lists discrete"},
+       }},
+  };
+  return sections;
+}
+
+std::string dotted(const Section& sec, const Field& f) {
+  return sec.name[0] == '\0' ? std::string(f.key) : std::string(sec.name) + "." + f.key;
+}
+
+const Section* find_section(std::string_view name) {
+  for (const auto& s : schema())
+    if (name == s.name) return &s;
+  return nullptr;
+}
+
+const Field* find_field(const Section& sec, std::string_view key) {
+  for (const auto& f : sec.fields)
+    if (key == f.key) return &f;
+  return nullptr;
+}
+
+// Edit distance, for "did you mean" hints.
+std::size_t distance(std::string_view a, std::string_view b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diag = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t up = row[j];
+      const auto ca = static_cast<char>(std::tolower(static_cast<unsigned char>(a[i - 1])));
+      const auto cb = static_cast<char>(std::tolower(static_cast<unsigned char>(b[j - 1])));
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (ca == cb ? 0 : 1)});
+      diag = up;
+    }
+  }
+  return row[b.size()];
+}
+
+std::string hint(std::string_view word, const std::vector<std::string>& candidates) {
+  std::string best;
+  std::size_t best_d = std::max<std::size_t>(2, word.size() / 3) + 1;
+  for (const auto& c : candidates)
+    if (const auto d = distance(word, c); d < best_d) best_d = d, best = c;
+  return best.empty() ? "" : "; did you mean '" + best + "'?";
+}
+
+std::string join(const std::vector<std::string>& v, const char* sep = ", ") {
+  std::string out;
+  for (std::size_t i = 0; i < v.size(); ++i) out += (i ? sep : "") + v[i];
+  return out;
+}
+
+std::vector<std::string> section_keys(const Section& sec) {
+  std::vector<std::string> out;
+  for (const auto& f : sec.fields) out.emplace_back(f.key);
+  return out;
+}
+
+std::vector<std::string> section_names() {
+  std::vector<std::string> out;
+  for (const auto& s : schema())
+    if (s.name[0] != '\0') out.emplace_back(s.name);
+  return out;
+}
+
+std::string unknown_key_reason(const Section& sec, std::string_view key) {
+  const auto keys = section_keys(sec);
+  return "unknown key (known keys of [" + std::string(sec.name) + "]: " + join(keys) + ")" + hint(key, keys);
+}
+
+std::string unknown_top_level_reason(std::string_view key) {
+  const auto& top = *find_section("");
+  std::vector<std::string> all = section_keys(top);
+  std::vector<std::string> sections;
+  for (const auto& n : section_names()) sections.push_back("[" + n + "]"), all.push_back(n);
+  return "unknown key or section (known top-level keys: " + join(section_keys(top)) +
+         "; sections: " + join(sections) + ")" + hint(key, all);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Reading values.
+
+std::string describe(const toml::node& n) {
+  switch (n.type()) {
+    case toml::node_type::string: return "the string \"" + std::string(*n.as_string()) + "\"";
+    case toml::node_type::integer: return "an integer";
+    case toml::node_type::floating_point: return "a float";
+    case toml::node_type::boolean: return "a boolean";
+    case toml::node_type::array: return "an array";
+    case toml::node_type::table: return "a table";
+    case toml::node_type::date: return "a date";
+    case toml::node_type::time: return "a time";
+    case toml::node_type::date_time: return "a date-time";
+    default: return "nothing";
+  }
+}
+
+// Reports problems of one key; `key` is already in its display form.
+struct Reader {
+  const std::string& source;
+  std::string key;
+
+  [[noreturn]] void fail(const std::string& reason) const { throw ConfigError(source, key, reason); }
+
+  double number(const toml::node& n) const {
+    if (const auto* f = n.as_floating_point()) return f->get();
+    if (const auto* i = n.as_integer()) return static_cast<double>(i->get());
+    fail("expected a number, got " + describe(n));
+  }
+
+  template <class Int>
+  Int integer(const toml::node& n) const {
+    std::int64_t v = 0;
+    if (const auto* i = n.as_integer()) {
+      v = i->get();
+    } else if (const auto* f = n.as_floating_point(); f && std::isfinite(f->get()) &&
+                                                       f->get() == std::trunc(f->get()) &&
+                                                       std::abs(f->get()) < 9.0e18) {
+      v = static_cast<std::int64_t>(f->get());  // 1e3 is accepted where an integer is expected
+    } else {
+      fail("expected an integer, got " + describe(n));
+    }
+    if (std::is_unsigned_v<Int> && v < 0) fail("must be >= 0, got " + std::to_string(v));
+    if constexpr (!std::is_unsigned_v<Int>) {
+      if (v < static_cast<std::int64_t>(std::numeric_limits<Int>::min()) ||
+          v > static_cast<std::int64_t>(std::numeric_limits<Int>::max()))
+        fail("integer " + std::to_string(v) + " is out of range");
+    }
+    return static_cast<Int>(v);
+  }
+
+  void read(const toml::node& n, Target t, bool scalar_ok) const {
+    std::visit(
+        [&](auto* p) {
+          using T = std::remove_pointer_t<decltype(p)>;
+          if constexpr (std::is_same_v<T, double>) {
+            *p = number(n);
+          } else if constexpr (std::is_same_v<T, int> || std::is_same_v<T, long> ||
+                               std::is_same_v<T, std::uint64_t>) {
+            *p = integer<T>(n);
+          } else if constexpr (std::is_same_v<T, bool>) {
+            if (const auto* b = n.as_boolean()) *p = b->get();
+            else fail("expected true or false, got " + describe(n));
+          } else if constexpr (std::is_same_v<T, std::string>) {
+            if (const auto* s = n.as_string()) *p = s->get();
+            else fail("expected a string, got " + describe(n));
+          } else if constexpr (std::is_same_v<T, std::vector<std::string>>) {
+            if (const auto* s = n.as_string(); s && scalar_ok) {
+              *p = {s->get()};
+              return;
+            }
+            const auto* a = n.as_array();
+            if (!a) fail("expected an array of strings, got " + describe(n));
+            p->clear();
+            for (const auto& e : *a) {
+              if (const auto* s = e.as_string()) p->push_back(s->get());
+              else fail("expected an array of strings, got an element that is " + describe(e));
+            }
+          } else if constexpr (std::is_same_v<T, std::vector<double>>) {
+            if (scalar_ok && (n.is_integer() || n.is_floating_point())) {
+              *p = {number(n)};
+              return;
+            }
+            const auto* a = n.as_array();
+            if (!a)
+              fail(std::string("expected ") + (scalar_ok ? "a number or " : "") + "an array of numbers, got " +
+                   describe(n));
+            p->clear();
+            for (const auto& e : *a) {
+              if (!e.is_integer() && !e.is_floating_point())
+                fail("expected an array of numbers, got an element that is " + describe(e));
+              p->push_back(number(e));
+            }
+          } else if constexpr (std::is_same_v<T, Loading>) {
+            const auto* s = n.as_string();
+            if (!s) fail("expected a string (edge, homogeneous, imposed_rate or spring_block), got " + describe(n));
+            try {
+              *p = continuum::loading_from_string(s->get());
+            } catch (const continuum::ParamError& e) {
+              fail(e.reason);
+            }
+          }
+        },
+        t);
+  }
+};
+
+// Copies the value of `f` from `from` into `to` (both scenes).
+void copy_field(const Field& f, Scene& to, Scene& from) {
+  std::visit(
+      [&](auto* p) {
+        using P = decltype(p);
+        *p = *std::get<P>(f.target(from));
+      },
+      f.target(to));
+}
+
+bool same_field(const Field& f, Scene& a, Scene& b) {
+  return std::visit(
+      [&](auto* p) {
+        using P = decltype(p);
+        using T = std::remove_pointer_t<P>;
+        const T& x = *p;
+        const T& y = *std::get<P>(f.target(b));
+        if constexpr (std::is_same_v<T, double>) {
+          return x == y || (std::isnan(x) && std::isnan(y));
+        } else if constexpr (std::is_same_v<T, std::vector<double>>) {
+          if (x.size() != y.size()) return false;
+          for (std::size_t i = 0; i < x.size(); ++i)
+            if (!(x[i] == y[i] || (std::isnan(x[i]) && std::isnan(y[i])))) return false;
+          return true;
+        } else {
+          return x == y;
+        }
+      },
+      f.target(a));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Overrides: "section.key=value" into the parsed document.
+
+std::string trim(std::string_view s) {
+  const auto b = s.find_first_not_of(" \t");
+  if (b == std::string_view::npos) return {};
+  const auto e = s.find_last_not_of(" \t");
+  return std::string(s.substr(b, e - b + 1));
+}
+
+// Returns the dotted key it set.
+std::string apply_override(toml::table& root, const std::string& arg, const std::string& source) {
+  const auto eq = arg.find('=');
+  if (eq == std::string::npos)
+    throw ConfigError(source, "--set " + arg, "expected section.key=value (for example bulk.mu=200)");
+  const std::string key = trim(std::string_view(arg).substr(0, eq));
+  const std::string text = trim(std::string_view(arg).substr(eq + 1));
+  const auto dot = key.find('.');
+  const std::string sec_name = dot == std::string::npos ? "" : key.substr(0, dot);
+  const std::string field_key = dot == std::string::npos ? key : key.substr(dot + 1);
+  const Section* sec = find_section(sec_name);
+  if (dot == std::string::npos) {
+    if (!find_field(*sec, field_key)) {
+      throw ConfigError(source, "--set " + key,
+                        find_section(field_key) ? "a whole section cannot be set; use --set " + field_key + ".KEY=VALUE"
+                                                : unknown_top_level_reason(field_key));
+    }
+  } else if (!sec || sec_name.empty()) {
+    throw ConfigError(source, "--set " + key,
+                      "unknown section '" + sec_name + "' (known sections: " + join(section_names()) + ")" +
+                          hint(sec_name, section_names()));
+  } else if (!find_field(*sec, field_key)) {
+    throw ConfigError(source, "--set " + key, unknown_key_reason(*sec, field_key));
+  }
+
+  // The value: a TOML value if it parses as one, else the bare text as a string.
+  toml::table value_doc;
+  bool parsed = false;
+  try {
+    value_doc = toml::parse("value = " + text + "\n");
+    parsed = value_doc.contains("value");
+  } catch (const toml::parse_error&) {
+    parsed = false;
+  }
+  toml::table* target = &root;
+  if (!sec_name.empty()) {
+    target = root.get_as<toml::table>(sec_name);
+    if (!target) {
+      root.insert_or_assign(sec_name, toml::table{});
+      target = root.get_as<toml::table>(sec_name);
+    }
+  }
+  if (parsed) {
+    value_doc.get("value")->visit([&](auto& v) { target->insert_or_assign(field_key, v); });
+  } else {
+    target->insert_or_assign(field_key, text);
+  }
+  return key;
+}
+
+// ---------------------------------------------------------------------------------------------
+
+Scene scene_from_table(toml::table& root, const std::string& source, const std::vector<std::string>& overrides,
+                       std::vector<std::string>* notes) {
+  std::set<std::string> overridden;
+  for (const auto& o : overrides) overridden.insert(apply_override(root, o, source));
+  auto shown = [&](const std::string& key) { return overridden.count(key) ? "--set " + key : key; };
+
+  // Unknown sections and keys.
+  const Section& top = *find_section("");
+  for (const auto& [k, node] : root) {
+    const std::string key(k.str());
+    if (find_field(top, key)) continue;
+    const Section* sec = find_section(key);
+    if (!sec) throw ConfigError(source, key, unknown_top_level_reason(key));
+    const auto* tbl = node.as_table();
+    if (!tbl) throw ConfigError(source, key, "expected a section [" + key + "], got " + describe(node));
+    for (const auto& [sk, snode] : *tbl) {
+      const std::string skey(sk.str());
+      if (!find_field(*sec, skey)) throw ConfigError(source, shown(key + "." + skey), unknown_key_reason(*sec, skey));
+    }
+  }
+
+  auto lookup = [&](const Section& sec, const Field& f) -> const toml::node* {
+    if (sec.name[0] == '\0') return root.get(f.key);
+    const auto* tbl = root.get_as<toml::table>(sec.name);
+    return tbl ? tbl->get(f.key) : nullptr;
+  };
+
+  // Values present in the file (drive.loading first: what is required depends on it).
+  Scene s;
+  const Section& drive = *find_section("drive");
+  const Field& loading = *find_field(drive, "loading");
+  const toml::node* loading_node = lookup(drive, loading);
+  if (!loading_node)
+    throw ConfigError(source, "drive.loading",
+                      "required key is missing (one of edge, homogeneous, imposed_rate, spring_block)");
+  for (const auto& sec : schema())
+    for (const auto& f : sec.fields)
+      if (const toml::node* n = lookup(sec, f)) Reader{source, shown(dotted(sec, f))}.read(*n, f.target(s), f.scalar_ok);
+
+  // Required keys, and the rules between keys.
+  for (const auto& sec : schema())
+    for (const auto& f : sec.fields)
+      if (f.required && f.required(s) && !lookup(sec, f)) {
+        std::string reason = "required key is missing";
+        if (std::string_view(f.key) == "v")
+          reason += " (with drive.loading = imposed_rate give drive.v, or a sweep: drive.points with drive.v_min, "
+                    "drive.v_max)";
+        else if (f.required != always)
+          reason += std::string(" (required ") + f.used_when + ")";
+        throw ConfigError(source, dotted(sec, f), reason);
+      }
+  if (imposed(s) && lookup(drive, *find_field(drive, "points")) && s.drive.sweep_points < 2)
+    throw ConfigError(source, shown("drive.points"),
+                      "a sweep needs at least 2 points, got " + std::to_string(s.drive.sweep_points));
+  if (imposed_history(s) && !lookup(drive, *find_field(drive, "switch_times"))) {
+    if (s.drive.v.size() > 1)
+      throw ConfigError(source, "drive.switch_times",
+                        "required key is missing (drive.v has " + std::to_string(s.drive.v.size()) +
+                            " values: give the time at which each starts, the first 0)");
+    s.drive.v_times = {0.0};
+  }
+  if (s.name.empty()) throw ConfigError(source, shown("scene"), "must not be empty (it names the output directory)");
+  if (s.name.front() == '/' || s.name.find("..") != std::string::npos)
+    throw ConfigError(source, shown("scene"), "must be a relative name without '..' (it names out/<scene>)");
+  for (std::size_t i = 0; i < s.models.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      if (s.models[i] == s.models[j]) throw ConfigError(source, shown("models"), "lists '" + s.models[i] + "' twice");
+
+  // Keys this scene does not use: noted, and reset to their defaults (canonical form).
+  Scene defaults;
+  std::vector<const Field*> unused;
+  for (const auto& sec : schema())
+    for (const auto& f : sec.fields)
+      if (!f.used(s)) {
+        if (lookup(sec, f) && notes)
+          notes->push_back(dotted(sec, f) + " is ignored: it is used only " + f.used_when);
+        unused.push_back(&f);
+      }
+  for (const Field* f : unused) copy_field(*f, s, defaults);
+
+  try {
+    s.validate();
+  } catch (const continuum::ParamError& e) {
+    throw ConfigError(source, shown(e.key), e.reason);
+  } catch (const std::exception& e) {  // a check outside the parameter structs (e.g. building the grid)
+    throw ConfigError(source, "", e.what());
+  }
+  return s;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Writing.
+
+std::string format_double(double x) {
+  if (std::isnan(x)) return "nan";
+  if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
+  char buf[64];
+  const auto res = std::to_chars(buf, buf + sizeof buf, x);  // shortest round-trip form
+  std::string s(buf, res.ptr);
+  if (s.find_first_of(".eE") == std::string::npos) s += ".0";
+  return s;
+}
+
+std::string format_string(const std::string& v) {
+  std::string out = "\"";
+  for (const char c : v) {
+    switch (c) {
+      case '"': out += "\\\""; break;
+      case '\\': out += "\\\\"; break;
+      case '\b': out += "\\b"; break;
+      case '\t': out += "\\t"; break;
+      case '\n': out += "\\n"; break;
+      case '\f': out += "\\f"; break;
+      case '\r': out += "\\r"; break;
+      default:
+        if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) {
+          char buf[8];
+          std::snprintf(buf, sizeof buf, "\\u%04X", static_cast<unsigned>(static_cast<unsigned char>(c)));
+          out += buf;
+        } else {
+          out += c;
+        }
+    }
+  }
+  return out + "\"";
+}
+
+std::string format_value(Target t) {
+  return std::visit(
+      [](auto* p) -> std::string {
+        using T = std::remove_pointer_t<decltype(p)>;
+        if constexpr (std::is_same_v<T, double>) {
+          return format_double(*p);
+        } else if constexpr (std::is_same_v<T, bool>) {
+          return *p ? "true" : "false";
+        } else if constexpr (std::is_same_v<T, std::string>) {
+          return format_string(*p);
+        } else if constexpr (std::is_same_v<T, std::vector<std::string>>) {
+          std::vector<std::string> items;
+          for (const auto& e : *p) items.push_back(format_string(e));
+          std::string text = "[";  // (appends: GCC 12 warns falsely on "[" + std::string)
+          text += join(items);
+          text += "]";
+          return text;
+        } else if constexpr (std::is_same_v<T, std::vector<double>>) {
+          std::vector<std::string> items;
+          for (const double e : *p) items.push_back(format_double(e));
+          std::string text = "[";  // (appends: GCC 12 warns falsely on "[" + std::string)
+          text += join(items);
+          text += "]";
+          return text;
+        } else if constexpr (std::is_same_v<T, Loading>) {
+          return format_string(continuum::to_string(*p));
+        } else {
+          return std::to_string(*p);  // integers (a seed above 2^63 - 1 cannot be written in TOML)
+        }
+      },
+      t);
+}
+
+}  // namespace
+
+Scene parse_scene(const std::string& toml_text, const std::string& source_name,
+                  const std::vector<std::string>& overrides, std::vector<std::string>* notes) {
+  toml::table root;
+  try {
+    root = toml::parse(toml_text, source_name);
+  } catch (const toml::parse_error& e) {
+    throw ConfigError(source_name, static_cast<long>(e.source().begin.line),
+                      static_cast<long>(e.source().begin.column), std::string(e.description()));
+  }
+  return scene_from_table(root, source_name, overrides, notes);
+}
+
+Scene load_scene(const std::filesystem::path& file, const std::vector<std::string>& overrides,
+                 std::vector<std::string>* notes) {
+  const std::string source = file.string();
+  std::error_code ec;
+  if (std::filesystem::is_directory(file, ec)) throw ConfigError(source, "", "is a directory, not a TOML file");
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw ConfigError(source, "", std::string("cannot open the file: ") + std::strerror(errno));
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parse_scene(text.str(), source, overrides, notes);
+}
+
+std::string to_toml(const Scene& scene) {
+  Scene s = scene;  // targets point into a mutable scene; nothing is modified
+  std::ostringstream out;
+  out << "# slipfront resolved configuration: every key this scene uses, with its effective value\n";
+  for (const auto& sec : schema()) {
+    bool header = sec.name[0] == '\0';
+    for (const auto& f : sec.fields) {
+      if (!f.used(s)) continue;
+      if (!header) {
+        out << "\n[" << sec.name << "]\n";
+        header = true;
+      }
+      out << f.key << " = " << format_value(f.target(s)) << "\n";
+    }
+  }
+  return out.str();
+}
+
+bool same_scene(const Scene& a, const Scene& b) {
+  Scene x = a, y = b;
+  for (const auto& sec : schema())
+    for (const auto& f : sec.fields)
+      if (!same_field(f, x, y)) return false;
+  return true;
+}
+
+}  // namespace slipfront::app

@@ -1,0 +1,46 @@
+#pragma once
+// Scene configuration files (TOML) <-> compare::Scene (MODEL §5; the schema is in docs/cli.md).
+// Every key of the schema is one row of a table in config.cpp; reading, --set overrides, defaults,
+// "unknown key" messages and to_toml() all follow that table.
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "compare/scene.hpp"
+
+namespace slipfront::app {
+
+/// Anything wrong with a configuration: what() is "<file>: <key>: <reason>", or
+/// "<file>:<line>:<col>: <reason>" for TOML syntax errors (then key is empty).
+struct ConfigError : std::runtime_error {
+  std::string file;
+  std::string key;     ///< dotted key ("interface.alpha"), "--set <key>" for overrides, or empty
+  std::string reason;
+  ConfigError(std::string file, std::string key, std::string reason);
+  ConfigError(std::string file, long line, long column, std::string reason);  ///< syntax error
+};
+
+/// Read, override, complete with defaults and validate a scene.
+///  - `overrides`: "section.key=value" (top-level keys: "key=value"); the value is parsed as a TOML
+///    value, or taken as a bare string if it does not parse. Applied before any check.
+///  - Keys that the scene's loading or model list does not use are accepted but ignored: they are
+///    reset to their defaults (so that to_toml() lists exactly what the run uses) and, if `notes`
+///    is given, one note per ignored key is appended to it.
+/// Throws ConfigError for every problem (unknown/missing key, wrong type, out of range).
+compare::Scene load_scene(const std::filesystem::path& file, const std::vector<std::string>& overrides,
+                          std::vector<std::string>* notes = nullptr);
+
+/// The same from TOML text; `source_name` stands for the file name in messages.
+compare::Scene parse_scene(const std::string& toml_text, const std::string& source_name,
+                           const std::vector<std::string>& overrides, std::vector<std::string>* notes = nullptr);
+
+/// The fully resolved configuration: every key the scene uses, with its effective value (defaults
+/// included), in schema order. parse_scene(to_toml(s)) reproduces s exactly (doubles are written
+/// in shortest round-trip form) for every s returned by load_scene.
+std::string to_toml(const compare::Scene& scene);
+
+/// Field-by-field equality of two scenes (what the round trip guarantees).
+bool same_scene(const compare::Scene& a, const compare::Scene& b);
+
+}  // namespace slipfront::app

@@ -1,0 +1,399 @@
+#include "apps/h5out.hpp"
+
+#include <hdf5.h>
+#include <unistd.h>
+
+#include <CLI/Version.hpp>
+#include <algorithm>
+#include <boost/version.hpp>
+#include <cmath>
+#include <ctime>
+#include <map>
+#include <toml++/toml.h>
+#include <utility>
+
+#include "apps/build_info.hpp"
+
+namespace slipfront::app {
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// RAII for hid_t: one owner, closed by the matching H5?close.
+
+class Hid {
+ public:
+  using Closer = herr_t (*)(hid_t);
+  Hid(hid_t id, Closer closer, const std::string& what) : id_(id), close_(closer) {
+    if (id_ < 0) throw OutputError("HDF5: cannot " + what);
+  }
+  Hid(const Hid&) = delete;
+  Hid& operator=(const Hid&) = delete;
+  Hid(Hid&& o) noexcept : id_(std::exchange(o.id_, -1)), close_(o.close_) {}
+  ~Hid() {
+    if (id_ >= 0) close_(id_);
+  }
+  hid_t get() const { return id_; }
+  /// Closes now and reports failure (for the file: flushing happens here).
+  void close(const std::string& what) {
+    const hid_t id = std::exchange(id_, -1);
+    if (id >= 0 && close_(id) < 0) throw OutputError("HDF5: cannot " + what);
+  }
+
+ private:
+  hid_t id_;
+  Closer close_;
+};
+
+void check(herr_t rc, const std::string& what) {
+  if (rc < 0) throw OutputError("HDF5: cannot " + what);
+}
+
+// Silences HDF5's own error printing while we write (we report errors ourselves).
+class QuietHdf5 {
+ public:
+  QuietHdf5() {
+    H5Eget_auto2(H5E_DEFAULT, &func_, &data_);
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  }
+  ~QuietHdf5() { H5Eset_auto2(H5E_DEFAULT, func_, data_); }
+  QuietHdf5(const QuietHdf5&) = delete;
+  QuietHdf5& operator=(const QuietHdf5&) = delete;
+
+ private:
+  H5E_auto2_t func_ = nullptr;
+  void* data_ = nullptr;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Groups, attributes, datasets.
+
+Hid make_group(hid_t parent, const std::string& name, const std::string& where) {
+  return Hid(H5Gcreate2(parent, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose,
+             "create group " + where);
+}
+
+void delete_attribute_if_present(hid_t obj, const std::string& name) {
+  if (H5Aexists(obj, name.c_str()) > 0) check(H5Adelete(obj, name.c_str()), "replace attribute " + name);
+}
+
+void attr_string(hid_t obj, const std::string& name, const std::string& value) {
+  delete_attribute_if_present(obj, name);
+  Hid type(H5Tcopy(H5T_C_S1), H5Tclose, "make a string type");
+  check(H5Tset_size(type.get(), H5T_VARIABLE), "make a string type");
+  check(H5Tset_cset(type.get(), H5T_CSET_UTF8), "make a string type");
+  Hid space(H5Screate(H5S_SCALAR), H5Sclose, "make a scalar dataspace");
+  Hid attr(H5Acreate2(obj, name.c_str(), type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose,
+           "create attribute " + name);
+  const char* p = value.c_str();
+  check(H5Awrite(attr.get(), type.get(), &p), "write attribute " + name);
+}
+
+void attr_double(hid_t obj, const std::string& name, double value) {
+  delete_attribute_if_present(obj, name);
+  Hid space(H5Screate(H5S_SCALAR), H5Sclose, "make a scalar dataspace");
+  Hid attr(H5Acreate2(obj, name.c_str(), H5T_IEEE_F64LE, space.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose,
+           "create attribute " + name);
+  check(H5Awrite(attr.get(), H5T_NATIVE_DOUBLE, &value), "write attribute " + name);
+}
+
+void attr_int(hid_t obj, const std::string& name, long long value) {
+  delete_attribute_if_present(obj, name);
+  Hid space(H5Screate(H5S_SCALAR), H5Sclose, "make a scalar dataspace");
+  Hid attr(H5Acreate2(obj, name.c_str(), H5T_STD_I64LE, space.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose,
+           "create attribute " + name);
+  check(H5Awrite(attr.get(), H5T_NATIVE_LLONG, &value), "write attribute " + name);
+}
+
+// A float64 dataset of shape dims (rank 1 or 2) with a `description` attribute. Snapshots
+// (`compress`) are chunked by whole rows and gzip-compressed when the filter is available.
+void dataset(hid_t parent, const std::string& name, const double* data, std::vector<hsize_t> dims,
+             const std::string& description, const std::string& where, bool compress = false) {
+  const auto rank = static_cast<int>(dims.size());
+  Hid space(H5Screate_simple(rank, dims.data(), nullptr), H5Sclose, "make the dataspace of " + where);
+  Hid dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, "make a property list");
+  hsize_t total = 1;
+  for (const auto d : dims) total *= d;
+  if (compress && rank == 2 && total > 0 && H5Zfilter_avail(H5Z_FILTER_DEFLATE) > 0) {
+    const hsize_t cols = dims[1];
+    const hsize_t rows = std::clamp<hsize_t>(16384 / std::max<hsize_t>(cols, 1), 1, dims[0]);  // ≤ 128 KiB
+    const hsize_t chunk[2] = {rows, cols};
+    check(H5Pset_chunk(dcpl.get(), 2, chunk), "chunk " + where);
+    check(H5Pset_shuffle(dcpl.get()), "set the shuffle filter on " + where);
+    check(H5Pset_deflate(dcpl.get(), 4), "set the gzip filter on " + where);
+  }
+  Hid ds(H5Dcreate2(parent, name.c_str(), H5T_IEEE_F64LE, space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT),
+         H5Dclose, "create dataset " + where);
+  if (total > 0) check(H5Dwrite(ds.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), "write " + where);
+  attr_string(ds.get(), "description", description);
+}
+
+void dataset_1d(hid_t parent, const std::string& name, const std::vector<double>& v, const std::string& description,
+                const std::string& where) {
+  dataset(parent, name, v.data(), {v.size()}, description, where);
+}
+
+// ---------------------------------------------------------------------------------------------
+// What each dataset means (docs/output.md says the same at more length).
+
+std::string description_of(const std::string& group, const std::string& name) {
+  static const std::map<std::string, std::string> known = {
+      {"x", "node positions x along the interface [nx] (0D scenes: the single site, x = 0)"},
+      {"series/t", "time t of each series sample (cadence output.series_dt)"},
+      {"series/drive_force",
+       "drive force F = K (v_d t - u(0,t)) (edge loading, spring block; 0 for homogeneous loading; "
+       "imposed slip rate: the frictional stress sigma)"},
+      {"series/max_v", "max over x of |v| during the last step (imposed slip rate: |v|)"},
+      {"series/tip_x",
+       "front tip: largest x with A < measure.A_tip, interpolated between nodes, from the latest tip sample "
+       "(cadence measure.sample_dt); NaN when A >= A_tip everywhere"},
+      {"series/tip_x_alt", "as tip_x for the threshold measure.A_tip_alt"},
+      {"series/A", "contact-area fraction A of the single site (0D)"},
+      {"series/sigma_bar", "interfacial elastic stress sigma_bar of the single site (0D)"},
+      {"series/sigma", "frictional stress sigma = sigma_bar + eta v of the single site (0D)"},
+      {"series/slip_rate", "slip rate v of the single site (0D)"},
+      {"series/slip", "slip u of the single site (0D)"},
+      {"series/energy_drive_work", "work done by the drive since t = 0 (energy budget, output.energy)"},
+      {"series/energy_mechanical",
+       "kinetic + elastic + spring energy minus its initial value (energy budget, output.energy)"},
+      {"series/energy_viscous", "energy dissipated by the eta v term since t = 0 (energy budget, output.energy)"},
+      {"series/energy_interfacial",
+       "work of the interfacial stress sigma_bar on the slip since t = 0 (energy budget, output.energy)"},
+      {"series/energy_residual",
+       "drive work - mechanical - viscous - interfacial: the error of the energy budget (output.energy)"},
+      {"series/energy_time",
+       "time t^n at which the energy budget terms hold: the start of the last step, one step behind series/t "
+       "(output.energy)"},
+      {"contacts/lifetime_hist_edges", "bin edges of the attached-lifetime histogram [nb + 1] (log spaced, 0 .. inf)"},
+      {"contacts/lifetime_hist_counts", "completed attachments per lifetime bin [nb]"},
+      {"contacts/lifetime_total", "number of completed attachments counted [1]"},
+      {"contacts/lifetimes", "raw attached lifetimes (only when at most 100000 were recorded)"},
+      {"contacts/lifetime_start_t", "attachment time of each raw lifetime"},
+      {"contacts/detached_hist_edges", "bin edges of the detached-duration histogram [nb + 1]"},
+      {"contacts/detached_hist_counts", "completed detached periods per duration bin [nb]"},
+      {"contacts/detached_total", "number of completed detached periods counted [1]"},
+      {"contacts/detached_durations", "raw detached durations (only when at most 100000 were recorded)"},
+      {"contacts/detached_start_t", "detachment time of each raw detached duration"},
+      {"contacts/snapshot_t", "times of the contact snapshots (cadence output.snapshot_dt) [ns]"},
+      {"contacts/age_hist_edges", "bin edges of the age histogram of attached contacts [nb + 1]"},
+      {"contacts/age_hist_counts", "ages t - t_attach of the attached contacts at each snapshot [ns, nb]"},
+      {"contacts/threshold_hist_edges", "bin edges of the threshold histogram of attached contacts [nb + 1]"},
+      {"contacts/threshold_hist_counts", "yield thresholds of the attached contacts at each snapshot [ns, nb]"},
+      {"contacts/detachments_per_site",
+       "detachments per site in (t_{k-1}, t_k] between snapshots (row 0: since the start) [ns, nx]"},
+      {"contacts/attachments_per_site", "attachments per site in the same intervals [ns, nx]"},
+      {"snapshots/t", "time of each snapshot (cadence output.snapshot_dt) [ns]"},
+      {"snapshots/A", "contact-area fraction A(x, t) [ns, nx]"},
+      {"snapshots/sigma_bar", "interfacial elastic stress sigma_bar(x, t) [ns, nx]"},
+      {"snapshots/v", "slip rate v(x, t) [ns, nx]"},
+      {"snapshots/u", "slip u(x, t) [ns, nx]"},
+      {"cycles/t_start", "spring block stick-slip cycles: time the slip event started (v > measure.v_event)"},
+      {"cycles/F_peak", "spring block stick-slip cycles: largest drive force since the previous event (peak friction)"},
+      {"cycles/F_residual", "spring block stick-slip cycles: smallest drive force during the event (residual friction)"},
+      {"friction_law/v", "imposed slip rate of each sweep point"},
+      {"friction_law/sigma", "steady frictional stress: time average of sigma over the last part of the run"},
+      {"friction_law/sigma_stderr", "standard error of friction_law/sigma from batch means"},
+      {"friction_law/A", "time-averaged contact-area fraction over the same window"},
+      {"friction_law/sigma_closed_form", "closed form sigma_ss(v) = alpha/(1 + kappa v) + eta v (MODEL §1)"},
+  };
+  const std::string key = group.empty() ? name : group + "/" + name;
+  if (const auto it = known.find(key); it != known.end()) return it->second;
+  if (group == "contacts") return "contact statistics '" + name + "' of the agent representation (docs/output.md)";
+  return group + " column '" + name + "' (docs/output.md)";
+}
+
+std::string group_description(const std::string& group) {
+  static const std::map<std::string, std::string> known = {
+      {"series", "time series, one sample every output.series_dt"},
+      {"snapshots", "fields along the interface, one row every output.snapshot_dt"},
+      {"events", "event times and front speeds (MODEL §3) as attributes; NaN where the run had no such event; "
+                 "the _alt names are measured on the measure.A_tip_alt front"},
+      {"cycles", "stick-slip cycles of the spring block, one entry per cycle"},
+      {"friction_law", "steady friction law of an imposed slip-rate sweep, one entry per slip rate"},
+      {"contacts", "contact statistics of the agent representation"},
+  };
+  const auto it = known.find(group);
+  return it == known.end() ? group : it->second;
+}
+
+void columns(hid_t model_group, const std::string& model, const std::string& group, const compare::Columns& cols) {
+  Hid g = make_group(model_group, group, "/" + model + "/" + group);
+  attr_string(g.get(), "description", group_description(group));
+  for (const auto& [name, v] : cols)
+    dataset_1d(g.get(), name, v, description_of(group, name), "/" + model + "/" + group + "/" + name);
+}
+
+void events(hid_t model_group, const std::string& model, const compare::ModelResult& r) {
+  Hid g = make_group(model_group, "events", "/" + model + "/events");
+  attr_string(g.get(), "description", group_description("events"));
+  const std::pair<const char*, double compare::Events::*> names[] = {
+      {"t_star", &compare::Events::t_star},
+      {"t_hat", &compare::Events::t_hat},
+      {"c_slow", &compare::Events::c_slow},
+      {"c_transient", &compare::Events::c_transient},
+      {"c_transient_peak", &compare::Events::c_transient_peak},
+      {"x_arrest", &compare::Events::x_arrest},
+      {"t_arrest", &compare::Events::t_arrest},
+      {"c_front", &compare::Events::c_front},
+  };
+  for (const auto& [name, member] : names) {
+    attr_double(g.get(), name, r.events.*member);
+    attr_double(g.get(), std::string(name) + "_alt", r.events_alt.*member);
+  }
+}
+
+void model(hid_t file, const compare::ModelResult& r) {
+  const std::string& m = r.model;
+  Hid g = make_group(file, m, "/" + m);
+  for (const auto& [name, value] : r.scalars) attr_double(g.get(), name, value);
+  for (const auto& [name, value] : r.labels) attr_string(g.get(), name, value);
+  attr_string(g.get(), "status", r.status);
+  attr_string(g.get(), "message", r.message);
+  attr_double(g.get(), "wall_seconds", r.wall_seconds);
+
+  dataset_1d(g.get(), "x", r.x, description_of("", "x"), "/" + m + "/x");
+  columns(g.get(), m, "series", r.series);
+
+  if (!r.snapshot_t.empty()) {
+    Hid s = make_group(g.get(), "snapshots", "/" + m + "/snapshots");
+    attr_string(s.get(), "description", group_description("snapshots"));
+    dataset_1d(s.get(), "t", r.snapshot_t, description_of("snapshots", "t"), "/" + m + "/snapshots/t");
+    const hsize_t ns = r.snapshot_t.size(), nx = r.x.size();
+    for (const auto& [name, v] : r.snapshots) {
+      const std::string where = "/" + m + "/snapshots/" + name;
+      if (v.size() != ns * nx)
+        throw OutputError("snapshot column " + name + " of " + m + " has " + std::to_string(v.size()) +
+                          " values, expected ns * nx = " + std::to_string(ns) + " * " + std::to_string(nx));
+      dataset(s.get(), name, v.data(), {ns, nx}, description_of("snapshots", name), where, true);
+    }
+  }
+
+  events(g.get(), m, r);
+  if (!r.cycles.empty()) columns(g.get(), m, "cycles", r.cycles);
+  if (!r.friction_law.empty()) columns(g.get(), m, "friction_law", r.friction_law);
+
+  if (!r.contacts.empty() || !r.contacts_2d.empty()) {
+    const std::string base = "/" + m + "/contacts";
+    Hid c = make_group(g.get(), "contacts", base);
+    attr_string(c.get(), "description", group_description("contacts"));
+    for (const auto& [name, v] : r.contacts)
+      dataset_1d(c.get(), name, v, description_of("contacts", name), base + "/" + name);
+    for (const auto& [name, t] : r.contacts_2d) {
+      if (t.cols == 0 || t.data.size() % t.cols != 0)
+        throw OutputError("contact table " + name + " of " + m + " has " + std::to_string(t.data.size()) +
+                          " values, not a whole number of rows of " + std::to_string(t.cols));
+      dataset(c.get(), name, t.data.data(), {t.data.size() / t.cols, t.cols}, description_of("contacts", name),
+              base + "/" + name);
+    }
+  }
+}
+
+int severity(const std::string& status) {
+  if (status == "complete") return 0;
+  if (status == "interrupted") return 1;
+  return 2;  // failed, or anything unexpected
+}
+
+std::string utc_now_iso8601() {
+  const std::time_t now = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&now, &tm);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return buf;
+}
+
+void write_file(const std::filesystem::path& tmp, const compare::Scene& scene, const std::string& resolved_toml,
+                const std::vector<compare::ModelResult>& results, const RunMeta& meta) {
+  Hid file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose,
+           "create " + tmp.string());
+  {
+    Hid g = make_group(file.get(), "meta", "/meta");
+    const LibraryVersions lv = library_versions();
+    attr_string(g.get(), "version", build_info::version);
+    attr_int(g.get(), "layout_version", layout_version);
+    attr_string(g.get(), "git_commit", build_info::git_commit);
+    attr_string(g.get(), "compiler", lv.compiler);
+    attr_string(g.get(), "hdf5_version", lv.hdf5);
+    attr_string(g.get(), "boost_version", lv.boost);
+    attr_string(g.get(), "tomlplusplus_version", lv.tomlplusplus);
+    attr_string(g.get(), "cli11_version", lv.cli11);
+    attr_string(g.get(), "eigen_version", lv.eigen);
+    attr_string(g.get(), "created_utc", utc_now_iso8601());
+    attr_double(g.get(), "wall_seconds", meta.wall_seconds);
+    attr_string(g.get(), "status", overall_status(results, meta.status));
+    attr_string(g.get(), "command_line", meta.command_line);
+    std::string message = meta.message;
+    if (message.empty())
+      for (const auto& r : results)
+        if (!r.message.empty()) message += (message.empty() ? "" : "; ") + r.model + ": " + r.message;
+    attr_string(g.get(), "message", message);
+    attr_string(g.get(), "scene", scene.name);
+    std::string models;
+    for (const auto& r : results) models += (models.empty() ? "" : ",") + r.model;
+    attr_string(g.get(), "models", models);
+  }
+  {
+    Hid g = make_group(file.get(), "config", "/config");
+    attr_string(g.get(), "toml", resolved_toml);
+  }
+  for (const auto& r : results) model(file.get(), r);
+  file.close("close " + tmp.string());
+}
+
+}  // namespace
+
+std::string overall_status(const std::vector<compare::ModelResult>& results, const std::string& floor) {
+  std::string worst = floor;
+  for (const auto& r : results)
+    if (severity(r.status) > severity(worst)) worst = r.status;
+  return severity(worst) == 2 ? "failed" : worst;
+}
+
+std::filesystem::path temporary_path(const std::filesystem::path& path) {
+  std::string name = ".";
+  name += path.filename().string();
+  name += ".tmp.";
+  name += std::to_string(::getpid());
+  return path.parent_path() / name;
+}
+
+void write_results(const std::filesystem::path& path, const compare::Scene& scene, const std::string& resolved_toml,
+                   const std::vector<compare::ModelResult>& results, const RunMeta& meta) {
+  const QuietHdf5 quiet;
+  const std::filesystem::path tmp = temporary_path(path);
+  try {
+    write_file(tmp, scene, resolved_toml, results, meta);
+    std::filesystem::rename(tmp, path);
+  } catch (const std::filesystem::filesystem_error& e) {
+    std::error_code ec;
+    std::filesystem::remove(tmp, ec);
+    throw OutputError("cannot move " + tmp.string() + " to " + path.string() + ": " + e.code().message());
+  } catch (...) {
+    std::error_code ec;
+    std::filesystem::remove(tmp, ec);
+    throw;
+  }
+}
+
+LibraryVersions library_versions() {
+  LibraryVersions v;
+#if defined(__clang__)
+  v.compiler = std::string("clang ") + __clang_version__;
+#elif defined(__GNUC__)
+  v.compiler = std::string("GCC ") + __VERSION__;
+#else
+  v.compiler = "unknown";
+#endif
+  unsigned maj = 0, min = 0, rel = 0;
+  H5get_libversion(&maj, &min, &rel);
+  v.hdf5 = std::to_string(maj) + "." + std::to_string(min) + "." + std::to_string(rel);
+  v.boost = std::to_string(BOOST_VERSION / 100000) + "." + std::to_string(BOOST_VERSION / 100 % 1000) + "." +
+            std::to_string(BOOST_VERSION % 100);
+  v.tomlplusplus = std::to_string(TOML_LIB_MAJOR) + "." + std::to_string(TOML_LIB_MINOR) + "." +
+                   std::to_string(TOML_LIB_PATCH);
+  v.cli11 = CLI11_VERSION;
+  v.eigen = build_info::eigen_version;
+  return v;
+}
+
+}  // namespace slipfront::app

@@ -1,0 +1,46 @@
+#pragma once
+// The one module that owns the HDF5 layout of results.h5 (MODEL §5; documented in docs/output.md).
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "compare/result.hpp"
+#include "compare/scene.hpp"
+
+namespace slipfront::app {
+
+/// Version of the file layout written to /meta (attribute `layout_version`); bump on incompatible changes.
+inline constexpr int layout_version = 1;
+
+/// What the caller knows about the run as a whole.
+struct RunMeta {
+  std::string command_line;       ///< how the program was invoked
+  std::string message;            ///< overall message (empty: the models' messages are joined)
+  double wall_seconds = 0.0;      ///< wall time of the whole run
+  std::string status = "complete";  ///< floor of /meta status (e.g. "failed" when the run threw)
+};
+
+struct OutputError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// Worst of `floor` and every model's status: failed > interrupted > complete.
+std::string overall_status(const std::vector<compare::ModelResult>& results, const std::string& floor = "complete");
+
+/// Writes the results to `path` atomically: the file is written as ".<name>.tmp.<pid>" in the same
+/// directory and renamed onto `path` (replacing it) once complete. Throws OutputError (the temporary
+/// file is removed then).
+void write_results(const std::filesystem::path& path, const compare::Scene& scene, const std::string& resolved_toml,
+                   const std::vector<compare::ModelResult>& results, const RunMeta& meta);
+
+/// The temporary name write_results uses for `path` in this process.
+std::filesystem::path temporary_path(const std::filesystem::path& path);
+
+/// Versions of the libraries this program was built with ("hdf5 1.10.8", ...), for /meta and --version.
+struct LibraryVersions {
+  std::string compiler, hdf5, boost, tomlplusplus, cli11, eigen;
+};
+LibraryVersions library_versions();
+
+}  // namespace slipfront::app

@@ -20,10 +20,14 @@ void Scene::validate() const {
   output.validate();
   for (const auto& m : models)
     if (m == "discrete") discrete.validate();
+  if (drive.loading == continuum::Loading::imposed_rate && drive.sweep_points == 0 && drive.v_times.back() >= time.t_end)
+    throw ParamError("drive.switch_times", "every switch time must be before time.t_end (" +
+                                              continuum::format_number(time.t_end) + "), got " +
+                                              continuum::format_number(drive.v_times.back()));
   if (drive.loading != continuum::Loading::imposed_rate && time.dt > 0) {
     const continuum::Bulk b(bulk, drive, interface, grid.dx);
     if (time.dt > b.stable_dt())
-      throw ParamError("time.dt", "exceeds the explicit stability limit " + std::to_string(b.stable_dt()) +
+      throw ParamError("time.dt", "exceeds the explicit stability limit " + continuum::format_number(b.stable_dt()) +
                                       " of this grid (use time.cfl <= 1 or a smaller dt)");
   }
 }

@@ -1,8 +1,16 @@
 #include "continuum/params.hpp"
 
 #include <cmath>
+#include <cstdio>
 
 namespace slipfront::continuum {
+
+std::string format_number(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.10g", x);
+  return buf;
+}
+
 namespace {
 void require(bool ok, const char* key, const std::string& reason) {
   if (!ok) throw ParamError(key, reason);
@@ -12,16 +20,16 @@ bool finite(double x) { return std::isfinite(x); }
 
 void InterfaceParams::validate() const {
   require(finite(alpha) && alpha >= 1.0, "interface.alpha",
-          "must be >= 1 (the sliding branch is not self-consistent below 1), got " + std::to_string(alpha));
-  require(finite(kappa) && kappa >= 0.0, "interface.kappa", "must be >= 0, got " + std::to_string(kappa));
-  require(finite(eta) && eta >= 0.0, "interface.eta", "must be >= 0, got " + std::to_string(eta));
+          "must be >= 1 (the sliding branch is not self-consistent below 1), got " + format_number(alpha));
+  require(finite(kappa) && kappa >= 0.0, "interface.kappa", "must be >= 0, got " + format_number(kappa));
+  require(finite(eta) && eta >= 0.0, "interface.eta", "must be >= 0, got " + format_number(eta));
 }
 
 void BulkParams::validate(bool one_dimensional) const {
-  require(finite(rho) && rho > 0.0, "bulk.rho", "must be > 0, got " + std::to_string(rho));
+  require(finite(rho) && rho > 0.0, "bulk.rho", "must be > 0, got " + format_number(rho));
   if (one_dimensional) {
-    require(finite(mu) && mu > 0.0, "bulk.mu", "must be > 0, got " + std::to_string(mu));
-    require(finite(length) && length > 0.0, "bulk.length", "must be > 0, got " + std::to_string(length));
+    require(finite(mu) && mu > 0.0, "bulk.mu", "must be > 0, got " + format_number(mu));
+    require(finite(length) && length > 0.0, "bulk.length", "must be > 0, got " + format_number(length));
   }
 }
 
@@ -50,13 +58,13 @@ void DriveParams::validate() const {
   switch (loading) {
     case Loading::edge:
     case Loading::spring_block:
-      require(finite(K) && K > 0.0, "drive.K", "must be > 0, got " + std::to_string(K));
-      require(finite(v_d) && v_d >= 0.0, "drive.v_d", "must be >= 0, got " + std::to_string(v_d));
+      require(finite(K) && K > 0.0, "drive.K", "must be > 0, got " + format_number(K));
+      require(finite(v_d) && v_d >= 0.0, "drive.v_d", "must be >= 0, got " + format_number(v_d));
       break;
     case Loading::homogeneous:
-      require(finite(sigma_d) && sigma_d > 0.0, "drive.sigma_d", "must be > 0, got " + std::to_string(sigma_d));
+      require(finite(sigma_d) && sigma_d > 0.0, "drive.sigma_d", "must be > 0, got " + format_number(sigma_d));
       require(finite(nucleation_length) && nucleation_length >= 0.0, "drive.nucleation_length",
-              "must be >= 0, got " + std::to_string(nucleation_length));
+              "must be >= 0, got " + format_number(nucleation_length));
       break;
     case Loading::imposed_rate:
       if (sweep_points > 0) {
@@ -79,20 +87,20 @@ void DriveParams::validate() const {
 
 void GridParams::validate(const BulkParams& bulk, bool one_dimensional) const {
   if (!one_dimensional) return;
-  require(finite(dx) && dx > 0.0, "grid.dx", "must be > 0, got " + std::to_string(dx));
+  require(finite(dx) && dx > 0.0, "grid.dx", "must be > 0, got " + format_number(dx));
   require(bulk.length >= dx, "bulk.length",
-          "must be >= grid.dx (" + std::to_string(dx) + "), got " + std::to_string(bulk.length));
+          "must be >= grid.dx (" + format_number(dx) + "), got " + format_number(bulk.length));
   const double n = bulk.length / dx;
   require(std::abs(n - std::round(n)) < 1e-9 * std::max(1.0, n), "grid.dx",
-          "bulk.length / grid.dx must be a whole number of cells, got " + std::to_string(n));
+          "bulk.length / grid.dx must be a whole number of cells, got " + format_number(n));
 }
 
 void TimeParams::validate(Loading l) const {
-  require(finite(t_end) && t_end > 0.0, "time.t_end", "must be > 0, got " + std::to_string(t_end));
-  require(finite(dt) && dt >= 0.0, "time.dt", "must be >= 0 (0: use time.cfl), got " + std::to_string(dt));
+  require(finite(t_end) && t_end > 0.0, "time.t_end", "must be > 0, got " + format_number(t_end));
+  require(finite(dt) && dt >= 0.0, "time.dt", "must be >= 0 (0: use time.cfl), got " + format_number(dt));
   if (dt == 0.0 && l != Loading::imposed_rate)
     require(finite(cfl) && cfl > 0.0 && cfl <= 1.0, "time.cfl",
-            "must be in (0, 1] (fraction of the explicit stability limit), got " + std::to_string(cfl));
+            "must be in (0, 1] (fraction of the explicit stability limit), got " + format_number(cfl));
   if (l == Loading::imposed_rate) {
     require(finite(slip_end) && slip_end >= 0.0, "time.slip_end", "must be >= 0");
     require(steps >= 1, "time.steps", "must be >= 1");

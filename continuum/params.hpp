@@ -8,6 +8,9 @@
 
 namespace slipfront::continuum {
 
+/// A number as people write it in a config file (%g with enough digits: 1e-07, 0.5, 300).
+std::string format_number(double x);
+
 /// A parameter value that is out of range. `key` is the dotted config key ("bulk.rho").
 struct ParamError : std::runtime_error {
   std::string key;

@@ -169,9 +169,9 @@ TEST_CASE("config: --set values are parsed as TOML or else taken as bare strings
   CHECK(s.time.dt == 1e-3);
   CHECK(s.name == "renamed");
 
-  const Scene r = load_scene(file, {"drive.loading=imposed_rate", "drive.v=[0.1,1.0]", "drive.switch_times=[0, 5]"});
+  const Scene r = load_scene(file, {"drive.loading=imposed_rate", "drive.v=[0.1,1.0]", "drive.switch_times=[0, 1.5]"});
   CHECK(r.drive.v == std::vector<double>{0.1, 1.0});
-  CHECK(r.drive.v_times == std::vector<double>{0.0, 5.0});
+  CHECK(r.drive.v_times == std::vector<double>{0.0, 1.5});
   const Scene one = load_scene(file, {"drive.loading=imposed_rate", "drive.v=3"});
   CHECK(one.drive.v == std::vector<double>{3.0});
   CHECK(one.drive.v_times == std::vector<double>{0.0});  // default for a single v
@@ -238,7 +238,7 @@ TEST_CASE("config: to_toml round trip is exact", "[config]") {
        "time.dt=0.001", "output.energy=true"},
       {"drive.loading=homogeneous", "drive.sigma_d=0.45", "drive.nucleation_length=6"},
       {"drive.loading=spring_block", "drive.K=0.7"},
-      {"drive.loading=imposed_rate", "drive.v=[0.1, 1.0, 0.1]", "drive.switch_times=[0, 3.3, 6.6]", "time.steps=100"},
+      {"drive.loading=imposed_rate", "drive.v=[0.1, 1.0, 0.1]", "drive.switch_times=[0, 0.5, 1.25]", "time.steps=100"},
       {"drive.loading=imposed_rate", "drive.points=7", "drive.v_min=0.01", "drive.v_max=10", "time.slip_end=0"},
       {"models=[\"continuum\", \"discrete\"]", "discrete.contacts_per_site=50", "discrete.threshold=weibull",
        "discrete.width=0.2", "discrete.renewal=quenched", "discrete.representation=agent", "discrete.noise=false",
@@ -260,4 +260,20 @@ TEST_CASE("config: to_toml round trip is exact", "[config]") {
   Scene changed = s;
   changed.measure.batches += 1;
   CHECK_FALSE(same_scene(s, changed));
+}
+
+TEST_CASE("config: switch times at or after t_end are refused", "[config]") {
+  // A switch at or after t_end would be silently dropped: refuse it with the key named.
+  const auto dir = std::filesystem::temp_directory_path() / "slipfront-test-config-switch";
+  std::filesystem::create_directories(dir);
+  const auto file = dir / "switch.toml";
+  std::ofstream(file) << "scene = \"s\"\n[interface]\nalpha = 1.05\nkappa = 8\neta = 0.1\n[bulk]\nrho = 0.01\n"
+                         "[drive]\nloading = \"imposed_rate\"\nv = [0.1, 1.0]\nswitch_times = [0, 3]\n[time]\nt_end = 2\n";
+  try {
+    (void)load_scene(file, {});
+    FAIL("expected a ConfigError");
+  } catch (const ConfigError& e) {
+    CHECK(e.key == "drive.switch_times");
+    CHECK(std::string(e.what()).find("switch.toml") != std::string::npos);
+  }
 }

@@ -91,6 +91,8 @@ void GridParams::validate(const BulkParams& bulk, bool one_dimensional) const {
   require(bulk.length >= dx, "bulk.length",
           "must be >= grid.dx (" + format_number(dx) + "), got " + format_number(bulk.length));
   const double n = bulk.length / dx;
+  require(n <= 5e7, "grid.dx",
+          "gives " + format_number(n + 1) + " nodes; more than 5e7 nodes would not fit in memory (24 GiB)");
   require(std::abs(n - std::round(n)) < 1e-9 * std::max(1.0, n), "grid.dx",
           "bulk.length / grid.dx must be a whole number of cells, got " + format_number(n));
 }

@@ -16,6 +16,7 @@
 #include "apps/build_info.hpp"
 #include "apps/config.hpp"
 #include "apps/h5out.hpp"
+#include "apps/study.hpp"
 #include "compare/runner.hpp"
 
 namespace slipfront::app {
@@ -334,6 +335,27 @@ int main_cli(int argc, char** argv) {
       ->allow_extra_args(false)
       ->type_name("SECTION.KEY=VALUE");
 
+  StudyOptions study_opts;
+  auto* study = app.add_subcommand("study", "Run a convergence study (many runs on a thread pool) and analyse it");
+  study->add_option("study", study_opts.study, "Study file (TOML; see docs/studies.md)")->required();
+  study->add_option("-o,--out", study_opts.out, "Output directory (default: out/studies/<study name>)");
+  study->add_option("-s,--set", study_opts.overrides, "Override one scene key in every run; repeatable")
+      ->allow_extra_args(false)
+      ->type_name("SECTION.KEY=VALUE");
+  study->add_option("-j,--threads", study_opts.threads, "Runs at once (default: all cores); results do not depend on it");
+  study->add_flag("-f,--force", study_opts.force, "Overwrite an existing study.h5");
+  study->add_flag("-q,--quiet", study_opts.quiet, "No progress line");
+  study->footer(
+      "Every run is validated before any work. Each run writes DIR/runs/<id>/results.h5; the analysis\n"
+      "(tables, fitted rates with 95% intervals, each with its definition) goes to DIR/study.h5.");
+
+  std::filesystem::path report_dir;
+  std::string python = "/usr/bin/python3";
+  auto* report = app.add_subcommand("report", "Write DIR/report.md with plots from the results and studies under DIR");
+  report->add_option("dir", report_dir, "Directory holding results.h5 and study.h5 files (searched recursively)")
+      ->required();
+  report->add_option("--python", python, "Python with numpy, h5py and matplotlib (default /usr/bin/python3)");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -346,6 +368,11 @@ int main_cli(int argc, char** argv) {
     for (int i = 0; i < argc; ++i) run_opts.command_line += (i ? " " : "") + shell_quote(argv[i]);
     return run_command(run_opts, std::cout, std::cerr);
   }
+  if (*study) {
+    for (int i = 0; i < argc; ++i) study_opts.command_line += (i ? " " : "") + shell_quote(argv[i]);
+    return study_command(study_opts, std::cout, std::cerr);
+  }
+  if (*report) return report_command(report_dir, python, std::cerr);
   return check_command(check_config, check_overrides, std::cout, std::cerr);
 }
 

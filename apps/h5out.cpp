@@ -302,42 +302,121 @@ std::string utc_now_iso8601() {
   return buf;
 }
 
+// /meta: provenance of the program and of this run (shared by results.h5 and study.h5).
+void write_meta(hid_t file, const RunMeta& meta, const std::string& status, const std::string& message,
+                const std::string& scene, const std::string& models) {
+  Hid g = make_group(file, "meta", "/meta");
+  const LibraryVersions lv = library_versions();
+  attr_string(g.get(), "version", build_info::version);
+  attr_int(g.get(), "layout_version", layout_version);
+  attr_string(g.get(), "git_commit", build_info::git_commit);
+  attr_string(g.get(), "compiler", lv.compiler);
+  attr_string(g.get(), "hdf5_version", lv.hdf5);
+  attr_string(g.get(), "boost_version", lv.boost);
+  attr_string(g.get(), "tomlplusplus_version", lv.tomlplusplus);
+  attr_string(g.get(), "cli11_version", lv.cli11);
+  attr_string(g.get(), "eigen_version", lv.eigen);
+  attr_string(g.get(), "created_utc", utc_now_iso8601());
+  attr_double(g.get(), "wall_seconds", meta.wall_seconds);
+  attr_string(g.get(), "status", status);
+  attr_string(g.get(), "command_line", meta.command_line);
+  attr_string(g.get(), "message", message);
+  attr_string(g.get(), "scene", scene);
+  attr_string(g.get(), "models", models);
+}
+
 void write_file(const std::filesystem::path& tmp, const compare::Scene& scene, const std::string& resolved_toml,
                 const std::vector<compare::ModelResult>& results, const RunMeta& meta) {
   Hid file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose,
            "create " + tmp.string());
-  {
-    Hid g = make_group(file.get(), "meta", "/meta");
-    const LibraryVersions lv = library_versions();
-    attr_string(g.get(), "version", build_info::version);
-    attr_int(g.get(), "layout_version", layout_version);
-    attr_string(g.get(), "git_commit", build_info::git_commit);
-    attr_string(g.get(), "compiler", lv.compiler);
-    attr_string(g.get(), "hdf5_version", lv.hdf5);
-    attr_string(g.get(), "boost_version", lv.boost);
-    attr_string(g.get(), "tomlplusplus_version", lv.tomlplusplus);
-    attr_string(g.get(), "cli11_version", lv.cli11);
-    attr_string(g.get(), "eigen_version", lv.eigen);
-    attr_string(g.get(), "created_utc", utc_now_iso8601());
-    attr_double(g.get(), "wall_seconds", meta.wall_seconds);
-    attr_string(g.get(), "status", overall_status(results, meta.status));
-    attr_string(g.get(), "command_line", meta.command_line);
-    std::string message = meta.message;
-    if (message.empty())
-      for (const auto& r : results)
-        if (!r.message.empty()) message += (message.empty() ? "" : "; ") + r.model + ": " + r.message;
-    attr_string(g.get(), "message", message);
-    attr_string(g.get(), "scene", scene.name);
-    std::string models;
-    for (const auto& r : results) models += (models.empty() ? "" : ",") + r.model;
-    attr_string(g.get(), "models", models);
-  }
+  std::string message = meta.message;
+  if (message.empty())
+    for (const auto& r : results)
+      if (!r.message.empty()) message += (message.empty() ? "" : "; ") + r.model + ": " + r.message;
+  std::string models;
+  for (const auto& r : results) models += (models.empty() ? "" : ",") + r.model;
+  write_meta(file.get(), meta, overall_status(results, meta.status), message, scene.name, models);
   {
     Hid g = make_group(file.get(), "config", "/config");
     attr_string(g.get(), "toml", resolved_toml);
   }
   for (const auto& r : results) model(file.get(), r);
   file.close("close " + tmp.string());
+}
+
+void write_study_file(const std::filesystem::path& tmp, const compare::StudySpec& spec, const std::string& spec_toml,
+                      const std::vector<compare::StudyRun>& runs, const compare::StudyReport& report,
+                      const RunMeta& meta) {
+  Hid file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose,
+           "create " + tmp.string());
+  write_meta(file.get(), meta, meta.status, meta.message, spec.name, "");
+  Hid g = make_group(file.get(), "study", "/study");
+  attr_string(g.get(), "name", spec.name);
+  attr_string(g.get(), "kind", spec.kind);
+  attr_string(g.get(), "description", spec.description);
+  attr_string(g.get(), "toml", spec_toml);
+  std::string notes;
+  for (const auto& n : report.notes) notes += n + "\n";
+  attr_string(g.get(), "notes", notes);
+  {
+    Hid sc = make_group(g.get(), "scalars", "/study/scalars");
+    attr_string(sc.get(), "description", "fitted rates and summary numbers; each has a definition in /study/definitions");
+    for (const auto& [name, value] : report.scalars) attr_double(sc.get(), name, value);
+  }
+  {
+    Hid d = make_group(g.get(), "definitions", "/study/definitions");
+    for (const auto& [name, text] : report.definitions) {
+      std::string key = name;
+      std::replace(key.begin(), key.end(), '/', '.');
+      attr_string(d.get(), key, text);
+    }
+  }
+  {
+    Hid t = make_group(g.get(), "tables", "/study/tables");
+    for (const auto& [table, cols] : report.tables) {
+      Hid tg = make_group(t.get(), table, "/study/tables/" + table);
+      for (const auto& [col, v] : cols) {
+        const auto def = report.definitions.find(table + "/" + col);
+        dataset_1d(tg.get(), col, v, def == report.definitions.end() ? col : def->second,
+                   "/study/tables/" + table + "/" + col);
+      }
+    }
+  }
+  {
+    // The runs: one line each, "id group seed key=value ...", and the file each one wrote.
+    Hid r = make_group(g.get(), "runs", "/study/runs");
+    std::string lines;
+    std::vector<double> seeds;
+    for (const auto& run : runs) {
+      lines += run.id + " group=" + (run.group.empty() ? "-" : run.group) + " seed=" + std::to_string(run.seed);
+      for (const auto& [k, v] : run.point) lines += " " + k + "=" + v;
+      lines += "\n";
+      seeds.push_back(run.seed);
+    }
+    attr_string(r.get(), "runs", lines);
+    attr_string(r.get(), "files", "runs/<id>/results.h5 beside this file");
+    dataset_1d(r.get(), "seed", seeds, "discrete.seed of each run, in run order", "/study/runs/seed");
+  }
+  file.close("close " + tmp.string());
+}
+
+// Writes through a temporary file renamed onto `path` when complete.
+template <class Write>
+void write_atomically(const std::filesystem::path& path, Write&& write) {
+  const QuietHdf5 quiet;
+  const std::filesystem::path tmp = temporary_path(path);
+  try {
+    write(tmp);
+    std::filesystem::rename(tmp, path);
+  } catch (const std::filesystem::filesystem_error& e) {
+    std::error_code ec;
+    std::filesystem::remove(tmp, ec);
+    throw OutputError("cannot move " + tmp.string() + " to " + path.string() + ": " + e.code().message());
+  } catch (...) {
+    std::error_code ec;
+    std::filesystem::remove(tmp, ec);
+    throw;
+  }
 }
 
 }  // namespace
@@ -359,20 +438,14 @@ std::filesystem::path temporary_path(const std::filesystem::path& path) {
 
 void write_results(const std::filesystem::path& path, const compare::Scene& scene, const std::string& resolved_toml,
                    const std::vector<compare::ModelResult>& results, const RunMeta& meta) {
-  const QuietHdf5 quiet;
-  const std::filesystem::path tmp = temporary_path(path);
-  try {
-    write_file(tmp, scene, resolved_toml, results, meta);
-    std::filesystem::rename(tmp, path);
-  } catch (const std::filesystem::filesystem_error& e) {
-    std::error_code ec;
-    std::filesystem::remove(tmp, ec);
-    throw OutputError("cannot move " + tmp.string() + " to " + path.string() + ": " + e.code().message());
-  } catch (...) {
-    std::error_code ec;
-    std::filesystem::remove(tmp, ec);
-    throw;
-  }
+  write_atomically(path, [&](const std::filesystem::path& tmp) { write_file(tmp, scene, resolved_toml, results, meta); });
+}
+
+void write_study(const std::filesystem::path& path, const compare::StudySpec& spec, const std::string& spec_toml,
+                 const std::vector<compare::StudyRun>& runs, const compare::StudyReport& report, const RunMeta& meta) {
+  write_atomically(path, [&](const std::filesystem::path& tmp) {
+    write_study_file(tmp, spec, spec_toml, runs, report, meta);
+  });
 }
 
 LibraryVersions library_versions() {

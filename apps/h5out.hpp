@@ -7,6 +7,7 @@
 
 #include "compare/result.hpp"
 #include "compare/scene.hpp"
+#include "compare/study.hpp"
 
 namespace slipfront::app {
 
@@ -33,6 +34,10 @@ std::string overall_status(const std::vector<compare::ModelResult>& results, con
 /// file is removed then).
 void write_results(const std::filesystem::path& path, const compare::Scene& scene, const std::string& resolved_toml,
                    const std::vector<compare::ModelResult>& results, const RunMeta& meta);
+
+/// Writes a study's analysis to `path` (study.h5) atomically, like write_results.
+void write_study(const std::filesystem::path& path, const compare::StudySpec& spec, const std::string& spec_toml,
+                 const std::vector<compare::StudyRun>& runs, const compare::StudyReport& report, const RunMeta& meta);
 
 /// The temporary name write_results uses for `path` in this process.
 std::filesystem::path temporary_path(const std::filesystem::path& path);

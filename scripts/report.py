@@ -1,0 +1,388 @@
+#!/usr/bin/python3
+"""slipfront report: plots and report.md for every results.h5 and study.h5 under DIR.
+
+Run with /usr/bin/python3 (Debian's numpy, h5py, matplotlib). Called by `slipfront report DIR`.
+Scene files (results.h5) are plotted with plot.py; studies (study.h5) get their convergence plots,
+each with its fitted slope and 95% interval; report.md collects the figures and a summary table
+(observable, continuum value, discrete value at the largest N, relative difference, fitted rate).
+"""
+import argparse
+import math
+import os
+import sys
+
+import h5py
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import plot  # noqa: E402
+
+
+def attrs(group):
+    return {k: (plot.as_str(v) if isinstance(v, (bytes, str)) else plot.as_float(v)) for k, v in group.attrs.items()}
+
+
+class Study:
+    def __init__(self, path):
+        self.path = path
+        self.dir = os.path.dirname(os.path.abspath(path))
+        self.f = h5py.File(path, "r")
+        s = self.f["study"]
+        self.name = plot.as_str(s.attrs["name"])
+        self.kind = plot.as_str(s.attrs["kind"])
+        self.description = plot.as_str(s.attrs.get("description", ""))
+        self.notes = [n for n in plot.as_str(s.attrs.get("notes", "")).split("\n") if n]
+        self.scalars = {k: plot.as_float(v) for k, v in s["scalars"].attrs.items() if k != "description"}
+        self.definitions = {k: plot.as_str(v) for k, v in s["definitions"].attrs.items()}
+        self.tables = {t: {c: np.asarray(s["tables"][t][c][()], dtype=float) for c in s["tables"][t]}
+                       for t in s["tables"]}
+        self.runs = []
+        for line in plot.as_str(s["runs"].attrs.get("runs", "")).split("\n"):
+            if not line.strip():
+                continue
+            parts = line.split()
+            point = dict(p.split("=", 1) for p in parts[1:])
+            self.runs.append((parts[0], point))
+        meta = self.f["meta"].attrs
+        self.status = plot.as_str(meta.get("status", "unknown"))
+        self.wall = plot.as_float(meta.get("wall_seconds", math.nan))
+        self.commit = plot.as_str(meta.get("git_commit", "unknown"))
+
+    def run_file(self, run_id):
+        return os.path.join(self.dir, "runs", run_id, "results.h5")
+
+    def fit_label(self, name):
+        p = self.scalars.get(name, math.nan)
+        lo, hi = self.scalars.get(name + "_ci_low", math.nan), self.scalars.get(name + "_ci_high", math.nan)
+        if not math.isfinite(p):
+            return "fit: n/a"
+        return f"slope {p:.3f} (95% CI {lo:.3f} .. {hi:.3f})"
+
+    def title(self, what):
+        return f"study {self.name}: {what}   [commit {self.commit[:12]}, {self.status}]"
+
+
+def loglog_fit(ax, x, y, study, fit_name, label, color="C3", marker="o"):
+    x, y = np.asarray(x), np.asarray(y)
+    ok = np.isfinite(x) & np.isfinite(y) & (y > 0)
+    ax.loglog(x[ok], y[ok], marker=marker, ls="none", color=color, label=label)
+    p = study.scalars.get(fit_name, math.nan)
+    if math.isfinite(p) and ok.sum() >= 2:
+        lx, ly = np.log(x[ok]), np.log(y[ok])
+        c = np.mean(ly - p * lx)
+        xs = np.linspace(lx.min(), lx.max(), 50)
+        ax.loglog(np.exp(xs), np.exp(c + p * xs), "-", color=color, alpha=0.6, label=study.fit_label(fit_name))
+
+
+def save(fig, outdir, name, figures):
+    path = os.path.join(outdir, name)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    figures.append(path)
+    return path
+
+
+# --------------------------------------------------------------------------------------------
+# one plot function per study kind; each returns (figures, summary rows)
+
+
+def friction_law_study(st, outdir):
+    figs, rows = [], []
+    t = st.tables.get("friction_law_error", {})
+    if t:
+        fig, ax = plt.subplots(figsize=(6.5, 4.5))
+        loglog_fit(ax, t["N"], t["random"], st, "friction_law_random_exponent", "random part", "C3", "o")
+        ax.loglog(t["N"], t["bias"], "s", color="C1", label="bias (seed mean)")
+        ax.loglog(t["N"], t["batch_stderr"], "x", color="C2", label="batch-means stderr")
+        ax.loglog(t["N"], t["random"][0] * (t["N"] / t["N"][0]) ** -0.5, ":", color="gray", label="N^-1/2")
+        ax.set_xlabel("contacts per site N")
+        ax.set_ylabel("relative error of steady friction (RMS over v)")
+        ax.set_title(st.title("friction law, discrete vs continuum"), fontsize=8)
+        ax.legend(fontsize=7)
+        save(fig, outdir, f"{st.name}_error_vs_N.png", figs)
+    # Fig. 2 (left): the steady law of both models at each N (seed 1) and the closed form.
+    fig, ax = plt.subplots(figsize=(6.5, 4.5))
+    drawn_cont = False
+    seen = set()
+    for run_id, point in st.runs:
+        N = point.get("discrete.contacts_per_site")
+        if N in seen or not os.path.exists(st.run_file(run_id)):
+            continue
+        seen.add(N)
+        with h5py.File(st.run_file(run_id), "r") as f:
+            if "discrete/friction_law" in f:
+                g = f["discrete/friction_law"]
+                ax.errorbar(g["v"][()], g["sigma"][()], yerr=g["sigma_stderr"][()], marker=".", ls="-", lw=0.8,
+                            capsize=2, label=f"discrete N={N}")
+            if not drawn_cont and "continuum/friction_law" in f:
+                g = f["continuum/friction_law"]
+                ax.plot(g["v"][()], g["sigma"][()], "ko", mfc="none", label="continuum")
+                ax.plot(g["v"][()], g["sigma_closed_form"][()], "k-", lw=0.8, label="closed form")
+                drawn_cont = True
+    ax.set_xscale("log")
+    ax.set_xlabel("slip rate v")
+    ax.set_ylabel("steady friction sigma")
+    ax.set_title(st.title("Fig. 2 (left): steady friction law"), fontsize=8)
+    ax.legend(fontsize=7)
+    save(fig, outdir, f"{st.name}_fig2_left.png", figs)
+    if t:
+        rows.append(("steady friction, random error at largest N", "0", f"{t['random'][-1]:.3g}", "",
+                     st.fit_label("friction_law_random_exponent")))
+        rows.append(("steady friction, bias at largest N", "0", f"{t['bias'][-1]:.3g}", "", ""))
+    return figs, rows
+
+
+def threshold_width_study(st, outdir):
+    figs, rows = [], []
+    t = st.tables.get("threshold_width", {})
+    if not t:
+        return figs, rows
+    fig, ax = plt.subplots(figsize=(6.5, 4.5))
+    loglog_fit(ax, t["width"], t["distance"], st, "threshold_width_exponent", "distance to continuum", "C3")
+    ax.set_xlabel("threshold width w")
+    ax.set_ylabel("RMS relative distance of steady friction")
+    ax.set_title(st.title("threshold disorder, noise off"), fontsize=8)
+    ax.legend(fontsize=7)
+    save(fig, outdir, f"{st.name}_distance_vs_w.png", figs)
+    fig, ax = plt.subplots(figsize=(6.5, 4.5))
+    cont = False
+    for run_id, point in st.runs:
+        if not os.path.exists(st.run_file(run_id)):
+            continue
+        with h5py.File(st.run_file(run_id), "r") as f:
+            if "discrete/friction_law" in f:
+                g = f["discrete/friction_law"]
+                ax.plot(g["v"][()], g["sigma"][()], "-", lw=1, label=f"w = {point.get('discrete.width')}")
+            if not cont and "continuum/friction_law" in f:
+                g = f["continuum/friction_law"]
+                ax.plot(g["v"][()], g["sigma"][()], "k--", lw=1.2, label="continuum")
+                cont = True
+    ax.set_xscale("log")
+    ax.set_xlabel("slip rate v")
+    ax.set_ylabel("steady friction sigma")
+    ax.set_title(st.title("static peak and weakening branch vs w"), fontsize=8)
+    ax.legend(fontsize=7)
+    save(fig, outdir, f"{st.name}_laws_vs_w.png", figs)
+    rows.append(("steady law distance at smallest w", "0", f"{t['distance'][0]:.3g}", "",
+                 st.fit_label("threshold_width_exponent")))
+    return figs, rows
+
+
+def transient_study(st, outdir):
+    figs, rows = [], []
+    t = st.tables.get("transient_friction", {})
+    if not t:
+        return figs, rows
+    fig, axs = plt.subplots(1, 2, figsize=(12, 4.5))
+    loglog_fit(axs[0], t["N"], t["distance_mean"], st, "transient_distance_exponent", "curve distance (mean over seeds)")
+    axs[0].set_xlabel("contacts per site N")
+    axs[0].set_ylabel("relative RMS distance of friction history")
+    axs[0].legend(fontsize=7)
+    seen, cont = set(), False
+    for run_id, point in st.runs:
+        N = point.get("discrete.contacts_per_site")
+        if N in seen or not os.path.exists(st.run_file(run_id)):
+            continue
+        seen.add(N)
+        with h5py.File(st.run_file(run_id), "r") as f:
+            col = "sigma" if "discrete/series/sigma" in f and "continuum/cycles" not in f else "drive_force"
+            if "discrete/series" in f:
+                axs[1].plot(f["discrete/series/t"][()], f[f"discrete/series/{col}"][()], lw=0.7, label=f"discrete N={N}")
+            if not cont and "continuum/series" in f:
+                axs[1].plot(f["continuum/series/t"][()], f[f"continuum/series/{col}"][()], "k-", lw=1.2,
+                            label="continuum")
+                cont = True
+    axs[1].set_xlabel("t")
+    axs[1].set_ylabel("friction")
+    axs[1].legend(fontsize=7)
+    fig.suptitle(st.title("transient friction, discrete vs continuum"), fontsize=8)
+    save(fig, outdir, f"{st.name}_transient.png", figs)
+    rows.append((f"{st.name}: friction history distance at largest N", "0", f"{t['distance_mean'][-1]:.3g}", "",
+                 st.fit_label("transient_distance_exponent")))
+    return figs, rows
+
+
+def front_speeds_study(st, outdir):
+    figs, rows = [], []
+    t = st.tables.get("front_speeds", {})
+    if not t:
+        return figs, rows
+    obs = ["t_star", "t_hat", "c_slow_alt", "c_transient", "x_arrest"]
+    fig, axs = plt.subplots(2, len(obs), figsize=(4 * len(obs), 7.5))
+    N = t["N"]
+    for k, o in enumerate(obs):
+        ax = axs[0, k]
+        ax.errorbar(N, t[o + "_mean"], yerr=t[o + "_sd"], marker="o", color="C3", capsize=3, label="discrete mean ± sd")
+        ax.axhline(t[o + "_continuum"][0], color="C0", label="continuum")
+        # every seed's value
+        for run_id, point in st.runs:
+            p = st.run_file(run_id)
+            if not os.path.exists(p):
+                continue
+            with h5py.File(p, "r") as f:
+                if "discrete/events" in f:
+                    key = "c_slow_alt" if o == "c_slow_alt" else o
+                    ax.plot(float(point["discrete.contacts_per_site"]), plot.as_float(f["discrete/events"].attrs[key]),
+                            ".", color="gray", alpha=0.5)
+        ax.set_xscale("log")
+        ax.set_title(o, fontsize=9)
+        ax.set_xlabel("N")
+        if k == 0:
+            ax.legend(fontsize=7)
+        ax2 = axs[1, k]
+        loglog_fit(ax2, N, t[o + "_sd"], st, f"front_{o}_sd_exponent", "sd over seeds", "C3", "o")
+        absd = np.abs(t[o + "_rel_diff"])
+        ax2.loglog(N[absd > 0], absd[absd > 0], "s", color="C1", label="|mean - continuum|/continuum")
+        ax2.set_xlabel("N")
+        ax2.legend(fontsize=6)
+    fig.suptitle(st.title("fig1 events and front speeds vs N (discrete over seeds)"), fontsize=9)
+    fig.tight_layout()
+    save(fig, outdir, f"{st.name}_fronts_vs_N.png", figs)
+    for o in obs:
+        rows.append((o, f"{t[o + '_continuum'][-1]:.4g}", f"{t[o + '_mean'][-1]:.4g} ± {t[o + '_sd'][-1]:.2g}",
+                     f"{t[o + '_rel_diff'][-1]:+.2%}", st.fit_label(f"front_{o}_sd_exponent") + " (sd)"))
+    return figs, rows
+
+
+def fig2_study(st, outdir):
+    figs, rows = [], []
+    groups = {k[len("fig2_"):]: v for k, v in st.tables.items() if k.startswith("fig2_") and k != "fig2_all"}
+    if not groups:
+        return figs, rows
+    fig, axs = plt.subplots(1, 2, figsize=(12, 5))
+    for i, (name, t) in enumerate(sorted(groups.items())):
+        for ax, m in zip(axs, ("continuum", "discrete")):
+            y = t["c_" + m]
+            ok = np.isfinite(y)
+            a = st.scalars.get(f"fig2_slope_{name}_{m}", math.nan)
+            ax.plot(t["X"][ok], y[ok], "os^vD"[i % 5], color=f"C{i}", label=f"vary {name}: slope {a:.2f}")
+    allt = st.tables.get("fig2_all", {})
+    for ax, m in zip(axs, ("continuum", "discrete")):
+        a = st.scalars.get(f"fig2_slope_all_{m}", math.nan)
+        if allt and math.isfinite(a):
+            xs = np.linspace(0, np.nanmax(allt["X"]) * 1.05, 10)
+            ax.plot(xs, a * xs, "k--", lw=1, label=f"all: slope {a:.2f}")
+        ax.set_xlabel("sqrt(mu alpha / (eta kappa))")
+        ax.set_ylabel("transient front speed c")
+        ax.set_title(m, fontsize=9)
+        ax.legend(fontsize=7)
+    fig.suptitle(st.title("Fig. 2 (right): transient front speed collapse"), fontsize=9)
+    save(fig, outdir, f"{st.name}_fig2_right.png", figs)
+    for m in ("continuum", "discrete"):
+        rows.append((f"Fig. 2 right slope ({m})", "", f"{st.scalars.get('fig2_slope_all_' + m, math.nan):.3g}", "", ""))
+    return figs, rows
+
+
+def spectrum_study(st, outdir):
+    figs, rows = [], []
+    t = st.tables.get("front_spectrum", {})
+    if not t:
+        return figs, rows
+    fig, axs = plt.subplots(1, 2, figsize=(12, 4.5))
+    for m, c in (("continuum", "C0"), ("discrete", "C3")):
+        axs[0].plot(t["sigma_d"], t["c_front_" + m], "o-", color=c, label=m)
+        axs[1].plot(t["sigma_d"], t["v_behind_" + m], "o-", color=c, label=m)
+    for ax in axs:
+        ax.axvline(t["sigma_c_d"][0], color="gray", ls=":", label="sigma_c^d")
+        ax.set_xlabel("applied stress sigma_d")
+        ax.legend(fontsize=7)
+    axs[0].set_ylabel("steady front speed")
+    axs[1].set_ylabel("slip rate behind the front")
+    fig.suptitle(st.title("front spectrum, homogeneous loading"), fontsize=9)
+    save(fig, outdir, f"{st.name}_spectrum.png", figs)
+    rows.append(("slowest steady front (continuum)", f"{st.scalars.get('spectrum_slowest_front', math.nan):.3g}",
+                 "", "", f"at sigma_d = {st.scalars.get('spectrum_slowest_front_sigma_d', math.nan):.3g}"))
+    return figs, rows
+
+
+STUDY_PLOTS = {"friction_law": friction_law_study, "threshold_width": threshold_width_study,
+               "transient_friction": transient_study, "front_speeds": front_speeds_study, "fig2": fig2_study,
+               "front_spectrum": spectrum_study}
+
+
+def scene_rows(res):
+    """Summary rows of a scene file with both models: the events of each and their difference."""
+    rows = []
+    if "continuum" not in res.models or "discrete" not in res.models:
+        return rows
+    ec, ed = plot.events(res.group("continuum")), plot.events(res.group("discrete"))
+    n = res.param("discrete", "contacts_per_site", "?")
+    for k in ("t_star", "t_hat", "c_slow_alt", "c_transient", "x_arrest", "c_front"):
+        c, d = ec.get(k, math.nan), ed.get(k, math.nan)
+        if math.isfinite(c) or math.isfinite(d):
+            rel = f"{(d - c) / c:+.2%}" if math.isfinite(c) and math.isfinite(d) and c != 0 else ""
+            rows.append((f"{res.scene}: {k} (discrete N={n})", f"{c:.4g}", f"{d:.4g}", rel, ""))
+    return rows
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description="Plots and report.md for the slipfront results under DIR.")
+    ap.add_argument("dir")
+    args = ap.parse_args(argv)
+    root = os.path.abspath(args.dir)
+    figdir = os.path.join(root, "figures")
+    os.makedirs(figdir, exist_ok=True)
+    scenes, studies = [], []
+    for d, subdirs, files in os.walk(root):
+        subdirs[:] = sorted(s for s in subdirs if s not in ("runs", "figures"))  # study runs are summarised
+        if "results.h5" in files:
+            scenes.append(os.path.join(d, "results.h5"))
+        if "study.h5" in files:
+            studies.append(os.path.join(d, "study.h5"))
+    lines = ["# slipfront report", "", f"Results under `{root}`.", ""]
+    summary = []
+    missing = []
+    for path in sorted(scenes):
+        try:
+            res = plot.Results(path)
+        except OSError as e:
+            missing.append(f"{path}: {e}")
+            continue
+        written = []
+        with res.f:
+            if res.models:
+                scene_dir = os.path.join(figdir, res.scene)
+                os.makedirs(scene_dir, exist_ok=True)
+                plot.PLOTTERS[res.kind()](res, scene_dir, written, 110)
+            summary += scene_rows(res)
+            lines += [f"## Scene `{res.scene}`", "", f"{res.description}", "",
+                      f"File: `{os.path.relpath(path, root)}`, status {res.status}, models {', '.join(res.models)}.", ""]
+        for w in written:
+            lines.append(f"![{os.path.basename(w)}]({os.path.relpath(w, root)})")
+            lines.append("")
+    for path in sorted(studies):
+        st = Study(path)
+        figs, rows = STUDY_PLOTS.get(st.kind, lambda s, o: ([], []))(st, figdir)
+        summary += rows
+        lines += [f"## Study `{st.name}` ({st.kind})", "", st.description, "",
+                  f"{len(st.runs)} runs, {st.wall:.1f} s wall, status {st.status}.", ""]
+        for k, v in sorted(st.scalars.items()):
+            if "_ci_" in k or k.endswith("_points"):
+                continue
+            lo, hi = st.scalars.get(k + "_ci_low"), st.scalars.get(k + "_ci_high")
+            ci = f" (95% CI {lo:.3g} .. {hi:.3g})" if lo is not None and math.isfinite(lo) else ""
+            lines.append(f"- `{k}` = {v:.4g}{ci}: {st.definitions.get(k, '')}")
+        for n in st.notes:
+            lines.append(f"- note: {n}")
+        lines.append("")
+        for w in figs:
+            lines.append(f"![{os.path.basename(w)}]({os.path.relpath(w, root)})")
+            lines.append("")
+        st.f.close()
+    lines[4:4] = ["## Summary", "", "| observable | continuum | discrete (largest N) | relative difference | fitted rate |",
+                  "| --- | --- | --- | --- | --- |"] + [f"| {' | '.join(r)} |" for r in summary] + [""]
+    for m in missing:
+        lines.append(f"- could not read {m}")
+    out = os.path.join(root, "report.md")
+    with open(out, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    print(out)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,134 @@
+#pragma once
+// Scenes built in code for the tests (MODEL §4), so that a test states every parameter it relies on
+// and does not depend on configs/ (which other people edit). Plus small helpers to read results.
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "compare/result.hpp"
+#include "compare/runner.hpp"
+#include "compare/scene.hpp"
+#include "continuum/friction_law.hpp"
+#include "continuum/params.hpp"
+
+namespace slipfront::testing {
+
+/// The paper's interface parameters (MODEL §1): α = 1.05, κ = 8, η = 0.1.
+inline continuum::InterfaceParams paper_interface() {
+  continuum::InterfaceParams p;
+  p.alpha = 1.05;
+  p.kappa = 8.0;
+  p.eta = 0.1;
+  return p;
+}
+
+/// fig1 (MODEL §4): edge loading, paper parameters ρ = 0.01, μ = 300, κ = 8, α = 1.05, η = 0.1,
+/// K = 2.5, v_d = 0.3, L = 300, dx = 0.5, cfl = 0.5, t_end = 140.
+inline compare::Scene fig1_scene() {
+  compare::Scene s;
+  s.name = "fig1";
+  s.interface = paper_interface();
+  s.bulk.rho = 0.01;
+  s.bulk.mu = 300.0;
+  s.bulk.length = 300.0;
+  s.drive.loading = continuum::Loading::edge;
+  s.drive.K = 2.5;
+  s.drive.v_d = 0.3;
+  s.grid.dx = 0.5;
+  s.time.t_end = 140.0;
+  s.time.dt = 0.0;
+  s.time.cfl = 0.5;
+  s.output.series_dt = 0.05;
+  s.output.snapshot_dt = 1.0;
+  return s;
+}
+
+/// Homogeneous loading (MODEL §1): uniform σ_d, free ends, nucleation patch 0 ≤ x < ℓ_n
+/// (ℓ_n = 0: no patch, the stuck state everywhere). Paper bulk and interface parameters.
+inline compare::Scene homogeneous_scene(double sigma_d, double nucleation_length, double t_end) {
+  compare::Scene s = fig1_scene();
+  s.name = "homogeneous_front";
+  s.drive.loading = continuum::Loading::homogeneous;
+  s.drive.sigma_d = sigma_d;
+  s.drive.nucleation_length = nucleation_length;
+  s.time.t_end = t_end;
+  return s;
+}
+
+/// 0D spring block (MODEL §1): ρ v̇ = K (v_d t − u) − σ̄ − η v, paper parameters K = 2.5, v_d = 0.3,
+/// ρ = 0.01.
+inline compare::Scene spring_block_scene(double t_end) {
+  compare::Scene s = fig1_scene();
+  s.name = "spring_block";
+  s.drive.loading = continuum::Loading::spring_block;
+  s.time.t_end = t_end;
+  s.output.series_dt = 0.0;  // every step
+  s.output.snapshot_dt = 0.0;
+  return s;
+}
+
+/// 0D imposed slip rate (MODEL §4 friction_law): one site, v imposed; steady_point() runs
+/// t_end + slip_end/|v| in `steps` exact steps.
+inline compare::Scene imposed_rate_scene() {
+  compare::Scene s;
+  s.name = "friction_law";
+  s.interface = paper_interface();
+  s.drive.loading = continuum::Loading::imposed_rate;
+  s.time.t_end = 100.0;
+  s.time.slip_end = 50.0;
+  s.time.steps = 4000;
+  return s;
+}
+
+/// Run the continuum model on a scene (validated first: a test must not run an invalid scene).
+inline compare::ModelResult run_continuum(const compare::Scene& s, bool validate = true) {
+  if (validate) s.validate();
+  auto make = [&](std::size_t n) { return continuum::FrictionLaw(s.interface, n); };
+  return compare::run_model<continuum::FrictionLaw>(s, make, "continuum", compare::RunControl{});
+}
+
+/// Row k of a snapshot field ([ns, nx] row-major).
+inline std::span<const double> snapshot_row(const compare::ModelResult& r, const std::string& field, std::size_t k) {
+  const auto& d = r.snapshots.at(field);
+  const std::size_t nx = r.x.size();
+  if ((k + 1) * nx > d.size()) throw std::out_of_range("snapshot_row: no snapshot " + std::to_string(k));
+  return std::span<const double>(d).subspan(k * nx, nx);
+}
+
+/// Index of the snapshot taken closest to time t.
+inline std::size_t snapshot_index(const compare::ModelResult& r, double t) {
+  std::size_t best = 0;
+  for (std::size_t k = 1; k < r.snapshot_t.size(); ++k)
+    if (std::abs(r.snapshot_t[k] - t) < std::abs(r.snapshot_t[best] - t)) best = k;
+  return best;
+}
+
+/// Largest |a_i − b_i| over the nodes of the coarse grid xa that also belong to grid xb (positions
+/// equal to 1e-9 dx): the error of a coarse field against a finer reference at shared nodes.
+inline double max_diff_shared(std::span<const double> xa, std::span<const double> a, std::span<const double> xb,
+                              std::span<const double> b) {
+  if (xa.size() < 2 || xb.size() < 2) throw std::invalid_argument("max_diff_shared: grids too small");
+  const double dxb = xb[1] - xb[0];
+  double err = 0.0;
+  std::size_t matched = 0;
+  for (std::size_t i = 0; i < xa.size(); ++i) {
+    const double j = xa[i] / dxb;
+    const auto jr = static_cast<std::size_t>(std::llround(j));
+    if (std::abs(j - static_cast<double>(jr)) > 1e-9 || jr >= xb.size()) continue;
+    err = std::max(err, std::abs(a[i] - b[jr]));
+    ++matched;
+  }
+  if (matched != xa.size()) throw std::invalid_argument("max_diff_shared: coarse nodes missing in the fine grid");
+  return err;
+}
+
+/// Observed order of convergence from two errors at refinement ratio `ratio`.
+inline double observed_order(double e_coarse, double e_fine, double ratio = 2.0) {
+  return std::log(e_coarse / e_fine) / std::log(ratio);
+}
+
+}  // namespace slipfront::testing

@@ -1,0 +1,207 @@
+// The shared measurements of MODEL §3 (compare/measure) on synthetic data with known answers:
+// tip_position, ls_slope, the FrontTracker's events and speeds, and BatchMeans.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "compare/measure.hpp"
+#include "continuum/params.hpp"
+
+namespace compare = slipfront::compare;
+namespace continuum = slipfront::continuum;
+
+namespace {
+
+std::vector<double> grid(double dx, double L) {
+  std::vector<double> x;
+  for (std::size_t i = 0; static_cast<double>(i) * dx <= L + 1e-12; ++i) x.push_back(static_cast<double>(i) * dx);
+  return x;
+}
+
+// Synthetic front: A = 0.5 + (x − X)/w clamped to [0, 1] — linear across the nodes around the tip, so
+// linear interpolation recovers the A = 0.5 crossing X and the A = 0.9 crossing X + 0.4 w exactly,
+// provided the node after X + 0.4 w is still on the ramp: 0.4 w + dx ≤ 0.5 w, i.e. w ≥ 10 dx.
+std::vector<double> ramp_profile(const std::vector<double>& x, double X, double w) {
+  std::vector<double> A(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i) A[i] = std::clamp(0.5 + (x[i] - X) / w, 0.0, 1.0);
+  return A;
+}
+
+}  // namespace
+
+TEST_CASE("measure: tip_position: largest x with A < threshold, linearly interpolated, NaN without a front", "[measure]") {
+  // MODEL §3: x_tip = largest x with A < A_tip, interpolated between nodes. Tolerance 1e-12 (exact
+  // linear interpolation on linear data).
+  const auto x = grid(0.5, 10.0);
+  std::vector<double> A(x.size(), 1.0);
+  CHECK(std::isnan(compare::tip_position(x, A, 0.5)));  // no front
+  std::fill(A.begin(), A.end(), 0.5);
+  CHECK(std::isnan(compare::tip_position(x, A, 0.5)));  // A == threshold is not below it
+  // front at the last node: the last node itself
+  std::fill(A.begin(), A.end(), 1.0);
+  A.back() = 0.2;
+  CHECK(compare::tip_position(x, A, 0.5) == x.back());
+  // exact interpolation of a linear ramp, for tips at, between and near nodes
+  for (double X : {3.0, 3.1, 3.49, 7.25, 0.01}) {
+    const auto R = ramp_profile(x, X, 6.0);
+    CHECK(compare::tip_position(x, R, 0.5) == Approx(X).margin(1e-12));
+    CHECK(compare::tip_position(x, R, 0.9) == Approx(X + 2.4).margin(1e-12));
+  }
+  // several dips: the largest x wins (a healed region behind, a second front ahead)
+  std::fill(A.begin(), A.end(), 1.0);
+  A[2] = 0.1;                     // x = 1.0
+  A[12] = 0.3;                    // x = 6.0, neighbours at 1: crossing at 6 + 0.2/0.7·0.5 ahead
+  CHECK(compare::tip_position(x, A, 0.5) == Approx(6.0 + (0.5 - 0.3) / (1.0 - 0.3) * 0.5).margin(1e-12));
+}
+
+TEST_CASE("measure: ls_slope: exact on lines, NaN when undefined", "[measure]") {
+  // Least squares on exact data y = a + b t returns b to round-off (1e-12 relative), whatever the
+  // (unequal) spacing; fewer than 2 points or a single repeated t have no slope.
+  const std::vector<double> t = {0.0, 0.1, 0.35, 0.36, 1.0, 2.7, 2.71};
+  for (double b : {-3.0, 0.0, 0.77, 1e4}) {
+    std::vector<double> y;
+    for (double ti : t) y.push_back(5.0 + b * ti);
+    CHECK(compare::ls_slope(t, y) == Approx(b).epsilon(1e-12).margin(1e-12));
+  }
+  CHECK(std::isnan(compare::ls_slope(std::vector<double>{}, std::vector<double>{})));
+  CHECK(std::isnan(compare::ls_slope(std::vector<double>{1.0}, std::vector<double>{2.0})));
+  CHECK(std::isnan(compare::ls_slope(std::vector<double>{1.0, 1.0}, std::vector<double>{2.0, 3.0})));
+}
+
+TEST_CASE("measure: FrontTracker: recovers t*, t^, c_slow, c_transient, its peak, x_arrest of a synthetic front", "[measure]") {
+  // Synthetic history, stepped with h = 0.004 (not commensurate with the event times):
+  //  - yield from t_y = 10 on (observe_step's flag), a front X(t) = 1 + c1 (t − t_y) (slow, c1 = 0.8);
+  //  - max_v = 0.1 until t_a = 30, then rising linearly to 1.1 at t_a + 1: it crosses v_event = 0.5
+  //    at t_a + 0.4 exactly; the tracker interpolates linearly between step midpoints, exact here;
+  //  - from t^ the tip runs at c2 = 20 until t_stop = t^ + 3, then stops (x_arrest = X(t_stop));
+  //  - max_v falls linearly from 1.1 at t_stop to 0 at t_stop + 1.1: below v_event/5 = 0.1 at
+  //    t_stop + 1.0; t_arrest is the first step midpoint after that (within one step h).
+  // Expected (MODEL §3): t* = the start of the first yielding step = t_y (h divides 10 to round-off),
+  // t^ = t_a + 0.4 (1e-9), c_slow = c1 (LS on an exact line, 1e-9), c_transient = c2 (middle half of
+  // the run, all on the fast line, 1e-9), peak = c2 (1e-9), x_arrest = X(t_stop) (1e-9),
+  // t_arrest within h of t_stop + 1. The A_tip_alt = 0.9 front is X + 0.4 w: same speeds.
+  continuum::MeasureParams mp;  // A_tip 0.5, A_tip_alt 0.9, v_event 0.5, sample_dt 0.01
+  const auto x = grid(0.5, 300.0);
+  const double w = 8.0, h = 0.004, t_y = 10.0, c1 = 0.8, t_a = 30.0, c2 = 20.0;
+  const double t_hat = t_a + 0.4, t_stop = t_hat + 3.0, T = 40.0;
+  auto front = [&](double t) {
+    if (t < t_y) return -1e9;  // no front
+    const double xh = 1.0 + c1 * (t_hat - t_y);
+    if (t < t_hat) return 1.0 + c1 * (t - t_y);
+    return xh + c2 * (std::min(t, t_stop) - t_hat);
+  };
+  auto max_v = [&](double t) {
+    if (t < t_a) return 0.1;
+    if (t < t_a + 1.0) return 0.1 + (t - t_a);
+    if (t < t_stop) return 1.1;
+    return std::max(0.0, 1.1 - (t - t_stop));
+  };
+  compare::FrontTracker tr(mp, x);
+  const std::vector<double> healed(x.size(), 1.0);
+  const auto n = static_cast<int>(std::lround(T / h));
+  for (int k = 0; k < n; ++k) {
+    const double t0 = k * h, t1 = (k + 1) * h;
+    tr.observe_step(t0, t1, t0 >= t_y - 1e-9, max_v(0.5 * (t0 + t1)));
+    if (tr.sample_due(t1)) {
+      const double X = front(t1);
+      tr.sample_tip(t1, X < 0 ? healed : ramp_profile(x, X, w));
+    }
+  }
+  const auto ev = tr.finish(false);
+  CHECK(ev.t_star == Approx(t_y).margin(1e-9));
+  CHECK(ev.t_hat == Approx(t_hat).margin(1e-9));
+  CHECK(ev.c_slow == Approx(c1).epsilon(1e-9));
+  CHECK(ev.c_transient == Approx(c2).epsilon(1e-9));
+  CHECK(ev.c_transient_peak == Approx(c2).epsilon(1e-9));
+  CHECK(ev.x_arrest == Approx(front(t_stop)).epsilon(1e-9));
+  CHECK(ev.t_arrest >= t_stop + 1.0);
+  CHECK(ev.t_arrest <= t_stop + 1.0 + h + 1e-9);
+  CHECK(std::isnan(ev.c_front));  // not homogeneous
+  const auto alt = tr.finish(false, true);
+  CHECK(alt.c_slow == Approx(c1).epsilon(1e-9));
+  CHECK(alt.c_transient == Approx(c2).epsilon(1e-9));
+  CHECK(alt.x_arrest == Approx(front(t_stop) + 0.4 * w).epsilon(1e-9));
+  // The tip samples: each one due sample_dt after the previous, taken at the first step end at or
+  // after that (so spaced by sample_dt up to one step h), NaN before the front exists.
+  REQUIRE(tr.sample_times().size() == tr.tips().size());
+  const auto& st = tr.sample_times();
+  for (std::size_t k = 1; k < st.size(); ++k) {
+    REQUIRE(st[k] - st[k - 1] >= mp.sample_dt * (1.0 - 1e-9) - 1e-12);
+    REQUIRE(st[k] - st[k - 1] <= mp.sample_dt + h + 1e-12);
+  }
+  CHECK(std::isnan(tr.tips().front()));
+  CHECK(tr.tips().back() == Approx(front(t_stop)).epsilon(1e-12));
+  // Homogeneous mode: c_front is the LS slope over the samples whose tip lies in the middle half of
+  // the distance run, [x0 + (x1 − x0)/4, x0 + 3(x1 − x0)/4] with x0 the first tip, x1 the farthest.
+  // Here x0 ≈ 1, x1 = X(t_stop) ≈ 77.3: the middle half starts beyond the slow part (X(t^) ≈ 17.3), so
+  // c_front = c2 (1e-9).
+  const double x0 = 1.0, x1 = front(t_stop);
+  REQUIRE(x0 + 0.25 * (x1 - x0) > front(t_hat) + 0.1);
+  const auto hom = tr.finish(true);
+  CHECK(hom.c_front == Approx(c2).epsilon(1e-9));
+}
+
+TEST_CASE("measure: FrontTracker: no yield, no instability -> every event NaN", "[measure]") {
+  // A run that never yields (elastic stage only) has no event: NaN everywhere (MODEL §5).
+  continuum::MeasureParams mp;
+  const auto x = grid(1.0, 50.0);
+  compare::FrontTracker tr(mp, x);
+  const std::vector<double> healed(x.size(), 1.0);
+  for (int k = 0; k < 1000; ++k) {
+    tr.observe_step(k * 0.01, (k + 1) * 0.01, false, 0.05);
+    if (tr.sample_due((k + 1) * 0.01)) tr.sample_tip((k + 1) * 0.01, healed);
+  }
+  const auto ev = tr.finish(false);
+  for (double e : {ev.t_star, ev.t_hat, ev.c_slow, ev.c_transient, ev.c_transient_peak, ev.x_arrest, ev.t_arrest})
+    CHECK(std::isnan(e));
+}
+
+TEST_CASE("measure: BatchMeans: time-weighted batch means, mean and standard error on piecewise-constant data", "[measure]") {
+  // MODEL §3: time average of y over [t_from, t_end] from equal-duration batches, with the standard
+  // error sqrt(Σ(m_k − m)²/((n − 1) n)). Synthetic y(t) = 1 on t < 17, 3 on [17, 26), 2 after, fed in
+  // irregular chunks (some spanning batch edges, some before t_from or after t_end, to be ignored).
+  // Batches of [10, 30] (4 × 5): the expected batch means are the exact time averages of y over each
+  // batch, computed below from the breakpoints. Tolerance 1e-12.
+  const double t_from = 10.0, t_end = 30.0;
+  const int nb = 4;
+  auto y = [](double t) { return t < 17.0 ? 1.0 : (t < 26.0 ? 3.0 : 2.0); };
+  compare::BatchMeans bm(t_from, t_end, nb);
+  std::vector<double> cuts = {0.0, 3.3, 9.7, 10.4, 12.0, 16.2, 17.0, 17.05, 21.9, 26.0, 29.99, 31.5, 35.0};
+  for (std::size_t k = 0; k + 1 < cuts.size(); ++k) {
+    // split each chunk at the breakpoints of y so that y is constant over what is added
+    std::vector<double> pts = {cuts[k]};
+    for (double b : {17.0, 26.0})
+      if (b > cuts[k] && b < cuts[k + 1]) pts.push_back(b);
+    pts.push_back(cuts[k + 1]);
+    for (std::size_t j = 0; j + 1 < pts.size(); ++j) bm.add(pts[j], pts[j + 1], y(0.5 * (pts[j] + pts[j + 1])));
+  }
+  // exact batch means: ∫y over [a, b] / (b − a), y piecewise constant with breaks 17, 26
+  auto integral = [&](double a, double b) {
+    const double br[4] = {-1e9, 17.0, 26.0, 1e9};
+    const double val[3] = {1.0, 3.0, 2.0};
+    double s = 0.0;
+    for (int i = 0; i < 3; ++i) s += val[i] * std::max(0.0, std::min(b, br[i + 1]) - std::max(a, br[i]));
+    return s;
+  };
+  std::vector<double> m;
+  const double len = (t_end - t_from) / nb;
+  for (int k = 0; k < nb; ++k) m.push_back(integral(t_from + k * len, t_from + (k + 1) * len) / len);
+  double mean = 0.0;
+  for (double mk : m) mean += mk / nb;
+  double ss = 0.0;
+  for (double mk : m) ss += (mk - mean) * (mk - mean);
+  const double se = std::sqrt(ss / (nb - 1) / nb);
+  CHECK(bm.mean() == Approx(mean).epsilon(1e-12));
+  CHECK(bm.stderr_of_mean() == Approx(se).epsilon(1e-12));
+  CHECK(bm.mean() == Approx(integral(t_from, t_end) / (t_end - t_from)).epsilon(1e-12));  // equal batches
+
+  // Constant data: mean exact, zero standard error; empty: NaN.
+  compare::BatchMeans flat(0.0, 1.0, 5);
+  for (int k = 0; k < 7; ++k) flat.add(k / 7.0, (k + 1) / 7.0, 0.25);
+  CHECK(flat.mean() == Approx(0.25).epsilon(1e-14));
+  CHECK(flat.stderr_of_mean() == Approx(0.0).margin(1e-15));
+  compare::BatchMeans empty(0.0, 1.0, 3);
+  CHECK(std::isnan(empty.mean()));
+}

@@ -55,7 +55,7 @@ double FrontTracker::sample_tip(double t, std::span<const double> area) {
   ts_.push_back(t);
   tips_.push_back(tip);
   tips_alt_.push_back(last_tip_alt_);
-  next_sample_ = t + p_.sample_dt * (1.0 - 1e-9);
+  next_sample_ = (std::floor(t / p_.sample_dt + 1e-9) + 1.0) * p_.sample_dt * (1.0 - 1e-12);  // multiples of sample_dt
   return tip;
 }
 

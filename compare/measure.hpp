@@ -37,7 +37,7 @@ class FrontTracker {
 
   /// Every step [t0, t1]: whether some site yielded at t0, and max |v| over the step.
   void observe_step(double t0, double t1, bool yielded, double max_v);
-  /// Whether a tip sample is due at time t (cadence measure.sample_dt).
+  /// Whether a tip sample is due at time t: the first step at or after each multiple of measure.sample_dt.
   bool sample_due(double t) const { return t >= next_sample_; }
   /// Record the tip positions (both thresholds) at time t; returns the A_tip position.
   double sample_tip(double t, std::span<const double> area);

@@ -81,6 +81,21 @@ class CycleDetector {
   bool slipping_ = false;
 };
 
+// Laws that record contact statistics (the agent representation, MODEL §5 /discrete/contacts): the
+// runner snapshots them at the snapshot cadence and stores their tables; other laws compile without
+// a trace of it (no virtual call, nothing at run time).
+template <class Law>
+concept RecordsContacts = requires(Law& law, const Law& cl, double t) {
+  law.record_contacts(t);
+  cl.contact_tables();
+};
+template <class Law>
+void store_contacts(const Law& law, ModelResult& r) {
+  auto tables = law.contact_tables();
+  for (auto& [name, col] : tables.columns) r.contacts[name] = std::move(col);
+  for (auto& [name, tab] : tables.tables) r.contacts_2d[name] = Table2D{tab.cols, std::move(tab.data)};
+}
+
 template <class Law>
 void set_initial_conditions(const Scene& s, continuum::Simulation<Law>& sim) {
   using continuum::Loading;
@@ -126,9 +141,12 @@ ModelResult run_dynamic(const Scene& s, Law law, const std::string& model, const
   FrontTracker tracker(s.measure, r.x);
   detail::Cadence series_due(s.output.series_dt), snap_due(s.output.snapshot_dt > 0 ? s.output.snapshot_dt : -1);
   detail::CycleDetector cycles(s.measure.v_event);
+  [[maybe_unused]] detail::Cadence contacts_due(s.output.snapshot_dt > 0 ? s.output.snapshot_dt : -1);
 
   auto record = [&] {
     const double t = sim.time();
+    if constexpr (detail::RecordsContacts<Law>)
+      if (contacts_due.due(t)) sim.law().record_contacts(t);
     const auto area = sim.law().contact_area();
     if (one_d && tracker.sample_due(t)) tracker.sample_tip(t, area);
     if (series_due.due(t)) {
@@ -186,6 +204,7 @@ ModelResult run_dynamic(const Scene& s, Law law, const std::string& model, const
     r.status = "failed";
     r.message = e.what();
   }
+  if constexpr (detail::RecordsContacts<Law>) detail::store_contacts(sim.law(), r);
   r.events = tracker.finish(s.drive.loading == Loading::homogeneous);
   r.events_alt = tracker.finish(s.drive.loading == Loading::homogeneous, true);
   r.scalars["steps"] = static_cast<double>(sim.steps());
@@ -260,8 +279,11 @@ ModelResult run_imposed_rate(const Scene& s, MakeLaw make_law, const std::string
     const double dt_target = s.time.dt > 0 ? s.time.dt : s.time.t_end / s.time.steps;
     FrontTracker tracker(s.measure, r.x);
     detail::Cadence series_due(s.output.series_dt);
+    [[maybe_unused]] detail::Cadence contacts_due(s.output.snapshot_dt > 0 ? s.output.snapshot_dt : -1);
     double t = 0.0;
     auto record = [&](double v) {
+      if constexpr (detail::RecordsContacts<Law>)
+        if (contacts_due.due(t)) law.record_contacts(t);
       if (!series_due.due(t)) return;
       const double sb = law.sigma_bar()[0];
       detail::push(r.series, "t", t);
@@ -292,6 +314,7 @@ ModelResult run_imposed_rate(const Scene& s, MakeLaw make_law, const std::string
         }
       }
     }
+    if constexpr (detail::RecordsContacts<Law>) detail::store_contacts(law, r);
     r.events = tracker.finish(false);
     r.scalars["steps"] = static_cast<double>(steps);
   }

@@ -1,0 +1,234 @@
+#include "discrete/agent_law.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace slipfront::discrete {
+
+namespace {
+
+constexpr std::size_t npos = static_cast<std::size_t>(-1);
+constexpr double inf = std::numeric_limits<double>::infinity();
+
+/// Exp(1) by inversion of one uniform (identical across standard libraries).
+inline double exp1(Engine& e) { return -std::log(uniform01(e)); }
+
+}  // namespace
+
+AgentLaw::AgentLaw(const continuum::InterfaceParams& ip, const DiscreteParams& dp, std::size_t sites)
+    : ip_(ip), dp_(dp), g_((dp.validate(), ThresholdDistribution(dp.threshold, dp.width))) {
+  if (sites == 0) throw std::invalid_argument("AgentLaw: no sites");
+  if (!dp.noise)
+    throw continuum::ParamError("discrete.noise",
+                                "the agent representation has whole contacts: noise = false needs representation = count");
+  n_contacts_ = static_cast<std::size_t>(dp.contacts_per_site);
+  degenerate_ = g_.degenerate();
+  quenched_ = dp.renewal == "quenched";
+  if (!degenerate_) {
+    // B ≈ 4√N quantile bins of g: the bin straddling τ holds ~√N/4 attached contacts.
+    const auto root = static_cast<std::size_t>(std::ceil(std::sqrt(static_cast<double>(n_contacts_))));
+    nbins_ = std::clamp<std::size_t>(4 * root, 1, std::min<std::size_t>(n_contacts_, 4096));
+    edges_.resize(nbins_ + 1);
+    for (std::size_t b = 0; b <= nbins_; ++b)
+      edges_[b] = g_.quantile(static_cast<double>(b) / static_cast<double>(nbins_));
+  }
+  sites_.resize(sites);
+  area_.assign(sites, 1.0);
+  sigma_bar_.assign(sites, 0.0);
+  if (dp.contact_statistics) stats_ = ContactStats(sites, std::max(2.0, 1.0 + 8.0 * dp.width));
+  for (std::size_t i = 0; i < sites; ++i) set_site(i, 1.0, 0.0);
+}
+
+std::size_t AgentLaw::bin_of(double s) const {
+  if (nbins_ == 1) return 0;
+  // bin b holds [e_b, e_{b+1}): the number of interior edges e_1..e_{B−1} that are ≤ s
+  const auto first = edges_.begin() + 1, last = edges_.begin() + static_cast<std::ptrdiff_t>(nbins_);
+  return static_cast<std::size_t>(std::upper_bound(first, last, s) - first);
+}
+
+double AgentLaw::draw_threshold(Engine& e) const { return degenerate_ ? 1.0 : g_.from_uniform(uniform01(e)); }
+
+void AgentLaw::set_site(std::size_t i, double area, double sigma_bar) {
+  if (!(area >= 0.0 && area <= 1.0)) throw std::invalid_argument("AgentLaw::set_site: A must lie in [0, 1]");
+  Site& st = sites_[i];
+  st.engine = site_engine(dp_.seed, i);
+  st.bins.assign(nbins_, {});
+  if (nbins_ > 1) st.counts.reset(nbins_);
+  st.detached.clear();
+  st.detach_mark = st.attach_mark = -1.0;
+  const auto n = static_cast<std::size_t>(std::llround(area * static_cast<double>(n_contacts_)));
+  for (std::size_t k = 0; k < n; ++k) {
+    const double s = draw_threshold(st.engine);
+    const std::size_t b = bin_of(s);
+    st.bins[b].push_back({s, t_});
+    if (nbins_ > 1) st.counts.add(b, 1);
+  }
+  st.detached.reserve(n_contacts_ - n);
+  for (std::size_t k = n; k < n_contacts_; ++k)
+    st.detached.push_back({t_, quenched_ ? draw_threshold(st.engine) : std::numeric_limits<double>::quiet_NaN()});
+  st.n_att = n;
+  area_[i] = static_cast<double>(n) / static_cast<double>(n_contacts_);
+  sigma_bar_[i] = sigma_bar;
+}
+
+// Step 1: the members (overloaded attached contacts, τ > s) at the frozen τ.
+AgentLaw::Load AgentLaw::classify(Site& st, double tau) const {
+  Load ld;
+  if (degenerate_) {  // every threshold is 1: all members or none
+    ld.full_bins = tau > 1.0 ? 1 : 0;
+    ld.members = ld.full_bins ? st.n_att : 0;
+    return ld;
+  }
+  const auto first = edges_.begin() + 1, last = edges_.begin() + static_cast<std::ptrdiff_t>(nbins_);
+  ld.full_bins = static_cast<std::size_t>(std::upper_bound(first, last, tau) - first);  // e_{b+1} ≤ τ
+  if (ld.full_bins < nbins_ && edges_[ld.full_bins] < tau) {  // e_b < τ < e_{b+1}: scan this bin
+    ld.partial = ld.full_bins;
+    auto& bin = st.bins[ld.partial];
+    const auto mid = std::partition(bin.begin(), bin.end(), [tau](const AttachedContact& c) { return c.threshold < tau; });
+    ld.partial_members = static_cast<std::size_t>(mid - bin.begin());
+  }
+  const std::size_t full = nbins_ == 1 ? (ld.full_bins ? st.n_att : 0)
+                                       : static_cast<std::size_t>(st.counts.prefix(ld.full_bins));
+  ld.members = full + ld.partial_members;
+  return ld;
+}
+
+// A contact attaching during the step joins its bin; it is a member if its bin is below τ, or it
+// straddles τ and s < τ (then it is swapped into the member prefix of that bin).
+void AgentLaw::add_attached(Site& st, Load& ld, AttachedContact c, double tau) {
+  const std::size_t b = bin_of(c.threshold);
+  auto& bin = st.bins[b];
+  bin.push_back(c);
+  if (nbins_ > 1) st.counts.add(b, 1);
+  ++st.n_att;
+  if (b < ld.full_bins) {
+    ++ld.members;
+  } else if (b == ld.partial && c.threshold < tau) {
+    std::swap(bin[ld.partial_members], bin.back());
+    ++ld.partial_members;
+    ++ld.members;
+  }
+}
+
+// Remove the member of rank `rank` (full bins in order, then the members of the straddling bin).
+AttachedContact AgentLaw::remove_member(Site& st, Load& ld, std::uint64_t rank) {
+  const std::uint64_t in_full = ld.members - ld.partial_members;
+  AttachedContact c;
+  std::size_t b;
+  if (rank < in_full) {
+    std::size_t j;
+    if (nbins_ == 1) {
+      b = 0;
+      j = static_cast<std::size_t>(rank);
+    } else {
+      auto r = static_cast<std::int64_t>(rank);
+      b = st.counts.find(r);
+      j = static_cast<std::size_t>(r);
+    }
+    auto& bin = st.bins[b];
+    c = bin[j];
+    bin[j] = bin.back();
+    bin.pop_back();
+  } else {
+    b = ld.partial;
+    auto& bin = st.bins[b];
+    const auto j = static_cast<std::size_t>(rank - in_full);
+    const std::size_t last_member = ld.partial_members - 1;
+    c = bin[j];
+    bin[j] = bin[last_member];     // keep the members a prefix
+    bin[last_member] = bin.back();
+    bin.pop_back();
+    --ld.partial_members;
+  }
+  if (nbins_ > 1) st.counts.add(b, -1);
+  --ld.members;
+  --st.n_att;
+  return c;
+}
+
+// Step 3: the two-state chain of every contact of site i over [t0, t1] with frozen rates, event by
+// event. Two Poisson processes: detachments of members (intensity K d) and attachments of detached
+// contacts (intensity D); the next event of each is where its integrated intensity reaches its mark.
+void AgentLaw::run_events(std::size_t i, Site& st, Load& ld, double tau, double detach, double t0, double t1) {
+  Engine& e = st.engine;
+  auto& pool = st.detached;
+  double t = t0;
+  for (;;) {
+    const double k_det = static_cast<double>(ld.members) * detach;
+    const double k_att = static_cast<double>(pool.size());  // attach rate 1 per detached contact
+    if (k_det > 0.0 && st.detach_mark < 0.0) st.detach_mark = exp1(e);
+    if (k_att > 0.0 && st.attach_mark < 0.0) st.attach_mark = exp1(e);
+    const double t_det = k_det > 0.0 ? t + st.detach_mark / k_det : inf;
+    const double t_att = k_att > 0.0 ? t + st.attach_mark / k_att : inf;
+    const double t_next = std::min({t_det, t_att, t1});
+    // the intensities accrued up to the next event (or the end of the step)
+    if (k_det > 0.0) st.detach_mark = std::max(0.0, st.detach_mark - k_det * (t_next - t));
+    if (k_att > 0.0) st.attach_mark = std::max(0.0, st.attach_mark - k_att * (t_next - t));
+    if (!(t_next < t1)) return;  // nothing more in this step
+    t = t_next;
+    if (t_det <= t_att) {
+      // a member detaches, chosen uniformly
+      const auto rank = std::min<std::uint64_t>(ld.members - 1, static_cast<std::uint64_t>(uniform01(e) * static_cast<double>(ld.members)));
+      const AttachedContact c = remove_member(st, ld, rank);
+      st.detach_mark = -1.0;
+      stats_.record_lifetime(i, c.attached_at, t - c.attached_at);
+      pool.push_back({t, c.threshold});
+    } else {
+      // a detached contact attaches, chosen uniformly
+      const auto j = std::min<std::size_t>(pool.size() - 1, static_cast<std::size_t>(uniform01(e) * k_att));
+      const DetachedContact c = pool[j];
+      pool[j] = pool.back();
+      pool.pop_back();
+      st.attach_mark = -1.0;
+      double s = c.threshold;  // quenched; or fresh and re-attaching within the step it detached in
+      if (!quenched_ && !(c.detached_at >= t0 && !std::isnan(s))) s = draw_threshold(e);
+      stats_.record_detached(i, c.detached_at, t - c.detached_at);
+      add_attached(st, ld, {s, t}, tau);
+    }
+    ++changes_;
+  }
+}
+
+continuum::LawStepInfo AgentLaw::advance(double dt, std::span<const double> v) {
+  if (v.size() != size()) throw std::invalid_argument("AgentLaw::advance: one slip rate per site");
+  const double alpha = ip_.alpha, kappa = ip_.kappa, eta = ip_.eta;
+  const double inv_n = 1.0 / static_cast<double>(n_contacts_);
+  const double t0 = t_, t1 = t_ + dt;
+  bool any = false;
+  for (std::size_t i = 0; i < sites_.size(); ++i) {
+    const double vi = v[i], speed = std::abs(vi), a0 = area_[i], sb = sigma_bar_[i];
+    if (!std::isfinite(vi)) {  // the stepper reports it with the step and site; do not draw on it
+      sigma_bar_[i] = std::numeric_limits<double>::quiet_NaN();
+      continue;
+    }
+    Site& st = sites_[i];
+    // 1. load: contact stress at the start of the step, the members, Y_i
+    const double tau = continuum::contact_stress(sb + eta * vi, a0);
+    Load ld = classify(st, tau);
+    const std::size_t n0 = st.n_att;
+    const double y = n0 > 0 ? static_cast<double>(ld.members) / static_cast<double>(n0) : 1.0;
+    any |= speed > 0.0 && (ld.members > 0 || n0 == 0);
+    // 2. idle: no member slipping and no detached contact — nothing is touched
+    const double detach = kappa * speed;
+    if ((ld.members > 0 && detach > 0.0) || !st.detached.empty())
+      run_events(i, st, ld, tau, detach, t0, t1);  // 3. contacts
+    const double a1 = static_cast<double>(st.n_att) * inv_n;
+    area_[i] = a1;
+    // 4. stress: exact update with Ā = (A + A')/2 and Y frozen (as continuum::FrictionLaw)
+    sigma_bar_[i] = continuum::relax(sb, alpha * 0.5 * (a0 + a1) * vi, y * speed, dt);
+  }
+  t_ = t1;
+  return {any};
+}
+
+void AgentLaw::record_contacts(double t) {
+  if (!stats_.enabled()) return;
+  stats_.begin_snapshot(t);
+  for (std::size_t i = 0; i < sites_.size(); ++i)
+    for_each_attached(i, [&](const AttachedContact& c) { stats_.attached(t_ - c.attached_at, c.threshold); });
+  stats_.end_snapshot();
+}
+
+}  // namespace slipfront::discrete

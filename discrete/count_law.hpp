@@ -1,0 +1,136 @@
+#pragma once
+// The microcontact ensemble of MODEL §2 in the COUNT representation, as an interface law with the
+// step contract of continuum::FrictionLaw (size, contact_area, sigma_bar, set_site, advance,
+// params): the bulk stepper and the scene runner take it unchanged (docs/discrete.md).
+//
+// State of site i: the attached counts n_{i,b} per threshold bin b (B quantile bins of g with
+// probability 1/B each, bin b represented by its conditional mean threshold s_b, ascending; B = 1
+// when g is degenerate), and the detached count (one pool per site with renewal = fresh, since a
+// detached contact gets a fresh threshold; per bin with renewal = quenched). A_i = n_i / N.
+//
+// One step [t, t + Δt] with v_i frozen (MODEL §2), at every site:
+//   1. load        τ_i = |σ̄_i + η v_i| / A_i;  bin b is overloaded when τ_i > s_b (a prefix of bins)
+//   2. idle?       no overloaded attached contact that slips and no detached contact: nothing moves,
+//                  no random draw, no exponential (the stuck majority of a front costs a few flops)
+//   3. contacts    exact two-state transition per bin (a = 1, d = κ|v_i| if overloaded else 0):
+//                  binomial draws from the site's own stream; noise off: their expectations, as
+//                  fractions of the site, evaluated with relax() at every site (no idle skip)
+//   4. stress      σ̄_i' = relax(σ̄_i, α Ā_i v_i, Y_i |v_i|, Δt),  Ā = (A + A')/2,
+//                  Y_i = overloaded fraction of the attached contacts at t (1 when none attached)
+// With w = 0 and noise off this is, operation for operation, FrictionLaw::advance (MODEL §2 item 1):
+// the two laws agree bit for bit (tests/test_discrete_identity.cpp).
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "continuum/exact_update.hpp"
+#include "continuum/friction_law.hpp"
+#include "continuum/params.hpp"
+#include "discrete/params.hpp"
+#include "discrete/streams.hpp"
+#include "discrete/thresholds.hpp"
+
+namespace slipfront::discrete {
+
+namespace detail {
+class SitePool;  // worker threads over sites (DiscreteParams::threads > 1)
+/// Owns the workers; a copy starts without them (they are made at the copy's first step).
+struct PoolHandle {
+  std::unique_ptr<SitePool> p;
+  PoolHandle();
+  ~PoolHandle();
+  PoolHandle(const PoolHandle&);
+  PoolHandle& operator=(const PoolHandle&);
+  PoolHandle(PoolHandle&&) noexcept;
+  PoolHandle& operator=(PoolHandle&&) noexcept;
+};
+}  // namespace detail
+
+class CountLaw {
+ public:
+  /// Validates `dp` (ParamError naming the key). All sites start stuck: A = 1, σ̄ = 0, the N
+  /// attached contacts spread over the bins by expectation rounding (a stratified sample of g).
+  CountLaw(const continuum::InterfaceParams& ip, const DiscreteParams& dp, std::size_t sites);
+  ~CountLaw();
+  CountLaw(CountLaw&&) noexcept;
+  CountLaw& operator=(CountLaw&&) noexcept;
+  CountLaw(const CountLaw&);  ///< copies the state and the engines; the copy starts its own threads
+  CountLaw& operator=(const CountLaw&);
+
+  // --- the step contract (continuum::FrictionLaw) -------------------------------------------
+  std::size_t size() const { return area_.size(); }
+  const continuum::InterfaceParams& params() const { return ip_; }
+  std::span<const double> contact_area() const { return area_; }
+  std::span<const double> sigma_bar() const { return sigma_bar_; }
+
+  /// Initial state of site i: n = round(A N) attached contacts (noise off: A N, a real count),
+  /// spread over the bins by expectation rounding (no random draw); the rest detached. A ∈ [0, 1].
+  void set_site(std::size_t i, double area, double sigma_bar);
+
+  /// MODEL §2 over [t, t + dt] with the slip rates v frozen; any_yield: some site had an
+  /// overloaded attached contact (or no attached contact at all, τ = ∞: Θ = 1 of MODEL §1) and
+  /// v_i ≠ 0 at the start of the step.
+  continuum::LawStepInfo advance(double dt, std::span<const double> v);
+
+  // --- inspection ------------------------------------------------------------------------------
+  const DiscreteParams& discrete_params() const { return dp_; }
+  const ThresholdDistribution& distribution() const { return g_; }
+  std::size_t bins() const { return thresholds_.size(); }
+  /// Representative threshold s_b of each bin (conditional mean of g on its quantile interval).
+  std::span<const double> thresholds() const { return thresholds_; }
+  double contacts_per_site() const { return n_contacts_; }
+  /// Attached counts of site i per bin [B] (noise off: expected counts as fractions of the site's N).
+  std::span<const double> attached(std::size_t i) const;
+  /// Detached counts of site i: [1] (fresh renewal) or per bin [B] (quenched); units as attached().
+  std::span<const double> detached(std::size_t i) const;
+  double attached_total(std::size_t i) const { return n_att_[i]; }  ///< Σ_b attached(i)
+  /// Y_i: the overloaded fraction of the attached contacts of site i at slip rate v, now.
+  double overloaded_fraction(std::size_t i, double v) const;
+  /// The random stream of site i (site_engine(seed, i) advanced by the draws so far).
+  const Engine& engine(std::size_t i) const { return engines_[i]; }
+
+  /// Whole state (counts, σ̄, engines) as text; load_state() restores it bit for bit into a law
+  /// built with the same parameters and size (throws std::invalid_argument otherwise).
+  std::string save_state() const;
+  void load_state(const std::string& text);
+
+ private:
+  friend class detail::SitePool;
+  /// Advance sites [lo, hi); returns whether one of them yielded.
+  bool advance_sites(std::size_t lo, std::size_t hi, double dt, const double* v);
+  /// Stages 2–3 of the step at site i with k overloaded bins and detach rate κ|v|; return A'.
+  double step_contacts_sampled(std::size_t i, std::size_t k, double n_over, double detach, double dt);
+  double step_contacts_mean(std::size_t i, std::size_t k, double detach, double dt);
+  std::size_t overloaded_bins(double tau) const;
+  int pool_threads() const;
+  double area_of(double attached_total) const;
+  double* att(std::size_t i) { return att_.data() + i * nbins_; }
+  double* det(std::size_t i) { return det_.data() + i * det_stride_; }
+
+  continuum::InterfaceParams ip_;
+  DiscreteParams dp_;
+  ThresholdDistribution g_;
+  std::vector<double> thresholds_;  ///< s_b, ascending [B]
+  std::size_t nbins_ = 1, det_stride_ = 1;
+  double n_contacts_ = 1.0;
+  bool quenched_ = false, noise_ = true;
+
+  // Counts are whole numbers held in doubles (noise on), or real fractions of the site (noise off).
+  std::vector<double> att_;        ///< [sites × B] attached counts
+  std::vector<double> det_;        ///< [sites × (1 | B)] detached counts
+  std::vector<double> n_att_;      ///< [sites] Σ_b att
+  std::vector<double> area_;       ///< [sites] A = n_att / N
+  std::vector<double> sigma_bar_;  ///< [sites]
+  std::vector<Engine> engines_;    ///< [sites] site_engine(seed, i)
+
+  double cached_dt_ = -1.0;        ///< two-state transition of a non-overloaded bin for cached_dt_
+  continuum::TwoStateTransition attach_only_{1.0, 0.0};
+  double cached_free_exp_ = 1.0;   ///< e^{−cached_dt_}
+
+  detail::PoolHandle pool_;
+};
+
+}  // namespace slipfront::discrete

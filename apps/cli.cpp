@@ -157,6 +157,7 @@ std::string format_events(const compare::Events& e, const compare::Events* prima
       {"t_star", &E::t_star},           {"t_hat", &E::t_hat},       {"c_slow", &E::c_slow},
       {"c_transient", &E::c_transient}, {"c_transient_peak", &E::c_transient_peak},
       {"x_arrest", &E::x_arrest},       {"t_arrest", &E::t_arrest}, {"c_front", &E::c_front},
+      {"v_behind", &E::v_behind},
   };
   std::string out;
   for (const auto& [name, member] : items) {
@@ -259,13 +260,16 @@ int run_command(const RunOptions& opts, std::ostream& out, std::ostream& err) {
   RunMeta meta;
   meta.command_line = opts.command_line;
   std::vector<compare::ModelResult> results;
+  compare::Comparison comparison;
   {
     Progress progress(err, scene.name, !opts.quiet && ::isatty(STDERR_FILENO));
     compare::RunControl control;
     control.stop = [] { return StopSignals::requested(); };
     control.progress = [&](const std::string& model, double t, double t_end) { progress.update(model, t, t_end); };
     try {
-      results = compare::run_scene(scene, control);
+      compare::SceneResult sr = compare::run_scene_alongside(scene, control);
+      results = std::move(sr.models);
+      comparison = std::move(sr.comparison);
     } catch (const std::exception& e) {
       meta.status = "failed";
       meta.message = std::string("the run stopped with an error: ") + e.what();
@@ -282,7 +286,7 @@ int run_command(const RunOptions& opts, std::ostream& out, std::ostream& err) {
   meta.wall_seconds = std::chrono::duration<double>(Clock::now() - wall0).count();
   const std::string status = overall_status(results, meta.status);
   try {
-    write_results(file, scene, resolved, results, meta);
+    write_results(file, scene, resolved, results, meta, &comparison);
   } catch (const std::exception& e) {
     print_error(err, "cannot write " + file.string() + ": " + e.what());
     return exit_code::failed;

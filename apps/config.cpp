@@ -73,6 +73,10 @@ bool cfl_used(const Scene& s) { return !imposed(s) && s.time.dt == 0.0; }
 bool discrete_listed(const Scene& s) {
   return std::find(s.models.begin(), s.models.end(), "discrete") != s.models.end();
 }
+bool both_models_bulk(const Scene& s) {
+  return discrete_listed(s) && std::find(s.models.begin(), s.models.end(), "continuum") != s.models.end() &&
+         s.drive.loading != Loading::imposed_rate;
+}
 
 // Pointer to member `M` of section `S` of a Scene, as a Target.
 template <auto S, auto M>
@@ -152,6 +156,8 @@ const std::vector<Section>& schema() {
            {"series_dt", at<&Scene::output, &OutputParams::series_dt>, always, "always"},
            {"snapshot_dt", at<&Scene::output, &OutputParams::snapshot_dt>, always, "always"},
            {"energy", at<&Scene::output, &OutputParams::energy>, always, "always"},
+           {"compare_dt", at<&Scene::output, &OutputParams::compare_dt>, both_models_bulk,
+            "when models lists continuum and discrete on a bulk scene"},
        }},
       {"discrete",
        {

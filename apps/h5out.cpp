@@ -234,6 +234,7 @@ void events(hid_t model_group, const std::string& model, const compare::ModelRes
       {"x_arrest", &compare::Events::x_arrest},
       {"t_arrest", &compare::Events::t_arrest},
       {"c_front", &compare::Events::c_front},
+      {"v_behind", &compare::Events::v_behind},
   };
   for (const auto& [name, member] : names) {
     attr_double(g.get(), name, r.events.*member);
@@ -325,8 +326,40 @@ void write_meta(hid_t file, const RunMeta& meta, const std::string& status, cons
   attr_string(g.get(), "models", models);
 }
 
+// /compare: every metric a scalar dataset with its definition; the online field distances and the
+// friction-law differences as 1D datasets.
+void comparison_group(hid_t file, const compare::Comparison& c) {
+  Hid g = make_group(file, "compare", "/compare");
+  attr_string(g.get(), "description",
+              "metrics of the comparison layer (discrete vs continuum on the same scene, grid and time step); "
+              "each dataset has its definition as the attribute 'definition'");
+  auto definition = [&](const std::string& key) {
+    const auto it = c.definitions.find(key);
+    return it == c.definitions.end() ? key : it->second;
+  };
+  for (const auto& [name, value] : c.metrics) {
+    Hid space(H5Screate(H5S_SCALAR), H5Sclose, "make a scalar dataspace");
+    Hid ds(H5Dcreate2(g.get(), name.c_str(), H5T_IEEE_F64LE, space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+           H5Dclose, "create dataset /compare/" + name);
+    check(H5Dwrite(ds.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, &value), "write /compare/" + name);
+    attr_string(ds.get(), "definition", definition(name));
+  }
+  for (const auto& [group, cols] : {std::pair<const char*, const compare::Columns*>{"fields", &c.fields},
+                                    {"friction_law", &c.friction_law}}) {
+    if (cols->empty()) continue;
+    Hid sub = make_group(g.get(), group, std::string("/compare/") + group);
+    for (const auto& [name, v] : *cols) {
+      const std::string key = std::string(group) + "/" + name;
+      dataset_1d(sub.get(), name, v, definition(key), "/compare/" + key);
+      Hid ds(H5Dopen2(sub.get(), name.c_str(), H5P_DEFAULT), H5Dclose, "open /compare/" + key);
+      attr_string(ds.get(), "definition", definition(key));
+    }
+  }
+}
+
 void write_file(const std::filesystem::path& tmp, const compare::Scene& scene, const std::string& resolved_toml,
-                const std::vector<compare::ModelResult>& results, const RunMeta& meta) {
+                const std::vector<compare::ModelResult>& results, const RunMeta& meta,
+                const compare::Comparison* comparison) {
   Hid file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose,
            "create " + tmp.string());
   std::string message = meta.message;
@@ -341,6 +374,7 @@ void write_file(const std::filesystem::path& tmp, const compare::Scene& scene, c
     attr_string(g.get(), "toml", resolved_toml);
   }
   for (const auto& r : results) model(file.get(), r);
+  if (comparison && !comparison->empty()) comparison_group(file.get(), *comparison);
   file.close("close " + tmp.string());
 }
 
@@ -437,8 +471,11 @@ std::filesystem::path temporary_path(const std::filesystem::path& path) {
 }
 
 void write_results(const std::filesystem::path& path, const compare::Scene& scene, const std::string& resolved_toml,
-                   const std::vector<compare::ModelResult>& results, const RunMeta& meta) {
-  write_atomically(path, [&](const std::filesystem::path& tmp) { write_file(tmp, scene, resolved_toml, results, meta); });
+                   const std::vector<compare::ModelResult>& results, const RunMeta& meta,
+                   const compare::Comparison* comparison) {
+  write_atomically(path, [&](const std::filesystem::path& tmp) {
+    write_file(tmp, scene, resolved_toml, results, meta, comparison);
+  });
 }
 
 void write_study(const std::filesystem::path& path, const compare::StudySpec& spec, const std::string& spec_toml,

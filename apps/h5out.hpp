@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "compare/alongside.hpp"
 #include "compare/result.hpp"
 #include "compare/scene.hpp"
 #include "compare/study.hpp"
@@ -32,8 +33,10 @@ std::string overall_status(const std::vector<compare::ModelResult>& results, con
 /// Writes the results to `path` atomically: the file is written as ".<name>.tmp.<pid>" in the same
 /// directory and renamed onto `path` (replacing it) once complete. Throws OutputError (the temporary
 /// file is removed then).
+/// `comparison` (may be null or empty): the /compare group of alongside runs.
 void write_results(const std::filesystem::path& path, const compare::Scene& scene, const std::string& resolved_toml,
-                   const std::vector<compare::ModelResult>& results, const RunMeta& meta);
+                   const std::vector<compare::ModelResult>& results, const RunMeta& meta,
+                   const compare::Comparison* comparison = nullptr);
 
 /// Writes a study's analysis to `path` (study.h5) atomically, like write_results.
 void write_study(const std::filesystem::path& path, const compare::StudySpec& spec, const std::string& spec_toml,

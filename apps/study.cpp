@@ -214,17 +214,20 @@ int study_command(const StudyOptions& opts, std::ostream& out, std::ostream& err
         compare::RunControl ctl;
         ctl.stop = [] { return stop.load(); };
         std::vector<compare::ModelResult> r;
+        compare::Comparison cmp;
         RunMeta meta;
         meta.command_line = opts.command_line + "  [study run " + runs[i].id + "]";
         try {
-          r = compare::run_scene(scenes[i], ctl);
+          compare::SceneResult sr = compare::run_scene_alongside(scenes[i], ctl);
+          r = std::move(sr.models);
+          cmp = std::move(sr.comparison);
         } catch (const std::exception& e) {
           meta.status = "failed";
           meta.message = e.what();
         }
         meta.wall_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
         try {
-          write_results(dir / "runs" / runs[i].id / "results.h5", scenes[i], to_toml(scenes[i]), r, meta);
+          write_results(dir / "runs" / runs[i].id / "results.h5", scenes[i], to_toml(scenes[i]), r, meta, &cmp);
         } catch (const std::exception& e) {
           std::lock_guard lock(io);
           err << "slipfront: error: run " << runs[i].id << ": " << e.what() << "\n";

@@ -119,7 +119,9 @@ Events FrontTracker::finish(bool homogeneous, bool alt) const {
     window(ts_, tips, -1.0, ts_.empty() ? 0.0 : ts_.back(), wt, wy);
     if (!wy.empty()) {
       const double x1 = *std::max_element(wy.begin(), wy.end());
-      ev.c_front = slope_middle_distance(wt, wy, wy.front(), x1);
+      // A front is steady only if it runs at least half of what lies ahead of it; a patch that
+      // creeps and re-sticks has no front speed.
+      if (x1 - wy.front() >= 0.5 * (x_.back() - wy.front())) ev.c_front = slope_middle_distance(wt, wy, wy.front(), x1);
     }
   }
   return ev;

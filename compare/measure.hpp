@@ -22,6 +22,7 @@ struct Events {
   double x_arrest = nan;          ///< largest x_tip reached before max v < v_event/5 after t^
   double t_arrest = nan;          ///< time at which max v fell back below v_event/5
   double c_front = nan;           ///< homogeneous loading: LS slope of x_tip over the middle half of its run
+                                  ///< (NaN if it runs less than half the length ahead of it: re-stuck)
   double v_behind = nan;          ///< homogeneous loading: mean v over [ℓ_n, x_tip − 10] when x_tip passes 3L/4
 };
 

@@ -2,9 +2,7 @@
 
 #include <stdexcept>
 
-#include "discrete/count_law.hpp"
-#include "discrete/agent_law.hpp"
-#include "discrete/naive_law.hpp"
+#include "compare/laws.hpp"
 
 namespace slipfront::compare {
 
@@ -26,38 +24,27 @@ std::vector<double> sweep_rates(const continuum::DriveParams& d) {
 std::vector<ModelResult> run_scene(const Scene& s, const RunControl& ctl) {
   std::vector<ModelResult> out;
   for (const auto& m : s.models) {
-    if (m == "continuum") {
-      auto make = [&](std::size_t n) { return continuum::FrictionLaw(s.interface, n); };
-      out.push_back(run_model<continuum::FrictionLaw>(s, make, m, ctl));
-    } else if (m == "discrete") {
-      // MODEL §2: the microcontact ensemble on the same bulk, grid and time step.
-      const auto& d = s.discrete;
-      d.validate();
-      if (d.representation == "count") {
-        auto make = [&](std::size_t n) { return discrete::CountLaw(s.interface, d, n); };
-        out.push_back(run_model<discrete::CountLaw>(s, make, m, ctl));
-      }
-      // agent and naive representations:
-      else if (d.representation == "agent") {
-        auto make = [&](std::size_t n) { return discrete::AgentLaw(s.interface, d, n); };
-        out.push_back(run_model<discrete::AgentLaw>(s, make, m, ctl));
-      } else if (d.representation == "naive") {
-        auto make = [&](std::size_t n) { return discrete::NaiveAgentLaw(s.interface, d, n); };
-        out.push_back(run_model<discrete::NaiveAgentLaw>(s, make, m, ctl));
+    try {
+      if (m == "continuum") {
+        auto make = [&](std::size_t n) { return continuum::FrictionLaw(s.interface, n); };
+        out.push_back(run_model<continuum::FrictionLaw>(s, make, m, ctl));
+      } else if (m == "discrete") {
+        // MODEL §2: the microcontact ensemble on the same bulk, grid and time step.
+        s.discrete.validate();
+        out.push_back(with_discrete_law(s, [&](auto make) {
+          using Law = decltype(make(std::size_t{1}));
+          return run_model<Law>(s, make, m, ctl);
+        }));
+        label_discrete(s, out.back());
       } else {
-        throw continuum::ParamError("discrete.representation", "'" + d.representation + "' not built yet");
+        throw std::invalid_argument("unknown model '" + m + "'");
       }
-      auto& r = out.back();
-      r.labels["representation"] = d.representation;
-      r.labels["threshold"] = d.threshold;
-      r.labels["renewal"] = d.renewal;
-      r.labels["noise"] = d.noise ? "true" : "false";
-      r.labels["seed"] = std::to_string(d.seed);
-      r.scalars["contacts_per_site"] = static_cast<double>(d.contacts_per_site);
-      r.scalars["width"] = d.width;
-      if (d.representation == "count") r.scalars["bins"] = d.width > 0.0 ? d.bins : 1.0;
-    } else {
-      throw std::invalid_argument("unknown model '" + m + "'");
+    } catch (const std::exception& e) {  // keep what the earlier models produced
+      ModelResult failed;
+      failed.model = m;
+      failed.status = "failed";
+      failed.message = e.what();
+      out.push_back(std::move(failed));
     }
     if (out.back().status != "complete") break;
   }

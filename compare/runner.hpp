@@ -120,47 +120,93 @@ void set_initial_conditions(const Scene& s, continuum::Simulation<Law>& sim) {
 
 }  // namespace detail
 
-/// Bulk scenes: edge and homogeneous loading (1D), spring block (0D).
+/// One model on a bulk scene (edge and homogeneous loading, spring block), advanced one step at a
+/// time so that several runs can go in lockstep (run_scene_alongside). Each step feeds the shared
+/// measurements and records what the scene asks for; finish() hands over the result.
 template <class Law>
-ModelResult run_dynamic(const Scene& s, Law law, const std::string& model, const RunControl& ctl) {
-  using namespace continuum;
-  const auto wall0 = std::chrono::steady_clock::now();
-  ModelResult r;
-  r.model = model;
-  Bulk bulk(s.bulk, s.drive, s.interface, s.grid.dx);
-  const double dt = dynamic_time_step(s);
-  const auto nsteps = static_cast<std::int64_t>(std::llround(s.time.t_end / dt));
-  r.x = bulk.x();
-  r.scalars["dt"] = dt;
-  r.scalars["stable_dt"] = bulk.stable_dt();
-  Simulation<Law> sim(std::move(bulk), std::move(law), s.interface.eta, dt);
-  sim.track_energy(s.output.energy);
-  detail::set_initial_conditions(s, sim);
+class DynamicRun {
+ public:
+  DynamicRun(const Scene& s, Law law, std::string model)
+      : s_(s), wall0_(std::chrono::steady_clock::now()),
+        sim_(continuum::Bulk(s.bulk, s.drive, s.interface, s.grid.dx), std::move(law), s.interface.eta,
+             dynamic_time_step(s)),
+        one_d_(continuum::is_one_dimensional(s.drive.loading)),
+        tracker_(s.measure, sim_.bulk().x()),
+        series_due_(s.output.series_dt),
+        snap_due_(s.output.snapshot_dt > 0 ? s.output.snapshot_dt : -1),
+        contacts_due_(s.output.snapshot_dt > 0 ? s.output.snapshot_dt : -1),
+        cycles_(s.measure.v_event) {
+    r_.model = std::move(model);
+    r_.x = sim_.bulk().x();
+    nsteps_ = static_cast<std::int64_t>(std::llround(s.time.t_end / sim_.dt()));
+    r_.scalars["dt"] = sim_.dt();
+    r_.scalars["stable_dt"] = sim_.bulk().stable_dt();
+    sim_.track_energy(s.output.energy);
+    detail::set_initial_conditions(s, sim_);
+    record();
+  }
 
-  const bool one_d = is_one_dimensional(s.drive.loading);
-  FrontTracker tracker(s.measure, r.x);
-  detail::Cadence series_due(s.output.series_dt), snap_due(s.output.snapshot_dt > 0 ? s.output.snapshot_dt : -1);
-  detail::CycleDetector cycles(s.measure.v_event);
-  [[maybe_unused]] detail::Cadence contacts_due(s.output.snapshot_dt > 0 ? s.output.snapshot_dt : -1);
+  bool done() const { return n_ >= nsteps_ || r_.status != "complete"; }
+  const continuum::Simulation<Law>& sim() const { return sim_; }
+  const std::string& model() const { return r_.model; }
+  double time() const { return sim_.time(); }
 
-  auto record = [&] {
-    const double t = sim.time();
+  /// One step with its measurements; a non-finite state ends the run with status "failed".
+  void step() {
+    try {
+      const double t0 = sim_.time();
+      sim_.step();
+      ++n_;
+      tracker_.observe_step(t0, sim_.time(), sim_.yielded(), sim_.max_slip_rate());
+      if (!one_d_) cycles_.observe(sim_.time(), sim_.drive_force(), sim_.slip_rate()[0], r_.cycles);
+      record();
+    } catch (const continuum::NumericalError& e) {
+      r_.status = "failed";
+      r_.message = e.what();
+    }
+  }
+
+  void interrupt() {
+    r_.status = "interrupted";
+    r_.message = "stopped at t = " + std::to_string(sim_.time());
+  }
+
+  ModelResult finish() {
+    using continuum::Loading;
+    if constexpr (detail::RecordsContacts<Law>) detail::store_contacts(sim_.law(), r_);
+    r_.events = tracker_.finish(s_.drive.loading == Loading::homogeneous);
+    r_.events_alt = tracker_.finish(s_.drive.loading == Loading::homogeneous, true);
+    r_.events.v_behind = r_.events_alt.v_behind = v_behind_;
+    r_.scalars["steps"] = static_cast<double>(sim_.steps());
+    r_.scalars["t_reached"] = sim_.time();
+    r_.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0_).count();
+    return std::move(r_);
+  }
+
+ private:
+  void record() {
+    const double t = sim_.time();
+    auto& r = r_;
+    auto& sim = sim_;
     if constexpr (detail::RecordsContacts<Law>)
-      if (contacts_due.due(t)) sim.law().record_contacts(t);
+      if (contacts_due_.due(t)) sim.law().record_contacts(t);
     const auto area = sim.law().contact_area();
-    if (one_d && tracker.sample_due(t)) tracker.sample_tip(t, area);
-    if (series_due.due(t)) {
+    if (one_d_ && tracker_.sample_due(t)) {
+      const double tip = tracker_.sample_tip(t, area);
+      if (s_.drive.loading == continuum::Loading::homogeneous) observe_behind(tip);
+    }
+    if (series_due_.due(t)) {
       detail::push(r.series, "t", t);
       detail::push(r.series, "drive_force", sim.drive_force());
       detail::push(r.series, "max_v", sim.max_slip_rate());
-      if (one_d) {
-        detail::push(r.series, "tip_x", tracker.last_tip());
-        detail::push(r.series, "tip_x_alt", tracker.last_tip_alt());
+      if (one_d_) {
+        detail::push(r.series, "tip_x", tracker_.last_tip());
+        detail::push(r.series, "tip_x_alt", tracker_.last_tip_alt());
       } else {
         const double sb = sim.law().sigma_bar()[0], v = sim.slip_rate()[0];
         detail::push(r.series, "A", area[0]);
         detail::push(r.series, "sigma_bar", sb);
-        detail::push(r.series, "sigma", sb + s.interface.eta * v);
+        detail::push(r.series, "sigma", sb + s_.interface.eta * v);
         detail::push(r.series, "slip_rate", v);
         detail::push(r.series, "slip", sim.slip()[0]);
       }
@@ -174,43 +220,52 @@ ModelResult run_dynamic(const Scene& s, Law law, const std::string& model, const
         detail::push(r.series, "energy_time", started ? e->time : 0.0);
       }
     }
-    if (one_d && snap_due.due(t)) {
+    if (one_d_ && snap_due_.due(t)) {
       r.snapshot_t.push_back(t);
       detail::append(r.snapshots, "A", area);
       detail::append(r.snapshots, "sigma_bar", sim.law().sigma_bar());
       detail::append(r.snapshots, "v", sim.slip_rate());
       detail::append(r.snapshots, "u", sim.slip());
     }
-  };
-
-  record();
-  try {
-    for (std::int64_t n = 0; n < nsteps; ++n) {
-      const double t0 = sim.time();
-      sim.step();
-      tracker.observe_step(t0, sim.time(), sim.yielded(), sim.max_slip_rate());
-      if (!one_d) cycles.observe(sim.time(), sim.drive_force(), sim.slip_rate()[0], r.cycles);
-      record();
-      if ((n & 1023) == 1023) {
-        ctl.progress(model, sim.time(), s.time.t_end);
-        if (ctl.stop()) {
-          r.status = "interrupted";
-          r.message = "stopped at t = " + std::to_string(sim.time());
-          break;
-        }
-      }
-    }
-  } catch (const NumericalError& e) {
-    r.status = "failed";
-    r.message = e.what();
   }
-  if constexpr (detail::RecordsContacts<Law>) detail::store_contacts(sim.law(), r);
-  r.events = tracker.finish(s.drive.loading == Loading::homogeneous);
-  r.events_alt = tracker.finish(s.drive.loading == Loading::homogeneous, true);
-  r.scalars["steps"] = static_cast<double>(sim.steps());
-  r.scalars["t_reached"] = sim.time();
-  r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-  return r;
+
+  // Homogeneous loading (MODEL §4 front spectrum): the mean slip rate over [ℓ_n, x_tip − 10] when
+  // the tip first passes 3/4 of the system.
+  void observe_behind(double tip) {
+    const double L = r_.x.back();
+    if (!std::isnan(v_behind_) || !(tip >= 0.75 * L)) return;
+    const auto v = sim_.slip_rate();
+    double sum = 0;
+    int n = 0;
+    for (std::size_t i = 0; i < r_.x.size(); ++i)
+      if (r_.x[i] >= s_.drive.nucleation_length && r_.x[i] <= tip - 10.0) { sum += v[i]; ++n; }
+    v_behind_ = n ? sum / n : nan;
+  }
+
+  const Scene& s_;
+  std::chrono::steady_clock::time_point wall0_;
+  ModelResult r_;
+  continuum::Simulation<Law> sim_;
+  bool one_d_;
+  FrontTracker tracker_;
+  detail::Cadence series_due_, snap_due_, contacts_due_;
+  detail::CycleDetector cycles_;
+  std::int64_t n_ = 0, nsteps_ = 0;
+  double v_behind_ = nan;
+};
+
+/// Bulk scenes run alone: step to t_end, polling the stop request every 64 steps.
+template <class Law>
+ModelResult run_dynamic(const Scene& s, Law law, const std::string& model, const RunControl& ctl) {
+  DynamicRun<Law> run(s, std::move(law), model);
+  for (std::int64_t n = 1; !run.done(); ++n) {
+    run.step();
+    if ((n & 63) == 0) {
+      if ((n & 1023) == 0) ctl.progress(model, run.time(), s.time.t_end);
+      if (ctl.stop()) run.interrupt();
+    }
+  }
+  return run.finish();
 }
 
 /// Steady friction at imposed v (MODEL §3): run one site for t_end + slip_end/|v| in `steps` exact

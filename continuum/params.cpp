@@ -121,6 +121,7 @@ void MeasureParams::validate() const {
 void OutputParams::validate() const {
   require(finite(series_dt) && series_dt >= 0.0, "output.series_dt", "must be >= 0");
   require(finite(snapshot_dt) && snapshot_dt >= 0.0, "output.snapshot_dt", "must be >= 0");
+  require(finite(compare_dt) && compare_dt >= 0.0, "output.compare_dt", "must be >= 0 (0: no field comparison)");
 }
 
 }  // namespace slipfront::continuum

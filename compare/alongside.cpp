@@ -1,0 +1,165 @@
+#include "compare/alongside.hpp"
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "compare/laws.hpp"
+
+namespace slipfront::compare {
+namespace {
+
+// Field distances between two lockstep runs at a cadence (MODEL §2 item 2: fields at fixed times).
+class FieldComparison {
+ public:
+  explicit FieldComparison(double every) : due_(every > 0 ? every : -1) {}
+  template <class SimA, class SimB>
+  void observe(double t, const SimA& a, const SimB& b) {
+    if (!due_.due(t)) return;
+    detail::push(c_, "t", t);
+    detail::push(c_, "A_distance", relative_distance(a.law().contact_area(), b.law().contact_area()));
+    detail::push(c_, "sigma_bar_distance", relative_distance(a.law().sigma_bar(), b.law().sigma_bar()));
+    detail::push(c_, "v_distance", relative_distance(a.slip_rate(), b.slip_rate()));
+    detail::push(c_, "u_distance", relative_distance(a.slip(), b.slip()));
+  }
+  Columns take() { return std::move(c_); }
+
+ private:
+  detail::Cadence due_;
+  Columns c_;
+};
+
+template <class LawA, class LawB>
+SceneResult lockstep(const Scene& s, LawA a, LawB b, const RunControl& ctl) {
+  DynamicRun<LawA> ra(s, std::move(a), "continuum");
+  DynamicRun<LawB> rb(s, std::move(b), "discrete");
+  FieldComparison fields(s.output.compare_dt);
+  fields.observe(0.0, ra.sim(), rb.sim());
+  for (std::int64_t n = 1; !ra.done() || !rb.done(); ++n) {
+    if (!ra.done()) ra.step();
+    if (!rb.done()) rb.step();
+    if (ra.time() == rb.time()) fields.observe(ra.time(), ra.sim(), rb.sim());  // both advanced (none failed)
+    if ((n & 63) == 0) {
+      if ((n & 1023) == 0) ctl.progress("continuum+discrete", ra.time(), s.time.t_end);
+      if (ctl.stop()) {
+        if (!ra.done()) ra.interrupt();
+        if (!rb.done()) rb.interrupt();
+      }
+    }
+  }
+  SceneResult out;
+  ModelResult mc = ra.finish(), md = rb.finish();
+  out.comparison = compare_results(s, mc, md);
+  out.comparison.fields = fields.take();
+  const char* defs[][2] = {
+      {"fields/A_distance", "||A_discrete - A_continuum||_2 / ||A_continuum||_2 over the nodes at time t"},
+      {"fields/sigma_bar_distance", "the same relative L2 distance for sigma_bar"},
+      {"fields/v_distance", "the same relative L2 distance for the slip rate v"},
+      {"fields/u_distance", "the same relative L2 distance for the slip u"},
+      {"fields/t", "comparison times: the first step at or after each multiple of output.compare_dt"}};
+  for (const auto& d : defs) out.comparison.definitions[d[0]] = d[1];
+  label_discrete(s, md);
+  out.models.push_back(std::move(mc));
+  out.models.push_back(std::move(md));
+  if (s.models.front() == "discrete") std::swap(out.models[0], out.models[1]);
+  return out;
+}
+
+double rel_rms_distance(const std::vector<double>& a, const std::vector<double>& b) {
+  double num = 0, den = 0;
+  const std::size_t n = std::min(a.size(), b.size());
+  for (std::size_t i = 0; i < n; ++i)
+    if (std::isfinite(a[i]) && std::isfinite(b[i])) {
+      num += (b[i] - a[i]) * (b[i] - a[i]);
+      den += a[i] * a[i];
+    }
+  return den > 0 ? std::sqrt(num / den) : (num > 0 ? std::numeric_limits<double>::infinity() : 0.0);
+}
+
+}  // namespace
+
+double relative_distance(std::span<const double> a, std::span<const double> b) {
+  double num = 0, den = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    num += (b[i] - a[i]) * (b[i] - a[i]);
+    den += a[i] * a[i];
+  }
+  if (den > 0) return std::sqrt(num / den);
+  return num > 0 ? std::numeric_limits<double>::infinity() : 0.0;
+}
+
+Comparison compare_results(const Scene& s, const ModelResult& c, const ModelResult& d) {
+  Comparison cmp;
+  using E = Events;
+  const std::pair<const char*, double E::*> ev[] = {
+      {"t_star", &E::t_star}, {"t_hat", &E::t_hat}, {"c_slow", &E::c_slow}, {"c_transient", &E::c_transient},
+      {"c_transient_peak", &E::c_transient_peak}, {"x_arrest", &E::x_arrest}, {"t_arrest", &E::t_arrest},
+      {"c_front", &E::c_front}, {"v_behind", &E::v_behind}};
+  for (const auto& [name, field] : ev)
+    for (const bool alt : {false, true}) {
+      const double a = (alt ? c.events_alt : c.events).*field, b = (alt ? d.events_alt : d.events).*field;
+      if (std::isnan(a) && std::isnan(b)) continue;
+      const std::string key = std::string(name) + (alt ? "_alt" : "");
+      cmp.metrics[key + "_rel_diff"] = (b - a) / a;
+      cmp.definitions[key + "_rel_diff"] = "(discrete - continuum) / continuum of the event " + key +
+                                           " (MODEL §3; _alt: on the A_tip_alt front); NaN where one model has no such event";
+    }
+  const bool zero_d = !continuum::is_one_dimensional(s.drive.loading);
+  const char* col = zero_d && s.drive.loading == continuum::Loading::imposed_rate ? "sigma" : "drive_force";
+  if (c.series.count(col) && d.series.count(col)) {
+    cmp.metrics[std::string(col) + "_history_distance"] = rel_rms_distance(c.series.at(col), d.series.at(col));
+    cmp.definitions[std::string(col) + "_history_distance"] =
+        std::string("relative RMS distance over the series times of ") + col +
+        "(t): sqrt(sum (discrete - continuum)^2 / sum continuum^2)";
+  }
+  if (c.series.count("tip_x") && d.series.count("tip_x")) {
+    const auto& a = c.series.at("tip_x");
+    const auto& b = d.series.at("tip_x");
+    double s2 = 0;
+    int n = 0;
+    for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i)
+      if (std::isfinite(a[i]) && std::isfinite(b[i])) { s2 += (a[i] - b[i]) * (a[i] - b[i]); ++n; }
+    cmp.metrics["tip_x_rms_difference"] = n ? std::sqrt(s2 / n) : nan;
+    cmp.definitions["tip_x_rms_difference"] =
+        "RMS over the series times where both fronts exist of x_tip(discrete) - x_tip(continuum)";
+  }
+  if (c.friction_law.count("sigma") && d.friction_law.count("sigma")) {
+    const auto& a = c.friction_law.at("sigma");
+    const auto& b = d.friction_law.at("sigma");
+    double mx = 0, s2 = 0;
+    for (std::size_t k = 0; k < std::min(a.size(), b.size()); ++k) {
+      const double r = (b[k] - a[k]) / a[k];
+      detail::push(cmp.friction_law, "v", c.friction_law.at("v")[k]);
+      detail::push(cmp.friction_law, "rel_diff", r);
+      mx = std::max(mx, std::abs(r));
+      s2 += r * r;
+    }
+    cmp.metrics["friction_law_max_rel_diff"] = mx;
+    cmp.metrics["friction_law_rms_rel_diff"] = a.empty() ? nan : std::sqrt(s2 / static_cast<double>(a.size()));
+    cmp.definitions["friction_law_max_rel_diff"] = "max over v of |sigma_discrete - sigma_continuum| / sigma_continuum";
+    cmp.definitions["friction_law_rms_rel_diff"] = "RMS over v of (sigma_discrete - sigma_continuum) / sigma_continuum";
+    cmp.definitions["friction_law/rel_diff"] = "(sigma_discrete - sigma_continuum) / sigma_continuum at each v";
+  }
+  return cmp;
+}
+
+SceneResult run_scene_alongside(const Scene& s, const RunControl& ctl) {
+  const bool both = s.models.size() == 2 && s.models[0] != s.models[1];
+  if (!both || s.drive.loading == continuum::Loading::imposed_rate) {
+    // One model, or 0D imposed-rate scenes (no bulk to share): the models run one after the other.
+    SceneResult out;
+    out.models = run_scene(s, ctl);
+    const ModelResult* c = nullptr;
+    const ModelResult* d = nullptr;
+    for (const auto& m : out.models) (m.model == "continuum" ? c : d) = &m;
+    if (c && d) out.comparison = compare_results(s, *c, *d);
+    return out;
+  }
+  s.discrete.validate();
+  return with_discrete_law(s, [&](auto make_discrete) {
+    const continuum::Bulk probe(s.bulk, s.drive, s.interface, s.grid.dx);
+    return lockstep(s, continuum::FrictionLaw(s.interface, probe.nodes()), make_discrete(probe.nodes()), ctl);
+  });
+}
+
+}  // namespace slipfront::compare

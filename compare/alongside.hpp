@@ -1,0 +1,41 @@
+#pragma once
+// The comparison layer (MODEL §2 hierarchy, issue 4): the continuum and the discrete model run
+// alongside on one scene — same grid, time step and loading, advanced in lockstep in one process —
+// with the field distances computed online at a cadence (so neither full history has to be kept),
+// and the event times, speeds, friction histories and friction laws compared at the end. Every
+// metric carries its definition.
+#include <map>
+#include <string>
+#include <vector>
+
+#include "compare/result.hpp"
+#include "compare/runner.hpp"
+#include "compare/scene.hpp"
+
+namespace slipfront::compare {
+
+struct Comparison {
+  Columns fields;                                   ///< t, A_distance, sigma_bar_distance, v_distance, u_distance
+  Columns friction_law;                             ///< v, rel_diff (imposed-rate sweeps)
+  std::map<std::string, double> metrics;            ///< scalar metrics
+  std::map<std::string, std::string> definitions;   ///< metric or "fields/<col>" -> definition
+  bool empty() const { return fields.empty() && friction_law.empty() && metrics.empty(); }
+};
+
+struct SceneResult {
+  std::vector<ModelResult> models;
+  Comparison comparison;  ///< empty unless the scene runs both continuum and discrete
+};
+
+/// Run every model of the scene; with both continuum and discrete on a bulk scene, in lockstep.
+/// Each model's result is bit-identical to the one run_scene gives for it alone.
+SceneResult run_scene_alongside(const Scene& s, const RunControl& ctl);
+
+/// Relative L2 distance ||b − a|| / ||a|| of two fields (0 if both vanish, ∞ if only a does).
+double relative_distance(std::span<const double> a, std::span<const double> b);
+
+/// The end-of-run comparison of two models' results (events, series, friction law); fields are
+/// compared online by run_scene_alongside and merged in.
+Comparison compare_results(const Scene& s, const ModelResult& continuum, const ModelResult& discrete);
+
+}  // namespace slipfront::compare

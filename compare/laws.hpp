@@ -1,0 +1,41 @@
+#pragma once
+// The one place that turns a scene's [discrete] section into an interface law type: every runner
+// (run_scene, run_scene_alongside) dispatches through with_discrete_law.
+#include <string>
+
+#include "compare/result.hpp"
+#include "compare/scene.hpp"
+#include "continuum/params.hpp"
+#include "discrete/agent_law.hpp"
+#include "discrete/count_law.hpp"
+#include "discrete/naive_law.hpp"
+
+namespace slipfront::compare {
+
+/// Calls f(make_law) with make_law(n_sites) building the law of s.discrete.representation.
+template <class F>
+auto with_discrete_law(const Scene& s, F&& f) {
+  const auto& d = s.discrete;
+  if (d.representation == "count")
+    return f([&](std::size_t n) { return discrete::CountLaw(s.interface, d, n); });
+  if (d.representation == "agent")
+    return f([&](std::size_t n) { return discrete::AgentLaw(s.interface, d, n); });
+  if (d.representation == "naive")
+    return f([&](std::size_t n) { return discrete::NaiveAgentLaw(s.interface, d, n); });
+  throw continuum::ParamError("discrete.representation", "unknown representation '" + d.representation + "'");
+}
+
+/// The discrete settings as attributes of the model's group.
+inline void label_discrete(const Scene& s, ModelResult& r) {
+  const auto& d = s.discrete;
+  r.labels["representation"] = d.representation;
+  r.labels["threshold"] = d.threshold;
+  r.labels["renewal"] = d.renewal;
+  r.labels["noise"] = d.noise ? "true" : "false";
+  r.labels["seed"] = std::to_string(d.seed);
+  r.scalars["contacts_per_site"] = static_cast<double>(d.contacts_per_site);
+  r.scalars["width"] = d.width;
+  if (d.representation == "count") r.scalars["bins"] = d.width > 0.0 ? d.bins : 1.0;
+}
+
+}  // namespace slipfront::compare

@@ -79,11 +79,12 @@ compare::StudySpec load_study(const fs::path& file) {
     if (!fs::exists(file)) throw ConfigError(name, "", "cannot open the file: no such file");
     throw ConfigError(name, static_cast<long>(b.line), static_cast<long>(b.column), std::string(e.description()));
   }
-  static const std::set<std::string> known{"study", "kind", "description", "scene", "set", "seeds", "vary", "group"};
+  static const std::set<std::string> known{"study", "kind", "description", "scene", "set", "seeds", "vary", "group",
+                                           "fit_from"};
   for (const auto& [k, v] : t)
     if (!known.count(std::string(k.str())))
       throw ConfigError(name, std::string(k.str()),
-                        "unknown key (known: study, kind, description, scene, set, seeds, vary, group)");
+                        "unknown key (known: study, kind, description, scene, set, seeds, fit_from, vary, group)");
   compare::StudySpec s;
   auto need_string = [&](const char* key, bool required) -> std::string {
     const auto* n = t.get(key);
@@ -109,6 +110,10 @@ compare::StudySpec load_study(const fs::path& file) {
   if (const auto* n = t.get("seeds")) {
     if (!n->is_integer() || n->as_integer()->get() < 1) throw ConfigError(name, "seeds", "must be an integer >= 1");
     s.seeds = static_cast<int>(n->as_integer()->get());
+  }
+  if (const auto* n = t.get("fit_from")) {
+    if (!n->is_number() || n->value<double>().value_or(-1) < 0) throw ConfigError(name, "fit_from", "must be a number >= 0");
+    s.fit_from = n->value<double>().value_or(0.0);
   }
   if (const auto* n = t.get("set")) {
     const auto* a = n->as_array();

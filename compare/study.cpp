@@ -55,6 +55,19 @@ void put_fit(StudyReport& rep, const std::string& name, const LineFit& f, const 
   rep.definitions[name] = what + " (least-squares slope in log-log; _ci_low/_ci_high: 95% Student-t interval)";
 }
 
+// Power-law fit over every point, and (name + "_from") over x >= from when that leaves >= 3 points.
+void put_fits(StudyReport& rep, const std::string& name, const std::vector<double>& x, const std::vector<double>& y,
+              double from, const std::string& what) {
+  if (x.size() >= 3) put_fit(rep, name, fit_power_law(x, y), what + ", all points");
+  if (from <= 0) return;
+  std::vector<double> fx, fy;
+  for (std::size_t k = 0; k < x.size(); ++k)
+    if (x[k] >= from) { fx.push_back(x[k]); fy.push_back(y[k]); }
+  if (fx.size() >= 3)
+    put_fit(rep, name + "_from", fit_power_law(fx, fy), what + ", points with N >= " + continuum::format_number(from) +
+                                                             " (study key fit_from: the mean-field regime)");
+}
+
 double rel_rms(const std::vector<double>& a, const std::vector<double>& b) {
   const std::size_t n = std::min(a.size(), b.size());
   double num = 0, den = 0;
@@ -70,7 +83,7 @@ const std::vector<double>& column(const Columns& c, const std::string& name) {
 
 // ---------------------------------------------------------------------------------------------
 // friction_law: discrete steady friction vs the continuum as N grows (noise on, w = 0).
-void friction_law_vs_N(StudyReport& rep, const std::vector<StudyRun>& runs,
+void friction_law_vs_N(StudyReport& rep, const StudySpec& spec, const std::vector<StudyRun>& runs,
                        const std::vector<std::vector<ModelResult>>& res) {
   const std::string key = "discrete.contacts_per_site";
   Columns t;
@@ -118,9 +131,8 @@ void friction_law_vs_N(StudyReport& rep, const std::vector<StudyRun>& runs,
       "RMS over v of the seed-mean relative error, with the random part's share var/S removed";
   rep.definitions["friction_law_error/total"] = "RMS over v and seeds of the relative error";
   rep.definitions["friction_law_error/batch_stderr"] = "RMS over v and seeds of the relative batch-means standard error";
-  if (t["N"].size() >= 3)
-    put_fit(rep, "friction_law_random_exponent", fit_power_law(t["N"], t["random"]),
-            "exponent p of random(N) ~ N^p (mean-field limit predicts -1/2)");
+  put_fits(rep, "friction_law_random_exponent", t["N"], t["random"], spec.fit_from,
+           "exponent p of random(N) ~ N^p (mean-field limit predicts -1/2)");
 }
 
 // threshold_width: noise off, the distance of the discrete model to the continuum vs w: on the
@@ -191,8 +203,8 @@ void friction_law_vs_width(StudyReport& rep, const std::vector<StudyRun>& runs, 
 }
 
 // transient_friction: curve distance between discrete and continuum friction histories vs N.
-void transient_vs_N(StudyReport& rep, const std::vector<StudyRun>& runs, const std::vector<Scene>& scenes,
-                    const std::vector<std::vector<ModelResult>>& res) {
+void transient_vs_N(StudyReport& rep, const StudySpec& spec, const std::vector<StudyRun>& runs,
+                    const std::vector<Scene>& scenes, const std::vector<std::vector<ModelResult>>& res) {
   Columns t;
   for (const auto& [N, idx] : by_value(runs, "discrete.contacts_per_site")) {
     std::vector<double> d;
@@ -212,13 +224,13 @@ void transient_vs_N(StudyReport& rep, const std::vector<StudyRun>& runs, const s
   rep.definitions["transient_friction/distance_mean"] =
       "mean over seeds of the relative RMS distance of the friction history (sigma(t) for an imposed rate, "
       "F(t) for the spring block) between the discrete and the continuum model";
-  if (t["N"].size() >= 3)
-    put_fit(rep, "transient_distance_exponent", fit_power_law(t["N"], t["distance_mean"]),
-            "exponent p of distance_mean(N) ~ N^p");
+  put_fits(rep, "transient_distance_exponent", t["N"], t["distance_mean"], spec.fit_from,
+           "exponent p of distance_mean(N) ~ N^p");
 }
 
 // front_speeds: fig1 event times and speeds of the discrete model over seeds vs N.
-void fronts_vs_N(StudyReport& rep, const std::vector<StudyRun>& runs, const std::vector<std::vector<ModelResult>>& res) {
+void fronts_vs_N(StudyReport& rep, const StudySpec& spec, const std::vector<StudyRun>& runs,
+                 const std::vector<std::vector<ModelResult>>& res) {
   struct Obs { const char* name; double Events::*field; bool alt; };
   const Obs obs[] = {{"t_star", &Events::t_star, false},          {"t_hat", &Events::t_hat, false},
                      {"c_slow_alt", &Events::c_slow, true},         {"c_transient", &Events::c_transient, false},
@@ -248,14 +260,12 @@ void fronts_vs_N(StudyReport& rep, const std::vector<StudyRun>& runs, const std:
     rep.definitions["front_speeds/" + n + "_mean"] = "mean over seeds of the discrete " + n + " (MODEL §3)";
     rep.definitions["front_speeds/" + n + "_sd"] = "standard deviation over seeds of the discrete " + n;
     rep.definitions["front_speeds/" + n + "_rel_diff"] = "(mean - continuum) / continuum";
-    if (t["N"].size() >= 3) {
-      put_fit(rep, "front_" + n + "_sd_exponent", fit_power_law(t["N"], t[n + "_sd"]),
-              "exponent p of the seed spread of " + n + " ~ N^p");
-      std::vector<double> absdiff;
-      for (double x : t[n + "_rel_diff"]) absdiff.push_back(std::abs(x));
-      put_fit(rep, "front_" + n + "_bias_exponent", fit_power_law(t["N"], absdiff),
-              "exponent p of |mean - continuum|/continuum of " + n + " ~ N^p");
-    }
+    put_fits(rep, "front_" + n + "_sd_exponent", t["N"], t[n + "_sd"], spec.fit_from,
+             "exponent p of the seed spread of " + n + " ~ N^p");
+    std::vector<double> absdiff;
+    for (double x : t[n + "_rel_diff"]) absdiff.push_back(std::abs(x));
+    put_fits(rep, "front_" + n + "_bias_exponent", t["N"], absdiff, spec.fit_from,
+             "exponent p of |mean - continuum|/continuum of " + n + " ~ N^p");
   }
   rep.tables["front_speeds"] = t;
 }
@@ -406,10 +416,10 @@ StudyReport analyse_study(const StudySpec& spec, const std::vector<StudyRun>& ru
   for (std::size_t i = 0; i < results.size(); ++i)
     for (const auto& m : results[i])
       if (m.status != "complete") rep.notes.push_back("run " + runs[i].id + " (" + m.model + "): " + m.status + " " + m.message);
-  if (spec.kind == "friction_law") friction_law_vs_N(rep, runs, results);
+  if (spec.kind == "friction_law") friction_law_vs_N(rep, spec, runs, results);
   else if (spec.kind == "threshold_width") friction_law_vs_width(rep, runs, scenes, results);
-  else if (spec.kind == "transient_friction") transient_vs_N(rep, runs, scenes, results);
-  else if (spec.kind == "front_speeds") fronts_vs_N(rep, runs, results);
+  else if (spec.kind == "transient_friction") transient_vs_N(rep, spec, runs, scenes, results);
+  else if (spec.kind == "front_speeds") fronts_vs_N(rep, spec, runs, results);
   else if (spec.kind == "fig2") fig2(rep, runs, scenes, results);
   else if (spec.kind == "front_spectrum") spectrum(rep, runs, scenes, results);
   else if (spec.kind != "runs") throw std::invalid_argument("unknown study kind '" + spec.kind + "'");

@@ -23,6 +23,9 @@ struct StudySpec {
   std::vector<std::string> common;   ///< overrides for every run ("section.key=value")
   std::vector<StudyGroup> groups;
   int seeds = 1;                     ///< runs per point with discrete.seed = 1..seeds
+  /// N-convergence fits: besides the fit over every N, a second fit (suffix _from) over N >= fit_from,
+  /// the mean-field regime (below it small N re-sticks: a bias, not the N^(-1/2) random error).
+  double fit_from = 0.0;
 };
 
 /// One run of a study: its overrides and the values of the varied keys.

@@ -1,44 +1,47 @@
 #!/usr/bin/env bash
-# The main job: install missing packages, build, run the scenes below (each writes
-# out/<scene>/results.h5, overwriting an earlier run) and plot each results file next to it.
-# A scene that fails or is interrupted still has its partial results plotted; the job then exits 1.
+# The main job: install what is missing, build, then
+#   1. run every scene with both models alongside (out/<scene>/results.h5, with /compare),
+#   2. run every convergence study in configs/studies/ (out/studies/<study>/study.h5 and one
+#      results.h5 per run),
+#   3. write the report with every plot (out/report.md, out/figures/*.png) and check that every plot
+#      it names exists and is not empty.
+# Takes about 5 minutes on 2 cores (build ~1.5 min, studies ~3.5 min). A scene or study that fails
+# still leaves its partial results and the rest goes on; the job then exits 1.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 bash scripts/build.sh
 
-scenes=(fig1 friction_law velocity_step spring_block)
+scenes=(fig1 friction_law velocity_step spring_block homogeneous_front)
 slipfront=build/apps/slipfront
 python=/usr/bin/python3 # Debian's python3, where python3-h5py/-matplotlib/-numpy are installed
-
-plots=()
 failed=()
+
 for scene in "${scenes[@]}"; do
-  results="out/$scene/results.h5"
-  echo "== $scene: $slipfront run configs/$scene.toml --out out/$scene --force"
+  echo "== scene $scene: $slipfront run configs/$scene.toml --out out/$scene --force"
   rc=0
   "$slipfront" run "configs/$scene.toml" --out "out/$scene" --force || rc=$?
-  if ((rc != 0)); then
-    failed+=("$scene: slipfront run exited with $rc")
-  fi
-  if [[ ! -f "$results" ]]; then
-    ((rc != 0)) || failed+=("$scene: slipfront run did not write $results")
-    continue
-  fi
-  if written=$("$python" scripts/plot.py "$results"); then
-    mapfile -t written_list <<<"$written"
-    plots+=("${written_list[@]}")
-  else
-    failed+=("$scene: scripts/plot.py $results failed")
-  fi
+  ((rc == 0)) || failed+=("scene $scene: slipfront run exited with $rc")
 done
 
-echo
-echo "Results (HDF5, layout in docs/output.md):"
-for scene in "${scenes[@]}"; do
-  if [[ -f "out/$scene/results.h5" ]]; then echo "  $PWD/out/$scene/results.h5"; fi
+for study in configs/studies/*.toml; do
+  name=$(basename "$study" .toml)
+  echo "== study $name: $slipfront study $study --out out/studies/$name --force"
+  rc=0
+  "$slipfront" study "$study" --out "out/studies/$name" --force || rc=$?
+  ((rc == 0)) || failed+=("study $name: slipfront study exited with $rc")
 done
-echo "Plots:"
-for p in "${plots[@]}"; do echo "  $p"; done
+
+echo "== report: $slipfront report out"
+rc=0
+"$slipfront" report out || rc=$?
+((rc == 0)) || failed+=("report: slipfront report exited with $rc")
+rc=0
+"$python" scripts/check_report.py out/report.md || rc=$?
+((rc == 0)) || failed+=("report: a plot named in out/report.md is missing or empty")
+
+echo
+echo "Results: $PWD/out/<scene>/results.h5 and $PWD/out/studies/<study>/study.h5 (layout: docs/output.md)"
+echo "Report:  $PWD/out/report.md (figures in $PWD/out/figures/)"
 if ((${#failed[@]} != 0)); then
   echo
   echo "FAILED:" >&2

@@ -209,8 +209,9 @@ int study_command(const StudyOptions& opts, std::ostream& out, std::ostream& err
   std::mutex io;
   std::size_t done = 0;
   const bool tty = !opts.quiet && ::isatty(STDERR_FILENO);
-  err << "slipfront: study " << spec.name << " (" << spec.kind << "): " << runs.size() << " runs on " << threads
-      << " thread(s) -> " << dir.string() << "\n";
+  if (!opts.quiet)
+    err << "slipfront: study " << spec.name << " (" << spec.kind << "): " << runs.size() << " runs on " << threads
+        << " thread(s) -> " << dir.string() << "\n";
   int write_failures = 0;
   compare::run_pool(
       runs.size(), threads,

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Install missing Debian packages (scripts/deps.sh), then configure and build slipfront in build/
 # (Release, Ninja). Safe to re-run: configuring an existing build/ and building are incremental.
+# Arguments, if any, are the targets to build (default: everything, tests and benchmarks included).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 # shellcheck source=scripts/deps.sh
@@ -12,4 +13,6 @@ if [[ -f build/CMakeCache.txt ]] && ! grep -q '^CMAKE_GENERATOR:INTERNAL=Ninja$'
   exit 1
 fi
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release
-cmake --build build -j "$(nproc)"
+targets=()
+for t in "$@"; do targets+=(--target "$t"); done
+cmake --build build -j "$(nproc)" "${targets[@]}"

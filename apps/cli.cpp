@@ -182,8 +182,12 @@ void print_summary(std::ostream& out, const compare::Scene& scene, const std::ve
       out << "    events on the A_tip_alt front (where different): " << ev << "\n";
     if (const auto it = r.cycles.find("t_start"); it != r.cycles.end())
       out << "    stick-slip cycles: " << it->second.size() << "\n";
+    const auto vn = r.scalars.find("v_m_numeric"), sn = r.scalars.find("sigma_c_numeric");
     const auto vm = r.scalars.find("v_m_fit"), sc = r.scalars.find("sigma_c_fit");
-    if (vm != r.scalars.end() && sc != r.scalars.end()) {
+    if (vn != r.scalars.end() && sn != r.scalars.end()) {
+      out << "    friction law minimum (golden section): sigma_c = " << format_number(sn->second)
+          << " at v_m = " << format_number(vn->second) << "\n";
+    } else if (vm != r.scalars.end() && sc != r.scalars.end()) {
       out << "    friction law minimum (fit): sigma_c = " << format_number(sc->second)
           << " at v_m = " << format_number(vm->second) << "\n";
     } else if (const auto s = r.friction_law.find("sigma"); s != r.friction_law.end() && !s->second.empty()) {

@@ -8,6 +8,7 @@
 #include <functional>
 #include <span>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "compare/measure.hpp"
@@ -324,6 +325,20 @@ ModelResult run_imposed_rate(const Scene& s, MakeLaw make_law, const std::string
         const double xm = -b / (2 * a);
         r.scalars["v_m_fit"] = std::exp(xm);
         r.scalars["sigma_c_fit"] = c - b * b / (4 * a);
+      }
+      // The deterministic continuum law: locate the minimum by golden-section search on the computed
+      // steady friction between the neighbours of the tabulated minimum (to 1e-7 in log v).
+      if constexpr (std::is_same_v<Law, continuum::FrictionLaw>) {
+        const double g = 0.5 * (std::sqrt(5.0) - 1.0);
+        double lo = x0, hi = x2;
+        auto f = [&](double lx) { return steady_point<Law>(s, make_law(std::size_t{1}), std::exp(lx)).sigma; };
+        double p1 = hi - g * (hi - lo), p2 = lo + g * (hi - lo), f1 = f(p1), f2 = f(p2);
+        while (hi - lo > 1e-7) {
+          if (f1 < f2) { hi = p2; p2 = p1; f2 = f1; p1 = hi - g * (hi - lo); f1 = f(p1); }
+          else { lo = p1; p1 = p2; f1 = f2; p2 = lo + g * (hi - lo); f2 = f(p2); }
+        }
+        r.scalars["v_m_numeric"] = std::exp(0.5 * (lo + hi));
+        r.scalars["sigma_c_numeric"] = f(0.5 * (lo + hi));
       }
     }
   } else {

@@ -62,6 +62,15 @@ class Study:
             return "fit: n/a"
         return f"slope {p:.3f} (95% CI {lo:.3f} .. {hi:.3f})"
 
+    def best_fit(self, name):
+        """The mean-field-regime fit (name_from) where the study has one, else the fit over all points."""
+        return name + "_from" if math.isfinite(self.scalars.get(name + "_from", math.nan)) else name
+
+    def fit_labels(self, name):
+        if name + "_from" in self.scalars and math.isfinite(self.scalars[name + "_from"]):
+            return f"{self.fit_label(name + '_from')} for N >= fit_from; all N: {self.fit_label(name)}"
+        return self.fit_label(name)
+
     def title(self, what):
         return f"study {self.name}: {what}   [commit {self.commit[:12]}, {self.status}]"
 
@@ -71,6 +80,9 @@ def loglog_fit(ax, x, y, study, fit_name, label, color="C3", marker="o"):
     ok = np.isfinite(x) & np.isfinite(y) & (y > 0)
     ax.loglog(x[ok], y[ok], marker=marker, ls="none", color=color, label=label)
     p = study.scalars.get(fit_name, math.nan)
+    points = int(study.scalars.get(fit_name + "_points", 0) or 0)
+    if fit_name.endswith("_from") and 2 <= points <= ok.sum():
+        ok = ok & (x >= np.sort(x[ok])[-points])  # fitted over the largest N only: draw it there
     if math.isfinite(p) and ok.sum() >= 2:
         lx, ly = np.log(x[ok]), np.log(y[ok])
         c = np.mean(ly - p * lx)
@@ -95,7 +107,7 @@ def friction_law_study(st, outdir):
     t = st.tables.get("friction_law_error", {})
     if t:
         fig, ax = plt.subplots(figsize=(6.5, 4.5))
-        loglog_fit(ax, t["N"], t["random"], st, "friction_law_random_exponent", "random part", "C3", "o")
+        loglog_fit(ax, t["N"], t["random"], st, st.best_fit("friction_law_random_exponent"), "random part", "C3", "o")
         ax.loglog(t["N"], t["bias"], "s", color="C1", label="bias (seed mean)")
         ax.loglog(t["N"], t["batch_stderr"], "x", color="C2", label="batch-means stderr")
         ax.loglog(t["N"], t["random"][0] * (t["N"] / t["N"][0]) ** -0.5, ":", color="gray", label="N^-1/2")
@@ -130,9 +142,9 @@ def friction_law_study(st, outdir):
     ax.legend(fontsize=7)
     save(fig, outdir, f"{st.name}_fig2_left.png", figs)
     if t:
-        rows.append(("steady friction, random error at largest N", "0", f"{t['random'][-1]:.3g}", "",
-                     st.fit_label("friction_law_random_exponent")))
-        rows.append(("steady friction, bias at largest N", "0", f"{t['bias'][-1]:.3g}", "", ""))
+        rows.append((f"{st.name}: steady friction, random error at N = {t['N'][-1]:.0f}", "0",
+                     f"{t['random'][-1]:.3g}", "", st.fit_labels("friction_law_random_exponent")))
+        rows.append((f"{st.name}: steady friction, bias at N = {t['N'][-1]:.0f}", "0", f"{t['bias'][-1]:.3g}", "", ""))
     return figs, rows
 
 
@@ -150,25 +162,41 @@ def threshold_width_study(st, outdir):
     save(fig, outdir, f"{st.name}_distance_vs_w.png", figs)
     fig, ax = plt.subplots(figsize=(6.5, 4.5))
     cont = False
+    steady = "sigma_at_vmin" in t
     for run_id, point in st.runs:
         if not os.path.exists(st.run_file(run_id)):
             continue
         with h5py.File(st.run_file(run_id), "r") as f:
-            if "discrete/friction_law" in f:
+            label = f"w = {point.get('discrete.width')}"
+            if steady and "discrete/friction_law" in f:
                 g = f["discrete/friction_law"]
-                ax.plot(g["v"][()], g["sigma"][()], "-", lw=1, label=f"w = {point.get('discrete.width')}")
-            if not cont and "continuum/friction_law" in f:
+                ax.plot(g["v"][()], g["sigma"][()], "-", lw=1, label=label)
+            elif not steady and "discrete/series/drive_force" in f:
+                ax.plot(f["discrete/series/t"][()], f["discrete/series/drive_force"][()], "-", lw=1, label=label)
+            if not cont and steady and "continuum/friction_law" in f:
                 g = f["continuum/friction_law"]
                 ax.plot(g["v"][()], g["sigma"][()], "k--", lw=1.2, label="continuum")
                 cont = True
-    ax.set_xscale("log")
-    ax.set_xlabel("slip rate v")
-    ax.set_ylabel("steady friction sigma")
-    ax.set_title(st.title("static peak and weakening branch vs w"), fontsize=8)
+            elif not cont and not steady and "continuum/series/drive_force" in f:
+                ax.plot(f["continuum/series/t"][()], f["continuum/series/drive_force"][()], "k--", lw=1.2,
+                        label="continuum")
+                cont = True
+    if steady:
+        ax.set_xscale("log")
+        ax.set_xlabel("slip rate v")
+        ax.set_ylabel("steady friction sigma")
+        ax.set_title(st.title("steady law vs threshold width w (noise off)"), fontsize=8)
+    else:
+        ax.set_xlabel("t")
+        ax.set_ylabel("drive force F")
+        ax.set_title(st.title("static peak and slip vs threshold width w (noise off)"), fontsize=8)
     ax.legend(fontsize=7)
-    save(fig, outdir, f"{st.name}_laws_vs_w.png", figs)
-    rows.append(("steady law distance at smallest w", "0", f"{t['distance'][0]:.3g}", "",
+    save(fig, outdir, f"{st.name}_{'laws' if steady else 'histories'}_vs_w.png", figs)
+    rows.append((f"{st.name}: distance to the continuum at w = {t['width'][0]:.3g}", "0", f"{t['distance'][0]:.3g}", "",
                  st.fit_label("threshold_width_exponent")))
+    if "threshold_width_peak_exponent" in st.scalars:
+        rows.append((f"{st.name}: static peak shift at w = {t['width'][0]:.3g}", "0", f"{t['F_peak_shift'][0]:.3g}", "",
+                     st.fit_label("threshold_width_peak_exponent")))
     return figs, rows
 
 
@@ -178,7 +206,8 @@ def transient_study(st, outdir):
     if not t:
         return figs, rows
     fig, axs = plt.subplots(1, 2, figsize=(12, 4.5))
-    loglog_fit(axs[0], t["N"], t["distance_mean"], st, "transient_distance_exponent", "curve distance (mean over seeds)")
+    loglog_fit(axs[0], t["N"], t["distance_mean"], st, st.best_fit("transient_distance_exponent"),
+               "curve distance (mean over seeds)")
     axs[0].set_xlabel("contacts per site N")
     axs[0].set_ylabel("relative RMS distance of friction history")
     axs[0].legend(fontsize=7)
@@ -201,8 +230,8 @@ def transient_study(st, outdir):
     axs[1].legend(fontsize=7)
     fig.suptitle(st.title("transient friction, discrete vs continuum"), fontsize=8)
     save(fig, outdir, f"{st.name}_transient.png", figs)
-    rows.append((f"{st.name}: friction history distance at largest N", "0", f"{t['distance_mean'][-1]:.3g}", "",
-                 st.fit_label("transient_distance_exponent")))
+    rows.append((f"{st.name}: friction history distance at N = {t['N'][-1]:.0f}", "0", f"{t['distance_mean'][-1]:.3g}",
+                 "", st.fit_labels("transient_distance_exponent")))
     return figs, rows
 
 
@@ -234,7 +263,7 @@ def front_speeds_study(st, outdir):
         if k == 0:
             ax.legend(fontsize=7)
         ax2 = axs[1, k]
-        loglog_fit(ax2, N, t[o + "_sd"], st, f"front_{o}_sd_exponent", "sd over seeds", "C3", "o")
+        loglog_fit(ax2, N, t[o + "_sd"], st, st.best_fit(f"front_{o}_sd_exponent"), "sd over seeds", "C3", "o")
         absd = np.abs(t[o + "_rel_diff"])
         ax2.loglog(N[absd > 0], absd[absd > 0], "s", color="C1", label="|mean - continuum|/continuum")
         ax2.set_xlabel("N")
@@ -243,8 +272,9 @@ def front_speeds_study(st, outdir):
     fig.tight_layout()
     save(fig, outdir, f"{st.name}_fronts_vs_N.png", figs)
     for o in obs:
-        rows.append((o, f"{t[o + '_continuum'][-1]:.4g}", f"{t[o + '_mean'][-1]:.4g} ± {t[o + '_sd'][-1]:.2g}",
-                     f"{t[o + '_rel_diff'][-1]:+.2%}", st.fit_label(f"front_{o}_sd_exponent") + " (sd)"))
+        rows.append((f"{st.name}: {o}, mean ± sd over seeds at N = {N[-1]:.0f}", f"{t[o + '_continuum'][-1]:.4g}",
+                     f"{t[o + '_mean'][-1]:.4g} ± {t[o + '_sd'][-1]:.2g}", f"{t[o + '_rel_diff'][-1]:+.2%}",
+                     "spread: " + st.fit_label(st.best_fit(f"front_{o}_sd_exponent"))))
     return figs, rows
 
 
@@ -309,9 +339,24 @@ def scene_rows(res):
     rows = []
     if "continuum" not in res.models or "discrete" not in res.models:
         return rows
+    if res.kind() == "sweep":  # Fig. 2 (left): the minimum of the steady law, both models and the closed form
+        ac, ad = res.group("continuum").attrs, res.group("discrete").attrs
+        p = plot.interface_params(res)
+        for key_c, key_d, what, closed in (("v_m_numeric", "v_m_fit", "v_m", 0), ("sigma_c_numeric", "sigma_c_fit",
+                                                                                    "sigma_c^d", 1)):
+            c = plot.as_float(ac.get(key_c, ac.get(key_d.replace("numeric", "fit"), math.nan)))
+            d = plot.as_float(ad.get(key_d, math.nan))
+            cf = plot.minimum_of_friction(*p)[closed] if p else math.nan
+            rel = f"{(d - c) / c:+.2%}" if math.isfinite(c) and math.isfinite(d) else ""
+            rows.append((f"{res.scene}: {what} (closed form {cf:.5g}; discrete: parabola fit)", f"{c:.5g}", f"{d:.5g}",
+                         rel, ""))
+        return rows
     ec, ed = plot.events(res.group("continuum")), plot.events(res.group("discrete"))
     n = res.param("discrete", "contacts_per_site", "?")
-    for k in ("t_star", "t_hat", "c_slow_alt", "c_transient", "x_arrest", "c_front"):
+    keys = {"edge": ("t_star", "t_hat", "c_slow_alt", "c_transient", "x_arrest"),
+            "homogeneous": ("c_front", "v_behind"),
+            "spring_block": ("t_star", "t_hat")}.get(res.loading(), ("t_star",))
+    for k in keys:
         c, d = ec.get(k, math.nan), ed.get(k, math.nan)
         if math.isfinite(c) or math.isfinite(d):
             rel = f"{(d - c) / c:+.2%}" if math.isfinite(c) and math.isfinite(d) and c != 0 else ""

@@ -294,3 +294,19 @@ TEST_CASE("continuum law: strengthening_branch_velocity: sigma_ss(v) = sigma_d w
     CHECK(std::isnan(continuum::strengthening_branch_velocity(p, sd)));
   }
 }
+
+TEST_CASE("continuum law: the friction_law scene reports v_m and sigma_c^d from its golden-section search",
+          "[continuum]") {
+  // The sweep's own search (compare/runner.hpp) on the computed steady law: v_m = (sqrt(ακ/η) − 1)/κ
+  // and σ_c^d = 2 sqrt(αη/κ) − η/κ to 1e-6 relative (the search stops at 1e-7 in log v; σ is flat there).
+  compare::Scene s;
+  s.drive.loading = continuum::Loading::imposed_rate;
+  s.drive.sweep_points = 21;
+  s.output.snapshot_dt = 0;
+  s.validate();
+  const auto r = compare::run_scene(s, {});
+  REQUIRE(r.size() == 1);
+  const auto& ip = s.interface;
+  CHECK(r[0].scalars.at("v_m_numeric") == Approx(continuum::steady_minimum_velocity(ip)).epsilon(1e-6));
+  CHECK(r[0].scalars.at("sigma_c_numeric") == Approx(continuum::steady_minimum_stress(ip)).epsilon(1e-6));
+}

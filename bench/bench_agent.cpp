@@ -29,6 +29,7 @@
 #include "compare/scene.hpp"
 #include "discrete/agent_law.hpp"
 #include "discrete/naive_law.hpp"
+#include "scenes.hpp"
 
 using namespace slipfront;
 
@@ -40,7 +41,7 @@ struct Record {
 };
 std::map<std::string, Record> results;  // "<case> <law> N=<n>" → measured numbers
 
-const continuum::InterfaceParams paper{1.05, 8.0, 0.1};
+const continuum::InterfaceParams paper = testing::paper_interface();
 
 double cpu_seconds() {
   timespec ts{};
@@ -106,28 +107,10 @@ void BM_steady_naive(benchmark::State& s) { law_only<discrete::NaiveAgentLaw>(s,
 void BM_mixed_agent(benchmark::State& s) { law_only<discrete::AgentLaw>(s, "mixed", "agent", 8); }
 void BM_mixed_naive(benchmark::State& s) { law_only<discrete::NaiveAgentLaw>(s, "mixed", "naive", 8); }
 
-compare::Scene fig1() {
-  compare::Scene s;
-  s.name = "fig1";
-  s.interface = paper;
-  s.bulk = {0.01, 300.0, 300.0};
-  s.drive.loading = continuum::Loading::edge;
-  s.drive.K = 2.5;
-  s.drive.v_d = 0.3;
-  s.grid.dx = 0.5;
-  const char* t_end = std::getenv("SLIPFRONT_BENCH_T_END");
-  s.time.t_end = t_end ? std::atof(t_end) : 40.0;
-  s.time.cfl = 0.5;
-  s.output.series_dt = 0.05;
-  s.output.snapshot_dt = 1.0;
-  s.validate();
-  return s;
-}
-
 template <class Law>
 void fig1_run(benchmark::State& state, const char* name) {
   const long n = state.range(0);
-  const compare::Scene s = fig1();
+  const compare::Scene s = bench::fig1_scene(40.0);
   const continuum::Bulk probe(s.bulk, s.drive, s.interface, s.grid.dx);
   Record rec;
   for (auto _ : state) {

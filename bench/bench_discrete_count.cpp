@@ -11,7 +11,6 @@
 
 #include <cstdio>
 #include <ctime>
-#include <cstdlib>
 #include <map>
 #include <string>
 
@@ -19,6 +18,7 @@
 #include "compare/scene.hpp"
 #include "continuum/friction_law.hpp"
 #include "discrete/count_law.hpp"
+#include "scenes.hpp"
 
 using namespace slipfront;
 
@@ -29,23 +29,7 @@ struct Cost {
 };
 std::map<std::string, Cost> cost;  // filled by each benchmark, read by main
 
-compare::Scene fig1() {
-  compare::Scene s;
-  s.name = "fig1";
-  s.interface = {1.05, 8.0, 0.1};
-  s.bulk = {0.01, 300.0, 300.0};
-  s.drive.loading = continuum::Loading::edge;
-  s.drive.K = 2.5;
-  s.drive.v_d = 0.3;
-  s.grid.dx = 0.5;
-  const char* t_end = std::getenv("SLIPFRONT_BENCH_T_END");
-  s.time.t_end = t_end ? std::atof(t_end) : 80.0;
-  s.time.cfl = 0.5;
-  s.output.series_dt = 0.05;
-  s.output.snapshot_dt = 1.0;
-  s.validate();
-  return s;
-}
+compare::Scene fig1() { return bench::fig1_scene(80.0); }  // t_end = 80 unless SLIPFRONT_BENCH_T_END
 
 template <class Law, class Make>
 void run(benchmark::State& state, const std::string& label, Make make) {

@@ -1,12 +1,17 @@
 #pragma once
 // Scenes built in code for the tests (MODEL §4), so that a test states every parameter it relies on
-// and does not depend on configs/ (which other people edit). Plus small helpers to read results.
+// and does not depend on configs/ (which other people edit). Plus small helpers to read results, a
+// scratch directory and the minimal TOML configuration of the apps/ tests. bench/scenes.hpp uses it too.
+#include <unistd.h>
+
 #include <cmath>
 #include <cstddef>
+#include <filesystem>
 #include <limits>
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include "compare/result.hpp"
@@ -82,6 +87,46 @@ inline compare::Scene imposed_rate_scene() {
   s.time.slip_end = 50.0;
   s.time.steps = 4000;
   return s;
+}
+
+/// Scratch directory <temp>/slipfront-test-<tag>-<pid>: emptied when made, removed (with its
+/// contents) when it goes out of scope.
+struct TempDir {
+  std::filesystem::path path;
+  explicit TempDir(const std::string& tag)
+      : path(std::filesystem::temp_directory_path() / ("slipfront-test-" + tag + "-" + std::to_string(::getpid()))) {
+    std::filesystem::remove_all(path);
+    std::filesystem::create_directories(path);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path, ec);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+};
+
+/// The smallest valid configuration (MODEL §5, docs/cli.md): edge loading with every required key
+/// and nothing else; paper parameters, L = 20, dx = 2, t_end = 2 (a few hundred steps).
+inline std::string minimal_config() {
+  return R"(scene = "tiny"
+[interface]
+alpha = 1.05
+kappa = 8
+eta = 0.1
+[bulk]
+rho = 0.01
+mu = 300
+length = 20
+[drive]
+loading = "edge"
+K = 2.5
+v_d = 0.3
+[grid]
+dx = 2
+[time]
+t_end = 2
+)";
 }
 
 /// Run the continuum model on a scene (validated first: a test must not run an invalid scene).

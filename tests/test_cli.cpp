@@ -18,43 +18,17 @@
 #include <thread>
 #include <vector>
 
+#include "scenes.hpp"
+
 extern char** environ;
 
 namespace fs = std::filesystem;
 
 namespace {
 
-struct TempDir {
-  fs::path path;
-  explicit TempDir(const std::string& tag)
-      : path(fs::temp_directory_path() / ("slipfront-test-cli-" + tag + "-" + std::to_string(::getpid()))) {
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-};
+using slipfront::testing::TempDir;
 
-const std::string tiny = R"(scene = "tiny"
-[interface]
-alpha = 1.05
-kappa = 8
-eta = 0.1
-[bulk]
-rho = 0.01
-mu = 300
-length = 20
-[drive]
-loading = "edge"
-K = 2.5
-v_d = 0.3
-[grid]
-dx = 2
-[time]
-t_end = 2
-)";
+const std::string tiny = slipfront::testing::minimal_config();
 
 std::string quote(const std::string& s) {
   std::string q = "'";
@@ -75,7 +49,7 @@ struct Result {
 };
 
 // Runs `slipfront <args>` in `dir` through the shell; returns the exit code and both streams.
-Result slipfront(const fs::path& dir, const std::string& args) {
+Result run_slipfront(const fs::path& dir, const std::string& args) {
   const std::string cmd = "cd " + quote(dir.string()) + " && " + quote(SLIPFRONT_BINARY) + " " + args + " >" +
                           quote((dir / "stdout.txt").string()) + " 2>" + quote((dir / "stderr.txt").string()) +
                           " </dev/null";
@@ -109,80 +83,80 @@ std::string meta_status(const fs::path& file) {
 }  // namespace
 
 TEST_CASE("cli: --help documents the verbs and --version prints the version", "[cli]") {
-  const TempDir dir("help");
-  const Result h = slipfront(dir.path, "--help");
+  const TempDir dir("cli-help");
+  const Result h = run_slipfront(dir.path, "--help");
   CHECK(h.code == 0);
   CHECK(h.out.find("run") != std::string::npos);
   CHECK(h.out.find("check") != std::string::npos);
   CHECK(h.out.find("Exit codes") != std::string::npos);
-  const Result rh = slipfront(dir.path, "run --help");
+  const Result rh = run_slipfront(dir.path, "run --help");
   CHECK(rh.code == 0);
   for (const char* opt : {"--out", "--set", "--force", "--quiet"}) CHECK(rh.out.find(opt) != std::string::npos);
-  const Result v = slipfront(dir.path, "--version");
+  const Result v = run_slipfront(dir.path, "--version");
   CHECK(v.code == 0);
   CHECK(v.out.rfind("slipfront ", 0) == 0);
-  const Result none = slipfront(dir.path, "");
+  const Result none = run_slipfront(dir.path, "");
   CHECK(none.code == 2);
-  const Result bad_option = slipfront(dir.path, "run --frobnicate x.toml");
+  const Result bad_option = run_slipfront(dir.path, "run --frobnicate x.toml");
   CHECK(bad_option.code == 2);
   CHECK(bad_option.err.find("slipfront: error:") != std::string::npos);
 }
 
 TEST_CASE("cli: a bad configuration exits 2 naming file and key before any work", "[cli]") {
-  const TempDir dir("badconfig");
+  const TempDir dir("cli-badconfig");
   std::string text = tiny;
   text.replace(text.find("alpha = 1.05"), 12, "alpha = 0.5");
   write(dir.path / "bad.toml", text);
-  const Result r = slipfront(dir.path, "run bad.toml");
+  const Result r = run_slipfront(dir.path, "run bad.toml");
   CHECK(r.code == 2);
   CHECK(r.err.rfind("slipfront: error: bad.toml: interface.alpha: ", 0) == 0);
   CHECK_FALSE(fs::exists(dir.path / "out"));  // nothing created
 
   write(dir.path / "good.toml", tiny);
-  const Result s = slipfront(dir.path, "run good.toml --set bulk.muu=3");
+  const Result s = run_slipfront(dir.path, "run good.toml --set bulk.muu=3");
   CHECK(s.code == 2);
   CHECK(s.err.find("good.toml: --set bulk.muu: unknown key") != std::string::npos);
 
-  const Result c = slipfront(dir.path, "check bad.toml");
+  const Result c = run_slipfront(dir.path, "check bad.toml");
   CHECK(c.code == 2);
   CHECK(c.err.find("interface.alpha") != std::string::npos);
 }
 
 TEST_CASE("cli: an existing results.h5 is not touched without --force", "[cli]") {
-  const TempDir dir("exists");
+  const TempDir dir("cli-exists");
   write(dir.path / "tiny.toml", tiny);
   fs::create_directories(dir.path / "out" / "tiny");
   const fs::path file = dir.path / "out" / "tiny" / "results.h5";
   const std::string previous = "previous results, not to be lost\n";
   write(file, previous);
-  const Result r = slipfront(dir.path, "run tiny.toml");
+  const Result r = run_slipfront(dir.path, "run tiny.toml");
   CHECK(r.code == 2);
   CHECK(r.err.find("results.h5") != std::string::npos);
   CHECK(r.err.find("--force") != std::string::npos);
   CHECK(slurp(file) == previous);
 
-  const Result f = slipfront(dir.path, "run tiny.toml --force --quiet");
+  const Result f = run_slipfront(dir.path, "run tiny.toml --force --quiet");
   CHECK(f.code == 0);
   CHECK(meta_status(file) == "complete");
 }
 
 TEST_CASE("cli: an unusable output directory exits 2", "[cli]") {
-  const TempDir dir("unwritable");
+  const TempDir dir("cli-unwritable");
   write(dir.path / "tiny.toml", tiny);
-  const Result r = slipfront(dir.path, "run tiny.toml --out /proc/slipfront_test");
+  const Result r = run_slipfront(dir.path, "run tiny.toml --out /proc/slipfront_test");
   CHECK(r.code == 2);
   CHECK(r.err.find("/proc/slipfront_test") != std::string::npos);
 
   write(dir.path / "a_file", "x");  // a file where the directory should be
-  const Result g = slipfront(dir.path, "run tiny.toml --out a_file");
+  const Result g = run_slipfront(dir.path, "run tiny.toml --out a_file");
   CHECK(g.code == 2);
   CHECK(g.err.find("a_file") != std::string::npos);
 }
 
 TEST_CASE("cli: a tiny run exits 0 and writes DIR/results.h5 and check prints the resolved TOML", "[cli]") {
-  const TempDir dir("good");
+  const TempDir dir("cli-good");
   write(dir.path / "tiny.toml", tiny);
-  const Result r = slipfront(dir.path, "run tiny.toml --set bulk.mu=200");
+  const Result r = run_slipfront(dir.path, "run tiny.toml --set bulk.mu=200");
   CHECK(r.code == 0);
   const fs::path file = dir.path / "out" / "tiny" / "results.h5";
   REQUIRE(fs::exists(file));
@@ -192,11 +166,11 @@ TEST_CASE("cli: a tiny run exits 0 and writes DIR/results.h5 and check prints th
   for (const auto& e : fs::directory_iterator(file.parent_path()))  // no probe or temporary left
     CHECK(e.path().filename() == "results.h5");
 
-  const Result o = slipfront(dir.path, "run tiny.toml --out elsewhere/deep --quiet");
+  const Result o = run_slipfront(dir.path, "run tiny.toml --out elsewhere/deep --quiet");
   CHECK(o.code == 0);
   CHECK(fs::exists(dir.path / "elsewhere" / "deep" / "results.h5"));
 
-  const Result c = slipfront(dir.path, "check tiny.toml --set bulk.mu=200");
+  const Result c = run_slipfront(dir.path, "check tiny.toml --set bulk.mu=200");
   CHECK(c.code == 0);
   CHECK(c.out.find("[interface]") != std::string::npos);
   CHECK(c.out.find("mu = 200.0") != std::string::npos);
@@ -204,7 +178,7 @@ TEST_CASE("cli: a tiny run exits 0 and writes DIR/results.h5 and check prints th
 }
 
 TEST_CASE("cli: SIGINT stops the run and writes a readable file with status interrupted and exits 130", "[cli]") {
-  const TempDir dir("sigint");
+  const TempDir dir("cli-sigint");
   // The paper's edge loading on L = 300, dx = 0.5: far longer than the test waits.
   std::string text = tiny;
   text.replace(text.find("length = 20"), 11, "length = 300");

@@ -1,7 +1,6 @@
 // apps/config: the TOML schema of MODEL §5 (docs/cli.md). Every refusal must name the file, the key
 // and a reason; the resolved TOML written to /config must reload to the identical scene.
 #include <catch2/catch.hpp>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -9,6 +8,7 @@
 #include <vector>
 
 #include "apps/config.hpp"
+#include "scenes.hpp"
 
 namespace fs = std::filesystem;
 using slipfront::app::ConfigError;
@@ -18,45 +18,19 @@ using slipfront::app::same_scene;
 using slipfront::app::to_toml;
 using slipfront::compare::Scene;
 using slipfront::continuum::Loading;
+using slipfront::testing::TempDir;
 
 namespace {
 
-// A scratch directory per test process, removed at exit.
-struct TempDir {
-  fs::path path = fs::temp_directory_path() / ("slipfront-test-config-" + std::to_string(::getpid()));
-  TempDir() { fs::create_directories(path); }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-};
-
 fs::path write_config(const std::string& name, const std::string& text) {
-  static TempDir dir;
+  static const TempDir dir("config");  // one per test process, removed at exit
   const fs::path file = dir.path / name;
   std::ofstream(file) << text;
   return file;
 }
 
 // Edge loading, every required key and nothing else.
-const std::string minimal = R"(scene = "tiny"
-[interface]
-alpha = 1.05
-kappa = 8
-eta = 0.1
-[bulk]
-rho = 0.01
-mu = 300
-length = 20
-[drive]
-loading = "edge"
-K = 2.5
-v_d = 0.3
-[grid]
-dx = 2
-[time]
-t_end = 2
-)";
+const std::string minimal = slipfront::testing::minimal_config();
 
 std::string replace(std::string text, const std::string& from, const std::string& to) {
   const auto pos = text.find(from);
@@ -264,11 +238,9 @@ TEST_CASE("config: to_toml round trip is exact", "[config]") {
 
 TEST_CASE("config: switch times at or after t_end are refused", "[config]") {
   // A switch at or after t_end would be silently dropped: refuse it with the key named.
-  const auto dir = std::filesystem::temp_directory_path() / "slipfront-test-config-switch";
-  std::filesystem::create_directories(dir);
-  const auto file = dir / "switch.toml";
-  std::ofstream(file) << "scene = \"s\"\n[interface]\nalpha = 1.05\nkappa = 8\neta = 0.1\n[bulk]\nrho = 0.01\n"
-                         "[drive]\nloading = \"imposed_rate\"\nv = [0.1, 1.0]\nswitch_times = [0, 3]\n[time]\nt_end = 2\n";
+  const fs::path file = write_config(
+      "switch.toml", "scene = \"s\"\n[interface]\nalpha = 1.05\nkappa = 8\neta = 0.1\n[bulk]\nrho = 0.01\n"
+                     "[drive]\nloading = \"imposed_rate\"\nv = [0.1, 1.0]\nswitch_times = [0, 3]\n[time]\nt_end = 2\n");
   try {
     (void)load_scene(file, {});
     FAIL("expected a ConfigError");

@@ -25,18 +25,18 @@
 #include "discrete/count_law.hpp"
 #include "discrete/naive_law.hpp"
 #include "discrete_agent_helpers.hpp"
+#include "scenes.hpp"
 
 using namespace slipfront;
 using testing::compare_0d;
 using testing::Comparison;
 using testing::ks_two_sample;
+using testing::paper_interface;
 using testing::run_0d;
 
 namespace {
 
 constexpr double ks_alpha = 1e-3;
-
-continuum::InterfaceParams paper_interface() { return {1.05, 8.0, 0.1}; }
 
 discrete::DiscreteParams discrete_params(long n, std::uint64_t seed, const std::string& threshold = "delta",
                                          double width = 0.0, const std::string& renewal = "fresh") {
@@ -99,23 +99,18 @@ void require_agree(const Comparison& c) {
 
 // ---- 1D edge loading, short --------------------------------------------------------------------
 
-// Edge loading on a short bar: paper interface and bulk (ρ = 0.01, μ = 300), L = 20, dx = 1,
-// K = 2.5, v_d = 1, cfl 0.5, t_end = 20: first yield at t = 6.5, instability near t = 9, then slip
-// over the whole bar and re-sticking; N = 50 contacts per site.
+// Edge loading on a short bar (testing::fig1_scene with L = 20, dx = 1, v_d = 1, t_end = 20): paper
+// interface and bulk (ρ = 0.01, μ = 300), K = 2.5, cfl 0.5: first yield at t = 6.5, instability near
+// t = 9, then slip over the whole bar and re-sticking; N = 50 contacts per site.
 compare::Scene edge_short(const std::string& representation, std::uint64_t seed) {
-  compare::Scene s;
+  compare::Scene s = testing::fig1_scene();
   s.name = "edge_short";
   s.models = {"discrete"};
-  s.interface = paper_interface();
-  s.bulk = {0.01, 300.0, 20.0};
-  s.drive.loading = continuum::Loading::edge;
-  s.drive.K = 2.5;
+  s.bulk.length = 20.0;
   s.drive.v_d = 1.0;
   s.grid.dx = 1.0;
   s.time.t_end = 20.0;
-  s.time.cfl = 0.5;
   s.output.series_dt = 0.1;
-  s.output.snapshot_dt = 1.0;
   s.discrete = discrete_params(50, seed);
   s.discrete.representation = representation;
   return s;
@@ -305,11 +300,9 @@ TEST_CASE("agent: set_site", "[discrete][agent]") {
 TEST_CASE("agent: contact statistics reach the run's result", "[discrete][agent]") {
   // 0D imposed v = 0.5 for 20 time units with snapshots every 1: the tables the writer stores under
   // /discrete/contacts, consistent with each other.
-  compare::Scene s;
+  compare::Scene s = testing::imposed_rate_scene();
   s.name = "contacts";
   s.models = {"discrete"};
-  s.interface = paper_interface();
-  s.drive.loading = continuum::Loading::imposed_rate;
   s.drive.v = {0.5};
   s.drive.v_times = {0.0};
   s.time.t_end = 20.0;

@@ -19,6 +19,7 @@
 #include "continuum/friction_law.hpp"
 #include "discrete/count_law.hpp"
 #include "discrete/streams.hpp"
+#include "scenes.hpp"
 
 using namespace slipfront;
 using discrete::CountLaw;
@@ -26,7 +27,7 @@ using discrete::DiscreteParams;
 
 namespace {
 
-const continuum::InterfaceParams paper{1.05, 8.0, 0.1};
+const continuum::InterfaceParams paper = testing::paper_interface();
 
 DiscreteParams params(long n, const std::string& threshold = "delta", double w = 0.0, bool noise = true) {
   DiscreteParams p;
@@ -264,19 +265,13 @@ TEST_CASE("discrete count: no random draw on idle sites", "[discrete][count]") {
 
 namespace {
 
-// Short edge-loading scene (fig1 parameters, L = 100: 201 sites, > 3 chunks of 64) with noise on.
+// Short edge-loading scene (testing::fig1_scene, L = 100: 201 sites, > 3 chunks of 64) with noise on.
 compare::Scene noisy_edge(std::uint64_t seed, int threads) {
-  compare::Scene s;
+  compare::Scene s = testing::fig1_scene();
   s.name = "count_reproducibility";
   s.models = {"discrete"};
-  s.interface = paper;
-  s.bulk = {0.01, 300.0, 100.0};
-  s.drive.loading = continuum::Loading::edge;
-  s.drive.K = 2.5;
-  s.drive.v_d = 0.3;
-  s.grid.dx = 0.5;
+  s.bulk.length = 100.0;
   s.time.t_end = 30.0;
-  s.time.cfl = 0.5;
   s.output.series_dt = 0.1;
   s.output.snapshot_dt = 5.0;
   s.discrete.contacts_per_site = 100;

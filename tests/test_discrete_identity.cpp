@@ -11,6 +11,7 @@
 
 #include "compare/runner.hpp"
 #include "compare/scene.hpp"
+#include "scenes.hpp"
 
 using namespace slipfront;
 
@@ -29,20 +30,13 @@ compare::Scene noise_off(compare::Scene s) {
   return s;
 }
 
-// fig1 (MODEL §4) with a short t_end: edge loading, ρ = 0.01, μ = 300, κ = 8, α = 1.05, η = 0.1,
-// K = 2.5, v_d = 0.3, L = 300, dx = 0.5, cfl = 0.5; through first yield (t* = 25.71) to t = 40.
+// fig1 (MODEL §4, testing::fig1_scene: edge loading, ρ = 0.01, μ = 300, κ = 8, α = 1.05, η = 0.1,
+// K = 2.5, v_d = 0.3, L = 300, dx = 0.5, cfl = 0.5) with a short t_end: through first yield
+// (t* = 25.71) to t = 40.
 compare::Scene fig1_short() {
-  compare::Scene s;
+  compare::Scene s = testing::fig1_scene();
   s.name = "fig1_identity";
-  s.interface = {1.05, 8.0, 0.1};
-  s.bulk = {0.01, 300.0, 300.0};
-  s.drive.loading = continuum::Loading::edge;
-  s.drive.K = 2.5;
-  s.drive.v_d = 0.3;
-  s.grid.dx = 0.5;
   s.time.t_end = 40.0;
-  s.time.cfl = 0.5;
-  s.output.series_dt = 0.05;
   s.output.snapshot_dt = 5.0;
   return noise_off(s);
 }
@@ -116,10 +110,8 @@ TEST_CASE("discrete identity: fig1 through first yield, w = 0 and noise off", "[
 }
 
 TEST_CASE("discrete identity: 0D imposed slip-rate history with steps", "[discrete][identity]") {
-  compare::Scene s;
+  compare::Scene s = testing::imposed_rate_scene();
   s.name = "velocity_step_identity";
-  s.interface = {1.05, 8.0, 0.1};
-  s.drive.loading = continuum::Loading::imposed_rate;
   s.drive.v = {0.5, 3.0, 0.05, 1.0, 0.0, 2.0};
   s.drive.v_times = {0.0, 10.0, 20.0, 40.0, 50.0, 55.0};
   s.time.t_end = 70.0;
@@ -138,10 +130,8 @@ TEST_CASE("discrete identity: 0D imposed slip-rate history with steps", "[discre
 }
 
 TEST_CASE("discrete identity: 0D steady friction law sweep", "[discrete][identity]") {
-  compare::Scene s;
+  compare::Scene s = testing::imposed_rate_scene();
   s.name = "friction_law_identity";
-  s.interface = {1.05, 8.0, 0.1};
-  s.drive.loading = continuum::Loading::imposed_rate;
   s.drive.sweep_points = 7;
   s.drive.v_min = 1e-2;
   s.drive.v_max = 1e2;
@@ -160,18 +150,9 @@ TEST_CASE("discrete identity: 0D steady friction law sweep", "[discrete][identit
 // block yields once (t* ≈ 4.6) and settles into steady sliding at v_d; with K = 0.5 it stick-slips.
 TEST_CASE("discrete identity: 0D spring block", "[discrete][identity]") {
   const double K = GENERATE(2.5, 0.5);
-  compare::Scene s;
+  compare::Scene s = noise_off(testing::spring_block_scene(K > 1.0 ? 40.0 : 120.0));  // series every step
   s.name = "spring_block_identity";
-  s.interface = {1.05, 8.0, 0.1};
-  s.bulk.rho = 0.01;
-  s.drive.loading = continuum::Loading::spring_block;
   s.drive.K = K;
-  s.drive.v_d = 0.3;
-  s.time.t_end = K > 1.0 ? 40.0 : 120.0;
-  s.time.cfl = 0.5;
-  s.output.series_dt = 0.0;
-  s.output.snapshot_dt = 0.0;
-  s = noise_off(s);
   s.validate();
   const auto r = compare::run_scene(s, {});
   REQUIRE(r.size() == 2);
@@ -194,12 +175,8 @@ TEST_CASE("discrete identity: 0D spring block", "[discrete][identity]") {
 // sliding (set_site with A = A_ss < 1), paper parameters; both renewal options (identical at w = 0).
 TEST_CASE("discrete identity: homogeneous front from a nucleation patch", "[discrete][identity]") {
   const std::string renewal = GENERATE(std::string("fresh"), std::string("quenched"));
-  compare::Scene s = fig1_short();
+  compare::Scene s = noise_off(testing::homogeneous_scene(0.5, 150.0, 10.0));
   s.name = "homogeneous_identity";
-  s.drive.loading = continuum::Loading::homogeneous;
-  s.drive.sigma_d = 0.5;
-  s.drive.nucleation_length = 150.0;
-  s.time.t_end = 10.0;
   s.output.snapshot_dt = 2.0;
   s.discrete.renewal = renewal;
   s.validate();

@@ -12,13 +12,14 @@
 #include "discrete/count_law.hpp"
 #include "discrete/streams.hpp"
 #include "discrete/thresholds.hpp"
+#include "scenes.hpp"
 
 using namespace slipfront;
 using discrete::ThresholdDistribution;
 
 namespace {
 
-const continuum::InterfaceParams paper{1.05, 8.0, 0.1};
+const continuum::InterfaceParams paper = testing::paper_interface();
 
 // M thresholds drawn by inversion from one stream.
 std::vector<double> sample(const ThresholdDistribution& g, std::size_t m, std::uint64_t seed) {

@@ -1,7 +1,6 @@
 // apps/h5out: the HDF5 layout of MODEL §5 (docs/output.md), read back with the HDF5 C API.
 #include <catch2/catch.hpp>
 #include <hdf5.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -12,42 +11,18 @@
 #include "apps/config.hpp"
 #include "apps/h5out.hpp"
 #include "compare/runner.hpp"
+#include "scenes.hpp"
 
 namespace fs = std::filesystem;
 using namespace slipfront;
 
 namespace {
 
-struct TempDir {
-  fs::path path = fs::temp_directory_path() / ("slipfront-test-output-" + std::to_string(::getpid()));
-  TempDir() { fs::create_directories(path); }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-};
+using testing::TempDir;
 
-// Edge loading, dx = 2, L = 20, t_end = 2: a few hundred steps.
-const std::string tiny = R"(scene = "tiny"
-[interface]
-alpha = 1.05
-kappa = 8
-eta = 0.1
-[bulk]
-rho = 0.01
-mu = 300
-length = 20
-[drive]
-loading = "edge"
-K = 2.5
-v_d = 0.3
-[grid]
-dx = 2
-[time]
-t_end = 2
-[output]
-snapshot_dt = 0.5
-)";
+// The minimal configuration (edge loading, dx = 2, L = 20, t_end = 2: a few hundred steps), snapshots
+// every 0.5.
+const std::string tiny = testing::minimal_config() + "[output]\nsnapshot_dt = 0.5\n";
 
 // --- minimal readers on the HDF5 C API -------------------------------------------------------
 
@@ -138,7 +113,7 @@ Run run_tiny(const std::vector<std::string>& overrides = {}) {
 }  // namespace
 
 TEST_CASE("output: a tiny edge-loading run is written in the MODEL 5 layout", "[output]") {
-  const TempDir dir;
+  const TempDir dir("output");
   const Run run = run_tiny();
   REQUIRE(run.results.size() == 1);
   const compare::ModelResult& m = run.results[0];
@@ -215,7 +190,7 @@ TEST_CASE("output: a tiny edge-loading run is written in the MODEL 5 layout", "[
 }
 
 TEST_CASE("output: status is the worst of models and run and files are replaced atomically", "[output]") {
-  const TempDir dir;
+  const TempDir dir("output");
   Run run = run_tiny({"output.snapshot_dt=0"});
   const fs::path path = dir.path / "results.h5";
   app::write_results(path, run.scene, run.toml, run.results, {});
@@ -265,7 +240,7 @@ TEST_CASE("output: status is the worst of models and run and files are replaced 
 }
 
 TEST_CASE("output: 0D friction-law sweep and contact tables", "[output]") {
-  const TempDir dir;
+  const TempDir dir("output");
   Run run;
   run.scene = app::parse_scene(tiny, "sweep.toml",
                                {"drive.loading=imposed_rate", "drive.points=4", "drive.v_min=0.1", "drive.v_max=10",

@@ -4,7 +4,6 @@
 #include <catch2/catch.hpp>
 
 #include <sys/wait.h>
-#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -12,6 +11,8 @@
 #include <regex>
 #include <sstream>
 #include <string>
+
+#include "scenes.hpp"
 
 namespace fs = std::filesystem;
 
@@ -24,9 +25,8 @@ int sh(const std::string& cmd) {
 
 TEST_CASE("report: every plot named in report.md exists and is a non-empty PNG", "[report]") {
   const std::string bin = SLIPFRONT_BINARY, src = SLIPFRONT_SOURCE_DIR;
-  const fs::path dir = fs::temp_directory_path() / ("slipfront-test-report-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const slipfront::testing::TempDir scratch("report");
+  const fs::path& dir = scratch.path;
   const std::string q = " -q --force ";
   REQUIRE(sh(bin + " run " + src + "/configs/fig1.toml --out " + dir.string() + "/fig1" + q +
              "--set time.t_end=60 --set bulk.length=100 --set grid.dx=1 --set discrete.contacts_per_site=1000"
@@ -63,5 +63,4 @@ TEST_CASE("report: every plot named in report.md exists and is a non-empty PNG",
   CHECK(n >= 5);  // fig1 fronts + tip, the friction law, the study's error and Fig. 2 left
   // the checker the main job uses agrees
   CHECK(sh("/usr/bin/python3 " + src + "/scripts/check_report.py " + (dir / "report.md").string() + " > /dev/null") == 0);
-  fs::remove_all(dir);
 }

@@ -20,6 +20,7 @@
 #include "discrete/count_law.hpp"
 #include "discrete/naive_law.hpp"
 #include "discrete_agent_helpers.hpp"
+#include "scenes.hpp"
 
 using namespace slipfront;
 using testing::compare_0d;
@@ -49,7 +50,7 @@ void require_agree(const testing::Comparison& c) {
 }  // namespace
 
 TEST_CASE("slow: agent, naive and count agree over 1000 seeds (0D)", "[discrete][agent][slow]") {
-  const continuum::InterfaceParams ip{1.05, 8.0, 0.1};
+  const auto ip = testing::paper_interface();
   const auto agent = run_0d<discrete::AgentLaw>(params(50), ip, 0.5, 1, 1000);
   const auto naive = run_0d<discrete::NaiveAgentLaw>(params(50), ip, 0.5, 100001, 1000);
   const auto count = run_0d<discrete::CountLaw>(params(50), ip, 0.5, 200001, 1000);
@@ -104,19 +105,11 @@ TEST_CASE("slow: renewal statistics pooled over seeds", "[discrete][agent][slow]
 }
 
 TEST_CASE("slow: fig1 with N = 100, agent vs count over seeds", "[discrete][agent][slow]") {
-  // MODEL §4 fig1: edge loading, paper parameters, L = 300, dx = 0.5, cfl = 0.5, t_end = 140.
+  // MODEL §4 fig1 (testing::fig1_scene): edge loading, paper parameters, L = 300, dx = 0.5, cfl = 0.5,
+  // t_end = 140.
   auto scene = [](const std::string& rep, std::uint64_t seed) {
-    compare::Scene s;
-    s.name = "fig1";
+    compare::Scene s = testing::fig1_scene();
     s.models = {"discrete"};
-    s.interface = {1.05, 8.0, 0.1};
-    s.bulk = {0.01, 300.0, 300.0};
-    s.drive.loading = continuum::Loading::edge;
-    s.drive.K = 2.5;
-    s.drive.v_d = 0.3;
-    s.grid.dx = 0.5;
-    s.time.t_end = 140.0;
-    s.time.cfl = 0.5;
     s.output.series_dt = 0.5;
     s.output.snapshot_dt = 10.0;
     s.discrete = params(100);

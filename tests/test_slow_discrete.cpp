@@ -14,6 +14,7 @@
 #include "compare/scene.hpp"
 #include "continuum/friction_law.hpp"
 #include "discrete/count_law.hpp"
+#include "scenes.hpp"
 
 using namespace slipfront;
 
@@ -22,10 +23,8 @@ namespace {
 constexpr int seeds = 48;
 
 compare::Scene steady_scene() {
-  compare::Scene s;
+  compare::Scene s = testing::imposed_rate_scene();
   s.name = "friction_law_mean_field";
-  s.interface = {1.05, 8.0, 0.1};
-  s.drive.loading = continuum::Loading::imposed_rate;
   s.time.t_end = 100.0;
   s.time.slip_end = 100.0;
   s.time.steps = 20000;

@@ -1,0 +1,21 @@
+#pragma once
+// Scenes of the benchmarks: the tests' scenes (tests/scenes.hpp), so that a benchmark runs exactly
+// the scene the tests check.
+#include <cstdlib>
+
+#include "compare/scene.hpp"
+#include "tests/scenes.hpp"
+
+namespace slipfront::bench {
+
+/// fig1 (MODEL §4, testing::fig1_scene: edge loading, paper parameters, L = 300, dx = 0.5,
+/// cfl = 0.5) to t_end = $SLIPFRONT_BENCH_T_END, or `default_t_end` when it is not set. Validated.
+inline compare::Scene fig1_scene(double default_t_end) {
+  compare::Scene s = testing::fig1_scene();
+  const char* t_end = std::getenv("SLIPFRONT_BENCH_T_END");
+  s.time.t_end = t_end ? std::atof(t_end) : default_t_end;
+  s.validate();
+  return s;
+}
+
+}  // namespace slipfront::bench

@@ -70,6 +70,8 @@ bool imposed_history(const Scene& s) { return imposed(s) && s.drive.sweep_points
 bool imposed_sweep(const Scene& s) { return imposed(s) && s.drive.sweep_points != 0; }
 bool dt_given(const Scene& s) { return s.time.dt != 0.0; }
 bool cfl_used(const Scene& s) { return !imposed(s) && s.time.dt == 0.0; }
+bool bulk_scene(const Scene& s) { return !imposed(s); }
+bool adaptive(const Scene& s) { return !imposed(s) && s.time.integrator == "adaptive"; }
 bool discrete_listed(const Scene& s) {
   return std::find(s.models.begin(), s.models.end(), "discrete") != s.models.end();
 }
@@ -141,6 +143,11 @@ const std::vector<Section>& schema() {
             "when time.dt is not given and drive.loading is not imposed_rate"},
            {"slip_end", at<&Scene::time, &TimeParams::slip_end>, imposed, "with drive.loading = imposed_rate"},
            {"steps", at<&Scene::time, &TimeParams::steps>, imposed, "with drive.loading = imposed_rate"},
+           {"integrator", at<&Scene::time, &TimeParams::integrator>, bulk_scene,
+            "with drive.loading = edge, homogeneous or spring_block"},
+           {"rtol", at<&Scene::time, &TimeParams::rtol>, adaptive, "with time.integrator = adaptive"},
+           {"atol", at<&Scene::time, &TimeParams::atol>, adaptive, "with time.integrator = adaptive"},
+           {"dt_max", at<&Scene::time, &TimeParams::dt_max>, adaptive, "with time.integrator = adaptive"},
        }},
       {"measure",
        {

@@ -145,8 +145,9 @@ Comparison compare_results(const Scene& s, const ModelResult& c, const ModelResu
 
 SceneResult run_scene_alongside(const Scene& s, const RunControl& ctl) {
   const bool both = s.models.size() == 2 && s.models[0] != s.models[1];
-  if (!both || s.drive.loading == continuum::Loading::imposed_rate) {
-    // One model, or 0D imposed-rate scenes (no bulk to share): the models run one after the other.
+  if (!both || s.drive.loading == continuum::Loading::imposed_rate || s.time.integrator == "adaptive") {
+    // One model, 0D imposed-rate scenes (no bulk to share), or the adaptive continuum integrator (no
+    // common step): the models run one after the other and are compared at the end (no field distances).
     SceneResult out;
     out.models = run_scene(s, ctl);
     const ModelResult* c = nullptr;

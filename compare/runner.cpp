@@ -25,7 +25,12 @@ std::vector<ModelResult> run_scene(const Scene& s, const RunControl& ctl) {
   std::vector<ModelResult> out;
   for (const auto& m : s.models) {
     try {
-      if (m == "continuum") {
+      if (m == "continuum" && s.drive.loading != continuum::Loading::imposed_rate &&
+          s.time.integrator == "adaptive") {
+        const continuum::Bulk probe(s.bulk, s.drive, s.interface, s.grid.dx);
+        out.push_back(run_dynamic<continuum::FrictionLaw, continuum::AdaptiveSimulation>(
+            s, continuum::FrictionLaw(s.interface, probe.nodes()), m, ctl));
+      } else if (m == "continuum") {
         auto make = [&](std::size_t n) { return continuum::FrictionLaw(s.interface, n); };
         out.push_back(run_model<continuum::FrictionLaw>(s, make, m, ctl));
       } else if (m == "discrete") {

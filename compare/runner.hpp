@@ -14,6 +14,7 @@
 #include "compare/measure.hpp"
 #include "compare/result.hpp"
 #include "compare/scene.hpp"
+#include "continuum/adaptive.hpp"
 #include "continuum/bulk.hpp"
 #include "continuum/friction_law.hpp"
 #include "continuum/stepper.hpp"
@@ -97,8 +98,8 @@ void store_contacts(const Law& law, ModelResult& r) {
   for (auto& [name, tab] : tables.tables) r.contacts_2d[name] = Table2D{tab.cols, std::move(tab.data)};
 }
 
-template <class Law>
-void set_initial_conditions(const Scene& s, continuum::Simulation<Law>& sim) {
+template <class Stepper>
+void set_initial_conditions(const Scene& s, Stepper& sim) {
   using continuum::Loading;
   if (s.drive.loading != Loading::homogeneous) return;  // edge, spring block: u = v = 0, A = 1, σ̄ = 0
   // MODEL §1 homogeneous loading: stuck state, and a nucleation patch in steady sliding at σ_d.
@@ -121,16 +122,42 @@ void set_initial_conditions(const Scene& s, continuum::Simulation<Law>& sim) {
 
 }  // namespace detail
 
+/// Steppers with dense output (the adaptive integrator): the runner records at exact times.
+template <class S>
+concept DenseStepper = requires(const S& sim, double t, std::span<double> out) {
+  sim.previous_time();
+  sim.dense_state(t, continuum::Field::slip_rate, out);
+};
+
+namespace detail {
+template <class Stepper, class Law>
+Stepper make_stepper(const Scene& s, Law law) {
+  continuum::Bulk bulk(s.bulk, s.drive, s.interface, s.grid.dx);
+  if constexpr (DenseStepper<Stepper>) {
+    continuum::AdaptiveOptions o;
+    o.rtol = s.time.rtol;
+    o.atol = s.time.atol;
+    o.dt_max = s.time.dt_max;
+    Stepper sim(std::move(bulk), std::move(law), s.interface.eta, o);
+    sim.set_stop_time(s.time.t_end);
+    return sim;
+  } else {
+    return Stepper(std::move(bulk), std::move(law), s.interface.eta, dynamic_time_step(s));
+  }
+}
+}  // namespace detail
+
 /// One model on a bulk scene (edge and homogeneous loading, spring block), advanced one step at a
 /// time so that several runs can go in lockstep (run_scene_alongside). Each step feeds the shared
-/// measurements and records what the scene asks for; finish() hands over the result.
-template <class Law>
+/// measurements and records what the scene asks for; finish() hands over the result. The stepper is
+/// the explicit Simulation<Law>, or (continuum, time.integrator = "adaptive") AdaptiveSimulation,
+/// whose dense output lets every measurement and record be taken at its exact time.
+template <class Law, class Stepper = continuum::Simulation<Law>>
 class DynamicRun {
  public:
   DynamicRun(const Scene& s, Law law, std::string model)
       : s_(s), wall0_(std::chrono::steady_clock::now()),
-        sim_(continuum::Bulk(s.bulk, s.drive, s.interface, s.grid.dx), std::move(law), s.interface.eta,
-             dynamic_time_step(s)),
+        sim_(detail::make_stepper<Stepper>(s, std::move(law))),
         one_d_(continuum::is_one_dimensional(s.drive.loading)),
         tracker_(s.measure, sim_.bulk().x()),
         series_due_(s.output.series_dt),
@@ -139,16 +166,27 @@ class DynamicRun {
         cycles_(s.measure.v_event) {
     r_.model = std::move(model);
     r_.x = sim_.bulk().x();
-    nsteps_ = static_cast<std::int64_t>(std::llround(s.time.t_end / sim_.dt()));
-    r_.scalars["dt"] = sim_.dt();
     r_.scalars["stable_dt"] = sim_.bulk().stable_dt();
-    sim_.track_energy(s.output.energy);
+    if constexpr (DenseStepper<Stepper>) {
+      r_.labels["integrator"] = "adaptive";
+      r_.scalars["rtol"] = s.time.rtol;
+      for (auto* b : {&A_, &sb_, &v_, &u_}) b->resize(r_.x.size());
+    } else {
+      nsteps_ = static_cast<std::int64_t>(std::llround(s.time.t_end / sim_.dt()));
+      r_.scalars["dt"] = sim_.dt();
+      r_.labels["integrator"] = "explicit";
+      sim_.track_energy(s.output.energy);
+    }
     detail::set_initial_conditions(s, sim_);
     record();
   }
 
-  bool done() const { return n_ >= nsteps_ || r_.status != "complete"; }
-  const continuum::Simulation<Law>& sim() const { return sim_; }
+  bool done() const {
+    if (r_.status != "complete") return true;
+    if constexpr (DenseStepper<Stepper>) return sim_.time() >= s_.time.t_end * (1.0 - 1e-12);
+    else return n_ >= nsteps_;
+  }
+  const Stepper& sim() const { return sim_; }
   const std::string& model() const { return r_.model; }
   double time() const { return sim_.time(); }
 
@@ -158,9 +196,13 @@ class DynamicRun {
       const double t0 = sim_.time();
       sim_.step();
       ++n_;
-      tracker_.observe_step(t0, sim_.time(), sim_.yielded(), sim_.max_slip_rate());
-      if (!one_d_) cycles_.observe(sim_.time(), sim_.drive_force(), sim_.slip_rate()[0], r_.cycles);
-      record();
+      if constexpr (DenseStepper<Stepper>) {
+        record_dense(t0, sim_.time());
+      } else {
+        tracker_.observe_step(t0, sim_.time(), sim_.yielded(), sim_.max_slip_rate());
+        if (!one_d_) cycles_.observe(sim_.time(), sim_.drive_force(), sim_.slip_rate()[0], r_.cycles);
+        record();
+      }
     } catch (const continuum::NumericalError& e) {
       r_.status = "failed";
       r_.message = e.what();
@@ -194,7 +236,7 @@ class DynamicRun {
     const auto area = sim.law().contact_area();
     if (one_d_ && tracker_.sample_due(t)) {
       const double tip = tracker_.sample_tip(t, area);
-      if (s_.drive.loading == continuum::Loading::homogeneous) observe_behind(tip);
+      if (s_.drive.loading == continuum::Loading::homogeneous) observe_behind(tip, sim.slip_rate());
     }
     if (series_due_.due(t)) {
       detail::push(r.series, "t", t);
@@ -232,10 +274,9 @@ class DynamicRun {
 
   // Homogeneous loading (MODEL §4 front spectrum): the mean slip rate over [ℓ_n, x_tip − 10] when
   // the tip first passes 3/4 of the system.
-  void observe_behind(double tip) {
+  void observe_behind(double tip, std::span<const double> v) {
     const double L = r_.x.back();
     if (!std::isnan(v_behind_) || !(tip >= 0.75 * L)) return;
-    const auto v = sim_.slip_rate();
     double sum = 0;
     int n = 0;
     for (std::size_t i = 0; i < r_.x.size(); ++i)
@@ -243,22 +284,92 @@ class DynamicRun {
     v_behind_ = n ? sum / n : nan;
   }
 
+  // Dense stepper: over the accepted step [t0, t1] the tracker sees max|v| on sub-intervals of at
+  // most sample_dt/2 (so t^ is interpolated as finely as with small steps), tip samples, series and
+  // snapshots are taken at their exact cadence times from the integrator's interpolant.
+  void record_dense(double t0, double t1) {
+    using continuum::Field;
+    const auto m = std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil((t1 - t0) / (0.5 * s_.measure.sample_dt) - 1e-9)));
+    for (std::int64_t j = 0; j < m; ++j) {
+      const double a = t0 + (t1 - t0) * static_cast<double>(j) / static_cast<double>(m);
+      const double b = j + 1 == m ? t1 : t0 + (t1 - t0) * static_cast<double>(j + 1) / static_cast<double>(m);
+      sim_.dense_state(0.5 * (a + b), Field::slip_rate, v_);
+      tracker_.observe_step(a, b, sim_.yielded(), max_abs(v_));
+    }
+    if (!one_d_) cycles_.observe(t1, sim_.drive_force(), sim_.slip_rate()[0], r_.cycles);
+    auto times = [t0, t1](double every, auto&& f) {  // multiples of `every` in (t0, t1]
+      if (every <= 0) return;
+      for (auto k = static_cast<std::int64_t>(std::floor(t0 / every + 1e-9)) + 1;; ++k) {
+        const double t = std::min(static_cast<double>(k) * every, t1);
+        if (static_cast<double>(k) * every > t1 * (1.0 + 1e-12)) break;
+        f(t);
+      }
+    };
+    auto load = [&](double t) {
+      sim_.dense_state(t, Field::contact_area, A_);
+      sim_.dense_state(t, Field::sigma_bar, sb_);
+      sim_.dense_state(t, Field::slip_rate, v_);
+      sim_.dense_state(t, Field::slip, u_);
+    };
+    if (one_d_)
+      times(s_.measure.sample_dt, [&](double t) {
+        sim_.dense_state(t, Field::contact_area, A_);
+        const double tip = tracker_.sample_tip(t, A_);
+        if (s_.drive.loading == continuum::Loading::homogeneous) {
+          sim_.dense_state(t, Field::slip_rate, v_);
+          observe_behind(tip, v_);
+        }
+      });
+    times(s_.output.series_dt, [&](double t) {
+      load(t);
+      detail::push(r_.series, "t", t);
+      detail::push(r_.series, "drive_force", sim_.bulk().drive_force(t, u_[0]));
+      detail::push(r_.series, "max_v", max_abs(v_));
+      if (one_d_) {
+        detail::push(r_.series, "tip_x", tracker_.last_tip());
+        detail::push(r_.series, "tip_x_alt", tracker_.last_tip_alt());
+      } else {
+        detail::push(r_.series, "A", A_[0]);
+        detail::push(r_.series, "sigma_bar", sb_[0]);
+        detail::push(r_.series, "sigma", sb_[0] + s_.interface.eta * v_[0]);
+        detail::push(r_.series, "slip_rate", v_[0]);
+        detail::push(r_.series, "slip", u_[0]);
+      }
+    });
+    if (one_d_)
+      times(s_.output.snapshot_dt, [&](double t) {
+        load(t);
+        r_.snapshot_t.push_back(t);
+        detail::append(r_.snapshots, "A", A_);
+        detail::append(r_.snapshots, "sigma_bar", sb_);
+        detail::append(r_.snapshots, "v", v_);
+        detail::append(r_.snapshots, "u", u_);
+      });
+  }
+
+  static double max_abs(std::span<const double> v) {
+    double m = 0.0;
+    for (double x : v) m = std::max(m, std::abs(x));
+    return m;
+  }
+
   const Scene& s_;
   std::chrono::steady_clock::time_point wall0_;
   ModelResult r_;
-  continuum::Simulation<Law> sim_;
+  Stepper sim_;
   bool one_d_;
   FrontTracker tracker_;
   detail::Cadence series_due_, snap_due_, contacts_due_;
   detail::CycleDetector cycles_;
   std::int64_t n_ = 0, nsteps_ = 0;
   double v_behind_ = nan;
+  std::vector<double> A_, sb_, v_, u_;  // dense-output buffers
 };
 
 /// Bulk scenes run alone: step to t_end, polling the stop request every 64 steps.
-template <class Law>
+template <class Law, class Stepper = continuum::Simulation<Law>>
 ModelResult run_dynamic(const Scene& s, Law law, const std::string& model, const RunControl& ctl) {
-  DynamicRun<Law> run(s, std::move(law), model);
+  DynamicRun<Law, Stepper> run(s, std::move(law), model);
   for (std::int64_t n = 1; !run.done(); ++n) {
     run.step();
     if ((n & 63) == 0) {

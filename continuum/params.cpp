@@ -103,6 +103,15 @@ void TimeParams::validate(Loading l) const {
   if (dt == 0.0 && l != Loading::imposed_rate)
     require(finite(cfl) && cfl > 0.0 && cfl <= 1.0, "time.cfl",
             "must be in (0, 1] (fraction of the explicit stability limit), got " + format_number(cfl));
+  require(integrator == "explicit" || integrator == "adaptive", "time.integrator",
+          "unknown integrator '" + integrator + "' (expected explicit or adaptive)");
+  if (integrator == "adaptive") {
+    require(l == Loading::edge || l == Loading::homogeneous || l == Loading::spring_block, "time.integrator",
+            "the adaptive integrator is for bulk scenes (edge, homogeneous, spring_block)");
+    require(finite(rtol) && rtol > 0.0 && rtol < 1.0, "time.rtol", "must be in (0, 1), got " + format_number(rtol));
+    require(finite(atol) && atol > 0.0, "time.atol", "must be > 0, got " + format_number(atol));
+    require(finite(dt_max) && dt_max > 0.0, "time.dt_max", "must be > 0, got " + format_number(dt_max));
+  }
   if (l == Loading::imposed_rate) {
     require(finite(slip_end) && slip_end >= 0.0, "time.slip_end", "must be >= 0");
     require(steps >= 1, "time.steps", "must be >= 1");

@@ -30,26 +30,14 @@
 #include "continuum/bulk.hpp"
 #include "continuum/friction_law.hpp"
 #include "continuum/stepper.hpp"
+#include "tests/scenes.hpp"
 
 namespace slipfront::bench {
 
 /// fig1 (MODEL §4): edge loading, ρ = 0.01, μ = 300, κ = 8, α = 1.05, η = 0.1, K = 2.5, v_d = 0.3,
 /// L = 300, dx = 0.5, t_end = 140, cfl 0.5.
 inline compare::Scene fig1_scene() {
-  compare::Scene s;
-  s.name = "fig1";
-  s.interface.alpha = 1.05;
-  s.interface.kappa = 8.0;
-  s.interface.eta = 0.1;
-  s.bulk.rho = 0.01;
-  s.bulk.mu = 300.0;
-  s.bulk.length = 300.0;
-  s.drive.loading = continuum::Loading::edge;
-  s.drive.K = 2.5;
-  s.drive.v_d = 0.3;
-  s.grid.dx = 0.5;
-  s.time.t_end = 140.0;
-  s.time.cfl = 0.5;
+  compare::Scene s = testing::fig1_scene();  // the paper's fig1 (tests/scenes.hpp)
   s.output.series_dt = 1.0;
   s.output.snapshot_dt = 10.0;
   return s;

@@ -45,13 +45,9 @@ inline compare::Scene fig1_scene() {
 
 /// homogeneous_front (MODEL §4): uniform σ_d = 0.5, nucleation patch ℓ_n = 150, L = 1000, t_end = 15.
 inline compare::Scene homogeneous_front_scene() {
-  compare::Scene s = fig1_scene();
-  s.name = "homogeneous_front";
-  s.drive.loading = continuum::Loading::homogeneous;
-  s.drive.sigma_d = 0.5;
-  s.drive.nucleation_length = 150.0;
+  compare::Scene s = testing::homogeneous_scene(0.5, 150.0, 15.0);  // tests/scenes.hpp
   s.bulk.length = 1000.0;
-  s.time.t_end = 15.0;
+  s.output.series_dt = 1.0;
   s.output.snapshot_dt = 5.0;
   return s;
 }

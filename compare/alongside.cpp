@@ -29,10 +29,10 @@ class FieldComparison {
   Columns c_;
 };
 
-template <class LawA, class LawB>
+template <template <class> class Stepper, class LawA, class LawB>
 SceneResult lockstep(const Scene& s, LawA a, LawB b, const RunControl& ctl) {
-  DynamicRun<LawA> ra(s, std::move(a), "continuum");
-  DynamicRun<LawB> rb(s, std::move(b), "discrete");
+  DynamicRun<LawA, Stepper<LawA>> ra(s, std::move(a), "continuum");
+  DynamicRun<LawB, Stepper<LawB>> rb(s, std::move(b), "discrete");
   FieldComparison fields(s.output.compare_dt);
   fields.observe(0.0, ra.sim(), rb.sim());
   for (std::int64_t n = 1; !ra.done() || !rb.done(); ++n) {
@@ -159,7 +159,10 @@ SceneResult run_scene_alongside(const Scene& s, const RunControl& ctl) {
   s.discrete.validate();
   return with_discrete_law(s, [&](auto make_discrete) {
     const continuum::Bulk probe(s.bulk, s.drive, s.interface, s.grid.dx);
-    return lockstep(s, continuum::FrictionLaw(s.interface, probe.nodes()), make_discrete(probe.nodes()), ctl);
+    continuum::FrictionLaw c(s.interface, probe.nodes());
+    if (s.time.integrator == "implicit")
+      return lockstep<continuum::ImplicitSimulation>(s, std::move(c), make_discrete(probe.nodes()), ctl);
+    return lockstep<continuum::Simulation>(s, std::move(c), make_discrete(probe.nodes()), ctl);
   });
 }
 

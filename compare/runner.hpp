@@ -17,6 +17,7 @@
 #include "continuum/adaptive.hpp"
 #include "continuum/bulk.hpp"
 #include "continuum/friction_law.hpp"
+#include "continuum/implicit.hpp"
 #include "continuum/stepper.hpp"
 
 namespace slipfront::compare {
@@ -174,7 +175,7 @@ class DynamicRun {
     } else {
       nsteps_ = static_cast<std::int64_t>(std::llround(s.time.t_end / sim_.dt()));
       r_.scalars["dt"] = sim_.dt();
-      r_.labels["integrator"] = "explicit";
+      r_.labels["integrator"] = Stepper::integrator_name;
       sim_.track_energy(s.output.energy);
     }
     detail::set_initial_conditions(s, sim_);
@@ -508,6 +509,8 @@ template <class Law, class MakeLaw>
 ModelResult run_model(const Scene& s, MakeLaw make_law, const std::string& model, const RunControl& ctl) {
   if (s.drive.loading == continuum::Loading::imposed_rate) return run_imposed_rate<Law>(s, make_law, model, ctl);
   const continuum::Bulk probe(s.bulk, s.drive, s.interface, s.grid.dx);
+  if (s.time.integrator == "implicit")
+    return run_dynamic<Law, continuum::ImplicitSimulation<Law>>(s, make_law(probe.nodes()), model, ctl);
   return run_dynamic<Law>(s, make_law(probe.nodes()), model, ctl);
 }
 

@@ -103,8 +103,15 @@ void TimeParams::validate(Loading l) const {
   if (dt == 0.0 && l != Loading::imposed_rate)
     require(finite(cfl) && cfl > 0.0 && cfl <= 1.0, "time.cfl",
             "must be in (0, 1] (fraction of the explicit stability limit), got " + format_number(cfl));
-  require(integrator == "explicit" || integrator == "adaptive", "time.integrator",
-          "unknown integrator '" + integrator + "' (expected explicit or adaptive)");
+  require(integrator == "explicit" || integrator == "adaptive" || integrator == "implicit", "time.integrator",
+          "unknown integrator '" + integrator + "' (expected explicit, implicit or adaptive)");
+  if (integrator == "implicit") {
+    require(l == Loading::edge || l == Loading::homogeneous || l == Loading::spring_block, "time.integrator",
+            "the implicit integrator is for bulk scenes (edge, homogeneous, spring_block)");
+    require(dt > 0.0, "time.dt",
+            "required with time.integrator = implicit (no stability limit: choose the step by accuracy, "
+            "e.g. 0.02 for fig1; docs/numerics.md)");
+  }
   if (integrator == "adaptive") {
     require(l == Loading::edge || l == Loading::homogeneous || l == Loading::spring_block, "time.integrator",
             "the adaptive integrator is for bulk scenes (edge, homogeneous, spring_block)");

@@ -73,9 +73,10 @@ struct TimeParams {
   /// imposed_rate: each sweep point runs t_end + slip_end/|v| with `steps` steps (exact updates).
   double slip_end = 50.0;
   int steps = 4000;
-  /// Bulk scenes, continuum model: "explicit" (the reference central-difference scheme, steps of
-  /// cfl × the stability limit) or "adaptive" (continuum/adaptive.hpp: L-stable Rosenbrock with
-  /// error control and located switchings; the discrete model always steps explicitly).
+  /// Bulk scenes: "explicit" (the reference central-difference scheme, steps of cfl × the stability
+  /// limit), "implicit" (continuum/implicit.hpp: fixed step time.dt chosen by accuracy, both models)
+  /// or "adaptive" (continuum model only, continuum/adaptive.hpp: L-stable Rosenbrock with error
+  /// control and located switchings; the discrete model then steps explicitly).
   std::string integrator = "explicit";
   double rtol = 1e-2;    ///< adaptive: relative tolerance of the local error per step
   double atol = 1e-5;    ///< adaptive: absolute tolerance

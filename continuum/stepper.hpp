@@ -48,6 +48,7 @@ struct EnergyBudget {
 template <class Law>
 class Simulation {
  public:
+  static constexpr const char* integrator_name = "explicit";
   Simulation(Bulk bulk, Law law, double eta, double dt)
       : bulk_(std::move(bulk)), law_(std::move(law)), eta_(eta), dt_(dt),
         u_(bulk_.nodes(), 0.0), v_(bulk_.nodes(), 0.0), v_prev_(bulk_.nodes(), 0.0) {

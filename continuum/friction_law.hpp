@@ -43,14 +43,27 @@ class FrictionLaw {
   LawStepInfo advance(double dt, std::span<const double> v) {
     bool any = false;
     const double alpha = p_.alpha, kappa = p_.kappa, eta = p_.eta;
+    // A stuck site (Θ = 0) relaxes A at rate 1 and σ̄ at rate 0: relax() with these rates is
+    // a e^{−dt} + (1 − e^{−dt}) and σ̄ + source·dt, computed once per dt (bit for bit the same values).
+    if (dt != cached_dt_) {
+      cached_dt_ = dt;
+      stuck_exp_ = std::exp(-dt);
+      stuck_weight_ = relax_weight(1.0, dt);
+    }
     const std::size_t n = area_.size();
     for (std::size_t i = 0; i < n; ++i) {
       const double vi = v[i], a = area_[i], sb = sigma_bar_[i];
-      const double theta = contact_stress(sb + eta * vi, a) > 1.0 ? 1.0 : 0.0;
-      any |= theta > 0.0;
+      const bool theta = contact_stress(sb + eta * vi, a) > 1.0;
+      any |= theta;
+      if (!theta) {
+        const double a_new = a * stuck_exp_ + stuck_weight_;
+        sigma_bar_[i] = sb + alpha * 0.5 * (a + a_new) * vi * dt;
+        area_[i] = a_new;
+        continue;
+      }
       const double speed = std::abs(vi);
-      const double a_new = relax(a, 1.0, 1.0 + theta * kappa * speed, dt);
-      sigma_bar_[i] = relax(sb, alpha * 0.5 * (a + a_new) * vi, theta * speed, dt);
+      const double a_new = relax(a, 1.0, 1.0 + kappa * speed, dt);
+      sigma_bar_[i] = relax(sb, alpha * 0.5 * (a + a_new) * vi, speed, dt);
       area_[i] = a_new;
     }
     return {any};
@@ -60,6 +73,7 @@ class FrictionLaw {
   InterfaceParams p_;
   std::vector<double> area_;
   std::vector<double> sigma_bar_;
+  double cached_dt_ = -1.0, stuck_exp_ = 1.0, stuck_weight_ = 0.0;
 };
 
 // Closed forms of MODEL §1 (tests and the comparison layer check against these).

@@ -135,18 +135,14 @@ class ImplicitSimulation {
     const double m = 2.0 * rho / dt + eta_, off = -0.5 * dt * k;
     const std::span<const double> area = law_.contact_area(), sb = law_.sigma_bar();
     const double* u = u_.data();
+    const double mass = 2.0 * rho / dt;
     auto row = [&](std::size_t i, double w, double diag_extra, double elastic) {
       linearise(i, area[i], sb[i], kc);
       const double diag = w * (m + 0.5 * c1_[i]) + diag_extra;
-      const double rhs = w * (2.0 * rho * V_[i] / dt + sd - 0.5 * (sb[i] + c0_[i])) + elastic;
-      if (i == 0) {
-        cp_[0] = off / diag;
-        rhs_[0] = rhs / diag;
-      } else {
-        const double inv = 1.0 / (diag - off * cp_[i - 1]);
-        cp_[i] = off * inv;
-        rhs_[i] = (rhs - off * rhs_[i - 1]) * inv;
-      }
+      const double rhs = w * (mass * V_[i] + sd - 0.5 * (sb[i] + c0_[i])) + elastic;
+      const double inv = 1.0 / (i == 0 ? diag : diag - off * cp_[i - 1]);
+      cp_[i] = off * inv;
+      rhs_[i] = (i == 0 ? rhs : rhs - off * rhs_[i - 1]) * inv;
     };
     const double K = bulk_.spring_K(), drive = K * (bulk_.driver_velocity() * (time() + 0.5 * dt) - u[0]);
     if (n == 1) {  // 0D spring block: no elastic neighbour

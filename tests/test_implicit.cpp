@@ -33,12 +33,6 @@ compare::ModelResult run_one(const compare::Scene& s) {
   return std::move(out[0]);
 }
 
-// Slip u(x, t_end) of the continuum model on fig1's grid (last snapshot).
-std::vector<double> final_slip(const compare::ModelResult& r) {
-  const auto& u = r.snapshots.at("u");
-  const std::size_t nx = r.x.size();
-  return {u.end() - static_cast<std::ptrdiff_t>(nx), u.end()};
-}
 
 double max_abs_diff(const std::vector<double>& a, const std::vector<double>& b) {
   double m = 0.0;

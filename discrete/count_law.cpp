@@ -254,9 +254,15 @@ bool CountLaw::advance_sites(std::size_t lo, std::size_t hi, double dt, const do
       sigma_bar_[i] = std::numeric_limits<double>::quiet_NaN();
       continue;
     }
-    double* at = att_.data() + i * B;
     // 1. load: contact stress at the start of the step, overloaded bins [0, k), yield fraction Y
     const double tau = continuum::contact_stress(sb + eta * vi, a0);
+    if (noise_ && n_att_[i] == n_contacts_ && tau <= thresholds_[0]) {
+      // idle (every contact attached, none overloaded): the general path below with k = 0, A' = A
+      // and Y = 0, without its calls — the same arithmetic, so the same bits
+      sigma_bar_[i] = detail::relax_stress(sb, alpha * 0.5 * (a0 + a0) * vi, 0.0 * speed, dt);
+      continue;
+    }
+    double* at = att_.data() + i * B;
     const std::size_t k = overloaded_bins(tau);
     double n_over = 0.0;
     for (std::size_t b = 0; b < k; ++b) n_over += at[b];

@@ -40,8 +40,11 @@ class FrontTracker {
   void observe_step(double t0, double t1, bool yielded, double max_v);
   /// Whether a tip sample is due at time t: the first step at or after each multiple of measure.sample_dt.
   bool sample_due(double t) const { return t >= next_sample_; }
-  /// Record the tip positions (both thresholds) at time t; returns the A_tip position.
+  /// Record the tip positions (both thresholds) at time t; returns the A_tip position. `area` may be
+  /// a prefix of the nodes when every node beyond it is known to be above both thresholds.
   double sample_tip(double t, std::span<const double> area);
+  /// Between t^ and the arrest (max v has not yet fallen back below v_event/5).
+  bool in_transient() const { return in_transient_; }
 
   const std::vector<double>& sample_times() const { return ts_; }
   const std::vector<double>& tips() const { return tips_; }

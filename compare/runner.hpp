@@ -288,14 +288,31 @@ class DynamicRun {
   // Dense stepper: over the accepted step [t0, t1] the tracker sees max|v| on sub-intervals of at
   // most sample_dt/2 (so t^ is interpolated as finely as with small steps), tip samples, series and
   // snapshots are taken at their exact cadence times from the integrator's interpolant.
+  // The interpolant is quadratic in time at every node, so over the step |v_i| ≤ 1.25 × the largest of
+  // |v_i| at its start, middle and end (the Lebesgue constant of three equispaced points), and likewise
+  // for 1 − A_i. That bound spares the work nobody would see: a step whose bound stays ≤ v_event outside
+  // a transient cannot move an event, and gets one observation instead of sub-intervals; a node whose
+  // A stays above both tip thresholds over the whole step is not interpolated for the tip samples.
   void record_dense(double t0, double t1) {
     using continuum::Field;
-    const auto m = std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil((t1 - t0) / (0.5 * s_.measure.sample_dt) - 1e-9)));
-    for (std::int64_t j = 0; j < m; ++j) {
-      const double a = t0 + (t1 - t0) * static_cast<double>(j) / static_cast<double>(m);
-      const double b = j + 1 == m ? t1 : t0 + (t1 - t0) * static_cast<double>(j + 1) / static_cast<double>(m);
-      sim_.dense_state(0.5 * (a + b), Field::slip_rate, v_);
-      tracker_.observe_step(a, b, sim_.yielded(), max_abs(v_));
+    const std::size_t n = r_.x.size();
+    sim_.dense_state(t0, Field::slip_rate, v_);
+    const double v_start = max_abs(v_);
+    sim_.dense_state(0.5 * (t0 + t1), Field::slip_rate, v_);
+    const double bound = 1.25 * std::max({v_start, max_abs(v_), max_abs(sim_.slip_rate())});
+    if (!tracker_.in_transient() && bound <= s_.measure.v_event) {
+      tracker_.observe_step(t0, t1, sim_.yielded(), bound);
+      quiet_ = true;
+    } else {
+      if (quiet_) tracker_.observe_step(t0, t0, false, v_start);  // exact base for interpolating t^
+      quiet_ = false;
+      const auto m = std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil((t1 - t0) / (0.5 * s_.measure.sample_dt) - 1e-9)));
+      for (std::int64_t j = 0; j < m; ++j) {
+        const double a = t0 + (t1 - t0) * static_cast<double>(j) / static_cast<double>(m);
+        const double b = j + 1 == m ? t1 : t0 + (t1 - t0) * static_cast<double>(j + 1) / static_cast<double>(m);
+        sim_.dense_state(0.5 * (a + b), Field::slip_rate, v_);
+        tracker_.observe_step(a, b, sim_.yielded(), max_abs(v_));
+      }
     }
     if (!one_d_) cycles_.observe(t1, sim_.drive_force(), sim_.slip_rate()[0], r_.cycles);
     auto times = [t0, t1](double every, auto&& f) {  // multiples of `every` in (t0, t1]
@@ -312,17 +329,35 @@ class DynamicRun {
       sim_.dense_state(t, Field::slip_rate, v_);
       sim_.dense_state(t, Field::slip, u_);
     };
-    if (one_d_)
+    if (one_d_) {
+      // Nodes [0, m) can be below a tip threshold during the step; beyond them A stays above both.
+      const double margin = 1.0 - std::max(s_.measure.A_tip, s_.measure.A_tip_alt);
+      std::size_t last = n;  // last node that may be below a threshold (n: none)
+      for (std::size_t i = n; i-- > 0;) {
+        const double dev = std::max({std::abs(1.0 - sim_.dense_value(t0, Field::contact_area, i)),
+                                     std::abs(1.0 - sim_.dense_value(0.5 * (t0 + t1), Field::contact_area, i)),
+                                     std::abs(1.0 - sim_.dense_value(t1, Field::contact_area, i))});
+        if (!(1.25 * dev < margin)) { last = i; break; }
+      }
+      const std::size_t m = last == n ? 1 : std::min(n, last + 2);
+      const std::span<double> prefix(A_.data(), m);
       times(s_.measure.sample_dt, [&](double t) {
-        sim_.dense_state(t, Field::contact_area, A_);
-        const double tip = tracker_.sample_tip(t, A_);
+        if (m == n) sim_.dense_state(t, Field::contact_area, A_);
+        else for (std::size_t i = 0; i < m; ++i) A_[i] = sim_.dense_value(t, Field::contact_area, i);
+        const double tip = tracker_.sample_tip(t, prefix);
         if (s_.drive.loading == continuum::Loading::homogeneous) {
           sim_.dense_state(t, Field::slip_rate, v_);
           observe_behind(tip, v_);
         }
       });
+    }
     times(s_.output.series_dt, [&](double t) {
-      load(t);
+      if (one_d_) {  // a 1D series row needs u_0 and max |v| only
+        sim_.dense_state(t, Field::slip_rate, v_);
+        u_[0] = sim_.dense_value(t, Field::slip, 0);
+      } else {
+        load(t);
+      }
       detail::push(r_.series, "t", t);
       detail::push(r_.series, "drive_force", sim_.bulk().drive_force(t, u_[0]));
       detail::push(r_.series, "max_v", max_abs(v_));
@@ -364,6 +399,7 @@ class DynamicRun {
   detail::CycleDetector cycles_;
   std::int64_t n_ = 0, nsteps_ = 0;
   double v_behind_ = nan;
+  bool quiet_ = false;                  // dense stepper: the last step got one max|v| observation
   std::vector<double> A_, sb_, v_, u_;  // dense-output buffers
 };
 

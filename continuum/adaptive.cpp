@@ -141,14 +141,23 @@ void AdaptiveSimulation::factor(double c, const std::vector<double>& y) {
   const double* s = a + n;
   const double base = 1.0 + c * eta_ / rho, c_rho = c / rho, rho_c2 = rho / (c * c);
   const double off = -k;
+  const double stuck_ia1 = 1.0 / (1.0 + c);  // Θ = 0: the A row relaxes at rate 1, σ̄ not at all
   for (std::size_t i = 0; i < n; ++i) {
     const double vi = v[i], ai = a[i], si = s[i];
-    const double th = theta_[i] ? 1.0 : 0.0, sg = vi >= 0.0 ? 1.0 : -1.0, speed = std::abs(vi);
-    const double ia1 = 1.0 / (1.0 + c * (1.0 + th * kappa * speed));
-    const double qa = -c * th * kappa * ai * sg * ia1;
-    const double is1 = 1.0 / (1.0 + c * th * speed);
     const double cav = c * alpha * vi;
-    const double qs = (cav * qa + c * (alpha * ai - th * si * sg)) * is1;
+    double ia1, qa, is1, qs;
+    if (!theta_[i]) {  // the general expressions below with Θ = 0, without their two divisions
+      ia1 = stuck_ia1;
+      qa = 0.0;
+      is1 = 1.0;
+      qs = c * (alpha * ai);
+    } else {
+      const double sg = vi >= 0.0 ? 1.0 : -1.0, speed = std::abs(vi);
+      ia1 = 1.0 / (1.0 + c * (1.0 + kappa * speed));
+      qa = -c * kappa * ai * sg * ia1;
+      is1 = 1.0 / (1.0 + c * speed);
+      qs = (cav * qa + c * (alpha * ai - si * sg)) * is1;
+    }
     const double w = bulk_.node_weight(i);
     const double dc = rho_c2 * w * (base + c_rho * qs);
     inv_a1_[i] = ia1;

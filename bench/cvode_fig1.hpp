@@ -142,14 +142,23 @@ class DenseObserver {
       else if (hat_seen_ && mv < p_.v_event / 5.0) arrest_seen_ = true;
     }
     last_mv_ = mv1;
-    // Tip samples at the exact multiples of sample_dt.
+    // Tip samples at the exact multiples of sample_dt, over the nodes that can be below a threshold.
+    std::size_t nodes = n_;
+    if constexpr (requires { sim.dense_value(t1, Field::contact_area, std::size_t{0}); })
+      nodes = compare::tip_nodes(sim, n_, std::max(p_.A_tip, p_.A_tip_alt));
     for (;;) {
       const double tk = static_cast<double>(next_k_) * p_.sample_dt;
       if (tk > t1 * (1.0 + 1e-14)) break;
       ++next_k_;
       if (tk < t0 || !tracker_.sample_due(tk)) continue;
-      sim.dense_state(tk, Field::contact_area, area_);
-      tracker_.sample_tip(tk, area_);
+      if constexpr (requires { sim.dense_value(t1, Field::contact_area, std::size_t{0}); }) {
+        if (nodes == n_) sim.dense_state(tk, Field::contact_area, area_);
+        else
+          for (std::size_t i = 0; i < nodes; ++i) area_[i] = sim.dense_value(tk, Field::contact_area, i);
+      } else {
+        sim.dense_state(tk, Field::contact_area, area_);
+      }
+      tracker_.sample_tip(tk, std::span<const double>(area_.data(), nodes));
     }
     // Fields at the requested times.
     while (next_snap_ < snap_times_.size() && snap_times_[next_snap_] <= t1 * (1.0 + 1e-14)) {

@@ -130,6 +130,26 @@ concept DenseStepper = requires(const S& sim, double t, std::span<double> out) {
   sim.dense_state(t, continuum::Field::slip_rate, out);
 };
 
+/// Dense steppers, after a step [t0, t1]: how many leading nodes the tip samples of that step need
+/// (MODEL §3 tip: the largest x with A < threshold). The interpolant is quadratic in time at every
+/// node, so |1 − A_i(t)| over the step is at most 1.25 × (the Lebesgue constant of three equispaced
+/// points) its largest value at the start, middle and end; nodes beyond the last one that fails
+/// 1.25 |1 − A_i| < 1 − threshold stay above the threshold throughout. Returns that node + 2 (one more
+/// for the tip's interpolation; at most the node count), or 1 when every node stays above.
+template <class S>
+  requires requires(const S& sim, double t, std::size_t i) { sim.dense_value(t, continuum::Field::contact_area, i); }
+std::size_t tip_nodes(const S& sim, std::size_t nodes, double threshold) {
+  using continuum::Field;
+  const double t0 = sim.previous_time(), t1 = sim.time(), margin = 1.0 - threshold;
+  for (std::size_t i = nodes; i-- > 0;) {
+    const double dev = std::max({std::abs(1.0 - sim.dense_value(t0, Field::contact_area, i)),
+                                 std::abs(1.0 - sim.dense_value(0.5 * (t0 + t1), Field::contact_area, i)),
+                                 std::abs(1.0 - sim.dense_value(t1, Field::contact_area, i))});
+    if (!(1.25 * dev < margin)) return std::min(nodes, i + 2);
+  }
+  return 1;
+}
+
 namespace detail {
 template <class Stepper, class Law>
 Stepper make_stepper(const Scene& s, Law law) {
@@ -331,15 +351,7 @@ class DynamicRun {
     };
     if (one_d_) {
       // Nodes [0, m) can be below a tip threshold during the step; beyond them A stays above both.
-      const double margin = 1.0 - std::max(s_.measure.A_tip, s_.measure.A_tip_alt);
-      std::size_t last = n;  // last node that may be below a threshold (n: none)
-      for (std::size_t i = n; i-- > 0;) {
-        const double dev = std::max({std::abs(1.0 - sim_.dense_value(t0, Field::contact_area, i)),
-                                     std::abs(1.0 - sim_.dense_value(0.5 * (t0 + t1), Field::contact_area, i)),
-                                     std::abs(1.0 - sim_.dense_value(t1, Field::contact_area, i))});
-        if (!(1.25 * dev < margin)) { last = i; break; }
-      }
-      const std::size_t m = last == n ? 1 : std::min(n, last + 2);
+      const std::size_t m = tip_nodes(sim_, n, std::max(s_.measure.A_tip, s_.measure.A_tip_alt));
       const std::span<double> prefix(A_.data(), m);
       times(s_.measure.sample_dt, [&](double t) {
         if (m == n) sim_.dense_state(t, Field::contact_area, A_);

@@ -16,9 +16,9 @@ namespace {
 //   k3 = W⁻¹ (f(t + h, y') − e32 (k2 − f1) − 2 (k1 − f0) + h d f_t)
 //   error ≈ h/6 (k1 − 2 k2 + k3)                    (order 3 estimate of the local error)
 //   y(t + θh) ≈ y + h (θ(1 − θ) k1 + θ(θ − 2d) k2)/(1 − 2d)    (dense output, order 2)
-constexpr double kD = 0.29289321881345247560;  // 1/(2 + √2) = 1 − 1/√2
+constexpr double kD = AdaptiveSimulation::kGamma;  // 1/(2 + √2) = 1 − 1/√2
 constexpr double kE32 = 7.41421356237309504880;  // 6 + √2
-constexpr double kInv12d = 1.0 / (1.0 - 2.0 * kD);
+constexpr double kInv12d = AdaptiveSimulation::kDenseScale;
 
 // PI step-size controller (Gustafsson), local error ∝ h³.
 constexpr double kSafety = 0.9, kBeta1 = 0.7 / 3.0, kBeta2 = 0.4 / 3.0, kGrowMax = 5.0, kShrinkMin = 0.2;
@@ -442,12 +442,5 @@ void AdaptiveSimulation::dense_state(double t, Field f, std::span<double> out) c
     out[i] = y_prev_[off + i] + b1 * k1_prev_[off + i] + b2 * k2_prev_[off + i];
 }
 
-double AdaptiveSimulation::dense_value(double t, Field f, std::size_t i) const {
-  const std::size_t j = static_cast<std::size_t>(f) * n_ + i;
-  if (stats_.accepted == 0 || h_prev_ <= 0.0) return y_[j];
-  const double th = std::clamp((t - t_prev_) / h_prev_, 0.0, 1.0);
-  const double b1 = th * (1.0 - th) * kInv12d * h_prev_, b2 = th * (th - 2.0 * kD) * kInv12d * h_prev_;
-  return y_prev_[j] + b1 * k1_prev_[j] + b2 * k2_prev_[j];
-}
 
 }  // namespace slipfront::continuum

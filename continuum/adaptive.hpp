@@ -23,6 +23,7 @@
 // Public API: that of Simulation<FrictionLaw> (stepper.hpp) so the runner can drive either one;
 // step() advances one accepted, variable step. Extras: dense output over the last step
 // (previous_time(), dense_state()), a stop time, work counters.
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -115,8 +116,16 @@ class AdaptiveSimulation {
   double previous_time() const { return t_prev_; }  ///< start of the last accepted step
   /// Dense output (order 2) of one field at t ∈ [previous_time(), time()], all nodes.
   void dense_state(double t, Field f, std::span<double> out) const;
-  /// Dense output of one value.
-  double dense_value(double t, Field f, std::size_t i) const;
+  /// Dense output of one value (inline: the runner's tip restriction calls it per node).
+  double dense_value(double t, Field f, std::size_t i) const {
+    const std::size_t j = static_cast<std::size_t>(f) * n_ + i;
+    if (stats_.accepted == 0 || h_prev_ <= 0.0) return y_[j];
+    const double th = std::clamp((t - t_prev_) / h_prev_, 0.0, 1.0);
+    const double b1 = th * (1.0 - th) * kDenseScale * h_prev_, b2 = th * (th - 2.0 * kGamma) * kDenseScale * h_prev_;
+    return y_prev_[j] + b1 * k1_prev_[j] + b2 * k2_prev_[j];
+  }
+  static constexpr double kGamma = 0.29289321881345247560;      ///< d = 1/(2 + √2) of the method
+  static constexpr double kDenseScale = 1.0 / (1.0 - 2.0 * kGamma);  ///< 1/(1 − 2d) of its dense output
   /// Θ of each site during the last step (1 sliding, 0 stuck).
   std::span<const std::uint8_t> theta() const { return theta_prev_; }
   const AdaptiveStats& stats() const { return stats_; }

@@ -96,7 +96,7 @@ inline InitialState initial_state(const compare::Scene& s, const continuum::Bulk
 class DenseObserver {
  public:
   DenseObserver(const compare::Scene& s, std::vector<double> x, std::vector<double> snap_times)
-      : p_(s.measure), tracker_(s.measure, x), snap_times_(std::move(snap_times)), n_(x.size()),
+      : p_(s.measure), x_(x), tracker_(s.measure, x), snap_times_(std::move(snap_times)), n_(x.size()),
         area_(n_), rate_(n_), sb_(n_) {}
 
   /// The state at t = 0 (the runner records it before the first step).
@@ -143,22 +143,23 @@ class DenseObserver {
     }
     last_mv_ = mv1;
     // Tip samples at the exact multiples of sample_dt, over the nodes that can be below a threshold.
-    std::size_t nodes = n_;
-    if constexpr (requires { sim.dense_value(t1, Field::contact_area, std::size_t{0}); })
-      nodes = compare::tip_nodes(sim, n_, std::max(p_.A_tip, p_.A_tip_alt));
+    constexpr bool lazy = requires { sim.dense_value(t1, Field::contact_area, std::size_t{0}); };
+    std::size_t m_tip = n_, m_alt = n_;
+    if constexpr (lazy) {
+      m_tip = compare::tip_nodes(sim, n_, p_.A_tip);
+      m_alt = compare::tip_nodes(sim, n_, p_.A_tip_alt);
+    }
     for (;;) {
       const double tk = static_cast<double>(next_k_) * p_.sample_dt;
       if (tk > t1 * (1.0 + 1e-14)) break;
       ++next_k_;
       if (tk < t0 || !tracker_.sample_due(tk)) continue;
-      if constexpr (requires { sim.dense_value(t1, Field::contact_area, std::size_t{0}); }) {
-        if (nodes == n_) sim.dense_state(tk, Field::contact_area, area_);
-        else
-          for (std::size_t i = 0; i < nodes; ++i) area_[i] = sim.dense_value(tk, Field::contact_area, i);
+      if constexpr (lazy) {
+        compare::sample_tips_dense(sim, tracker_, x_, p_, tk, m_tip, m_alt);
       } else {
         sim.dense_state(tk, Field::contact_area, area_);
+        tracker_.sample_tip(tk, area_);
       }
-      tracker_.sample_tip(tk, std::span<const double>(area_.data(), nodes));
     }
     // Fields at the requested times.
     while (next_snap_ < snap_times_.size() && snap_times_[next_snap_] <= t1 * (1.0 + 1e-14)) {
@@ -177,6 +178,7 @@ class DenseObserver {
     return m;
   }
   continuum::MeasureParams p_;
+  std::vector<double> x_;
   compare::FrontTracker tracker_;
   std::vector<double> snap_times_;
   std::size_t n_, next_snap_ = 0;

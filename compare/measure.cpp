@@ -50,8 +50,11 @@ void FrontTracker::observe_step(double t0, double t1, bool yielded, double max_v
 }
 
 double FrontTracker::sample_tip(double t, std::span<const double> area) {
-  const double tip = tip_position(x_, area, p_.A_tip);
-  last_tip_alt_ = tip_position(x_, area, p_.A_tip_alt);
+  return record_tips(t, tip_position(x_, area, p_.A_tip), tip_position(x_, area, p_.A_tip_alt));
+}
+
+double FrontTracker::record_tips(double t, double tip, double tip_alt) {
+  last_tip_alt_ = tip_alt;
   ts_.push_back(t);
   tips_.push_back(tip);
   tips_alt_.push_back(last_tip_alt_);

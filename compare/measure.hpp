@@ -29,6 +29,23 @@ struct Events {
 /// Largest x with A < threshold, interpolated linearly between nodes; NaN if A ≥ threshold everywhere.
 double tip_position(std::span<const double> x, std::span<const double> area, double threshold);
 
+/// tip_position over the nodes [0, m) with A evaluated on demand, from node m − 1 down (area(i)), for
+/// callers that know every node from m on stays at or above the threshold: the same result as
+/// tip_position on the first m values, usually after a few evaluations.
+template <class Area>
+double tip_position_lazy(std::span<const double> x, std::size_t m, double threshold, Area&& area) {
+  double above = 0.0;  // area(i + 1)
+  for (std::size_t i = m; i-- > 0;) {
+    const double a0 = area(i);
+    if (a0 < threshold) {
+      if (i + 1 == m) return x[i];
+      return x[i] + (threshold - a0) / (above - a0) * (x[i + 1] - x[i]);
+    }
+    above = a0;
+  }
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
 /// Least-squares slope of y(t); NaN with fewer than 2 distinct points.
 double ls_slope(std::span<const double> t, std::span<const double> y);
 
@@ -43,6 +60,8 @@ class FrontTracker {
   /// Record the tip positions (both thresholds) at time t; returns the A_tip position. `area` may be
   /// a prefix of the nodes when every node beyond it is known to be above both thresholds.
   double sample_tip(double t, std::span<const double> area);
+  /// Record tip positions found by the caller (tip_position or tip_position_lazy) at time t.
+  double record_tips(double t, double tip, double tip_alt);
   /// Between t^ and the arrest (max v has not yet fallen back below v_event/5).
   bool in_transient() const { return in_transient_; }
 

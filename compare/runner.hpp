@@ -131,23 +131,38 @@ concept DenseStepper = requires(const S& sim, double t, std::span<double> out) {
 };
 
 /// Dense steppers, after a step [t0, t1]: how many leading nodes the tip samples of that step need
-/// (MODEL §3 tip: the largest x with A < threshold). The interpolant is quadratic in time at every
-/// node, so |1 − A_i(t)| over the step is at most 1.25 × (the Lebesgue constant of three equispaced
-/// points) its largest value at the start, middle and end; nodes beyond the last one that fails
-/// 1.25 |1 − A_i| < 1 − threshold stay above the threshold throughout. Returns that node + 2 (one more
-/// for the tip's interpolation; at most the node count), or 1 when every node stays above.
+/// for `threshold` (MODEL §3 tip: the largest x with A < threshold). Nodes beyond the last one whose
+/// A may fall below the threshold during the step stay above it throughout. The bound on |1 − A_i(t)|
+/// over the step is the stepper's dense_deviation_bound when it has one, else 1.25 × the largest of
+/// |1 − A_i| at the start, middle and end (a quadratic interpolant: the Lebesgue constant of three
+/// equispaced points). Returns that node + 2 (one more for the tip's interpolation; at most the node
+/// count), or 1 when every node stays above.
 template <class S>
   requires requires(const S& sim, double t, std::size_t i) { sim.dense_value(t, continuum::Field::contact_area, i); }
 std::size_t tip_nodes(const S& sim, std::size_t nodes, double threshold) {
   using continuum::Field;
   const double t0 = sim.previous_time(), t1 = sim.time(), margin = 1.0 - threshold;
   for (std::size_t i = nodes; i-- > 0;) {
-    const double dev = std::max({std::abs(1.0 - sim.dense_value(t0, Field::contact_area, i)),
-                                 std::abs(1.0 - sim.dense_value(0.5 * (t0 + t1), Field::contact_area, i)),
-                                 std::abs(1.0 - sim.dense_value(t1, Field::contact_area, i))});
-    if (!(1.25 * dev < margin)) return std::min(nodes, i + 2);
+    double bound;
+    if constexpr (requires { sim.dense_deviation_bound(Field::contact_area, i, 1.0); }) {
+      bound = sim.dense_deviation_bound(Field::contact_area, i, 1.0);
+    } else {
+      bound = 1.25 * std::max({std::abs(1.0 - sim.dense_value(t0, Field::contact_area, i)),
+                               std::abs(1.0 - sim.dense_value(0.5 * (t0 + t1), Field::contact_area, i)),
+                               std::abs(1.0 - sim.dense_value(t1, Field::contact_area, i))});
+    }
+    if (!(bound < margin)) return std::min(nodes, i + 2);
   }
   return 1;
+}
+
+/// Dense steppers: record the tips at time t inside the last step, each searched lazily over the
+/// nodes tip_nodes() left for its threshold (m_tip, m_alt). Returns the A_tip position.
+template <class S>
+double sample_tips_dense(const S& sim, FrontTracker& tracker, std::span<const double> x, const continuum::MeasureParams& p,
+                         double t, std::size_t m_tip, std::size_t m_alt) {
+  auto area = [&](std::size_t i) { return sim.dense_value(t, continuum::Field::contact_area, i); };
+  return tracker.record_tips(t, tip_position_lazy(x, m_tip, p.A_tip, area), tip_position_lazy(x, m_alt, p.A_tip_alt, area));
 }
 
 namespace detail {
@@ -350,13 +365,10 @@ class DynamicRun {
       sim_.dense_state(t, Field::slip, u_);
     };
     if (one_d_) {
-      // Nodes [0, m) can be below a tip threshold during the step; beyond them A stays above both.
-      const std::size_t m = tip_nodes(sim_, n, std::max(s_.measure.A_tip, s_.measure.A_tip_alt));
-      const std::span<double> prefix(A_.data(), m);
+      // Per threshold, the nodes whose A can be below it during the step; beyond them A stays above.
+      const std::size_t m_tip = tip_nodes(sim_, n, s_.measure.A_tip), m_alt = tip_nodes(sim_, n, s_.measure.A_tip_alt);
       times(s_.measure.sample_dt, [&](double t) {
-        if (m == n) sim_.dense_state(t, Field::contact_area, A_);
-        else for (std::size_t i = 0; i < m; ++i) A_[i] = sim_.dense_value(t, Field::contact_area, i);
-        const double tip = tracker_.sample_tip(t, prefix);
+        const double tip = sample_tips_dense(sim_, tracker_, r_.x, s_.measure, t, m_tip, m_alt);
         if (s_.drive.loading == continuum::Loading::homogeneous) {
           sim_.dense_state(t, Field::slip_rate, v_);
           observe_behind(tip, v_);

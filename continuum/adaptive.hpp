@@ -24,6 +24,7 @@
 // step() advances one accepted, variable step. Extras: dense output over the last step
 // (previous_time(), dense_state()), a stop time, work counters.
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -123,6 +124,14 @@ class AdaptiveSimulation {
     const double th = std::clamp((t - t_prev_) / h_prev_, 0.0, 1.0);
     const double b1 = th * (1.0 - th) * kDenseScale * h_prev_, b2 = th * (th - 2.0 * kGamma) * kDenseScale * h_prev_;
     return y_prev_[j] + b1 * k1_prev_[j] + b2 * k2_prev_[j];
+  }
+  /// Bound on |target − y_i(t)| over the whole last step, from the dense output's coefficients:
+  /// y(θ) = y_prev + h (θ(1 − θ) k1 + θ(θ − 2d) k2)/(1 − 2d), with max |θ(1 − θ)| = 1/4 and
+  /// max |θ(θ − 2d)| = 1 − 2d on [0, 1].
+  double dense_deviation_bound(Field f, std::size_t i, double target) const {
+    const std::size_t j = static_cast<std::size_t>(f) * n_ + i;
+    if (stats_.accepted == 0 || h_prev_ <= 0.0) return std::abs(target - y_[j]);
+    return std::abs(target - y_prev_[j]) + h_prev_ * (0.25 * kDenseScale * std::abs(k1_prev_[j]) + std::abs(k2_prev_[j]));
   }
   static constexpr double kGamma = 0.29289321881345247560;      ///< d = 1/(2 + √2) of the method
   static constexpr double kDenseScale = 1.0 / (1.0 - 2.0 * kGamma);  ///< 1/(1 − 2d) of its dense output

@@ -6,6 +6,7 @@
 // drive force F_0 = K (v_d t − u_0) on node 0 for edge loading. The 0D spring block is the same
 // equation on one node with w = 1 and no elastic neighbour.
 #include <cstddef>
+#include <span>
 #include <vector>
 
 #include "continuum/params.hpp"
@@ -30,6 +31,18 @@ class Bulk {
 
   /// F(t) = K (v_d t − u_0): the drive force of edge loading and of the spring block (0 otherwise).
   double drive_force(double t, double u0) const { return spring_K_ * (v_d_ * t - u0); }
+
+  /// Elastic energy Σ k (u_{i+1} − u_i)²/2 of a slip field (energy budgets of every stepper).
+  double elastic_energy(std::span<const double> u) const {
+    double e = 0.0;
+    for (std::size_t i = 0; i + 1 < u.size(); ++i) e += 0.5 * k_ * (u[i + 1] - u[i]) * (u[i + 1] - u[i]);
+    return e;
+  }
+  /// Energy K (v_d t − u_0)²/2 stored in the drive spring (0 without one).
+  double spring_energy(double t, double u0) const {
+    const double stretch = v_d_ * t - u0;
+    return spring_K_ > 0.0 ? 0.5 * spring_K_ * stretch * stretch : 0.0;
+  }
 
   /// Largest stable step of the explicit scheme: 2/ω_max with the Gershgorin bound
   /// ω_max² = 4μ/(ρ dx²) + 2K/(ρ dx) + α/ρ   (1D; 0D: (K + α)/ρ).

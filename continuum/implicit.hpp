@@ -174,16 +174,12 @@ class ImplicitSimulation {
   void mechanical_now() {
     EnergyBudget& e = *energy_;
     const std::size_t n = u_.size();
-    double kin = 0.0, ela = 0.0;
-    for (std::size_t i = 0; i < n; ++i) {
-      kin += 0.5 * bulk_.rho() * bulk_.node_weight(i) * V_[i] * V_[i];
-      if (i + 1 < n) ela += 0.5 * bulk_.stiffness() * (u_[i + 1] - u_[i]) * (u_[i + 1] - u_[i]);
-    }
-    const double stretch = bulk_.driver_velocity() * time() - u_[0];
+    double kin = 0.0;
+    for (std::size_t i = 0; i < n; ++i) kin += 0.5 * bulk_.rho() * bulk_.node_weight(i) * V_[i] * V_[i];
     e.time = time();
     e.kinetic = kin;
-    e.elastic = ela;
-    e.spring = bulk_.has_drive_spring() ? 0.5 * bulk_.spring_K() * stretch * stretch : 0.0;
+    e.elastic = bulk_.elastic_energy(u_);
+    e.spring = bulk_.spring_energy(time(), u_[0]);
   }
 
   // Work over the step with the forces the bulk felt (before the law overwrites σ̄); u0 = u_0^n.

@@ -136,20 +136,18 @@ class Simulation {
   void energy_at_start() {
     EnergyBudget& e = *energy_;
     const std::size_t n = u_.size();
-    double kin = 0.0, ela = 0.0;
+    double kin = 0.0;
     for (std::size_t i = 0; i < n; ++i) {
       const double vn = 0.5 * (v_prev_[i] + v_[i]);
       kin += 0.5 * bulk_.rho() * bulk_.node_weight(i) * vn * vn;
-      if (i + 1 < n) ela += 0.5 * bulk_.stiffness() * (u_[i + 1] - u_[i]) * (u_[i + 1] - u_[i]);
     }
-    const double stretch = bulk_.driver_velocity() * time() - u_[0];
     e.time = time();
     e.kinetic = kin;
-    e.elastic = ela;
+    e.elastic = bulk_.elastic_energy(u_);
     e.drive_work = acc_drive_;
     e.viscous = acc_viscous_;
     e.interfacial = acc_interfacial_;
-    e.spring = bulk_.has_drive_spring() ? 0.5 * bulk_.spring_K() * stretch * stretch : 0.0;
+    e.spring = bulk_.spring_energy(time(), u_[0]);
     if (std::isnan(e.mechanical0)) e.mechanical0 = e.mechanical();
     f_start_ = bulk_.drive_force(time(), u_[0]);
   }

@@ -42,7 +42,7 @@ using continuum::Loading;
 // To add a key: add a member to the param struct and one row below (and a line in docs/cli.md).
 
 using Target = std::variant<double*, int*, long*, std::uint64_t*, bool*, std::string*, std::vector<std::string>*,
-                            std::vector<double>*, Loading*>;
+                            std::vector<double>*, Loading*, continuum::Integrator*>;
 using Predicate = bool (*)(const Scene&);
 
 struct Field {
@@ -71,7 +71,7 @@ bool imposed_sweep(const Scene& s) { return imposed(s) && s.drive.sweep_points !
 bool dt_given(const Scene& s) { return s.time.dt != 0.0; }
 bool cfl_used(const Scene& s) { return !imposed(s) && s.time.dt == 0.0; }
 bool bulk_scene(const Scene& s) { return !imposed(s); }
-bool adaptive(const Scene& s) { return !imposed(s) && s.time.integrator == "adaptive"; }
+bool adaptive(const Scene& s) { return !imposed(s) && s.time.integrator == continuum::Integrator::adaptive_rosenbrock; }
 bool discrete_listed(const Scene& s) {
   return std::find(s.models.begin(), s.models.end(), "discrete") != s.models.end();
 }
@@ -363,6 +363,14 @@ struct Reader {
             } catch (const continuum::ParamError& e) {
               fail(e.reason);
             }
+          } else if constexpr (std::is_same_v<T, continuum::Integrator>) {
+            const auto* s = n.as_string();
+            if (!s) fail("expected a string (explicit, implicit or adaptive), got " + describe(n));
+            try {
+              *p = continuum::integrator_from_string(s->get());
+            } catch (const continuum::ParamError& e) {
+              fail(e.reason);
+            }
           }
         },
         t);
@@ -613,7 +621,7 @@ std::string format_value(Target t) {
           text += join(items);
           text += "]";
           return text;
-        } else if constexpr (std::is_same_v<T, Loading>) {
+        } else if constexpr (std::is_same_v<T, Loading> || std::is_same_v<T, continuum::Integrator>) {
           return format_string(continuum::to_string(*p));
         } else {
           return std::to_string(*p);  // integers (a seed above 2^63 - 1 cannot be written in TOML)

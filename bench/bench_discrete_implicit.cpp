@@ -41,7 +41,7 @@ compare::Scene fig1(const std::string& integrator, double dt) {
   compare::Scene s = testing::fig1_scene();
   if (quick()) s.time.t_end = 60.0;
   s.models = {"continuum"};
-  s.time.integrator = integrator;
+  s.time.integrator = continuum::integrator_from_string(integrator);
   if (integrator == "implicit") s.time.dt = dt;
   if (integrator == "adaptive") s.time.rtol = 1e-2;
   s.discrete.contacts_per_site = contacts();

@@ -145,7 +145,7 @@ Comparison compare_results(const Scene& s, const ModelResult& c, const ModelResu
 
 SceneResult run_scene_alongside(const Scene& s, const RunControl& ctl) {
   const bool both = s.models.size() == 2 && s.models[0] != s.models[1];
-  if (!both || s.drive.loading == continuum::Loading::imposed_rate || s.time.integrator == "adaptive") {
+  if (!both || s.drive.loading == continuum::Loading::imposed_rate || s.time.integrator == continuum::Integrator::adaptive_rosenbrock) {
     // One model, 0D imposed-rate scenes (no bulk to share), or the adaptive continuum integrator (no
     // common step): the models run one after the other and are compared at the end (no field distances).
     SceneResult out;
@@ -160,7 +160,7 @@ SceneResult run_scene_alongside(const Scene& s, const RunControl& ctl) {
   return with_discrete_law(s, [&](auto make_discrete) {
     const continuum::Bulk probe(s.bulk, s.drive, s.interface, s.grid.dx);
     continuum::FrictionLaw c(s.interface, probe.nodes());
-    if (s.time.integrator == "implicit")
+    if (s.time.integrator == continuum::Integrator::implicit_trapezoidal)
       return lockstep<continuum::ImplicitSimulation>(s, std::move(c), make_discrete(probe.nodes()), ctl);
     return lockstep<continuum::Simulation>(s, std::move(c), make_discrete(probe.nodes()), ctl);
   });

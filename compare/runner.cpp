@@ -26,7 +26,7 @@ std::vector<ModelResult> run_scene(const Scene& s, const RunControl& ctl) {
   for (const auto& m : s.models) {
     try {
       if (m == "continuum" && s.drive.loading != continuum::Loading::imposed_rate &&
-          s.time.integrator == "adaptive") {
+          s.time.integrator == continuum::Integrator::adaptive_rosenbrock) {
         const continuum::Bulk probe(s.bulk, s.drive, s.interface, s.grid.dx);
         out.push_back(run_dynamic<continuum::FrictionLaw, continuum::AdaptiveSimulation>(
             s, continuum::FrictionLaw(s.interface, probe.nodes()), m, ctl));

@@ -569,7 +569,7 @@ template <class Law, class MakeLaw>
 ModelResult run_model(const Scene& s, MakeLaw make_law, const std::string& model, const RunControl& ctl) {
   if (s.drive.loading == continuum::Loading::imposed_rate) return run_imposed_rate<Law>(s, make_law, model, ctl);
   const continuum::Bulk probe(s.bulk, s.drive, s.interface, s.grid.dx);
-  if (s.time.integrator == "implicit")
+  if (s.time.integrator == continuum::Integrator::implicit_trapezoidal)
     return run_dynamic<Law, continuum::ImplicitSimulation<Law>>(s, make_law(probe.nodes()), model, ctl);
   return run_dynamic<Law>(s, make_law(probe.nodes()), model, ctl);
 }

@@ -24,7 +24,7 @@ void Scene::validate() const {
     throw ParamError("drive.switch_times", "every switch time must be before time.t_end (" +
                                               continuum::format_number(time.t_end) + "), got " +
                                               continuum::format_number(drive.v_times.back()));
-  if (drive.loading != continuum::Loading::imposed_rate && time.dt > 0 && time.integrator != "implicit") {
+  if (drive.loading != continuum::Loading::imposed_rate && time.dt > 0 && time.integrator != continuum::Integrator::implicit_trapezoidal) {
     const continuum::Bulk b(bulk, drive, interface, grid.dx);
     if (time.dt > b.stable_dt())
       throw ParamError("time.dt", "exceeds the explicit stability limit " + continuum::format_number(b.stable_dt()) +

@@ -52,6 +52,22 @@ Loading loading_from_string(const std::string& s) {
                    "unknown loading '" + s + "' (expected edge, homogeneous, imposed_rate or spring_block)");
 }
 
+const char* to_string(Integrator i) {
+  switch (i) {
+    case Integrator::central_difference: return "explicit";
+    case Integrator::implicit_trapezoidal: return "implicit";
+    case Integrator::adaptive_rosenbrock: return "adaptive";
+  }
+  return "?";
+}
+
+Integrator integrator_from_string(const std::string& s) {
+  if (s == "explicit") return Integrator::central_difference;
+  if (s == "implicit") return Integrator::implicit_trapezoidal;
+  if (s == "adaptive") return Integrator::adaptive_rosenbrock;
+  throw ParamError("time.integrator", "unknown integrator '" + s + "' (expected explicit, implicit or adaptive)");
+}
+
 bool is_one_dimensional(Loading l) { return l == Loading::edge || l == Loading::homogeneous; }
 
 void DriveParams::validate() const {
@@ -103,16 +119,14 @@ void TimeParams::validate(Loading l) const {
   if (dt == 0.0 && l != Loading::imposed_rate)
     require(finite(cfl) && cfl > 0.0 && cfl <= 1.0, "time.cfl",
             "must be in (0, 1] (fraction of the explicit stability limit), got " + format_number(cfl));
-  require(integrator == "explicit" || integrator == "adaptive" || integrator == "implicit", "time.integrator",
-          "unknown integrator '" + integrator + "' (expected explicit, implicit or adaptive)");
-  if (integrator == "implicit") {
+  if (integrator == Integrator::implicit_trapezoidal) {
     require(l == Loading::edge || l == Loading::homogeneous || l == Loading::spring_block, "time.integrator",
             "the implicit integrator is for bulk scenes (edge, homogeneous, spring_block)");
     require(dt > 0.0, "time.dt",
             "required with time.integrator = implicit (no stability limit: choose the step by accuracy, "
             "e.g. 0.02 for fig1; docs/numerics.md)");
   }
-  if (integrator == "adaptive") {
+  if (integrator == Integrator::adaptive_rosenbrock) {
     require(l == Loading::edge || l == Loading::homogeneous || l == Loading::spring_block, "time.integrator",
             "the adaptive integrator is for bulk scenes (edge, homogeneous, spring_block)");
     require(finite(rtol) && rtol > 0.0 && rtol < 1.0, "time.rtol", "must be in (0, 1), got " + format_number(rtol));

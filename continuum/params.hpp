@@ -45,6 +45,16 @@ const char* to_string(Loading l);
 Loading loading_from_string(const std::string& s);  // throws ParamError("drive.loading", ...)
 bool is_one_dimensional(Loading l);
 
+/// The time integrator of a bulk scene (config key time.integrator), chosen in one place:
+/// compare::with_stepper (compare/runner.hpp) maps it to the stepper class.
+enum class Integrator {
+  central_difference,    ///< "explicit": the reference central-difference scheme, steps of cfl × the stability limit
+  implicit_trapezoidal,  ///< "implicit": fixed step time.dt chosen by accuracy, both models (continuum/implicit.hpp)
+  adaptive_rosenbrock,   ///< "adaptive": L-stable Rosenbrock with error control (continuum/adaptive.hpp)
+};
+const char* to_string(Integrator i);
+Integrator integrator_from_string(const std::string& s);  // throws ParamError("time.integrator", ...)
+
 /// Drive. Which fields matter depends on `loading`.
 struct DriveParams {
   Loading loading = Loading::edge;
@@ -73,11 +83,9 @@ struct TimeParams {
   /// imposed_rate: each sweep point runs t_end + slip_end/|v| with `steps` steps (exact updates).
   double slip_end = 50.0;
   int steps = 4000;
-  /// Bulk scenes: "explicit" (the reference central-difference scheme, steps of cfl × the stability
-  /// limit), "implicit" (continuum/implicit.hpp: fixed step time.dt chosen by accuracy, both models)
-  /// or "adaptive" (continuum model only, continuum/adaptive.hpp: L-stable Rosenbrock with error
-  /// control and located switchings; the discrete model then steps explicitly).
-  std::string integrator = "explicit";
+  /// Bulk scenes: see Integrator (the adaptive integrator runs deterministic laws only; the discrete
+  /// model then steps explicitly).
+  Integrator integrator = Integrator::central_difference;
   double rtol = 1e-2;    ///< adaptive: relative tolerance of the local error per step
   double atol = 1e-5;    ///< adaptive: absolute tolerance
   double dt_max = 1.0;   ///< adaptive: largest step

@@ -19,7 +19,7 @@ namespace {
 
 compare::Scene implicit(compare::Scene s, double dt) {
   s.models = {"continuum"};
-  s.time.integrator = "implicit";
+  s.time.integrator = continuum::Integrator::implicit_trapezoidal;
   s.time.dt = dt;
   s.validate();
   return s;
@@ -226,7 +226,7 @@ TEST_CASE("implicit: noise off and w = 0, the count representation is the contin
 
 TEST_CASE("implicit: time.dt is required and may exceed the explicit limit", "[implicit][config]") {
   compare::Scene s = testing::fig1_scene();
-  s.time.integrator = "implicit";
+  s.time.integrator = continuum::Integrator::implicit_trapezoidal;
   s.time.dt = 0.0;
   try {
     s.validate();
@@ -236,7 +236,7 @@ TEST_CASE("implicit: time.dt is required and may exceed the explicit limit", "[i
   }
   s.time.dt = 0.05;
   CHECK_NOTHROW(s.validate());
-  s.time.integrator = "explicit";
+  s.time.integrator = continuum::Integrator::central_difference;
   try {
     s.validate();
     FAIL("explicit dt beyond the stability limit accepted");
@@ -244,7 +244,7 @@ TEST_CASE("implicit: time.dt is required and may exceed the explicit limit", "[i
     CHECK(e.key == "time.dt");
   }
   s.drive.loading = continuum::Loading::imposed_rate;
-  s.time.integrator = "implicit";
+  s.time.integrator = continuum::Integrator::implicit_trapezoidal;
   CHECK_THROWS_AS(s.time.validate(s.drive.loading), continuum::ParamError);
 }
 

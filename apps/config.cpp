@@ -157,6 +157,11 @@ const std::vector<Section>& schema() {
            {"sample_dt", at<&Scene::measure, &MeasureParams::sample_dt>, always, "always"},
            {"average_from", at<&Scene::measure, &MeasureParams::average_from>, always, "always"},
            {"batches", at<&Scene::measure, &MeasureParams::batches>, always, "always"},
+           {"arrest_fraction", at<&Scene::measure, &MeasureParams::arrest_fraction>, always, "always"},
+           {"behind_tip_fraction", at<&Scene::measure, &MeasureParams::behind_tip_fraction>, homogeneous,
+            "with drive.loading = homogeneous"},
+           {"behind_gap", at<&Scene::measure, &MeasureParams::behind_gap>, homogeneous,
+            "with drive.loading = homogeneous"},
        }},
       {"output",
        {

@@ -237,8 +237,8 @@ inline RunRecord run_explicit(compare::Scene s, double cfl, const std::vector<do
   const std::vector<double> x = bulk.x();
   const double dt = s.time.dt;
   const auto nsteps = static_cast<std::int64_t>(std::llround(s.time.t_end / dt));
-  continuum::Simulation<continuum::FrictionLaw> sim(std::move(bulk), continuum::FrictionLaw(s.interface, x.size()),
-                                                    s.interface.eta, dt);
+  continuum::ExplicitSimulation<continuum::FrictionLaw> sim(std::move(bulk), continuum::FrictionLaw(s.interface, x.size()),
+                                                            dt);
   for (std::size_t i = 0; i < x.size(); ++i) {
     sim.law().set_site(i, init.A[i], init.sb[i]);
     sim.set_initial(i, init.u[i], init.v[i]);
@@ -281,7 +281,7 @@ inline RunRecord run_adaptive(const compare::Scene& s, const continuum::Adaptive
   continuum::Bulk bulk(s.bulk, s.drive, s.interface, s.grid.dx);
   const auto init = initial_state(s, bulk);
   const std::vector<double> x = bulk.x();
-  continuum::AdaptiveSimulation sim(std::move(bulk), continuum::FrictionLaw(s.interface, x.size()), s.interface.eta, opt);
+  continuum::AdaptiveSimulation sim(std::move(bulk), continuum::FrictionLaw(s.interface, x.size()), opt);
   for (std::size_t i = 0; i < x.size(); ++i) {
     sim.law().set_site(i, init.A[i], init.sb[i]);
     sim.set_initial(i, init.u[i], init.v[i]);

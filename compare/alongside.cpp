@@ -29,22 +29,20 @@ class FieldComparison {
   Columns c_;
 };
 
-template <template <class> class Stepper, class LawA, class LawB>
+template <class Tag, class LawA, class LawB>
 SceneResult lockstep(const Scene& s, LawA a, LawB b, const RunControl& ctl) {
-  DynamicRun<LawA, Stepper<LawA>> ra(s, std::move(a), "continuum");
-  DynamicRun<LawB, Stepper<LawB>> rb(s, std::move(b), "discrete");
+  DynamicRun<LawA, typename Tag::template stepper<LawA>> ra(s, std::move(a), "continuum");
+  DynamicRun<LawB, typename Tag::template stepper<LawB>> rb(s, std::move(b), "discrete");
   FieldComparison fields(s.output.compare_dt);
   fields.observe(0.0, ra.sim(), rb.sim());
   for (std::int64_t n = 1; !ra.done() || !rb.done(); ++n) {
     if (!ra.done()) ra.step();
     if (!rb.done()) rb.step();
     if (ra.time() == rb.time()) fields.observe(ra.time(), ra.sim(), rb.sim());  // both advanced (none failed)
-    if ((n & 63) == 0) {
-      if ((n & 1023) == 0) ctl.progress("continuum+discrete", ra.time(), s.time.t_end);
-      if (ctl.stop()) {
-        if (!ra.done()) ra.interrupt();
-        if (!rb.done()) rb.interrupt();
-      }
+    if ((n & 1023) == 0) ctl.progress("continuum+discrete", ra.time(), s.time.t_end);
+    if (ctl.stop()) {
+      if (!ra.done()) ra.interrupt();
+      if (!rb.done()) rb.interrupt();
     }
   }
   SceneResult out;
@@ -145,7 +143,7 @@ Comparison compare_results(const Scene& s, const ModelResult& c, const ModelResu
 
 SceneResult run_scene_alongside(const Scene& s, const RunControl& ctl) {
   const bool both = s.models.size() == 2 && s.models[0] != s.models[1];
-  if (!both || s.drive.loading == continuum::Loading::imposed_rate || s.time.integrator == continuum::Integrator::adaptive_rosenbrock) {
+  auto separately = [&] {
     // One model, 0D imposed-rate scenes (no bulk to share), or the adaptive continuum integrator (no
     // common step): the models run one after the other and are compared at the end (no field distances).
     SceneResult out;
@@ -155,14 +153,18 @@ SceneResult run_scene_alongside(const Scene& s, const RunControl& ctl) {
     for (const auto& m : out.models) (m.model == "continuum" ? c : d) = &m;
     if (c && d) out.comparison = compare_results(s, *c, *d);
     return out;
-  }
-  s.discrete.validate();
-  return with_discrete_law(s, [&](auto make_discrete) {
-    const continuum::Bulk probe(s.bulk, s.drive, s.interface, s.grid.dx);
-    continuum::FrictionLaw c(s.interface, probe.nodes());
-    if (s.time.integrator == continuum::Integrator::implicit_trapezoidal)
-      return lockstep<continuum::ImplicitSimulation>(s, std::move(c), make_discrete(probe.nodes()), ctl);
-    return lockstep<continuum::Simulation>(s, std::move(c), make_discrete(probe.nodes()), ctl);
+  };
+  if (!both || s.drive.loading == continuum::Loading::imposed_rate) return separately();
+  return with_integrator(s, [&](auto tag) {
+    using Tag = decltype(tag);
+    if constexpr (std::is_same_v<Tag, AdaptiveTag>) {
+      return separately();
+    } else {
+      return with_discrete_law(s, [&](auto make_discrete) {
+        const continuum::Bulk probe(s.bulk, s.drive, s.interface, s.grid.dx);
+        return lockstep<Tag>(s, continuum::FrictionLaw(s.interface, probe.nodes()), make_discrete(probe.nodes()), ctl);
+      });
+    }
   });
 }
 

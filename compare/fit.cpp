@@ -1,5 +1,7 @@
 #include "compare/fit.hpp"
 
+#include <algorithm>
+
 #include <boost/math/distributions/students_t.hpp>
 #include <cmath>
 #include <limits>
@@ -59,6 +61,46 @@ LineFit fit_power_law(std::span<const double> x, std::span<const double> err, do
   for (std::size_t i = 0; i < x.size(); ++i)
     if (err[i] > 0 && x[i] > 0 && std::isfinite(err[i])) { lx.push_back(std::log(x[i])); ly.push_back(std::log(err[i])); }
   return fit_line(lx, ly, confidence);
+}
+
+TabulatedMinimum parabola_minimum_log(std::span<const double> xs, std::span<const double> ys) {
+  TabulatedMinimum m;
+  if (ys.size() < 3 || xs.size() != ys.size()) return m;
+  auto k = static_cast<std::size_t>(std::min_element(ys.begin(), ys.end()) - ys.begin());
+  k = std::clamp<std::size_t>(k, 1, ys.size() - 2);
+  m.index = k;
+  const double x0 = std::log(xs[k - 1]), x1 = std::log(xs[k]), x2 = std::log(xs[k + 1]);
+  const double y0 = ys[k - 1], y1 = ys[k], y2 = ys[k + 1];
+  const double d = (x0 - x1) * (x0 - x2) * (x1 - x2);
+  const double a = (x2 * (y1 - y0) + x1 * (y0 - y2) + x0 * (y2 - y1)) / d;
+  const double b = (x2 * x2 * (y0 - y1) + x1 * x1 * (y2 - y0) + x0 * x0 * (y1 - y2)) / d;
+  const double c = (x1 * x2 * (x1 - x2) * y0 + x2 * x0 * (x2 - x0) * y1 + x0 * x1 * (x0 - x1) * y2) / d;
+  if (!(a > 0)) return m;
+  m.found = true;
+  m.x = std::exp(-b / (2 * a));
+  m.y = c - b * b / (4 * a);
+  return m;
+}
+
+double golden_section_minimum(const std::function<double(double)>& f, double lo, double hi, double tol) {
+  const double g = 0.5 * (std::sqrt(5.0) - 1.0);
+  double p1 = hi - g * (hi - lo), p2 = lo + g * (hi - lo), f1 = f(p1), f2 = f(p2);
+  while (hi - lo > tol) {
+    if (f1 < f2) {
+      hi = p2;
+      p2 = p1;
+      f2 = f1;
+      p1 = hi - g * (hi - lo);
+      f1 = f(p1);
+    } else {
+      lo = p1;
+      p1 = p2;
+      f1 = f2;
+      p2 = lo + g * (hi - lo);
+      f2 = f(p2);
+    }
+  }
+  return 0.5 * (lo + hi);
 }
 
 }  // namespace slipfront::compare

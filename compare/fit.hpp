@@ -2,6 +2,7 @@
 // Fits for convergence studies: least-squares lines with confidence intervals (Student t), and
 // power laws fitted as lines in log–log. Written by hand (a dozen lines of algebra) rather than
 // pulling in a statistics library; the t quantile comes from Boost.Math.
+#include <functional>
 #include <span>
 
 namespace slipfront::compare {
@@ -22,5 +23,20 @@ LineFit fit_line_weighted(std::span<const double> x, std::span<const double> y, 
 
 /// err ≈ C x^p: the line fit of log err against log x (slope = p); points with err ≤ 0 are dropped.
 LineFit fit_power_law(std::span<const double> x, std::span<const double> err, double confidence = 0.95);
+
+/// Minimum of a tabulated curve y(x) with x > 0 (the steady friction law σ(v)): the parabola in log x
+/// through the smallest y and its two neighbours (the ends excluded: the three points around the
+/// smallest interior one). `found` is false when the parabola does not open upwards or fewer than
+/// three points are given.
+struct TabulatedMinimum {
+  bool found = false;
+  double x = 0.0, y = 0.0;
+  std::size_t index = 0;  ///< the middle of the three points
+};
+TabulatedMinimum parabola_minimum_log(std::span<const double> x, std::span<const double> y);
+
+/// Golden-section search for the minimum of a unimodal f on [lo, hi], to a bracket of width `tol`;
+/// returns the bracket's midpoint.
+double golden_section_minimum(const std::function<double(double)>& f, double lo, double hi, double tol);
 
 }  // namespace slipfront::compare

@@ -41,7 +41,7 @@ void FrontTracker::observe_step(double t0, double t1, bool yielded, double max_v
     const double f = (p_.v_event - prev_max_v_) / (max_v - prev_max_v_);
     ev_.t_hat = prev_max_v_ <= p_.v_event && f >= 0 && f <= 1 ? prev_t_mid_ + f * (t_mid - prev_t_mid_) : t_mid;
     in_transient_ = true;
-  } else if (in_transient_ && max_v < p_.v_event / 5.0) {
+  } else if (in_transient_ && max_v < p_.v_event * p_.arrest_fraction) {
     in_transient_ = false;
     ev_.t_arrest = t_mid;
   }
@@ -128,6 +128,38 @@ Events FrontTracker::finish(bool homogeneous, bool alt) const {
     }
   }
   return ev;
+}
+
+void CycleDetector::observe(double t, double force, double v, std::map<std::string, std::vector<double>>& out) {
+  if (!slipping_) {
+    peak_ = std::max(peak_, force);
+    if (v > v_event_) {
+      slipping_ = true;
+      t_start_ = t;
+      low_ = force;
+    }
+    return;
+  }
+  low_ = std::min(low_, force);
+  if (v < v_end_) {
+    out["t_start"].push_back(t_start_);
+    out["F_peak"].push_back(peak_);
+    out["F_residual"].push_back(low_);
+    slipping_ = false;
+    peak_ = -std::numeric_limits<double>::infinity();
+  }
+}
+
+void BehindRate::observe(double tip, std::span<const double> x, std::span<const double> v) {
+  if (!std::isnan(v_behind_) || !(tip >= p_.behind_tip_fraction * x.back())) return;
+  double sum = 0;
+  int n = 0;
+  for (std::size_t i = 0; i < x.size(); ++i)
+    if (x[i] >= from_ && x[i] <= tip - p_.behind_gap) {
+      sum += v[i];
+      ++n;
+    }
+  v_behind_ = n ? sum / n : nan;
 }
 
 BatchMeans::BatchMeans(double t_from, double t_end, int batches)

@@ -1,9 +1,13 @@
 #pragma once
-// Measurements of MODEL §3, written once and applied to every model (continuum and discrete).
-// FrontTracker is fed online by the runner: observe_step() every step, sample_tip() at a cadence.
+// Measurements of docs/model.md §3, written once and applied to every model (continuum and discrete)
+// and every stepper. FrontTracker is fed online by the runner: observe_step() every step (or every
+// sub-interval of a dense step), sample_tip() at a cadence; CycleDetector (the spring block's stick–slip
+// cycles) and BehindRate (homogeneous loading) likewise. Their constants are MeasureParams.
 #include <cstddef>
 #include <limits>
+#include <map>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "continuum/params.hpp"
@@ -83,6 +87,35 @@ class FrontTracker {
   Events ev_;
   double prev_max_v_ = 0.0, prev_t_mid_ = 0.0;
   bool in_transient_ = false;
+};
+
+/// Stick–slip cycles of the spring block: a cycle's slip event starts when v > v_event and ends when
+/// v < arrest_fraction · v_event; F_peak is the largest F since the previous event, F_residual the
+/// smallest F during the event. Each finished cycle appends t_start, F_peak, F_residual to `out`.
+class CycleDetector {
+ public:
+  explicit CycleDetector(const continuum::MeasureParams& p) : v_event_(p.v_event), v_end_(p.v_event * p.arrest_fraction) {}
+  void observe(double t, double force, double v, std::map<std::string, std::vector<double>>& out);
+
+ private:
+  double v_event_, v_end_, peak_ = -std::numeric_limits<double>::infinity();
+  double low_ = std::numeric_limits<double>::infinity(), t_start_ = 0.0;
+  bool slipping_ = false;
+};
+
+/// Homogeneous loading: the slip rate behind the front, v_behind (MODEL §3): the mean slip rate over the
+/// nodes from the nucleation patch's end to measure.behind_gap behind the tip, taken once, when the tip
+/// first passes measure.behind_tip_fraction · L.
+class BehindRate {
+ public:
+  BehindRate(const continuum::MeasureParams& p, double nucleation_length) : p_(p), from_(nucleation_length) {}
+  /// At a tip sample: the tip and the slip rates of every node at that time.
+  void observe(double tip, std::span<const double> x, std::span<const double> v);
+  double value() const { return v_behind_; }
+
+ private:
+  continuum::MeasureParams p_;
+  double from_, v_behind_ = nan;
 };
 
 /// Steady friction law measurement (MODEL §3): time average of σ over [t_from, t_end] with its

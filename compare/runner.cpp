@@ -13,6 +13,14 @@ double dynamic_time_step(const Scene& s) {
   return s.time.t_end / n;
 }
 
+std::int64_t fixed_step_count(const Scene& s) {
+  const double n = std::round(s.time.t_end / dynamic_time_step(s));
+  if (!(n < 9.0e18))
+    throw continuum::ParamError("time.t_end", "gives " + continuum::format_number(n) +
+                                                  " time steps, more than a 64-bit count holds (time.t_end / time.dt)");
+  return static_cast<std::int64_t>(n);
+}
+
 std::vector<double> sweep_rates(const continuum::DriveParams& d) {
   std::vector<double> v(static_cast<std::size_t>(d.sweep_points));
   const double a = std::log(d.v_min), b = std::log(d.v_max);
@@ -25,17 +33,11 @@ std::vector<ModelResult> run_scene(const Scene& s, const RunControl& ctl) {
   std::vector<ModelResult> out;
   for (const auto& m : s.models) {
     try {
-      if (m == "continuum" && s.drive.loading != continuum::Loading::imposed_rate &&
-          s.time.integrator == continuum::Integrator::adaptive_rosenbrock) {
-        const continuum::Bulk probe(s.bulk, s.drive, s.interface, s.grid.dx);
-        out.push_back(run_dynamic<continuum::FrictionLaw, continuum::AdaptiveSimulation>(
-            s, continuum::FrictionLaw(s.interface, probe.nodes()), m, ctl));
-      } else if (m == "continuum") {
+      if (m == "continuum") {
         auto make = [&](std::size_t n) { return continuum::FrictionLaw(s.interface, n); };
         out.push_back(run_model<continuum::FrictionLaw>(s, make, m, ctl));
       } else if (m == "discrete") {
-        // MODEL §2: the microcontact ensemble on the same bulk, grid and time step.
-        s.discrete.validate();
+        // docs/model.md §2: the microcontact ensemble on the same bulk, grid and time step.
         out.push_back(with_discrete_law(s, [&](auto make) {
           using Law = decltype(make(std::size_t{1}));
           return run_model<Law>(s, make, m, ctl);

@@ -1,38 +1,42 @@
 #pragma once
-// Adaptive, linearly implicit time stepping of bulk + continuum friction law (MODEL §1), for scenes
-// where long quiet stretches (elastic loading, the slow front, healing) alternate with short fast
-// ones (the transient front). Same method-of-lines ODE as the explicit scheme (continuum/stepper.hpp):
-// the grid, lumped masses, half cells, edge spring and free ends of continuum/bulk.hpp, per node
+// Adaptive, linearly implicit time stepping of bulk + a deterministic interface law given by its rates
+// (SmoothLaw, continuum/law.hpp: the continuum FrictionLaw, docs/model.md §1), for scenes where long
+// quiet stretches (elastic loading, the slow front, healing) alternate with short fast ones (the
+// transient front). Same method-of-lines ODE as the fixed-step schemes: the bulk operator of
+// continuum/bulk.hpp (grid, lumped masses, half cells, edge spring, free ends) and the law's rates, per
+// node
 //   u' = v
-//   ρ v' = (elastic_i + F_i)/w_i + σ_d − σ̄_i − η v_i
-//   A' = 1 − A − Θ_i κ A |v|               (MODEL §1 friction law)
-//   σ̄' = α A v − Θ_i σ̄ |v|
+//   ρ v' = F_i/w_i + σ_d − σ̄_i − η v_i                     (Bulk::forces_per_length)
+//   (A', σ̄') = law.rate({v_i, A_i, σ̄_i}, Θ_i)              (MODEL: A' = 1 − A − ΘκA|v|, σ̄' = αAv − Θσ̄|v|)
 // integrated as one stiff system (docs/performance.md):
 //   - a 2-stage Rosenbrock method (Shampine–Reichelt "ode23s": order 2, L-stable, embedded order-3
-//     error estimate, order-2 dense output) with the exact Jacobian. The Jacobian is block
-//     tridiagonal; each W = I − h d J solve eliminates (v, A, σ̄) node by node and leaves a
-//     symmetric tridiagonal system for u (Thomas): O(nodes) per solve, no sparse LU;
+//     error estimate, order-2 dense output) with the exact Jacobian (law.jacobian and the bulk's
+//     stiffness). The Jacobian is block tridiagonal; each W = I − h d J solve eliminates (v, A, σ̄)
+//     node by node and leaves a symmetric tridiagonal system for u (Thomas): O(nodes) per solve;
 //   - error-controlled step sizes (PI controller), by default a max norm per field (ErrorNorm);
 //   - Θ piecewise constant inside every step, switched by event location: the zeros of
-//     g_i = |σ̄_i + η v_i| − A_i (|σ|/A = 1) are located on the dense output of each accepted step
-//     (Illinois regula falsi to 1e-13 in time) and the step ends at the first one, where Θ_i flips
+//     g_i = law.load = |σ̄_i + η v_i| against A_i (|σ|/A = 1) are located on the dense output of each accepted
+//     step (Illinois regula falsi to 1e-13 in time) and the step ends at the first one, where Θ_i flips
 //     (with every other site that has crossed by then). A hysteresis band (switch_band, relative
 //     1e-9) keeps a site that just flipped from flipping back at once.
+// The state is where it belongs: u and v in the stepper core, A and σ̄ in the law (law.fields(),
+// advanced in place); the work vectors hold stages [u | v | A | σ̄] (4 blocks of n).
 // The explicit scheme stays the reference; this one buys speed at a stated tolerance.
-//
-// Public API: that of Simulation<FrictionLaw> (stepper.hpp) so the runner can drive either one;
-// step() advances one accepted, variable step. Extras: dense output over the last step
-// (previous_time(), dense_state()), a stop time, work counters.
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <span>
+#include <stdexcept>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "continuum/bulk.hpp"
-#include "continuum/friction_law.hpp"
+#include "continuum/law.hpp"
+#include "continuum/params.hpp"
 #include "continuum/stepper.hpp"
 
 namespace slipfront::continuum {
@@ -52,9 +56,9 @@ enum class EventEnd { retake, interpolate };
 
 /// Tolerances and limits of the adaptive integrator.
 struct AdaptiveOptions {
-  double rtol = 1e-3;        ///< relative tolerance of the local error per step (see ErrorNorm)
-  double atol = 1e-5;        ///< absolute tolerance (same units as the unknowns)
-  double dt_max = 1.0;       ///< largest step
+  double rtol = TimeParams{}.rtol;      ///< relative tolerance of the local error per step (see ErrorNorm)
+  double atol = TimeParams{}.atol;      ///< absolute tolerance (same units as the unknowns)
+  double dt_max = TimeParams{}.dt_max;  ///< largest step
   double dt_initial = 1e-3;  ///< first trial step (shortened automatically if too large)
   double dt_min = 1e-12;     ///< a step below this is reported as a failure (NumericalError)
   ErrorNorm norm = ErrorNorm::field;
@@ -68,6 +72,14 @@ struct AdaptiveOptions {
   /// delay there is: ~band/(d(|σ|/A)/dt), 1e-8 time units for fig1).
   double switch_band = 1e-9;
   void validate() const;     ///< throws ParamError("time.<key>", reason)
+  /// The scene's time.rtol, time.atol and time.dt_max; every other option at its default.
+  static AdaptiveOptions from(const TimeParams& t) {
+    AdaptiveOptions o;
+    o.rtol = t.rtol;
+    o.atol = t.atol;
+    o.dt_max = t.dt_max;
+    return o;
+  }
 };
 
 /// Work counters (for the work-precision study).
@@ -84,31 +96,84 @@ struct AdaptiveStats {
 /// Which unknown a dense-output call asks for.
 enum class Field { slip, slip_rate, contact_area, sigma_bar };
 
-class AdaptiveSimulation {
+
+namespace detail {
+// Shampine & Reichelt, "The MATLAB ODE suite" (SIAM J. Sci. Comput. 18, 1997), ode23s:
+//   W = I − h d J,  d = 1/(2 + √2),  e32 = 6 + √2
+//   k1 = W⁻¹ (f(t, y) + h d f_t)
+//   k2 = W⁻¹ (f(t + h/2, y + h k1/2) − k1) + k1
+//   y' = y + h k2                                   (order 2, L-stable)
+//   k3 = W⁻¹ (f(t + h, y') − e32 (k2 − f1) − 2 (k1 − f0) + h d f_t)
+//   error ≈ h/6 (k1 − 2 k2 + k3)                    (order 3 estimate of the local error)
+//   y(t + θh) ≈ y + h (θ(1 − θ) k1 + θ(θ − 2d) k2)/(1 − 2d)    (dense output, order 2)
+inline constexpr double kGamma = 0.29289321881345247560;          ///< d = 1/(2 + √2) = 1 − 1/√2
+inline constexpr double kE32 = 7.41421356237309504880;            ///< 6 + √2
+inline constexpr double kDenseScale = 1.0 / (1.0 - 2.0 * kGamma);  ///< 1/(1 − 2d)
+// PI step-size controller (Gustafsson), local error ∝ h³.
+inline constexpr double kSafety = 0.9, kBeta1 = 0.7 / 3.0, kBeta2 = 0.4 / 3.0, kGrowMax = 5.0, kShrinkMin = 0.2;
+}  // namespace detail
+
+template <SmoothLaw Law>
+class AdaptiveSimulation : public StepperCore<Law> {
+  using Core = StepperCore<Law>;
+
  public:
-  AdaptiveSimulation(Bulk bulk, FrictionLaw law, double eta, AdaptiveOptions opt);
+  static constexpr const char* integrator_name = "adaptive";
+  static constexpr double kGamma = detail::kGamma;
+  static constexpr double kDenseScale = detail::kDenseScale;
 
-  // --- state (same meaning as Simulation<FrictionLaw>) -------------------------------------
-  double time() const { return t_; }
-  std::int64_t steps() const { return stats_.accepted; }
+  AdaptiveSimulation(Bulk bulk, Law law, AdaptiveOptions opt)
+      : Core(std::move(bulk), std::move(law), "AdaptiveSimulation"), opt_(opt), h_next_(opt.dt_initial),
+        last_dt_(opt.dt_initial) {
+    opt_.validate();
+    const std::size_t m = 4 * this->n_;
+    for (auto* v : {&y_prev_, &ynew_, &f0_, &f1_, &f2_, &k1_, &k2_, &k3_, &k1_prev_, &k2_prev_}) v->assign(m, 0.0);
+    for (auto* v : {&tmp_, &inv_a1_, &q_area_, &inv_s1_, &c_alpha_v_, &q_sigma_, &d_coef_, &thomas_c_, &thomas_inv_})
+      v->assign(this->n_, 0.0);
+    theta_.assign(this->n_, 0);
+    theta_prev_.assign(this->n_, 0);
+  }
+
   double dt() const { return last_dt_; }  ///< size of the last accepted step (before any: dt_initial)
-  const Bulk& bulk() const { return bulk_; }
-  /// A and σ̄ live in the law object between steps: law().set_site() and set_initial() set the
-  /// initial state before the first step (Θ is taken from it then); later calls are not supported.
-  const FrictionLaw& law() const { return law_; }
-  FrictionLaw& law() { return law_; }
-  std::span<const double> slip() const { return {y_.data(), n_}; }
-  std::span<const double> slip_rate() const { return {y_.data() + n_, n_}; }  ///< v at time()
-  double drive_force() const { return bulk_.drive_force(t_, y_[0]); }
-  double max_slip_rate() const { return max_v_; }  ///< max_i |v_i| at the two ends of the last step
-  bool yielded() const { return yielded_; }        ///< some site had Θ = 1 during the last step
-  void set_initial(std::size_t i, double u, double v);
-  /// The energy budget is not tracked by this integrator (energy() stays empty).
-  void track_energy(bool) {}
-  const std::optional<EnergyBudget>& energy() const { return energy_; }
+  /// Initial slip and slip rate of node i (with law().set_site for A, σ̄), before the first step: Θ is
+  /// taken from the state at the first step.
+  void set_initial(std::size_t i, double u, double v) {
+    Core::set_initial(i, u, v);
+    f0_valid_ = false;
+  }
 
-  // --- the step --------------------------------------------------------------------------------
-  void step();
+  // One accepted step, in named stages (docs/performance.md §2):
+  //   1. trial    error-controlled Rosenbrock step from t (rejections shrink h), Θ frozen
+  //   2. events   earliest crossing of a switching surface on the step's dense output
+  //   3. shorten  the step ends at that switching (on the dense output, or recomputed)
+  //   4. accept   advance t, keep the dense output, propose the next h (PI, from the trial's error)
+  //   5. switch   flip Θ of every site that has crossed by the new t
+  void step() {
+    if (!started_) start();
+    double h = std::min(h_next_, opt_.dt_max);
+    const double h_wanted = h;
+    if (t_stop_ > this->t_ && h >= t_stop_ - this->t_) h = t_stop_ - this->t_;
+    bool rejected = false;
+    const double err = trial_step(h, rejected);       // 1.
+    const double h_trial = h, frac = first_switching(h);  // 2.
+    double h_dense = h_trial;  // the step of the dense-output polynomial of this step
+    bool f_end_valid = true;
+    if (frac < 1.0) {  // 3.
+      ++stats_.event_steps;
+      h *= frac;
+      if (opt_.event_end == EventEnd::retake && frac > 0.0) {
+        attempt(h);  // recompute the step to end at the switching (its error is smaller still)
+        h_dense = h;
+      } else {
+        end_on_dense_output(frac, h_trial);  // order 2, like the step itself; no extra work
+        f_end_valid = false;
+      }
+    }
+    const bool at_stop = accept(h, h_dense, f_end_valid);  // 4.
+    propose_next(at_stop && !rejected ? std::max(h_trial, h_wanted) : h_trial, err, rejected);
+    flip_crossed();  // 5.
+    if (this->energy_) energy_over_step();
+  }
 
   // --- extras ------------------------------------------------------------------------------------
   /// No step will cross t (a scene's t_end, an output time): the step that would is shortened to
@@ -116,11 +181,21 @@ class AdaptiveSimulation {
   void set_stop_time(double t) { t_stop_ = t; }
   double previous_time() const { return t_prev_; }  ///< start of the last accepted step
   /// Dense output (order 2) of one field at t ∈ [previous_time(), time()], all nodes.
-  void dense_state(double t, Field f, std::span<double> out) const;
+  void dense_state(double t, Field f, std::span<double> out) const {
+    const std::size_t n = this->n_, off = static_cast<std::size_t>(f) * n;
+    if (stats_.accepted == 0 || h_prev_ <= 0.0) {
+      const double* c = current(static_cast<std::size_t>(f));
+      for (std::size_t i = 0; i < n; ++i) out[i] = c[i];
+      return;
+    }
+    const double th = std::clamp((t - t_prev_) / h_prev_, 0.0, 1.0);
+    const double b1 = th * (1.0 - th) * kDenseScale * h_prev_, b2 = th * (th - 2.0 * kGamma) * kDenseScale * h_prev_;
+    for (std::size_t i = 0; i < n; ++i) out[i] = y_prev_[off + i] + b1 * k1_prev_[off + i] + b2 * k2_prev_[off + i];
+  }
   /// Dense output of one value (inline: the runner's tip restriction calls it per node).
   double dense_value(double t, Field f, std::size_t i) const {
-    const std::size_t j = static_cast<std::size_t>(f) * n_ + i;
-    if (stats_.accepted == 0 || h_prev_ <= 0.0) return y_[j];
+    if (stats_.accepted == 0 || h_prev_ <= 0.0) return current(static_cast<std::size_t>(f))[i];
+    const std::size_t j = static_cast<std::size_t>(f) * this->n_ + i;
     const double th = std::clamp((t - t_prev_) / h_prev_, 0.0, 1.0);
     const double b1 = th * (1.0 - th) * kDenseScale * h_prev_, b2 = th * (th - 2.0 * kGamma) * kDenseScale * h_prev_;
     return y_prev_[j] + b1 * k1_prev_[j] + b2 * k2_prev_[j];
@@ -129,46 +204,420 @@ class AdaptiveSimulation {
   /// y(θ) = y_prev + h (θ(1 − θ) k1 + θ(θ − 2d) k2)/(1 − 2d), with max |θ(1 − θ)| = 1/4 and
   /// max |θ(θ − 2d)| = 1 − 2d on [0, 1].
   double dense_deviation_bound(Field f, std::size_t i, double target) const {
-    const std::size_t j = static_cast<std::size_t>(f) * n_ + i;
-    if (stats_.accepted == 0 || h_prev_ <= 0.0) return std::abs(target - y_[j]);
+    if (stats_.accepted == 0 || h_prev_ <= 0.0) return std::abs(target - current(static_cast<std::size_t>(f))[i]);
+    const std::size_t j = static_cast<std::size_t>(f) * this->n_ + i;
     return std::abs(target - y_prev_[j]) + h_prev_ * (0.25 * kDenseScale * std::abs(k1_prev_[j]) + std::abs(k2_prev_[j]));
   }
-  static constexpr double kGamma = 0.29289321881345247560;      ///< d = 1/(2 + √2) of the method
-  static constexpr double kDenseScale = 1.0 / (1.0 - 2.0 * kGamma);  ///< 1/(1 − 2d) of its dense output
-  /// Θ of each site during the last step (1 sliding, 0 stuck).
-  std::span<const std::uint8_t> theta() const { return theta_prev_; }
   const AdaptiveStats& stats() const { return stats_; }
   const AdaptiveOptions& options() const { return opt_; }
 
  private:
-  // y = [u | v | A | σ̄], blocks of n_.
-  void load_law_state();
-  void store_law_state();
-  void start();
-  void rhs(double t, const std::vector<double>& y, std::vector<double>& f);
-  void rhs_site(std::size_t i, const std::vector<double>& y, std::vector<double>& f) const;
-  void factor(double c, const std::vector<double>& y);
-  void solve(std::vector<double>& x);  // in place: x ← W⁻¹ x
-  // One Rosenbrock step of size h from (t_, y_); fills ynew_, k1_, k2_; returns the error norm.
-  double attempt(double h);
-  double error_norm(double h) const;
-  double trial_step(double& h, bool& rejected);
-  double first_switching(double h);
-  void end_on_dense_output(double frac, double h);
-  bool accept(double h, double h_dense, bool f_end_valid);
-  void propose_next(double h, double err, bool rejected);
-  double switch_function(std::size_t i, double v, double area, double sb) const;  // e_i, crossing at > 0
-  double event_fraction(std::size_t i, double h) const;  // θ ∈ (0,1] where e_i crosses 0 on the dense output
-  bool flip_crossed(const std::vector<double>& y);       // flip Θ of every site whose |σ|/A crossed 1
+  // The current state, block f of [u | v | A | σ̄].
+  const double* current(std::size_t f) const {
+    if (f == 0) return this->u_.data();
+    if (f == 1) return this->v_.data();
+    return fields_ptr() + (f - 2) * this->n_;
+  }
+  double* current(std::size_t f) { return const_cast<double*>(std::as_const(*this).current(f)); }
+  const double* fields_ptr() const { return const_cast<Law&>(this->law_).fields().data(); }
 
-  Bulk bulk_;
-  FrictionLaw law_;
-  double eta_;
+  // Θ from the initial state (docs/model.md §1: Θ = 1 iff |σ|/A > 1); then the overload is below
+  // the band at every site, the invariant that every step starts from.
+  void start() {
+    const double* a = current(2);
+    const double* s = current(3);
+    for (std::size_t i = 0; i < this->n_; ++i)
+      theta_[i] = this->law_.sliding({this->v_[i], a[i], s[i]}) ? 1 : 0;
+    theta_prev_ = theta_;
+    f0_valid_ = false;
+    started_ = true;
+    if (this->energy_) {
+      EnergyBudget& e = *this->energy_;
+      e.time = this->t_;
+      e.kinetic = this->kinetic_energy(this->v_);
+      e.elastic = this->bulk_.elastic_energy(this->u_);
+      e.spring = this->bulk_.spring_energy(this->t_, this->u_[0]);
+      e.mechanical0 = e.mechanical();
+    }
+  }
+
+  // e_i > 0 means site i has crossed its switching surface: Θ = 0 and |σ| > A (1 + band), or Θ = 1 and
+  // |σ| < A (1 − band).
+  double switch_function(std::size_t i, SiteState st) const {
+    const double s = this->law_.load(st), b = opt_.switch_band * st.area;
+    return theta_[i] ? (st.area - b) - s : s - (st.area + b);
+  }
+
+  // The right-hand side at (t; u, v, A, σ̄), Θ frozen (see the header).
+  void rhs(double t, const double* u, const double* v, const double* a, const double* s, std::vector<double>& f) {
+    ++stats_.rhs;
+    const std::size_t n = this->n_;
+    const Bulk& b = this->bulk_;
+    double* fu = f.data();
+    double* fv = fu + n;
+    double* fa = fv + n;
+    double* fs = fa + n;
+    const double inv_rho = 1.0 / b.rho(), sd = b.uniform_stress(), eta = this->law_.params().eta;
+    b.forces_per_length(std::span<const double>(u, n), b.drive_force(t, u[0]),
+                        [&](std::size_t i, double force) { fv[i] = (force + sd - s[i] - eta * v[i]) * inv_rho; });
+    const std::uint8_t* th = theta_.data();
+    for (std::size_t i = 0; i < n; ++i) {
+      const SiteRate r = this->law_.rate({v[i], a[i], s[i]}, th[i] != 0);
+      fu[i] = v[i];
+      fa[i] = r.area;
+      fs[i] = r.sigma_bar;
+    }
+  }
+  void rhs_current(double t, std::vector<double>& f) { rhs(t, current(0), current(1), current(2), current(3), f); }
+  void rhs_stage(double t, const std::vector<double>& y, std::vector<double>& f) {
+    const std::size_t n = this->n_;
+    rhs(t, y.data(), y.data() + n, y.data() + 2 * n, y.data() + 3 * n, f);
+  }
+
+  // W = I − c J(y) at the current state. Per node, the rows of A and σ̄ give
+  //   x_A = p_A + q_A x_v,  x_σ = p_σ + q_σ x_v,  and the u row x_v = (x_u − b_u)/c;
+  // the v row (times ρ w_i / c) is then a symmetric tridiagonal equation for x_u:
+  //   (ρ w_i D_i / c²) x_u,i + (c S x_u)_i/c ... = w_i ((ρ/c) b_v − p_σ) + (ρ w_i D_i / c²) b_u,
+  //   D_i = 1 + cη/ρ + (c/ρ) q_σ,   S the bulk's stiffness matrix (Bulk: elastic_diagonal, spring_K).
+  void factor(double c) {
+    ++stats_.factorizations;
+    c_ = c;
+    const std::size_t n = this->n_;
+    const Bulk& b = this->bulk_;
+    const double rho = b.rho(), k = b.stiffness(), K = b.spring_K(), eta = this->law_.params().eta;
+    const double* v = current(1);
+    const double* a = current(2);
+    const double* s = current(3);
+    const double base = 1.0 + c * eta / rho, c_rho = c / rho, rho_c2 = rho / (c * c);
+    const double off = -k;
+    for (std::size_t i = 0; i < n; ++i) {
+      const SiteJacobian j = this->law_.jacobian({v[i], a[i], s[i]}, theta_[i] != 0);
+      const double ia1 = 1.0 / (1.0 - c * j.area_area);
+      const double qa = c * j.area_v * ia1;
+      const double is1 = 1.0 / (1.0 - c * j.sigma_sigma);
+      const double cav = c * j.sigma_area;
+      const double qs = (cav * qa + c * j.sigma_v) * is1;
+      const double w = b.node_weight(i);
+      const double dc = rho_c2 * w * (base + c_rho * qs);
+      inv_a1_[i] = ia1;
+      q_area_[i] = qa;
+      inv_s1_[i] = is1;
+      c_alpha_v_[i] = cav;
+      q_sigma_[i] = qs;
+      d_coef_[i] = dc;
+      const double diag = dc + b.elastic_diagonal(i) + (i == 0 ? K : 0.0);
+      const double m = i == 0 ? diag : diag - off * thomas_c_[i - 1];
+      thomas_inv_[i] = 1.0 / m;
+      thomas_c_[i] = off / m;
+    }
+  }
+
+  void solve(std::vector<double>& x) {  // in place: x ← W⁻¹ x
+    ++stats_.solves;
+    const std::size_t n = this->n_;
+    double* xu = x.data();
+    double* xv = xu + n;
+    double* xa = xv + n;
+    double* xs = xa + n;
+    const double c = c_, rho_c = this->bulk_.rho() / c, inv_c = 1.0 / c, off = -this->bulk_.stiffness();
+    double* d = tmp_.data();
+    double prev = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double pa = xa[i] * inv_a1_[i];
+      const double ps = (xs[i] + c_alpha_v_[i] * pa) * inv_s1_[i];
+      xa[i] = pa;
+      xs[i] = ps;
+      const double r = this->bulk_.node_weight(i) * (rho_c * xv[i] - ps) + d_coef_[i] * xu[i];
+      prev = (r - off * prev) * thomas_inv_[i];  // forward sweep
+      d[i] = prev;
+    }
+    double next = 0.0;
+    for (std::size_t i = n; i-- > 0;) {
+      const double ui = d[i] - thomas_c_[i] * next;
+      next = ui;
+      const double vi = (ui - xu[i]) * inv_c;
+      xu[i] = ui;
+      xv[i] = vi;
+      xa[i] += q_area_[i] * vi;
+      xs[i] += q_sigma_[i] * vi;
+    }
+  }
+
+  // y_out = current + scale · k over all four blocks.
+  void stage(double scale, const std::vector<double>& k, std::vector<double>& out) const {
+    const std::size_t n = this->n_;
+    for (std::size_t f = 0; f < 4; ++f) {
+      const double* y = current(f);
+      for (std::size_t i = 0; i < n; ++i) out[f * n + i] = y[i] + scale * k[f * n + i];
+    }
+  }
+
+  // One Rosenbrock step of size h from the current state; fills ynew_, k1_, k2_, k3_; returns the
+  // error norm.
+  double attempt(double h) {
+    const std::size_t m = 4 * this->n_, n = this->n_;
+    const Bulk& b = this->bulk_;
+    if (!f0_valid_) {
+      rhs_current(this->t_, f0_);
+      f0_valid_ = true;
+    }
+    factor(kGamma * h);
+    // h d ∂f/∂t: only the drive spring depends on t explicitly (v row of node 0).
+    const double hdT =
+        b.has_drive_spring() ? kGamma * h * b.spring_K() * b.driver_velocity() / (b.rho() * b.node_weight(0)) : 0.0;
+    for (std::size_t j = 0; j < m; ++j) k1_[j] = f0_[j];
+    k1_[n] += hdT;
+    solve(k1_);
+    stage(0.5 * h, k1_, ynew_);
+    rhs_stage(this->t_ + 0.5 * h, ynew_, f1_);
+    for (std::size_t j = 0; j < m; ++j) k2_[j] = f1_[j] - k1_[j];
+    solve(k2_);
+    for (std::size_t j = 0; j < m; ++j) k2_[j] += k1_[j];
+    stage(h, k2_, ynew_);
+    rhs_stage(this->t_ + h, ynew_, f2_);
+    for (std::size_t j = 0; j < m; ++j)
+      k3_[j] = f2_[j] - detail::kE32 * (k2_[j] - f1_[j]) - 2.0 * (k1_[j] - f0_[j]);
+    k3_[n] += hdT;
+    solve(k3_);
+    return error_norm(h);
+  }
+
+  // Weighted norm of the local error estimate h/6 (k1 − 2 k2 + k3), see ErrorNorm.
+  double error_norm(double h) const {
+    const double rtol = opt_.rtol, atol = opt_.atol, h6 = h / 6.0;
+    const std::size_t n = this->n_;
+    double norm = 0.0, probe = 0.0;  // probe: a NaN or infinity anywhere (std::max would drop a NaN)
+    for (std::size_t j = 0; j < ynew_.size(); ++j) probe += ynew_[j] + k3_[j];
+    if (!std::isfinite(probe)) return std::numeric_limits<double>::infinity();
+    const double *yn = ynew_.data(), *k1 = k1_.data(), *k2 = k2_.data(), *k3 = k3_.data();
+    for (std::size_t f = 0; f < 4; ++f) {
+      const std::size_t j0 = f * n, j1 = j0 + n;
+      const double* y = current(f);  // y[j − j0], j in [j0, j1)
+      if (opt_.norm == ErrorNorm::field) {  // one weight per field: atol + rtol · max over the grid
+        double scale = 0.0, emax = 0.0;
+        for (std::size_t j = j0; j < j1; ++j) {
+          scale = std::max(scale, std::max(std::abs(y[j - j0]), std::abs(yn[j])));
+          emax = std::max(emax, std::abs(k1[j] - 2.0 * k2[j] + k3[j]));
+        }
+        norm = std::max(norm, h6 * emax / (atol + rtol * scale));
+      } else if (opt_.norm == ErrorNorm::local) {
+        for (std::size_t j = j0; j < j1; ++j)
+          norm = std::max(norm, std::abs(h6 * (k1[j] - 2.0 * k2[j] + k3[j])) /
+                                    (atol + rtol * std::max(std::abs(y[j - j0]), std::abs(yn[j]))));
+      } else {
+        for (std::size_t j = j0; j < j1; ++j) {
+          const double e =
+              h6 * (k1[j] - 2.0 * k2[j] + k3[j]) / (atol + rtol * std::max(std::abs(y[j - j0]), std::abs(yn[j])));
+          norm += e * e;
+        }
+      }
+    }
+    if (opt_.norm == ErrorNorm::rms) norm = std::sqrt(norm / static_cast<double>(4 * n));
+    return std::isfinite(norm) ? norm : std::numeric_limits<double>::infinity();
+  }
+
+  // θ ∈ (0, 1] at which e_i first exceeds 0 on the dense output of the trial step (k1_, k2_, h) from
+  // the current state (where e_i < 0) to ynew_ (where e_i > 0): Illinois regula falsi, upper end of
+  // the bracket.
+  double event_fraction(std::size_t i, double h) const {
+    const std::size_t n = this->n_, iv = n + i, ia = 2 * n + i, is = 3 * n + i;
+    const double yv = current(1)[i], ya = current(2)[i], ys = current(3)[i];
+    auto e = [&](double th) {
+      const double b1 = th * (1.0 - th) * kDenseScale * h, b2 = th * (th - 2.0 * kGamma) * kDenseScale * h;
+      return switch_function(i, {yv + b1 * k1_[iv] + b2 * k2_[iv], ya + b1 * k1_[ia] + b2 * k2_[ia],
+                                 ys + b1 * k1_[is] + b2 * k2_[is]});
+    };
+    double lo = 0.0, hi = 1.0, elo = e(0.0), ehi = e(1.0);
+    if (!(elo < 0.0)) return 0.0;  // not expected (e_i < 0 at every step start): switch at once
+    const double tol = 1e-13 * std::max(1.0, std::abs(this->t_)) / h;
+    // Illinois regula falsi; a bisection whenever the bracket fails to halve over two iterations.
+    int side = 0;
+    double width = hi - lo;
+    for (int it = 0; it < 200 && hi - lo > tol; ++it) {
+      double th = (lo * ehi - hi * elo) / (ehi - elo);
+      if (it % 2 == 1) {
+        if (hi - lo > 0.5 * width) th = 0.5 * (lo + hi);
+        width = hi - lo;
+      }
+      if (!(th > lo && th < hi)) th = 0.5 * (lo + hi);
+      const double et = e(th);
+      if (et > 0.0) {
+        hi = th;
+        ehi = et;
+        if (side == 1) elo *= 0.5;
+        side = 1;
+      } else {
+        lo = th;
+        elo = et;
+        if (side == -1) ehi *= 0.5;
+        side = -1;
+      }
+    }
+    return hi;
+  }
+
+  // At a step end: flip Θ of every site whose |σ|/A has crossed 1 (e_i > −band·A/2; after the flip
+  // e_i < −band·A, the invariant of every step start). Only A' and σ̄' of a flipped site change.
+  bool flip_crossed() {
+    bool any = false;
+    const std::size_t n = this->n_;
+    const double* v = current(1);
+    const double* a = current(2);
+    const double* s = current(3);
+    for (std::size_t i = 0; i < n; ++i) {
+      const SiteState st{v[i], a[i], s[i]};
+      if (switch_function(i, st) > -0.5 * opt_.switch_band * st.area) {
+        theta_[i] = static_cast<std::uint8_t>(1 - theta_[i]);
+        ++stats_.switchings;
+        if (f0_valid_) {
+          const SiteRate r = this->law_.rate(st, theta_[i] != 0);
+          f0_[2 * n + i] = r.area;
+          f0_[3 * n + i] = r.sigma_bar;
+        }
+        any = true;
+      }
+    }
+    return any;
+  }
+
+  // Stage 1: attempt steps from the current state until the error test passes; h is the accepted
+  // trial size.
+  double trial_step(double& h, bool& rejected) {
+    for (;;) {
+      if (h < opt_.dt_min) {
+        std::size_t bad = 0;
+        for (std::size_t j = 0; j < ynew_.size(); ++j)
+          if (!std::isfinite(ynew_[j])) {
+            bad = j % this->n_;
+            break;
+          }
+        throw NumericalError(stats_.accepted, this->t_, bad, "adaptive step below dt_min (" + format_number(h) + ")");
+      }
+      const double err = attempt(h);
+      if (err <= 1.0) return err;
+      ++stats_.rejected;
+      rejected = true;
+      h *= std::isfinite(err) ? std::clamp(detail::kSafety * std::pow(err, -1.0 / 3.0), 0.1, 0.5) : 0.25;
+    }
+  }
+
+  // Stage 2: fraction θ ∈ [0, 1) of the trial step at which the first site crosses its switching
+  // surface (2 if none does); with event_window > 0, the last crossing within the window instead.
+  double first_switching(double h) {
+    const std::size_t n = this->n_;
+    const double* v = ynew_.data() + n;
+    const double* a = v + n;
+    const double* s = a + n;
+    crossings_.clear();
+    for (std::size_t i = 0; i < n; ++i)
+      if (switch_function(i, {v[i], a[i], s[i]}) > 0.0) crossings_.push_back(event_fraction(i, h));
+    if (crossings_.empty()) return 2.0;
+    double frac = *std::min_element(crossings_.begin(), crossings_.end());
+    if (opt_.event_window > 0.0) {
+      const double limit = frac + opt_.event_window / h;
+      for (double c : crossings_)
+        if (c <= limit) frac = std::max(frac, c);
+    }
+    return frac;
+  }
+
+  // Stage 3 (interpolate): the end state is the dense output of the trial step at θ = frac.
+  void end_on_dense_output(double frac, double h) {
+    const double b1 = frac * (1.0 - frac) * kDenseScale * h, b2 = frac * (frac - 2.0 * kGamma) * kDenseScale * h;
+    const std::size_t n = this->n_;
+    for (std::size_t f = 0; f < 4; ++f) {
+      const double* y = current(f);
+      for (std::size_t i = 0; i < n; ++i) {
+        const std::size_t j = f * n + i;
+        ynew_[j] = y[i] + b1 * k1_[j] + b2 * k2_[j];
+      }
+    }
+  }
+
+  // Stage 4: the step [t, t + h] is taken; h_dense is the step of its dense-output polynomial. The
+  // state moves into y_prev_ (dense output) and ynew_ into the state. Returns whether it ended on the
+  // stop time.
+  bool accept(double h, double h_dense, bool f_end_valid) {
+    const std::size_t n = this->n_;
+    double vmax = 0.0;
+    for (std::size_t f = 0; f < 4; ++f) {
+      double* y = current(f);
+      for (std::size_t i = 0; i < n; ++i) {
+        const std::size_t j = f * n + i;
+        y_prev_[j] = y[i];
+        y[i] = ynew_[j];
+      }
+    }
+    for (std::size_t i = 0; i < n; ++i) vmax = std::max({vmax, std::abs(y_prev_[n + i]), std::abs(this->v_[i])});
+    std::swap(f0_, f2_);  // FSAL: f at the new state, unless the step ended on the dense output
+    std::swap(k1_prev_, k1_);
+    std::swap(k2_prev_, k2_);
+    f0_valid_ = f_end_valid;
+    t_prev_ = this->t_;
+    const bool at_stop =
+        t_stop_ > this->t_ && std::abs(this->t_ + h - t_stop_) <= 1e-13 * std::max(1.0, std::abs(t_stop_));
+    this->t_ = at_stop ? t_stop_ : this->t_ + h;
+    h_prev_ = h_dense;
+    last_dt_ = h;
+    this->steps_ = ++stats_.accepted;
+    theta_prev_ = theta_;
+    this->yielded_ = std::find(theta_.begin(), theta_.end(), std::uint8_t{1}) != theta_.end();
+    this->max_v_ = vmax;
+    return at_stop;
+  }
+
+  // PI controller on the trial step's error. h is the trial size (an event shortening the step does
+  // not shrink the next one; neither does the stop time); after a rejection the step does not grow.
+  void propose_next(double h, double err, bool rejected) {
+    const double e = std::max(err, 1e-10);
+    const double grow = std::clamp(detail::kSafety * std::pow(e, -detail::kBeta1) * std::pow(err_prev_, detail::kBeta2),
+                                   detail::kShrinkMin, rejected ? 1.0 : detail::kGrowMax);
+    err_prev_ = e;
+    h_next_ = std::min(h * grow, opt_.dt_max);
+  }
+
+  // Energy budget over the accepted step [t_prev, t] (docs/performance.md §2): the mechanical energy
+  // at t from the state, the work and dissipation by Simpson's rule on the step's dense output (its
+  // start, middle and end), so the residual is the integration error of the step (O(rtol)).
+  void energy_over_step() {
+    EnergyBudget& e = *this->energy_;
+    const std::size_t n = this->n_;
+    const Bulk& b = this->bulk_;
+    const double eta = this->law_.params().eta, sd = b.uniform_stress(), t0 = t_prev_, t1 = this->t_;
+    if (en_v_.size() != n) {
+      en_v_.assign(n, 0.0);
+      en_s_.assign(n, 0.0);
+    }
+    double visc[3], inter[3], drive[3];
+    const double ts[3] = {t0, 0.5 * (t0 + t1), t1};
+    for (int q = 0; q < 3; ++q) {
+      dense_state(ts[q], Field::slip_rate, en_v_);
+      dense_state(ts[q], Field::sigma_bar, en_s_);
+      double pv = 0.0, pi = 0.0, pu = 0.0;
+      for (std::size_t i = 0; i < n; ++i) {
+        const double w = b.node_weight(i), vi = en_v_[i];
+        pv += w * eta * vi * vi;
+        pi += w * en_s_[i] * vi;
+        pu += w * sd * vi;
+      }
+      visc[q] = pv;
+      inter[q] = pi;
+      drive[q] = pu + b.driver_velocity() * b.drive_force(ts[q], dense_value(ts[q], Field::slip, 0));
+    }
+    const double h6 = (t1 - t0) / 6.0;
+    e.viscous += h6 * (visc[0] + 4.0 * visc[1] + visc[2]);
+    e.interfacial += h6 * (inter[0] + 4.0 * inter[1] + inter[2]);
+    e.drive_work += h6 * (drive[0] + 4.0 * drive[1] + drive[2]);
+    e.time = t1;
+    e.kinetic = this->kinetic_energy(this->v_);
+    e.elastic = b.elastic_energy(this->u_);
+    e.spring = b.spring_energy(t1, this->u_[0]);
+  }
+
   AdaptiveOptions opt_;
-  std::size_t n_;
-  double t_ = 0.0, t_prev_ = 0.0, h_next_, last_dt_, err_prev_ = 1.0, max_v_ = 0.0;
-  bool started_ = false, yielded_ = false, f0_valid_ = false;
-  std::vector<double> y_, y_prev_, ynew_, f0_, f1_, f2_, k1_, k2_, k3_, tmp_;
+  double t_prev_ = 0.0, h_next_, last_dt_, err_prev_ = 1.0;
+  bool started_ = false, f0_valid_ = false;
+  std::vector<double> y_prev_, ynew_, f0_, f1_, f2_, k1_, k2_, k3_, tmp_;  // stages [u | v | A | σ̄]
   std::vector<double> k1_prev_, k2_prev_;  // dense output of the last accepted step
   double h_prev_ = 0.0, t_stop_ = -1.0;
   std::vector<std::uint8_t> theta_, theta_prev_;
@@ -176,7 +625,7 @@ class AdaptiveSimulation {
   // W factorization: node elimination coefficients and the Thomas factors of the u system.
   double c_ = 0.0;
   std::vector<double> inv_a1_, q_area_, inv_s1_, c_alpha_v_, q_sigma_, d_coef_, thomas_c_, thomas_inv_;
-  std::optional<EnergyBudget> energy_;
+  std::vector<double> en_v_, en_s_;  // energy budget work arrays
   AdaptiveStats stats_;
 };
 

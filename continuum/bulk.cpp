@@ -42,4 +42,19 @@ Bulk::Bulk(const BulkParams& bulk, const DriveParams& drive, const InterfacePara
   stable_dt_ = 2.0 / std::sqrt(omega2);
 }
 
+Eigen::SparseMatrix<double> Bulk::stiffness_matrix() const {
+  const auto n = static_cast<Eigen::Index>(nodes());
+  std::vector<Eigen::Triplet<double>> t;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    t.emplace_back(i, i, elastic_diagonal(static_cast<std::size_t>(i)) + (i == 0 ? spring_K_ : 0.0));
+    if (i + 1 < n) {
+      t.emplace_back(i, i + 1, -k_);
+      t.emplace_back(i + 1, i, -k_);
+    }
+  }
+  Eigen::SparseMatrix<double> s(n, n);
+  s.setFromTriplets(t.begin(), t.end());
+  return s;
+}
+
 }  // namespace slipfront::continuum

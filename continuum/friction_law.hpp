@@ -1,43 +1,39 @@
 #pragma once
-// The continuum friction law of MODEL §1 as an interface law.
-//
-// Step contract shared by every interface law (continuum here, the ensembles in discrete/):
-//   law.advance(dt, v)     advance A and σ̄ from t to t + dt with the slip rates v (one per site)
-//                          frozen over the step; returns whether any site yielded at t.
-//   law.contact_area()     A   per site
-//   law.sigma_bar()        σ̄   per site
-//   law.size()             number of sites
-// The bulk stepper is a template on the law, so nothing here is a virtual call.
+// The continuum friction law of docs/model.md §1 as an interface law: InterfaceLaw and SmoothLaw of
+// continuum/law.hpp. Its state is one vector [A_0..A_{n−1} | σ̄_0..σ̄_{n−1}] (fields()), advanced by
+// the exact update (advance, fixed-step integrators) or by the adaptive integrator through rate() and
+// jacobian(). Nothing here knows which stepper drives it.
 #include <cstddef>
 #include <span>
 #include <vector>
 
 #include "continuum/exact_update.hpp"
+#include "continuum/law.hpp"
 #include "continuum/params.hpp"
 
 namespace slipfront::continuum {
 
-struct LawStepInfo {
-  bool any_yield = false;  ///< some site had Θ = 1 (or an overloaded contact) at the start of the step
-};
-
 class FrictionLaw {
  public:
-  FrictionLaw(const InterfaceParams& p, std::size_t sites)
-      : p_(p), area_(sites, 1.0), sigma_bar_(sites, 0.0) {}
+  FrictionLaw(const InterfaceParams& p, std::size_t sites) : p_(p), n_(sites), fields_(2 * sites, 0.0) {
+    std::fill(fields_.begin(), fields_.begin() + static_cast<std::ptrdiff_t>(sites), 1.0);
+  }
 
-  std::size_t size() const { return area_.size(); }
+  // --- state ------------------------------------------------------------------------------------
+  std::size_t size() const { return n_; }
   const InterfaceParams& params() const { return p_; }
-  std::span<const double> contact_area() const { return area_; }
-  std::span<const double> sigma_bar() const { return sigma_bar_; }
+  std::span<const double> contact_area() const { return {fields_.data(), n_}; }
+  std::span<const double> sigma_bar() const { return {fields_.data() + n_, n_}; }
+  std::span<double> fields() { return fields_; }
 
   /// Set the state of one site (initial conditions).
   void set_site(std::size_t i, double area, double sigma_bar) {
-    area_[i] = area;
-    sigma_bar_[i] = sigma_bar;
+    fields_[i] = area;
+    fields_[n_ + i] = sigma_bar;
   }
 
-  /// MODEL §1 friction law over [t, t+dt], v frozen; Θ evaluated from the start-of-step state:
+  // --- the exact step (explicit and implicit integrators) ---------------------------------------
+  /// docs/model.md §1 over [t, t+dt], v frozen; Θ evaluated from the start-of-step state:
   ///   Θ = θ(|σ̄ + η v|/A − 1),  r = 1 + Θκ|v|,  A' = A e^{−r dt} + (1 − e^{−r dt})/r,
   ///   σ̄' = exact solution of dσ̄/dt = α Ā v − Θ|v| σ̄ with Ā = (A + A')/2.
   LawStepInfo advance(double dt, std::span<const double> v) {
@@ -50,33 +46,66 @@ class FrictionLaw {
       stuck_exp_ = std::exp(-dt);
       stuck_weight_ = relax_weight(1.0, dt);
     }
-    const std::size_t n = area_.size();
-    for (std::size_t i = 0; i < n; ++i) {
-      const double vi = v[i], a = area_[i], sb = sigma_bar_[i];
+    double* area = fields_.data();
+    double* sigma_bar = area + n_;
+    for (std::size_t i = 0; i < n_; ++i) {
+      const double vi = v[i], a = area[i], sb = sigma_bar[i];
       const bool theta = contact_stress(sb + eta * vi, a) > 1.0;
       any |= theta;
       if (!theta) {
         const double a_new = a * stuck_exp_ + stuck_weight_;
-        sigma_bar_[i] = sb + alpha * 0.5 * (a + a_new) * vi * dt;
-        area_[i] = a_new;
+        sigma_bar[i] = sb + alpha * 0.5 * (a + a_new) * vi * dt;
+        area[i] = a_new;
         continue;
       }
       const double speed = std::abs(vi);
       const double a_new = relax(a, 1.0, 1.0 + kappa * speed, dt);
-      sigma_bar_[i] = relax(sb, alpha * 0.5 * (a + a_new) * vi, speed, dt);
-      area_[i] = a_new;
+      sigma_bar[i] = relax(sb, alpha * 0.5 * (a + a_new) * vi, speed, dt);
+      area[i] = a_new;
     }
     return {any};
   }
 
+  /// The implicit step's linearisation (law.hpp): y = Θ of the site at the previous step's rate.
+  void linearise(double dt, std::span<const double> w_prev, std::span<double> c0, std::span<double> c1) const {
+    const StressStepConstants k(p_, dt);
+    const double* area = fields_.data();
+    const double* sigma_bar = area + n_;
+    for (std::size_t i = 0; i < n_; ++i) {
+      const double wp = w_prev[i];
+      const double y = wp != 0.0 && contact_stress(sigma_bar[i] + p_.eta * wp, area[i]) > 1.0 ? 1.0 : 0.0;
+      linearise_stress(area[i], sigma_bar[i], y, wp, k, c0[i], c1[i]);
+    }
+  }
+
+  // --- the rates (adaptive integrator), docs/model.md §1 ----------------------------------------
+  /// Θ = θ(|σ̄ + η v|/A − 1).
+  bool sliding(SiteState s) const { return contact_stress(s.sigma_bar + p_.eta * s.v, s.area) > 1.0; }
+  /// |σ̄ + η v|: Θ flips where the load crosses A (|σ|/A = 1).
+  double load(SiteState s) const { return std::abs(s.sigma_bar + p_.eta * s.v); }
+  /// dA/dt = 1 − A − Θ κ A |v|,  dσ̄/dt = α A v − Θ σ̄ |v|.
+  SiteRate rate(SiteState s, bool theta) const {
+    const double speed = theta ? std::abs(s.v) : 0.0;
+    return {1.0 - s.area - p_.kappa * s.area * speed, p_.alpha * s.area * s.v - s.sigma_bar * speed};
+  }
+  /// Jacobian of rate() with Θ fixed (sgn v at v = 0 taken as +1).
+  SiteJacobian jacobian(SiteState s, bool theta) const {
+    if (!theta) return {0.0, -1.0, p_.alpha * s.area, p_.alpha * s.v, 0.0};
+    const double sg = s.v >= 0.0 ? 1.0 : -1.0, speed = std::abs(s.v);
+    return {-p_.kappa * s.area * sg, -(1.0 + p_.kappa * speed), p_.alpha * s.area - s.sigma_bar * sg, p_.alpha * s.v,
+            -speed};
+  }
+
  private:
   InterfaceParams p_;
-  std::vector<double> area_;
-  std::vector<double> sigma_bar_;
+  std::size_t n_;
+  std::vector<double> fields_;  ///< [A | σ̄]
   double cached_dt_ = -1.0, stuck_exp_ = 1.0, stuck_weight_ = 0.0;
 };
 
-// Closed forms of MODEL §1 (tests and the comparison layer check against these).
+static_assert(SmoothLaw<FrictionLaw>);
+
+// Closed forms of docs/model.md §1 (tests and the comparison layer check against these).
 struct SteadyState {
   double area, sigma_bar, sigma;
 };

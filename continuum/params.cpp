@@ -146,6 +146,9 @@ void MeasureParams::validate() const {
   require(finite(sample_dt) && sample_dt > 0.0, "measure.sample_dt", "must be > 0");
   require(average_from >= 0.0 && average_from < 1.0, "measure.average_from", "must be in [0, 1)");
   require(batches >= 2, "measure.batches", "must be >= 2");
+  require(arrest_fraction > 0.0 && arrest_fraction < 1.0, "measure.arrest_fraction", "must be in (0, 1)");
+  require(behind_tip_fraction > 0.0 && behind_tip_fraction <= 1.0, "measure.behind_tip_fraction", "must be in (0, 1]");
+  require(finite(behind_gap) && behind_gap >= 0.0, "measure.behind_gap", "must be >= 0");
 }
 
 void OutputParams::validate() const {

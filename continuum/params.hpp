@@ -100,6 +100,11 @@ struct MeasureParams {
   double sample_dt = 0.01;     ///< cadence at which the tip is tracked
   double average_from = 0.5;   ///< friction law: average σ over the last (1 − average_from) of the run
   int batches = 20;            ///< friction law: batch means for the standard error
+  double arrest_fraction = 0.2;  ///< arrest / end of a slip event: max v falls below arrest_fraction · v_event
+  /// Homogeneous loading: v_behind is measured when the tip first passes behind_tip_fraction · L, as the
+  /// mean slip rate over the nodes from the nucleation patch's end to behind_gap behind the tip.
+  double behind_tip_fraction = 0.75;
+  double behind_gap = 10.0;
   void validate() const;
 };
 

@@ -223,6 +223,31 @@ continuum::LawStepInfo AgentLaw::advance(double dt, std::span<const double> v) {
   return {any};
 }
 
+double AgentLaw::overloaded_fraction(std::size_t i, double v) const {
+  const Site& st = sites_[i];
+  if (st.n_att == 0) return 1.0;
+  const double tau = continuum::contact_stress(sigma_bar_[i] + ip_.eta * v, area_[i]);
+  if (degenerate_) return tau > 1.0 ? 1.0 : 0.0;
+  // members: every contact of the bins wholly below τ, and those of the straddling bin with s < τ
+  const auto first = edges_.begin() + 1, last = edges_.begin() + static_cast<std::ptrdiff_t>(nbins_);
+  const auto full_bins = static_cast<std::size_t>(std::upper_bound(first, last, tau) - first);
+  double members = static_cast<double>(st.counts.prefix(full_bins));
+  if (full_bins < nbins_ && edges_[full_bins] < tau)
+    for (const auto& c : st.bins[full_bins]) members += c.threshold < tau ? 1.0 : 0.0;
+  return members / static_cast<double>(st.n_att);
+}
+
+void AgentLaw::linearise(double dt, std::span<const double> w_prev, std::span<double> c0, std::span<double> c1) const {
+  const continuum::StressStepConstants k(ip_, dt);
+  const double s_min = degenerate_ ? 1.0 : edges_.front(), eta = ip_.eta;
+  for (std::size_t i = 0; i < size(); ++i) {
+    const double wp = w_prev[i], a = area_[i], sb = sigma_bar_[i];
+    double y = 0.0;
+    if (wp != 0.0 && continuum::contact_stress(sb + eta * wp, a) > s_min) y = overloaded_fraction(i, wp);
+    continuum::linearise_stress(a, sb, y, wp, k, c0[i], c1[i]);
+  }
+}
+
 void AgentLaw::record_contacts(double t) {
   if (!stats_.enabled()) return;
   stats_.begin_snapshot(t);

@@ -46,7 +46,7 @@
 #include <vector>
 
 #include "continuum/exact_update.hpp"
-#include "continuum/friction_law.hpp"
+#include "continuum/law.hpp"
 #include "continuum/params.hpp"
 #include "discrete/contact_stats.hpp"
 #include "discrete/params.hpp"
@@ -121,6 +121,12 @@ class AgentLaw {
   /// overloaded attached contact (or none attached, τ = ∞) and v_i ≠ 0 at the start of the step
   /// (the definition of CountLaw).
   continuum::LawStepInfo advance(double dt, std::span<const double> v);
+
+  /// Y_i: the overloaded fraction of the attached contacts of site i at slip rate v, now (1 when none
+  /// is attached: τ = ∞).
+  double overloaded_fraction(std::size_t i, double v) const;
+  /// The implicit step's linearisation (continuum/law.hpp) with y = Y_i at the previous step's rate.
+  void linearise(double dt, std::span<const double> w_prev, std::span<double> c0, std::span<double> c1) const;
 
   // --- contact statistics (the runner calls these when the law has them) ---------------------
   /// Snapshot of the attached contacts (ages, thresholds) and the per-site event counts since the

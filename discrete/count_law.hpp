@@ -27,7 +27,7 @@
 #include <vector>
 
 #include "continuum/exact_update.hpp"
-#include "continuum/friction_law.hpp"
+#include "continuum/law.hpp"
 #include "continuum/params.hpp"
 #include "discrete/params.hpp"
 #include "discrete/streams.hpp"
@@ -74,6 +74,10 @@ class CountLaw {
   /// overloaded attached contact (or no attached contact at all, τ = ∞: Θ = 1 of MODEL §1) and
   /// v_i ≠ 0 at the start of the step.
   continuum::LawStepInfo advance(double dt, std::span<const double> v);
+
+  /// The implicit step's linearisation (continuum/law.hpp): y = Y_i, the overloaded fraction of the
+  /// attached contacts at the previous step's rate (0 below the weakest threshold: no call there).
+  void linearise(double dt, std::span<const double> w_prev, std::span<double> c0, std::span<double> c1) const;
 
   // --- inspection ------------------------------------------------------------------------------
   const DiscreteParams& discrete_params() const { return dp_; }

@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "continuum/exact_update.hpp"
-#include "continuum/friction_law.hpp"
+#include "continuum/law.hpp"
 #include "continuum/params.hpp"
 #include "discrete/contact_stats.hpp"
 #include "discrete/params.hpp"
@@ -114,6 +114,25 @@ class NaiveAgentLaw {
     }
     t_ = t1;
     return {any};
+  }
+
+  /// Y_i: the overloaded fraction of the attached contacts of site i at slip rate v (1 when none is
+  /// attached).
+  double overloaded_fraction(std::size_t i, double v) const {
+    if (n_att_[i] == 0) return 1.0;
+    const double tau = continuum::contact_stress(sigma_bar_[i] + ip_.eta * v, area_[i]);
+    std::size_t over = 0;
+    for (const Contact& c : contacts_[i]) over += c.attached && tau > c.threshold ? 1 : 0;
+    return static_cast<double>(over) / static_cast<double>(n_att_[i]);
+  }
+  /// The implicit step's linearisation (continuum/law.hpp) with y = Y_i at the previous step's rate.
+  void linearise(double dt, std::span<const double> w_prev, std::span<double> c0, std::span<double> c1) const {
+    const continuum::StressStepConstants k(ip_, dt);
+    for (std::size_t i = 0; i < size(); ++i) {
+      const double wp = w_prev[i];
+      const double y = wp != 0.0 ? overloaded_fraction(i, wp) : 0.0;
+      continuum::linearise_stress(area_[i], sigma_bar_[i], y, wp, k, c0[i], c1[i]);
+    }
   }
 
   // --- contact statistics ----------------------------------------------------------------------

@@ -52,7 +52,7 @@ struct EndState {
 EndState run_to(const compare::Scene& s, double t_end, const AdaptiveOptions& o) {
   continuum::Bulk bulk(s.bulk, s.drive, s.interface, s.grid.dx);
   const std::size_t n = bulk.nodes();
-  AdaptiveSimulation sim(std::move(bulk), continuum::FrictionLaw(s.interface, n), s.interface.eta, o);
+  AdaptiveSimulation sim(std::move(bulk), continuum::FrictionLaw(s.interface, n), o);
   sim.set_stop_time(t_end);
   EndState e;
   while (sim.time() < t_end) {
@@ -141,7 +141,7 @@ TEST_CASE("adaptive: the stuck state of homogeneous loading stays put and steps 
   auto s = testing::homogeneous_scene(0.5, 0.0, 20.0);
   continuum::Bulk bulk(s.bulk, s.drive, s.interface, s.grid.dx);
   const std::size_t n = bulk.nodes();
-  AdaptiveSimulation sim(std::move(bulk), continuum::FrictionLaw(s.interface, n), s.interface.eta, tolerance(1e-6));
+  AdaptiveSimulation sim(std::move(bulk), continuum::FrictionLaw(s.interface, n), tolerance(1e-6));
   for (std::size_t i = 0; i < n; ++i) {
     sim.law().set_site(i, 1.0, 0.5);
     sim.set_initial(i, 0.5 / s.interface.alpha, 0.0);
@@ -249,7 +249,7 @@ TEST_CASE("adaptive: dense output, stop time and the step contract", "[adaptive]
   const auto s = testing::fig1_scene();
   continuum::Bulk bulk(s.bulk, s.drive, s.interface, s.grid.dx);
   const std::size_t n = bulk.nodes();
-  AdaptiveSimulation sim(std::move(bulk), continuum::FrictionLaw(s.interface, n), s.interface.eta, tolerance(1e-4));
+  AdaptiveSimulation sim(std::move(bulk), continuum::FrictionLaw(s.interface, n), tolerance(1e-4));
   sim.set_stop_time(27.3);
   std::vector<double> start(n), end(n);
   std::int64_t previous_steps = 0;
@@ -283,7 +283,7 @@ TEST_CASE("adaptive: a non-finite state ends in NumericalError, not in a hang", 
   const auto s = testing::fig1_scene();
   continuum::Bulk bulk(s.bulk, s.drive, s.interface, s.grid.dx);
   const std::size_t n = bulk.nodes();
-  AdaptiveSimulation sim(std::move(bulk), continuum::FrictionLaw(s.interface, n), s.interface.eta, tolerance(1e-4));
+  AdaptiveSimulation sim(std::move(bulk), continuum::FrictionLaw(s.interface, n), tolerance(1e-4));
   sim.set_initial(7, 0.0, std::numeric_limits<double>::quiet_NaN());
   CHECK_THROWS_AS(sim.step(), continuum::NumericalError);
 }

@@ -154,8 +154,8 @@ TEST_CASE("continuum bulk: stability limit: stable_dt is the Gershgorin bound, a
   }
   const double sd = s.drive.sigma_d, eps = 1e-12;
   auto make = [&](double factor) {
-    continuum::Simulation<FrictionLaw> sim(bulk, FrictionLaw(s.interface, bulk.nodes()), s.interface.eta,
-                                           factor * bulk.stable_dt());
+    continuum::ExplicitSimulation<FrictionLaw> sim(bulk, FrictionLaw(s.interface, bulk.nodes()),
+                                                   factor * bulk.stable_dt());
     for (std::size_t i = 0; i < bulk.nodes(); ++i) {
       const double zig = (i % 2 == 0 ? 1.0 : -1.0) * eps;
       sim.law().set_site(i, 1.0, sd + a * zig);
@@ -163,7 +163,7 @@ TEST_CASE("continuum bulk: stability limit: stable_dt is the Gershgorin bound, a
     }
     return sim;
   };
-  auto amplitude = [&](const continuum::Simulation<FrictionLaw>& sim) {
+  auto amplitude = [&](const continuum::ExplicitSimulation<FrictionLaw>& sim) {
     double m = 0.0;
     for (double u : sim.slip()) m = std::max(m, std::abs(u - sd / a));
     return m;
@@ -281,7 +281,7 @@ double measured_growth_rate(const compare::Scene& s, double T, double t_from, do
   const auto& p = s.interface;
   const continuum::Bulk bulk(s.bulk, s.drive, p, 1.0);
   const double dt = s.time.dt, vd = s.drive.v_d;
-  continuum::Simulation<FrictionLaw> sim(bulk, FrictionLaw(p, 1), p.eta, dt);
+  continuum::ExplicitSimulation<FrictionLaw> sim(bulk, FrictionLaw(p, 1), dt);
   const auto ss = continuum::steady_sliding(p, vd);
   sim.law().set_site(0, ss.area, ss.sigma_bar);
   sim.set_initial(0, -ss.sigma / s.drive.K + du, vd);  // K (v_d·0 − u) = σ_ss, plus δu

@@ -97,7 +97,7 @@ TEST_CASE("implicit: second order in dt on stuck-interface waves, converging to 
   auto bulk = [&] { return continuum::Bulk(s.bulk, s.drive, s.interface, s.grid.dx); };
   auto implicit_u = [&](double dt) {
     continuum::ImplicitSimulation<continuum::FrictionLaw> sim(bulk(), continuum::FrictionLaw(s.interface, bulk().nodes()),
-                                                             s.interface.eta, dt);
+                                                             dt);
     init(sim);
     const auto n = std::llround(s.time.t_end / dt);
     for (long long k = 0; k < n; ++k) {
@@ -108,8 +108,8 @@ TEST_CASE("implicit: second order in dt on stuck-interface waves, converging to 
   };
   auto explicit_u = [&](double cfl) {
     const double dt = s.time.t_end / std::ceil(s.time.t_end / (cfl * bulk().stable_dt()));
-    continuum::Simulation<continuum::FrictionLaw> sim(bulk(), continuum::FrictionLaw(s.interface, bulk().nodes()),
-                                                      s.interface.eta, dt);
+    continuum::ExplicitSimulation<continuum::FrictionLaw> sim(bulk(), continuum::FrictionLaw(s.interface, bulk().nodes()),
+                                                              dt);
     init(sim);
     const auto n = std::llround(s.time.t_end / dt);
     for (long long k = 0; k < n; ++k) sim.step();

@@ -1,0 +1,203 @@
+#pragma once
+// The recorder: the one list of what a run stores (docs/output.md) — the series columns, the snapshot
+// fields — filled from a view of a model's state at a time, whichever stepper (or, for an imposed slip
+// rate, the law alone) produced it. The runner decides when; the recorder decides what.
+//
+// A state view (StepEndState, DenseState, SiteState below) answers, at its time t():
+//   contact_area(), sigma_bar(), slip_rate(), slip()   fields per node (slip(): empty where no bulk)
+//   drive_force()                                       F = K (v_d t − u_0) (imposed rate: the stress σ)
+//   max_slip_rate()                                     max |v|: over the last step (fixed-step
+//                                                       steppers) or at t (dense output)
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "compare/measure.hpp"
+#include "compare/result.hpp"
+#include "compare/scene.hpp"
+#include "continuum/adaptive.hpp"
+#include "continuum/stepper.hpp"
+
+namespace slipfront::compare {
+
+namespace detail {
+
+// Cadence of a fixed-step run: due(t) is true at the first step at or after each multiple of `every`
+// (every = 0: every step; every < 0: never).
+class Cadence {
+ public:
+  explicit Cadence(double every) : every_(every) {}
+  bool due(double t) {
+    if (every_ < 0) return false;
+    if (t + 1e-9 * every_ < next_) return false;
+    next_ = every_ > 0 ? (std::floor(t / every_ + 1e-9) + 1.0) * every_ : t;
+    return true;
+  }
+
+ private:
+  double every_, next_ = 0.0;
+};
+
+/// Calls f(t) at every multiple t of `every` in (t0, t1] (the last one clamped to t1): the exact
+/// cadence times inside a step of a stepper with dense output.
+template <class F>
+void multiples_in(double t0, double t1, double every, F&& f) {
+  if (every <= 0) return;
+  for (auto k = static_cast<std::int64_t>(std::floor(t0 / every + 1e-9)) + 1;; ++k) {
+    if (static_cast<double>(k) * every > t1 * (1.0 + 1e-12)) break;
+    f(std::min(static_cast<double>(k) * every, t1));
+  }
+}
+
+inline void push(Columns& c, const char* name, double v) { c[name].push_back(v); }
+inline void append(Columns& c, const char* name, std::span<const double> v) {
+  auto& col = c[name];
+  col.insert(col.end(), v.begin(), v.end());
+}
+inline double max_abs(std::span<const double> v) {
+  double m = 0.0;
+  for (double x : v) m = std::max(m, std::abs(x));
+  return m;
+}
+
+}  // namespace detail
+
+/// A fixed-step stepper's state at the end of its last step (or the initial state).
+template <class Sim>
+struct StepEndState {
+  const Sim& sim;
+  double t() const { return sim.time(); }
+  std::span<const double> contact_area() const { return sim.law().contact_area(); }
+  std::span<const double> sigma_bar() const { return sim.law().sigma_bar(); }
+  std::span<const double> slip_rate() const { return sim.slip_rate(); }
+  std::span<const double> slip() const { return sim.slip(); }
+  double drive_force() const { return sim.drive_force(); }
+  double max_slip_rate() const { return sim.max_slip_rate(); }
+};
+
+/// A stepper with dense output (AdaptiveSimulation): its state at any t in the last step, each field
+/// interpolated on first use (a 1D series row needs v and u_0 only).
+template <class Sim>
+class DenseState {
+ public:
+  DenseState(const Sim& sim, double t, std::vector<double> (&buffers)[4]) : sim_(sim), t_(t), buf_(buffers) {}
+  double t() const { return t_; }
+  std::span<const double> contact_area() const { return field(continuum::Field::contact_area); }
+  std::span<const double> sigma_bar() const { return field(continuum::Field::sigma_bar); }
+  std::span<const double> slip_rate() const { return field(continuum::Field::slip_rate); }
+  std::span<const double> slip() const { return field(continuum::Field::slip); }
+  double drive_force() const {
+    return sim_.bulk().drive_force(t_, sim_.dense_value(t_, continuum::Field::slip, 0));
+  }
+  double max_slip_rate() const { return detail::max_abs(slip_rate()); }
+
+ private:
+  std::span<const double> field(continuum::Field f) const {
+    const auto k = static_cast<std::size_t>(f);
+    auto& b = buf_[k];
+    if (!(loaded_ & (1u << k))) {
+      b.resize(sim_.bulk().nodes());
+      sim_.dense_state(t_, f, b);
+      loaded_ |= 1u << k;
+    }
+    return b;
+  }
+  const Sim& sim_;
+  double t_;
+  std::vector<double> (&buf_)[4];
+  mutable unsigned loaded_ = 0;
+};
+
+/// One site driven at an imposed slip rate v (0D, no bulk): the law's state; the drive force is the
+/// frictional stress σ = σ̄ + η v.
+template <class Law>
+struct SiteState {
+  const Law& law;
+  double time, v;
+  double t() const { return time; }
+  std::span<const double> contact_area() const { return law.contact_area(); }
+  std::span<const double> sigma_bar() const { return law.sigma_bar(); }
+  std::span<const double> slip_rate() const { return {&v, 1}; }
+  std::span<const double> slip() const { return {}; }
+  double drive_force() const { return law.sigma_bar()[0] + law.params().eta * v; }
+  double max_slip_rate() const { return std::abs(v); }
+};
+
+/// What a run stores, and when: series rows every output.series_dt, snapshots every
+/// output.snapshot_dt (1D scenes), each at the first step end at or after each multiple (fixed-step
+/// runs, exact = false) or at the exact multiples (dense output, exact = true).
+class Recorder {
+ public:
+  Recorder(const Scene& s, ModelResult& r)
+      : eta_(s.interface.eta), one_d_(continuum::is_one_dimensional(s.drive.loading)),
+        series_every_(s.output.series_dt), snapshot_every_(one_d_ && s.output.snapshot_dt > 0 ? s.output.snapshot_dt : -1),
+        series_due_(series_every_), snap_due_(snapshot_every_), r_(r) {}
+
+  /// After a step [t0, t1] (or at the start, t0 = t1 = 0 with exact = false): every row due in it.
+  /// state_at(t) gives the state view at t (any t in [t0, t1] when exact; t1 otherwise); tracker gives
+  /// the latest tip positions (1D); energy, the budget when tracked.
+  template <class StateAt>
+  void after_step(double t0, double t1, bool exact, StateAt&& state_at, const FrontTracker& tracker,
+                  const std::optional<continuum::EnergyBudget>& energy) {
+    if (!exact) {
+      if (series_due_.due(t1)) series_row(state_at(t1), tracker, energy);
+      if (snap_due_.due(t1)) snapshot(state_at(t1));
+      return;
+    }
+    detail::multiples_in(t0, t1, series_every_, [&](double t) { series_row(state_at(t), tracker, energy); });
+    detail::multiples_in(t0, t1, snapshot_every_, [&](double t) { snapshot(state_at(t)); });
+  }
+
+  /// One series row (docs/output.md /series): t, drive_force, max_v; 1D: tip_x, tip_x_alt; one site:
+  /// A, sigma_bar, sigma, slip_rate (and slip where there is a bulk); the energy budget when tracked
+  /// (its terms hold at energy_time; all 0 before the first step).
+  template <class State>
+  void series_row(const State& st, const FrontTracker& tracker, const std::optional<continuum::EnergyBudget>& energy) {
+    Columns& c = r_.series;
+    detail::push(c, "t", st.t());
+    detail::push(c, "drive_force", st.drive_force());
+    detail::push(c, "max_v", st.max_slip_rate());
+    if (one_d_) {
+      detail::push(c, "tip_x", tracker.last_tip());
+      detail::push(c, "tip_x_alt", tracker.last_tip_alt());
+    } else {
+      const double sb = st.sigma_bar()[0], v = st.slip_rate()[0];
+      detail::push(c, "A", st.contact_area()[0]);
+      detail::push(c, "sigma_bar", sb);
+      detail::push(c, "sigma", sb + eta_ * v);
+      detail::push(c, "slip_rate", v);
+      if (const auto u = st.slip(); !u.empty()) detail::push(c, "slip", u[0]);
+    }
+    if (energy) {
+      const bool started = !std::isnan(energy->mechanical0);
+      detail::push(c, "energy_drive_work", started ? energy->drive_work : 0.0);
+      detail::push(c, "energy_mechanical", started ? energy->mechanical() - energy->mechanical0 : 0.0);
+      detail::push(c, "energy_viscous", started ? energy->viscous : 0.0);
+      detail::push(c, "energy_interfacial", started ? energy->interfacial : 0.0);
+      detail::push(c, "energy_residual", started ? energy->residual() : 0.0);
+      detail::push(c, "energy_time", started ? energy->time : 0.0);
+    }
+  }
+
+  /// One snapshot row (docs/output.md /snapshots): A, sigma_bar, v, u over the nodes.
+  template <class State>
+  void snapshot(const State& st) {
+    r_.snapshot_t.push_back(st.t());
+    detail::append(r_.snapshots, "A", st.contact_area());
+    detail::append(r_.snapshots, "sigma_bar", st.sigma_bar());
+    detail::append(r_.snapshots, "v", st.slip_rate());
+    detail::append(r_.snapshots, "u", st.slip());
+  }
+
+ private:
+  double eta_;
+  bool one_d_;
+  double series_every_, snapshot_every_;
+  detail::Cadence series_due_, snap_due_;
+  ModelResult& r_;
+};
+
+}  // namespace slipfront::compare

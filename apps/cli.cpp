@@ -138,11 +138,8 @@ std::string prepare_output_dir(const fs::path& dir, bool force) {
   return "";
 }
 
-std::string format_number(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", x);
-  return buf;
-}
+// Numbers in the summary: 6 significant digits.
+std::string format_number(double x) { return continuum::format_number(x, 6); }
 
 std::string format_seconds(double s) {
   char buf[32];

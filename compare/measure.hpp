@@ -71,7 +71,6 @@ class FrontTracker {
 
   const std::vector<double>& sample_times() const { return ts_; }
   const std::vector<double>& tips() const { return tips_; }
-  const std::vector<double>& tips_alt() const { return tips_alt_; }
   double last_tip() const { return tips_.empty() ? nan : tips_.back(); }
   double last_tip_alt() const { return last_tip_alt_; }
 

@@ -5,9 +5,9 @@
 
 namespace slipfront::continuum {
 
-std::string format_number(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.10g", x);
+std::string format_number(double x, int digits) {
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%.*g", digits, x);
   return buf;
 }
 

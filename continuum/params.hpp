@@ -8,8 +8,9 @@
 
 namespace slipfront::continuum {
 
-/// A number as people write it in a config file (%g with enough digits: 1e-07, 0.5, 300).
-std::string format_number(double x);
+/// A number as people write it (%g: 1e-07, 0.5, 300) with `digits` significant digits: 10 in error
+/// messages (enough to tell values apart), fewer in summaries.
+std::string format_number(double x, int digits = 10);
 
 /// A parameter value that is out of range. `key` is the dotted config key ("bulk.rho").
 struct ParamError : std::runtime_error {

@@ -1,5 +1,5 @@
 #pragma once
-// The slipfront command line (MODEL §5; documented in docs/cli.md): verbs `run` and `check`.
+// The slipfront command line (docs/model.md §5; documented in docs/cli.md): verbs `run` and `check`.
 #include <filesystem>
 #include <iosfwd>
 #include <string>

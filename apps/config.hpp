@@ -1,5 +1,5 @@
 #pragma once
-// Scene configuration files (TOML) <-> compare::Scene (MODEL §5; the schema is in docs/cli.md).
+// Scene configuration files (TOML) <-> compare::Scene (docs/model.md §5; the schema is in docs/cli.md).
 // Every key of the schema is one row of a table in config.cpp; reading, --set overrides, defaults,
 // "unknown key" messages and to_toml() all follow that table.
 #include <filesystem>

@@ -193,7 +193,7 @@ std::string description_of(const std::string& group, const std::string& name) {
       {"friction_law/sigma", "steady frictional stress: time average of sigma over the last part of the run"},
       {"friction_law/sigma_stderr", "standard error of friction_law/sigma from batch means"},
       {"friction_law/A", "time-averaged contact-area fraction over the same window"},
-      {"friction_law/sigma_closed_form", "closed form sigma_ss(v) = alpha/(1 + kappa v) + eta v (MODEL §1)"},
+      {"friction_law/sigma_closed_form", "closed form sigma_ss(v) = alpha/(1 + kappa v) + eta v (docs/model.md §1)"},
   };
   const std::string key = group.empty() ? name : group + "/" + name;
   if (const auto it = known.find(key); it != known.end()) return it->second;
@@ -205,7 +205,7 @@ std::string group_description(const std::string& group) {
   static const std::map<std::string, std::string> known = {
       {"series", "time series, one sample every output.series_dt"},
       {"snapshots", "fields along the interface, one row every output.snapshot_dt"},
-      {"events", "event times and front speeds (MODEL §3) as attributes; NaN where the run had no such event; "
+      {"events", "event times and front speeds (docs/model.md §3) as attributes; NaN where the run had no such event; "
                  "the _alt names are measured on the measure.A_tip_alt front"},
       {"cycles", "stick-slip cycles of the spring block, one entry per cycle"},
       {"friction_law", "steady friction law of an imposed slip-rate sweep, one entry per slip rate"},

@@ -1,5 +1,5 @@
 #pragma once
-// The one module that owns the HDF5 layout of results.h5 (MODEL §5; documented in docs/output.md).
+// The one module that owns the HDF5 layout of results.h5 (docs/model.md §5; documented in docs/output.md).
 #include <filesystem>
 #include <stdexcept>
 #include <string>

@@ -6,7 +6,7 @@
 //           64 independent sites ± SE): they must agree within the combined SE (and ≈ 1/(1+κv)).
 //   mixed   the same with 56 of the 64 sites stuck (v = 0, A = 1, σ̄ = 0.5): fig1-like, most of an
 //           interface is stuck most of the time.
-//   fig1    the fig1 scene (MODEL §4: edge loading, L = 300, dx = 0.5, cfl = 0.5) to t_end = 40
+//   fig1    the fig1 scene (docs/model.md §4: edge loading, L = 300, dx = 0.5, cfl = 0.5) to t_end = 40
 //           (through first yield; SLIPFRONT_BENCH_T_END to change), through compare::run_dynamic
 //           (bulk and measurements included). The naive law only at N = 100 unless
 //           SLIPFRONT_BENCH_NAIVE_FIG1=1 (it takes minutes at N = 10^4).

@@ -1,5 +1,5 @@
 // Cost per site-step of the count representation (discrete::CountLaw) against the continuum law on
-// the fig1 scene (MODEL §4: edge loading, paper parameters, L = 300, dx = 0.5, cfl = 0.5), run through
+// the fig1 scene (docs/model.md §4: edge loading, paper parameters, L = 300, dx = 0.5, cfl = 0.5), run through
 // compare::run_dynamic like a real run (bulk stepping and measurements included). w = 0, noise on.
 //
 //   ./bench_discrete_count                        t_end = 80 (through first yield and the slow front)

@@ -7,9 +7,9 @@
 //   SLIPFRONT_BENCH_QUICK=1 ...        smoke test (2 seeds, small N, fig1 to t_end 60)
 //   /usr/bin/python3 scripts/plot_discrete_work_precision.py FILE   the plot
 //
-// friction_law (MODEL §4: 41 rates, 1e-3..1e2, 4000 exact steps per rate): error = RMS over the rates
+// friction_law (docs/model.md §4: 41 rates, 1e-3..1e2, 4000 exact steps per rate): error = RMS over the rates
 //   of (σ_discrete − σ_ss)/σ_ss against the closed form the continuum reproduces to 1e-13.
-// fig1 (MODEL §4, t_end = 140): errors |t^_d − t^_c|/t^_c and |c_d − c_c|/c_c against the continuum
+// fig1 (docs/model.md §4, t_end = 140): errors |t^_d − t^_c|/t^_c and |c_d − c_c|/c_c against the continuum
 //   on the explicit reference scheme (a run with no transient counts as error 1); the count
 //   representation also on the implicit integrator at dt = 0.02 (docs/numerics.md §7).
 // Per case: the mean wall time over seeds (the run's own clock, output excluded) and the mean error

@@ -1,5 +1,5 @@
 // The peer integrator of the work-precision study: SUNDIALS CVODE (6.x) on the method-of-lines ODE of
-// MODEL §1 (continuum/bulk.hpp grid), written independently of continuum/adaptive.cpp.
+// docs/model.md §1 (continuum/bulk.hpp grid), written independently of continuum/adaptive.cpp.
 //   unknowns interleaved per node: y[4i + 0..3] = u_i, v_i, A_i, σ̄_i
 //   the v row of node i couples u_{i−1}, u_i, u_{i+1}: band widths mu = 3, ml = 5
 //   BDF orders 1–5, Newton with the banded difference-quotient Jacobian (mu + ml + 1 = 9 right-hand
@@ -140,7 +140,7 @@ class CvodePeer {
     check(CVodeSetRootDirection(mem_, rootdir_.data()), "CVodeSetRootDirection");
   }
 
-  // MODEL §1 on the grid of continuum/bulk.hpp (see continuum/adaptive.hpp for the equations).
+  // docs/model.md §1 on the grid of continuum/bulk.hpp (see continuum/adaptive.hpp for the equations).
   static int rhs(sunrealtype t, N_Vector yv, N_Vector fv, void* user) {
     const auto& P = *static_cast<const CvodePeer*>(user);
     const double* y = N_VGetArrayPointer(yv);

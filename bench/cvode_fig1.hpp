@@ -1,7 +1,7 @@
 #pragma once
 // Work-precision runs of one dynamic scene (fig1 by default) with three integrators of the same
-// method-of-lines ODE (continuum/bulk.hpp grid, MODEL §1), all measured by the one implementation of
-// MODEL §3 (compare::FrontTracker):
+// method-of-lines ODE (continuum/bulk.hpp grid, docs/model.md §1), all measured by the one implementation of
+// docs/model.md §3 (compare::FrontTracker):
 //   explicit  the reference scheme, run through compare::run_model exactly as `slipfront run` does;
 //   adaptive  continuum::AdaptiveSimulation (continuum/adaptive.hpp);
 //   cvode     the peer: SUNDIALS CVODE (BDF 1–5, banded difference-quotient Jacobian, band LU) on the
@@ -34,7 +34,7 @@
 
 namespace slipfront::bench {
 
-/// fig1 (MODEL §4): edge loading, ρ = 0.01, μ = 300, κ = 8, α = 1.05, η = 0.1, K = 2.5, v_d = 0.3,
+/// fig1 (docs/model.md §4): edge loading, ρ = 0.01, μ = 300, κ = 8, α = 1.05, η = 0.1, K = 2.5, v_d = 0.3,
 /// L = 300, dx = 0.5, t_end = 140, cfl 0.5.
 inline compare::Scene fig1_scene() {
   compare::Scene s = testing::fig1_scene();  // the paper's fig1 (tests/scenes.hpp)
@@ -43,7 +43,7 @@ inline compare::Scene fig1_scene() {
   return s;
 }
 
-/// homogeneous_front (MODEL §4): uniform σ_d = 0.5, nucleation patch ℓ_n = 150, L = 1000, t_end = 15.
+/// homogeneous_front (docs/model.md §4): uniform σ_d = 0.5, nucleation patch ℓ_n = 150, L = 1000, t_end = 15.
 inline compare::Scene homogeneous_front_scene() {
   compare::Scene s = testing::homogeneous_scene(0.5, 150.0, 15.0);  // tests/scenes.hpp
   s.bulk.length = 1000.0;
@@ -66,7 +66,7 @@ struct RunRecord {
   std::vector<std::vector<double>> snap_A, snap_sb;  ///< [snap][node]
 };
 
-/// Initial state of a dynamic scene (MODEL §1): at rest (edge loading), or the stuck state with a
+/// Initial state of a dynamic scene (docs/model.md §1): at rest (edge loading), or the stuck state with a
 /// nucleation patch in steady sliding at σ_d (homogeneous loading; the runner does the same).
 struct InitialState {
   std::vector<double> u, v, A, sb;

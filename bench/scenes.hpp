@@ -8,7 +8,7 @@
 
 namespace slipfront::bench {
 
-/// fig1 (MODEL §4, testing::fig1_scene: edge loading, paper parameters, L = 300, dx = 0.5,
+/// fig1 (docs/model.md §4, testing::fig1_scene: edge loading, paper parameters, L = 300, dx = 0.5,
 /// cfl = 0.5) to t_end = $SLIPFRONT_BENCH_T_END, or `default_t_end` when it is not set. Validated.
 inline compare::Scene fig1_scene(double default_t_end) {
   compare::Scene s = testing::fig1_scene();

@@ -9,7 +9,7 @@
 namespace slipfront::compare {
 namespace {
 
-// Field distances between two lockstep runs at a cadence (MODEL §2 item 2: fields at fixed times).
+// Field distances between two lockstep runs at a cadence (docs/model.md §2 item 2: fields at fixed times).
 class FieldComparison {
  public:
   explicit FieldComparison(double every) : due_(every > 0 ? every : -1) {}
@@ -100,7 +100,7 @@ Comparison compare_results(const Scene& s, const ModelResult& c, const ModelResu
       const std::string key = std::string(name) + (alt ? "_alt" : "");
       cmp.metrics[key + "_rel_diff"] = (b - a) / a;
       cmp.definitions[key + "_rel_diff"] = "(discrete - continuum) / continuum of the event " + key +
-                                           " (MODEL §3; _alt: on the A_tip_alt front); NaN where one model has no such event";
+                                           " (docs/model.md §3; _alt: on the A_tip_alt front); NaN where one model has no such event";
     }
   const bool zero_d = !continuum::is_one_dimensional(s.drive.loading);
   const char* col = zero_d && s.drive.loading == continuum::Loading::imposed_rate ? "sigma" : "drive_force";

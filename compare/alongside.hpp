@@ -1,5 +1,5 @@
 #pragma once
-// The comparison layer (MODEL §2 hierarchy, issue 4): the continuum and the discrete model run
+// The comparison layer (docs/model.md §2 hierarchy, issue 4): the continuum and the discrete model run
 // alongside on one scene — same grid, time step and loading, advanced in lockstep in one process —
 // with the field distances computed online at a cadence (so neither full history has to be kept),
 // and the event times, speeds, friction histories and friction laws compared at the end. Every

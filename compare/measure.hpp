@@ -102,7 +102,7 @@ class CycleDetector {
   bool slipping_ = false;
 };
 
-/// Homogeneous loading: the slip rate behind the front, v_behind (MODEL §3): the mean slip rate over the
+/// Homogeneous loading: the slip rate behind the front, v_behind (docs/model.md §3): the mean slip rate over the
 /// nodes from the nucleation patch's end to measure.behind_gap behind the tip, taken once, when the tip
 /// first passes measure.behind_tip_fraction · L.
 class BehindRate {
@@ -117,7 +117,7 @@ class BehindRate {
   double from_, v_behind_ = nan;
 };
 
-/// Steady friction law measurement (MODEL §3): time average of σ over [t_from, t_end] with its
+/// Steady friction law measurement (docs/model.md §3): time average of σ over [t_from, t_end] with its
 /// standard error from `batches` batch means of equal duration.
 class BatchMeans {
  public:

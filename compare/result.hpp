@@ -1,5 +1,5 @@
 #pragma once
-// What one model's run produces, in memory, for the writer (apps/h5out) to lay out (MODEL §5).
+// What one model's run produces, in memory, for the writer (apps/h5out) to lay out (docs/model.md §5).
 #include <map>
 #include <string>
 #include <vector>
@@ -24,7 +24,7 @@ struct ModelResult {
   Columns series;                   ///< each [nt]: t, drive_force, tip_x, tip_x_alt, max_v, ...
   std::vector<double> snapshot_t;   ///< [ns]
   Columns snapshots;                ///< each flat [ns * nx] row-major: A, sigma_bar, v, u
-  Events events;                    ///< measured on the A_tip front (MODEL §3 default 0.5)
+  Events events;                    ///< measured on the A_tip front (docs/model.md §3 default 0.5)
   Events events_alt;                ///< the same measured on the A_tip_alt front (0.9)
   Columns cycles;                   ///< spring block stick–slip cycles: t_start, F_peak, F_residual
   Columns friction_law;             ///< imposed-rate sweep: v, sigma, sigma_stderr, A, sigma_closed_form

@@ -1,5 +1,5 @@
 #pragma once
-// A scene: everything one run needs, as plain structs (MODEL §4, §5). Filled from TOML by apps/.
+// A scene: everything one run needs, as plain structs (docs/model.md §4, §5). Filled from TOML by apps/.
 #include <string>
 #include <vector>
 

@@ -257,7 +257,7 @@ void fronts_vs_N(StudyReport& rep, const StudySpec& spec, const std::vector<Stud
   }
   for (const Obs& o : obs) {
     const std::string n = o.name;
-    rep.definitions["front_speeds/" + n + "_mean"] = "mean over seeds of the discrete " + n + " (MODEL §3)";
+    rep.definitions["front_speeds/" + n + "_mean"] = "mean over seeds of the discrete " + n + " (docs/model.md §3)";
     rep.definitions["front_speeds/" + n + "_sd"] = "standard deviation over seeds of the discrete " + n;
     rep.definitions["front_speeds/" + n + "_rel_diff"] = "(mean - continuum) / continuum";
     put_fits(rep, "front_" + n + "_sd_exponent", t["N"], t[n + "_sd"], spec.fit_from,

@@ -7,7 +7,7 @@
 // node
 //   u' = v
 //   ρ v' = F_i/w_i + σ_d − σ̄_i − η v_i                     (Bulk::forces_per_length)
-//   (A', σ̄') = law.rate({v_i, A_i, σ̄_i}, Θ_i)              (MODEL: A' = 1 − A − ΘκA|v|, σ̄' = αAv − Θσ̄|v|)
+//   (A', σ̄') = law.rate({v_i, A_i, σ̄_i}, Θ_i)              (docs/model.md §1.1: A' = 1 − A − ΘκA|v|, σ̄' = αAv − Θσ̄|v|)
 // integrated as one stiff system (docs/performance.md):
 //   - a 2-stage Rosenbrock method (Shampine–Reichelt "ode23s": order 2, L-stable, embedded order-3
 //     error estimate, order-2 dense output) with the exact Jacobian (law.jacobian and the bulk's

@@ -1,7 +1,7 @@
 #pragma once
 // Exact updates of linear relaxation equations with rates frozen over a step.
 // Shared by the continuum law and the discrete ensemble so that, with noise off and w = 0,
-// both perform the same arithmetic (MODEL §2, hierarchy item 1).
+// both perform the same arithmetic (docs/model.md §2, hierarchy item 1).
 #include <cmath>
 #include <limits>
 
@@ -18,13 +18,13 @@ inline double relax(double y, double source, double rate, double dt) {
   return y * std::exp(-rate * dt) + source * relax_weight(rate, dt);
 }
 
-/// Contact-level stress |σ|/A of MODEL §1 (+∞ on a site with no contact area).
+/// Contact-level stress |σ|/A of docs/model.md §1 (+∞ on a site with no contact area).
 inline double contact_stress(double sigma, double area) {
   return area > 0.0 ? std::abs(sigma) / area : std::numeric_limits<double>::infinity();
 }
 
 /// Two-state Markov chain (attached ⇄ detached) with constant attach rate a and detach rate d,
-/// MODEL §2: r = a + d, P(att→att) = (a + d e^{−r dt})/r, P(det→att) = a (1 − e^{−r dt})/r.
+/// docs/model.md §2: r = a + d, P(att→att) = (a + d e^{−r dt})/r, P(det→att) = a (1 − e^{−r dt})/r.
 struct TwoStateTransition {
   double stay_attached;   ///< P(att → att)
   double become_attached; ///< P(det → att)

@@ -1,5 +1,5 @@
 #pragma once
-// Plain parameter structs of the continuum model (MODEL.md §1, §4).
+// Plain parameter structs of the continuum model (docs/model.md §1, §4).
 // Each has validate(): it throws ParamError naming the config key and the reason.
 // Filling them from TOML is the job of apps/config; nothing here knows about files.
 #include <stdexcept>
@@ -20,7 +20,7 @@ struct ParamError : std::runtime_error {
       : std::runtime_error(k + ": " + r), key(std::move(k)), reason(std::move(r)) {}
 };
 
-/// Interface law parameters: MODEL §1 friction law.
+/// Interface law parameters: docs/model.md §1 friction law.
 struct InterfaceParams {
   double alpha = 1.05;  ///< interfacial stiffness (≥ 1 for a self-consistent sliding branch)
   double kappa = 8.0;   ///< area-decay factor
@@ -93,7 +93,7 @@ struct TimeParams {
   void validate(Loading l) const;
 };
 
-/// Measurement definitions, MODEL §3.
+/// Measurement definitions, docs/model.md §3.
 struct MeasureParams {
   double A_tip = 0.5;          ///< front tip: largest x with A < A_tip
   double A_tip_alt = 0.9;      ///< reported too
@@ -109,7 +109,7 @@ struct MeasureParams {
   void validate() const;
 };
 
-/// What the scene asks to store (MODEL §5: nothing nobody asked for).
+/// What the scene asks to store (docs/model.md §5: nothing nobody asked for).
 struct OutputParams {
   double series_dt = 0.05;    ///< cadence of /series (0: every step)
   double snapshot_dt = 1.0;   ///< cadence of /snapshots (0: none)

@@ -1,12 +1,12 @@
 #pragma once
-// The microcontact ensemble of MODEL §2 in the AGENT representation: every contact explicit (state,
+// The microcontact ensemble of docs/model.md §2 in the AGENT representation: every contact explicit (state,
 // threshold s_j, time of last attachment), with the step contract of continuum::FrictionLaw (size,
 // contact_area, sigma_bar, set_site, advance, params), so the bulk stepper and the scene runner
 // take it unchanged. It samples the same process as the count representation (CountLaw) and can
-// record contact statistics (discrete/contact_stats.hpp, MODEL §2 item 5).
+// record contact statistics (discrete/contact_stats.hpp, docs/model.md §2 item 5).
 //
 // One step [t0, t1 = t0 + Δt] with v_i frozen, at every site (the rates are frozen at their
-// start-of-step values, MODEL §2):
+// start-of-step values, docs/model.md §2):
 //   1. load      τ_i = |σ̄_i + η v_i| / A_i; an attached contact is overloaded ("a member") when
 //                τ_i > s_j; Y_i = members / attached (1 when none attached)
 //   2. idle?     no member that slips and no detached contact: nothing to do (O(1), no draw)
@@ -117,7 +117,7 @@ class AgentLaw {
   /// the state depends only on (seed, i, A, σ̄). A ∈ [0, 1].
   void set_site(std::size_t i, double area, double sigma_bar);
 
-  /// MODEL §2 over [t, t + dt] with the slip rates v frozen. any_yield: some site had an
+  /// docs/model.md §2 over [t, t + dt] with the slip rates v frozen. any_yield: some site had an
   /// overloaded attached contact (or none attached, τ = ∞) and v_i ≠ 0 at the start of the step
   /// (the definition of CountLaw).
   continuum::LawStepInfo advance(double dt, std::span<const double> v);

@@ -1,5 +1,5 @@
 #pragma once
-// Contact statistics of the agent representation (MODEL §2 hierarchy item 5, MODEL §5
+// Contact statistics of the agent representation (docs/model.md §2 hierarchy item 5, docs/model.md §5
 // /discrete/contacts): what renewal theory predicts in steady sliding at imposed v with w = 0 —
 // attached lifetimes ~ Exp(κv), detached durations ~ Exp(1), ages of attached contacts ~ Exp(κv).
 //

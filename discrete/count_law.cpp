@@ -48,7 +48,7 @@ inline void split_rounded(double total, std::span<const std::int64_t> cumulative
   }
 }
 
-// σ̄' of MODEL §2: relax() of continuum/exact_update.hpp; at rate 0 it is σ̄ + source Δt, computed
+// σ̄' of docs/model.md §2: relax() of continuum/exact_update.hpp; at rate 0 it is σ̄ + source Δt, computed
 // without the exponential (bit for bit what relax() returns there: e^{−0} = 1, weight = Δt).
 inline double relax_stress(double sb, double source, double rate, double dt) {
   return rate > 0.0 ? continuum::relax(sb, source, rate, dt) : sb + source * dt;

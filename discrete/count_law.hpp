@@ -1,5 +1,5 @@
 #pragma once
-// The microcontact ensemble of MODEL §2 in the COUNT representation, as an interface law with the
+// The microcontact ensemble of docs/model.md §2 in the COUNT representation, as an interface law with the
 // step contract of continuum::FrictionLaw (size, contact_area, sigma_bar, set_site, advance,
 // params): the bulk stepper and the scene runner take it unchanged (docs/discrete.md).
 //
@@ -8,7 +8,7 @@
 // when g is degenerate), and the detached count (one pool per site with renewal = fresh, since a
 // detached contact gets a fresh threshold; per bin with renewal = quenched). A_i = n_i / N.
 //
-// One step [t, t + Δt] with v_i frozen (MODEL §2), at every site:
+// One step [t, t + Δt] with v_i frozen (docs/model.md §2), at every site:
 //   1. load        τ_i = |σ̄_i + η v_i| / A_i;  bin b is overloaded when τ_i > s_b (a prefix of bins)
 //   2. idle?       no overloaded attached contact that slips and no detached contact: nothing moves,
 //                  no random draw, no exponential (the stuck majority of a front costs a few flops)
@@ -17,7 +17,7 @@
 //                  fractions of the site, evaluated with relax() at every site (no idle skip)
 //   4. stress      σ̄_i' = relax(σ̄_i, α Ā_i v_i, Y_i |v_i|, Δt),  Ā = (A + A')/2,
 //                  Y_i = overloaded fraction of the attached contacts at t (1 when none attached)
-// With w = 0 and noise off this is, operation for operation, FrictionLaw::advance (MODEL §2 item 1):
+// With w = 0 and noise off this is, operation for operation, FrictionLaw::advance (docs/model.md §2 item 1):
 // the two laws agree bit for bit (tests/test_discrete_identity.cpp).
 #include <cstddef>
 #include <cstdint>
@@ -70,8 +70,8 @@ class CountLaw {
   /// spread over the bins by expectation rounding (no random draw); the rest detached. A ∈ [0, 1].
   void set_site(std::size_t i, double area, double sigma_bar);
 
-  /// MODEL §2 over [t, t + dt] with the slip rates v frozen; any_yield: some site had an
-  /// overloaded attached contact (or no attached contact at all, τ = ∞: Θ = 1 of MODEL §1) and
+  /// docs/model.md §2 over [t, t + dt] with the slip rates v frozen; any_yield: some site had an
+  /// overloaded attached contact (or no attached contact at all, τ = ∞: Θ = 1 of docs/model.md §1) and
   /// v_i ≠ 0 at the start of the step.
   continuum::LawStepInfo advance(double dt, std::span<const double> v);
 

@@ -1,7 +1,7 @@
 #pragma once
 // The agent representation done the obvious way (a baseline for benchmarks and a cross-check of
 // AgentLaw): every contact of every site is visited every step and makes one Bernoulli draw with
-// the exact two-state transition probabilities of MODEL §2 (rates frozen at the start of the step):
+// the exact two-state transition probabilities of docs/model.md §2 (rates frozen at the start of the step):
 //   attached, overloaded (τ > s):  stays with P(att→att) = (a + d e^{−rΔt})/r, d = κ|v|
 //   attached, not overloaded:      stays (certain: no draw)
 //   detached:                      attaches with P(det→att) = a (1 − e^{−rΔt})/r, with d = κ|v| if
@@ -67,7 +67,7 @@ class NaiveAgentLaw {
     sigma_bar_[i] = sigma_bar;
   }
 
-  /// MODEL §2 over [t, t + dt], v frozen; any_yield as AgentLaw.
+  /// docs/model.md §2 over [t, t + dt], v frozen; any_yield as AgentLaw.
   continuum::LawStepInfo advance(double dt, std::span<const double> v) {
     if (v.size() != size()) throw std::invalid_argument("NaiveAgentLaw::advance: one slip rate per site");
     const double alpha = ip_.alpha, kappa = ip_.kappa, eta = ip_.eta;

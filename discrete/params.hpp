@@ -1,5 +1,5 @@
 #pragma once
-// Parameters of the microcontact ensemble (MODEL §2), config section [discrete].
+// Parameters of the microcontact ensemble (docs/model.md §2), config section [discrete].
 #include <cstdint>
 #include <string>
 

@@ -1,5 +1,5 @@
 #pragma once
-// Yield-threshold distributions g of MODEL §2: mean 1, relative width (standard deviation) w.
+// Yield-threshold distributions g of docs/model.md §2: mean 1, relative width (standard deviation) w.
 //   delta     s = 1 (w must be 0; any w with "delta" means w is ignored only when 0: validated)
 //   uniform   U[1 − √3 w, 1 + √3 w]
 //   gaussian  normal truncated to s > 0, parent (m, s0) solved so the truncated law has mean 1, sd w

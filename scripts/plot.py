@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Plot a slipfront results file (layout: docs/output.md, MODEL.md §5).
+"""Plot a slipfront results file (layout: docs/output.md, docs/model.md §5).
 
     /usr/bin/python3 scripts/plot.py out/fig1/results.h5 [--outdir DIR]
 
@@ -166,7 +166,7 @@ class Results:
 
 
 # --------------------------------------------------------------------------------------------
-# closed forms (MODEL §1)
+# closed forms (docs/model.md §1)
 
 
 def interface_params(res: Results):
@@ -184,14 +184,14 @@ def area_ss(v, kappa):
 
 
 def minimum_of_friction(alpha, kappa, eta):
-    """v_m and sigma_c^d of MODEL §1 (NaN if the law has no interior minimum)."""
+    """v_m and sigma_c^d of docs/model.md §1 (NaN if the law has no interior minimum)."""
     if kappa <= 0 or eta <= 0 or alpha * kappa / eta <= 1:
         return math.nan, math.nan
     return (math.sqrt(alpha * kappa / eta) - 1) / kappa, 2 * math.sqrt(alpha * eta / kappa) - eta / kappa
 
 
 def t_star_formula(res: Results):
-    """First yield at the edge, MODEL §1: t* = (K + sqrt(alpha mu)) / (alpha K v_d)."""
+    """First yield at the edge, docs/model.md §1: t* = (K + sqrt(alpha mu)) / (alpha K v_d)."""
     p = interface_params(res)
     K, vd, mu = res.param("drive", "K"), res.param("drive", "v_d"), res.param("bulk", "mu")
     if p is None or None in (K, vd, mu) or K <= 0 or vd <= 0:
@@ -519,7 +519,7 @@ def plot_history(res: Results, outdir, written, dpi):
             for r in range(3):
                 mark_times(axes[r, c], ev, label=(r == 0 and c == 0), color=st["color"] if many else None,
                            model=m if many else "")
-    # steady states of each segment (MODEL §1), dotted
+    # steady states of each segment (docs/model.md §1), dotted
     if p and isinstance(vs, list) and isinstance(ts, list) and len(vs) == len(ts):
         ends = list(ts[1:]) + [t_end if t_end is not None else ts[-1] + 1.0]
         for k, (v, a, b) in enumerate(zip(vs, ts, ends)):

@@ -1,5 +1,5 @@
 #pragma once
-// Scenes built in code for the tests (MODEL §4), so that a test states every parameter it relies on
+// Scenes built in code for the tests (docs/model.md §4), so that a test states every parameter it relies on
 // and does not depend on configs/ (which other people edit). Plus small helpers to read results, a
 // scratch directory and the minimal TOML configuration of the apps/ tests. bench/scenes.hpp uses it too.
 #include <unistd.h>
@@ -22,7 +22,7 @@
 
 namespace slipfront::testing {
 
-/// The paper's interface parameters (MODEL §1): α = 1.05, κ = 8, η = 0.1.
+/// The paper's interface parameters (docs/model.md §1): α = 1.05, κ = 8, η = 0.1.
 inline continuum::InterfaceParams paper_interface() {
   continuum::InterfaceParams p;
   p.alpha = 1.05;
@@ -31,7 +31,7 @@ inline continuum::InterfaceParams paper_interface() {
   return p;
 }
 
-/// fig1 (MODEL §4): edge loading, paper parameters ρ = 0.01, μ = 300, κ = 8, α = 1.05, η = 0.1,
+/// fig1 (docs/model.md §4): edge loading, paper parameters ρ = 0.01, μ = 300, κ = 8, α = 1.05, η = 0.1,
 /// K = 2.5, v_d = 0.3, L = 300, dx = 0.5, cfl = 0.5, t_end = 140.
 inline compare::Scene fig1_scene() {
   compare::Scene s;
@@ -52,7 +52,7 @@ inline compare::Scene fig1_scene() {
   return s;
 }
 
-/// Homogeneous loading (MODEL §1): uniform σ_d, free ends, nucleation patch 0 ≤ x < ℓ_n
+/// Homogeneous loading (docs/model.md §1): uniform σ_d, free ends, nucleation patch 0 ≤ x < ℓ_n
 /// (ℓ_n = 0: no patch, the stuck state everywhere). Paper bulk and interface parameters.
 inline compare::Scene homogeneous_scene(double sigma_d, double nucleation_length, double t_end) {
   compare::Scene s = fig1_scene();
@@ -64,7 +64,7 @@ inline compare::Scene homogeneous_scene(double sigma_d, double nucleation_length
   return s;
 }
 
-/// 0D spring block (MODEL §1): ρ v̇ = K (v_d t − u) − σ̄ − η v, paper parameters K = 2.5, v_d = 0.3,
+/// 0D spring block (docs/model.md §1): ρ v̇ = K (v_d t − u) − σ̄ − η v, paper parameters K = 2.5, v_d = 0.3,
 /// ρ = 0.01.
 inline compare::Scene spring_block_scene(double t_end) {
   compare::Scene s = fig1_scene();
@@ -76,7 +76,7 @@ inline compare::Scene spring_block_scene(double t_end) {
   return s;
 }
 
-/// 0D imposed slip rate (MODEL §4 friction_law): one site, v imposed; steady_point() runs
+/// 0D imposed slip rate (docs/model.md §4 friction_law): one site, v imposed; steady_point() runs
 /// t_end + slip_end/|v| in `steps` exact steps.
 inline compare::Scene imposed_rate_scene() {
   compare::Scene s;
@@ -106,7 +106,7 @@ struct TempDir {
   TempDir& operator=(const TempDir&) = delete;
 };
 
-/// The smallest valid configuration (MODEL §5, docs/cli.md): edge loading with every required key
+/// The smallest valid configuration (docs/model.md §5, docs/cli.md): edge loading with every required key
 /// and nothing else; paper parameters, L = 20, dx = 2, t_end = 2 (a few hundred steps).
 inline std::string minimal_config() {
   return R"(scene = "tiny"

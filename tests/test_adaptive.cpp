@@ -85,7 +85,7 @@ compare::Scene spring_block() {
   return s;
 }
 
-// First yield of the 0D spring block from rest, in closed form (MODEL §1 0D scenes). While stuck,
+// First yield of the 0D spring block from rest, in closed form (docs/model.md §1 0D scenes). While stuck,
 // A = 1 and σ̄ = α u, so ρ u'' + η u' + (K + α) u = K v_d t, u(0) = u'(0) = 0:
 //   u = a t + b + e^{−γt} (C1 cos ωt + C2 sin ωt),  a = K v_d/(K+α), b = −η a/(K+α),
 //   γ = η/(2ρ), ω = sqrt((K+α)/ρ − γ²), C1 = −b, C2 = (γ C1 − a)/ω;
@@ -134,7 +134,7 @@ TEST_CASE("adaptive: options are validated and name their config key", "[adaptiv
 }
 
 TEST_CASE("adaptive: the stuck state of homogeneous loading stays put and steps grow to dt_max", "[adaptive]") {
-  // MODEL §1: A = 1, σ̄ = σ_d, u = σ_d/α, v = 0 is an exact equilibrium of the discrete system (no
+  // docs/model.md §1: A = 1, σ̄ = σ_d, u = σ_d/α, v = 0 is an exact equilibrium of the discrete system (no
   // elastic force from a uniform u, σ_d − σ̄ = 0). The integrator must keep it to round-off and, with
   // nothing happening, take the largest steps it is allowed: 20 time units in ≤ 20 + 15 steps
   // (dt_max = 1, first step 1e-3 growing ×5 per step at most).
@@ -161,7 +161,7 @@ TEST_CASE("adaptive: the stuck state of homogeneous loading stays put and steps 
 }
 
 TEST_CASE("adaptive: the first switching of the 0D spring block is located at its closed-form time", "[adaptive][events]") {
-  // Physics: a block pulled from rest sticks (σ̄ = α u) until α u + η v = 1 (MODEL §1, Θ switches
+  // Physics: a block pulled from rest sticks (σ̄ = α u) until α u + η v = 1 (docs/model.md §1, Θ switches
   // 0 → 1); closed form above. The integrator ends a step exactly at the located switching, so the
   // first step with Θ = 1 starts there. Tolerance: 1e-6 at rtol 1e-4 (state error ~1e-8 over
   // d|σ|/dt ≈ 0.2 per time unit, plus the 1e-9 switching band), 1e-8 at rtol 1e-8; the explicit

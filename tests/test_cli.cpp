@@ -1,4 +1,4 @@
-// The slipfront program (MODEL §5, docs/cli.md), run as a user would: exit codes, messages, and
+// The slipfront program (docs/model.md §5, docs/cli.md), run as a user would: exit codes, messages, and
 // that nothing is touched or computed when the configuration or the output directory is unusable.
 #include <catch2/catch.hpp>
 #include <hdf5.h>

@@ -73,7 +73,7 @@ TEST_CASE("compare: an alongside run reproduces separate runs of each model bit 
 }
 
 TEST_CASE("compare: noise off and w = 0 gives zero field distances and zero event differences", "[compare]") {
-  // MODEL §2 hierarchy item 1 seen through the comparison layer: the metrics must vanish exactly.
+  // docs/model.md §2 hierarchy item 1 seen through the comparison layer: the metrics must vanish exactly.
   Scene s = short_fig1();
   s.discrete.noise = false;
   const auto r = compare::run_scene_alongside(s, {});
@@ -132,7 +132,7 @@ TEST_CASE("compare: a study's results do not depend on the number of threads", "
 }
 
 TEST_CASE("compare: friction-law study, the random error falls like N^(-1/2)", "[compare]") {
-  // Mean-field limit (MODEL §2 item 2) in the default tier: N = 1e2 .. 1e5, 12 seeds, short averaging.
+  // Mean-field limit (docs/model.md §2 item 2) in the default tier: N = 1e2 .. 1e5, 12 seeds, short averaging.
   // Tolerance: the fitted exponent within 0.15 of -1/2 and its 95% interval covering -1/2. The
   // seeds are fixed, so the outcome is deterministic; the stated false-alarm rate of the interval
   // check for a correct model is 5% per fresh set of seeds (this set passes).

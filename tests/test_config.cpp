@@ -1,4 +1,4 @@
-// apps/config: the TOML schema of MODEL §5 (docs/cli.md). Every refusal must name the file, the key
+// apps/config: the TOML schema of docs/model.md §5 (docs/cli.md). Every refusal must name the file, the key
 // and a reason; the resolved TOML written to /config must reload to the identical scene.
 #include <catch2/catch.hpp>
 

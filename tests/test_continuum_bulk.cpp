@@ -1,5 +1,5 @@
 // The elastic bulk + friction law (continuum/bulk, continuum/stepper) against closed forms and
-// physical invariants (MODEL §1, §4): the quasi-static elastic stage of edge loading, the first-yield
+// physical invariants (docs/model.md §1, §4): the quasi-static elastic stage of edge loading, the first-yield
 // time t*, the explicit stability limit, the stationary stuck state of homogeneous loading, the 0D
 // spring block (steady sliding vs stick-slip, decided by linear stability), the energy budget, and the
 // paper's Fig. 1 sequence with its grid convergence.
@@ -26,7 +26,7 @@ namespace {
 
 double rel_err(double a, double b) { return std::abs(a - b) / std::abs(b); }
 
-// MODEL §1: first yield of edge loading, t* = (K + sqrt(αμ)) / (α K v_d).
+// docs/model.md §1: first yield of edge loading, t* = (K + sqrt(αμ)) / (α K v_d).
 double t_star_closed(const compare::Scene& s) {
   const double a = s.interface.alpha, mu = s.bulk.mu, K = s.drive.K, vd = s.drive.v_d;
   return (K + std::sqrt(a * mu)) / (a * K * vd);
@@ -52,7 +52,7 @@ double series_at(const compare::ModelResult& r, const std::string& name, double 
 // ---------------------------------------------------------------------------------------------
 
 TEST_CASE("continuum bulk: edge loading before first yield: u(x,t) is the quasi-static cosh profile", "[bulk][edge]") {
-  // Physics (MODEL §1): before any yield every site sticks (σ̄ = α u), and with inertia and viscosity
+  // Physics (docs/model.md §1): before any yield every site sticks (σ̄ = α u), and with inertia and viscosity
   // negligible μ u'' = α u, μ u'(0) = −K (v_d t − u(0)), u'(L) = 0 give
   //   u(x,t) = U0(t) cosh(k(L − x))/cosh(kL),  k = sqrt(α/μ),  U0 = K v_d t /(K + sqrt(αμ) tanh(kL)).
   // ρ = 1e-3, η = 1e-3 make the neglected terms small: the start-up transient (amplitude ≤ the
@@ -83,11 +83,11 @@ TEST_CASE("continuum bulk: edge loading before first yield: u(x,t) is the quasi-
 }
 
 TEST_CASE("continuum bulk: fig1: the first yield t* is within 1% of (K + sqrt(alpha mu))/(alpha K v_d) = 25.71", "[bulk][edge]") {
-  // Physics (MODEL §1): the edge site yields when σ̄(0) = α u(0) reaches 1 (A = 1, ηv ≪ 1), with u(0)
+  // Physics (docs/model.md §1): the edge site yields when σ̄(0) = α u(0) reaches 1 (A = 1, ηv ≪ 1), with u(0)
   // from the elastic stage on the half-line. Neglected in the formula: inertia (ρ = 0.01), viscosity
   // (σ = σ̄ + ηv, ηv(0) ≈ 0.004) and the free end (tanh(kL) = 1 − 1e-15); they shift t* by a few 1e-3.
   // The measured t* is the start of the first yielding step (resolved to one Δt ≈ 1.4e-3).
-  // Tolerance: 1% (MODEL §4 fig1), and MODEL's 25.71 is the formula's value to 1e-3.
+  // Tolerance: 1% (docs/model.md §4 fig1), and the spec's 25.71 is the formula's value to 1e-3.
   auto s = testing::fig1_scene();
   s.time.t_end = 30.0;
   s.output.snapshot_dt = 0.0;
@@ -192,7 +192,7 @@ TEST_CASE("continuum bulk: stability limit: stable_dt is the Gershgorin bound, a
 
 TEST_CASE("continuum bulk: stability limit: fig1 above the limit is refused by validate() and fails cleanly when forced",
           "[bulk][stability]") {
-  // A run asked for with time.dt above the explicit limit is refused before any work (MODEL §5); forced
+  // A run asked for with time.dt above the explicit limit is refused before any work (docs/model.md §5); forced
   // through the runner it must end with status "failed" and a message naming the non-finite value,
   // not with garbage or a crash. dt = 1.05 stable_dt: growth ~1.4 per step of the highest mode.
   auto s = testing::fig1_scene();
@@ -216,7 +216,7 @@ TEST_CASE("continuum bulk: stability limit: fig1 above the limit is refused by v
 // ---------------------------------------------------------------------------------------------
 
 TEST_CASE("continuum bulk: homogeneous loading: the stuck state is stationary to round-off", "[bulk][homogeneous]") {
-  // Physics (MODEL §1): for σ_d < 1 the state A = 1, σ̄ = σ_d, u = σ_d/α, v = 0 is an equilibrium
+  // Physics (docs/model.md §1): for σ_d < 1 the state A = 1, σ̄ = σ_d, u = σ_d/α, v = 0 is an equilibrium
   // (no elastic force in a uniform u, σ_d − σ̄ = 0, |σ|/A = σ_d < 1 so Θ = 0). With no nucleation patch
   // (ℓ_n = 0) nothing may move. Tolerance: 1e-14 relative on u, σ̄, A; |v| ≤ 1e-14; no yield.
   for (double sd : {0.3, 0.95}) {
@@ -248,7 +248,7 @@ TEST_CASE("continuum bulk: homogeneous loading: the stuck state is stationary to
 
 namespace {
 
-// Linearised spring block about steady sliding at v_d (MODEL §1 law with Θ = 1, the block equation
+// Linearised spring block about steady sliding at v_d (docs/model.md §1 law with Θ = 1, the block equation
 // ρ v̇ = K (v_d t − u) − σ̄ − η v). Perturbations ∝ e^{λt}: δA = −κ A_ss δv/(λ + r), r = 1 + κ v_d,
 // δσ̄ = α v_d δA/(λ + v_d) (at steady state ασ̄-terms cancel: α A_ss − σ̄_ss = 0), hence
 //   (ρλ² + ηλ + K)(λ + v_d)(λ + r) − α κ A_ss v_d λ = 0.
@@ -390,7 +390,7 @@ TEST_CASE("continuum bulk: spring block: stick-slip cycles below K_c, and subcri
 TEST_CASE("continuum bulk: energy budget: drive work = kinetic + elastic + viscous + interfacial work, residual O(dt^2)",
           "[bulk][energy]") {
   // Physics: multiplying ρ ü = μ u'' + f − σ̄ − η u̇ by u̇ and integrating gives
-  //   W_drive = ΔE_kin + ΔE_elastic(+spring) + ∫η v² + ∫σ̄ v   (MODEL §1, edge loading).
+  //   W_drive = ΔE_kin + ΔE_elastic(+spring) + ∫η v² + ∫σ̄ v   (docs/model.md §1, edge loading).
   // The discrete budget (stepper.hpp) evaluates each term to second order in Δt, so the residual is a
   // quadrature error: it must be tiny relative to W_drive and shrink ×4 when dx and dt are halved
   // (dt = dx/500, fixed ratio). Checked at t = 20 (elastic stage) and t = 40 (through the first yield
@@ -434,7 +434,7 @@ TEST_CASE("continuum bulk: energy budget: drive work = kinetic + elastic + visco
 
 TEST_CASE("continuum bulk: fig1: slow front, fast transient that arrests inside, A recovers, new slow front, converged",
           "[bulk][fig1]") {
-  // Physics (MODEL §1 "What the paper reports"): a slow front leaves the trailing edge at t* (it lowers
+  // Physics (docs/model.md §1 "What the paper reports"): a slow front leaves the trailing edge at t* (it lowers
   // A below 0.9 but, in the middle of its run, not below 0.5: it is tracked on the A_tip_alt = 0.9
   // front); much later a fast transient (max v > v_event = 0.5) with a drop of F runs and arrests
   // before x = L, leaving a concentrated σ̄ peak at the arrest point; with Θ = 0 again A heals at rate 1

@@ -1,4 +1,4 @@
-// The continuum friction law of MODEL §1 alone (0D, imposed slip rate), regime by regime against
+// The continuum friction law of docs/model.md §1 alone (0D, imposed slip rate), regime by regime against
 // closed forms: the exact exponential updates, stick, onset, weakening/sliding, reversal of v, the
 // steady friction law σ_ss(v) with its minimum (v_m, σ_c^d), and the strengthening-branch inverse.
 // The closed forms are written out here again on purpose, independently of friction_law.hpp.
@@ -23,7 +23,7 @@ namespace {
 
 double rel_err(double a, double b) { return std::abs(a - b) / std::abs(b); }
 
-// MODEL §1 closed forms (independent transcription).
+// docs/model.md §1 closed forms (independent transcription).
 double area_ss(const InterfaceParams& p, double v) { return 1.0 / (1.0 + p.kappa * std::abs(v)); }
 double sigma_ss(const InterfaceParams& p, double v) { return p.alpha / (1.0 + p.kappa * v) + p.eta * v; }
 double v_min_closed(const InterfaceParams& p) { return (std::sqrt(p.alpha * p.kappa / p.eta) - 1.0) / p.kappa; }
@@ -71,7 +71,7 @@ TEST_CASE("continuum law: exact update: relax and relax_weight equal the closed-
 TEST_CASE("continuum law: exact update: two-state transition probabilities and their mean equal the area update", "[law][exact]") {
   using continuum::relax;
   using continuum::two_state_transition;
-  // Physics (MODEL §2): P(att→att) = (a + d e^{−r dt})/r, P(det→att) = a (1 − e^{−r dt})/r, r = a + d;
+  // Physics (docs/model.md §2): P(att→att) = (a + d e^{−r dt})/r, P(det→att) = a (1 − e^{−r dt})/r, r = a + d;
   // with a = 1 the mean A' = A P(att→att) + (1 − A) P(det→att) is the continuum update
   // A e^{−r dt} + (1 − e^{−r dt})/r (hierarchy item 1). Tolerance 1e-14.
   for (double d : {0.0, 0.05, 1.0, 8.0, 400.0})
@@ -208,7 +208,7 @@ TEST_CASE("continuum law: law, reversal of v: elastic unloading, then sliding ba
 
 TEST_CASE("continuum law: steady friction law at imposed v equals sigma_ss(v), A_ss, sigma_bar_ss (40 rates, 1e-3..1e2)",
           "[law][steady]") {
-  // Physics (MODEL §1): steady sliding at v > 0 has A_ss = 1/(1+κv), σ̄_ss = α A_ss,
+  // Physics (docs/model.md §1): steady sliding at v > 0 has A_ss = 1/(1+κv), σ̄_ss = α A_ss,
   // σ_ss = α/(1+κv) + ηv. The exact update has exactly these fixed points (Θ = 1 in steady sliding
   // since |σ|/A = α + ηv(1+κv) > 1), and every run slips ≥ 25 units after average_from (relaxation
   // e^{−25}), so 1e-6 relative is a loose bound on what must be round-off.
@@ -248,12 +248,12 @@ TEST_CASE("continuum law: steady friction law at imposed v equals sigma_ss(v), A
 }
 
 TEST_CASE("continuum law: steady friction law: its numerical minimum is v_m = 1.0206, sigma_c^d = 0.21663", "[law][steady]") {
-  // Physics (MODEL §1): σ_ss(v) has its minimum at v_m = (sqrt(ακ/η) − 1)/κ, value
-  // σ_c^d = 2 sqrt(αη/κ) − η/κ; paper parameters: 1.0206 and 0.21663 (MODEL's rounding).
+  // Physics (docs/model.md §1): σ_ss(v) has its minimum at v_m = (sqrt(ακ/η) − 1)/κ, value
+  // σ_c^d = 2 sqrt(αη/κ) − η/κ; paper parameters: 1.0206 and 0.21663 (the spec's rounding).
   // Method: golden-section search on the numerically computed steady σ(v) (steady_point, the law run to
   // steady state), bracket [0.1, 10] shrunk to 1e-8 relative; the σ values are exact to round-off, so
   // the minimiser is found to ~sqrt(1e-16 σ/σ'') ≈ 1e-7. Tolerance 1e-4 relative on both (also
-  // covers MODEL's 5-digit rounding, 4e-5 and 1e-5).
+  // covers the spec's 5-digit rounding, 4e-5 and 1e-5).
   const auto s = testing::imposed_rate_scene();
   const auto& p = s.interface;
   auto f = [&](double v) { return compare::steady_point(s, FrictionLaw(p, 1), v).sigma; };
@@ -275,7 +275,7 @@ TEST_CASE("continuum law: steady friction law: its numerical minimum is v_m = 1.
 }
 
 TEST_CASE("continuum law: strengthening_branch_velocity: sigma_ss(v) = sigma_d with v > v_m, NaN below sigma_c^d", "[law][steady]") {
-  // Physics (MODEL §1 homogeneous loading): the nucleation patch slides at the root of σ_ss(v) = σ_d on
+  // Physics (docs/model.md §1 homogeneous loading): the nucleation patch slides at the root of σ_ss(v) = σ_d on
   // the strengthening branch (v > v_m, dσ_ss/dv > 0); no steady sliding exists for σ_d < σ_c^d.
   // Tolerance: |σ_ss(v) − σ_d| ≤ 1e-12 σ_d (quadratic formula, no cancellation on the larger root);
   // 1e-9 right at σ_c^d(1 + 1e-6), where the root is conditioned by the near-double root.

@@ -1,4 +1,4 @@
-// The agent representation of the microcontact ensemble (discrete/agent_law.hpp), MODEL §2:
+// The agent representation of the microcontact ensemble (discrete/agent_law.hpp), docs/model.md §2:
 //   - one step: the end-of-step state of every contact has the exact two_state_transition()
 //     probabilities (the event-driven chain inside the step is exact), w = 0 and w > 0;
 //   - hierarchy item 3: agent, naive (every contact every step) and count representations sample the

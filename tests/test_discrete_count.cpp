@@ -1,4 +1,4 @@
-// discrete::CountLaw (MODEL §2, count representation): one-step transition laws against the exact
+// discrete::CountLaw (docs/model.md §2, count representation): one-step transition laws against the exact
 // two-state probabilities, the noise-off closed forms, draws only where needed, reproducible random
 // streams, parameter checks, and the mean-field steady state at imposed v.
 //

@@ -1,4 +1,4 @@
-// MODEL §2, hierarchy item 1 (identity): with w = 0 and the noise switched off, the discrete
+// docs/model.md §2, hierarchy item 1 (identity): with w = 0 and the noise switched off, the discrete
 // ensemble in the count representation IS the continuum law — same grid, same Δt, fields equal to
 // round-off. Tolerance: 1e-12 relative to the field's largest magnitude at that time (the two laws
 // compute the same exact update by different but algebraically equal groupings, so they differ by
@@ -30,7 +30,7 @@ compare::Scene noise_off(compare::Scene s) {
   return s;
 }
 
-// fig1 (MODEL §4, testing::fig1_scene: edge loading, ρ = 0.01, μ = 300, κ = 8, α = 1.05, η = 0.1,
+// fig1 (docs/model.md §4, testing::fig1_scene: edge loading, ρ = 0.01, μ = 300, κ = 8, α = 1.05, η = 0.1,
 // K = 2.5, v_d = 0.3, L = 300, dx = 0.5, cfl = 0.5) with a short t_end: through first yield
 // (t* = 25.71) to t = 40.
 compare::Scene fig1_short() {
@@ -101,7 +101,7 @@ TEST_CASE("discrete identity: fig1 through first yield, w = 0 and noise off", "[
   worst = std::max(worst, columns_diff(c.series, d.series));
   std::printf("identity fig1 (t_end = 40): max relative difference %.3g; t* = %.6f (continuum) %.6f (discrete)\n",
               worst, c.events.t_star, d.events.t_star);
-  // The run must go through first yield (MODEL §1: t* = 25.71) and leave a front behind.
+  // The run must go through first yield (docs/model.md §1: t* = 25.71) and leave a front behind.
   CHECK(c.events.t_star == Approx(25.71).epsilon(0.01));
   const auto area_end = std::span<const double>(d.snapshots.at("A")).subspan(8 * nx, nx);
   CHECK(*std::min_element(area_end.begin(), area_end.end()) < 0.99);
@@ -146,7 +146,7 @@ TEST_CASE("discrete identity: 0D steady friction law sweep", "[discrete][identit
   std::printf("identity friction-law sweep: max relative difference %.3g\n", worst);
 }
 
-// 0D spring block (MODEL §1): ρ v̇ = K (v_d t − u) − σ̄ − η v, ρ = 0.01, v_d = 0.3. With K = 2.5 the
+// 0D spring block (docs/model.md §1): ρ v̇ = K (v_d t − u) − σ̄ − η v, ρ = 0.01, v_d = 0.3. With K = 2.5 the
 // block yields once (t* ≈ 4.6) and settles into steady sliding at v_d; with K = 0.5 it stick-slips.
 TEST_CASE("discrete identity: 0D spring block", "[discrete][identity]") {
   const double K = GENERATE(2.5, 0.5);
@@ -171,7 +171,7 @@ TEST_CASE("discrete identity: 0D spring block", "[discrete][identity]") {
   require_same_events(r[0].events, r[1].events);
 }
 
-// Homogeneous loading (MODEL §1): uniform σ_d = 0.5, a nucleation patch 0 ≤ x < 150 started in steady
+// Homogeneous loading (docs/model.md §1): uniform σ_d = 0.5, a nucleation patch 0 ≤ x < 150 started in steady
 // sliding (set_site with A = A_ss < 1), paper parameters; both renewal options (identical at w = 0).
 TEST_CASE("discrete identity: homogeneous front from a nucleation patch", "[discrete][identity]") {
   const std::string renewal = GENERATE(std::string("fresh"), std::string("quenched"));

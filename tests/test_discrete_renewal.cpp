@@ -1,4 +1,4 @@
-// MODEL §2 hierarchy item 5: contact statistics of the agent representation against renewal theory,
+// docs/model.md §2 hierarchy item 5: contact statistics of the agent representation against renewal theory,
 // in steady sliding at imposed v with w = 0 (one site, N = 1000 contacts):
 //   lifetimes of completed attachments ~ Exp(κv), detached durations ~ Exp(1),
 //   time-averaged A = 1/(1+κv) (and σ̄ = α A), ages of attached contacts ~ Exp(κv).

@@ -1,4 +1,4 @@
-// Threshold distributions g of MODEL §2 (mean 1, relative width w) and the overloaded fraction of a
+// Threshold distributions g of docs/model.md §2 (mean 1, relative width w) and the overloaded fraction of a
 // fresh population at contact stress τ, which must be the CDF G(τ): for the distribution object,
 // for a CountLaw site (quantile bins: within 1/B), and for sampled thresholds (Kolmogorov–Smirnov).
 #include <algorithm>

@@ -1,4 +1,4 @@
-// The hard/* scenes (MODEL §4): stiff and degenerate corners. Each must run to its end with both
+// The hard/* scenes (docs/model.md §4): stiff and degenerate corners. Each must run to its end with both
 // models, every field finite, 0 <= A <= 1 everywhere, |sigma_bar| bounded by alpha (the largest
 // value the law can reach from A <= 1: dσ̄/dt = α A v − Y|v|σ̄ relaxes σ̄ towards ±α A while
 // sliding, and in stick σ̄ grows only to the yield level |σ̄ + ηv| ≤ A ≤ 1 ≤ α).

@@ -2,7 +2,7 @@
 // its discrete energy budget closes to round-off, it is second order in Δt on the smooth elastic
 // stage and converges to the explicit reference's solution of the same discretisation, it stays
 // stable at 100× the explicit limit, it reproduces fig1's events within 1% at Δt = 0.01, and with
-// w = 0 and the noise off the count representation on it is the continuum law on it (MODEL §2 item 1).
+// w = 0 and the noise off the count representation on it is the continuum law on it (docs/model.md §2 item 1).
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -203,7 +203,7 @@ TEST_CASE("implicit: stable far beyond the explicit limit, also on the stiff cor
 
 TEST_CASE("implicit: noise off and w = 0, the count representation is the continuum law (same dt)",
           "[implicit][identity]") {
-  // MODEL §2 item 1 on this integrator: the linearisation asks the count law for its overloaded
+  // docs/model.md §2 item 1 on this integrator: the linearisation asks the count law for its overloaded
   // fraction and weakest threshold (0/1 and 1 here), the same numbers the continuum uses, so the two
   // runs are bit-identical, run in lockstep (run_scene_alongside) to the transient.
   compare::Scene s = testing::fig1_scene();
@@ -250,7 +250,7 @@ TEST_CASE("implicit: time.dt is required and may exceed the explicit limit", "[i
 
 TEST_CASE("implicit: noise on, N = 10^6, the discrete model follows the continuum on the same integrator",
           "[implicit][mean-field]") {
-  // MODEL §2 item 2 on this integrator, fig1 at dt = 0.02, count representation, w = 0, seeds 1-3,
+  // docs/model.md §2 item 2 on this integrator, fig1 at dt = 0.02, count representation, w = 0, seeds 1-3,
   // both models in lockstep. Seed spread at N = 10^4 (bench_discrete_implicit, 16 seeds): 1.6% in t^,
   // 2.5% in c_transient; it falls like N^-0.4 (docs/studies.md), so at N = 10^6 σ ≈ 0.25% and 0.4%.
   // Tolerances 4σ: 1% and 1.6% (six comparisons: false-alarm rate ~4e-4). Measured: t^ +0.56%,

@@ -1,4 +1,4 @@
-// The shared measurements of MODEL §3 (compare/measure) on synthetic data with known answers:
+// The shared measurements of docs/model.md §3 (compare/measure) on synthetic data with known answers:
 // tip_position, ls_slope, the FrontTracker's events and speeds, and BatchMeans.
 #include <catch2/catch.hpp>
 
@@ -32,7 +32,7 @@ std::vector<double> ramp_profile(const std::vector<double>& x, double X, double 
 }  // namespace
 
 TEST_CASE("measure: tip_position: largest x with A < threshold, linearly interpolated, NaN without a front", "[measure]") {
-  // MODEL §3: x_tip = largest x with A < A_tip, interpolated between nodes. Tolerance 1e-12 (exact
+  // docs/model.md §3: x_tip = largest x with A < A_tip, interpolated between nodes. Tolerance 1e-12 (exact
   // linear interpolation on linear data).
   const auto x = grid(0.5, 10.0);
   std::vector<double> A(x.size(), 1.0);
@@ -78,7 +78,7 @@ TEST_CASE("measure: FrontTracker: recovers t*, t^, c_slow, c_transient, its peak
   //  - from t^ the tip runs at c2 = 20 until t_stop = t^ + 3, then stops (x_arrest = X(t_stop));
   //  - max_v falls linearly from 1.1 at t_stop to 0 at t_stop + 1.1: below v_event/5 = 0.1 at
   //    t_stop + 1.0; t_arrest is the first step midpoint after that (within one step h).
-  // Expected (MODEL §3): t* = the start of the first yielding step = t_y (h divides 10 to round-off),
+  // Expected (docs/model.md §3): t* = the start of the first yielding step = t_y (h divides 10 to round-off),
   // t^ = t_a + 0.4 (1e-9), c_slow = c1 (LS on an exact line, 1e-9), c_transient = c2 (middle half of
   // the run, all on the fast line, 1e-9), peak = c2 (1e-9), x_arrest = X(t_stop) (1e-9),
   // t_arrest within h of t_stop + 1. The A_tip_alt = 0.9 front is X + 0.4 w: same speeds.
@@ -167,7 +167,7 @@ TEST_CASE("measure: FrontTracker: c_front of a front that crosses the system", "
 }
 
 TEST_CASE("measure: FrontTracker: no yield, no instability -> every event NaN", "[measure]") {
-  // A run that never yields (elastic stage only) has no event: NaN everywhere (MODEL §5).
+  // A run that never yields (elastic stage only) has no event: NaN everywhere (docs/model.md §5).
   continuum::MeasureParams mp;
   const auto x = grid(1.0, 50.0);
   compare::FrontTracker tr(mp, x);
@@ -182,7 +182,7 @@ TEST_CASE("measure: FrontTracker: no yield, no instability -> every event NaN", 
 }
 
 TEST_CASE("measure: BatchMeans: time-weighted batch means, mean and standard error on piecewise-constant data", "[measure]") {
-  // MODEL §3: time average of y over [t_from, t_end] from equal-duration batches, with the standard
+  // docs/model.md §3: time average of y over [t_from, t_end] from equal-duration batches, with the standard
   // error sqrt(Σ(m_k − m)²/((n − 1) n)). Synthetic y(t) = 1 on t < 17, 3 on [17, 26), 2 after, fed in
   // irregular chunks (some spanning batch edges, some before t_from or after t_end, to be ignored).
   // Batches of [10, 30] (4 × 5): the expected batch means are the exact time averages of y over each

@@ -1,4 +1,4 @@
-// apps/h5out: the HDF5 layout of MODEL §5 (docs/output.md), read back with the HDF5 C API.
+// apps/h5out: the HDF5 layout of docs/model.md §5 (docs/output.md), read back with the HDF5 C API.
 #include <catch2/catch.hpp>
 #include <hdf5.h>
 
@@ -112,7 +112,7 @@ Run run_tiny(const std::vector<std::string>& overrides = {}) {
 
 }  // namespace
 
-TEST_CASE("output: a tiny edge-loading run is written in the MODEL 5 layout", "[output]") {
+TEST_CASE("output: a tiny edge-loading run is written in the docs/model.md §5 layout", "[output]") {
   const TempDir dir("output");
   const Run run = run_tiny();
   REQUIRE(run.results.size() == 1);

@@ -3,7 +3,7 @@
 //     agent vs count (w = 0), agent vs naive (uniform w = 0.3, fresh); the 10 % detach-rate error is
 //     now seen at fixed times too;
 //   - hierarchy item 5 pooled over 10 seeds (~2.5e5 lifetimes per κv): KS against Exp(κv) / Exp(1);
-//   - the paper's fig1 scene (MODEL §4, L = 300, dx = 0.5, t_end = 140) with N = 100: agent vs count
+//   - the paper's fig1 scene (docs/model.md §4, L = 300, dx = 0.5, t_end = 140) with N = 100: agent vs count
 //     over 12 seeds each on the instability time, the transient front speed and the arrest position.
 // False-alarm rates as in the default tier: each KS at 1e-3, each mean at 4 SE.
 #include <catch2/catch.hpp>
@@ -105,7 +105,7 @@ TEST_CASE("slow: renewal statistics pooled over seeds", "[discrete][agent][slow]
 }
 
 TEST_CASE("slow: fig1 with N = 100, agent vs count over seeds", "[discrete][agent][slow]") {
-  // MODEL §4 fig1 (testing::fig1_scene): edge loading, paper parameters, L = 300, dx = 0.5, cfl = 0.5,
+  // docs/model.md §4 fig1 (testing::fig1_scene): edge loading, paper parameters, L = 300, dx = 0.5, cfl = 0.5,
   // t_end = 140.
   auto scene = [](const std::string& rep, std::uint64_t seed) {
     compare::Scene s = testing::fig1_scene();

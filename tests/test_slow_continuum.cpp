@@ -134,7 +134,7 @@ TEST_CASE("continuum slow: energy budget through the fast transient (fig1 to t =
 
 TEST_CASE("continuum slow: fig1 events converge, dx = 0.5, 0.25, 0.125 (dt halved with dx)", "[slow][fig1]") {
   // The events of the paper's sequence under two refinements (dx and dt halved together). Tolerances:
-  // every change < 1% (MODEL §4 asks t* within 1%; the same for the transient); t* and x_arrest changes
+  // every change < 1% (docs/model.md §4 asks t* within 1%; the same for the transient); t* and x_arrest changes
   // shrink with refinement. (c_transient, a LS slope on interpolated tip samples, carries ~1e-3 of
   // sampling noise, so only its size is checked.)
   const auto s = testing::fig1_scene();
@@ -158,7 +158,7 @@ TEST_CASE("continuum slow: fig1 events converge, dx = 0.5, 0.25, 0.125 (dt halve
 }
 
 TEST_CASE("continuum slow: halving v_d doubles t* and slows the slow front", "[slow][fig1]") {
-  // Physics (MODEL §1): t* = (K + sqrt(αμ))/(α K v_d) ∝ 1/v_d (within 1%); the slow front is driven by
+  // Physics (docs/model.md §1): t* = (K + sqrt(αμ))/(α K v_d) ∝ 1/v_d (within 1%); the slow front is driven by
   // the loading, so it is slower at smaller v_d (the paper: speed proportional to v_d; here the ratio
   // is reported, and only its direction and the existence of the whole sequence are asserted).
   auto s = testing::fig1_scene();

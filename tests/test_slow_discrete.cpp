@@ -1,4 +1,4 @@
-// MODEL §2, hierarchy item 2 (mean-field limit), slow tier: with noise on and w = 0 the steady
+// docs/model.md §2, hierarchy item 2 (mean-field limit), slow tier: with noise on and w = 0 the steady
 // friction at imposed v converges to the continuum as N → ∞, its random error falling like N^{-1/2}.
 //
 // Observable: σ = σ̄ + ηv averaged over the second half of a run of 100 + 100/v time units

@@ -1,0 +1,88 @@
+#!/usr/bin/env python3
+"""Speed of this checkout against an earlier commit, measured in one run (issue 9: "speed unchanged").
+
+Builds BASE (a commit, default HEAD~1) in a temporary git worktree, then runs the same commands with
+both builds, alternating (base, new, base, new, ...) so that both see the same machine load, and prints
+for each the best wall time of each build and the ratio new/base. Commands: `slipfront run` on fig1
+with each integrator (continuum alone, and with the discrete model alongside), and the work-precision
+and discrete benchmarks in their --quick / SLIPFRONT_BENCH_QUICK form (whole process).
+
+Usage: /usr/bin/python3 scripts/compare_speed.py [BASE] [--repeat R] [--keep]
+"""
+import argparse
+import os
+import pathlib
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+
+root = pathlib.Path(__file__).resolve().parent.parent
+ap = argparse.ArgumentParser()
+ap.add_argument("base", nargs="?", default="HEAD~1")
+ap.add_argument("--repeat", type=int, default=5)
+ap.add_argument("--keep", action="store_true", help="keep the base worktree and build")
+args = ap.parse_args()
+
+rev = subprocess.run(["git", "rev-parse", "--short", args.base], cwd=root, capture_output=True, text=True,
+                     check=True).stdout.strip()
+base = pathlib.Path(tempfile.gettempdir()) / f"slipfront-speed-base-{rev}"
+targets = ["slipfront", "bench_work_precision", "bench_discrete_implicit"]
+if not (base / "build" / "apps" / "slipfront").exists():
+    if base.exists():
+        shutil.rmtree(base)
+    subprocess.run(["git", "worktree", "add", "--detach", str(base), rev], cwd=root, check=True,
+                   stdout=subprocess.DEVNULL)
+    subprocess.run(["cmake", "-S", str(base), "-B", str(base / "build"), "-G", "Ninja", "-DCMAKE_BUILD_TYPE=Release",
+                    "-DSLIPFRONT_BUILD_TESTS=OFF"], check=True, stdout=subprocess.DEVNULL)
+    subprocess.run(["cmake", "--build", str(base / "build"), "--target", *targets], check=True,
+                   stdout=subprocess.DEVNULL)
+subprocess.run(["cmake", "--build", str(root / "build"), "--target", *targets], check=True, stdout=subprocess.DEVNULL)
+
+scratch = pathlib.Path(tempfile.mkdtemp(prefix="slipfront-speed-"))
+fig1 = str(root / "configs" / "fig1.toml")
+cases = {
+    "fig1 continuum, explicit": ["run", fig1, "--set", 'models=["continuum"]'],
+    "fig1 continuum, adaptive": ["run", fig1, "--set", 'models=["continuum"]', "--set", "time.integrator=adaptive"],
+    "fig1 continuum, implicit dt 0.02": ["run", fig1, "--set", 'models=["continuum"]', "--set",
+                                         "time.integrator=implicit", "--set", "time.dt=0.02"],
+    "fig1 both models (count N=1e4), explicit": ["run", fig1],
+    "fig1 count N=1000, implicit dt 0.02": ["run", fig1, "--set", 'models=["discrete"]', "--set",
+                                            "time.integrator=implicit", "--set", "time.dt=0.02", "--set",
+                                            "discrete.contacts_per_site=1000"],
+}
+benches = {
+    "bench_work_precision --quick": (["bench_work_precision", "--quick"], {}),
+    "bench_discrete_implicit (quick)": (["bench_discrete_implicit"], {"SLIPFRONT_BENCH_QUICK": "1"}),
+}
+
+
+def timed(cmd, env=None):
+    t0 = time.perf_counter()
+    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                   env={**os.environ, **(env or {})})
+    return time.perf_counter() - t0
+
+
+rows = []
+for name, argv in list(cases.items()) + [(k, v) for k, v in benches.items()]:
+    best = {"base": float("inf"), "new": float("inf")}
+    reps = args.repeat if name in cases else max(1, args.repeat // 2)
+    for _ in range(reps):
+        for which, tree in (("base", base), ("new", root)):
+            if name in cases:
+                cmd = [str(tree / "build" / "apps" / "slipfront"), *argv, "--out", str(scratch / which), "--force",
+                       "--quiet"]
+                env = None
+            else:
+                cmd = [str(tree / "build" / "bench" / argv[0][0]), *argv[0][1:]]
+                env = argv[1]
+            best[which] = min(best[which], timed(cmd, env))
+    rows.append((name, best["base"], best["new"]))
+    print(f"{name:45s} base {best['base']:8.3f} s   new {best['new']:8.3f} s   new/base {best['new'] / best['base']:.3f}",
+          flush=True)
+shutil.rmtree(scratch, ignore_errors=True)
+if not args.keep:
+    subprocess.run(["git", "worktree", "remove", "--force", str(base)], cwd=root, stdout=subprocess.DEVNULL)
+print(f"base = {rev}, new = this checkout; best of {args.repeat} alternating runs (benchmarks: {max(1, args.repeat // 2)})")

@@ -149,19 +149,19 @@ std::string format_seconds(double s) {
 
 // The events that are not NaN; with `primary`, only those that differ from it.
 std::string format_events(const compare::Events& e, const compare::Events* primary = nullptr) {
-  using E = compare::Events;
-  const std::pair<const char*, double E::*> items[] = {
-      {"t_star", &E::t_star},           {"t_hat", &E::t_hat},       {"c_slow", &E::c_slow},
-      {"c_transient", &E::c_transient}, {"c_transient_peak", &E::c_transient_peak},
-      {"x_arrest", &E::x_arrest},       {"t_arrest", &E::t_arrest}, {"c_front", &E::c_front},
-      {"v_behind", &E::v_behind},
-  };
   std::string out;
-  for (const auto& [name, member] : items) {
+  for (const auto& [name, member] : compare::event_fields) {
     const double value = e.*member;
     if (std::isnan(value) || (primary && value == primary->*member)) continue;
     out += std::string(out.empty() ? "" : "  ") + name + " = " + format_number(value);
   }
+  return out;
+}
+
+// Why events are NaN (only those the run could have been expected to have).
+std::string format_reasons(const compare::Events& e) {
+  std::string out;
+  for (const auto& [name, why] : e.reasons) out += "      " + name + ": " + why + "\n";
   return out;
 }
 
@@ -175,6 +175,7 @@ void print_summary(std::ostream& out, const compare::Scene& scene, const std::ve
     out << "\n";
     if (!r.message.empty()) out << "    message: " << r.message << "\n";
     if (const auto ev = format_events(r.events); !ev.empty()) out << "    events: " << ev << "\n";
+    if (const auto why = format_reasons(r.events); !why.empty()) out << "    events not measured (NaN):\n" << why;
     if (const auto ev = format_events(r.events_alt, &r.events); !ev.empty())
       out << "    events on the A_tip_alt front (where different): " << ev << "\n";
     if (const auto it = r.cycles.find("t_start"); it != r.cycles.end())

@@ -225,21 +225,13 @@ void columns(hid_t model_group, const std::string& model, const std::string& gro
 void events(hid_t model_group, const std::string& model, const compare::ModelResult& r) {
   Hid g = make_group(model_group, "events", "/" + model + "/events");
   attr_string(g.get(), "description", group_description("events"));
-  const std::pair<const char*, double compare::Events::*> names[] = {
-      {"t_star", &compare::Events::t_star},
-      {"t_hat", &compare::Events::t_hat},
-      {"c_slow", &compare::Events::c_slow},
-      {"c_transient", &compare::Events::c_transient},
-      {"c_transient_peak", &compare::Events::c_transient_peak},
-      {"x_arrest", &compare::Events::x_arrest},
-      {"t_arrest", &compare::Events::t_arrest},
-      {"c_front", &compare::Events::c_front},
-      {"v_behind", &compare::Events::v_behind},
-  };
-  for (const auto& [name, member] : names) {
+  for (const auto& [name, member] : compare::event_fields) {
     attr_double(g.get(), name, r.events.*member);
     attr_double(g.get(), std::string(name) + "_alt", r.events_alt.*member);
   }
+  // Why an event is NaN where a reader could expect a value (docs/output.md).
+  for (const auto& [name, why] : r.events.reasons) attr_string(g.get(), name + "_reason", why);
+  for (const auto& [name, why] : r.events_alt.reasons) attr_string(g.get(), name + "_alt_reason", why);
 }
 
 void model(hid_t file, const compare::ModelResult& r) {

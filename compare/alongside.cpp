@@ -63,6 +63,13 @@ SceneResult lockstep(const Scene& s, LawA a, LawB b, const RunControl& ctl) {
   return out;
 }
 
+// (b − a)/|a|; 0 when both vanish; NaN when only the reference a does (the absolute difference is
+// reported beside it).
+double relative_difference(double a, double b) {
+  if (a != 0.0) return (b - a) / std::abs(a);
+  return b == 0.0 ? 0.0 : nan;
+}
+
 double rel_rms_distance(const std::vector<double>& a, const std::vector<double>& b) {
   double num = 0, den = 0;
   const std::size_t n = std::min(a.size(), b.size());
@@ -71,7 +78,7 @@ double rel_rms_distance(const std::vector<double>& a, const std::vector<double>&
       num += (b[i] - a[i]) * (b[i] - a[i]);
       den += a[i] * a[i];
     }
-  return den > 0 ? std::sqrt(num / den) : (num > 0 ? std::numeric_limits<double>::infinity() : 0.0);
+  return den > 0 ? std::sqrt(num / den) : (num > 0 ? nan : 0.0);
 }
 
 }  // namespace
@@ -83,24 +90,22 @@ double relative_distance(std::span<const double> a, std::span<const double> b) {
     den += a[i] * a[i];
   }
   if (den > 0) return std::sqrt(num / den);
-  return num > 0 ? std::numeric_limits<double>::infinity() : 0.0;
+  return num > 0 ? nan : 0.0;  // the reference vanishes: no relative distance (NaN), unless both do
 }
 
 Comparison compare_results(const Scene& s, const ModelResult& c, const ModelResult& d) {
   Comparison cmp;
-  using E = Events;
-  const std::pair<const char*, double E::*> ev[] = {
-      {"t_star", &E::t_star}, {"t_hat", &E::t_hat}, {"c_slow", &E::c_slow}, {"c_transient", &E::c_transient},
-      {"c_transient_peak", &E::c_transient_peak}, {"x_arrest", &E::x_arrest}, {"t_arrest", &E::t_arrest},
-      {"c_front", &E::c_front}, {"v_behind", &E::v_behind}};
-  for (const auto& [name, field] : ev)
+  for (const auto& [name, field] : event_fields)
     for (const bool alt : {false, true}) {
       const double a = (alt ? c.events_alt : c.events).*field, b = (alt ? d.events_alt : d.events).*field;
       if (std::isnan(a) && std::isnan(b)) continue;
       const std::string key = std::string(name) + (alt ? "_alt" : "");
-      cmp.metrics[key + "_rel_diff"] = (b - a) / a;
-      cmp.definitions[key + "_rel_diff"] = "(discrete - continuum) / continuum of the event " + key +
-                                           " (docs/model.md §3; _alt: on the A_tip_alt front); NaN where one model has no such event";
+      cmp.metrics[key + "_rel_diff"] = relative_difference(a, b);
+      cmp.metrics[key + "_abs_diff"] = b - a;
+      cmp.definitions[key + "_rel_diff"] = "(discrete - continuum) / |continuum| of the event " + key +
+                                           " (docs/model.md §3; _alt: on the A_tip_alt front); 0 where both are 0, NaN where "
+                                           "one model has no such event or only the continuum value is 0 (see _abs_diff)";
+      cmp.definitions[key + "_abs_diff"] = "discrete - continuum of the event " + key + "; NaN where one model has no such event";
     }
   const bool zero_d = !continuum::is_one_dimensional(s.drive.loading);
   const char* col = zero_d && s.drive.loading == continuum::Loading::imposed_rate ? "sigma" : "drive_force";
@@ -126,7 +131,7 @@ Comparison compare_results(const Scene& s, const ModelResult& c, const ModelResu
     const auto& b = d.friction_law.at("sigma");
     double mx = 0, s2 = 0;
     for (std::size_t k = 0; k < std::min(a.size(), b.size()); ++k) {
-      const double r = (b[k] - a[k]) / a[k];
+      const double r = relative_difference(a[k], b[k]);
       detail::push(cmp.friction_law, "v", c.friction_law.at("v")[k]);
       detail::push(cmp.friction_law, "rel_diff", r);
       mx = std::max(mx, std::abs(r));

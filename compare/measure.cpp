@@ -92,6 +92,27 @@ Events FrontTracker::finish(bool homogeneous, bool alt) const {
   Events ev = ev_;
   const std::vector<double>& tips = alt ? tips_alt_ : tips_;
   std::vector<double> wt, wy;
+  auto drop = [&ev](double Events::*field, const char* name, const std::string& why) {
+    ev.reasons[name] = why;
+    ev.*field = nan;
+  };
+  if (homogeneous) {
+    // docs/model.md §1.3: the nucleation patch slides from t = 0, so there is no first yield and no
+    // instability to time; the front is measured by c_front.
+    const std::string why = "homogeneous loading: the nucleation patch slides from t = 0 (no first-yield or "
+                            "instability event; the front's speed is c_front)";
+    drop(&Events::t_star, "t_star", why);
+    drop(&Events::t_hat, "t_hat", why);
+    drop(&Events::t_arrest, "t_arrest", why);
+  } else if (std::isfinite(ev.t_hat) && !(std::isfinite(ev.t_star) && ev.t_hat > ev.t_star)) {
+    // max v > v_event before any site yielded: the motion is elastic (a fast drive), not an instability
+    drop(&Events::t_hat, "t_hat",
+         "max v exceeded v_event at t = " + continuum::format_number(ev.t_hat, 6) +
+             (std::isfinite(ev.t_star) ? ", before first yield (t* = " + continuum::format_number(ev.t_star, 6) + ")"
+                                       : ", with no yield at all") +
+             ": elastic motion, not an instability");
+    drop(&Events::t_arrest, "t_arrest", "no instability (t_hat)");
+  }
   if (std::isfinite(ev.t_star) && std::isfinite(ev.t_hat) && ev.t_hat > ev.t_star) {
     const double d = ev.t_hat - ev.t_star;
     if (window(ts_, tips, ev.t_star + 0.25 * d, ev.t_hat - 0.25 * d, wt, wy)) ev.c_slow = ls_slope(wt, wy);
@@ -125,8 +146,16 @@ Events FrontTracker::finish(bool homogeneous, bool alt) const {
       // A front is steady only if it runs at least half of what lies ahead of it; a patch that
       // creeps and re-sticks has no front speed.
       if (x1 - wy.front() >= 0.5 * (x_.back() - wy.front())) ev.c_front = slope_middle_distance(wt, wy, wy.front(), x1);
+      else ev.reasons["c_front"] = "the front ran less than half of the length ahead of it (re-stuck or too short a run)";
     }
+    drop(&Events::c_transient, "c_transient", "homogeneous loading: the front's speed is c_front");
+    drop(&Events::c_transient_peak, "c_transient_peak", "homogeneous loading: the front's speed is c_front");
+    drop(&Events::x_arrest, "x_arrest", "homogeneous loading: no transient to arrest");
   }
+  // A front speed is the slope of an advancing tip: a negative value is a receding tip (healing), not a front.
+  for (const auto& [field, name] : {std::pair{&Events::c_slow, "c_slow"}, std::pair{&Events::c_transient, "c_transient"},
+                                    std::pair{&Events::c_transient_peak, "c_transient_peak"}, std::pair{&Events::c_front, "c_front"}})
+    if (ev.*field < 0.0) drop(field, name, "negative (" + continuum::format_number(ev.*field, 6) + "): the tip receded, no advancing front");
   return ev;
 }
 

@@ -28,6 +28,22 @@ struct Events {
   double c_front = nan;           ///< homogeneous loading: LS slope of x_tip over the middle half of its run
                                   ///< (NaN if it runs less than half the length ahead of it: re-stuck)
   double v_behind = nan;          ///< homogeneous loading: mean v over [ℓ_n, x_tip − 10] when x_tip passes 3L/4
+  /// Why an event is NaN where a reader could expect a value (event name → reason), e.g. t_hat before
+  /// first yield (elastic motion, not an instability) or a receding tip (a negative speed).
+  std::map<std::string, std::string> reasons;
+};
+
+/// Every event of Events with its name (the HDF5 attribute, the comparison metric, the summary line):
+/// the one list of them.
+struct EventField {
+  const char* name;
+  double Events::*member;
+};
+inline constexpr EventField event_fields[] = {
+    {"t_star", &Events::t_star},         {"t_hat", &Events::t_hat},       {"c_slow", &Events::c_slow},
+    {"c_transient", &Events::c_transient}, {"c_transient_peak", &Events::c_transient_peak},
+    {"x_arrest", &Events::x_arrest},     {"t_arrest", &Events::t_arrest}, {"c_front", &Events::c_front},
+    {"v_behind", &Events::v_behind},
 };
 
 /// Largest x with A < threshold, interpolated linearly between nodes; NaN if A ≥ threshold everywhere.

@@ -21,7 +21,7 @@ for f in files:
         if m.group(1) not in sections:
             line = text.count("\n", 0, m.start()) + 1
             bad.append(f"{f}:{line}: §{m.group(1)} is not a section of docs/model.md")
-    if "MODEL §" in text or "MODEL.md" in text:
+    if f != "scripts/check_citations.py" and ("MODEL §" in text or "MODEL.md" in text):
         bad.append(f"{f}: cites MODEL.md, which is not in the repository (cite docs/model.md §n)")
 print(f"{count} citations of docs/model.md checked against {len(sections)} sections")
 for b in bad:

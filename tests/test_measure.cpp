@@ -6,7 +6,9 @@
 #include <cmath>
 #include <vector>
 
+#include "compare/alongside.hpp"
 #include "compare/measure.hpp"
+#include "scenes.hpp"
 #include "continuum/params.hpp"
 
 namespace compare = slipfront::compare;
@@ -227,4 +229,76 @@ TEST_CASE("measure: BatchMeans: time-weighted batch means, mean and standard err
   CHECK(flat.stderr_of_mean() == Approx(0.0).margin(1e-15));
   compare::BatchMeans empty(0.0, 1.0, 3);
   CHECK(std::isnan(empty.mean()));
+}
+
+TEST_CASE("measure: events that do not apply are NaN with a reason, not values that contradict them", "[measure]") {
+  // Issue 10 "measurements that know when they do not apply", on synthetic histories (docs/model.md §3):
+  //  (a) max v above v_event before any site yields (a fast drive moving the bulk elastically): t^ is
+  //      not an instability — NaN with a reason, and no transient is measured from it;
+  //  (b) a tip that recedes (A healing behind a front that stopped) has a negative least-squares slope:
+  //      c_transient NaN with a reason;
+  //  (c) homogeneous loading: the patch slides from t = 0, t* and t^ are NaN with a reason, c_front kept.
+  continuum::MeasureParams mp;
+  const auto x = grid(0.5, 100.0);
+  const double h = 0.01;
+  {  // (a)
+    compare::FrontTracker tr(mp, x);
+    for (int k = 0; k < 1000; ++k) tr.observe_step(k * h, (k + 1) * h, k * h >= 5.0, k * h >= 1.0 ? 0.8 : 0.1);
+    const auto ev = tr.finish(false);
+    CHECK(ev.t_star == Approx(5.0).margin(1e-9));
+    CHECK(std::isnan(ev.t_hat));
+    REQUIRE(ev.reasons.count("t_hat"));
+    CHECK(ev.reasons.at("t_hat").find("before first yield") != std::string::npos);
+    CHECK(std::isnan(ev.c_transient));
+  }
+  {  // (b) yield at 1, instability at 2: the tip runs from 20 to 60 in one time unit, then recedes to 20
+     // over ten (A healing) while max v stays high: the LS slope over the middle half of the distance run
+     // is dominated by the long recession, negative
+    compare::FrontTracker tr(mp, x);
+    for (int k = 0; k < 1300; ++k) {
+      const double t0 = k * h, t1 = t0 + h;
+      tr.observe_step(t0, t1, t0 >= 1.0, t0 >= 2.0 ? 1.0 : 0.1);
+      const double X = t1 < 3.0 ? 20.0 + 40.0 * (t1 - 2.0) : 60.0 - 4.0 * (t1 - 3.0);
+      if (tr.sample_due(t1) && t1 >= 2.0) tr.sample_tip(t1, ramp_profile(x, X, 4.0));
+    }
+    const auto ev = tr.finish(false);
+    REQUIRE(std::isfinite(ev.t_hat));
+    CHECK(std::isnan(ev.c_transient));
+    REQUIRE(ev.reasons.count("c_transient"));
+    CHECK(ev.reasons.at("c_transient").find("receded") != std::string::npos);
+    CHECK(ev.c_transient_peak == Approx(40.0).epsilon(1e-6));  // the advance itself was real
+  }
+  {  // (c) a front running at 20 from x = 10 on a homogeneous scene, max v high from the start
+    compare::FrontTracker tr(mp, x);
+    for (int k = 0; k < 400; ++k) {
+      const double t0 = k * h, t1 = t0 + h;
+      tr.observe_step(t0, t1, true, 2.0);
+      if (tr.sample_due(t1)) tr.sample_tip(t1, ramp_profile(x, 10.0 + 20.0 * t1, 4.0));
+    }
+    const auto ev = tr.finish(true);
+    CHECK(std::isnan(ev.t_star));
+    CHECK(std::isnan(ev.t_hat));
+    CHECK(ev.reasons.count("t_star") == 1);
+    CHECK(ev.reasons.count("t_hat") == 1);
+    CHECK(ev.c_front == Approx(20.0).epsilon(1e-6));
+  }
+}
+
+TEST_CASE("compare: relative differences are defined where the continuum value is 0", "[measure][compare]") {
+  // Issue 10: /compare relative differences were ±inf where the continuum value was 0. Now: 0 when both
+  // vanish, NaN (with the absolute difference beside it) when only the continuum does.
+  compare::ModelResult c, d;
+  c.events.x_arrest = 0.0;
+  d.events.x_arrest = 0.0;
+  c.events.c_slow = 0.0;
+  d.events.c_slow = 0.5;
+  c.events.t_hat = 100.0;
+  d.events.t_hat = 101.0;
+  compare::Scene s = slipfront::testing::fig1_scene();
+  const auto cmp = compare::compare_results(s, c, d);
+  CHECK(cmp.metrics.at("x_arrest_rel_diff") == 0.0);
+  CHECK(std::isnan(cmp.metrics.at("c_slow_rel_diff")));
+  CHECK(cmp.metrics.at("c_slow_abs_diff") == 0.5);
+  CHECK(cmp.metrics.at("t_hat_rel_diff") == Approx(0.01).epsilon(1e-12));
+  for (const auto& [k, v] : cmp.metrics) CHECK_FALSE(std::isinf(v));
 }

@@ -57,7 +57,7 @@ struct Model {
   InterfaceParams law() const { return {alpha, kappa, eta}; }
 };
 
-// The co-moving system behind the tip (Θ = 1), docs/fronts.md eq. (1), y = (v, A, σ̄):
+// MODEL §1 in the co-moving frame behind the tip (Θ = 1), docs/fronts.md eq. (1), y = (v, A, σ̄):
 //   v' = c (σ_d − σ̄ − η v)/D,  A' = −(1 − A − κ A |v|)/c,  σ̄' = −(α A v − σ̄ |v|)/c,  D = μ − ρ c².
 // f, its Jacobian in y and its derivatives in c and σ_d.
 struct Rhs {
@@ -109,7 +109,7 @@ Vec3 behind_state(const Model& m, double sigma_d) {
 // The decaying eigenvalue λ_s of the sliding state (forward ξ) and its left eigenvector w (w_σ̄ = 1).
 // With g = cη/D, a = (1+κv)/c, b = v/c, K = καAv/(cD) the characteristic polynomial is
 // q(λ) = (λ + g)(λ − a)(λ − b) − K; q(−g) = −K < 0 and q(0) = gab − K > 0 on the strengthening branch,
-// so λ_s is the unique root in (−g, 0) (docs/fronts.md §2). Found by TOMS 748 (Boost.Math).
+// so λ_s is the unique root in (−g, 0) (docs/fronts.md §1, §2). Found by TOMS 748 (Boost.Math).
 struct StableMode {
   double lambda;
   Vec3 w;

@@ -63,7 +63,7 @@ struct SteadyFront {
 
   // Speed, tip and far-behind states.
   double c = 0.0;               ///< front speed
-  double v_tip = 0.0;           ///< slip rate at the tip, closed form of the stuck region (docs/fronts.md eq. T)
+  double v_tip = 0.0;           ///< slip rate at the tip, closed form of the stuck region (docs/fronts.md eq. 3)
   double sigma_bar_tip = 0.0;   ///< σ̄ at the tip (= 1 − η v_tip)
   double stuck_decay = 0.0;     ///< λ₋ < 0: v = v_tip e^{λ₋ ξ} ahead of the tip
   double v_behind = 0.0;        ///< v_b: σ_ss(v_b) = σ_d, v_b > v_m

@@ -1,0 +1,864 @@
+#include "continuum/steady_front.hpp"
+
+#include <Eigen/Dense>
+#include <Eigen/Sparse>
+#include <Eigen/SparseLU>
+#include <algorithm>
+#include <boost/math/tools/minima.hpp>
+#include <boost/math/tools/roots.hpp>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <utility>
+
+namespace slipfront::continuum {
+
+const char* to_string(FrontStatus s) {
+  switch (s) {
+    case FrontStatus::converged: return "converged";
+    case FrontStatus::no_front_state: return "no_front_state";
+    case FrontStatus::newton_failed: return "newton_failed";
+    case FrontStatus::sonic: return "sonic";
+    case FrontStatus::resticks: return "resticks";
+    case FrontStatus::reverse_slip: return "reverse_slip";
+    case FrontStatus::not_a_saddle: return "not_a_saddle";
+  }
+  return "?";
+}
+
+const char* to_string(BranchEnd e) {
+  switch (e) {
+    case BranchEnd::saddle_node: return "saddle_node";
+    case BranchEnd::resticking: return "resticking";
+    case BranchEnd::sonic: return "sonic";
+    case BranchEnd::reverse_slip: return "reverse_slip";
+    case BranchEnd::newton_failure: return "newton_failure";
+    case BranchEnd::sigma_stop: return "sigma_stop";
+    case BranchEnd::max_points: return "max_points";
+  }
+  return "?";
+}
+
+namespace detail {
+
+using Vec3 = Eigen::Vector3d;
+using Mat3 = Eigen::Matrix3d;
+constexpr double nan_value = std::numeric_limits<double>::quiet_NaN();
+
+struct Model {
+  double rho, mu, alpha, kappa, eta;
+  /// The limiting problem at σ_d = σ_c^d: the sliding state behind is v_m and its decaying mode is
+  /// the null mode (λ_s = 0 exactly), instead of rounding near a double root.
+  bool saddle_node = false;
+  Model(const InterfaceParams& law, double rho_, double mu_)
+      : rho(rho_), mu(mu_), alpha(law.alpha), kappa(law.kappa), eta(law.eta) {}
+  double sound_speed() const { return std::sqrt(mu / rho); }
+  InterfaceParams law() const { return {alpha, kappa, eta}; }
+};
+
+// docs/model.md §1 in the co-moving frame behind the tip (Θ = 1), docs/fronts.md eq. (1), y = (v, A, σ̄):
+//   v' = c (σ_d − σ̄ − η v)/D,  A' = −(1 − A − κ A |v|)/c,  σ̄' = −(α A v − σ̄ |v|)/c,  D = μ − ρ c².
+// f, its Jacobian in y and its derivatives in c and σ_d.
+struct Rhs {
+  Vec3 f, fc, fs;
+  Mat3 J;
+};
+Rhs rhs(const Model& m, const Vec3& y, double c, double sigma_d) {
+  const double v = y[0], A = y[1], s = y[2];
+  const double speed = std::abs(v), sign = v >= 0.0 ? 1.0 : -1.0;
+  const double D = m.mu - m.rho * c * c;
+  const double drive = sigma_d - s - m.eta * v;
+  const double relax_A = 1.0 - A - m.kappa * A * speed;
+  const double source_s = m.alpha * A * v - s * speed;
+  Rhs r;
+  r.f << c * drive / D, -relax_A / c, -source_s / c;
+  r.J << -c * m.eta / D, 0.0, -c / D,                          //
+      m.kappa * A * sign / c, (1.0 + m.kappa * speed) / c, 0.0,  //
+      -(m.alpha * A - s * sign) / c, -m.alpha * v / c, speed / c;
+  r.fc << drive * (m.mu + m.rho * c * c) / (D * D), relax_A / (c * c), source_s / (c * c);
+  r.fs << c / D, 0.0, 0.0;
+  return r;
+}
+
+// Ahead of the tip (Θ = 0, A ≡ 1): (μ − ρc²) v'' + η c v' − α v = 0, v = v_tip e^{λ₋ ξ} with λ₋ the
+// negative root, σ̄ − σ_d = k v with k = α/(c |λ₋|); the tip condition σ̄ + η v = 1 gives
+// v_tip = (1 − σ_d)/(η + k). docs/fronts.md eqs. (2)–(3).
+struct StuckRegion {
+  double lambda, k, v_tip, sigma_bar_tip;
+};
+StuckRegion stuck_region(const Model& m, double c, double sigma_d) {
+  const double D = m.mu - m.rho * c * c;
+  const double lambda = -(m.eta * c + std::sqrt(m.eta * m.eta * c * c + 4.0 * m.alpha * D)) / (2.0 * D);
+  const double k = m.alpha / (c * -lambda);
+  const double v_tip = (1.0 - sigma_d) / (m.eta + k);
+  return {lambda, k, v_tip, 1.0 - m.eta * v_tip};
+}
+Vec3 tip_state(const Model& m, double c, double sigma_d) {
+  const auto st = stuck_region(m, c, sigma_d);
+  return {st.v_tip, 1.0, st.sigma_bar_tip};
+}
+
+// Steady sliding behind on the strengthening branch (docs/model.md §1): σ_ss(v_b) = σ_d, v_b > v_m.
+Vec3 behind_state(const Model& m, double sigma_d) {
+  const double v = m.saddle_node ? steady_minimum_velocity(m.law()) : strengthening_branch_velocity(m.law(), sigma_d);
+  const double A = 1.0 / (1.0 + m.kappa * v);
+  return {v, A, m.alpha * A};
+}
+
+// The decaying eigenvalue λ_s of the sliding state (forward ξ) and its left eigenvector w (w_σ̄ = 1).
+// With g = cη/D, a = (1+κv)/c, b = v/c, K = καAv/(cD) the characteristic polynomial is
+// q(λ) = (λ + g)(λ − a)(λ − b) − K; q(−g) = −K < 0 and q(0) = gab − K > 0 on the strengthening branch,
+// so λ_s is the unique root in (−g, 0) (docs/fronts.md §1, §2). Found by TOMS 748 (Boost.Math).
+struct StableMode {
+  double lambda;
+  Vec3 w;
+  bool ok;
+};
+StableMode stable_mode(const Model& m, const Vec3& yb, double c) {
+  const double v = yb[0], A = yb[1];
+  const double D = m.mu - m.rho * c * c;
+  const double g = c * m.eta / D, a = (1.0 + m.kappa * v) / c, b = v / c;
+  const double K = m.kappa * m.alpha * A * v / (c * D);
+  auto q = [&](double l) { return (l + g) * (l - a) * (l - b) - K; };
+  if (m.saddle_node) return {0.0, Vec3(b * D / c, (m.alpha * v / c) / a, 1.0), K > 0.0};
+  const double q0 = q(0.0);
+  if (!(q0 > 0.0) || !(K > 0.0)) return {nan_value, Vec3::Constant(nan_value), false};
+  std::uintmax_t iters = 200;
+  const auto bracket = boost::math::tools::toms748_solve(
+      q, -g, 0.0, -K, q0, boost::math::tools::eps_tolerance<double>(52), iters);
+  const double l = 0.5 * (bracket.first + bracket.second);
+  Vec3 w((b - l) * D / c, (m.alpha * v / c) / (a - l), 1.0);
+  return {l, w, true};
+}
+
+Mat3 behind_jacobian(const Model& m, const Vec3& yb, double c, double sigma_d) {
+  return rhs(m, yb, c, sigma_d).J;
+}
+
+// Nodes ξ_0 = −L < … < ξ_N = 0 with ξ_N − ξ_{N−1} = h_tip, growing geometrically behind:
+// measured from the tip, ξ_j = −L (e^{β j/N} − 1)/(e^β − 1); β from the first spacing (TOMS 748).
+std::vector<double> make_mesh(double L, int N, double h_tip, double grading = 0.0) {
+  std::vector<double> xi(static_cast<std::size_t>(N) + 1);
+  double beta = grading;
+  if (beta <= 0.0 && L / N > h_tip) {
+    auto first = [&](double bt) { return std::log(L * std::expm1(bt / N) / std::expm1(bt)) - std::log(h_tip); };
+    double hi = 1.0;
+    while (first(hi) > 0.0) hi *= 2.0;
+    std::uintmax_t iters = 200;
+    const auto br = boost::math::tools::toms748_solve(first, 1e-9, hi, boost::math::tools::eps_tolerance<double>(50), iters);
+    beta = 0.5 * (br.first + br.second);
+  }
+  for (int j = 0; j <= N; ++j) {
+    const double s = static_cast<double>(j) / N;
+    const double dist = beta > 0.0 ? L * std::expm1(beta * s) / std::expm1(beta) : L * s;
+    xi[static_cast<std::size_t>(N - j)] = -dist;
+  }
+  xi[0] = -L;
+  xi[static_cast<std::size_t>(N)] = 0.0;
+  return xi;
+}
+
+// The discrete boundary-value problem (docs/fronts.md §3). Unknowns x = [y_0 … y_N, c (, σ_d)];
+// equations: the projection condition at ξ_0 = −L, Lobatto IIIA (Hermite–Simpson) on every interval,
+// the tip state at ξ_N = 0 (and, with σ_d free, the pseudo-arclength condition).
+struct Arclength {
+  double sigma0, c0, t_sigma, t_c, step, c_scale;
+};
+
+class Collocation {
+ public:
+  Collocation(const Model& m, std::vector<double> xi, double sigma_d, std::optional<Arclength> arc)
+      : m_(m), xi_(std::move(xi)), sigma_fixed_(sigma_d), arc_(arc) {}
+
+  int nodes() const { return static_cast<int>(xi_.size()); }
+  int size() const { return 3 * nodes() + 1 + (arc_ ? 1 : 0); }
+  int c_index() const { return 3 * nodes(); }
+  double c_of(const Eigen::VectorXd& x) const { return x[c_index()]; }
+  double sigma_of(const Eigen::VectorXd& x) const { return arc_ ? x[c_index() + 1] : sigma_fixed_; }
+  Vec3 y(const Eigen::VectorXd& x, int i) const { return x.segment<3>(3 * i); }
+  const std::vector<double>& xi() const { return xi_; }
+
+  // Residual F(x); with jac, also its Jacobian (exact, except the c and σ_d columns of the two
+  // boundary conditions, which are central differences of closed forms: relative error ~1e-10).
+  bool assemble(const Eigen::VectorXd& x, Eigen::VectorXd& F, Eigen::SparseMatrix<double>* jac) const {
+    const int N = nodes() - 1, n = size(), ic = c_index(), is = ic + 1;
+    const double c = c_of(x), sd = sigma_of(x);
+    if (!(c > 0.0) || !(c < m_.sound_speed())) return false;
+    F.setZero(n);
+    std::vector<Eigen::Triplet<double>> t;
+    if (jac) t.reserve(static_cast<std::size_t>(N) * 24 + 64);
+
+    // Row 0: projection of y_0 − y_b on the decaying mode's left eigenvector vanishes.
+    auto projection = [&](const Vec3& y0, double cc, double ss) {
+      const Vec3 yb = behind_state(m_, ss);
+      const auto mode = stable_mode(m_, yb, cc);
+      return mode.ok ? mode.w.dot(y0 - yb) : nan_value;
+    };
+    const Vec3 y0 = y(x, 0);
+    const Vec3 yb = behind_state(m_, sd);
+    const auto mode = stable_mode(m_, yb, c);
+    if (!mode.ok) return false;
+    F[0] = mode.w.dot(y0 - yb);
+    if (jac) {
+      for (int k = 0; k < 3; ++k) t.emplace_back(0, k, mode.w[k]);
+      const double hc = 1e-6 * c;
+      t.emplace_back(0, ic, (projection(y0, c + hc, sd) - projection(y0, c - hc, sd)) / (2.0 * hc));
+      if (arc_) {
+        // Near σ_c^d, v_b(σ_d) has a square-root singularity: keep σ_d − h above it.
+        const double hs = std::min(1e-7, 0.25 * (sd - steady_minimum_stress(m_.law())));
+        t.emplace_back(0, is, (projection(y0, c, sd + hs) - projection(y0, c, sd - hs)) / (2.0 * hs));
+      }
+    }
+
+    // Rows 1 + 3i … 3 + 3i: y_{i+1} − y_i − h/6 (f_i + 4 f_m + f_{i+1}),
+    // y_m = (y_i + y_{i+1})/2 + h/8 (f_i − f_{i+1}).
+    Rhs right = rhs(m_, y(x, 0), c, sd);
+    for (int i = 0; i < N; ++i) {
+      const Rhs left = right;
+      right = rhs(m_, y(x, i + 1), c, sd);
+      const double h = xi_[static_cast<std::size_t>(i) + 1] - xi_[static_cast<std::size_t>(i)];
+      const Vec3 ym = 0.5 * (y(x, i) + y(x, i + 1)) + h / 8.0 * (left.f - right.f);
+      const Rhs mid = rhs(m_, ym, c, sd);
+      const int row = 1 + 3 * i;
+      F.segment<3>(row) = y(x, i + 1) - y(x, i) - h / 6.0 * (left.f + 4.0 * mid.f + right.f);
+      if (!jac) continue;
+      const Mat3 I = Mat3::Identity();
+      const Mat3 Bi = -I - h / 6.0 * (left.J + 4.0 * mid.J * (0.5 * I + h / 8.0 * left.J));
+      const Mat3 Bn = I - h / 6.0 * (right.J + 4.0 * mid.J * (0.5 * I - h / 8.0 * right.J));
+      for (int r = 0; r < 3; ++r)
+        for (int k = 0; k < 3; ++k) {
+          if (Bi(r, k) != 0.0) t.emplace_back(row + r, 3 * i + k, Bi(r, k));
+          if (Bn(r, k) != 0.0) t.emplace_back(row + r, 3 * (i + 1) + k, Bn(r, k));
+        }
+      const Vec3 dc = -h / 6.0 * (left.fc + 4.0 * (mid.fc + mid.J * (h / 8.0 * (left.fc - right.fc))) + right.fc);
+      for (int r = 0; r < 3; ++r) t.emplace_back(row + r, ic, dc[r]);
+      if (arc_) {
+        const Vec3 ds = -h / 6.0 * (left.fs + 4.0 * (mid.fs + mid.J * (h / 8.0 * (left.fs - right.fs))) + right.fs);
+        for (int r = 0; r < 3; ++r) t.emplace_back(row + r, is, ds[r]);
+      }
+    }
+
+    // Rows 3N+1 … 3N+3: y_N = (v_tip(c, σ_d), 1, σ̄_tip(c, σ_d)).
+    const int row = 1 + 3 * N;
+    F.segment<3>(row) = y(x, N) - tip_state(m_, c, sd);
+    if (jac) {
+      for (int k = 0; k < 3; ++k) t.emplace_back(row + k, 3 * N + k, 1.0);
+      const double hc = 1e-6 * c;
+      const Vec3 dc = -(tip_state(m_, c + hc, sd) - tip_state(m_, c - hc, sd)) / (2.0 * hc);
+      t.emplace_back(row, ic, dc[0]);
+      t.emplace_back(row + 2, ic, dc[2]);
+      if (arc_) {
+        // ∂v_tip/∂σ_d = −1/(η + k), ∂σ̄_tip/∂σ_d = η/(η + k) (k does not depend on σ_d).
+        const auto st = stuck_region(m_, c, sd);
+        t.emplace_back(row, is, 1.0 / (m_.eta + st.k));
+        t.emplace_back(row + 2, is, -m_.eta / (m_.eta + st.k));
+      }
+    }
+
+    // Pseudo-arclength: t_σ (σ_d − σ_0) + t_c (c − c_0)/c_scale = step.
+    if (arc_) {
+      const auto& a = *arc_;
+      F[n - 1] = a.t_sigma * (sd - a.sigma0) + a.t_c * (c - a.c0) / a.c_scale - a.step;
+      if (jac) {
+        t.emplace_back(n - 1, is, a.t_sigma);
+        t.emplace_back(n - 1, ic, a.t_c / a.c_scale);
+      }
+    }
+    if (jac) {
+      jac->resize(n, n);
+      jac->setFromTriplets(t.begin(), t.end());
+    }
+    return F.allFinite();
+  }
+
+ private:
+  Model m_;
+  std::vector<double> xi_;
+  double sigma_fixed_;
+  std::optional<Arclength> arc_;
+};
+
+struct NewtonResult {
+  bool converged = false;
+  int iterations = 0;
+  double residual = nan_value;
+  std::string failure;
+};
+
+// Damped Newton (backtracking on ‖F‖₂) with Eigen's SparseLU (COLAMD ordering, pattern analysed once).
+NewtonResult newton(const Collocation& col, Eigen::VectorXd& x, double tol, int max_iter) {
+  NewtonResult out;
+  Eigen::VectorXd F, Ft;
+  Eigen::SparseMatrix<double> J;
+  Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu;
+  bool analysed = false;
+  if (!col.assemble(x, F, &J)) {
+    out.failure = "the initial guess is not admissible (c outside (0, c_s), or no decaying mode behind)";
+    return out;
+  }
+  for (int it = 1; it <= max_iter; ++it) {
+    out.iterations = it;
+    if (!analysed) {
+      lu.analyzePattern(J);
+      analysed = true;
+    }
+    lu.factorize(J);
+    if (lu.info() != Eigen::Success) {
+      out.failure = "singular Jacobian (SparseLU: " + lu.lastErrorMessage() + ")";
+      return out;
+    }
+    const Eigen::VectorXd dx = lu.solve(-F);
+    double scaled = 0.0;
+    for (Eigen::Index k = 0; k < x.size(); ++k) scaled = std::max(scaled, std::abs(dx[k]) / std::max(1.0, std::abs(x[k])));
+    const double f0 = F.norm();
+    double lambda = 1.0;
+    Eigen::VectorXd xt;
+    bool accepted = false;
+    for (int damp = 0; damp < 30; ++damp, lambda *= 0.5) {
+      xt = x + lambda * dx;
+      if (col.assemble(xt, Ft, nullptr) && (Ft.norm() <= (1.0 - 1e-4 * lambda) * f0 || Ft.norm() < 1e-13)) {
+        accepted = true;
+        break;
+      }
+    }
+    if (!accepted) {
+      out.failure = "no descent along the Newton direction (no solution near the guess)";
+      return out;
+    }
+    x = xt;
+    col.assemble(x, F, &J);
+    if (lambda == 1.0 && scaled < tol) {
+      out.converged = true;
+      out.residual = F.lpNorm<Eigen::Infinity>();
+      return out;
+    }
+  }
+  out.residual = F.lpNorm<Eigen::Infinity>();
+  out.failure = "no convergence in " + std::to_string(max_iter) + " Newton iterations";
+  return out;
+}
+
+// Backward shooting from the tip (cold start only): classical RK4 from ξ = 0 to ξ = −L at speed c;
+// returns the profile on the mesh and the projection w·(y − y_b) where the trajectory ends (at −L or
+// where it leaves the physical region). Written by hand: 20 lines, used only to start Newton.
+struct Shot {
+  double mismatch;
+  std::vector<Vec3> profile;
+};
+Shot shoot(const Model& m, const std::vector<double>& xi, double c, double sigma_d) {
+  const Vec3 yb = behind_state(m, sigma_d);
+  const auto mode = stable_mode(m, yb, c);
+  Shot out{nan_value, std::vector<Vec3>(xi.size(), yb)};
+  if (!mode.ok) return out;
+  Vec3 y = tip_state(m, c, sigma_d);
+  const std::size_t N = xi.size() - 1;
+  out.profile[N] = y;
+  auto f = [&](const Vec3& z) { return rhs(m, z, c, sigma_d).f; };
+  for (std::size_t i = N; i-- > 0;) {
+    const double H = xi[i] - xi[i + 1];  // < 0
+    const int sub = std::max(1, static_cast<int>(std::ceil(std::abs(H) / 0.05)));
+    const double h = H / sub;
+    for (int s = 0; s < sub; ++s) {
+      const Vec3 k1 = f(y), k2 = f(y + 0.5 * h * k1), k3 = f(y + 0.5 * h * k2), k4 = f(y + h * k3);
+      y += h / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
+    }
+    const bool lost = !y.allFinite() || y[0] <= 0.0 || y[0] > 10.0 * yb[0] + 10.0 || y[1] <= 0.0 || y[1] > 1.5;
+    if (lost) {
+      out.mismatch = y.allFinite() ? mode.w.dot(y - yb) : nan_value;
+      return out;  // the rest of the profile stays at the sliding state
+    }
+    out.profile[i] = y;
+  }
+  out.mismatch = mode.w.dot(y - yb);
+  return out;
+}
+
+// Domain length: the nonlinear region near the tip plus `decay_lengths` e-folds of the slowest growing
+// mode of the sliding state (the error of the linear projection condition is ~ e^{−2 decay_lengths}).
+double domain_length(const Model& m, const SteadyFrontOptions& o, double c, double sigma_d) {
+  if (o.domain_length > 0.0) return o.domain_length;
+  const Vec3 yb = behind_state(m, sigma_d);
+  const Mat3 J = behind_jacobian(m, yb, c, sigma_d);
+  const Eigen::EigenSolver<Mat3> es(J, false);
+  double slowest = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < 3; ++k)  // the growing modes (not the null mode at σ_c^d)
+    if (es.eigenvalues()[k].real() > 1e-9 * J.norm()) slowest = std::min(slowest, es.eigenvalues()[k].real());
+  if (!std::isfinite(slowest)) slowest = 1.0 / c;
+  return o.tip_length * c / (1.0 + m.kappa * yb[0]) + o.decay_lengths / slowest;
+}
+
+// Post-processing of a converged iterate: fields, u, diagnostics, admissibility, tail modes.
+void finish(const Model& m, const Collocation& col, const Eigen::VectorXd& x, SteadyFront& f) {
+  const auto& xi = col.xi();
+  const int n = col.nodes();
+  const double c = col.c_of(x), sd = col.sigma_of(x);
+  f.sigma_d = sd;
+  f.c = c;
+  const auto st = stuck_region(m, c, sd);
+  f.v_tip = st.v_tip;
+  f.sigma_bar_tip = st.sigma_bar_tip;
+  f.stuck_decay = st.lambda;
+  const Vec3 yb = behind_state(m, sd);
+  f.v_behind = yb[0];
+  f.area_behind = yb[1];
+  f.sigma_bar_behind = yb[2];
+  f.far_field_strain = -yb[0] / c;
+  f.xi = xi;
+  f.domain_length = -xi.front();
+  f.area.resize(xi.size());
+  f.sigma_bar.resize(xi.size());
+  f.slip_rate.resize(xi.size());
+  f.slip.resize(xi.size());
+  for (int i = 0; i < n; ++i) {
+    const Vec3 y = col.y(x, i);
+    f.slip_rate[static_cast<std::size_t>(i)] = y[0];
+    f.area[static_cast<std::size_t>(i)] = y[1];
+    f.sigma_bar[static_cast<std::size_t>(i)] = y[2];
+  }
+  // u: σ̄ = α u at the tip (stuck convention); U' = −v/c integrated exactly on the cubic Hermite
+  // interpolant of v (the collocation polynomial): ∫ v = h (v_i + v_{i+1})/2 + h² (v'_i − v'_{i+1})/12.
+  f.slip.back() = st.sigma_bar_tip / m.alpha;
+  for (int i = n - 1; i-- > 0;) {
+    const auto a = static_cast<std::size_t>(i), b = a + 1;
+    const double h = xi[b] - xi[a];
+    const double da = rhs(m, col.y(x, i), c, sd).f[0], db = rhs(m, col.y(x, i + 1), c, sd).f[0];
+    const double integral = h * 0.5 * (f.slip_rate[a] + f.slip_rate[b]) + h * h * (da - db) / 12.0;
+    f.slip[a] = f.slip[b] + integral / c;
+  }
+  // Admissibility: Θ = 1 behind the tip needs |σ|/A > 1 there. |σ|/A − 1 vanishes at the tip and
+  // grows behind it; what matters is its interior minima and its far value.
+  std::vector<double> g(xi.size());
+  for (std::size_t i = 0; i < xi.size(); ++i)
+    g[i] = std::abs(f.sigma_bar[i] + m.eta * f.slip_rate[i]) / f.area[i] - 1.0;
+  double margin = g.front();
+  for (std::size_t i = 1; i + 2 < xi.size(); ++i)
+    if (g[i] <= g[i - 1] && g[i] <= g[i + 1]) margin = std::min(margin, g[i]);
+  f.overstress_margin = margin;
+  f.min_slip_rate = *std::min_element(f.slip_rate.begin(), f.slip_rate.end());
+
+  const Mat3 Jb = behind_jacobian(m, yb, c, sd);
+  const Eigen::EigenSolver<Mat3> es(Jb, true);
+  int negative = 0, positive = 0, stable_index = -1;
+  const double centre = m.saddle_node ? 1e-9 * Jb.norm() : 0.0;  // the null mode at σ_c^d
+  for (int k = 0; k < 3; ++k) {
+    f.behind_eigenvalues[static_cast<std::size_t>(k)] = es.eigenvalues()[k];
+    if (es.eigenvalues()[k].real() < 0.0 || (m.saddle_node && std::abs(es.eigenvalues()[k]) <= centre)) {
+      ++negative;
+      stable_index = k;
+    } else if (es.eigenvalues()[k].real() > 0.0) {
+      ++positive;
+    }
+  }
+  f.stable_eigenvalue = stable_mode(m, yb, c).lambda;
+  // Tail: y(−L) − y_b = Σ d_k r_k over the eigenvectors (d_stable = 0 by the projection condition).
+  if (negative == 1 && positive == 2) {
+    const Eigen::Matrix3cd R = es.eigenvectors();
+    const Eigen::Vector3cd d = R.partialPivLu().solve((col.y(x, 0) - yb).cast<std::complex<double>>());
+    int j = 0;
+    for (int k = 0; k < 3; ++k) {
+      if (k == stable_index) continue;
+      f.tail_rate[static_cast<std::size_t>(j)] = es.eigenvalues()[k];
+      for (int r = 0; r < 3; ++r) f.tail_mode[static_cast<std::size_t>(j)][static_cast<std::size_t>(r)] = d[k] * R(r, k);
+      ++j;
+    }
+  }
+
+  f.status = FrontStatus::converged;
+  f.reason.clear();
+  if (negative != 1 || positive != 2) {
+    f.status = FrontStatus::not_a_saddle;
+    f.reason = "the sliding state behind has " + std::to_string(negative) + " decaying and " +
+               std::to_string(positive) + " growing modes (need 1 and 2)";
+  } else if (f.min_slip_rate <= 0.0) {
+    f.status = FrontStatus::reverse_slip;
+    f.reason = "v <= 0 behind the tip (min v = " + format_number(f.min_slip_rate) + ")";
+  } else if (margin <= 0.0) {
+    f.status = FrontStatus::resticks;
+    f.reason = "|sigma|/A - 1 <= 0 behind the tip (min " + format_number(margin) + "): Theta = 1 violated";
+  }
+}
+
+SteadyFront empty_front(const Model& m, double sigma_d) {
+  SteadyFront f;
+  f.law = m.law();
+  f.rho = m.rho;
+  f.mu = m.mu;
+  f.sigma_d = sigma_d;
+  return f;
+}
+
+// Pack a guess (previous front, or a shot) on the mesh of `col`.
+Eigen::VectorXd pack(const Collocation& col, const std::vector<Vec3>& profile, double c, double sigma_d, bool free_sigma) {
+  Eigen::VectorXd x(col.size());
+  for (int i = 0; i < col.nodes(); ++i) x.segment<3>(3 * i) = profile[static_cast<std::size_t>(i)];
+  x[col.c_index()] = c;
+  if (free_sigma) x[col.c_index() + 1] = sigma_d;
+  return x;
+}
+
+std::vector<Vec3> resample(const SteadyFront& g, const std::vector<double>& xi) {
+  const auto s = sample_steady_front(g, xi, 0.0);
+  std::vector<Vec3> p(xi.size());
+  for (std::size_t i = 0; i < xi.size(); ++i) p[i] = Vec3(s.slip_rate[i], s.area[i], s.sigma_bar[i]);
+  return p;
+}
+
+// Cold-start speed: scan c/c_s ∈ (0, 1) for a sign change of the shooting mismatch, then TOMS 748.
+std::optional<double> bracket_speed(const Model& m, const SteadyFrontOptions& o, double sigma_d) {
+  const double cs = m.sound_speed();
+  auto mismatch = [&](double c) {
+    const double L = std::min(domain_length(m, o, c, sigma_d), 400.0);
+    return shoot(m, make_mesh(L, 400, 0.05), c, sigma_d).mismatch;
+  };
+  double prev_c = 0.02 * cs, prev = mismatch(prev_c);
+  for (int k = 2; k <= 49; ++k) {
+    const double cc = 0.02 * k * cs, mm = mismatch(cc);
+    if (std::isfinite(prev) && std::isfinite(mm) && prev * mm < 0.0) {
+      std::uintmax_t iters = 60;
+      const auto br = boost::math::tools::toms748_solve(mismatch, prev_c, cc, prev, mm,
+                                                        boost::math::tools::eps_tolerance<double>(30), iters);
+      return 0.5 * (br.first + br.second);
+    }
+    prev_c = cc;
+    prev = mm;
+  }
+  return std::nullopt;
+}
+
+// One Newton solve on a fresh mesh; σ_d fixed or (with arc) free.
+SteadyFront solve_on_mesh(const Model& m, const SteadyFrontOptions& o, double sigma_d, double c_guess,
+                          const std::vector<Vec3>* profile, const SteadyFront* guess,
+                          std::optional<Arclength> arc) {
+  SteadyFront f = empty_front(m, sigma_d);
+  const double L = domain_length(m, o, c_guess, sigma_d);
+  Collocation col(m, make_mesh(L, o.intervals, o.tip_spacing, o.grading), sigma_d, arc);
+  std::vector<Vec3> p;
+  if (guess) p = resample(*guess, col.xi());
+  else if (profile) p = *profile;
+  else p = shoot(m, col.xi(), c_guess, sigma_d).profile;
+  if (p.size() != col.xi().size()) p = shoot(m, col.xi(), c_guess, sigma_d).profile;
+  Eigen::VectorXd x = pack(col, p, c_guess, sigma_d, arc.has_value());
+  const auto nr = newton(col, x, o.tolerance, o.max_newton);
+  f.newton_iterations = nr.iterations;
+  f.domain_length = L;
+  if (!nr.converged) {
+    f.status = col.c_of(x) >= 0.999 * m.sound_speed() ? FrontStatus::sonic : FrontStatus::newton_failed;
+    f.reason = nr.failure;
+    f.c = col.c_of(x);
+    f.sigma_d = col.sigma_of(x);
+    return f;
+  }
+  finish(m, col, x, f);
+  f.residual_norm = nr.residual;
+  f.saddle_node_limit = m.saddle_node;
+  // Error estimate of c (docs/fronts.md §3): the same problem on every other node (same mesh map, twice
+  // the spacing); the scheme is 4th order, so c_h − c ≈ (c_2h − c_h)/15.
+  if (o.estimate_error && o.intervals % 2 == 0 && o.intervals >= 8) {
+    std::vector<double> coarse_xi;
+    std::vector<Vec3> coarse_p;
+    for (std::size_t i = 0; i < col.xi().size(); i += 2) {
+      coarse_xi.push_back(col.xi()[i]);
+      coarse_p.push_back(col.y(x, static_cast<int>(i)));
+    }
+    const Collocation coarse(m, std::move(coarse_xi), f.sigma_d, std::nullopt);
+    Eigen::VectorXd xc = pack(coarse, coarse_p, f.c, f.sigma_d, false);
+    const auto nc = newton(coarse, xc, o.tolerance, o.max_newton);
+    f.speed_error = nc.converged ? std::abs(coarse.c_of(xc) - f.c) / 15.0 : std::numeric_limits<double>::infinity();
+  }
+  return f;
+}
+
+BranchPoint branch_point(const SteadyFront& f) {
+  return {f.sigma_d, f.c, f.v_tip, f.v_behind, f.area_behind, f.overstress_margin, f.min_slip_rate,
+          f.stable_eigenvalue, f.domain_length, f.residual_norm, f.speed_error, f.newton_iterations};
+}
+
+BranchEnd end_of(FrontStatus s) {
+  switch (s) {
+    case FrontStatus::resticks: return BranchEnd::resticking;
+    case FrontStatus::reverse_slip: return BranchEnd::reverse_slip;
+    case FrontStatus::sonic: return BranchEnd::sonic;
+    case FrontStatus::no_front_state:
+    case FrontStatus::not_a_saddle: return BranchEnd::saddle_node;
+    default: return BranchEnd::newton_failure;
+  }
+}
+
+}  // namespace detail
+
+SteadyFront solve_steady_front(const InterfaceParams& law, const BulkParams& bulk, double sigma_d,
+                               const SteadyFrontOptions& o, const SteadyFront* guess) {
+  const detail::Model m(law, bulk.rho, bulk.mu);
+  const double sigma_c = steady_minimum_stress(law);
+  if (!(sigma_d > sigma_c) || !(sigma_d < 1.0)) {
+    SteadyFront f = detail::empty_front(m, sigma_d);
+    f.status = FrontStatus::no_front_state;
+    f.reason = "sigma_d = " + format_number(sigma_d) + " outside (sigma_c^d, 1) = (" + format_number(sigma_c) +
+               ", 1): no sliding state on the strengthening branch behind, or no stuck state ahead";
+    return f;
+  }
+  double c0 = guess ? guess->c : o.c_guess;
+  if (!(c0 > 0.0)) {
+    const auto b = detail::bracket_speed(m, o, sigma_d);
+    if (!b) {
+      SteadyFront f = detail::empty_front(m, sigma_d);
+      f.status = FrontStatus::newton_failed;
+      f.reason = "no sign change of the shooting mismatch for c in (0, c_s): no starting speed";
+      return f;
+    }
+    c0 = *b;
+  }
+  return detail::solve_on_mesh(m, o, sigma_d, c0, nullptr, guess, std::nullopt);
+}
+
+SteadyFront solve_saddle_node_front(const InterfaceParams& law, const BulkParams& bulk,
+                                    const SteadyFrontOptions& o, const SteadyFront* guess) {
+  detail::Model m(law, bulk.rho, bulk.mu);
+  m.saddle_node = true;
+  const double sigma_c = steady_sliding(law, steady_minimum_velocity(law)).sigma;  // = σ_c^d
+  const double c0 = guess ? guess->c : o.c_guess;
+  if (!(c0 > 0.0)) {
+    SteadyFront f = detail::empty_front(m, sigma_c);
+    f.status = FrontStatus::newton_failed;
+    f.reason = "the front at sigma_c^d needs a guess (a front of the branch close to sigma_c^d)";
+    return f;
+  }
+  return detail::solve_on_mesh(m, o, sigma_c, c0, nullptr, guess, std::nullopt);
+}
+
+FrontBranch continue_steady_fronts(const InterfaceParams& law, const BulkParams& bulk, const ContinuationOptions& o) {
+  const detail::Model m(law, bulk.rho, bulk.mu);
+  const double cs = m.sound_speed(), sigma_c = steady_minimum_stress(law);
+  FrontBranch br;
+  auto stop = [&](BranchEnd e, std::string why) {
+    br.end = e;
+    br.reason = std::move(why);
+  };
+
+  // First front, cold; second by a natural step in σ_d (there is no secant yet).
+  // With no front at σ_start (its speed would reach c_s: the branch's upper end lies below), try
+  // σ_c^d + (σ_start − σ_c^d)·0.8^k, k = 1 … 20, and say so.
+  SteadyFront prev = solve_steady_front(law, bulk, o.sigma_start, o.front);
+  br.sigma_first = o.sigma_start;
+  for (int k = 1; k <= 20 && prev.status != FrontStatus::converged; ++k) {
+    br.sigma_first = sigma_c + (o.sigma_start - sigma_c) * std::pow(0.8, k);
+    prev = solve_steady_front(law, bulk, br.sigma_first, o.front);
+  }
+  if (prev.status != FrontStatus::converged) {
+    stop(detail::end_of(prev.status), "no front at sigma_start = " + format_number(o.sigma_start) +
+                                          " nor below it: " + prev.reason);
+    br.last = prev;
+    return br;
+  }
+  br.points.push_back(detail::branch_point(prev));
+  double ds = o.initial_step;
+  SteadyFront cur;
+  for (;;) {
+    const double target = std::max(br.sigma_first - ds, sigma_c + 0.5 * (br.sigma_first - sigma_c));
+    cur = solve_steady_front(law, bulk, target, o.front, &prev);
+    if (cur.status == FrontStatus::converged) break;
+    ds *= 0.5;
+    if (ds < o.min_step) {
+      stop(detail::end_of(cur.status), "no second front below sigma_start: " + cur.reason);
+      br.last = prev;
+      return br;
+    }
+  }
+  br.points.push_back(detail::branch_point(cur));
+
+  // Pseudo-arclength in (σ_d, c/c_s) with the secant as predictor direction.
+  double t_sigma_before = -1.0;
+  while (static_cast<int>(br.points.size()) < o.max_points) {
+    const double d_sigma = cur.sigma_d - prev.sigma_d, d_c = (cur.c - prev.c) / cs;
+    const double norm = std::hypot(d_sigma, d_c);
+    const double t_sigma = d_sigma / norm, t_c = d_c / norm;
+    if (t_sigma * t_sigma_before < 0.0) br.folds.push_back(cur.sigma_d);
+    t_sigma_before = t_sigma;
+    if (cur.sigma_d - sigma_c < o.end_gap * sigma_c) {
+      stop(BranchEnd::saddle_node, "");
+      break;
+    }
+    if (cur.sigma_d <= o.sigma_stop) {
+      stop(BranchEnd::sigma_stop, "reached sigma_stop = " + format_number(o.sigma_stop));
+      break;
+    }
+    ds = std::min(ds, o.max_step);
+    // Approach σ_c^d geometrically: the predictor keeps a quarter of the remaining gap.
+    if (t_sigma < 0.0) ds = std::min(ds, 0.75 * (cur.sigma_d - sigma_c) / -t_sigma);
+    SteadyFront next;
+    for (;;) {
+      const double sigma_p = cur.sigma_d + ds * t_sigma, c_p = cur.c + ds * t_c * cs;
+      const detail::Arclength arc{cur.sigma_d, cur.c, t_sigma, t_c, ds, cs};
+      next = detail::solve_on_mesh(m, o.front, sigma_p, c_p, nullptr, &cur, arc);
+      if (next.status == FrontStatus::converged) break;
+      ds *= 0.5;
+      if (ds < o.min_step) break;
+    }
+    if (next.status != FrontStatus::converged) {
+      stop(detail::end_of(next.status), "continuation stalls at sigma_d = " + format_number(cur.sigma_d) +
+                                             " (step < min_step): " + std::string(to_string(next.status)) + ": " + next.reason);
+      break;
+    }
+    if (next.newton_iterations < o.target_newton) ds *= 1.5;
+    else if (next.newton_iterations > o.target_newton) ds *= 0.6;
+    // Polish at fixed σ_d (exact Jacobian there; the arclength corrector's σ_d column is a difference
+    // quotient), so every branch point is the front solve_steady_front returns at its σ_d.
+    SteadyFront polished = solve_steady_front(law, bulk, next.sigma_d, o.front, &next);
+    if (polished.status == FrontStatus::converged) next = std::move(polished);
+    prev = std::move(cur);
+    cur = std::move(next);
+    br.points.push_back(detail::branch_point(cur));
+  }
+  br.last = cur;
+
+  // The end at σ_c^d: the limiting front (v_b = v_m, null mode behind), solved directly.
+  if (br.end == BranchEnd::saddle_node) {
+    const SteadyFront end = solve_saddle_node_front(law, bulk, o.front, &cur);
+    if (end.status == FrontStatus::converged) {
+      br.points.push_back(detail::branch_point(end));
+      br.last = end;
+      br.reason = "sigma_d -> sigma_c^d = " + format_number(sigma_c) +
+                  ": v_b -> v_m, the decaying eigenvalue of the sliding state behind -> 0 (saddle-node with the "
+                  "weakening branch); below sigma_c^d there is no steady sliding state behind a front. Limiting "
+                  "front at sigma_c^d solved directly: c = " + format_number(end.c);
+    } else {
+      br.reason = "sigma_d -> sigma_c^d (saddle-node of the sliding state behind); the limiting front did not "
+                  "converge: " + end.reason;
+    }
+  }
+  if (br.points.empty()) return br;
+
+  // Minimal speed: the smallest c on the branch; an interior minimum is located by Brent's method on
+  // fixed-σ_d solves between its neighbours (so it does not depend on the continuation step).
+  std::size_t k = 0;
+  for (std::size_t i = 1; i < br.points.size(); ++i)
+    if (br.points[i].c < br.points[k].c) k = i;
+  br.c_min = br.points[k].c;
+  br.sigma_d_at_c_min = br.points[k].sigma_d;
+  br.c_min_at_end = k + 1 == br.points.size();
+  if (!br.c_min_at_end && k > 0 && o.refine_minimum) {
+    SteadyFront seed = solve_steady_front(law, bulk, br.points[k].sigma_d, o.front, &br.last);
+    if (seed.status != FrontStatus::converged) seed = cur;
+    auto speed = [&](double sd) {
+      const SteadyFront f = solve_steady_front(law, bulk, sd, o.front, &seed);
+      return f.status == FrontStatus::converged ? f.c : std::numeric_limits<double>::infinity();
+    };
+    const double lo = std::min(br.points[k - 1].sigma_d, br.points[k + 1].sigma_d);
+    const double hi = std::max(br.points[k - 1].sigma_d, br.points[k + 1].sigma_d);
+    std::uintmax_t iters = 100;
+    const auto best = boost::math::tools::brent_find_minima(speed, lo, hi, 26, iters);
+    if (best.second < br.c_min) {
+      br.c_min = best.second;
+      br.sigma_d_at_c_min = best.first;
+    }
+  }
+  return br;
+}
+
+ScalingStudy minimal_speed_scaling(const InterfaceParams& law, const BulkParams& bulk, const ScalingOptions& o) {
+  ScalingStudy study;
+  const std::pair<const char*, const std::vector<double>*> sweeps[] = {
+      {"mu", &o.mu}, {"alpha", &o.alpha}, {"eta", &o.eta}, {"kappa", &o.kappa}};
+  for (const auto& [name, values] : sweeps) {
+    for (double value : *values) {
+      InterfaceParams l = law;
+      BulkParams b = bulk;
+      const std::string p = name;
+      if (p == "mu") b.mu = value;
+      else if (p == "alpha") l.alpha = value;
+      else if (p == "eta") l.eta = value;
+      else l.kappa = value;
+      ContinuationOptions co = o.continuation;
+      const FrontBranch br = continue_steady_fronts(l, b, co);
+      const double scale = std::sqrt(b.mu * l.alpha / (l.eta * l.kappa));
+      study.points.push_back({p, value, br.c_min, br.sigma_d_at_c_min, scale, br.end});
+    }
+  }
+  // Least squares through the origin, c_min ≈ a · scale: a = Σ c s / Σ s².
+  auto fit = [&](const std::string& p) {
+    double cs = 0.0, ss = 0.0;
+    int n = 0;
+    for (const auto& q : study.points)
+      if ((p == "all" || q.parameter == p) && std::isfinite(q.c_min) && q.c_min > 0.0) {
+        cs += q.c_min * q.scale;
+        ss += q.scale * q.scale;
+        ++n;
+      }
+    ScalingFit f{p, n > 0 ? cs / ss : detail::nan_value, 0.0, 0.0, n};
+    double sum2 = 0.0;
+    for (const auto& q : study.points)
+      if ((p == "all" || q.parameter == p) && std::isfinite(q.c_min) && q.c_min > 0.0) {
+        const double r = (q.c_min - f.prefactor * q.scale) / (f.prefactor * q.scale);
+        f.spread = std::max(f.spread, std::abs(r));
+        sum2 += r * r;
+      }
+    f.rms_relative = n > 0 ? std::sqrt(sum2 / n) : detail::nan_value;
+    return f;
+  };
+  for (const char* p : {"mu", "alpha", "eta", "kappa", "all"}) study.fits.push_back(fit(p));
+  return study;
+}
+
+FrontSample sample_steady_front(const SteadyFront& f, std::span<const double> x, double x_tip) {
+  const detail::Model m(f.law, f.rho, f.mu);
+  const auto st = detail::stuck_region(m, f.c, f.sigma_d);
+  FrontSample out;
+  const std::size_t n = x.size();
+  out.area.resize(n);
+  out.sigma_bar.resize(n);
+  out.slip_rate.resize(n);
+  out.slip.resize(n);
+  const double L = -f.xi.front();
+  for (std::size_t j = 0; j < n; ++j) {
+    const double xi = x[j] - x_tip;
+    double v, A, s, u;
+    if (xi >= 0.0) {
+      // Stuck region ahead (docs/fronts.md eq. 2): A = 1, v = v_tip e^{λ₋ξ}, σ̄ = σ_d + k v = α u.
+      v = f.v_tip * std::exp(st.lambda * xi);
+      A = 1.0;
+      s = f.sigma_d + st.k * v;
+      u = s / m.alpha;
+    } else if (xi >= -L) {
+      // Collocation polynomial: cubic Hermite on (y, f) at the ends of the interval.
+      const auto it = std::upper_bound(f.xi.begin(), f.xi.end(), xi);
+      const std::size_t b = std::min<std::size_t>(static_cast<std::size_t>(it - f.xi.begin()), f.xi.size() - 1);
+      const std::size_t a = b - 1;
+      const double h = f.xi[b] - f.xi[a], t = (xi - f.xi[a]) / h;
+      const detail::Vec3 ya(f.slip_rate[a], f.area[a], f.sigma_bar[a]), yb(f.slip_rate[b], f.area[b], f.sigma_bar[b]);
+      const detail::Vec3 fa = detail::rhs(m, ya, f.c, f.sigma_d).f, fb = detail::rhs(m, yb, f.c, f.sigma_d).f;
+      const double h00 = (2 * t - 3) * t * t + 1, h10 = ((t - 2) * t + 1) * t, h01 = (3 - 2 * t) * t * t, h11 = (t - 1) * t * t;
+      const detail::Vec3 y = h00 * ya + h10 * h * fa + h01 * yb + h11 * h * fb;
+      v = y[0];
+      A = y[1];
+      s = y[2];
+      // ∫_{ξ_a}^{ξ} v of the same cubic; U' = −v/c.
+      const double t2 = t * t, t3 = t2 * t, t4 = t3 * t;
+      const double H00 = t4 / 2 - t3 + t, H10 = t4 / 4 - 2 * t3 / 3 + t2 / 2, H01 = -t4 / 2 + t3, H11 = t4 / 4 - t3 / 3;
+      const double integral = h * (ya[0] * H00 + h * fa[0] * H10 + yb[0] * H01 + h * fb[0] * H11);
+      u = f.slip[a] - integral / f.c;
+    } else {
+      // Beyond −L: the two growing modes of the sliding state, y = y_b + Σ Re(m_k e^{λ_k (ξ + L)}).
+      const double z = xi + L;  // < 0
+      v = f.v_behind;
+      A = f.area_behind;
+      s = f.sigma_bar_behind;
+      double int_v = f.v_behind * z;  // ∫_{−L}^{ξ} v
+      for (std::size_t k = 0; k < 2; ++k) {
+        const auto e = std::exp(f.tail_rate[k] * z);
+        v += (f.tail_mode[k][0] * e).real();
+        A += (f.tail_mode[k][1] * e).real();
+        s += (f.tail_mode[k][2] * e).real();
+        if (std::abs(f.tail_rate[k]) > 0.0) int_v += (f.tail_mode[k][0] * (e - 1.0) / f.tail_rate[k]).real();
+      }
+      u = f.slip.front() - int_v / f.c;
+    }
+    out.slip_rate[j] = v;
+    out.area[j] = A;
+    out.sigma_bar[j] = s;
+    out.slip[j] = u;
+  }
+  return out;
+}
+
+}  // namespace slipfront::continuum

@@ -71,6 +71,9 @@ bool imposed_sweep(const Scene& s) { return imposed(s) && s.drive.sweep_points !
 bool dt_given(const Scene& s) { return s.time.dt != 0.0; }
 bool cfl_used(const Scene& s) { return !imposed(s) && s.time.dt == 0.0; }
 bool bulk_scene(const Scene& s) { return !imposed(s); }
+bool implicit_integrator(const Scene& s) {
+  return !imposed(s) && s.time.integrator == continuum::Integrator::implicit_trapezoidal;
+}
 bool adaptive(const Scene& s) { return !imposed(s) && s.time.integrator == continuum::Integrator::adaptive_rosenbrock; }
 bool discrete_listed(const Scene& s) {
   return std::find(s.models.begin(), s.models.end(), "discrete") != s.models.end();
@@ -145,6 +148,12 @@ const std::vector<Section>& schema() {
            {"steps", at<&Scene::time, &TimeParams::steps>, imposed, "with drive.loading = imposed_rate"},
            {"integrator", at<&Scene::time, &TimeParams::integrator>, bulk_scene,
             "with drive.loading = edge, homogeneous or spring_block"},
+           {"implicit_tolerance", at<&Scene::time, &TimeParams::implicit_tolerance>, implicit_integrator,
+            "with time.integrator = implicit"},
+           {"implicit_max_halvings", at<&Scene::time, &TimeParams::implicit_max_halvings>, implicit_integrator,
+            "with time.integrator = implicit"},
+           {"implicit_resolution_check", at<&Scene::time, &TimeParams::implicit_resolution_check>,
+            implicit_integrator, "with time.integrator = implicit"},
            {"rtol", at<&Scene::time, &TimeParams::rtol>, adaptive, "with time.integrator = adaptive"},
            {"atol", at<&Scene::time, &TimeParams::atol>, adaptive, "with time.integrator = adaptive"},
            {"dt_max", at<&Scene::time, &TimeParams::dt_max>, adaptive, "with time.integrator = adaptive"},

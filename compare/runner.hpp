@@ -134,7 +134,10 @@ Stepper make_stepper(const Scene& s, Law law) {
     sim.set_stop_time(s.time.t_end);
     return sim;
   } else {
-    return Stepper(std::move(bulk), std::move(law), dynamic_time_step(s));
+    Stepper sim(std::move(bulk), std::move(law), dynamic_time_step(s));
+    if constexpr (requires { sim.set_error_control(1.0, 1); })
+      sim.set_error_control(s.time.implicit_tolerance, s.time.implicit_max_halvings);
+    return sim;
   }
 }
 
@@ -254,6 +257,10 @@ class DynamicRun {
     r_.events_alt = tracker_.finish(homogeneous, true);
     r_.events.v_behind = r_.events_alt.v_behind = behind_.value();
     r_.scalars["steps"] = static_cast<double>(sim_.steps());
+    if constexpr (requires { sim_.substeps(); }) {
+      r_.scalars["substeps"] = static_cast<double>(sim_.substeps());
+      r_.scalars["max_linearisation_defect"] = sim_.max_defect();
+    }
     r_.scalars["t_reached"] = sim_.time();
     r_.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0_).count();
     return std::move(r_);

@@ -35,6 +35,25 @@
 
 namespace slipfront::continuum {
 
+/// What a fixed implicit step must resolve (docs/numerics.md §7), checked before a run (Scene::validate):
+///   drive     Δt · sqrt(K / (ρ w_0)) ≤ 1: the drive spring's oscillation of the edge node, which the
+///             trapezoidal rule neither resolves nor damps beyond that (fig1: 0.63 at Δt = 0.02)
+///   detach    Δt · (1 + κ v_event) ≤ 0.3: the contact turnover at the slip rate that defines the
+///             measured events, over which the step's linearised interface stress lags (fig1: 0.1)
+/// Past either bound the integrator gives wrong events with no other sign (issue 10: κ = 100, η = 0.01
+/// at Δt = 0.02 reports a transient that does not exist; K = 10³ doubles c_transient).
+struct ImplicitResolution {
+  double drive = 0.0, detach = 0.0;
+  static constexpr double drive_bound = 1.0, detach_bound = 0.3;
+  bool ok() const { return drive <= drive_bound && detach <= detach_bound; }
+};
+inline ImplicitResolution implicit_resolution(const Bulk& bulk, const InterfaceParams& law, double v_event, double dt) {
+  ImplicitResolution r;
+  r.drive = dt * std::sqrt(bulk.spring_K() / (bulk.rho() * bulk.node_weight(0)));
+  r.detach = dt * (1.0 + law.kappa * v_event);
+  return r;
+}
+
 template <InterfaceLaw Law>
 class ImplicitSimulation : public StepperCore<Law> {
   using Core = StepperCore<Law>;
@@ -44,9 +63,20 @@ class ImplicitSimulation : public StepperCore<Law> {
 
   ImplicitSimulation(Bulk bulk, Law law, double dt)
       : Core(std::move(bulk), std::move(law), "ImplicitSimulation"), dt_(dt), V_(this->n_, 0.0),
-        c0_(this->n_), c1_(this->n_), rhs_(this->n_), cp_(this->n_) {
+        c0_(this->n_), c1_(this->n_), rhs_(this->n_), cp_(this->n_), trial_(this->n_), c0e_(this->n_), c1e_(this->n_) {
     if (!(dt > 0.0)) throw std::invalid_argument("ImplicitSimulation: dt must be > 0");
   }
+  /// Error control around switchings (docs/numerics.md §7): a step whose linearisation, re-evaluated at
+  /// the step's own slip rates, predicts an interface stress differing by more than `tolerance` (stress
+  /// units: the contact strength is 1) from the one the step used, is redone as two half steps, down to
+  /// dt / 2^max_halvings. 0: off (every step is one step).
+  void set_error_control(double tolerance, int max_halvings) {
+    tol_ = tolerance;
+    max_halvings_ = max_halvings;
+  }
+  /// Largest linearisation defect of an accepted (sub)step, and how many substeps were taken in all.
+  double max_defect() const { return max_defect_; }
+  std::int64_t substeps() const { return substeps_; }
   double dt() const { return dt_; }
   /// Initial slip and slip rate (node velocity V = W = v) of node i.
   void set_initial(std::size_t i, double u, double v) {
@@ -59,27 +89,64 @@ class ImplicitSimulation : public StepperCore<Law> {
       mechanical_now();
       this->energy_->mechanical0 = this->energy_->mechanical();
     }
-    const double u0 = this->u_[0];
-    this->law_.linearise(dt_, this->slip_rate(), c0_, c1_);  // 1. interface: σ̄' ≈ c0 + c1 W
-    forward_sweep();                                          // 2. bulk: the tridiagonal system for W ...
-    back_substitution();                                      //    ... and u, V from W
-    if (this->energy_) work_over_step(u0);
-    this->yielded_ = this->law_.advance(dt_, this->slip_rate()).any_yield;  // 3. law: its update with W
+    yielded_any_ = false;
+    vmax_step_ = 0.0;
+    substep(this->t_, static_cast<double>(this->steps_ + 1) * dt_, 0);
+    this->yielded_ = yielded_any_;
+    this->max_v_ = vmax_step_;
     this->t_ = static_cast<double>(++this->steps_) * dt_;
-    if (this->energy_) mechanical_now();
     if (!std::isfinite(this->max_v_)) this->report_non_finite();
   }
 
  private:
+  // One (sub)step [t, t + h]: 1. the law's linearisation, 2. the tridiagonal system for W, 3. with error
+  // control, the defect of the linearisation at W (a half step pair instead when too large), 4. u, V
+  // from W and the law's own update with W.
+  void substep(double t, double t_next, int depth) {
+    const double h = depth == 0 ? dt_ : t_next - t;
+    this->law_.linearise(h, this->slip_rate(), c0_, c1_);  // 1. interface: σ̄' ≈ c0 + c1 W
+    forward_sweep(t, h);                                   // 2. bulk ...
+    solve_trial();                                         //    ... W into trial_
+    if (tol_ > 0.0) {
+      const double defect = linearisation_defect(h);       // 3.
+      if (defect > tol_ && depth < max_halvings_) {
+        const double mid = t + 0.5 * h;
+        substep(t, mid, depth + 1);
+        substep(mid, t_next, depth + 1);
+        return;
+      }
+      max_defect_ = std::max(max_defect_, defect);
+    }
+    ++substeps_;
+    const double u0 = this->u_[0];
+    commit(h);  // 4.
+    if (this->energy_) work_over_step(t, h, u0);
+    yielded_any_ |= this->law_.advance(h, this->slip_rate()).any_yield;
+    if (this->energy_) mechanical_now(t_next);
+  }
+
+  // max_i |(c0' + c1' W) − (c0 + c1 W)|: the linearisation at the step's own rates W against the one the
+  // step used (frozen at the previous rates). Zero where neither the yield state nor the relaxation
+  // rate moved; large across a switching or a fast change of |v|.
+  double linearisation_defect(double h) {
+    this->law_.linearise(h, trial_, c0e_, c1e_);
+    double d = 0.0;
+    for (std::size_t i = 0; i < this->n_; ++i) {
+      const double w = trial_[i];
+      d = std::max(d, std::abs((c0e_[i] + c1e_[i] * w) - (c0_[i] + c1_[i] * w)));
+    }
+    return std::isfinite(d) ? d : std::numeric_limits<double>::infinity();
+  }
+
   // Assemble the tridiagonal system for W (multiplied through by the node weight w_i) and eliminate
   // (Thomas, constant off-diagonal −Δt k/2) in one pass over the sites.
-  void forward_sweep() {
+  void forward_sweep(double t, double dt) {
     const Bulk& b = this->bulk_;
-    const double dt = dt_, rho = b.rho(), sd = b.uniform_stress(), eta = this->law_.params().eta;
+    const double rho = b.rho(), sd = b.uniform_stress(), eta = this->law_.params().eta;
     const double m = 2.0 * rho / dt + eta, off = -0.5 * dt * b.stiffness(), mass = 2.0 * rho / dt;
     const std::span<const double> sb = this->law_.sigma_bar();
     const double* u = this->u_.data();
-    const double drive = b.spring_K() * (b.driver_velocity() * (this->t_ + 0.5 * dt) - u[0]);  // F at t^{n+1/2}
+    const double drive = b.spring_K() * (b.driver_velocity() * (t + 0.5 * dt) - u[0]);  // F at t^{n+1/2}
     const double half_dt = 0.5 * dt, spring = half_dt * b.spring_K();
     b.forces(this->slip(), drive, [&](std::size_t i, double force) {
       const double w = b.node_weight(i);
@@ -91,34 +158,42 @@ class ImplicitSimulation : public StepperCore<Law> {
     });
   }
 
-  // W from the eliminated system, then u^{n+1} = u^n + Δt W and V^{n+1} = 2W − V^n.
-  void back_substitution() {
+  // W from the eliminated system (back substitution).
+  void solve_trial() {
+    const std::size_t n = this->n_;
+    double* W = trial_.data();
+    W[n - 1] = rhs_[n - 1];
+    for (std::size_t i = n - 1; i-- > 0;) W[i] = rhs_[i] - cp_[i] * W[i + 1];
+  }
+
+  // The step is taken: W, then u^{n+1} = u^n + Δt W and V^{n+1} = 2W − V^n.
+  void commit(double h) {
     const std::size_t n = this->n_;
     double* W = this->v_.data();
     double* u = this->u_.data();
     double vmax = 0.0, check = 0.0;
-    auto update = [&](std::size_t i, double w) {
+    for (std::size_t i = n; i-- > 0;) {
+      const double w = trial_[i];
       W[i] = w;
-      u[i] += dt_ * w;
+      u[i] += h * w;
       V_[i] = 2.0 * w - V_[i];
       vmax = std::max(vmax, std::abs(w));
       check += w;
-    };
-    update(n - 1, rhs_[n - 1]);
-    for (std::size_t i = n - 1; i-- > 0;) update(i, rhs_[i] - cp_[i] * W[i + 1]);
-    this->max_v_ = std::isfinite(check) ? vmax : std::numeric_limits<double>::infinity();
+    }
+    vmax_step_ = std::max(vmax_step_, std::isfinite(check) ? vmax : std::numeric_limits<double>::infinity());
   }
 
-  void mechanical_now() {
+  void mechanical_now(double t) {
     EnergyBudget& e = *this->energy_;
-    e.time = this->t_;
+    e.time = t;
     e.kinetic = this->kinetic_energy(V_);
     e.elastic = this->bulk_.elastic_energy(this->slip());
-    e.spring = this->bulk_.spring_energy(this->t_, this->u_[0]);
+    e.spring = this->bulk_.spring_energy(t, this->u_[0]);
   }
+  void mechanical_now() { mechanical_now(this->t_); }
 
   // Work over the step with the forces the bulk felt (before the law overwrites σ̄); u0 = u_0^n.
-  void work_over_step(double u0) {
+  void work_over_step(double t, double dt, double u0) {
     EnergyBudget& e = *this->energy_;
     const Bulk& b = this->bulk_;
     const std::span<const double> sb = this->law_.sigma_bar(), W = this->slip_rate();
@@ -130,16 +205,21 @@ class ImplicitSimulation : public StepperCore<Law> {
       inter += w * 0.5 * (sb[i] + c0_[i] + c1_[i] * wi) * wi;
       uniform += w * b.uniform_stress() * wi;
     }
-    const double th = this->t_ + 0.5 * dt_;
-    const double f_mean = b.spring_K() * (b.driver_velocity() * th - u0 - 0.5 * dt_ * W[0]);
-    e.viscous += dt_ * visc;
-    e.interfacial += dt_ * inter;
-    e.drive_work += dt_ * (uniform + b.driver_velocity() * f_mean);
+    const double th = t + 0.5 * dt;
+    const double f_mean = b.spring_K() * (b.driver_velocity() * th - u0 - 0.5 * dt * W[0]);
+    e.viscous += dt * visc;
+    e.interfacial += dt * inter;
+    e.drive_work += dt * (uniform + b.driver_velocity() * f_mean);
   }
 
   double dt_;
   std::vector<double> V_;                   ///< node velocities V^n (trapezoidal rule)
   std::vector<double> c0_, c1_, rhs_, cp_;  ///< per-step work arrays
+  std::vector<double> trial_, c0e_, c1e_;   ///< the step's W before it is taken; the linearisation at it
+  double tol_ = 0.0, max_defect_ = 0.0, vmax_step_ = 0.0;
+  int max_halvings_ = 0;
+  std::int64_t substeps_ = 0;
+  bool yielded_any_ = false;
 };
 
 }  // namespace slipfront::continuum

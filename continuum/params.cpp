@@ -126,6 +126,12 @@ void TimeParams::validate(Loading l) const {
             "required with time.integrator = implicit (no stability limit: choose the step by accuracy, "
             "e.g. 0.02 for fig1; docs/numerics.md)");
   }
+  if (integrator == Integrator::implicit_trapezoidal) {
+    require(finite(implicit_tolerance) && implicit_tolerance >= 0.0, "time.implicit_tolerance",
+            "must be >= 0 (0: no error control), got " + format_number(implicit_tolerance));
+    require(implicit_max_halvings >= 0 && implicit_max_halvings <= 30, "time.implicit_max_halvings",
+            "must be in [0, 30], got " + std::to_string(implicit_max_halvings));
+  }
   if (integrator == Integrator::adaptive_rosenbrock) {
     require(l == Loading::edge || l == Loading::homogeneous || l == Loading::spring_block, "time.integrator",
             "the adaptive integrator is for bulk scenes (edge, homogeneous, spring_block)");

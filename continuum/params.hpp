@@ -90,6 +90,14 @@ struct TimeParams {
   double rtol = 1e-2;    ///< adaptive: relative tolerance of the local error per step
   double atol = 1e-5;    ///< adaptive: absolute tolerance
   double dt_max = 1.0;   ///< adaptive: largest step
+  /// implicit: error control around switchings (continuum/implicit.hpp, docs/numerics.md §7): a step
+  /// whose linearisation defect exceeds implicit_tolerance (stress units) is halved, at most
+  /// implicit_max_halvings times; 0 turns it off.
+  double implicit_tolerance = 1e-3;
+  int implicit_max_halvings = 10;
+  /// implicit: refuse a step that does not resolve the drive spring or the contact turnover
+  /// (continuum::implicit_resolution); false runs it anyway, at the user's risk.
+  bool implicit_resolution_check = true;
   void validate(Loading l) const;
 };
 

@@ -17,10 +17,13 @@ using namespace slipfront;
 
 namespace {
 
-compare::Scene implicit(compare::Scene s, double dt) {
+// `resolution_check` false: a test of stability or of the energy identity at steps the accuracy check
+// (continuum::implicit_resolution) would refuse on purpose.
+compare::Scene implicit(compare::Scene s, double dt, bool resolution_check = true) {
   s.models = {"continuum"};
   s.time.integrator = continuum::Integrator::implicit_trapezoidal;
   s.time.dt = dt;
+  s.time.implicit_resolution_check = resolution_check;
   s.validate();
   return s;
 }
@@ -59,7 +62,7 @@ TEST_CASE("implicit: the trapezoidal energy budget closes to round-off, through 
   for (auto& c : {Case{"fig1", edge, 0.02}, Case{"fig1 coarse", edge, 0.2}, Case{"homogeneous", homo, 0.01},
                   Case{"spring block", block, 0.05}}) {
     INFO(c.name << ", dt = " << c.dt);
-    compare::Scene s = implicit(c.s, c.dt);
+    compare::Scene s = implicit(c.s, c.dt, false);
     s.output.energy = true;
     s.output.series_dt = 1.0;
     const auto r = run_one(s);
@@ -183,7 +186,7 @@ TEST_CASE("implicit: stable far beyond the explicit limit, also on the stiff cor
   for (auto& c : {Case{"fig1", fig1, 100.0 * b.stable_dt()}, Case{"alpha 50 kappa 1000", stiff, 0.05},
                   Case{"no viscosity", inviscid, 0.05}}) {
     INFO(c.name << ", dt = " << c.dt);
-    compare::Scene s = implicit(c.s, c.dt);
+    compare::Scene s = implicit(c.s, c.dt, false);
     s.models = {"continuum", "discrete"};
     s.discrete.contacts_per_site = 100;
     s.validate();
@@ -234,8 +237,19 @@ TEST_CASE("implicit: time.dt is required and may exceed the explicit limit", "[i
   } catch (const continuum::ParamError& e) {
     CHECK(e.key == "time.dt");
   }
-  s.time.dt = 0.05;
+  s.time.dt = 0.03;  // 20x the explicit limit, within the implicit step's resolution bounds
   CHECK_NOTHROW(s.validate());
+  s.time.dt = 0.05;  // dt sqrt(K/(rho w_0)) = 1.58 > 1: the drive spring is not resolved (issue 10)
+  try {
+    s.validate();
+    FAIL("implicit dt not resolving the drive spring accepted");
+  } catch (const continuum::ParamError& e) {
+    CHECK(e.key == "time.dt");
+    CHECK(e.reason.find("drive spring") != std::string::npos);
+  }
+  s.time.implicit_resolution_check = false;
+  CHECK_NOTHROW(s.validate());
+  s.time.implicit_resolution_check = true;
   s.time.integrator = continuum::Integrator::central_difference;
   try {
     s.validate();

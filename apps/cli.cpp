@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -158,10 +159,17 @@ std::string format_events(const compare::Events& e, const compare::Events* prima
   return out;
 }
 
-// Why events are NaN (only those the run could have been expected to have).
+// Why events are NaN (only those the run could have been expected to have), events with the same
+// reason on one line.
 std::string format_reasons(const compare::Events& e) {
+  std::vector<std::pair<std::string, std::string>> grouped;  // reason, names
+  for (const auto& [name, why] : e.reasons) {
+    auto it = std::find_if(grouped.begin(), grouped.end(), [&](const auto& g) { return g.first == why; });
+    if (it == grouped.end()) grouped.emplace_back(why, name);
+    else it->second += ", " + name;
+  }
   std::string out;
-  for (const auto& [name, why] : e.reasons) out += "      " + name + ": " + why + "\n";
+  for (const auto& [why, names] : grouped) out += "      " + names + ": " + why + "\n";
   return out;
 }
 

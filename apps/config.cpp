@@ -65,6 +65,8 @@ bool spring_driven(const Scene& s) {
   return s.drive.loading == Loading::edge || s.drive.loading == Loading::spring_block;
 }
 bool homogeneous(const Scene& s) { return s.drive.loading == Loading::homogeneous; }
+bool steady_front_start(const Scene& s) { return homogeneous(s) && s.drive.start == "steady_front"; }
+bool nucleated(const Scene& s) { return homogeneous(s) && s.drive.start != "steady_front"; }
 bool imposed(const Scene& s) { return s.drive.loading == Loading::imposed_rate; }
 bool imposed_history(const Scene& s) { return imposed(s) && s.drive.sweep_points == 0; }
 bool imposed_sweep(const Scene& s) { return imposed(s) && s.drive.sweep_points != 0; }
@@ -121,8 +123,15 @@ const std::vector<Section>& schema() {
             "with drive.loading = edge or spring_block", spring_driven},
            {"sigma_d", at<&Scene::drive, &DriveParams::sigma_d>, homogeneous, "with drive.loading = homogeneous",
             homogeneous},
-           {"nucleation_length", at<&Scene::drive, &DriveParams::nucleation_length>, homogeneous,
-            "with drive.loading = homogeneous", homogeneous},
+           {"start", at<&Scene::drive, &DriveParams::start>, homogeneous, "with drive.loading = homogeneous"},
+           {"front_x", at<&Scene::drive, &DriveParams::front_x>, steady_front_start,
+            "with drive.loading = homogeneous and drive.start = steady_front"},
+           {"kick_dv", at<&Scene::drive, &DriveParams::kick_dv>, steady_front_start,
+            "with drive.loading = homogeneous and drive.start = steady_front"},
+           {"kick_length", at<&Scene::drive, &DriveParams::kick_length>, steady_front_start,
+            "with drive.loading = homogeneous and drive.start = steady_front"},
+           {"nucleation_length", at<&Scene::drive, &DriveParams::nucleation_length>, nucleated,
+            "with drive.loading = homogeneous and drive.start = nucleation", nucleated},
            {"v", at<&Scene::drive, &DriveParams::v>, imposed_history,
             "with drive.loading = imposed_rate and no sweep (drive.points)", imposed_history, true},
            {"switch_times", at<&Scene::drive, &DriveParams::v_times>, imposed_history,
@@ -169,7 +178,9 @@ const std::vector<Section>& schema() {
            {"arrest_fraction", at<&Scene::measure, &MeasureParams::arrest_fraction>, always, "always"},
            {"behind_tip_fraction", at<&Scene::measure, &MeasureParams::behind_tip_fraction>, homogeneous,
             "with drive.loading = homogeneous"},
-           {"behind_gap", at<&Scene::measure, &MeasureParams::behind_gap>, homogeneous,
+           {"behind_near", at<&Scene::measure, &MeasureParams::behind_near>, homogeneous,
+            "with drive.loading = homogeneous"},
+           {"behind_far", at<&Scene::measure, &MeasureParams::behind_far>, homogeneous,
             "with drive.loading = homogeneous"},
        }},
       {"output",

@@ -99,8 +99,8 @@ Events FrontTracker::finish(bool homogeneous, bool alt) const {
   if (homogeneous) {
     // docs/model.md §1.3: the nucleation patch slides from t = 0, so there is no first yield and no
     // instability to time; the front is measured by c_front.
-    const std::string why = "homogeneous loading: the nucleation patch slides from t = 0 (no first-yield or "
-                            "instability event; the front's speed is c_front)";
+    const std::string why = "homogeneous loading: the interface slides from t = 0 (no first-yield or instability "
+                            "event; the front's speed is c_front)";
     drop(&Events::t_star, "t_star", why);
     drop(&Events::t_hat, "t_hat", why);
     drop(&Events::t_arrest, "t_arrest", why);
@@ -184,7 +184,7 @@ void BehindRate::observe(double tip, std::span<const double> x, std::span<const 
   double sum = 0;
   int n = 0;
   for (std::size_t i = 0; i < x.size(); ++i)
-    if (x[i] >= from_ && x[i] <= tip - p_.behind_gap) {
+    if (x[i] >= tip - p_.behind_far && x[i] <= tip - p_.behind_near) {
       sum += v[i];
       ++n;
     }

@@ -118,19 +118,20 @@ class CycleDetector {
   bool slipping_ = false;
 };
 
-/// Homogeneous loading: the slip rate behind the front, v_behind (docs/model.md §3): the mean slip rate over the
-/// nodes from the nucleation patch's end to measure.behind_gap behind the tip, taken once, when the tip
-/// first passes measure.behind_tip_fraction · L.
+/// Homogeneous loading: the slip rate where the interface slides steadily far behind the front, v_behind
+/// (docs/model.md §3): the mean slip rate over [x_tip − behind_far, x_tip − behind_near] (past the tip's
+/// transition zone, which decays over ~ 1/0.08 ≈ 12 length units for the paper's parameters, and
+/// clear of the rear edge), taken once, when the tip first passes behind_tip_fraction · L.
 class BehindRate {
  public:
-  BehindRate(const continuum::MeasureParams& p, double nucleation_length) : p_(p), from_(nucleation_length) {}
+  explicit BehindRate(const continuum::MeasureParams& p) : p_(p) {}
   /// At a tip sample: the tip and the slip rates of every node at that time.
   void observe(double tip, std::span<const double> x, std::span<const double> v);
   double value() const { return v_behind_; }
 
  private:
   continuum::MeasureParams p_;
-  double from_, v_behind_ = nan;
+  double v_behind_ = nan;
 };
 
 /// Steady friction law measurement (docs/model.md §3): time average of σ over [t_from, t_end] with its

@@ -13,6 +13,16 @@ double dynamic_time_step(const Scene& s) {
   return s.time.t_end / n;
 }
 
+std::optional<continuum::SteadyFront> front_start(const Scene& s) {
+  if (s.drive.loading != continuum::Loading::homogeneous || s.drive.start != "steady_front") return std::nullopt;
+  auto front = continuum::solve_steady_front(s.interface, s.bulk, s.drive.sigma_d);
+  if (front.status != continuum::FrontStatus::converged)
+    throw continuum::ParamError("drive.sigma_d", "no steady front at sigma_d = " + continuum::format_number(s.drive.sigma_d) +
+                                                     " to start from (" + continuum::to_string(front.status) + ": " +
+                                                     front.reason + ")");
+  return front;
+}
+
 std::int64_t fixed_step_count(const Scene& s) {
   const double n = std::round(s.time.t_end / dynamic_time_step(s));
   if (!(n < 9.0e18))

@@ -22,6 +22,7 @@
 #include "continuum/friction_law.hpp"
 #include "continuum/implicit.hpp"
 #include "continuum/law.hpp"
+#include "continuum/steady_front.hpp"
 #include "continuum/stepper.hpp"
 
 namespace slipfront::compare {
@@ -42,6 +43,11 @@ std::int64_t fixed_step_count(const Scene& s);
 
 /// Slip-rate grid of an imposed-rate sweep (log spaced, docs/model.md §4 friction_law).
 std::vector<double> sweep_rates(const continuum::DriveParams& d);
+
+/// Homogeneous loading with drive.start = "steady_front": the steady front at σ_d (docs/model.md §6),
+/// solved by continuum::solve_steady_front; nothing otherwise. Throws continuum::ParamError naming
+/// drive.sigma_d when there is no front there.
+std::optional<continuum::SteadyFront> front_start(const Scene& s);
 
 // --- the integrator, chosen in one place --------------------------------------------------------
 /// Tags of time.integrator: Tag::stepper<Law> is the stepper class for a law. The adaptive integrator
@@ -106,10 +112,21 @@ void store_contacts(const Law& law, ModelResult& r) {
 
 // docs/model.md §1 initial state: at rest and stuck (edge loading, spring block: u = v = 0, A = 1,
 // σ̄ = 0), or, under homogeneous loading, the stuck state A = 1, σ̄ = σ_d, u = σ_d/α with a nucleation
-// patch 0 ≤ x < ℓ_n in steady sliding at σ_d on the strengthening branch.
+// patch 0 ≤ x < ℓ_n in steady sliding at σ_d on the strengthening branch — or the solved steady front
+// with its tip at drive.front_x (docs/model.md §6), plus the slip-rate kick drive.kick_dv behind it.
 template <class Stepper>
-void set_initial_conditions(const Scene& s, Stepper& sim) {
+void set_initial_conditions(const Scene& s, Stepper& sim, const std::optional<continuum::SteadyFront>& front) {
   if (s.drive.loading != continuum::Loading::homogeneous) return;
+  if (front) {
+    const auto& x = sim.bulk().x();
+    const auto f = continuum::sample_steady_front(*front, x, s.drive.front_x);
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      const bool kicked = x[i] <= s.drive.front_x && x[i] >= s.drive.front_x - s.drive.kick_length;
+      sim.law().set_site(i, f.area[i], f.sigma_bar[i]);
+      sim.set_initial(i, f.slip[i], f.slip_rate[i] + (kicked ? s.drive.kick_dv : 0.0));
+    }
+    return;
+  }
   const auto& ip = s.interface;
   const double sd = s.drive.sigma_d;
   const double vs = continuum::strengthening_branch_velocity(ip, sd);
@@ -126,9 +143,13 @@ void set_initial_conditions(const Scene& s, Stepper& sim) {
   }
 }
 
+// The stepper of a scene; a steady-front start puts the front's far-field traction μ v_b/c on the rear
+// edge (the strain u_x = −v_b/c it has far behind), so the interface behind slides steadily up to x = 0.
 template <class Stepper, class Law>
-Stepper make_stepper(const Scene& s, Law law) {
-  continuum::Bulk bulk(s.bulk, s.drive, s.interface, s.grid.dx);
+Stepper make_stepper(const Scene& s, Law law, const std::optional<continuum::SteadyFront>& front) {
+  continuum::DriveParams drive = s.drive;
+  if (front) drive.rear_traction = -s.bulk.mu * front->far_field_strain;
+  continuum::Bulk bulk(s.bulk, drive, s.interface, s.grid.dx);
   if constexpr (DenseStepper<Stepper>) {
     Stepper sim(std::move(bulk), std::move(law), continuum::AdaptiveOptions::from(s.time));
     sim.set_stop_time(s.time.t_end);
@@ -189,9 +210,10 @@ template <class Law, class Stepper = continuum::ExplicitSimulation<Law>>
 class DynamicRun {
  public:
   DynamicRun(const Scene& s, Law law, std::string model)
-      : s_(s), wall0_(std::chrono::steady_clock::now()), sim_(detail::make_stepper<Stepper>(s, std::move(law))),
+      : s_(s), wall0_(std::chrono::steady_clock::now()), front_(front_start(s)),
+        sim_(detail::make_stepper<Stepper>(s, std::move(law), front_)),
         one_d_(continuum::is_one_dimensional(s.drive.loading)), tracker_(s.measure, sim_.bulk().x()),
-        cycles_(s.measure), behind_(s.measure, s.drive.nucleation_length), recorder_(s, r_),
+        cycles_(s.measure), behind_(s.measure), recorder_(s, r_),
         contacts_due_(s.output.snapshot_dt > 0 ? s.output.snapshot_dt : -1) {
     r_.model = std::move(model);
     r_.x = sim_.bulk().x();
@@ -204,7 +226,13 @@ class DynamicRun {
       r_.scalars["dt"] = sim_.dt();
     }
     sim_.track_energy(s.output.energy);
-    detail::set_initial_conditions(s, sim_);
+    detail::set_initial_conditions(s, sim_, front_);
+    if (front_) {
+      r_.scalars["steady_front_c"] = front_->c;
+      r_.scalars["steady_front_v_tip"] = front_->v_tip;
+      r_.scalars["steady_front_v_behind"] = front_->v_behind;
+      r_.scalars["rear_traction"] = sim_.bulk().rear_traction();
+    }
     const StepEndState<Stepper> now{sim_};
     if (one_d_) sample_tips(now);
     record_contacts(0.0);
@@ -256,6 +284,8 @@ class DynamicRun {
     r_.events = tracker_.finish(homogeneous);
     r_.events_alt = tracker_.finish(homogeneous, true);
     r_.events.v_behind = r_.events_alt.v_behind = behind_.value();
+    if (homogeneous && std::isfinite(behind_.value()))  // docs/model.md §3: σ_ss(v_behind) = σ_d behind a steady front
+      r_.scalars["sigma_ss_at_v_behind"] = continuum::steady_sliding(s_.interface, behind_.value()).sigma;
     r_.scalars["steps"] = static_cast<double>(sim_.steps());
     if constexpr (requires { sim_.substeps(); }) {
       r_.scalars["substeps"] = static_cast<double>(sim_.substeps());
@@ -326,6 +356,7 @@ class DynamicRun {
   const Scene& s_;
   std::chrono::steady_clock::time_point wall0_;
   ModelResult r_;
+  std::optional<continuum::SteadyFront> front_;  // a steady-front start
   Stepper sim_;
   bool one_d_;
   FrontTracker tracker_;

@@ -602,7 +602,8 @@ class AdaptiveSimulation : public StepperCore<Law> {
       }
       visc[q] = pv;
       inter[q] = pi;
-      drive[q] = pu + b.driver_velocity() * b.drive_force(ts[q], dense_value(ts[q], Field::slip, 0));
+      drive[q] = pu + b.driver_velocity() * b.drive_force(ts[q], dense_value(ts[q], Field::slip, 0)) +
+                 b.rear_traction() * en_v_[0];
     }
     const double h6 = (t1 - t0) / 6.0;
     e.viscous += h6 * (visc[0] + 4.0 * visc[1] + visc[2]);

@@ -26,6 +26,7 @@ Bulk::Bulk(const BulkParams& bulk, const DriveParams& drive, const InterfacePara
         omega2 += spring_K_ / (bulk.rho * w_end_);
       } else {
         sigma_d_ = drive.sigma_d;
+        rear_traction_ = drive.rear_traction;
       }
       break;
     }

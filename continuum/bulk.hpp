@@ -36,8 +36,10 @@ class Bulk {
   double spring_K() const { return spring_K_; }
   double driver_velocity() const { return v_d_; }
 
-  /// F(t) = K (v_d t − u_0): the drive force of edge loading and of the spring block (0 otherwise).
-  double drive_force(double t, double u0) const { return spring_K_ * (v_d_ * t - u0); }
+  /// F(t) = K (v_d t − u_0) + F_r: the force on node 0 — the drive spring of edge loading and of the
+  /// spring block, and the rear traction F_r of a steady-front start (0 otherwise).
+  double drive_force(double t, double u0) const { return spring_K_ * (v_d_ * t - u0) + rear_traction_; }
+  double rear_traction() const { return rear_traction_; }
 
   /// Calls f(i, F_i) for every node, F_i = the elastic force of its neighbours plus `edge` on node 0
   /// (the drive force; force units, as the implicit step assembles its rows).
@@ -94,7 +96,7 @@ class Bulk {
  private:
   std::vector<double> x_;
   double dx_ = 1.0, rho_ = 1.0, k_ = 0.0, w_in_ = 1.0, w_end_ = 1.0;
-  double sigma_d_ = 0.0, spring_K_ = 0.0, v_d_ = 0.0, stable_dt_ = 0.0;
+  double sigma_d_ = 0.0, spring_K_ = 0.0, v_d_ = 0.0, rear_traction_ = 0.0, stable_dt_ = 0.0;
 };
 
 }  // namespace slipfront::continuum

@@ -146,7 +146,7 @@ class ImplicitSimulation : public StepperCore<Law> {
     const double m = 2.0 * rho / dt + eta, off = -0.5 * dt * b.stiffness(), mass = 2.0 * rho / dt;
     const std::span<const double> sb = this->law_.sigma_bar();
     const double* u = this->u_.data();
-    const double drive = b.spring_K() * (b.driver_velocity() * (t + 0.5 * dt) - u[0]);  // F at t^{n+1/2}
+    const double drive = b.spring_K() * (b.driver_velocity() * (t + 0.5 * dt) - u[0]) + b.rear_traction();  // F at t^{n+1/2}
     const double half_dt = 0.5 * dt, spring = half_dt * b.spring_K();
     b.forces(this->slip(), drive, [&](std::size_t i, double force) {
       const double w = b.node_weight(i);
@@ -209,7 +209,7 @@ class ImplicitSimulation : public StepperCore<Law> {
     const double f_mean = b.spring_K() * (b.driver_velocity() * th - u0 - 0.5 * dt * W[0]);
     e.viscous += dt * visc;
     e.interfacial += dt * inter;
-    e.drive_work += dt * (uniform + b.driver_velocity() * f_mean);
+    e.drive_work += dt * (uniform + b.driver_velocity() * f_mean + b.rear_traction() * W[0]);
   }
 
   double dt_;

@@ -81,6 +81,11 @@ void DriveParams::validate() const {
       require(finite(sigma_d) && sigma_d > 0.0, "drive.sigma_d", "must be > 0, got " + format_number(sigma_d));
       require(finite(nucleation_length) && nucleation_length >= 0.0, "drive.nucleation_length",
               "must be >= 0, got " + format_number(nucleation_length));
+      require(start == "nucleation" || start == "steady_front", "drive.start",
+              "unknown start '" + start + "' (expected nucleation or steady_front)");
+      require(finite(front_x) && front_x > 0.0, "drive.front_x", "must be > 0, got " + format_number(front_x));
+      require(finite(kick_dv), "drive.kick_dv", "must be finite, got " + format_number(kick_dv));
+      require(finite(kick_length) && kick_length > 0.0, "drive.kick_length", "must be > 0, got " + format_number(kick_length));
       break;
     case Loading::imposed_rate:
       if (sweep_points > 0) {
@@ -154,7 +159,8 @@ void MeasureParams::validate() const {
   require(batches >= 2, "measure.batches", "must be >= 2");
   require(arrest_fraction > 0.0 && arrest_fraction < 1.0, "measure.arrest_fraction", "must be in (0, 1)");
   require(behind_tip_fraction > 0.0 && behind_tip_fraction <= 1.0, "measure.behind_tip_fraction", "must be in (0, 1]");
-  require(finite(behind_gap) && behind_gap >= 0.0, "measure.behind_gap", "must be >= 0");
+  require(finite(behind_near) && behind_near >= 0.0, "measure.behind_near", "must be >= 0");
+  require(finite(behind_far) && behind_far > behind_near, "measure.behind_far", "must be > measure.behind_near");
 }
 
 void OutputParams::validate() const {

@@ -62,7 +62,19 @@ struct DriveParams {
   double K = 2.5;                    ///< edge / spring_block: spring stiffness
   double v_d = 0.3;                  ///< edge / spring_block: driver velocity
   double sigma_d = 0.5;              ///< homogeneous: applied stress
-  double nucleation_length = 150.0;  ///< homogeneous: patch 0 ≤ x < ℓ_n put in steady sliding
+  double nucleation_length = 150.0;  ///< homogeneous, start = nucleation: patch 0 ≤ x < ℓ_n put in steady sliding
+  /// homogeneous: how a front is started (docs/model.md §6): "nucleation" (the patch above) or
+  /// "steady_front" (the solved traveling wave at σ_d, its tip at front_x, the rear edge x = 0 carrying
+  /// the front's far-field traction μ v_b / c so that the interface behind slides steadily to it).
+  std::string start = "nucleation";
+  double front_x = 200.0;            ///< start = steady_front: tip position at t = 0
+  /// start = steady_front: a slip-rate kick kick_dv added at t = 0 over the kick_length behind the tip
+  /// (the stability test of the branch, docs/model.md §6); 0: none.
+  double kick_dv = 0.0;
+  double kick_length = 20.0;
+  /// Force on node 0 besides the drive spring: the rear traction of a steady-front start (set by the
+  /// runner from the solved front; not a configuration key).
+  double rear_traction = 0.0;
   /// imposed_rate: slip rates v_k applied from times v_times_k (v_times[0] == 0); one value = constant.
   std::vector<double> v{1.0};
   std::vector<double> v_times{0.0};
@@ -113,7 +125,8 @@ struct MeasureParams {
   /// Homogeneous loading: v_behind is measured when the tip first passes behind_tip_fraction · L, as the
   /// mean slip rate over the nodes from the nucleation patch's end to behind_gap behind the tip.
   double behind_tip_fraction = 0.75;
-  double behind_gap = 10.0;
+  double behind_near = 100.0;
+  double behind_far = 150.0;
   void validate() const;
 };
 

@@ -181,7 +181,8 @@ class ExplicitSimulation : public StepperCore<Law> {
     }
     acc_viscous_ += dt_ * visc;
     acc_interfacial_ += dt_ * inter;
-    acc_drive_ += dt_ * (uniform + this->bulk_.driver_velocity() * 0.5 * (f_start_ + this->drive_force()));
+    acc_drive_ += dt_ * (uniform + this->bulk_.driver_velocity() * 0.5 * (f_start_ + this->drive_force()) +
+                         this->bulk_.rear_traction() * v[0]);
   }
 
   double dt_;

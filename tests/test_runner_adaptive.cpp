@@ -38,7 +38,7 @@ TEST_CASE("runner: the adaptive integrator reproduces fig1's events within 1% in
   // series and snapshots at the exact cadence times (dense output), with the same layout
   const auto& t = ad[0].series.at("t");
   REQUIRE(t.size() == ex[0].series.at("t").size());
-  for (std::size_t k = 0; k < t.size(); ++k) REQUIRE(t[k] == Approx(k * 0.05).margin(1e-9));
+  for (std::size_t k = 0; k < t.size(); ++k) REQUIRE(t[k] == Approx(static_cast<double>(k) * 0.05).margin(1e-9));
   REQUIRE(ad[0].snapshot_t.size() == ex[0].snapshot_t.size());
   REQUIRE(ad[0].snapshots.at("A").size() == ex[0].snapshots.at("A").size());
   for (double x : ad[0].snapshots.at("A")) REQUIRE((x >= 0.0 && x <= 1.0));

@@ -5,8 +5,10 @@
 
 #include <CLI/Version.hpp>
 #include <algorithm>
+#include <boost/crc.hpp>
 #include <boost/version.hpp>
 #include <cmath>
+#include <cstdio>
 #include <ctime>
 #include <map>
 #include <toml++/toml.h>
@@ -370,6 +372,10 @@ void write_file(const std::filesystem::path& tmp, const compare::Scene& scene, c
   for (const auto& r : results) models += (models.empty() ? "" : ",") + r.model;
   write_meta(file.get(), meta, overall_status(results, meta.status), message, scene.name, models);
   {
+    Hid g(H5Gopen2(file.get(), "meta", H5P_DEFAULT), H5Gclose, "open /meta");
+    attr_string(g.get(), "config_hash", config_hash(resolved_toml));
+  }
+  {
     Hid g = make_group(file.get(), "config", "/config");
     attr_string(g.get(), "toml", resolved_toml);
   }
@@ -460,6 +466,16 @@ std::string overall_status(const std::vector<compare::ModelResult>& results, con
   for (const auto& r : results)
     if (severity(r.status) > severity(worst)) worst = r.status;
   return severity(worst) == 2 ? "failed" : worst;
+}
+
+std::string config_hash(const std::string& resolved_toml) {
+  // CRC-64/XZ (ECMA-182 polynomial, reflected, all-ones init and final xor): check value
+  // 0x995dc9bbdf1939fa for "123456789".
+  boost::crc_optimal<64, 0x42F0E1EBA9EA3693ULL, ~0ULL, ~0ULL, true, true> crc;
+  crc.process_bytes(resolved_toml.data(), resolved_toml.size());
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "crc64-xz:%016llx", static_cast<unsigned long long>(crc.checksum()));
+  return buf;
 }
 
 std::filesystem::path temporary_path(const std::filesystem::path& path) {

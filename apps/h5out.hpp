@@ -42,6 +42,11 @@ void write_results(const std::filesystem::path& path, const compare::Scene& scen
 void write_study(const std::filesystem::path& path, const compare::StudySpec& spec, const std::string& spec_toml,
                  const std::vector<compare::StudyRun>& runs, const compare::StudyReport& report, const RunMeta& meta);
 
+/// The hash stored in /meta `config_hash` of every results file: CRC-64/XZ (Boost.CRC) of the fully
+/// resolved configuration (`to_toml(scene)`, the text stored in /config `toml`), as
+/// "crc64-xz:<16 hex digits>". A resumed study compares it, and the text itself, with the run's.
+std::string config_hash(const std::string& resolved_toml);
+
 /// The temporary name write_results uses for `path` in this process.
 std::filesystem::path temporary_path(const std::filesystem::path& path);
 

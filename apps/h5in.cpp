@@ -280,6 +280,14 @@ ResultsHeader read_results_header(const fs::path& path) {
   return with_file(path, [](hid_t file) { return read_header(file); });
 }
 
+std::string read_study_name(const fs::path& path) {
+  return with_file(path, [](hid_t file) {
+    if (!has_link(file, "study")) throw InputError("not a study file (no /study)");
+    Hid g(H5Gopen2(file, "study", H5P_DEFAULT), H5Gclose, "open group /study");
+    return attr_string(g.get(), "name", "/study");
+  });
+}
+
 ResultsFile read_results(const fs::path& path, const ReadOptions& options) {
   return with_file(path, [&](hid_t file) {
     ResultsFile f;

@@ -48,4 +48,7 @@ ResultsHeader read_results_header(const std::filesystem::path& path);
 /// The whole file. Throws InputError naming the file and the object that could not be read.
 ResultsFile read_results(const std::filesystem::path& path, const ReadOptions& options = {});
 
+/// The study a study.h5 belongs to (/study attribute `name`). Throws InputError.
+std::string read_study_name(const std::filesystem::path& path);
+
 }  // namespace slipfront::app

@@ -386,7 +386,7 @@ void write_file(const std::filesystem::path& tmp, const compare::Scene& scene, c
 
 void write_study_file(const std::filesystem::path& tmp, const compare::StudySpec& spec, const std::string& spec_toml,
                       const std::vector<compare::StudyRun>& runs, const compare::StudyReport& report,
-                      const RunMeta& meta) {
+                      const RunMeta& meta, const StudyExecution& exec) {
   Hid file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose,
            "create " + tmp.string());
   write_meta(file.get(), meta, meta.status, meta.message, spec.name, "");
@@ -436,6 +436,20 @@ void write_study_file(const std::filesystem::path& tmp, const compare::StudySpec
     attr_string(r.get(), "runs", lines);
     attr_string(r.get(), "files", "runs/<id>/results.h5 beside this file");
     dataset_1d(r.get(), "seed", seeds, "discrete.seed of each run, in run order", "/study/runs/seed");
+    std::vector<double> skipped(runs.size(), 0.0);
+    long long n_skipped = 0;
+    for (std::size_t k = 0; k < runs.size() && k < exec.skipped.size(); ++k) {
+      skipped[k] = exec.skipped[k];
+      n_skipped += exec.skipped[k] != 0;
+    }
+    dataset_1d(r.get(), "skipped", skipped,
+               "1 where the run's results file was complete (status and config hash) from an earlier invocation "
+               "and was not rerun, else 0",
+               "/study/runs/skipped");
+    attr_string(r.get(), "engine", exec.engine);
+    attr_int(r.get(), "workers", exec.workers);
+    attr_int(r.get(), "skipped", n_skipped);
+    attr_int(r.get(), "computed", exec.computed);
   }
   file.close("close " + tmp.string());
 }
@@ -495,9 +509,10 @@ void write_results(const std::filesystem::path& path, const compare::Scene& scen
 }
 
 void write_study(const std::filesystem::path& path, const compare::StudySpec& spec, const std::string& spec_toml,
-                 const std::vector<compare::StudyRun>& runs, const compare::StudyReport& report, const RunMeta& meta) {
+                 const std::vector<compare::StudyRun>& runs, const compare::StudyReport& report, const RunMeta& meta,
+                 const StudyExecution& execution) {
   write_atomically(path, [&](const std::filesystem::path& tmp) {
-    write_study_file(tmp, spec, spec_toml, runs, report, meta);
+    write_study_file(tmp, spec, spec_toml, runs, report, meta, execution);
   });
 }
 

@@ -179,7 +179,7 @@ t_end = 40
   round_trip(dir.path, block, {}, "block");
 }
 
-TEST_CASE("h5in: statuses, messages, NaN events and labels survive; a bad file is an InputError", "[h5in]") {
+TEST_CASE("h5in: statuses, messages, NaN events and labels survive and a bad file is an InputError", "[h5in]") {
   const TempDir dir("h5in-synthetic");
   const compare::Scene scene = app::parse_scene(testing::minimal_config(), "tiny.toml", {});
   compare::ModelResult a;

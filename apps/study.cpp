@@ -537,7 +537,9 @@ int study_command(const StudyOptions& opts, std::ostream& out_all, std::ostream&
     const long long computed = static_cast<long long>(handed_out);
     RunMeta meta;
     meta.command_line = opts.command_line;
-    if (stopped) {
+    if (stopped && complete == static_cast<long long>(n)) {
+      meta.message = "a stop was requested after every run had finished";  // nothing was lost: complete
+    } else if (stopped) {
       meta.status = "interrupted";
       meta.message = "stopped: " + std::to_string(complete) + " of " + std::to_string(n) + " runs complete (" +
                      std::to_string(n_skipped) + " of them from an earlier invocation), " +
@@ -580,7 +582,7 @@ int study_command(const StudyOptions& opts, std::ostream& out_all, std::ostream&
           out << "\n";
         }
       for (const auto& note : report.notes) out << "  note: " << note << "\n";
-      if (stopped) err << "slipfront: " << meta.message << "\n";
+      if (meta.status == "interrupted") err << "slipfront: " << meta.message << "\n";
       if (meta.status == "interrupted") code = exit_code::interrupted;
       else if (meta.status != "complete" || counts[n_write_failures] != 0 || !read_problems.empty())
         code = exit_code::failed;

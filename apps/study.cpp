@@ -247,6 +247,76 @@ std::string plural(long long n, const std::string& one, const std::string& many)
   return std::to_string(n) + " " + (n == 1 ? one : many);
 }
 
+struct RunPlan {
+  int code = 0;            ///< 0: go on; else the exit code (the reason was printed)
+  std::vector<char> skip;  ///< per run: 1 if its results file is complete for the same configuration
+  long long rerun = 0;     ///< runs with a partial, failed, unreadable or unverified file: made again
+  long long fresh = 0;     ///< runs with no file yet (every run with --force)
+};
+
+// Creates DIR/runs/<id>/, checks the files already there (the table in docs/studies.md, "Resuming")
+// and removes the temporaries of killed writers. Nothing is touched when it refuses.
+RunPlan plan_runs(const fs::path& dir, const compare::StudySpec& spec, const std::vector<compare::StudyRun>& runs,
+                  const std::vector<std::string>& resolved, bool force, std::ostream& err) {
+  RunPlan p;
+  p.skip.assign(runs.size(), 0);
+  const auto refuse = [] {
+    RunPlan r;
+    r.code = exit_code::usage;
+    return r;
+  };
+  std::error_code ec;
+  fs::create_directories(dir / "runs", ec);
+  if (ec) {
+    err << "slipfront: error: cannot create the output directory '" << dir.string() << "': " << ec.message() << "\n";
+    return refuse();
+  }
+  if (fs::exists(dir / "study.h5") && !force) {
+    std::string other;
+    try {
+      other = read_study_name(dir / "study.h5");
+    } catch (const InputError&) {
+      other = "";
+    }
+    if (other != spec.name) {
+      err << "slipfront: error: '" << (dir / "study.h5").string() << "' belongs to "
+          << (other.empty() ? std::string("no readable study") : "the study '" + other + "'") << ", not to '"
+          << spec.name << "' (use --force to replace it, or --out for another directory)\n";
+      return refuse();
+    }
+  }
+  std::vector<std::string> other_config;
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    const fs::path run_dir = dir / "runs" / runs[i].id;
+    fs::create_directories(run_dir, ec);
+    if (ec) {
+      err << "slipfront: error: cannot create '" << run_dir.string() << "': " << ec.message() << "\n";
+      return refuse();
+    }
+    if (force) {
+      ++p.fresh;
+      continue;
+    }
+    const RunFileCheck c = check_run_file(run_dir / "results.h5", resolved[i], config_hash(resolved[i]));
+    switch (c.state) {
+      case RunFile::complete: p.skip[i] = 1; break;
+      case RunFile::missing: ++p.fresh; break;
+      case RunFile::other_config: other_config.push_back("runs/" + runs[i].id + "/results.h5: " + c.detail); break;
+      default: ++p.rerun; break;  // partial, unreadable or unverified: made again
+    }
+  }
+  if (!other_config.empty()) {
+    err << "slipfront: error: " << other_config.size() << " of " << runs.size() << " run files in '" << dir.string()
+        << "' were made with another configuration (the study file, its scene or --set changed since):\n";
+    for (std::size_t k = 0; k < other_config.size() && k < 5; ++k) err << "  " << other_config[k] << "\n";
+    if (other_config.size() > 5) err << "  ... and " << other_config.size() - 5 << " more\n";
+    err << "slipfront: nothing was run; use --force to rerun every run, or --out for another directory\n";
+    return refuse();
+  }
+  for (const auto& r : runs) remove_stale_temporaries(dir / "runs" / r.id);
+  return p;
+}
+
 // The counters every rank reports at the end (summed over the ranks under MPI).
 enum Count : std::size_t { n_complete, n_interrupted, n_failed, n_write_failures, n_stopped, n_counts };
 
@@ -305,64 +375,18 @@ int study_command(const StudyOptions& opts, std::ostream& out_all, std::ostream&
   const std::size_t n = runs.size();
   auto run_file = [&](std::size_t i) { return dir / "runs" / runs[i].id / "results.h5"; };
 
-  // (c) The plan (rank 0): the output directories, and which runs are complete already (resume).
+  // (c) The plan (rank 0, then sent to every rank): which runs are complete already (resume).
   // plan[0]: 0 to go on, else the exit code; plan[1 + i]: 1 if run i is skipped.
   std::vector<char> plan(1 + n, 0);
-  long long n_rerun = 0, n_new = 0;
+  RunPlan p;
   if (root) {
-    plan[0] = [&]() -> char {
-      std::error_code ec;
-      fs::create_directories(dir / "runs", ec);
-      if (ec) {
-        err << "slipfront: error: cannot create the output directory '" << dir.string() << "': " << ec.message() << "\n";
-        return exit_code::usage;
-      }
-      if (fs::exists(dir / "study.h5") && !opts.force) {
-        std::string other;
-        try {
-          other = read_study_name(dir / "study.h5");
-        } catch (const InputError& e) {
-          other = "?";
-        }
-        if (other != spec.name) {
-          err << "slipfront: error: '" << (dir / "study.h5").string() << "' belongs to "
-              << (other == "?" ? std::string("no readable study") : "the study '" + other + "'")
-              << ", not to '" << spec.name << "' (use --force to replace it, or --out for another directory)\n";
-          return exit_code::usage;
-        }
-      }
-      std::vector<std::string> other_config;
-      for (std::size_t i = 0; i < n; ++i) {
-        fs::create_directories(dir / "runs" / runs[i].id, ec);
-        if (ec) {
-          err << "slipfront: error: cannot create '" << (dir / "runs" / runs[i].id).string() << "': " << ec.message()
-              << "\n";
-          return exit_code::usage;
-        }
-        if (opts.force) continue;
-        const RunFileCheck c = check_run_file(run_file(i), resolved[i], config_hash(resolved[i]));
-        switch (c.state) {
-          case RunFile::complete: plan[1 + i] = 1; break;
-          case RunFile::missing: ++n_new; break;
-          case RunFile::other_config: other_config.push_back("runs/" + runs[i].id + "/results.h5: " + c.detail); break;
-          default: ++n_rerun; break;  // partial, unreadable or unverified: made again
-        }
-      }
-      if (!other_config.empty()) {
-        err << "slipfront: error: " << other_config.size() << " of " << n << " run files in '" << dir.string()
-            << "' were made with another configuration (the study file, its scene or --set changed since):\n";
-        for (std::size_t k = 0; k < other_config.size() && k < 5; ++k) err << "  " << other_config[k] << "\n";
-        if (other_config.size() > 5) err << "  ... and " << other_config.size() - 5 << " more\n";
-        err << "slipfront: nothing was run; use --force to rerun every run, or --out for another directory\n";
-        return exit_code::usage;
-      }
-      for (std::size_t i = 0; i < n; ++i) remove_stale_temporaries(dir / "runs" / runs[i].id);
-      if (opts.force) n_new = static_cast<long long>(n);
-      return 0;
-    }();
+    p = plan_runs(dir, spec, runs, resolved, opts.force, err);
+    plan[0] = static_cast<char>(p.code);
+    std::copy(p.skip.begin(), p.skip.end(), plan.begin() + 1);
   }
   if (mpi) mpi->broadcast(plan.data(), plan.size(), -1);
   if (plan[0] != 0) return plan[0];
+  const long long n_rerun = p.rerun, n_new = p.fresh;
   std::vector<std::size_t> todo;
   std::vector<int> skipped(n, 0);
   for (std::size_t i = 0; i < n; ++i) {

@@ -21,6 +21,7 @@
 #include <sstream>
 #include <thread>
 
+#include "apps/build_info.hpp"
 #include "apps/cli.hpp"
 #include "apps/config.hpp"
 #include "apps/h5in.hpp"
@@ -331,6 +332,7 @@ int study_command(const StudyOptions& opts, std::ostream& out_all, std::ostream&
   if (const int launched = mpirun_size(); launched > 0) {
     std::string why;
     mpi = MpiEngine::load(why);
+    if (!mpi && !build_info::mpi_engine_built) why = "this slipfront was built without MPI; " + why;
     if (!mpi && launched > 1) {
       err_all << "slipfront: error: started by mpirun as one of " << launched
               << " processes, but the MPI engine could not be loaded (" << why

@@ -3,6 +3,7 @@
 // and ends with the study.h5 of an uninterrupted study; run files made for another configuration are
 // refused without --force. Runs the real program, as a user would.
 #include <catch2/catch.hpp>
+#include <hdf5.h>
 #include <sys/stat.h>
 
 #include <chrono>
@@ -122,7 +123,7 @@ TEST_CASE("resume: partial runs are redone, other configurations refused without
           "[study][resume]") {
   const TempDir dir("resume-rules");
   const fs::path study = write_sweep_study(dir.path);
-  const std::vector<std::string> cmd = {bin, "study", study.string(), "--out", "s", "-j", "2", "-q"};
+  const std::vector<std::string> cmd = {bin, "study", study.string(), "--out", "s", "-j", "2"};
   const Output first = run(cmd, dir.path);
   INFO(first.err);
   REQUIRE(first.code == 0);
@@ -144,15 +145,27 @@ TEST_CASE("resume: partial runs are redone, other configurations refused without
     CHECK(run_status(files[2]) == "interrupted");
     stamps[2] = stamp(files[2]);
   }
+  // run 0005 without /meta config_hash (as written before it existed): cannot be verified, made again
+  {
+    const hid_t f = H5Fopen(files[5].c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    REQUIRE(f >= 0);
+    CHECK(H5Adelete_by_name(f, "/meta", "config_hash", H5P_DEFAULT) >= 0);
+    H5Fclose(f);
+    stamps[5] = stamp(files[5]);
+  }
   // a temporary left by a killed writer, and run 0004 missing
   std::ofstream(files[0].parent_path() / ".results.h5.tmp.999999") << "half a file";
   fs::remove(files[4]);
   const Output resumed = run(cmd, dir.path);
   INFO(resumed.err);
   REQUIRE(resumed.code == 0);
-  CHECK(run_counts(resumed.out) == std::pair{2, 4});
-  for (std::size_t k : {0u, 1u, 3u, 5u}) CHECK(stamp(files[k]) == stamps[k]);
+  CHECK(run_counts(resumed.out) == std::pair{3, 3});
+  CHECK(resumed.err.find("3 complete already (skipped), 3 to run (2 partial, failed or unverified, 1 new)") !=
+        std::string::npos);
+  for (std::size_t k : {0u, 1u, 3u}) CHECK(stamp(files[k]) == stamps[k]);
   CHECK(stamp(files[2]) != stamps[2]);
+  CHECK(stamp(files[5]) != stamps[5]);
+  CHECK(meta_string(files[5], "config_hash").rfind("crc64-xz:", 0) == 0);
   CHECK(run_status(files[2]) == "complete");
   CHECK(run_status(files[4]) == "complete");
   CHECK_FALSE(fs::exists(files[0].parent_path() / ".results.h5.tmp.999999"));

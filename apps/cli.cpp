@@ -350,25 +350,36 @@ int main_cli(int argc, char** argv) {
       ->type_name("SECTION.KEY=VALUE");
 
   StudyOptions study_opts;
-  auto* study = app.add_subcommand("study", "Run a convergence study (many runs on a thread pool) and analyse it");
+  auto* study = app.add_subcommand("study", "Run a convergence study (many runs on threads or MPI ranks) and analyse it");
   study->add_option("study", study_opts.study, "Study file (TOML; see docs/studies.md)")->required();
   study->add_option("-o,--out", study_opts.out, "Output directory (default: out/studies/<study name>)");
   study->add_option("-s,--set", study_opts.overrides, "Override one scene key in every run; repeatable")
       ->allow_extra_args(false)
       ->type_name("SECTION.KEY=VALUE");
-  study->add_option("-j,--threads", study_opts.threads, "Runs at once (default: all cores); results do not depend on it");
-  study->add_flag("-f,--force", study_opts.force, "Overwrite an existing study.h5");
-  study->add_flag("-q,--quiet", study_opts.quiet, "No progress line");
+  study->add_option("-j,--threads", study_opts.threads,
+                    "Runs at once (default: all cores; under mpirun: per rank, default 1); results do not depend on it");
+  study->add_flag("-f,--force", study_opts.force,
+                  "Rerun every run, even those already complete in DIR, and replace study.h5 whatever it holds");
+  study->add_flag("-q,--quiet", study_opts.quiet, "No progress line and no start line");
   study->footer(
       "Every run is validated before any work. Each run writes DIR/runs/<id>/results.h5; the analysis\n"
-      "(tables, fitted rates with 95% intervals, each with its definition) goes to DIR/study.h5.");
+      "(tables, fitted rates with 95% intervals, each with its definition) goes to DIR/study.h5.\n"
+      "Resuming: the same command again skips the runs whose results file is complete and was made with\n"
+      "the same configuration (/meta config_hash and /config toml), reruns partial ones, and refuses (exit 2)\n"
+      "files made with another configuration unless --force. Ctrl-C stops every run (status interrupted).\n"
+      "MPI: `mpirun -n K slipfront study STUDY.toml` spreads the runs over K processes, rank 0 included;\n"
+      "the results are the same bit for bit (docs/studies.md).");
 
   std::filesystem::path report_dir;
   std::string python = "/usr/bin/python3";
   auto* report = app.add_subcommand("report", "Write DIR/report.md with plots from the results and studies under DIR");
   report->add_option("dir", report_dir, "Directory holding results.h5 and study.h5 files (searched recursively)")
       ->required();
-  report->add_option("--python", python, "Python with numpy, h5py and matplotlib (default /usr/bin/python3)");
+  report->add_option("--python", python,
+                     "Python with numpy, h5py and matplotlib (default /usr/bin/python3; a bare name is looked up on PATH)");
+  report->footer(
+      "report.py is looked for in $SLIPFRONT_DATA_DIR, then in <prefix>/share/slipfront beside an installed\n"
+      "<prefix>/bin/slipfront, then in the source tree's scripts/.");
 
   try {
     app.parse(argc, argv);

@@ -5,8 +5,10 @@
 
 #include <CLI/Version.hpp>
 #include <algorithm>
+#include <boost/crc.hpp>
 #include <boost/version.hpp>
 #include <cmath>
+#include <cstdio>
 #include <ctime>
 #include <map>
 #include <toml++/toml.h>
@@ -362,6 +364,10 @@ void write_file(const std::filesystem::path& tmp, const compare::Scene& scene, c
   for (const auto& r : results) models += (models.empty() ? "" : ",") + r.model;
   write_meta(file.get(), meta, overall_status(results, meta.status), message, scene.name, models);
   {
+    Hid g(H5Gopen2(file.get(), "meta", H5P_DEFAULT), H5Gclose, "open /meta");
+    attr_string(g.get(), "config_hash", config_hash(resolved_toml));
+  }
+  {
     Hid g = make_group(file.get(), "config", "/config");
     attr_string(g.get(), "toml", resolved_toml);
   }
@@ -372,7 +378,7 @@ void write_file(const std::filesystem::path& tmp, const compare::Scene& scene, c
 
 void write_study_file(const std::filesystem::path& tmp, const compare::StudySpec& spec, const std::string& spec_toml,
                       const std::vector<compare::StudyRun>& runs, const compare::StudyReport& report,
-                      const RunMeta& meta) {
+                      const RunMeta& meta, const StudyExecution& exec) {
   Hid file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose,
            "create " + tmp.string());
   write_meta(file.get(), meta, meta.status, meta.message, spec.name, "");
@@ -422,6 +428,20 @@ void write_study_file(const std::filesystem::path& tmp, const compare::StudySpec
     attr_string(r.get(), "runs", lines);
     attr_string(r.get(), "files", "runs/<id>/results.h5 beside this file");
     dataset_1d(r.get(), "seed", seeds, "discrete.seed of each run, in run order", "/study/runs/seed");
+    std::vector<double> skipped(runs.size(), 0.0);
+    long long n_skipped = 0;
+    for (std::size_t k = 0; k < runs.size() && k < exec.skipped.size(); ++k) {
+      skipped[k] = exec.skipped[k];
+      n_skipped += exec.skipped[k] != 0;
+    }
+    dataset_1d(r.get(), "skipped", skipped,
+               "1 where the run's results file was complete (status and config hash) from an earlier invocation "
+               "and was not rerun, else 0",
+               "/study/runs/skipped");
+    attr_string(r.get(), "engine", exec.engine);
+    attr_int(r.get(), "workers", exec.workers);
+    attr_int(r.get(), "skipped", n_skipped);
+    attr_int(r.get(), "computed", exec.computed);
   }
   file.close("close " + tmp.string());
 }
@@ -454,6 +474,16 @@ std::string overall_status(const std::vector<compare::ModelResult>& results, con
   return severity(worst) == 2 ? "failed" : worst;
 }
 
+std::string config_hash(const std::string& resolved_toml) {
+  // CRC-64/XZ (ECMA-182 polynomial, reflected, all-ones init and final xor): check value
+  // 0x995dc9bbdf1939fa for "123456789".
+  boost::crc_optimal<64, 0x42F0E1EBA9EA3693ULL, ~0ULL, ~0ULL, true, true> crc;
+  crc.process_bytes(resolved_toml.data(), resolved_toml.size());
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "crc64-xz:%016llx", static_cast<unsigned long long>(crc.checksum()));
+  return buf;
+}
+
 std::filesystem::path temporary_path(const std::filesystem::path& path) {
   std::string name = ".";
   name += path.filename().string();
@@ -471,9 +501,10 @@ void write_results(const std::filesystem::path& path, const compare::Scene& scen
 }
 
 void write_study(const std::filesystem::path& path, const compare::StudySpec& spec, const std::string& spec_toml,
-                 const std::vector<compare::StudyRun>& runs, const compare::StudyReport& report, const RunMeta& meta) {
+                 const std::vector<compare::StudyRun>& runs, const compare::StudyReport& report, const RunMeta& meta,
+                 const StudyExecution& execution) {
   write_atomically(path, [&](const std::filesystem::path& tmp) {
-    write_study_file(tmp, spec, spec_toml, runs, report, meta);
+    write_study_file(tmp, spec, spec_toml, runs, report, meta, execution);
   });
 }
 

@@ -38,9 +38,23 @@ void write_results(const std::filesystem::path& path, const compare::Scene& scen
                    const std::vector<compare::ModelResult>& results, const RunMeta& meta,
                    const compare::Comparison* comparison = nullptr);
 
+/// How the runs of a study were obtained (attributes and a dataset of /study/runs).
+struct StudyExecution {
+  std::string engine = "threads";  ///< threads | mpi
+  int workers = 1;                 ///< threads, or MPI ranks x threads per rank
+  long long computed = 0;          ///< runs run by this invocation (complete, interrupted or failed)
+  std::vector<int> skipped;        ///< per run: 1 if its results file was complete already (not rerun)
+};
+
 /// Writes a study's analysis to `path` (study.h5) atomically, like write_results.
 void write_study(const std::filesystem::path& path, const compare::StudySpec& spec, const std::string& spec_toml,
-                 const std::vector<compare::StudyRun>& runs, const compare::StudyReport& report, const RunMeta& meta);
+                 const std::vector<compare::StudyRun>& runs, const compare::StudyReport& report, const RunMeta& meta,
+                 const StudyExecution& execution = {});
+
+/// The hash stored in /meta `config_hash` of every results file: CRC-64/XZ (Boost.CRC) of the fully
+/// resolved configuration (`to_toml(scene)`, the text stored in /config `toml`), as
+/// "crc64-xz:<16 hex digits>". A resumed study compares it, and the text itself, with the run's.
+std::string config_hash(const std::string& resolved_toml);
 
 /// The temporary name write_results uses for `path` in this process.
 std::filesystem::path temporary_path(const std::filesystem::path& path);

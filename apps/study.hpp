@@ -1,8 +1,10 @@
 #pragma once
 // `slipfront study`: convergence studies (issue 4). A study file (TOML) names a base scene, the
 // overrides common to every run, the keys to vary (one [vary] table, or several [[group]]s) and the
-// number of seeds. Every run is validated before any work; runs go to a pool of threads; each
-// run's results are kept in DIR/runs/<id>/results.h5 and the analysis in DIR/study.h5.
+// number of seeds. Every run is validated before any work; runs go to a pool of threads, or, when
+// mpirun started the process, to every MPI rank (apps/study_mpi.hpp); each run's results are kept in
+// DIR/runs/<id>/results.h5 and the analysis in DIR/study.h5. Runs whose file is complete for the same
+// configuration are skipped (resume; docs/studies.md).
 #include <filesystem>
 #include <iosfwd>
 #include <string>
@@ -20,15 +22,16 @@ struct StudyOptions {
   std::filesystem::path study;
   std::vector<std::string> overrides;  ///< --set, applied to every run after the study's own
   std::filesystem::path out;           ///< empty: out/studies/<study name>
-  unsigned threads = 0;                ///< 0: hardware concurrency
-  bool force = false;
+  unsigned threads = 0;                ///< 0: hardware concurrency (under mpirun: per rank, 0 = 1)
+  bool force = false;                  ///< rerun every run, replace study.h5
   bool quiet = false;
   std::string command_line;
 };
 
 int study_command(const StudyOptions& opts, std::ostream& out, std::ostream& err);
 
-/// `slipfront report DIR`: runs scripts/report.py on DIR (plots + report.md).
+/// `slipfront report DIR`: runs report.py (apps/paths.hpp finds it) on DIR (plots + report.md), with
+/// posix_spawnp and an argument vector: no shell.
 int report_command(const std::filesystem::path& dir, const std::string& python, std::ostream& err);
 
 }  // namespace slipfront::app

@@ -11,6 +11,7 @@ SLIPFRONT_DEPS=(
   libhdf5-dev libtomlplusplus-dev libcli11-dev  # results file, configs, command line
   catch2 libbenchmark-dev                    # tests, benchmarks
   libsundials-dev                            # reference ODE integrator
+  libopenmpi-dev openmpi-bin                 # optional at run time: studies on MPI (mpirun -n K slipfront study)
   python3-matplotlib python3-h5py python3-numpy  # scripts/plot.py
 )
 

@@ -1,0 +1,54 @@
+#pragma once
+// Reads a results.h5 written by apps/h5out back into memory: what a resumed study needs to skip the
+// runs already complete (/meta status, config_hash, /config toml) and to analyse them
+// (compare::ModelResult: series, events, friction law, cycles, scalars, labels, status, message).
+// The inverse of write_results for everything it writes (tested round trip); the layout is
+// docs/output.md.
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "compare/alongside.hpp"
+#include "compare/result.hpp"
+
+namespace slipfront::app {
+
+struct InputError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// What a results file says about itself (/meta and /config).
+struct ResultsHeader {
+  std::string status;         ///< /meta status: complete | interrupted | failed
+  std::string message;        ///< /meta message
+  std::string config_hash;    ///< /meta config_hash ("" when absent: written before it existed)
+  std::string resolved_toml;  ///< /config toml
+  std::string git_commit;     ///< /meta git_commit
+  std::string scene;          ///< /meta scene
+  std::vector<std::string> models;  ///< /meta models, in run order
+};
+
+struct ResultsFile {
+  ResultsHeader header;
+  std::vector<compare::ModelResult> models;  ///< in the order of header.models
+  compare::Comparison comparison;            ///< /compare (empty when absent)
+};
+
+struct ReadOptions {
+  /// Read /<model>/snapshots and /<model>/contacts (the large fields). A study's analysis does not
+  /// use them.
+  bool fields = true;
+};
+
+/// /meta and /config only (cheap). Throws InputError if the file cannot be opened or is not a
+/// slipfront results file.
+ResultsHeader read_results_header(const std::filesystem::path& path);
+
+/// The whole file. Throws InputError naming the file and the object that could not be read.
+ResultsFile read_results(const std::filesystem::path& path, const ReadOptions& options = {});
+
+/// The study a study.h5 belongs to (/study attribute `name`). Throws InputError.
+std::string read_study_name(const std::filesystem::path& path);
+
+}  // namespace slipfront::app

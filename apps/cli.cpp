@@ -310,6 +310,63 @@ int run_command(const RunOptions& opts, std::ostream& out, std::ostream& err) {
   return exit_code_of(status);
 }
 
+int fronts_command(const FrontsOptions& opts, std::ostream& out, std::ostream& err) {
+  const auto wall0 = Clock::now();
+  compare::Scene scene;
+  try {
+    scene = load_scene(opts.config, opts.overrides);
+    if (scene.drive.loading != continuum::Loading::homogeneous)
+      throw ConfigError(opts.config.string(), "drive.loading",
+                        "steady fronts are solved for homogeneous loading (docs/model.md §6), got " +
+                            std::string(continuum::to_string(scene.drive.loading)));
+  } catch (const ConfigError& e) {
+    print_error(err, e.what());
+    return exit_code::usage;
+  }
+  const fs::path dir = opts.out.empty() ? fs::path("out") / scene.name : opts.out;
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) {
+    print_error(err, "cannot create the output directory '" + dir.string() + "': " + ec.message());
+    return exit_code::usage;
+  }
+  const fs::path file = dir / "fronts.h5";
+  if (fs::exists(fs::symlink_status(file, ec)) && !opts.force) {
+    print_error(err, "'" + file.string() + "' already exists (use --force to overwrite it)");
+    return exit_code::usage;
+  }
+  RunMeta meta;
+  meta.command_line = opts.command_line;
+  compare::FrontsResult fr;
+  try {
+    fr = compare::compute_fronts(scene, opts.scaling);
+  } catch (const std::exception& e) {
+    meta.status = "failed";
+    meta.message = e.what();
+    print_error(err, std::string("fronts: ") + e.what());
+  }
+  meta.wall_seconds = std::chrono::duration<double>(Clock::now() - wall0).count();
+  try {
+    write_fronts(file, scene, to_toml(scene), fr, meta);
+  } catch (const std::exception& e) {
+    print_error(err, "cannot write " + file.string() + ": " + e.what());
+    return exit_code::failed;
+  }
+  if (meta.status != "complete") return exit_code::failed;
+  auto get = [&](const char* k) { return fr.scalars.count(k) ? fr.scalars.at(k) : std::nan(""); };
+  out << scene.name << ": steady fronts in " << format_seconds(meta.wall_seconds) << " -> " << file.string() << "\n"
+      << "  branch: " << fr.branch["sigma_d"].size() << " fronts, ends at sigma_d = "
+      << format_number(fr.branch["sigma_d"].empty() ? std::nan("") : fr.branch["sigma_d"].back()) << " ("
+      << fr.labels["end"] << ": " << fr.labels["reason"] << ")\n"
+      << "  c_min = " << format_number(get("c_min")) << " at sigma_d = " << format_number(get("sigma_d_at_c_min"))
+      << " (sigma_c^d = " << format_number(get("sigma_c_d")) << "); c_min / sqrt(mu alpha/(eta kappa)) = "
+      << format_number(get("c_min_over_scale")) << "\n";
+  if (opts.scaling)
+    out << "  scaling: c_min = " << format_number(get("scaling_prefactor")) << " sqrt(mu alpha/(eta kappa)), largest deviation "
+        << continuum::format_number(100.0 * get("scaling_spread"), 3) << " %\n";
+  return exit_code::ok;
+}
+
 int main_cli(int argc, char** argv) {
   CLI::App app{"slipfront: the onset of frictional sliding, continuum and discrete microcontact models.\n"
                "Runs one scene (a TOML file) and writes DIR/results.h5 (layout: docs/output.md).",
@@ -370,6 +427,22 @@ int main_cli(int argc, char** argv) {
       "MPI: `mpirun -n K slipfront study STUDY.toml` spreads the runs over K processes, rank 0 included;\n"
       "the results are the same bit for bit (docs/studies.md).");
 
+  FrontsOptions fronts_opts;
+  auto* fronts = app.add_subcommand("fronts", "Solve the steady fronts of a homogeneous scene and write DIR/fronts.h5");
+  fronts->add_option("config", fronts_opts.config, "Scene configuration file (TOML) with drive.loading = homogeneous")
+      ->required();
+  fronts->add_option("-o,--out", fronts_opts.out, "Output directory DIR (default: out/<scene name>)");
+  fronts->add_option("-s,--set", fronts_opts.overrides, "Override one key, as for run; repeatable")
+      ->allow_extra_args(false)
+      ->type_name("SECTION.KEY=VALUE");
+  fronts->add_flag("--scaling", fronts_opts.scaling,
+                   "Also the minimal-speed scaling study: c_min varying each of mu, alpha, eta, kappa (4 values each)");
+  fronts->add_flag("-f,--force", fronts_opts.force, "Overwrite an existing DIR/fronts.h5");
+  fronts->footer(
+      "The traveling waves of docs/model.md §6 solved directly (collocation + Newton, docs/fronts.md): the\n"
+      "branch c(sigma_d) continued down to where it ends (and why), c_min, profiles A, sigma_bar, v, u along it.\n"
+      "Layout of fronts.h5: docs/output.md. Takes seconds (the scaling study: 16 more continuations).");
+
   std::filesystem::path report_dir;
   std::string python = "/usr/bin/python3";
   auto* report = app.add_subcommand("report", "Write DIR/report.md with plots from the results and studies under DIR");
@@ -398,6 +471,10 @@ int main_cli(int argc, char** argv) {
     return study_command(study_opts, std::cout, std::cerr);
   }
   if (*report) return report_command(report_dir, python, std::cerr);
+  if (*fronts) {
+    for (int i = 0; i < argc; ++i) fronts_opts.command_line += (i ? " " : "") + shell_quote(argv[i]);
+    return fronts_command(fronts_opts, std::cout, std::cerr);
+  }
   return check_command(check_config, check_overrides, std::cout, std::cerr);
 }
 

@@ -31,6 +31,17 @@ int run_command(const RunOptions& opts, std::ostream& out, std::ostream& err);
 int check_command(const std::filesystem::path& config, const std::vector<std::string>& overrides, std::ostream& out,
                   std::ostream& err);
 
+struct FrontsOptions {
+  std::filesystem::path config;
+  std::vector<std::string> overrides;
+  std::filesystem::path out;  ///< empty: out/<scene name>
+  bool scaling = false;
+  bool force = false;
+  std::string command_line;
+};
+/// `slipfront fronts`: the steady fronts of a homogeneous scene to DIR/fronts.h5 (docs/model.md §6).
+int fronts_command(const FrontsOptions& opts, std::ostream& out, std::ostream& err);
+
 /// The whole program: parses argv and dispatches to a verb.
 int main_cli(int argc, char** argv);
 

@@ -446,6 +446,72 @@ void write_study_file(const std::filesystem::path& tmp, const compare::StudySpec
   file.close("close " + tmp.string());
 }
 
+void write_fronts_file(const std::filesystem::path& tmp, const compare::Scene& scene, const std::string& resolved_toml,
+                       const compare::FrontsResult& fr, const RunMeta& meta) {
+  Hid file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose, "create " + tmp.string());
+  write_meta(file.get(), meta, meta.status, meta.message, scene.name, "continuum");
+  {
+    Hid g(H5Gopen2(file.get(), "meta", H5P_DEFAULT), H5Gclose, "open /meta");
+    attr_string(g.get(), "config_hash", config_hash(resolved_toml));
+  }
+  {
+    Hid g = make_group(file.get(), "config", "/config");
+    attr_string(g.get(), "toml", resolved_toml);
+  }
+  static const std::map<std::string, std::string> branch_desc = {
+      {"sigma_d", "applied stress of each continuation point"},
+      {"c", "steady front speed"},
+      {"v_tip", "slip rate at the tip (closed form of the stuck region ahead)"},
+      {"v_behind", "slip rate far behind: sigma_ss(v_behind) = sigma_d on the strengthening branch"},
+      {"area_behind", "contact area far behind, 1/(1 + kappa v_behind)"},
+      {"overstress_margin", "min over the sliding region of |sigma|/A - 1 (<= 0 would be re-sticking)"},
+      {"min_slip_rate", "min slip rate over the profile"},
+      {"stable_eigenvalue", "decaying eigenvalue of the sliding state behind (-> 0 at the saddle-node end)"},
+      {"residual_norm", "max-norm of the discrete traveling-wave equations at the solution"},
+      {"speed_error", "estimated error of c (Richardson, 4th order)"}};
+  {
+    Hid g = make_group(file.get(), "branch", "/branch");
+    attr_string(g.get(), "description", "the branch c(sigma_d) of steady fronts by continuation (docs/fronts.md)");
+    for (const auto& [k, v] : fr.scalars) attr_double(g.get(), k, v);
+    for (const auto& [k, v] : fr.labels) attr_string(g.get(), k, v);
+    for (const auto& [name, v] : fr.branch) {
+      const auto it = branch_desc.find(name);
+      dataset_1d(g.get(), name, v, it == branch_desc.end() ? name : it->second, "/branch/" + name);
+    }
+  }
+  {
+    Hid g = make_group(file.get(), "profiles", "/profiles");
+    attr_string(g.get(), "description", "solved fronts on the solver's mesh, tip at xi = 0 (xi = x - c t)");
+    for (std::size_t k = 0; k < fr.profiles.size(); ++k) {
+      const auto& p = fr.profiles[k];
+      const std::string name = std::to_string(k), where = "/profiles/" + name;
+      Hid pg = make_group(g.get(), name, where);
+      attr_double(pg.get(), "sigma_d", p.sigma_d);
+      attr_double(pg.get(), "c", p.c);
+      attr_double(pg.get(), "v_tip", p.v_tip);
+      attr_double(pg.get(), "v_behind", p.v_behind);
+      attr_int(pg.get(), "limiting", p.limiting ? 1 : 0);
+      for (const auto& [fname, v] : p.fields) dataset_1d(pg.get(), fname, v, "front profile " + fname, where + "/" + fname);
+    }
+  }
+  if (!fr.scaling_points.empty()) {
+    Hid g = make_group(file.get(), "scaling", "/scaling");
+    attr_string(g.get(), "description",
+                "minimal front speed c_min varying one of mu, alpha, eta, kappa at a time, against sqrt(mu alpha/(eta kappa))");
+    std::string names;
+    for (const auto& n : fr.scaling_parameters) names += (names.empty() ? "" : ",") + n;
+    attr_string(g.get(), "parameters", names);
+    Hid pts = make_group(g.get(), "points", "/scaling/points");
+    for (const auto& [name, v] : fr.scaling_points) dataset_1d(pts.get(), name, v, "scaling point " + name, "/scaling/points/" + name);
+    Hid fits = make_group(g.get(), "fits", "/scaling/fits");
+    attr_string(fits.get(), "description",
+                "c_min = prefactor * sqrt(mu alpha/(eta kappa)), least squares through the origin; parameter_index -1: all points; "
+                "spread: max relative deviation of a point from the line");
+    for (const auto& [name, v] : fr.scaling_fits) dataset_1d(fits.get(), name, v, "scaling fit " + name, "/scaling/fits/" + name);
+  }
+  file.close("close " + tmp.string());
+}
+
 // Writes through a temporary file renamed onto `path` when complete.
 template <class Write>
 void write_atomically(const std::filesystem::path& path, Write&& write) {
@@ -506,6 +572,11 @@ void write_study(const std::filesystem::path& path, const compare::StudySpec& sp
   write_atomically(path, [&](const std::filesystem::path& tmp) {
     write_study_file(tmp, spec, spec_toml, runs, report, meta, execution);
   });
+}
+
+void write_fronts(const std::filesystem::path& path, const compare::Scene& scene, const std::string& resolved_toml,
+                  const compare::FrontsResult& fronts, const RunMeta& meta) {
+  write_atomically(path, [&](const std::filesystem::path& tmp) { write_fronts_file(tmp, scene, resolved_toml, fronts, meta); });
 }
 
 LibraryVersions library_versions() {

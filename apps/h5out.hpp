@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "compare/alongside.hpp"
+#include "compare/fronts.hpp"
 #include "compare/result.hpp"
 #include "compare/scene.hpp"
 #include "compare/study.hpp"
@@ -55,6 +56,11 @@ void write_study(const std::filesystem::path& path, const compare::StudySpec& sp
 /// resolved configuration (`to_toml(scene)`, the text stored in /config `toml`), as
 /// "crc64-xz:<16 hex digits>". A resumed study compares it, and the text itself, with the run's.
 std::string config_hash(const std::string& resolved_toml);
+
+/// Writes the steady fronts of a scene (`slipfront fronts`) to `path` (fronts.h5) atomically:
+/// /meta, /config, /branch, /profiles/<k>, /scaling (docs/output.md).
+void write_fronts(const std::filesystem::path& path, const compare::Scene& scene, const std::string& resolved_toml,
+                  const compare::FrontsResult& fronts, const RunMeta& meta);
 
 /// The temporary name write_results uses for `path` in this process.
 std::filesystem::path temporary_path(const std::filesystem::path& path);

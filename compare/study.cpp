@@ -8,6 +8,9 @@
 #include <stdexcept>
 
 #include "compare/fit.hpp"
+#include "compare/fronts.hpp"
+#include "continuum/friction_law.hpp"
+#include "continuum/steady_front.hpp"
 
 namespace slipfront::compare {
 namespace {
@@ -319,30 +322,37 @@ void fig2(StudyReport& rep, const std::vector<StudyRun>& runs, const std::vector
   rep.definitions["fig2_all/X"] = "sqrt(mu alpha/(eta kappa)), the scaling estimate of the minimal steady front speed";
 }
 
-// front_spectrum: steady front speed of homogeneous loading vs sigma_d.
+// front_spectrum: nucleated fronts of homogeneous loading vs sigma_d, against the solved branch.
 void spectrum(StudyReport& rep, const std::vector<StudyRun>& runs, const std::vector<Scene>& scenes,
               const std::vector<std::vector<ModelResult>>& res) {
   Columns t;
+  double limit_started = nan, limit_failed = nan;  // lowest σ_d with a front; highest without
   for (const auto& [sd, idx] : by_value(runs, "drive.sigma_d")) {
     const auto* c = find_model(res[idx[0]], "continuum");
     const auto* d = find_model(res[idx[0]], "discrete");
     const auto& s = scenes[idx[0]];
+    const double solved = solved_front_speed(s, sd);
     t["sigma_d"].push_back(sd);
     t["c_front_continuum"].push_back(c ? c->events.c_front : nan);
     t["c_front_discrete"].push_back(d ? d->events.c_front : nan);
+    t["c_solved"].push_back(solved);
+    t["c_front_continuum_rel_solved"].push_back(c ? c->events.c_front / solved - 1.0 : nan);
     t["v_behind_continuum"].push_back(c ? c->events.v_behind : nan);
     t["v_behind_discrete"].push_back(d ? d->events.v_behind : nan);
-    t["sigma_c_d"].push_back(2.0 * std::sqrt(s.interface.alpha * s.interface.eta / s.interface.kappa) -
-                             s.interface.eta / s.interface.kappa);
-    if (c && !std::isfinite(c->events.c_front))
-      rep.notes.push_back("sigma_d = " + std::to_string(sd) + ": no front started or it did not reach a steady speed (continuum)");
+    t["sigma_c_d"].push_back(continuum::steady_minimum_stress(s.interface));
+    if (c && std::isfinite(c->events.c_front)) {
+      if (!(sd >= limit_started)) limit_started = sd;
+    } else if (c && !(sd <= limit_failed)) {
+      limit_failed = sd;
+    }
   }
   rep.tables["front_spectrum"] = t;
   rep.definitions["front_spectrum/c_front_continuum"] =
-      "least-squares slope of x_tip(t) over the middle half of the front's run (homogeneous loading)";
+      "least-squares slope of x_tip(t) over the middle half of the front's run (nucleated homogeneous loading)";
+  rep.definitions["front_spectrum/c_solved"] = "speed of the steady front at sigma_d solved directly (docs/fronts.md)";
   rep.definitions["front_spectrum/v_behind_continuum"] =
-      "mean slip rate over [nucleation_length, x_tip - 10] when the tip passes 3/4 of the system";
-  // The lower end of the spectrum: the slowest steady front measured.
+      "mean slip rate over [x_tip - behind_far, x_tip - behind_near] when the tip passes behind_tip_fraction L";
+  // The lower end of what a nucleation patch starts, against the branch's own end.
   double cmin = nan, sdmin = nan;
   for (std::size_t k = 0; k < t["sigma_d"].size(); ++k)
     if (std::isfinite(t["c_front_continuum"][k]) && !(t["c_front_continuum"][k] >= cmin)) {
@@ -351,7 +361,111 @@ void spectrum(StudyReport& rep, const std::vector<StudyRun>& runs, const std::ve
     }
   rep.scalars["spectrum_slowest_front"] = cmin;
   rep.scalars["spectrum_slowest_front_sigma_d"] = sdmin;
-  rep.definitions["spectrum_slowest_front"] = "slowest steady front speed measured (continuum) and its sigma_d";
+  rep.definitions["spectrum_slowest_front"] = "slowest nucleated front measured (continuum) and its sigma_d";
+  rep.scalars["nucleation_limit_sigma_d"] = limit_started;
+  rep.definitions["nucleation_limit_sigma_d"] =
+      "lowest sigma_d at which the nucleation patch started a front (continuum): a property of the start, not of the branch";
+  if (!scenes.empty()) {
+    const auto branch = continuum::continue_steady_fronts(scenes[0].interface, scenes[0].bulk);
+    Columns b;
+    for (const auto& p : branch.points) {
+      b["sigma_d"].push_back(p.sigma_d);
+      b["c"].push_back(p.c);
+      b["v_behind"].push_back(p.v_behind);
+    }
+    rep.tables["front_branch"] = b;
+    rep.definitions["front_branch/c"] = "the branch c(sigma_d) of steady fronts by continuation (docs/fronts.md)";
+    rep.scalars["branch_c_min"] = branch.c_min;
+    rep.scalars["branch_sigma_d_at_c_min"] = branch.sigma_d_at_c_min;
+    rep.definitions["branch_c_min"] = "minimal steady front speed: the end of the solved branch, and its sigma_d";
+    rep.notes.push_back("the solved branch ends at sigma_d = " + continuum::format_number(branch.sigma_d_at_c_min, 6) +
+                        " with c_min = " + continuum::format_number(branch.c_min, 6) + " (" + branch.reason + ")");
+    if (std::isfinite(limit_started))
+      rep.notes.push_back("nucleation limit: the patch starts fronts down to sigma_d = " + continuum::format_number(limit_started, 4) +
+                          (std::isfinite(limit_failed) ? " and none at " + continuum::format_number(limit_failed, 4) : std::string()) +
+                          "; below it the patch's leading edge heals before it loads the stuck interface to the threshold. "
+                          "Steady fronts exist down to sigma_c^d (start them with drive.start = steady_front)");
+  }
+}
+
+// steady_fronts: runs started from the solved front (drive.start = steady_front), possibly kicked, with
+// the continuum and the discrete model: their speed against the solved one, v_behind against
+// sigma_ss(v_behind) = sigma_d, and, when N varies, the discrete front speed's convergence.
+void steady_fronts(StudyReport& rep, const StudySpec& spec, const std::vector<StudyRun>& runs,
+                   const std::vector<Scene>& scenes, const std::vector<std::vector<ModelResult>>& res) {
+  Columns t;
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    const auto* c = find_model(res[i], "continuum");
+    const auto* d = find_model(res[i], "discrete");
+    const auto& s = scenes[i];
+    const auto* any = c ? c : d;
+    if (!any) continue;
+    const auto it = any->scalars.find("steady_front_c");
+    const double solved = it == any->scalars.end() ? nan : it->second;
+    t["sigma_d"].push_back(s.drive.sigma_d);
+    t["kick_dv"].push_back(s.drive.kick_dv);
+    t["N"].push_back(static_cast<double>(s.discrete.contacts_per_site));
+    t["seed"].push_back(static_cast<double>(runs[i].seed));
+    t["c_solved"].push_back(solved);
+    t["c_continuum"].push_back(c ? c->events.c_front : nan);
+    t["c_discrete"].push_back(d ? d->events.c_front : nan);
+    t["rel_continuum"].push_back(c ? c->events.c_front / solved - 1.0 : nan);
+    t["rel_discrete"].push_back(d ? d->events.c_front / solved - 1.0 : nan);
+    t["discrete_vs_continuum"].push_back(c && d ? d->events.c_front / c->events.c_front - 1.0 : nan);
+    t["sigma_ss_error_continuum"].push_back(c && c->scalars.count("sigma_ss_at_v_behind")
+                                                ? c->scalars.at("sigma_ss_at_v_behind") - s.drive.sigma_d
+                                                : nan);
+  }
+  rep.tables["steady_fronts"] = t;
+  rep.definitions["steady_fronts/rel_continuum"] = "c_front (continuum run started from the solved front) / c_solved - 1";
+  rep.definitions["steady_fronts/rel_discrete"] = "the same for the discrete model";
+  rep.definitions["steady_fronts/discrete_vs_continuum"] = "c_front(discrete) / c_front(continuum) - 1, same grid and step";
+  rep.definitions["steady_fronts/sigma_ss_error_continuum"] = "sigma_ss(v_behind) - sigma_d of the continuum run";
+  // Stability: a kicked front returns to the branch when its speed matches the unkicked run's.
+  double worst = 0.0;
+  for (std::size_t k = 0; k < t["kick_dv"].size(); ++k) {
+    if (t["kick_dv"][k] == 0.0) continue;
+    for (std::size_t j = 0; j < t["kick_dv"].size(); ++j)
+      if (t["kick_dv"][j] == 0.0 && t["sigma_d"][j] == t["sigma_d"][k] && t["N"][j] == t["N"][k] && t["seed"][j] == t["seed"][k])
+        worst = std::max(worst, std::abs(t["rel_continuum"][k] - t["rel_continuum"][j]));
+  }
+  if (std::find_if(t["kick_dv"].begin(), t["kick_dv"].end(), [](double x) { return x != 0.0; }) != t["kick_dv"].end()) {
+    rep.scalars["kick_max_speed_change"] = worst;
+    rep.definitions["kick_max_speed_change"] =
+        "max over kicked runs of |c/c_solved (kicked) - c/c_solved (unkicked)|: 0 when every kicked front returns to the branch";
+  }
+  // N convergence of the discrete front speed (when N varies): RMS over seeds of the discrete vs the
+  // continuum speed on the same grid (which removes the grid error), and the seed-mean against the solved speed.
+  Columns n;
+  for (const auto& [N, idx] : by_value(runs, "discrete.contacts_per_site")) {
+    std::vector<double> dc, ds;
+    for (std::size_t i : idx) {
+      const auto* c = find_model(res[i], "continuum");
+      const auto* d = find_model(res[i], "discrete");
+      if (!c || !d) continue;
+      dc.push_back(d->events.c_front / c->events.c_front - 1.0);
+      const auto sc = d->scalars.find("steady_front_c");
+      ds.push_back(sc == d->scalars.end() ? nan : d->events.c_front / sc->second - 1.0);
+    }
+    double ms = 0.0;
+    int k = 0;
+    for (double x : dc)
+      if (std::isfinite(x)) { ms += x * x; ++k; }
+    n["N"].push_back(N);
+    n["rms_discrete_vs_continuum"].push_back(k ? std::sqrt(ms / k) : nan);
+    n["mean_discrete_vs_solved"].push_back(mean_of(ds));
+    n["sd_discrete_vs_solved"].push_back(sd_of(ds));
+    n["fronts"].push_back(static_cast<double>(finite_count(dc)));
+    n["seeds"].push_back(static_cast<double>(dc.size()));
+  }
+  if (n["N"].size() >= 2) {
+    rep.tables["steady_front_N"] = n;
+    rep.definitions["steady_front_N/rms_discrete_vs_continuum"] =
+        "RMS over seeds of c_front(discrete)/c_front(continuum) - 1 (same grid and step)";
+    rep.definitions["steady_front_N/fronts"] = "seeds whose discrete front kept running (a finite c_front)";
+    put_fits(rep, "steady_front_speed_exponent", n["N"], n["rms_discrete_vs_continuum"], spec.fit_from,
+             "exponent p of the discrete front speed error rms(N) ~ N^p");
+  }
 }
 
 }  // namespace
@@ -363,7 +477,8 @@ const std::vector<std::pair<std::string, std::string>>& study_kinds() {
       {"transient_friction", "velocity_step / spring_block friction histories, discrete vs continuum, vs N"},
       {"front_speeds", "fig1 event times and front speeds of the discrete model over seeds vs N"},
       {"fig2", "transient front speed vs sqrt(mu alpha/(eta kappa)), one group per varied parameter"},
-      {"front_spectrum", "steady front speed of homogeneous loading vs sigma_d"},
+      {"front_spectrum", "nucleated fronts of homogeneous loading vs sigma_d, against the solved branch"},
+      {"steady_fronts", "runs started from the solved steady front (kicked or not), both models, vs sigma_d and N"},
       {"runs", "no analysis: just run every point"}};
   return k;
 }
@@ -422,6 +537,7 @@ StudyReport analyse_study(const StudySpec& spec, const std::vector<StudyRun>& ru
   else if (spec.kind == "front_speeds") fronts_vs_N(rep, spec, runs, results);
   else if (spec.kind == "fig2") fig2(rep, runs, scenes, results);
   else if (spec.kind == "front_spectrum") spectrum(rep, runs, scenes, results);
+  else if (spec.kind == "steady_fronts") steady_fronts(rep, spec, runs, scenes, results);
   else if (spec.kind != "runs") throw std::invalid_argument("unknown study kind '" + spec.kind + "'");
   return rep;
 }

@@ -11,7 +11,7 @@ set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 bash scripts/build.sh slipfront
 
-scenes=(fig1 friction_law velocity_step spring_block homogeneous_front)
+scenes=(fig1 friction_law velocity_step spring_block homogeneous_front steady_front)
 slipfront=build/apps/slipfront
 python=/usr/bin/python3 # Debian's python3, where python3-h5py/-matplotlib/-numpy are installed
 failed=()
@@ -22,6 +22,11 @@ for scene in "${scenes[@]}"; do
   "$slipfront" run "configs/$scene.toml" --out "out/$scene" --force || rc=$?
   ((rc == 0)) || failed+=("scene $scene: slipfront run exited with $rc")
 done
+
+echo "== steady fronts: $slipfront fronts configs/homogeneous_front.toml --scaling --out out/homogeneous_front --force"
+rc=0
+"$slipfront" fronts configs/homogeneous_front.toml --scaling --out out/homogeneous_front --force || rc=$?
+((rc == 0)) || failed+=("fronts: slipfront fronts exited with $rc")
 
 for study in configs/studies/*.toml; do
   name=$(basename "$study" .toml)

@@ -313,9 +313,16 @@ def spectrum_study(st, outdir):
     if not t:
         return figs, rows
     fig, axs = plt.subplots(1, 2, figsize=(12, 4.5))
+    b = st.tables.get("front_branch", {})
+    if b:
+        axs[0].plot(b["sigma_d"], b["c"], "k-", lw=1.2, label="solved steady fronts (branch)")
+        axs[1].plot(b["sigma_d"], b["v_behind"], "k-", lw=1.2, label="sigma_ss(v) = sigma_d")
+    lim = st.scalars.get("nucleation_limit_sigma_d", math.nan)
+    if math.isfinite(lim):
+        axs[0].axvline(lim, color="C2", ls="--", lw=1, label=f"nucleation limit {lim:.3g}")
     for m, c in (("continuum", "C0"), ("discrete", "C3")):
-        axs[0].plot(t["sigma_d"], t["c_front_" + m], "o-", color=c, label=m)
-        axs[1].plot(t["sigma_d"], t["v_behind_" + m], "o-", color=c, label=m)
+        axs[0].plot(t["sigma_d"], t["c_front_" + m], "o" if m == "continuum" else "x", color=c, label=f"nucleated ({m})")
+        axs[1].plot(t["sigma_d"], t["v_behind_" + m], "o" if m == "continuum" else "x", color=c, label=m)
     for ax in axs:
         ax.axvline(t["sigma_c_d"][0], color="gray", ls=":", label="sigma_c^d")
         ax.set_xlabel("applied stress sigma_d")
@@ -324,14 +331,127 @@ def spectrum_study(st, outdir):
     axs[1].set_ylabel("slip rate behind the front")
     fig.suptitle(st.title("front spectrum, homogeneous loading"), fontsize=9)
     save(fig, outdir, f"{st.name}_spectrum.png", figs)
-    rows.append(("slowest steady front (continuum)", f"{st.scalars.get('spectrum_slowest_front', math.nan):.3g}",
-                 "", "", f"at sigma_d = {st.scalars.get('spectrum_slowest_front_sigma_d', math.nan):.3g}"))
+    rows.append(("slowest nucleated front (continuum)", f"{st.scalars.get('spectrum_slowest_front', math.nan):.3g}",
+                 "", "", f"at sigma_d = {st.scalars.get('spectrum_slowest_front_sigma_d', math.nan):.3g}; "
+                         f"nucleation limit sigma_d = {lim:.3g} (a property of the start)"))
+    if math.isfinite(st.scalars.get("branch_c_min", math.nan)):
+        rows.append(("minimal steady front speed c_min (solved branch)", f"{st.scalars['branch_c_min']:.4g}", "", "",
+                     f"at sigma_d = {st.scalars.get('branch_sigma_d_at_c_min', math.nan):.5g} (end of the branch)"))
     return figs, rows
+
+
+def steady_fronts_study(st, outdir):
+    """Runs started from the solved front: speeds against the solved one (kicked or not), and N convergence."""
+    figs, rows = [], []
+    t = st.tables.get("steady_fronts", {})
+    n = st.tables.get("steady_front_N", {})
+    if n:
+        fig, ax = plt.subplots(figsize=(6.5, 4.5))
+        loglog_fit(ax, n["N"], n["rms_discrete_vs_continuum"], st, st.best_fit("steady_front_speed_exponent"),
+                   "RMS over seeds of c_discrete / c_continuum - 1", "C3")
+        ax.loglog(n["N"], np.abs(n["mean_discrete_vs_solved"]), "s", color="C0", label="|seed mean c_discrete / c_solved - 1|")
+        ax.set_xlabel("contacts per site N")
+        ax.set_ylabel("relative front speed error")
+        ax.set_title(st.title("steady front: discrete speed vs N"), fontsize=8)
+        ax.legend(fontsize=7)
+        save(fig, outdir, f"{st.name}_speed_vs_N.png", figs)
+        rows.append((f"{st.name}: discrete front speed vs continuum at N = {n['N'][-1]:.0f}", "0",
+                     f"{n['rms_discrete_vs_continuum'][-1]:.3g}", "", st.fit_labels("steady_front_speed_exponent")))
+    elif t:
+        fig, ax = plt.subplots(figsize=(6.5, 4.5))
+        for kick, mk in ((0.0, "o"), (-0.5, "v"), (2.0, "^")):
+            sel = t["kick_dv"] == kick
+            if sel.any():
+                ax.plot(t["sigma_d"][sel], 100 * t["rel_continuum"][sel], mk, color="C0", label=f"continuum, kick {kick:g}")
+                ax.plot(t["sigma_d"][sel], 100 * t["rel_discrete"][sel], mk, color="C3", mfc="none",
+                        label=f"discrete, kick {kick:g}")
+        ax.axhline(0, color="k", lw=0.8)
+        ax.set_xlabel("applied stress sigma_d")
+        ax.set_ylabel("c_front / c_solved - 1  [%]")
+        ax.set_title(st.title("fronts started from the solved branch (kicked or not)"), fontsize=8)
+        ax.legend(fontsize=7)
+        save(fig, outdir, f"{st.name}_speed_vs_solved.png", figs)
+        k = st.scalars.get("kick_max_speed_change", math.nan)
+        worst = np.nanmax(np.abs(t["rel_continuum"])) if len(t["rel_continuum"]) else math.nan
+        rows.append((f"{st.name}: front started from the solved one, max abs(c/c_solved - 1)", f"{worst:.2g}",
+                     f"{np.nanmax(np.abs(t['rel_discrete'])):.2g}", "",
+                     f"kicked fronts return to the branch: max speed change {k:.2g}" if math.isfinite(k) else ""))
+    return figs, rows
+
+
+def fronts_file(path, root, figdir, studies):
+    """fronts.h5 (slipfront fronts): the branch with the time-dependent points of the studies, profiles, and
+    the c_min collapse."""
+    figs, rows, lines = [], [], []
+    with h5py.File(path, "r") as f:
+        b = f["branch"]
+        ba = attrs(b)
+        scene = plot.as_str(f["meta"].attrs.get("scene", "fronts"))
+        fig, axs = plt.subplots(1, 2, figsize=(12, 4.5))
+        ax = axs[0]
+        ax.plot(b["sigma_d"][()], b["c"][()], "k-", lw=1.3, label="solved steady fronts")
+        ax.plot([ba["sigma_d_at_c_min"]], [ba["c_min"]], "k*", ms=12, label=f"c_min = {ba['c_min']:.4g}")
+        ax.axvline(ba["sigma_c_d"], color="gray", ls=":", label="sigma_c^d")
+        for st in studies:
+            if st.kind == "front_spectrum" and "front_spectrum" in st.tables:
+                t = st.tables["front_spectrum"]
+                ax.plot(t["sigma_d"], t["c_front_continuum"], "o", color="C0", mfc="none", label="nucleated, continuum")
+                ax.plot(t["sigma_d"], t["c_front_discrete"], "x", color="C3", label="nucleated, discrete")
+                lim = st.scalars.get("nucleation_limit_sigma_d", math.nan)
+                if math.isfinite(lim):
+                    ax.axvline(lim, color="C2", ls="--", lw=1, label=f"nucleation limit {lim:.3g}")
+            if st.kind == "steady_fronts" and "steady_fronts" in st.tables and "steady_front_N" not in st.tables:
+                t = st.tables["steady_fronts"]
+                sel = t["kick_dv"] == 0
+                ax.plot(t["sigma_d"][sel], t["c_continuum"][sel], "s", color="C0", label="started from solved, continuum")
+                ax.plot(t["sigma_d"][sel], t["c_discrete"][sel], "+", color="C3", ms=10, label="started from solved, discrete")
+        ax.set_xlabel("applied stress sigma_d")
+        ax.set_ylabel("steady front speed c")
+        ax.legend(fontsize=7)
+        ax = axs[1]
+        for k in sorted(f["profiles"], key=int):
+            g = f["profiles"][k]
+            a = attrs(g)
+            ax.plot(g["xi"][()], g["v"][()] / a["v_behind"], lw=1,
+                    label=f"sigma_d {a['sigma_d']:.3g}, c {a['c']:.3g}" + (" (limit)" if a.get("limiting") else ""))
+        ax.set_xlim(-200, 20)
+        ax.set_xlabel("xi = x - c t (tip at 0)")
+        ax.set_ylabel("v / v_behind")
+        ax.legend(fontsize=7)
+        fig.suptitle(f"{scene}: steady fronts, the branch and its profiles (docs/fronts.md)", fontsize=9)
+        save(fig, figdir, f"{scene}_fronts_branch.png", figs)
+        rows.append((f"{scene}: minimal steady front speed c_min (solved)", f"{ba['c_min']:.5g}", "", "",
+                     f"at sigma_d = {ba['sigma_d_at_c_min']:.5g}; branch end: {ba.get('end', '')}"))
+        if "scaling" in f:
+            sc = f["scaling"]
+            names = plot.as_str(sc.attrs["parameters"]).split(",")
+            pts = {k: sc["points"][k][()] for k in sc["points"]}
+            fits = {k: sc["fits"][k][()] for k in sc["fits"]}
+            fig, ax = plt.subplots(figsize=(6.5, 4.5))
+            for i, name in enumerate(names):
+                sel = pts["parameter_index"] == i
+                ax.plot(pts["scale"][sel], pts["c_min"][sel], "osD^v"[i % 5], color=f"C{i}", label=f"vary {name}")
+            allfit = fits["parameter_index"] == -1
+            a, spread = float(fits["prefactor"][allfit][0]), float(fits["spread"][allfit][0])
+            xs = np.linspace(0, pts["scale"].max() * 1.05, 10)
+            ax.plot(xs, a * xs, "k--", lw=1, label=f"c_min = {a:.3f} sqrt(mu alpha/(eta kappa)), max dev {100 * spread:.1f}%")
+            ax.set_xlabel("sqrt(mu alpha / (eta kappa))")
+            ax.set_ylabel("minimal steady front speed c_min")
+            ax.set_title(f"{scene}: c_min collapse (the paper's Fig. 2 right, for the minimal speed)", fontsize=8)
+            ax.legend(fontsize=7)
+            save(fig, figdir, f"{scene}_cmin_collapse.png", figs)
+            rows.append((f"{scene}: c_min / sqrt(mu alpha/(eta kappa)) (16 branches)", f"{a:.3g}", "", "",
+                         f"largest deviation {100 * spread:.1f}%"))
+        lines += [f"## Steady fronts `{scene}`", "", f"File: `{os.path.relpath(path, root)}`: the branch ends at "
+                  f"sigma_d = {ba['sigma_d_at_c_min']:.6g} ({plot.as_str(ba.get('reason', ''))}).", ""]
+    for w in figs:
+        lines += [f"![{os.path.basename(w)}]({os.path.relpath(w, root)})", ""]
+    return lines, rows
 
 
 STUDY_PLOTS = {"friction_law": friction_law_study, "threshold_width": threshold_width_study,
                "transient_friction": transient_study, "front_speeds": front_speeds_study, "fig2": fig2_study,
-               "front_spectrum": spectrum_study}
+               "front_spectrum": spectrum_study, "steady_fronts": steady_fronts_study}
 
 
 def scene_rows(res):
@@ -371,13 +491,15 @@ def main(argv=None):
     root = os.path.abspath(args.dir)
     figdir = os.path.join(root, "figures")
     os.makedirs(figdir, exist_ok=True)
-    scenes, studies = [], []
+    scenes, studies, fronts = [], [], []
     for d, subdirs, files in os.walk(root):
         subdirs[:] = sorted(s for s in subdirs if s not in ("runs", "figures"))  # study runs are summarised
         if "results.h5" in files:
             scenes.append(os.path.join(d, "results.h5"))
         if "study.h5" in files:
             studies.append(os.path.join(d, "study.h5"))
+        if "fronts.h5" in files:
+            fronts.append(os.path.join(d, "fronts.h5"))
     lines = ["# slipfront report", "", f"Results under `{root}`.", ""]
     summary = []
     missing = []
@@ -399,6 +521,14 @@ def main(argv=None):
         for w in written:
             lines.append(f"![{os.path.basename(w)}]({os.path.relpath(w, root)})")
             lines.append("")
+    front_studies = [Study(p) for p in sorted(studies)]
+    front_studies = [st for st in front_studies if st.kind in ("front_spectrum", "steady_fronts")]
+    for path in sorted(fronts):
+        more, rows = fronts_file(path, root, figdir, front_studies)
+        lines += more
+        summary += rows
+    for st in front_studies:
+        st.f.close()
     for path in sorted(studies):
         st = Study(path)
         figs, rows = STUDY_PLOTS.get(st.kind, lambda s, o: ([], []))(st, figdir)

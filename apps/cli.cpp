@@ -15,6 +15,7 @@
 #include <sstream>
 
 #include "apps/build_info.hpp"
+#include "apps/checkpoint.hpp"
 #include "apps/config.hpp"
 #include "apps/h5out.hpp"
 #include "apps/study.hpp"
@@ -264,6 +265,36 @@ int run_command(const RunOptions& opts, std::ostream& out, std::ostream& err) {
   }
   const fs::path file = dir / "results.h5";
 
+  // checkpoints: validated before any work too
+  const bool imposed = scene.drive.loading == continuum::Loading::imposed_rate;
+  if (!(opts.checkpoint_every >= 0.0) || !std::isfinite(opts.checkpoint_every)) {
+    print_error(err, "--checkpoint-every: must be a finite time >= 0, got " + format_number(opts.checkpoint_every));
+    return exit_code::usage;
+  }
+  if ((opts.checkpoint_every > 0.0 || !opts.restart.empty()) && imposed) {
+    print_error(err, opts.config.string() + ": drive.loading: checkpoints are for bulk scenes (an imposed-rate scene "
+                                             "runs one site in seconds and has none)");
+    return exit_code::usage;
+  }
+  Checkpoint restart;
+  if (!opts.restart.empty()) {
+    try {
+      restart = read_checkpoint(opts.restart);
+    } catch (const CheckpointError& e) {
+      print_error(err, e.what());
+      return exit_code::usage;
+    }
+    if (restart.resolved_toml != resolved) {
+      std::istringstream a(restart.resolved_toml), b(resolved);
+      std::string la, lb;
+      while (std::getline(a, la) && std::getline(b, lb) && la == lb) {}
+      print_error(err, opts.restart.string() + ": the checkpoint belongs to another configuration (the checkpoint has '" +
+                           la + "', this run '" + lb + "')");
+      return exit_code::usage;
+    }
+  }
+  const fs::path checkpoint_file = dir / "checkpoint.bin";
+
   // (c)–(e) the run, stoppable by SIGINT/SIGTERM (the handler stays until the file is written: a first
   // signal while writing does not lose the results), with a progress line on a terminal
   const StopSignals signals;
@@ -271,11 +302,22 @@ int run_command(const RunOptions& opts, std::ostream& out, std::ostream& err) {
   meta.command_line = opts.command_line;
   std::vector<compare::ModelResult> results;
   compare::Comparison comparison;
+  std::string checkpoint_error;
   {
     Progress progress(err, scene.name, !opts.quiet && ::isatty(STDERR_FILENO));
     compare::RunControl control;
     control.stop = [] { return StopSignals::requested(); };
     control.progress = [&](const std::string& model, double t, double t_end) { progress.update(model, t, t_end); };
+    control.checkpoint_every = opts.checkpoint_every;
+    if (opts.checkpoint_every > 0.0)
+      control.checkpoint = [&](const std::string& state, double t) {
+        try {
+          write_checkpoint(checkpoint_file, {resolved, t, state});
+        } catch (const CheckpointError& e) {  // a failed checkpoint does not stop the run; it is reported
+          if (checkpoint_error.empty()) checkpoint_error = e.what();
+        }
+      };
+    control.restart = std::move(restart.state);
     try {
       compare::SceneResult sr = compare::run_scene_alongside(scene, control);
       results = std::move(sr.models);
@@ -291,6 +333,8 @@ int run_command(const RunOptions& opts, std::ostream& out, std::ostream& err) {
     }
   }
   if (meta.status == "failed") print_error(err, meta.message);
+  if (!checkpoint_error.empty()) print_error(err, "a checkpoint could not be written: " + checkpoint_error);
+  if (!opts.restart.empty() && meta.message.empty()) meta.message = "continued from the checkpoint " + opts.restart.string();
 
   // (f) the file, whatever the status
   meta.wall_seconds = std::chrono::duration<double>(Clock::now() - wall0).count();
@@ -302,8 +346,15 @@ int run_command(const RunOptions& opts, std::ostream& out, std::ostream& err) {
     return exit_code::failed;
   }
 
-  // (g) the summary
+  // (g) the summary; a complete run needs its checkpoint no more
+  if (status == "complete" && opts.checkpoint_every > 0.0) {
+    std::error_code ec;
+    fs::remove(checkpoint_file, ec);
+  }
   print_summary(out, scene, results, status, meta.wall_seconds, file);
+  if (status != "complete" && opts.checkpoint_every > 0.0 && fs::exists(checkpoint_file))
+    err << "slipfront: continue with: slipfront run " << shell_quote(opts.config.string()) << " --out "
+        << shell_quote(dir.string()) << " --restart " << shell_quote(checkpoint_file.string()) << " --force\n";
   if (status == "interrupted") err << "slipfront: interrupted; partial results written to " << file.string() << "\n";
   for (const auto& r : results)
     if (r.status == "failed") print_error(err, r.model + " failed: " + r.message + " (results written to " + file.string() + ")");
@@ -391,6 +442,14 @@ int main_cli(int argc, char** argv) {
       ->type_name("SECTION.KEY=VALUE");
   run->add_flag("-f,--force", run_opts.force, "Overwrite an existing DIR/results.h5");
   run->add_flag("-q,--quiet", run_opts.quiet, "No progress line and no notes on stderr (errors still shown)");
+  run->add_option("--checkpoint-every", run_opts.checkpoint_every,
+                  "Write DIR/checkpoint.bin (atomically) every T of simulated time and when stopped (bulk scenes); "
+                  "removed when the run completes")
+      ->type_name("T");
+  run->add_option("--restart", run_opts.restart,
+                  "Continue from a checkpoint written by --checkpoint-every (same configuration); the result is the "
+                  "uninterrupted run's, bit for bit")
+      ->type_name("FILE");
   run->footer(
       "The configuration is validated and DIR is created and checked (results.h5 absent unless --force,\n"
       "writable) before any simulation work. Ctrl-C (SIGINT) or SIGTERM stops the run at the next check and\n"

@@ -21,6 +21,8 @@ struct RunOptions {
   std::filesystem::path out;           ///< empty: out/<scene name>
   bool force = false;
   bool quiet = false;
+  double checkpoint_every = 0.0;       ///< > 0: write DIR/checkpoint.bin every this much simulated time
+  std::filesystem::path restart;       ///< non-empty: continue from this checkpoint
   std::string command_line;            ///< recorded in /meta
 };
 

@@ -23,6 +23,10 @@ class FieldComparison {
     detail::push(c_, "u_distance", relative_distance(a.slip(), b.slip()));
   }
   Columns take() { return std::move(c_); }
+  template <class Ar>
+  void serialize(Ar& ar) {
+    ar(due_, c_);
+  }
 
  private:
   detail::Cadence due_;
@@ -34,13 +38,27 @@ SceneResult lockstep(const Scene& s, LawA a, LawB b, const RunControl& ctl) {
   DynamicRun<LawA, typename Tag::template stepper<LawA>> ra(s, std::move(a), "continuum");
   DynamicRun<LawB, typename Tag::template stepper<LawB>> rb(s, std::move(b), "discrete");
   FieldComparison fields(s.output.compare_dt);
-  fields.observe(0.0, ra.sim(), rb.sim());
+  if (!ctl.restart.empty()) {  // continue from a checkpoint (RunControl)
+    continuum::Archive ar = continuum::Archive::reader(ctl.restart);
+    ar.tag("lockstep");
+    ar(ra, rb, fields);
+  } else {
+    fields.observe(0.0, ra.sim(), rb.sim());
+  }
+  CheckpointClock clock(ctl, ra.time());
   for (std::int64_t n = 1; !ra.done() || !rb.done(); ++n) {
     if (!ra.done()) ra.step();
     if (!rb.done()) rb.step();
     if (ra.time() == rb.time()) fields.observe(ra.time(), ra.sim(), rb.sim());  // both advanced (none failed)
     if ((n & 1023) == 0) ctl.progress("continuum+discrete", ra.time(), s.time.t_end);
-    if (ctl.stop()) {
+    const bool stop = ctl.stop();
+    if (clock.due(ra.time()) || (stop && ctl.checkpointing() && !(ra.done() && rb.done()))) {
+      continuum::Archive ar = continuum::Archive::writer();
+      ar.tag("lockstep");
+      ar(ra, rb, fields);
+      ctl.checkpoint(ar.data(), ra.time());
+    }
+    if (stop) {
       if (!ra.done()) ra.interrupt();
       if (!rb.done()) rb.interrupt();
     }

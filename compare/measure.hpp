@@ -31,6 +31,10 @@ struct Events {
   /// Why an event is NaN where a reader could expect a value (event name → reason), e.g. t_hat before
   /// first yield (elastic motion, not an instability) or a receding tip (a negative speed).
   std::map<std::string, std::string> reasons;
+  template <class Ar>
+  void serialize(Ar& ar) {
+    ar(t_star, t_hat, c_slow, c_transient, c_transient_peak, x_arrest, t_arrest, c_front, v_behind, reasons);
+  }
 };
 
 /// Every event of Events with its name (the HDF5 attribute, the comparison metric, the summary line):
@@ -93,6 +97,10 @@ class FrontTracker {
   /// Speeds and arrest from the recorded samples of the A_tip front (alt: the A_tip_alt front).
   /// `homogeneous` adds c_front. A speed needs the tip defined at every sample of its window.
   Events finish(bool homogeneous, bool alt = false) const;
+  template <class Ar>
+  void serialize(Ar& ar) {
+    ar(ts_, tips_, tips_alt_, next_sample_, last_tip_alt_, ev_, prev_max_v_, prev_t_mid_, in_transient_);
+  }
 
  private:
   continuum::MeasureParams p_;
@@ -111,6 +119,10 @@ class CycleDetector {
  public:
   explicit CycleDetector(const continuum::MeasureParams& p) : v_event_(p.v_event), v_end_(p.v_event * p.arrest_fraction) {}
   void observe(double t, double force, double v, std::map<std::string, std::vector<double>>& out);
+  template <class Ar>
+  void serialize(Ar& ar) {
+    ar(peak_, low_, t_start_, slipping_);
+  }
 
  private:
   double v_event_, v_end_, peak_ = -std::numeric_limits<double>::infinity();
@@ -128,6 +140,10 @@ class BehindRate {
   /// At a tip sample: the tip and the slip rates of every node at that time.
   void observe(double tip, std::span<const double> x, std::span<const double> v);
   double value() const { return v_behind_; }
+  template <class Ar>
+  void serialize(Ar& ar) {
+    ar(v_behind_);
+  }
 
  private:
   continuum::MeasureParams p_;

@@ -30,6 +30,10 @@ namespace detail {
 class Cadence {
  public:
   explicit Cadence(double every) : every_(every) {}
+  template <class Ar>
+  void serialize(Ar& ar) {
+    ar(next_);
+  }
   bool due(double t) {
     if (every_ < 0) return false;
     if (t + 1e-9 * every_ < next_) return false;
@@ -180,6 +184,11 @@ class Recorder {
       detail::push(c, "energy_residual", started ? energy->residual() : 0.0);
       detail::push(c, "energy_time", started ? energy->time : 0.0);
     }
+  }
+
+  template <class Ar>
+  void serialize(Ar& ar) {
+    ar(series_due_, snap_due_);
   }
 
   /// One snapshot row (docs/output.md /snapshots): A, sigma_bar, v, u over the nodes.

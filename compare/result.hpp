@@ -14,6 +14,10 @@ using Columns = std::map<std::string, std::vector<double>>;
 struct Table2D {
   std::size_t cols = 0;
   std::vector<double> data;
+  template <class Ar>
+  void serialize(Ar& ar) {
+    ar(cols, data);
+  }
 };
 
 struct ModelResult {
@@ -33,6 +37,11 @@ struct ModelResult {
   Columns contacts;                            ///< discrete, agent: /<model>/contacts/<name> [n]
   std::map<std::string, Table2D> contacts_2d;  ///< discrete, agent: /<model>/contacts/<name> [rows, cols]
   double wall_seconds = 0.0;
+  template <class Ar>
+  void serialize(Ar& ar) {
+    ar(model, status, message, x, series, snapshot_t, snapshots, events, events_alt, cycles, friction_law, scalars,
+       labels, contacts, contacts_2d, wall_seconds);
+  }
 };
 
 }  // namespace slipfront::compare

@@ -1,5 +1,6 @@
 #include "compare/runner.hpp"
 
+#include <optional>
 #include <stdexcept>
 
 #include "compare/laws.hpp"
@@ -40,22 +41,38 @@ std::vector<double> sweep_rates(const continuum::DriveParams& d) {
 }
 
 std::vector<ModelResult> run_scene(const Scene& s, const RunControl& ctl) {
+  // Models one after the other. A checkpoint holds the models finished so far and the one running.
   std::vector<ModelResult> out;
-  for (const auto& m : s.models) {
+  std::optional<continuum::Archive> resume;
+  if (!ctl.restart.empty()) {
+    resume = continuum::Archive::reader(ctl.restart);
+    resume->tag("sequential");
+    (*resume)(out);
+  }
+  const CheckpointHeader header = [&](continuum::Archive& ar) {
+    ar.tag("sequential");
+    auto done = out;
+    ar(done);
+  };
+  for (std::size_t k = out.size(); k < s.models.size(); ++k) {
+    const std::string& m = s.models[k];
+    continuum::Archive* from = resume && !resume->at_end() ? &*resume : nullptr;
     try {
       if (m == "continuum") {
         auto make = [&](std::size_t n) { return continuum::FrictionLaw(s.interface, n); };
-        out.push_back(run_model<continuum::FrictionLaw>(s, make, m, ctl));
+        out.push_back(run_model<continuum::FrictionLaw>(s, make, m, ctl, header, from));
       } else if (m == "discrete") {
         // docs/model.md §2: the microcontact ensemble on the same bulk, grid and time step.
         out.push_back(with_discrete_law(s, [&](auto make) {
           using Law = decltype(make(std::size_t{1}));
-          return run_model<Law>(s, make, m, ctl);
+          return run_model<Law>(s, make, m, ctl, header, from);
         }));
         label_discrete(s, out.back());
       } else {
         throw std::invalid_argument("unknown model '" + m + "'");
       }
+    } catch (const continuum::ArchiveError&) {
+      throw;  // a checkpoint that does not fit this scene: the caller reports it
     } catch (const std::exception& e) {  // keep what the earlier models produced
       ModelResult failed;
       failed.model = m;

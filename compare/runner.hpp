@@ -27,12 +27,40 @@
 
 namespace slipfront::compare {
 
-/// Hooks of the caller (CLI): a stop request (Ctrl-C), polled after every step, and progress.
+/// Hooks of the caller (CLI): a stop request (Ctrl-C), polled after every step, progress, and
+/// checkpoints (issue 10): every `checkpoint_every` of simulated time (0: never), and once more when a
+/// stop is requested, `checkpoint(state, t)` receives the state of the whole scene run (both models, every
+/// law's state and random streams, the measurements and the records so far); a run given that state in
+/// `restart` continues from it bit for bit. Bulk scenes only (an imposed-rate scene has no checkpoints).
 struct RunControl {
   std::function<bool()> stop = [] { return false; };
   std::function<void(const std::string& model, double t, double t_end)> progress =
       [](const std::string&, double, double) {};
+  double checkpoint_every = 0.0;
+  std::function<void(const std::string& state, double t)> checkpoint;
+  std::string restart;
+  bool checkpointing() const { return checkpoint_every > 0.0 && static_cast<bool>(checkpoint); }
 };
+
+/// When the next checkpoint is due: at the first step end at or after each multiple of every.
+class CheckpointClock {
+ public:
+  CheckpointClock(const RunControl& ctl, double t) : every_(ctl.checkpointing() ? ctl.checkpoint_every : 0.0) {
+    if (every_ > 0) next_ = (std::floor(t / every_ + 1e-9) + 1.0) * every_;
+  }
+  bool due(double t) {
+    if (!(every_ > 0) || t < next_ * (1.0 - 1e-12)) return false;
+    next_ = (std::floor(t / every_ + 1e-9) + 1.0) * every_;
+    return true;
+  }
+
+ private:
+  double every_, next_ = 0.0;
+};
+
+/// What a checkpoint of a model run is written after: the state of the scene run around it (the models
+/// already finished), so that the whole run can be resumed.
+using CheckpointHeader = std::function<void(continuum::Archive&)>;
 
 /// The time step a fixed-step scene will use: time.dt, or time.cfl × the explicit limit, shortened so
 /// that t_end is a whole number of steps.
@@ -272,6 +300,14 @@ class DynamicRun {
     }
   }
 
+  /// Checkpoints (continuum::Archive): the stepper with its law, the measurements, the recorder and
+  /// the result so far — all a restarted run needs to continue bit for bit.
+  template <class Ar>
+  void serialize(Ar& ar) {
+    ar.tag("dynamic run");
+    ar(r_, sim_, tracker_, cycles_, behind_, recorder_, contacts_due_, nsteps_, quiet_);
+  }
+
   void interrupt() {
     r_.status = "interrupted";
     r_.message = "stopped at t = " + std::to_string(sim_.time());
@@ -369,14 +405,26 @@ class DynamicRun {
   std::vector<double> buffers_[4];      // dense-output buffers, one per continuum::Field
 };
 
-/// Bulk scenes run alone: step to t_end, polling the stop request after every step.
+/// Bulk scenes run alone: step to t_end, polling the stop request after every step; checkpoints as
+/// `ctl` asks (written after `header`), and, with `resume`, continued from a checkpoint's state.
 template <class Law, class Stepper = continuum::ExplicitSimulation<Law>>
-ModelResult run_dynamic(const Scene& s, Law law, const std::string& model, const RunControl& ctl) {
+ModelResult run_dynamic(const Scene& s, Law law, const std::string& model, const RunControl& ctl,
+                        const CheckpointHeader& header = {}, continuum::Archive* resume = nullptr) {
   DynamicRun<Law, Stepper> run(s, std::move(law), model);
+  if (resume) (*resume)(run);
+  CheckpointClock clock(ctl, run.time());
+  auto save = [&] {
+    continuum::Archive ar = continuum::Archive::writer();
+    if (header) header(ar);
+    ar(run);
+    ctl.checkpoint(ar.data(), run.time());
+  };
   for (std::int64_t n = 1; !run.done(); ++n) {
     run.step();
     if ((n & 1023) == 0) ctl.progress(model, run.time(), s.time.t_end);
-    if (ctl.stop()) run.interrupt();
+    const bool stop = ctl.stop();
+    if (clock.due(run.time()) || (stop && ctl.checkpointing() && !run.done())) save();
+    if (stop) run.interrupt();
   }
   return run.finish();
 }
@@ -493,12 +541,16 @@ ModelResult run_imposed_rate(const Scene& s, MakeLaw make_law, const std::string
 
 /// Run one model on a scene, whichever loading and integrator it has. make_law(n_sites) builds the law.
 template <class Law, class MakeLaw>
-ModelResult run_model(const Scene& s, MakeLaw make_law, const std::string& model, const RunControl& ctl) {
-  if (s.drive.loading == continuum::Loading::imposed_rate) return run_imposed_rate<Law>(s, make_law, model, ctl);
+ModelResult run_model(const Scene& s, MakeLaw make_law, const std::string& model, const RunControl& ctl,
+                      const CheckpointHeader& header = {}, continuum::Archive* resume = nullptr) {
+  if (s.drive.loading == continuum::Loading::imposed_rate) {
+    if (resume) throw continuum::ArchiveError("checkpoint: an imposed-rate scene has no checkpoints");
+    return run_imposed_rate<Law>(s, make_law, model, ctl);
+  }
   const continuum::Bulk probe(s.bulk, s.drive, s.interface, s.grid.dx);
   return with_integrator(s, [&](auto tag) {
     using Stepper = typename decltype(tag)::template stepper<Law>;
-    return run_dynamic<Law, Stepper>(s, make_law(probe.nodes()), model, ctl);
+    return run_dynamic<Law, Stepper>(s, make_law(probe.nodes()), model, ctl, header, resume);
   });
 }
 

@@ -210,6 +210,13 @@ class AdaptiveSimulation : public StepperCore<Law> {
   }
   const AdaptiveStats& stats() const { return stats_; }
   const AdaptiveOptions& options() const { return opt_; }
+  template <class Ar>
+  void serialize(Ar& ar) {
+    ar.tag("adaptive");
+    this->serialize_core(ar);
+    ar(t_prev_, h_next_, last_dt_, err_prev_, started_, f0_valid_, y_prev_, f0_, k1_prev_, k2_prev_, h_prev_, t_stop_,
+       theta_, theta_prev_, stats_);
+  }
 
  private:
   // The current state, block f of [u | v | A | σ̄].

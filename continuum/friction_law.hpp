@@ -25,6 +25,11 @@ class FrictionLaw {
   std::span<const double> contact_area() const { return {fields_.data(), n_}; }
   std::span<const double> sigma_bar() const { return {fields_.data() + n_, n_}; }
   std::span<double> fields() { return fields_; }
+  template <class Ar>
+  void serialize(Ar& ar) {
+    ar.tag("continuum law");
+    ar(fields_);
+  }
 
   /// Set the state of one site (initial conditions).
   void set_site(std::size_t i, double area, double sigma_bar) {

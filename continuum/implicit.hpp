@@ -77,6 +77,12 @@ class ImplicitSimulation : public StepperCore<Law> {
   /// Largest linearisation defect of an accepted (sub)step, and how many substeps were taken in all.
   double max_defect() const { return max_defect_; }
   std::int64_t substeps() const { return substeps_; }
+  template <class Ar>
+  void serialize(Ar& ar) {
+    ar.tag("implicit");
+    this->serialize_core(ar);
+    ar(V_, max_defect_, substeps_);
+  }
   double dt() const { return dt_; }
   /// Initial slip and slip rate (node velocity V = W = v) of node i.
   void set_initial(std::size_t i, double u, double v) {

@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "continuum/archive.hpp"
 #include "continuum/bulk.hpp"
 #include "continuum/law.hpp"
 
@@ -45,6 +46,10 @@ struct EnergyBudget {
   double mechanical0 = std::numeric_limits<double>::quiet_NaN();
   double mechanical() const { return kinetic + elastic + spring; }
   double residual() const { return drive_work - (mechanical() - mechanical0) - viscous - interfacial; }
+  template <class Ar>
+  void serialize(Ar& ar) {
+    ar(time, kinetic, elastic, spring, drive_work, viscous, interfacial, mechanical0);
+  }
 };
 
 /// What every stepper holds and shows: the bulk, the law (which alone holds A and σ̄), slip and slip
@@ -75,6 +80,14 @@ class StepperCore {
   const std::optional<EnergyBudget>& energy() const { return energy_; }
 
  protected:
+  /// The state every stepper has (checkpoints): slip, slip rate, time, counters, energy, and the law's.
+  template <class Ar>
+  void serialize_core(Ar& ar) {
+    ar(u_, v_, t_, max_v_, steps_, yielded_, energy_);
+    if constexpr (requires { law_.serialize(ar); }) law_.serialize(ar);
+    else throw ArchiveError("this interface law cannot be checkpointed");
+  }
+
   StepperCore(Bulk bulk, Law law, const char* who)
       : bulk_(std::move(bulk)), law_(std::move(law)), n_(bulk_.nodes()), u_(n_, 0.0), v_(n_, 0.0) {
     if (law_.size() != n_) throw std::invalid_argument(std::string(who) + ": law and bulk sizes differ");
@@ -113,6 +126,12 @@ class ExplicitSimulation : public StepperCore<Law> {
     if (!(dt > 0.0)) throw std::invalid_argument("ExplicitSimulation: dt must be > 0");
   }
   double dt() const { return dt_; }
+  template <class Ar>
+  void serialize(Ar& ar) {
+    ar.tag("explicit");
+    this->serialize_core(ar);
+    ar(acc_drive_, acc_viscous_, acc_interfacial_);
+  }
 
   void step() {
     v_prev_.swap(this->v_);  // keep v^{n−1/2}

@@ -72,6 +72,10 @@ class Fenwick {
   }
   /// The bin b holding the element of rank r (0-based) and the rank inside it: smallest b with
   /// prefix(b + 1) > r; r must be < prefix(size).
+  template <class Ar>
+  void serialize(Ar& ar) {
+    ar(tree_);
+  }
   std::size_t find(std::int64_t& r) const {
     std::size_t pos = 0, step = 1;
     while (step * 2 < tree_.size()) step *= 2;
@@ -134,6 +138,17 @@ class AgentLaw {
   void record_contacts(double t);
   ContactTables contact_tables() const { return stats_.tables(); }
   const ContactStats& contact_stats() const { return stats_; }
+
+  /// Checkpoints (continuum::Archive): every contact in its order, the marks, the streams, the statistics.
+  template <class Ar>
+  void serialize(Ar& ar) {
+    ar.tag("agent law");
+    for (auto& st : sites_) {
+      ar(st.bins, st.counts, st.detached, st.n_att, st.detach_mark, st.attach_mark);
+      serialize_engine(ar, st.engine);
+    }
+    ar(area_, sigma_bar_, t_, changes_, stats_);
+  }
 
   // --- inspection ------------------------------------------------------------------------------
   const DiscreteParams& discrete_params() const { return dp_; }

@@ -49,6 +49,10 @@ class Histogram {
   const std::vector<double>& counts() const { return counts_; }
   std::size_t bins() const { return counts_.size(); }
   void clear();
+  template <class Ar>
+  void serialize(Ar& ar) {
+    ar(edges_, counts_);
+  }
 
  private:
   std::vector<double> edges_, counts_;
@@ -110,6 +114,14 @@ class ContactStats {
   std::span<const double> detached_starts() const { return raw_ok(n_detached_) ? detached_start_ : std::span<const double>{}; }
 
   ContactTables tables() const;
+
+  /// Checkpoints (continuum::Archive).
+  template <class Ar>
+  void serialize(Ar& ar) {
+    ar(enabled_, sites_, lifetime_, detached_, age_, threshold_, n_lifetimes_, n_detached_, lifetimes_, lifetime_start_,
+       detached_durations_, detached_start_, detach_count_, attach_count_, snapshot_t_, age_rows_, threshold_rows_,
+       detach_rows_, attach_rows_);
+  }
 
  private:
   static bool raw_ok(std::size_t n) { return n <= raw_cap; }

@@ -100,6 +100,14 @@ class CountLaw {
   /// built with the same parameters and size (throws std::invalid_argument otherwise).
   std::string save_state() const;
   void load_state(const std::string& text);
+  /// Checkpoints (continuum::Archive): save_state / load_state.
+  template <class Ar>
+  void serialize(Ar& ar) {
+    ar.tag("count law");
+    std::string s = ar.loading() ? std::string() : save_state();
+    ar(s);
+    if (ar.loading()) load_state(s);
+  }
 
  private:
   friend class detail::SitePool;

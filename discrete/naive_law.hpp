@@ -146,6 +146,13 @@ class NaiveAgentLaw {
   }
   ContactTables contact_tables() const { return stats_.tables(); }
   const ContactStats& contact_stats() const { return stats_; }
+  /// Checkpoints (continuum::Archive).
+  template <class Ar>
+  void serialize(Ar& ar) {
+    ar.tag("naive law");
+    ar(contacts_, n_att_, area_, sigma_bar_, t_, stats_);
+    for (auto& e : engines_) serialize_engine(ar, e);
+  }
 
   // --- inspection ------------------------------------------------------------------------------
   const DiscreteParams& discrete_params() const { return dp_; }

@@ -38,6 +38,14 @@ inline void load_state(Engine& e, const std::string& s) {
   is >> e;
 }
 
+/// An engine in a checkpoint (continuum::Archive): its state as text.
+template <class Ar>
+void serialize_engine(Ar& ar, Engine& e) {
+  std::string s = ar.loading() ? std::string() : save_state(e);
+  ar(s);
+  if (ar.loading()) load_state(e, s);
+}
+
 /// Uniform number in the open interval (0, 1) from 53 random bits.
 inline double uniform01(Engine& e) {
   return (static_cast<double>(e() >> 11) + 0.5) * (1.0 / 9007199254740992.0);

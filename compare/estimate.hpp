@@ -56,19 +56,31 @@ std::vector<std::string> describe(const Estimate& e);
 /// continuum::Bulk::stable_dt() (continuum/bulk.hpp), computed without building the grid.
 double explicit_stable_dt(const Scene& s);
 
-/// Calibrated costs, nanoseconds per site-step, on the reference machine (docs/robustness.md §3).
+/// Calibrated costs in nanoseconds on the reference machine (docs/robustness.md §3). "Active" site-steps
+/// are those of sites away from the stuck state (contacts detached or overloaded): a fraction of the
+/// site-steps that depends on the loading (active_fraction()).
 struct StepCosts {
-  double explicit_bulk;     ///< bulk + continuum law, explicit central differences
-  double implicit_bulk;     ///< bulk + continuum law, implicit trapezoidal
-  double adaptive_bulk;     ///< bulk + continuum law, one adaptive Rosenbrock step
-  double count_site;        ///< count representation on top of the bulk, w = 0 (noise on)
-  double count_bin;         ///< count representation: per threshold bin of a site-step (w > 0, or noise off)
-  double agent_site;        ///< agent representation: per site-step
-  double agent_contact;     ///< agent representation: per contact of a site-step
-  double naive_contact;     ///< naive agent loop: per contact of a site-step
-  double law_step;          ///< imposed slip rate: one exact law step of the continuum law, measurements included
-  double step;              ///< bulk scenes: per step, whatever the grid (measurements, records, lockstep)
+  double explicit_bulk;   ///< per site-step: bulk + continuum law, explicit central differences
+  double implicit_bulk;   ///< per site-step: bulk + continuum law, implicit trapezoidal
+  double adaptive_bulk;   ///< per site-step: bulk + continuum law, one adaptive Rosenbrock step
+  double count_idle;      ///< count representation, per site-step of a stuck site (noise on)
+  double count_active;    ///< count representation, per active site-step (binomial draws; noise on)
+  double count_bin;       ///< count representation, per threshold bin of an active site-step (noise on, w > 0)
+  double count_mean;      ///< count representation with noise off, per site-step (every site, every step)
+  double count_mean_bin;  ///< the same, per threshold bin
+  double agent_site;      ///< agent representation, per site-step
+  double agent_event;     ///< agent representation, per contact state change
+  double naive_contact;   ///< naive agent loop, per contact of a site-step
+  double law_step;        ///< imposed slip rate: one exact step of the continuum law with its measurements
+  double step;            ///< bulk scenes: per step, whatever the grid (measurements, records, lockstep)
 };
 const StepCosts& step_costs();
+
+/// The fraction of site-steps that are active (see StepCosts), by loading: edge 0.1 (the fronts creep
+/// from the loaded edge; fitted on fig1), homogeneous 0.6 (the front sweeps the system; fitted on
+/// homogeneous_front), one site (spring block, imposed slip rate) 1.
+double active_fraction(continuum::Loading loading);
+
+
 
 }  // namespace slipfront::compare

@@ -19,7 +19,7 @@ using continuum::format_number;
 using continuum::ParamError;
 
 constexpr double inf = std::numeric_limits<double>::infinity();
-constexpr double uniform_max_width = 0.57735026918962573;  // 1/√3 (largest double not above it)
+const double uniform_max_width = 1.0 / std::numbers::sqrt3;  // 1/√3, as the old check computed it
 constexpr double gaussian_max_width = 0.99;
 constexpr double weibull_max_width = 10.0;
 constexpr double moment_tolerance = 1e-9;  // |mean − 1| and |sd − w| / w after construction

@@ -26,11 +26,13 @@ CC=clang CXX=clang++ cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDeb
 cmake --build "$dir" -j "$jobs" --target fuzz_config
 
 mkdir -p "$dir/corpus" "$dir/seed" "$dir/findings"
-cp configs/*.toml configs/hard/*.toml tests/golden/*.toml "$dir/seed/"
+for f in configs/*.toml configs/hard/*.toml tests/golden/*.toml; do
+  cp "$f" "$dir/seed/$(echo "${f%.toml}" | tr / _).toml"  # (names collide across directories)
+done
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-halt_on_error=1:print_stacktrace=1}
 status=0
-"$dir/fuzz_config" -max_total_time="$seconds" -max_len=4096 -rss_limit_mb=2048 -timeout=10 \
+"$dir/fuzz/fuzz_config" -max_total_time="$seconds" -max_len=4096 -rss_limit_mb=2048 -timeout=10 \
   -dict=fuzz/config.dict -artifact_prefix="$dir/findings/" -print_final_stats=1 \
   "$dir/corpus" "$dir/seed" 2>"$dir/fuzz.log" || status=$?
 grep -E "^(#[0-9]+ +DONE|Done|stat::number_of_executed_units|stat::peak_rss_mb|fuzz_config:)" "$dir/fuzz.log" || true

@@ -467,12 +467,12 @@ std::string apply_override(toml::table& root, const std::string& arg, const std:
   } catch (const toml::parse_error& e) {
     parsed = false;
     const char c = text.front();
-    const bool digits = text.find_first_not_of("+-0123456789_") == std::string::npos;
-    if (digits && text.find_first_of("0123456789") != std::string::npos)
+    const std::string_view unsigned_part = std::string_view(text).substr(c == '+' || c == '-' ? 1 : 0);
+    if (unsigned_part.size() > 18 && unsigned_part.find_first_not_of("0123456789") == std::string_view::npos)
       throw ConfigError(source, "--set " + key,
                         "the integer " + text + " is out of range (TOML integers are 64-bit: -2^63 ... 2^63 - 1 = "
                         "9223372036854775807)");
-    if (c == '[' || c == '{' || c == '"' || c == '\'')
+    if (c == '[' || c == '{' || c == '"' || c == '\'')  // (a scene named 2024run stays a bare string)
       throw ConfigError(source, "--set " + key, "not a valid TOML value: " + std::string(e.description()));
   }
   toml::table* target = &root;

@@ -19,6 +19,7 @@
 #include "apps/config.hpp"
 #include "apps/h5out.hpp"
 #include "apps/study.hpp"
+#include "compare/estimate.hpp"
 #include "compare/runner.hpp"
 
 namespace slipfront::app {
@@ -132,6 +133,8 @@ std::string prepare_output_dir(const fs::path& dir, bool force) {
     if (!force) return "'" + file.string() + "' already exists (use --force to overwrite it)";
     if (fs::is_directory(file, ec)) return "'" + file.string() + "' is a directory";
   }
+  remove_stale_temporaries(dir, ".slipfront-probe.");
+  remove_stale_temporaries(dir, ".results.h5.tmp.");
   const fs::path probe = dir / (".slipfront-probe." + std::to_string(::getpid()));
   const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0644);
   if (fd < 0) return "the output directory '" + dir.string() + "' is not writable: " + std::strerror(errno);
@@ -235,6 +238,9 @@ int check_command(const fs::path& config, const std::vector<std::string>& overri
     const compare::Scene scene = load_scene(config, overrides, &notes);
     for (const auto& n : notes) err << "slipfront: note: " << n << "\n";
     out << to_toml(scene);
+    // The estimate as TOML comments (the output still parses back to the same scene).
+    out << "\n# estimate (compare::estimate; limits in [limits], basis in docs/robustness.md):\n";
+    for (const auto& line : compare::describe(compare::estimate(scene))) out << "#   " << line << "\n";
     return exit_code::ok;
   } catch (const ConfigError& e) {
     print_error(err, e.what());
@@ -253,8 +259,14 @@ int run_command(const RunOptions& opts, std::ostream& out, std::ostream& err) {
     print_error(err, e.what());
     return exit_code::usage;
   }
-  if (!opts.quiet)
+  if (!opts.quiet) {
     for (const auto& n : notes) err << "slipfront: note: " << n << "\n";
+    const compare::Estimate estimate = compare::estimate(scene);
+    for (const auto& n : estimate.notes) err << "slipfront: note: " << n << "\n";
+    if (estimate.seconds >= 10.0 || estimate.memory_bytes >= 1024.0 * 1024.0 * 1024.0)
+      for (const auto& line : compare::describe(estimate))
+        if (line.rfind("note: ", 0) != 0) err << "slipfront: estimate: " << line << "\n";
+  }
   const std::string resolved = to_toml(scene);
 
   // (b) the output directory, before any work
@@ -520,6 +532,17 @@ int main_cli(int argc, char** argv) {
     print_error(std::cerr, std::string(e.what()) + " (see slipfront --help)");
     return exit_code::usage;
   }
+  // An empty --out would silently mean the default directory: refuse it.
+  for (const auto& [sub, dir] : {std::pair{run, &run_opts.out}, std::pair{study, &study_opts.out}})
+    if (*sub && sub->count("--out") > 0 && dir->empty()) {
+      print_error(std::cerr, std::string(sub->get_name()) +
+                                 ": --out: the output directory is empty; give a directory, or omit --out for the "
+                                 "default out/<name>");
+      return exit_code::usage;
+    }
+  // A file-size limit (RLIMIT_FSIZE) then fails the write with EFBIG, reported like a full disk
+  // (exit code 1), instead of killing the program with SIGXFSZ.
+  std::signal(SIGXFSZ, SIG_IGN);
 
   if (*run) {
     for (int i = 0; i < argc; ++i) run_opts.command_line += (i ? " " : "") + shell_quote(argv[i]);

@@ -207,6 +207,14 @@ const std::vector<Section>& schema() {
             "when models lists discrete"},
            {"threads", at<&Scene::discrete, &D::threads>, discrete_listed, "when models lists discrete"},
        }},
+      {"limits",
+       {
+           {"max_steps", at<&Scene::limits, &compare::LimitParams::max_steps>, always, "always"},
+           {"max_memory_gib", at<&Scene::limits, &compare::LimitParams::max_memory_gib>, always, "always"},
+           {"max_hours", at<&Scene::limits, &compare::LimitParams::max_hours>, always, "always"},
+           {"min_nodes_per_elastic_length", at<&Scene::limits, &compare::LimitParams::min_nodes_per_elastic_length>,
+            one_d, "with drive.loading = edge or homogeneous"},
+       }},
   };
   return sections;
 }
@@ -450,6 +458,12 @@ std::string apply_override(toml::table& root, const std::string& arg, const std:
     throw ConfigError(source, "--set " + arg, "expected section.key=value (for example bulk.mu=200)");
   const std::string key = trim(std::string_view(arg).substr(0, eq));
   const std::string text = trim(std::string_view(arg).substr(eq + 1));
+  if (key.empty())
+    throw ConfigError(source, "--set '" + arg + "'",
+                      "the key before '=' is empty: expected section.key=value (for example bulk.mu=200)");
+  if (text.empty())
+    throw ConfigError(source, "--set " + key,
+                      "no value after '=': expected section.key=value (a string value: --set 'key=\"\"')");
   const auto dot = key.find('.');
   const std::string sec_name = dot == std::string::npos ? "" : key.substr(0, dot);
   const std::string field_key = dot == std::string::npos ? key : key.substr(dot + 1);
@@ -468,14 +482,23 @@ std::string apply_override(toml::table& root, const std::string& arg, const std:
     throw ConfigError(source, "--set " + key, unknown_key_reason(*sec, field_key));
   }
 
-  // The value: a TOML value if it parses as one, else the bare text as a string.
+  // The value: a TOML value if it parses as one, else the bare text as a string. Text that can only
+  // have been meant as a number, array, table or quoted string is refused with TOML's reason.
   toml::table value_doc;
   bool parsed = false;
   try {
     value_doc = toml::parse("value = " + text + "\n");
     parsed = value_doc.contains("value");
-  } catch (const toml::parse_error&) {
+  } catch (const toml::parse_error& e) {
     parsed = false;
+    const char c = text.front();
+    const std::string_view unsigned_part = std::string_view(text).substr(c == '+' || c == '-' ? 1 : 0);
+    if (unsigned_part.size() > 18 && unsigned_part.find_first_not_of("0123456789") == std::string_view::npos)
+      throw ConfigError(source, "--set " + key,
+                        "the integer " + text + " is out of range (TOML integers are 64-bit: -2^63 ... 2^63 - 1 = "
+                        "9223372036854775807)");
+    if (c == '[' || c == '{' || c == '"' || c == '\'')  // (a scene named 2024run stays a bare string)
+      throw ConfigError(source, "--set " + key, "not a valid TOML value: " + std::string(e.description()));
   }
   toml::table* target = &root;
   if (!sec_name.empty()) {
@@ -559,6 +582,8 @@ Scene scene_from_table(toml::table& root, const std::string& source, const std::
   if (s.name.empty()) throw ConfigError(source, shown("scene"), "must not be empty (it names the output directory)");
   if (s.name.front() == '/' || s.name.find("..") != std::string::npos)
     throw ConfigError(source, shown("scene"), "must be a relative name without '..' (it names out/<scene>)");
+  if (std::any_of(s.name.begin(), s.name.end(), [](char ch) { return static_cast<unsigned char>(ch) < 0x20 || ch == 0x7f; }))
+    throw ConfigError(source, shown("scene"), "must not contain control characters (it names the directory out/<scene>)");
   for (std::size_t i = 0; i < s.models.size(); ++i)
     for (std::size_t j = 0; j < i; ++j)
       if (s.models[i] == s.models[j]) throw ConfigError(source, shown("models"), "lists '" + s.models[i] + "' twice");
@@ -679,6 +704,20 @@ Scene load_scene(const std::filesystem::path& file, const std::vector<std::strin
   std::ostringstream text;
   text << in.rdbuf();
   return parse_scene(text.str(), source, overrides, notes);
+}
+
+std::vector<std::string> schema_keys() {
+  std::vector<std::string> out;
+  for (const auto& sec : schema())
+    for (const auto& f : sec.fields) out.push_back(dotted(sec, f));
+  return out;
+}
+
+bool uses_key(const Scene& scene, std::string_view key) {
+  for (const auto& sec : schema())
+    for (const auto& f : sec.fields)
+      if (dotted(sec, f) == key) return f.used(scene);
+  return false;
 }
 
 std::string to_toml(const Scene& scene) {

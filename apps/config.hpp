@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "compare/scene.hpp"
@@ -39,6 +40,12 @@ compare::Scene parse_scene(const std::string& toml_text, const std::string& sour
 /// included), in schema order. parse_scene(to_toml(s)) reproduces s exactly (doubles are written
 /// in shortest round-trip form) for every s returned by load_scene.
 std::string to_toml(const compare::Scene& scene);
+
+/// Every key of the schema, dotted ("bulk.rho"; top-level keys bare), in schema order.
+std::vector<std::string> schema_keys();
+
+/// Whether `scene` uses `key` (keys a scene does not use are accepted, noted and reset).
+bool uses_key(const compare::Scene& scene, std::string_view key);
 
 /// Field-by-field equality of two scenes (what the round trip guarantees).
 bool same_scene(const compare::Scene& a, const compare::Scene& b);

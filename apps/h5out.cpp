@@ -1,14 +1,19 @@
 #include "apps/h5out.hpp"
 
+#include <fcntl.h>
 #include <hdf5.h>
+#include <signal.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <CLI/Version.hpp>
 #include <algorithm>
 #include <boost/crc.hpp>
 #include <boost/version.hpp>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <ctime>
 #include <map>
 #include <toml++/toml.h>
@@ -351,11 +356,61 @@ void comparison_group(hid_t file, const compare::Comparison& c) {
   }
 }
 
+// ---------------------------------------------------------------------------------------------
+// The file is built in memory (HDF5's core driver, no backing store) and written out by us: HDF5
+// never writes to the disk, so a full disk or any write error is one failed write(2) that we report
+// (a failed H5Fclose on a real file would leave the library with an open file it cannot flush, which
+// crashed at exit), and the temporary file is created exclusively without following symbolic links.
+
+Hid create_in_memory(const std::filesystem::path& tmp) {
+  Hid fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "make a file access property list");
+  check(H5Pset_fapl_core(fapl.get(), 16 << 20, 0), "select the in-memory driver");
+  return Hid(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()), H5Fclose, "create " + tmp.string());
+}
+
+std::string errno_text(int e) { return std::strerror(e); }
+
+// Writes the whole image to `tmp`, created exclusively (O_EXCL | O_NOFOLLOW: a planted file or
+// symbolic link is never opened, let alone truncated), flushed to the disk before it is renamed.
+void write_image_file(const std::filesystem::path& tmp, const std::vector<char>& image) {
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+  if (fd < 0) throw OutputError("cannot create " + tmp.string() + ": " + errno_text(errno));
+  const char* p = image.data();
+  std::size_t left = image.size();
+  while (left > 0) {
+    const ssize_t n = ::write(fd, p, std::min<std::size_t>(left, std::size_t{1} << 30));
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      const int e = n < 0 ? errno : ENOSPC;
+      ::close(fd);
+      throw OutputError("cannot write " + tmp.string() + ": " + errno_text(e));
+    }
+    p += n;
+    left -= static_cast<std::size_t>(n);
+  }
+  if (::fsync(fd) != 0 && errno != EINVAL && errno != EROFS) {  // (EINVAL: a file system without fsync)
+    const int e = errno;
+    ::close(fd);
+    throw OutputError("cannot flush " + tmp.string() + " to the disk: " + errno_text(e));
+  }
+  if (::close(fd) != 0) throw OutputError("cannot close " + tmp.string() + ": " + errno_text(errno));
+}
+
+void save_image(Hid& file, const std::filesystem::path& tmp) {
+  check(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), "flush the file image of " + tmp.string());
+  const ssize_t size = H5Fget_file_image(file.get(), nullptr, 0);
+  if (size < 0) throw OutputError("HDF5: cannot get the file image of " + tmp.string());
+  std::vector<char> image(static_cast<std::size_t>(size));
+  if (H5Fget_file_image(file.get(), image.data(), image.size()) != size)
+    throw OutputError("HDF5: cannot copy the file image of " + tmp.string());
+  file.close("close the in-memory file " + tmp.string());
+  write_image_file(tmp, image);
+}
+
 void write_file(const std::filesystem::path& tmp, const compare::Scene& scene, const std::string& resolved_toml,
                 const std::vector<compare::ModelResult>& results, const RunMeta& meta,
                 const compare::Comparison* comparison) {
-  Hid file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose,
-           "create " + tmp.string());
+  Hid file = create_in_memory(tmp);
   std::string message = meta.message;
   if (message.empty())
     for (const auto& r : results)
@@ -373,14 +428,13 @@ void write_file(const std::filesystem::path& tmp, const compare::Scene& scene, c
   }
   for (const auto& r : results) model(file.get(), r);
   if (comparison && !comparison->empty()) comparison_group(file.get(), *comparison);
-  file.close("close " + tmp.string());
+  save_image(file, tmp);
 }
 
 void write_study_file(const std::filesystem::path& tmp, const compare::StudySpec& spec, const std::string& spec_toml,
                       const std::vector<compare::StudyRun>& runs, const compare::StudyReport& report,
                       const RunMeta& meta, const StudyExecution& exec) {
-  Hid file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose,
-           "create " + tmp.string());
+  Hid file = create_in_memory(tmp);
   write_meta(file.get(), meta, meta.status, meta.message, spec.name, "");
   Hid g = make_group(file.get(), "study", "/study");
   attr_string(g.get(), "name", spec.name);
@@ -443,12 +497,12 @@ void write_study_file(const std::filesystem::path& tmp, const compare::StudySpec
     attr_int(r.get(), "skipped", n_skipped);
     attr_int(r.get(), "computed", exec.computed);
   }
-  file.close("close " + tmp.string());
+  save_image(file, tmp);
 }
 
 void write_fronts_file(const std::filesystem::path& tmp, const compare::Scene& scene, const std::string& resolved_toml,
                        const compare::FrontsResult& fr, const RunMeta& meta) {
-  Hid file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose, "create " + tmp.string());
+  Hid file = create_in_memory(tmp);
   write_meta(file.get(), meta, meta.status, meta.message, scene.name, "continuum");
   {
     Hid g(H5Gopen2(file.get(), "meta", H5P_DEFAULT), H5Gclose, "open /meta");
@@ -509,24 +563,27 @@ void write_fronts_file(const std::filesystem::path& tmp, const compare::Scene& s
                 "spread: max relative deviation of a point from the line");
     for (const auto& [name, v] : fr.scaling_fits) dataset_1d(fits.get(), name, v, "scaling fit " + name, "/scaling/fits/" + name);
   }
-  file.close("close " + tmp.string());
+  save_image(file, tmp);
 }
 
-// Writes through a temporary file renamed onto `path` when complete.
+// Writes through a temporary file renamed onto `path` when complete. Temporary files of processes
+// that are gone are removed first; one with this process's own id can only be stale (or planted) and
+// is unlinked (unlink removes a symbolic link, never its target).
 template <class Write>
 void write_atomically(const std::filesystem::path& path, Write&& write) {
   const QuietHdf5 quiet;
   const std::filesystem::path tmp = temporary_path(path);
+  const std::filesystem::path dir = path.parent_path().empty() ? std::filesystem::path(".") : path.parent_path();
+  remove_stale_temporaries(dir, "." + path.filename().string() + ".tmp.");
+  ::unlink(tmp.c_str());
   try {
     write(tmp);
     std::filesystem::rename(tmp, path);
   } catch (const std::filesystem::filesystem_error& e) {
-    std::error_code ec;
-    std::filesystem::remove(tmp, ec);
+    ::unlink(tmp.c_str());
     throw OutputError("cannot move " + tmp.string() + " to " + path.string() + ": " + e.code().message());
   } catch (...) {
-    std::error_code ec;
-    std::filesystem::remove(tmp, ec);
+    ::unlink(tmp.c_str());
     throw;
   }
 }
@@ -548,6 +605,25 @@ std::string config_hash(const std::string& resolved_toml) {
   char buf[40];
   std::snprintf(buf, sizeof buf, "crc64-xz:%016llx", static_cast<unsigned long long>(crc.checksum()));
   return buf;
+}
+
+std::size_t remove_stale_temporaries(const std::filesystem::path& dir, const std::string& prefix) {
+  std::size_t removed = 0;
+  std::error_code ec;
+  for (std::filesystem::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name.size() <= prefix.size() || name.compare(0, prefix.size(), prefix) != 0) continue;
+    const std::string digits = name.substr(prefix.size());
+    if (digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos) continue;
+    const long pid = std::stol(digits);
+    if (pid <= 0 || pid == ::getpid()) continue;
+    if (::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;  // alive (or not ours to judge)
+    struct stat st {};
+    if (::lstat(it->path().c_str(), &st) != 0 || st.st_uid != ::geteuid()) continue;
+    if (!S_ISREG(st.st_mode) && !S_ISLNK(st.st_mode)) continue;
+    if (::unlink(it->path().c_str()) == 0) ++removed;
+  }
+  return removed;
 }
 
 std::filesystem::path temporary_path(const std::filesystem::path& path) {

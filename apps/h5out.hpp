@@ -31,9 +31,11 @@ struct OutputError : std::runtime_error {
 /// Worst of `floor` and every model's status: failed > interrupted > complete.
 std::string overall_status(const std::vector<compare::ModelResult>& results, const std::string& floor = "complete");
 
-/// Writes the results to `path` atomically: the file is written as ".<name>.tmp.<pid>" in the same
-/// directory and renamed onto `path` (replacing it) once complete. Throws OutputError (the temporary
-/// file is removed then).
+/// Writes the results to `path` atomically: the file is built in memory, written to ".<name>.tmp.<pid>"
+/// in the same directory (created exclusively, never through a symbolic link; stale temporaries of
+/// dead processes removed first), flushed and renamed onto `path` (replacing it) once complete.
+/// Throws OutputError with the reason (a full disk: "No space left on device"); the temporary file
+/// is removed then.
 /// `comparison` (may be null or empty): the /compare group of alongside runs.
 void write_results(const std::filesystem::path& path, const compare::Scene& scene, const std::string& resolved_toml,
                    const std::vector<compare::ModelResult>& results, const RunMeta& meta,
@@ -64,6 +66,11 @@ void write_fronts(const std::filesystem::path& path, const compare::Scene& scene
 
 /// The temporary name write_results uses for `path` in this process.
 std::filesystem::path temporary_path(const std::filesystem::path& path);
+
+/// Removes the files `dir/<prefix><pid>` of processes that no longer exist (kill(pid, 0) fails with
+/// ESRCH) and that belong to this user (regular files and symbolic links only): the temporary files
+/// of runs that were killed. Returns how many were removed.
+std::size_t remove_stale_temporaries(const std::filesystem::path& dir, const std::string& prefix);
 
 /// Versions of the libraries this program was built with ("hdf5 1.10.8", ...), for /meta and --version.
 struct LibraryVersions {

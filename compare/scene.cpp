@@ -2,8 +2,43 @@
 
 #include "continuum/bulk.hpp"
 #include "continuum/implicit.hpp"
+#include "compare/estimate.hpp"
 
 namespace slipfront::compare {
+
+namespace {
+using continuum::KeyDomain;
+using K = continuum::KeyKind;
+const KeyDomain limit_domains[] = {
+    {"limits.max_steps", K::number, 1.0, 1e15, false, false, false, "",
+     "(time steps of any model; step counts stay exact in doubles and int64)"},
+    {"limits.max_memory_gib", K::number, 0.0, 1e6, true},
+    {"limits.max_hours", K::number, 0.0, 1e6, true},
+    {"limits.min_nodes_per_elastic_length", K::number, 0.0, 1e6, false, false, false, "", "(0: no resolution check)"},
+};
+}  // namespace
+
+std::span<const KeyDomain> limit_key_domains() { return limit_domains; }
+
+std::vector<KeyDomain> all_key_domains() {
+  std::vector<KeyDomain> out;
+  for (const auto table : {continuum::key_domains(), discrete::key_domains(), limit_key_domains()})
+    out.insert(out.end(), table.begin(), table.end());
+  return out;
+}
+
+const KeyDomain* find_key_domain(std::string_view key) {
+  for (const auto table : {continuum::key_domains(), discrete::key_domains(), limit_key_domains()})
+    if (const KeyDomain* d = continuum::find_key_domain(table, key)) return d;
+  return nullptr;
+}
+
+void LimitParams::validate() const {
+  for (const auto& [key, value] : {std::pair{"limits.max_steps", max_steps}, {"limits.max_memory_gib", max_memory_gib},
+                                   {"limits.max_hours", max_hours},
+                                   {"limits.min_nodes_per_elastic_length", min_nodes_per_elastic_length}})
+    continuum::check_in_domain(*continuum::find_key_domain(limit_key_domains(), key), value);
+}
 
 void Scene::validate() const {
   using continuum::ParamError;
@@ -19,6 +54,7 @@ void Scene::validate() const {
   time.validate(drive.loading);
   measure.validate();
   output.validate();
+  limits.validate();
   for (const auto& m : models)
     if (m == "discrete") discrete.validate();
   if (drive.loading == continuum::Loading::imposed_rate && drive.sweep_points == 0 && drive.v_times.back() >= time.t_end)
@@ -44,11 +80,12 @@ void Scene::validate() const {
                                       ", the explicit or adaptive integrator, or time.implicit_resolution_check = false");
   }
   if (drive.loading != continuum::Loading::imposed_rate && time.dt > 0 && time.integrator != continuum::Integrator::implicit_trapezoidal) {
-    const continuum::Bulk b(bulk, drive, interface, grid.dx);
-    if (time.dt > b.stable_dt())
-      throw ParamError("time.dt", "exceeds the explicit stability limit " + continuum::format_number(b.stable_dt()) +
+    const double stable = explicit_stable_dt(*this);
+    if (time.dt > stable)
+      throw ParamError("time.dt", "exceeds the explicit stability limit " + continuum::format_number(stable) +
                                       " of this grid (use time.cfl <= 1, a smaller dt, or time.integrator = \"implicit\")");
   }
+  check_limits(*this, estimate(*this));
 }
 
 }  // namespace slipfront::compare

@@ -1,12 +1,36 @@
 #pragma once
 // A scene: everything one run needs, as plain structs (docs/model.md §4, §5). Filled from TOML by apps/.
+#include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "continuum/params.hpp"
 #include "discrete/params.hpp"
 
 namespace slipfront::compare {
+
+/// What a run may cost, config section [limits] (docs/cli.md; the estimate: compare/estimate.hpp,
+/// docs/robustness.md). A scene whose estimate exceeds a limit is refused before any work, with
+/// the key to raise named in the message.
+struct LimitParams {
+  double max_steps = 1e10;      ///< time steps of any model (sweeps: all points together)
+  double max_memory_gib = 16.0; ///< peak memory of the run, writing the results included
+  double max_hours = 24.0;      ///< run time
+  /// 1D scenes: nodes per elastic length sqrt(μ/α) (the process zone of the fronts); below it the
+  /// event times and front speeds are wrong by more than ~3% (docs/robustness.md §4). 0: no check.
+  double min_nodes_per_elastic_length = 2.0;
+  void validate() const;
+};
+
+/// The domains of the [limits] keys (continuum::KeyDomain).
+std::span<const continuum::KeyDomain> limit_key_domains();
+
+/// Every key domain of the schema: continuum::key_domains(), discrete::key_domains(),
+/// limit_key_domains(), in that order.
+std::vector<continuum::KeyDomain> all_key_domains();
+/// The row of a dotted key in all_key_domains() (nullptr if none).
+const continuum::KeyDomain* find_key_domain(std::string_view key);
 
 struct Scene {
   std::string name;         ///< scene name (default output directory out/<name>)
@@ -20,7 +44,10 @@ struct Scene {
   continuum::MeasureParams measure;
   continuum::OutputParams output;
   discrete::DiscreteParams discrete;
-  /// Validate everything (throws continuum::ParamError naming the key).
+  LimitParams limits;
+  /// Validate everything (throws continuum::ParamError naming the key): every value in its domain,
+  /// the rules between keys, then the cost estimate against the limits and the grid's resolution
+  /// (compare::estimate, compare::check_limits).
   void validate() const;
 };
 

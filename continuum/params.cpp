@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
 
 namespace slipfront::continuum {
 
@@ -16,20 +17,147 @@ void require(bool ok, const char* key, const std::string& reason) {
   if (!ok) throw ParamError(key, reason);
 }
 bool finite(double x) { return std::isfinite(x); }
+
+constexpr double cap = parameter_cap;
+constexpr double int_max = 2147483647.0;
+
+using K = KeyKind;
+// One row per key of the continuum and scene part of the schema (apps/config.cpp), in schema order.
+const KeyDomain continuum_domains[] = {
+    {"scene", K::text, 0, 0, false, false, false, "", "(names the output directory out/<scene>)"},
+    {"description", K::text},
+    {"models", K::text_list, 0, 0, false, false, false, "continuum|discrete"},
+    {"interface.alpha", K::number, 1.0, cap, false, false, false, "", "(the sliding branch is not self-consistent below 1)"},
+    {"interface.kappa", K::number, 0.0, cap},
+    {"interface.eta", K::number, 0.0, cap},
+    {"bulk.rho", K::number, 0.0, cap, true},
+    {"bulk.mu", K::number, 0.0, cap, true},
+    {"bulk.length", K::number, 0.0, cap, true},
+    {"drive.loading", K::choice, 0, 0, false, false, false, "edge|homogeneous|imposed_rate|spring_block"},
+    {"drive.K", K::number, 0.0, cap, true},
+    {"drive.v_d", K::number, 0.0, cap},
+    {"drive.sigma_d", K::number, 0.0, cap, true},
+    {"drive.nucleation_length", K::number, 0.0, cap},
+    {"drive.start", K::choice, 0, 0, false, false, false, "nucleation|steady_front"},
+    {"drive.front_x", K::number, 0.0, cap, true, false, false, "", "(the tip at t = 0)"},
+    {"drive.kick_dv", K::number, -cap, cap},
+    {"drive.kick_length", K::number, 0.0, cap, true},
+    {"drive.v", K::number_list, -cap, cap},
+    {"drive.switch_times", K::number_list, 0.0, cap},
+    {"drive.v_min", K::number, 0.0, cap, true},
+    {"drive.v_max", K::number, 0.0, cap, true},
+    {"drive.points", K::integer, 2.0, 1e6, false, false, false, "", "(points of a sweep)"},
+    {"grid.dx", K::number, 0.0, cap, true},
+    {"time.t_end", K::number, 0.0, cap, true},
+    {"time.dt", K::number, 0.0, cap, false, false, false, "", "(0: use time.cfl)"},
+    {"time.cfl", K::number, 0.0, 1.0, true, false, false, "", "(fraction of the explicit stability limit)"},
+    {"time.slip_end", K::number, 0.0, cap},
+    {"time.steps", K::integer, 1.0, 1e9, false, false, false, "", "(steps per sweep point or history)"},
+    {"time.integrator", K::choice, 0, 0, false, false, false, "explicit|implicit|adaptive"},
+    {"time.implicit_tolerance", K::number, 0.0, cap, false, false, false, "", "(0: no error control)"},
+    {"time.implicit_max_halvings", K::integer, 0.0, 30.0},
+    {"time.implicit_resolution_check", K::boolean},
+    {"time.rtol", K::number, 0.0, 1.0, true, true},
+    {"time.atol", K::number, 0.0, cap, true},
+    {"time.dt_max", K::number, 0.0, cap, true},
+    {"measure.A_tip", K::number, 0.0, 1.0, true, true},
+    {"measure.A_tip_alt", K::number, 0.0, 1.0, true, true},
+    {"measure.v_event", K::number, 0.0, cap, true},
+    {"measure.sample_dt", K::number, 0.0, cap, true},
+    {"measure.average_from", K::number, 0.0, 1.0, false, true},
+    {"measure.batches", K::integer, 2.0, 1e6},
+    {"measure.arrest_fraction", K::number, 0.0, 1.0, true, true},
+    {"measure.behind_tip_fraction", K::number, 0.0, 1.0, true, false},
+    {"measure.behind_near", K::number, 0.0, cap},
+    {"measure.behind_far", K::number, 0.0, cap, true},
+    {"output.series_dt", K::number, 0.0, cap, false, false, false, "", "(0: every step)"},
+    {"output.snapshot_dt", K::number, 0.0, cap, false, false, false, "", "(0: none)"},
+    {"output.energy", K::boolean},
+    {"output.compare_dt", K::number, 0.0, cap, false, false, false, "", "(0: no field comparison)"},
+};
+
+std::string lower_bound_text(const KeyDomain& d) {
+  return std::string(d.lo_open ? "> " : ">= ") + format_number(d.lo);
+}
+bool natural_interval(const KeyDomain& d) { return d.hi < cap && d.lo > -cap; }
+std::string interval_text(const KeyDomain& d) {
+  return std::string("in ") + (d.lo_open ? "(" : "[") + format_number(d.lo) + ", " + format_number(d.hi) +
+         (d.hi_open ? ")" : "]");
+}
+std::string with_why(const KeyDomain& d, std::string text) {
+  if (d.why[0] != '\0') text += std::string(" ") + d.why;
+  return text;
+}
 }  // namespace
 
+bool KeyDomain::contains(double x) const {
+  if (kind != KeyKind::number && kind != KeyKind::integer && kind != KeyKind::number_list) return true;
+  if (std::isnan(x)) return false;
+  if (zero_ok && x == 0.0) return true;
+  if (!finite(x)) return false;
+  if (kind == KeyKind::integer && x != std::trunc(x)) return false;
+  const bool above_lo = lo_open ? x > lo : x >= lo;
+  const bool below_hi = hi_open ? x < hi : x <= hi;
+  return above_lo && below_hi;
+}
+
+std::string KeyDomain::describe() const {
+  switch (kind) {
+    case KeyKind::boolean: return "true or false";
+    case KeyKind::text: return "a string";
+    case KeyKind::choice:
+    case KeyKind::text_list: {
+      std::string out = kind == KeyKind::choice ? "one of " : "a list of ";
+      for (const char* c = choices; *c; ++c) out += *c == '|' ? std::string(", ") : std::string(1, *c);
+      return out;
+    }
+    default: break;
+  }
+  std::string text = natural_interval(*this) ? interval_text(*this) : lower_bound_text(*this) + " and <= " + format_number(hi);
+  if (zero_ok) text = "0 or " + text;
+  return text;
+}
+
+std::span<const KeyDomain> key_domains() { return continuum_domains; }
+
+const KeyDomain* find_key_domain(std::span<const KeyDomain> table, std::string_view key) {
+  for (const auto& d : table)
+    if (key == d.key) return &d;
+  return nullptr;
+}
+
+void check_in_domain(const KeyDomain& d, double value) {
+  if (d.contains(value)) return;
+  std::string reason;
+  if (d.kind == KeyKind::integer && finite(value) && value != std::trunc(value)) {
+    reason = "must be a whole number";
+  } else if (!natural_interval(d) && value > d.hi) {  // +inf too
+    reason = "must be <= " + format_number(d.hi);
+    if (d.hi == cap) reason += " (larger values are outside the scaling of the dimensionless model)";
+  } else {
+    reason = with_why(d, "must be " + std::string(d.zero_ok ? "0 or " : "") +
+                             (natural_interval(d) ? interval_text(d) : lower_bound_text(d)));
+  }
+  throw ParamError(d.key, reason + ", got " + format_number(value));
+}
+
+void check_in_domain(const char* key, double value) {
+  const KeyDomain* d = find_key_domain(key_domains(), key);
+  if (!d) throw std::logic_error(std::string("check_in_domain: no domain row for ") + key);
+  check_in_domain(*d, value);
+}
+
 void InterfaceParams::validate() const {
-  require(finite(alpha) && alpha >= 1.0, "interface.alpha",
-          "must be >= 1 (the sliding branch is not self-consistent below 1), got " + format_number(alpha));
-  require(finite(kappa) && kappa >= 0.0, "interface.kappa", "must be >= 0, got " + format_number(kappa));
-  require(finite(eta) && eta >= 0.0, "interface.eta", "must be >= 0, got " + format_number(eta));
+  check_in_domain("interface.alpha", alpha);
+  check_in_domain("interface.kappa", kappa);
+  check_in_domain("interface.eta", eta);
 }
 
 void BulkParams::validate(bool one_dimensional) const {
-  require(finite(rho) && rho > 0.0, "bulk.rho", "must be > 0, got " + format_number(rho));
+  check_in_domain("bulk.rho", rho);
   if (one_dimensional) {
-    require(finite(mu) && mu > 0.0, "bulk.mu", "must be > 0, got " + format_number(mu));
-    require(finite(length) && length > 0.0, "bulk.length", "must be > 0, got " + format_number(length));
+    check_in_domain("bulk.mu", mu);
+    check_in_domain("bulk.length", length);
   }
 }
 
@@ -74,33 +202,34 @@ void DriveParams::validate() const {
   switch (loading) {
     case Loading::edge:
     case Loading::spring_block:
-      require(finite(K) && K > 0.0, "drive.K", "must be > 0, got " + format_number(K));
-      require(finite(v_d) && v_d >= 0.0, "drive.v_d", "must be >= 0, got " + format_number(v_d));
+      check_in_domain("drive.K", K);
+      check_in_domain("drive.v_d", v_d);
       break;
     case Loading::homogeneous:
-      require(finite(sigma_d) && sigma_d > 0.0, "drive.sigma_d", "must be > 0, got " + format_number(sigma_d));
-      require(finite(nucleation_length) && nucleation_length >= 0.0, "drive.nucleation_length",
-              "must be >= 0, got " + format_number(nucleation_length));
+      check_in_domain("drive.sigma_d", sigma_d);
+      check_in_domain("drive.nucleation_length", nucleation_length);
       require(start == "nucleation" || start == "steady_front", "drive.start",
               "unknown start '" + start + "' (expected nucleation or steady_front)");
-      require(finite(front_x) && front_x > 0.0, "drive.front_x", "must be > 0, got " + format_number(front_x));
-      require(finite(kick_dv), "drive.kick_dv", "must be finite, got " + format_number(kick_dv));
-      require(finite(kick_length) && kick_length > 0.0, "drive.kick_length", "must be > 0, got " + format_number(kick_length));
+      check_in_domain("drive.front_x", front_x);
+      check_in_domain("drive.kick_dv", kick_dv);
+      check_in_domain("drive.kick_length", kick_length);
       break;
     case Loading::imposed_rate:
       if (sweep_points > 0) {
-        require(finite(v_min) && v_min > 0.0, "drive.v_min", "must be > 0");
-        require(finite(v_max) && v_max > v_min, "drive.v_max", "must be > drive.v_min");
-        require(sweep_points >= 2, "drive.points", "a sweep needs at least 2 points");
+        check_in_domain("drive.v_min", v_min);
+        check_in_domain("drive.v_max", v_max);
+        require(v_max > v_min, "drive.v_max", "must be > drive.v_min (" + format_number(v_min) + "), got " + format_number(v_max));
+        check_in_domain("drive.points", sweep_points);
       } else {
         require(!v.empty(), "drive.v", "needs at least one slip rate");
         require(v.size() == v_times.size(), "drive.switch_times",
                 "must have as many entries as drive.v (" + std::to_string(v.size()) + ")");
-        require(v_times.front() == 0.0, "drive.switch_times", "the first switch time must be 0");
         for (std::size_t k = 0; k < v.size(); ++k) {
-          require(finite(v[k]), "drive.v", "must be finite");
+          check_in_domain("drive.v", v[k]);
+          check_in_domain("drive.switch_times", v_times[k]);
           if (k > 0) require(v_times[k] > v_times[k - 1], "drive.switch_times", "must be increasing");
         }
+        require(v_times.front() == 0.0, "drive.switch_times", "the first switch time must be 0");
       }
       break;
   }
@@ -108,7 +237,7 @@ void DriveParams::validate() const {
 
 void GridParams::validate(const BulkParams& bulk, bool one_dimensional) const {
   if (!one_dimensional) return;
-  require(finite(dx) && dx > 0.0, "grid.dx", "must be > 0, got " + format_number(dx));
+  check_in_domain("grid.dx", dx);
   require(bulk.length >= dx, "bulk.length",
           "must be >= grid.dx (" + format_number(dx) + "), got " + format_number(bulk.length));
   const double n = bulk.length / dx;
@@ -119,11 +248,9 @@ void GridParams::validate(const BulkParams& bulk, bool one_dimensional) const {
 }
 
 void TimeParams::validate(Loading l) const {
-  require(finite(t_end) && t_end > 0.0, "time.t_end", "must be > 0, got " + format_number(t_end));
-  require(finite(dt) && dt >= 0.0, "time.dt", "must be >= 0 (0: use time.cfl), got " + format_number(dt));
-  if (dt == 0.0 && l != Loading::imposed_rate)
-    require(finite(cfl) && cfl > 0.0 && cfl <= 1.0, "time.cfl",
-            "must be in (0, 1] (fraction of the explicit stability limit), got " + format_number(cfl));
+  check_in_domain("time.t_end", t_end);
+  check_in_domain("time.dt", dt);
+  if (dt == 0.0 && l != Loading::imposed_rate) check_in_domain("time.cfl", cfl);
   if (integrator == Integrator::implicit_trapezoidal) {
     require(l == Loading::edge || l == Loading::homogeneous || l == Loading::spring_block, "time.integrator",
             "the implicit integrator is for bulk scenes (edge, homogeneous, spring_block)");
@@ -132,41 +259,40 @@ void TimeParams::validate(Loading l) const {
             "e.g. 0.02 for fig1; docs/numerics.md)");
   }
   if (integrator == Integrator::implicit_trapezoidal) {
-    require(finite(implicit_tolerance) && implicit_tolerance >= 0.0, "time.implicit_tolerance",
-            "must be >= 0 (0: no error control), got " + format_number(implicit_tolerance));
-    require(implicit_max_halvings >= 0 && implicit_max_halvings <= 30, "time.implicit_max_halvings",
-            "must be in [0, 30], got " + std::to_string(implicit_max_halvings));
+    check_in_domain("time.implicit_tolerance", implicit_tolerance);
+    check_in_domain("time.implicit_max_halvings", implicit_max_halvings);
   }
   if (integrator == Integrator::adaptive_rosenbrock) {
     require(l == Loading::edge || l == Loading::homogeneous || l == Loading::spring_block, "time.integrator",
             "the adaptive integrator is for bulk scenes (edge, homogeneous, spring_block)");
-    require(finite(rtol) && rtol > 0.0 && rtol < 1.0, "time.rtol", "must be in (0, 1), got " + format_number(rtol));
-    require(finite(atol) && atol > 0.0, "time.atol", "must be > 0, got " + format_number(atol));
-    require(finite(dt_max) && dt_max > 0.0, "time.dt_max", "must be > 0, got " + format_number(dt_max));
+    check_in_domain("time.rtol", rtol);
+    check_in_domain("time.atol", atol);
+    check_in_domain("time.dt_max", dt_max);
   }
   if (l == Loading::imposed_rate) {
-    require(finite(slip_end) && slip_end >= 0.0, "time.slip_end", "must be >= 0");
-    require(steps >= 1, "time.steps", "must be >= 1");
+    check_in_domain("time.slip_end", slip_end);
+    check_in_domain("time.steps", steps);
   }
 }
 
 void MeasureParams::validate() const {
-  require(A_tip > 0.0 && A_tip < 1.0, "measure.A_tip", "must be in (0, 1)");
-  require(A_tip_alt > 0.0 && A_tip_alt < 1.0, "measure.A_tip_alt", "must be in (0, 1)");
-  require(finite(v_event) && v_event > 0.0, "measure.v_event", "must be > 0");
-  require(finite(sample_dt) && sample_dt > 0.0, "measure.sample_dt", "must be > 0");
-  require(average_from >= 0.0 && average_from < 1.0, "measure.average_from", "must be in [0, 1)");
-  require(batches >= 2, "measure.batches", "must be >= 2");
-  require(arrest_fraction > 0.0 && arrest_fraction < 1.0, "measure.arrest_fraction", "must be in (0, 1)");
-  require(behind_tip_fraction > 0.0 && behind_tip_fraction <= 1.0, "measure.behind_tip_fraction", "must be in (0, 1]");
-  require(finite(behind_near) && behind_near >= 0.0, "measure.behind_near", "must be >= 0");
-  require(finite(behind_far) && behind_far > behind_near, "measure.behind_far", "must be > measure.behind_near");
+  check_in_domain("measure.A_tip", A_tip);
+  check_in_domain("measure.A_tip_alt", A_tip_alt);
+  check_in_domain("measure.v_event", v_event);
+  check_in_domain("measure.sample_dt", sample_dt);
+  check_in_domain("measure.average_from", average_from);
+  check_in_domain("measure.batches", batches);
+  check_in_domain("measure.arrest_fraction", arrest_fraction);
+  check_in_domain("measure.behind_tip_fraction", behind_tip_fraction);
+  check_in_domain("measure.behind_near", behind_near);
+  check_in_domain("measure.behind_far", behind_far);
+  require(behind_far > behind_near, "measure.behind_far", "must be > measure.behind_near (" + format_number(behind_near) + ")");
 }
 
 void OutputParams::validate() const {
-  require(finite(series_dt) && series_dt >= 0.0, "output.series_dt", "must be >= 0");
-  require(finite(snapshot_dt) && snapshot_dt >= 0.0, "output.snapshot_dt", "must be >= 0");
-  require(finite(compare_dt) && compare_dt >= 0.0, "output.compare_dt", "must be >= 0 (0: no field comparison)");
+  check_in_domain("output.series_dt", series_dt);
+  check_in_domain("output.snapshot_dt", snapshot_dt);
+  check_in_domain("output.compare_dt", compare_dt);
 }
 
 }  // namespace slipfront::continuum

@@ -2,8 +2,10 @@
 // Plain parameter structs of the continuum model (docs/model.md §1, §4).
 // Each has validate(): it throws ParamError naming the config key and the reason.
 // Filling them from TOML is the job of apps/config; nothing here knows about files.
+#include <span>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace slipfront::continuum {
@@ -19,6 +21,48 @@ struct ParamError : std::runtime_error {
   ParamError(std::string k, std::string r)
       : std::runtime_error(k + ": " + r), key(std::move(k)), reason(std::move(r)) {}
 };
+
+// ---------------------------------------------------------------------------------------------
+// Key domains: the accepted values of every configuration key, one row per key. This table (with
+// discrete::key_domains() and compare::limit_key_domains()) is the single source of truth: the
+// validate() functions check values against it, docs/cli.md mirrors it, and the hostile-input test
+// (tests/test_hostile.cpp) iterates it and fails for a schema key without a row. Rules between keys
+// (L ≥ dx, switch times increasing, the width of each threshold law, ...) stay in validate().
+
+enum class KeyKind {
+  number,       ///< a finite double in [lo, hi] (open ends where lo_open / hi_open)
+  integer,      ///< a whole number in [lo, hi]
+  boolean,      ///< true or false
+  choice,       ///< one of `choices` ("a|b|c")
+  text,         ///< any string (rules, if any, in validate())
+  number_list,  ///< an array of numbers, each in [lo, hi]
+  text_list,    ///< an array of strings, each one of `choices`
+};
+
+struct KeyDomain {
+  const char* key;             ///< dotted key: "bulk.rho" (top-level keys: "models")
+  KeyKind kind;
+  double lo = 0.0, hi = 0.0;   ///< numbers, integers, list elements
+  bool lo_open = false, hi_open = false;
+  bool zero_ok = false;        ///< 0 is accepted too, outside [lo, hi] (a switch: "0: none")
+  const char* choices = "";    ///< choice, text_list: "a|b|c"
+  const char* why = "";        ///< the basis of the bounds, appended to messages: "(0: use time.cfl)"
+  bool contains(double x) const;                 ///< x in the domain (numbers, integers, list elements)
+  std::string describe() const;                  ///< "in (0, 1]", ">= 0", "0 or in [1e-12, 1e+12]", "one of a, b"
+};
+
+/// Upper bound of the physical parameters of the dimensionless model (the paper's are O(1)–O(10^2)):
+/// products of a few of them stay far from overflow, and larger values are outside its scaling.
+inline constexpr double parameter_cap = 1e12;
+
+/// The continuum and scene keys (everything but [discrete] and [limits]).
+std::span<const KeyDomain> key_domains();
+/// The row of `key` in `table` (nullptr if absent).
+const KeyDomain* find_key_domain(std::span<const KeyDomain> table, std::string_view key);
+/// Throws ParamError(d.key, "must be ..., got <value>") unless d.contains(value).
+void check_in_domain(const KeyDomain& d, double value);
+/// The same for a key of key_domains().
+void check_in_domain(const char* key, double value);
 
 /// Interface law parameters: docs/model.md §1 friction law.
 struct InterfaceParams {

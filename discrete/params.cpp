@@ -1,32 +1,66 @@
 #include "discrete/params.hpp"
 
 #include <cmath>
+#include <cstdint>
 
-#include "continuum/params.hpp"
+#include "discrete/thresholds.hpp"
 
 namespace slipfront::discrete {
 
+namespace {
+using continuum::KeyDomain;
+using K = continuum::KeyKind;
+const KeyDomain discrete_domains[] = {
+    {"discrete.contacts_per_site", K::integer, 1.0, 1e15, false, false, false, "",
+     "(counts are whole numbers held in doubles: exact up to 2^53)"},
+    {"discrete.threshold", K::choice, 0, 0, false, false, false, "delta|uniform|gaussian|weibull"},
+    {"discrete.width", K::number, 0.0, 10.0, false, false, false, "",
+     "(the limit of each law: delta 0, uniform 1/sqrt(3), gaussian 0.99, weibull 10)"},
+    {"discrete.renewal", K::choice, 0, 0, false, false, false, "fresh|quenched"},
+    {"discrete.representation", K::choice, 0, 0, false, false, false, "count|agent|naive"},
+    {"discrete.noise", K::boolean},
+    {"discrete.seed", K::integer, 0.0, 9223372036854775807.0, false, false, false, "", "(0 ... 2^63 - 1)"},
+    {"discrete.bins", K::integer, 1.0, 1e6, false, false, false, "",
+     "(quantile bins of the threshold law; memory and time grow with them: see limits)"},
+    {"discrete.contact_statistics", K::boolean},
+    {"discrete.threads", K::integer, 1.0, static_cast<double>(max_threads), false, false, false, "",
+     "(threads over sites, in chunks of 64 sites)"},
+};
+
+bool one_of(const std::string& value, const char* choices) {
+  std::string_view c(choices);
+  for (std::size_t start = 0;;) {
+    const auto bar = c.find('|', start);
+    if (c.substr(start, bar == std::string_view::npos ? bar : bar - start) == value) return true;
+    if (bar == std::string_view::npos) return false;
+    start = bar + 1;
+  }
+}
+}  // namespace
+
+std::span<const KeyDomain> key_domains() { return discrete_domains; }
+
 void DiscreteParams::validate() const {
   using continuum::ParamError;
-  if (contacts_per_site < 1)
-    throw ParamError("discrete.contacts_per_site", "must be >= 1, got " + std::to_string(contacts_per_site));
-  if (threshold != "delta" && threshold != "uniform" && threshold != "gaussian" && threshold != "weibull")
+  auto domain = [](const char* key) { return *continuum::find_key_domain(key_domains(), key); };
+  continuum::check_in_domain(domain("discrete.contacts_per_site"), static_cast<double>(contacts_per_site));
+  if (!one_of(threshold, domain("discrete.threshold").choices))
     throw ParamError("discrete.threshold",
                      "unknown distribution '" + threshold + "' (expected delta, uniform, gaussian or weibull)");
-  if (!std::isfinite(width) || width < 0.0)
-    throw ParamError("discrete.width", "must be >= 0, got " + std::to_string(width));
-  if (threshold == "uniform" && width > 1.0 / std::sqrt(3.0))
-    throw ParamError("discrete.width", "a uniform distribution with mean 1 and positive support needs w <= 1/sqrt(3)");
-  if (renewal != "fresh" && renewal != "quenched")
-    throw ParamError("discrete.renewal", "unknown renewal '" + renewal + "' (expected fresh or quenched)");
-  if (representation != "count" && representation != "agent" &&
-      representation != "naive")
-    throw ParamError("discrete.representation",
-                     "unknown representation '" + representation + "' (expected count, agent or naive)");
-  if (bins < 1) throw ParamError("discrete.bins", "must be >= 1");
-  if (threads < 1) throw ParamError("discrete.threads", "must be >= 1");
+  continuum::check_in_domain(domain("discrete.width"), width);
   if (threshold == "delta" && width != 0.0)
     throw ParamError("discrete.width", "a delta distribution has width 0 (choose uniform, gaussian or weibull)");
+  // the law itself: its domain, the convergence of its construction, its mean and sd (throws with the reason)
+  if (threshold != "delta" && width > 0.0) (void)ThresholdDistribution(threshold, width);
+  if (!one_of(renewal, domain("discrete.renewal").choices))
+    throw ParamError("discrete.renewal", "unknown renewal '" + renewal + "' (expected fresh or quenched)");
+  if (!one_of(representation, domain("discrete.representation").choices))
+    throw ParamError("discrete.representation",
+                     "unknown representation '" + representation + "' (expected count, agent or naive)");
+  if (seed > static_cast<std::uint64_t>(INT64_MAX))  // (as a double 2^63 - 1 and 2^63 are the same number)
+    throw ParamError("discrete.seed", "must be <= 2^63 - 1 = 9223372036854775807 (a TOML integer), got " + std::to_string(seed));
+  continuum::check_in_domain(domain("discrete.bins"), bins);
+  continuum::check_in_domain(domain("discrete.threads"), threads);
 }
 
 }  // namespace slipfront::discrete

@@ -1,7 +1,10 @@
 #pragma once
 // Parameters of the microcontact ensemble (docs/model.md §2), config section [discrete].
 #include <cstdint>
+#include <span>
 #include <string>
+
+#include "continuum/params.hpp"
 
 namespace slipfront::discrete {
 
@@ -18,5 +21,14 @@ struct DiscreteParams {
   int threads = 1;                       ///< threads over sites (results do not depend on it)
   void validate() const;                 ///< throws continuum::ParamError("discrete.<key>", reason)
 };
+
+/// The domains of the [discrete] keys (see continuum::KeyDomain): validate() checks them, the
+/// hostile-input test iterates them. discrete.width's row is the widest law's; each law's own limit
+/// is max_width(threshold) (discrete/thresholds.hpp).
+std::span<const continuum::KeyDomain> key_domains();
+
+/// Largest accepted discrete.threads: more threads than this only adds overhead (sites are shared in
+/// chunks of 64, so 1024 threads need 65536 sites to be busy) and each costs a stack.
+inline constexpr int max_threads = 1024;
 
 }  // namespace slipfront::discrete

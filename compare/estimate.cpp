@@ -1,0 +1,420 @@
+#include "compare/estimate.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <thread>
+
+#include "compare/runner.hpp"
+#include "continuum/friction_law.hpp"
+#include "discrete/streams.hpp"
+
+namespace slipfront::compare {
+namespace {
+
+using continuum::format_number;
+using continuum::Integrator;
+using continuum::Loading;
+using continuum::ParamError;
+
+constexpr double KiB = 1024.0, MiB = KiB * KiB, GiB = MiB * KiB;
+constexpr double word = 8.0;                   // a double
+constexpr double growth = 2.0;                 // a vector grown by push_back holds up to twice its size
+constexpr double base_bytes = 32.0 * MiB;      // the program, its libraries and HDF5 (measured: 31.5 MiB for a 0D sweep)
+constexpr double engine_bytes = static_cast<double>(sizeof(discrete::Engine));  // one stream per site: 2.5 kB
+constexpr double thread_bytes = 256.0 * KiB;   // resident part of a worker thread (stack pages touched, TLS)
+constexpr double contact_stats_raw_bytes = 4.0 * 100000.0 * word;  // ContactStats::raw_cap values, 4 arrays
+constexpr double contact_hist_bins = 122.0 + 101.0;  // age (log time edges) + threshold histogram bins
+
+// Records taken at the first step at or after each multiple of `every` (0: every step): how many.
+double samples(double t_end, double every, double steps) {
+  if (every <= 0.0) return steps + 1.0;
+  return std::min(steps + 1.0, std::floor(t_end / every + 1e-9) + 1.0);
+}
+
+bool lists(const Scene& s, const char* model) { return std::find(s.models.begin(), s.models.end(), model) != s.models.end(); }
+
+std::string gib(double bytes) {
+  char buf[48];
+  if (bytes >= GiB) std::snprintf(buf, sizeof buf, "%.3g GiB", bytes / GiB);
+  else if (bytes >= MiB) std::snprintf(buf, sizeof buf, "%.3g MiB", bytes / MiB);
+  else std::snprintf(buf, sizeof buf, "%.3g KiB", bytes / KiB);
+  return buf;
+}
+
+std::string duration(double seconds) {
+  char buf[48];
+  if (seconds < 120.0) std::snprintf(buf, sizeof buf, "%.2g s", seconds);
+  else if (seconds < 7200.0) std::snprintf(buf, sizeof buf, "%.3g min", seconds / 60.0);
+  else std::snprintf(buf, sizeof buf, "%.3g h", seconds / 3600.0);
+  return buf;
+}
+
+std::string count(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, x < 1e6 ? "%.0f" : "%.3g", x);
+  return buf;
+}
+
+// Bins of the count representation and of the agent representation's threshold index.
+double count_bins(const discrete::DiscreteParams& d) {
+  const bool degenerate = d.threshold == "delta" || d.width == 0.0;
+  return degenerate ? 1.0 : static_cast<double>(d.bins);
+}
+double agent_bins(const discrete::DiscreteParams& d) {
+  const bool degenerate = d.threshold == "delta" || d.width == 0.0;
+  if (degenerate) return 1.0;
+  const double n = static_cast<double>(d.contacts_per_site);
+  return std::clamp(4.0 * std::ceil(std::sqrt(n)), 1.0, std::min(n, 4096.0));
+}
+
+// Contact state changes per contact and unit of time in steady sliding at slip rate v: detachments
+// at κ|v| A_ss = κ|v|/(1 + κ|v|), each followed by an attachment.
+double event_rate(const continuum::InterfaceParams& ip, double v) {
+  const double kv = ip.kappa * std::abs(v);
+  return 2.0 * kv / (1.0 + kv);
+}
+
+// Contact state changes per contact over the whole run (agent representation): exact steady rates for
+// an imposed slip rate; for a bulk scene the rate at the drive's slip-rate scale (edge, spring block:
+// v_d; homogeneous: the steady slip rate on the strengthening branch at σ_d) times the active fraction.
+double events_per_contact(const Scene& s) {
+  const auto& ip = s.interface;
+  if (s.drive.loading == Loading::imposed_rate) {
+    double n = 0.0;
+    if (s.drive.sweep_points > 0) {
+      for (const double v : sweep_rates(s.drive)) n += (s.time.t_end + s.time.slip_end / std::abs(v)) * event_rate(ip, v);
+    } else {
+      for (std::size_t k = 0; k < s.drive.v.size(); ++k) {
+        const double end = k + 1 < s.drive.v.size() ? std::min(s.drive.v_times[k + 1], s.time.t_end) : s.time.t_end;
+        if (end > s.drive.v_times[k]) n += (end - s.drive.v_times[k]) * event_rate(ip, s.drive.v[k]);
+      }
+    }
+    return n;
+  }
+  double v = s.drive.v_d;
+  if (s.drive.loading == Loading::homogeneous) {
+    v = continuum::strengthening_branch_velocity(ip, s.drive.sigma_d);
+    if (!std::isfinite(v)) v = 1.0 / std::max(ip.kappa, 1e-12);
+  }
+  return s.time.t_end * event_rate(ip, v) * active_fraction(s.drive.loading);
+}
+
+// Interface-law state per site (bytes) and the law's cost per site-step (ns) on top of the bulk and
+// continuum law.
+struct LawCost {
+  double bytes_per_site = 0.0;
+  double ns_per_site_step = 0.0;
+  std::string what;
+};
+LawCost law_cost(const Scene& s, const std::string& model, double steps) {
+  const StepCosts& c = step_costs();
+  LawCost out;
+  if (model == "continuum") {
+    out.bytes_per_site = 2 * word;
+    out.what = "continuum law";
+    return out;
+  }
+  const auto& d = s.discrete;
+  const double n = static_cast<double>(d.contacts_per_site), f = active_fraction(s.drive.loading);
+  if (d.representation == "count") {
+    const double b = count_bins(d), det = d.renewal == "quenched" ? b : 1.0;
+    out.bytes_per_site = word * (b + det + 3.0) + engine_bytes;
+    out.ns_per_site_step = d.noise ? c.count_idle + f * (c.count_active + (b > 1.0 ? c.count_bin * b : 0.0))
+                                   : c.count_mean + c.count_mean_bin * b;
+    out.what = "count law (" + count(b) + " bins)";
+  } else if (d.representation == "agent") {
+    const double b = agent_bins(d);
+    // contacts in unordered arrays (attached by bin, detached): 16 B each, with the arrays' spare capacity
+    out.bytes_per_site = growth * 16.0 * n + b * (3.0 * word + word) + engine_bytes + 12.0 * word;
+    out.ns_per_site_step = c.agent_site + c.agent_event * n * events_per_contact(s) / std::max(1.0, steps);
+    out.what = "agent law (" + count(n) + " contacts per site)";
+  } else {
+    out.bytes_per_site = 24.0 * n + engine_bytes + 6.0 * word;
+    out.ns_per_site_step = c.naive_contact * n;
+    out.what = "naive agent law (" + count(n) + " contacts per site)";
+  }
+  return out;
+}
+
+// Contact statistics (agent and naive with discrete.contact_statistics): raw values up to their cap,
+// histograms and per-site counts at every contact snapshot.
+double contact_stats_bytes(const Scene& s, double sites, double steps) {
+  const auto& d = s.discrete;
+  if (!d.contact_statistics || d.representation == "count") return 0.0;
+  const double ns = s.output.snapshot_dt > 0 ? samples(s.time.t_end, s.output.snapshot_dt, steps) : 0.0;
+  return contact_stats_raw_bytes + growth * word * ns * (contact_hist_bins + 2.0 * sites) + 2.0 * word * sites;
+}
+
+// The adaptive integrator's steps: an estimate, not a bound (docs/robustness.md §3). Steps are
+// limited by dt_max where nothing happens, by the threshold switchings (each located switching ends a
+// step: about one per node and front passage) and by accuracy in the transients, fitted on fig1 at
+// rtol 1e-2 ... 1e-4 (steps ∝ rtol^-0.77 there).
+double adaptive_steps(const Scene& s, double sites) {
+  const double t_end = s.time.t_end;
+  return std::ceil(t_end / s.time.dt_max) + sites + 8.0 * t_end * std::pow(1e-3 / s.time.rtol, 0.77);
+}
+
+// Steps of an imposed-rate history (steps aligned with the switch times, as the runner does).
+double history_steps(const Scene& s) {
+  const auto& vs = s.drive.v;
+  const auto& ts = s.drive.v_times;
+  const double dt_target = s.time.dt > 0 ? s.time.dt : s.time.t_end / s.time.steps;
+  double n = 0.0;
+  for (std::size_t k = 0; k < vs.size(); ++k) {
+    const double end = k + 1 < vs.size() ? std::min(ts[k + 1], s.time.t_end) : s.time.t_end;
+    if (end <= ts[k]) break;
+    n += std::ceil((end - ts[k]) / dt_target - 1e-9);
+  }
+  return n;
+}
+
+// Extra steady points of the continuum sweep's golden-section search (to 1e-7 in log v).
+double golden_points(const Scene& s) {
+  const double span = 2.0 * std::log(s.drive.v_max / s.drive.v_min) / (s.drive.sweep_points - 1);
+  return std::ceil(std::log(std::max(span, 1e-7) / 1e-7) / std::log(0.5 * (1.0 + std::sqrt(5.0)))) + 3.0;
+}
+
+}  // namespace
+
+const StepCosts& step_costs() {
+  // Measured with single runs of slipfront on fig1 and homogeneous_front (and their discrete
+  // variants), scripts/estimate_accuracy.py checks them: Release build, GCC 12, one thread of the
+  // shared 2-core development machine (docs/robustness.md §3).
+  static const StepCosts costs{
+      .explicit_bulk = 9.0,
+      .implicit_bulk = 22.0,
+      .adaptive_bulk = 100.0,
+      .count_idle = 1.0,
+      .count_active = 100.0,
+      .count_bin = 60.0,
+      .count_mean = 20.0,
+      .count_mean_bin = 1.3,
+      .agent_site = 5.0,
+      .agent_event = 60.0,
+      .naive_contact = 1.0,
+      .law_step = 250.0,
+      .step = 250.0,
+  };
+  return costs;
+}
+
+double active_fraction(Loading loading) {
+  switch (loading) {
+    case Loading::edge: return 0.1;
+    case Loading::homogeneous: return 0.6;
+    default: return 1.0;
+  }
+}
+
+double explicit_stable_dt(const Scene& s) {
+  // ω_max² = 4μ/(ρ dx²) + 2K/(ρ dx) + α/ρ (1D edge: the drive spring on the half cell of node 0;
+  // homogeneous: no spring), (K + α)/ρ for the 0D spring block: continuum/bulk.hpp.
+  const double rho = s.bulk.rho, alpha = s.interface.alpha;
+  double omega2 = alpha / rho;
+  switch (s.drive.loading) {
+    case Loading::edge:  // (the order of Bulk's operations: the same bits)
+      omega2 += 4.0 * s.bulk.mu / (rho * s.grid.dx * s.grid.dx);
+      omega2 += s.drive.K / (rho * (0.5 * s.grid.dx));
+      break;
+    case Loading::homogeneous: omega2 += 4.0 * s.bulk.mu / (rho * s.grid.dx * s.grid.dx); break;
+    case Loading::spring_block: omega2 += s.drive.K / rho; break;
+    case Loading::imposed_rate: return 0.0;
+  }
+  return 2.0 / std::sqrt(omega2);
+}
+
+Estimate estimate(const Scene& s) {
+  const StepCosts& c = step_costs();
+  Estimate e;
+  const bool one_d = continuum::is_one_dimensional(s.drive.loading);
+  const bool imposed = s.drive.loading == Loading::imposed_rate;
+  e.sites = one_d ? std::round(s.bulk.length / s.grid.dx) + 1.0 : 1.0;
+  if (one_d) {
+    e.elastic_length = std::sqrt(s.bulk.mu / s.interface.alpha);
+    e.nodes_per_elastic_length = e.elastic_length / s.grid.dx;
+  }
+  const double t_end = s.time.t_end;
+  const bool lockstep = lists(s, "continuum") && lists(s, "discrete") && !imposed &&
+                        s.time.integrator != Integrator::adaptive_rosenbrock;
+  double state_max = 0.0, state_sum = 0.0, records = 0.0;
+  std::vector<std::pair<std::string, double>> items;
+
+  for (const auto& model : s.models) {
+    ModelEstimate m;
+    m.model = model;
+    double fields_per_site = 0.0, bulk_ns = 0.0;
+    if (imposed) {
+      m.integrator = "exact";
+      if (s.drive.sweep_points > 0) {
+        const double points = s.drive.sweep_points + (model == "continuum" ? golden_points(s) : 0.0);
+        m.steps = points * s.time.steps;
+        m.steps_basis = count(points) + " steady points x time.steps = " + count(s.time.steps);
+      } else {
+        m.steps = history_steps(s);
+        m.dt = s.time.dt > 0 ? s.time.dt : t_end / s.time.steps;
+        m.steps_basis = "the history's segments in steps of " + format_number(m.dt);
+      }
+      bulk_ns = c.law_step;
+    } else {
+      const double stable = explicit_stable_dt(s);
+      Integrator integ = s.time.integrator;
+      if (model == "discrete" && integ == Integrator::adaptive_rosenbrock) integ = Integrator::central_difference;
+      if (integ == Integrator::adaptive_rosenbrock) {
+        m.integrator = "adaptive";
+        m.steps = adaptive_steps(s, e.sites);
+        m.steps_basis = "adaptive: t_end/dt_max + nodes + 8 t_end (rtol/1e-3)^-0.77, an estimate";
+        fields_per_site = 66.0;
+        bulk_ns = c.adaptive_bulk;
+      } else {
+        const bool implicit = integ == Integrator::implicit_trapezoidal;
+        m.integrator = implicit ? "implicit" : "explicit";
+        const double dt0 = s.time.dt > 0 ? s.time.dt : s.time.cfl * stable;
+        m.steps = std::max(1.0, std::ceil(t_end / dt0 - 1e-9));
+        m.dt = t_end / m.steps;
+        m.steps_basis = "time.t_end / dt = " + format_number(t_end) + " / " + format_number(m.dt) +
+                        (s.time.dt > 0 ? " (time.dt)" : " (time.cfl x the stability limit " + format_number(stable) + ")");
+        fields_per_site = implicit ? 10.0 : 8.0;
+        bulk_ns = implicit ? c.implicit_bulk : c.explicit_bulk;
+      }
+    }
+    const LawCost law = law_cost(s, model, m.steps);
+    m.site_steps = m.steps * e.sites;
+    m.ns_per_site_step = bulk_ns + law.ns_per_site_step;
+    m.seconds = m.site_steps * m.ns_per_site_step * 1e-9 + (imposed ? 0.0 : m.steps * c.step * 1e-9);
+    const double threads = model == "discrete" && s.discrete.representation == "count" && s.discrete.threads > 1
+                               ? std::min<double>(s.discrete.threads, std::ceil(e.sites / 64.0))
+                               : 0.0;
+    m.state_bytes = e.sites * (fields_per_site * word + law.bytes_per_site) + threads * thread_bytes;
+    items.emplace_back(law.what + " and fields (" + model + ")", m.state_bytes);
+
+    // What is kept until the end (docs/model.md §5 records), each vector up to twice its size.
+    double rec = 0.0;
+    auto add = [&](const std::string& what, double bytes) {
+      if (bytes <= 0.0) return;
+      rec += bytes;
+      items.emplace_back(what + " (" + model + ")", bytes);
+    };
+    if (imposed) {
+      if (s.drive.sweep_points > 0) {
+        add("friction law table", growth * 5.0 * word * s.drive.sweep_points + 4.0 * word * s.measure.batches);
+      } else {
+        add("series (output.series_dt)", growth * 7.0 * word * samples(t_end, s.output.series_dt, m.steps));
+        add("contact statistics", contact_stats_bytes(s, 1.0, m.steps));
+      }
+    } else {
+      const bool dense = m.integrator == "adaptive";  // records at exact times, not bounded by the steps
+      const double cap = dense ? std::max(m.steps, t_end / std::max(1e-300, std::min({s.output.series_dt > 0 ? s.output.series_dt : t_end,
+                                                                                       s.output.snapshot_dt > 0 ? s.output.snapshot_dt : t_end,
+                                                                                       s.measure.sample_dt}))) + 1.0
+                               : m.steps;
+      const double columns = (one_d ? 5.0 : 8.0) + (s.output.energy ? 6.0 : 0.0);
+      add("series (output.series_dt)", growth * columns * word * samples(t_end, s.output.series_dt, cap));
+      if (one_d) {
+        if (s.output.snapshot_dt > 0)
+          add("snapshots (output.snapshot_dt)",
+              growth * word * (4.0 * e.sites + 1.0) * samples(t_end, s.output.snapshot_dt, cap));
+        add("tip samples (measure.sample_dt)", growth * 3.0 * word * samples(t_end, s.measure.sample_dt, cap));
+      }
+      if (model == "discrete") add("contact statistics", contact_stats_bytes(s, e.sites, m.steps));
+    }
+    m.record_bytes = rec;
+    records += rec;
+    state_max = std::max(state_max, m.state_bytes);
+    state_sum += m.state_bytes;
+    e.steps = std::max(e.steps, m.steps);
+    e.seconds += m.seconds;
+    e.models.push_back(std::move(m));
+  }
+  if (lockstep && s.output.compare_dt > 0) {
+    const double bytes = growth * 5.0 * word * samples(t_end, s.output.compare_dt, e.steps);
+    records += bytes;
+    items.emplace_back("field comparison (output.compare_dt)", bytes);
+  }
+  // Output: the records as written (tip samples are not). While writing, the in-memory HDF5 image and
+  // its copy: two copies of the file, whose snapshots are compressed (smooth fields: 2x or more), so
+  // counted as one uncompressed copy.
+  for (const auto& [what, bytes] : items)
+    if (what.find("tip samples") == std::string::npos && what.find(" and fields ") == std::string::npos)
+      e.output_bytes += bytes / growth;
+  items.emplace_back("results file image while writing", e.output_bytes);
+  // Peak: lockstep runs hold every model's state at once; sequential runs one state at a time. The
+  // records of every model stay until the file is written.
+  const double run_phase = (lockstep ? state_sum : state_max) + records;
+  const double write_phase = records + e.output_bytes;
+  e.memory_bytes = base_bytes + std::max(run_phase, write_phase);
+  std::sort(items.begin(), items.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
+  e.memory_items = std::move(items);
+
+  // Warnings that do not refuse the run.
+  if (one_d && e.nodes_per_elastic_length < 4.0 && e.nodes_per_elastic_length >= s.limits.min_nodes_per_elastic_length)
+    e.notes.push_back("grid.dx: " + format_number(e.nodes_per_elastic_length) + " nodes per elastic length sqrt(mu/alpha) = " +
+                      format_number(e.elastic_length) +
+                      ": event times and front speeds may be off by 1-3% (4 or more nodes: below 1%; docs/robustness.md)");
+  if (one_d && s.bulk.length < 2.0 * e.elastic_length)
+    e.notes.push_back("bulk.length = " + format_number(s.bulk.length) + " is shorter than 2 elastic lengths sqrt(mu/alpha) = " +
+                      format_number(2.0 * e.elastic_length) +
+                      ": fronts have no room to run and t* departs from the half-line formula of docs/model.md §1");
+  if (lists(s, "discrete") && s.discrete.representation == "count" && s.discrete.threads > 1) {
+    const unsigned hw = std::thread::hardware_concurrency();
+    if (hw > 0 && static_cast<unsigned>(s.discrete.threads) > hw)
+      e.notes.push_back("discrete.threads = " + std::to_string(s.discrete.threads) + " is more than the " +
+                        std::to_string(hw) + " hardware threads of this machine (results do not depend on it)");
+  }
+  return e;
+}
+
+void check_limits(const Scene& s, const Estimate& e) {
+  const auto& lim = s.limits;
+  if (continuum::is_one_dimensional(s.drive.loading) && e.nodes_per_elastic_length < lim.min_nodes_per_elastic_length)
+    throw ParamError("grid.dx",
+                     format_number(s.grid.dx) + " gives " + format_number(e.nodes_per_elastic_length) +
+                         " nodes per elastic length sqrt(bulk.mu/interface.alpha) = " + format_number(e.elastic_length) +
+                         " (the process zone of the fronts); at least " + format_number(lim.min_nodes_per_elastic_length) +
+                         " are needed for event times and front speeds within a few percent (docs/robustness.md); refine "
+                         "grid.dx to at most " + format_number(e.elastic_length / lim.min_nodes_per_elastic_length) +
+                         ", or set limits.min_nodes_per_elastic_length = 0 to run it anyway");
+  const ModelEstimate* longest = nullptr;
+  const ModelEstimate* slowest = nullptr;
+  for (const auto& m : e.models) {
+    if (!longest || m.steps > longest->steps) longest = &m;
+    if (!slowest || m.seconds > slowest->seconds) slowest = &m;
+  }
+  if (longest && !(e.steps <= lim.max_steps))
+    throw ParamError("limits.max_steps",
+                     "the run would take " + count(e.steps) + " time steps (" + longest->model + ", " + longest->integrator +
+                         ": " + longest->steps_basis + "), more than limits.max_steps = " + format_number(lim.max_steps) +
+                         "; shorten time.t_end, take a larger step, or raise limits.max_steps");
+  if (!(e.memory_bytes <= lim.max_memory_gib * GiB)) {
+    std::string what;
+    for (std::size_t k = 0; k < e.memory_items.size() && k < 3; ++k)
+      what += (k ? ", " : "") + e.memory_items[k].first + " " + gib(e.memory_items[k].second);
+    throw ParamError("limits.max_memory_gib",
+                     "the run would need about " + gib(e.memory_bytes) + " of memory (" + what +
+                         "), more than limits.max_memory_gib = " + format_number(lim.max_memory_gib) +
+                         "; reduce what is kept (output.snapshot_dt, output.series_dt, measure.sample_dt), the grid, "
+                         "discrete.contacts_per_site or discrete.bins, or raise limits.max_memory_gib");
+  }
+  if (slowest && !(e.seconds <= lim.max_hours * 3600.0))
+    throw ParamError("limits.max_hours",
+                     "the run would take about " + duration(e.seconds) + " (" + slowest->model + ", " + slowest->integrator +
+                         ": " + count(slowest->site_steps) + " site-steps at ~" + format_number(slowest->ns_per_site_step) +
+                         " ns each), more than limits.max_hours = " + format_number(lim.max_hours) +
+                         "; shorten time.t_end, coarsen the grid or the step, or raise limits.max_hours");
+}
+
+std::vector<std::string> describe(const Estimate& e) {
+  std::vector<std::string> out;
+  for (const auto& m : e.models)
+    out.push_back(m.model + ": " + count(m.steps) + " steps (" + m.integrator + "; " + m.steps_basis + ") x " +
+                  count(e.sites) + (e.sites == 1.0 ? " site" : " sites") + ", ~" + duration(m.seconds));
+  std::string mem = "memory: ~" + gib(e.memory_bytes) + " peak (";
+  for (std::size_t k = 0; k < e.memory_items.size() && k < 3; ++k)
+    mem += (k ? ", " : "") + e.memory_items[k].first + " " + gib(e.memory_items[k].second);
+  out.push_back(mem + ")");
+  out.push_back("run time: ~" + duration(e.seconds) + " (calibrated costs: docs/robustness.md)");
+  for (const auto& n : e.notes) out.push_back("note: " + n);
+  return out;
+}
+
+}  // namespace slipfront::compare

@@ -1,0 +1,86 @@
+#pragma once
+// What a scene will cost, estimated from the whole configuration before any work (issue 10): time
+// steps, peak memory and run time per model, and the checks of the estimate against [limits] and of
+// the grid against the fronts' process zone. Scene::validate() runs both, so every accepted run is
+// within its limits; `slipfront check` prints the estimate. Basis and measured accuracy:
+// docs/robustness.md §3–§4.
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "compare/scene.hpp"
+
+namespace slipfront::compare {
+
+struct ModelEstimate {
+  std::string model;        ///< continuum | discrete
+  std::string integrator;   ///< explicit | implicit | adaptive | exact (imposed slip rate: the law alone)
+  double dt = 0.0;          ///< fixed step (0: adaptive, or a sweep with one step per point)
+  double steps = 0.0;       ///< time steps (a sweep: all points together)
+  std::string steps_basis;  ///< how `steps` was obtained
+  double site_steps = 0.0;  ///< steps × sites
+  double ns_per_site_step = 0.0;  ///< the calibrated cost used
+  double seconds = 0.0;     ///< run time
+  double state_bytes = 0.0; ///< integrator and interface-law state
+  double record_bytes = 0.0;///< series, snapshots, tip samples, contact statistics: kept until the end
+};
+
+struct Estimate {
+  double sites = 1.0;                ///< nodes of the grid (0D: 1)
+  std::vector<ModelEstimate> models; ///< in the order of Scene::models
+  double steps = 0.0;                ///< largest over the models
+  double memory_bytes = 0.0;         ///< peak resident memory, writing the results included
+  double output_bytes = 0.0;         ///< data written to results.h5 (before compression)
+  double seconds = 0.0;              ///< run time of every model (setup and writing excluded)
+  /// What the peak consists of, largest first ("snapshots (continuum)", bytes).
+  std::vector<std::pair<std::string, double>> memory_items;
+  double elastic_length = 0.0;            ///< 1D: sqrt(μ/α)
+  double nodes_per_elastic_length = 0.0;  ///< 1D: sqrt(μ/α)/dx
+  std::vector<std::string> notes;         ///< warnings that do not refuse the run
+};
+
+/// The estimate of a scene whose parameters are each valid (Scene::validate() calls it after the
+/// domain checks). Never allocates anything of the scene's size.
+Estimate estimate(const Scene& s);
+
+/// Throws continuum::ParamError when the estimate exceeds a limit (key "limits.<key>", the reason
+/// naming the estimate and what drives it) or the grid does not resolve the elastic length
+/// (key "grid.dx", naming limits.min_nodes_per_elastic_length).
+void check_limits(const Scene& s, const Estimate& e);
+
+/// The estimate as lines of text ("steps: ...", "memory: ...", "run time: ...", notes), for
+/// `slipfront check` (as TOML comments) and `slipfront run`.
+std::vector<std::string> describe(const Estimate& e);
+
+/// The explicit scheme's stability limit of the scene's grid, 2/ω_max with the Gershgorin bound of
+/// continuum::Bulk::stable_dt() (continuum/bulk.hpp), computed without building the grid.
+double explicit_stable_dt(const Scene& s);
+
+/// Calibrated costs in nanoseconds on the reference machine (docs/robustness.md §3). "Active" site-steps
+/// are those of sites away from the stuck state (contacts detached or overloaded): a fraction of the
+/// site-steps that depends on the loading (active_fraction()).
+struct StepCosts {
+  double explicit_bulk;   ///< per site-step: bulk + continuum law, explicit central differences
+  double implicit_bulk;   ///< per site-step: bulk + continuum law, implicit trapezoidal
+  double adaptive_bulk;   ///< per site-step: bulk + continuum law, one adaptive Rosenbrock step
+  double count_idle;      ///< count representation, per site-step of a stuck site (noise on)
+  double count_active;    ///< count representation, per active site-step (binomial draws; noise on)
+  double count_bin;       ///< count representation, per threshold bin of an active site-step (noise on, w > 0)
+  double count_mean;      ///< count representation with noise off, per site-step (every site, every step)
+  double count_mean_bin;  ///< the same, per threshold bin
+  double agent_site;      ///< agent representation, per site-step
+  double agent_event;     ///< agent representation, per contact state change
+  double naive_contact;   ///< naive agent loop, per contact of a site-step
+  double law_step;        ///< imposed slip rate: one exact step of the continuum law with its measurements
+  double step;            ///< bulk scenes: per step, whatever the grid (measurements, records, lockstep)
+};
+const StepCosts& step_costs();
+
+/// The fraction of site-steps that are active (see StepCosts), by loading: edge 0.1 (the fronts creep
+/// from the loaded edge; fitted on fig1), homogeneous 0.6 (the front sweeps the system; fitted on
+/// homogeneous_front), one site (spring block, imposed slip rate) 1.
+double active_fraction(continuum::Loading loading);
+
+
+
+}  // namespace slipfront::compare

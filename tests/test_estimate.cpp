@@ -1,0 +1,151 @@
+// compare::estimate (issue 10): the cost of a scene before it runs. The fixed-step counts must be the
+// runner's exactly; the stability limit the estimate computes without building the grid must be
+// Bulk::stable_dt() bit for bit; memory must grow with what the run keeps; the adaptive step count is
+// an estimate within a stated factor; refusals name the limit, the estimate and its driver.
+#include <catch2/catch.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <string>
+
+#include "compare/estimate.hpp"
+#include "compare/runner.hpp"
+#include "continuum/bulk.hpp"
+#include "scenes.hpp"
+
+using namespace slipfront;
+using compare::Scene;
+
+namespace {
+double steps_of(const compare::ModelResult& r) { return r.scalars.at("steps"); }
+}  // namespace
+
+TEST_CASE("estimate: the explicit stability limit is Bulk::stable_dt() bit for bit, without building the grid",
+          "[estimate]") {
+  std::vector<Scene> scenes = {testing::fig1_scene(), testing::homogeneous_scene(0.5, 150.0, 10.0),
+                               testing::spring_block_scene(50.0)};
+  Scene odd = testing::fig1_scene();
+  odd.grid.dx = 0.3;
+  odd.bulk.length = 299.7;
+  odd.drive.K = 7.3;
+  odd.bulk.rho = 0.037;
+  scenes.push_back(odd);
+  for (const auto& s : scenes) {
+    const continuum::Bulk b(s.bulk, s.drive, s.interface, s.grid.dx);
+    CHECK(compare::explicit_stable_dt(s) == b.stable_dt());
+  }
+  // a 2e7-node grid is estimated without allocating it (well under a second)
+  Scene huge = testing::fig1_scene();
+  huge.bulk.length = 1e7;
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto e = compare::estimate(huge);
+  CHECK(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() < 0.1);
+  CHECK(e.sites == 2e7 + 1);
+}
+
+TEST_CASE("estimate: fixed-step counts are the runner's exactly (explicit, implicit, spring block, history)",
+          "[estimate]") {
+  Scene edge = testing::fig1_scene();
+  edge.bulk.length = 20.0;
+  edge.grid.dx = 2.0;
+  edge.time.t_end = 3.0;
+  Scene implicit = edge;
+  implicit.time.integrator = continuum::Integrator::implicit_trapezoidal;
+  implicit.time.dt = 0.013;  // t_end not a multiple: the runner shortens the step
+  Scene spring = testing::spring_block_scene(7.0);
+  Scene history = testing::imposed_rate_scene();
+  history.time.t_end = 3.0;
+  history.time.dt = 0.0071;
+  history.drive.v = {0.5, 2.0, 0.1};
+  history.drive.v_times = {0.0, 1.3, 2.9};
+  for (const Scene* s : {&edge, &implicit, &spring, &history}) {
+    s->validate();
+    const auto e = compare::estimate(*s);
+    const auto r = compare::run_scene(*s, compare::RunControl{});
+    REQUIRE(r.size() == 1);
+    INFO(continuum::to_string(s->drive.loading) << " " << continuum::to_string(s->time.integrator));
+    CHECK(e.models.at(0).steps == steps_of(r[0]));
+  }
+}
+
+TEST_CASE("estimate: the adaptive step count is within a factor 3 of a real run", "[estimate]") {
+  // stated basis: t_end/dt_max + nodes + 8 t_end (rtol/1e-3)^-0.77, fitted on fig1 (docs/robustness.md)
+  Scene s = testing::fig1_scene();
+  s.bulk.length = 60.0;
+  s.grid.dx = 1.0;
+  s.time.t_end = 60.0;
+  s.time.integrator = continuum::Integrator::adaptive_rosenbrock;
+  s.output.snapshot_dt = 0.0;
+  s.validate();
+  const double estimated = compare::estimate(s).models.at(0).steps;
+  const double taken = steps_of(compare::run_scene(s, compare::RunControl{}).at(0));
+  INFO("estimated " << estimated << ", taken " << taken);
+  CHECK(estimated / taken > 1.0 / 3.0);
+  CHECK(estimated / taken < 3.0);
+}
+
+TEST_CASE("estimate: memory grows with what the run keeps until the end", "[estimate]") {
+  Scene s = testing::fig1_scene();
+  s.models = {"continuum", "discrete"};
+  const auto base = compare::estimate(s);
+  CHECK(base.memory_bytes > 32.0 * 1024 * 1024);  // at least the program
+  auto item = [](const compare::Estimate& e, const std::string& prefix) {
+    double sum = 0.0;
+    for (const auto& [what, bytes] : e.memory_items)
+      if (what.rfind(prefix, 0) == 0) sum += bytes;
+    return sum;
+  };
+  // snapshots: 4 fields x nodes x snapshots, both models
+  const double snaps = item(base, "snapshots");
+  CHECK(snaps == Approx(2.0 * 2.0 * 8.0 * (4.0 * 601 + 1) * 141).epsilon(1e-9));
+  Scene more = s;
+  more.output.snapshot_dt = 0.25;
+  CHECK(item(compare::estimate(more), "snapshots") == Approx(snaps * 561.0 / 141.0).epsilon(1e-9));
+  // the agent representation counts its contacts (N x sites x 16 B, with spare capacity)
+  Scene agent = s;
+  agent.discrete.representation = "agent";
+  agent.discrete.contacts_per_site = 100000;
+  CHECK(compare::estimate(agent).memory_bytes - base.memory_bytes > 601.0 * 100000 * 16.0);
+  // the count representation: one random stream (2.5 kB) per site, and its bins
+  Scene bins = s;
+  bins.discrete.threshold = "uniform";
+  bins.discrete.width = 0.1;
+  bins.discrete.bins = 4096;
+  CHECK(item(compare::estimate(bins), "count law") - item(base, "count law") == Approx(601.0 * 8.0 * 4095).epsilon(1e-9));
+  CHECK(item(base, "count law") > 601.0 * 2500.0);
+  // threads: a stack each (8 threads: 601 sites are 10 chunks of 64)
+  Scene threads = s;
+  threads.discrete.threads = 8;
+  CHECK(item(compare::estimate(threads), "count law") - item(base, "count law") == Approx(8.0 * 256 * 1024).epsilon(1e-9));
+}
+
+TEST_CASE("estimate: refusals name the limit, the estimate and what drives it; raising the limit accepts", "[estimate]") {
+  Scene s = testing::fig1_scene();
+  s.time.t_end = 1e9;
+  s.output.snapshot_dt = 0.0;
+  s.output.series_dt = 1e6;
+  s.measure.sample_dt = 1e6;
+  try {
+    s.validate();
+    FAIL("accepted 7e11 steps");
+  } catch (const continuum::ParamError& e) {
+    CHECK(e.key == "limits.max_steps");
+    CHECK(e.reason.find("time.t_end / dt") != std::string::npos);
+    CHECK(e.reason.find("6.94e+11") != std::string::npos);
+  }
+  s.limits.max_steps = 1e12;
+  try {
+    s.validate();
+    FAIL("accepted ~weeks of run time");
+  } catch (const continuum::ParamError& e) {
+    CHECK(e.key == "limits.max_hours");
+    CHECK(e.reason.find("site-steps") != std::string::npos);
+  }
+  s.limits.max_hours = 1e5;
+  CHECK_NOTHROW(s.validate());
+  const auto lines = compare::describe(compare::estimate(s));
+  REQUIRE(lines.size() >= 3);
+  CHECK(lines[0].rfind("continuum: ", 0) == 0);
+  CHECK(lines[1].rfind("memory: ", 0) == 0);
+  CHECK(lines[2].rfind("run time: ", 0) == 0);
+}

@@ -16,6 +16,7 @@
 
 #include "apps/build_info.hpp"
 #include "apps/checkpoint.hpp"
+#include "continuum/interrupt.hpp"
 #include "apps/config.hpp"
 #include "apps/h5out.hpp"
 #include "apps/study.hpp"
@@ -36,6 +37,7 @@ std::atomic<int> stop_signal{0};
 static_assert(std::atomic<int>::is_always_lock_free, "the signal handler needs a lock-free flag");
 
 extern "C" void on_stop_signal(int sig) {
+  continuum::stop_flag().store(true);  // set-up loops (continuum/interrupt.hpp)
   if (stop_signal.exchange(sig) != 0) {
     std::signal(sig, SIG_DFL);
     std::raise(sig);
@@ -50,6 +52,7 @@ class StopSignals {
  public:
   StopSignals() {
     stop_signal.store(0);
+    continuum::stop_flag().store(false);
     struct sigaction sa {};
     sa.sa_handler = on_stop_signal;
     sigemptyset(&sa.sa_mask);
@@ -334,6 +337,9 @@ int run_command(const RunOptions& opts, std::ostream& out, std::ostream& err) {
       compare::SceneResult sr = compare::run_scene_alongside(scene, control);
       results = std::move(sr.models);
       comparison = std::move(sr.comparison);
+    } catch (const continuum::Interrupted& e) {
+      meta.status = "interrupted";
+      meta.message = e.what();
     } catch (const std::exception& e) {
       meta.status = "failed";
       meta.message = std::string("the run stopped with an error: ") + e.what();

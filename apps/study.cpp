@@ -24,6 +24,7 @@
 #include "apps/build_info.hpp"
 #include "apps/cli.hpp"
 #include "apps/config.hpp"
+#include "continuum/interrupt.hpp"
 #include "apps/h5in.hpp"
 #include "apps/h5out.hpp"
 #include "apps/paths.hpp"
@@ -174,12 +175,16 @@ namespace {
 std::atomic<bool> stop_signal{false};
 static_assert(std::atomic<bool>::is_always_lock_free, "the signal handler needs a lock-free flag");
 
-extern "C" void on_study_signal(int) { stop_signal.store(true); }
+extern "C" void on_study_signal(int) {
+  stop_signal.store(true);
+  continuum::stop_flag().store(true);  // set-up loops (continuum/interrupt.hpp)
+}
 
 class StudySignals {
  public:
   StudySignals() {
     stop_signal.store(false);
+    continuum::stop_flag().store(false);
     struct sigaction sa {};
     sa.sa_handler = on_study_signal;
     sigemptyset(&sa.sa_mask);
@@ -465,6 +470,9 @@ int study_command(const StudyOptions& opts, std::ostream& out_all, std::ostream&
       compare::SceneResult sr = compare::run_scene_alongside(scenes[i], ctl);
       r = std::move(sr.models);
       cmp = std::move(sr.comparison);
+    } catch (const continuum::Interrupted& e) {
+      meta.status = "interrupted";
+      meta.message = e.what();
     } catch (const std::exception& e) {
       meta.status = "failed";
       meta.message = e.what();

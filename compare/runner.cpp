@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "compare/laws.hpp"
+#include "continuum/interrupt.hpp"
 
 namespace slipfront::compare {
 
@@ -73,6 +74,12 @@ std::vector<ModelResult> run_scene(const Scene& s, const RunControl& ctl) {
       }
     } catch (const continuum::ArchiveError&) {
       throw;  // a checkpoint that does not fit this scene: the caller reports it
+    } catch (const continuum::Interrupted& e) {  // a stop request during the set-up of its law
+      ModelResult stopped;
+      stopped.model = m;
+      stopped.status = "interrupted";
+      stopped.message = e.what();
+      out.push_back(std::move(stopped));
     } catch (const std::exception& e) {  // keep what the earlier models produced
       ModelResult failed;
       failed.model = m;

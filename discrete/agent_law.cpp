@@ -1,5 +1,7 @@
 #include "discrete/agent_law.hpp"
 
+#include "continuum/interrupt.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -38,7 +40,10 @@ AgentLaw::AgentLaw(const continuum::InterfaceParams& ip, const DiscreteParams& d
   area_.assign(sites, 1.0);
   sigma_bar_.assign(sites, 0.0);
   if (dp.contact_statistics) stats_ = ContactStats(sites, std::max(2.0, 1.0 + 8.0 * dp.width));
-  for (std::size_t i = 0; i < sites; ++i) set_site(i, 1.0, 0.0);
+  for (std::size_t i = 0; i < sites; ++i) {
+    continuum::poll_stop();  // seconds for 10^8 contacts: a stop request is honoured per site
+    set_site(i, 1.0, 0.0);
+  }
 }
 
 std::size_t AgentLaw::bin_of(double s) const {

@@ -1,5 +1,7 @@
 #include "discrete/count_law.hpp"
 
+#include "continuum/interrupt.hpp"
+
 #include <algorithm>
 #include <atomic>
 #include <boost/random/binomial_distribution.hpp>
@@ -144,7 +146,10 @@ CountLaw::CountLaw(const continuum::InterfaceParams& ip, const DiscreteParams& d
   area_.assign(sites, 1.0);
   sigma_bar_.assign(sites, 0.0);
   engines_ = site_engines(dp.seed, sites);
-  for (std::size_t i = 0; i < sites; ++i) set_site(i, 1.0, 0.0);
+  for (std::size_t i = 0; i < sites; ++i) {
+    continuum::poll_stop();
+    set_site(i, 1.0, 0.0);
+  }
 }
 
 // Worker threads only where there is more than one chunk of sites to share. A copy of the law

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "continuum/exact_update.hpp"
+#include "continuum/interrupt.hpp"
 #include "continuum/law.hpp"
 #include "continuum/params.hpp"
 #include "discrete/contact_stats.hpp"
@@ -44,7 +45,10 @@ class NaiveAgentLaw {
     area_.assign(sites, 1.0);
     sigma_bar_.assign(sites, 0.0);
     if (dp.contact_statistics) stats_ = ContactStats(sites, std::max(2.0, 1.0 + 8.0 * dp.width));
-    for (std::size_t i = 0; i < sites; ++i) set_site(i, 1.0, 0.0);
+    for (std::size_t i = 0; i < sites; ++i) {
+      continuum::poll_stop();
+      set_site(i, 1.0, 0.0);
+    }
   }
 
   // --- the step contract (continuum::FrictionLaw) -------------------------------------------

@@ -9,6 +9,7 @@
 
 #include "compare/fit.hpp"
 #include "compare/fronts.hpp"
+#include "compare/validity.hpp"
 #include "continuum/friction_law.hpp"
 #include "continuum/steady_front.hpp"
 
@@ -478,6 +479,8 @@ const std::vector<std::pair<std::string, std::string>>& study_kinds() {
       {"front_speeds", "fig1 event times and front speeds of the discrete model over seeds vs N"},
       {"fig2", "transient front speed vs sqrt(mu alpha/(eta kappa)), one group per varied parameter"},
       {"front_spectrum", "nucleated fronts of homogeneous loading vs sigma_d, against the solved branch"},
+      {"validity_friction", "the validity map of the mean-field limit on the steady law: bias vs N, alpha, w; N* and its collapse"},
+      {"validity_fig1", "the validity map on fig1: the fraction of continuum-like runs vs N and alpha; N* and its collapse"},
       {"steady_fronts", "runs started from the solved steady front (kicked or not), both models, vs sigma_d and N"},
       {"runs", "no analysis: just run every point"}};
   return k;
@@ -538,6 +541,8 @@ StudyReport analyse_study(const StudySpec& spec, const std::vector<StudyRun>& ru
   else if (spec.kind == "fig2") fig2(rep, runs, scenes, results);
   else if (spec.kind == "front_spectrum") spectrum(rep, runs, scenes, results);
   else if (spec.kind == "steady_fronts") steady_fronts(rep, spec, runs, scenes, results);
+  else if (spec.kind == "validity_friction") analyse_validity_friction(rep, runs, scenes, results);
+  else if (spec.kind == "validity_fig1") analyse_validity_fig1(rep, runs, scenes, results);
   else if (spec.kind != "runs") throw std::invalid_argument("unknown study kind '" + spec.kind + "'");
   return rep;
 }

@@ -449,9 +449,117 @@ def fronts_file(path, root, figdir, studies):
     return lines, rows
 
 
+def validity_friction_study(st, outdir):
+    """The validity map on the steady law: bias vs N per alpha, the map with its 1% / 5% contours, the collapse."""
+    figs, rows = [], []
+    t = st.tables.get("validity_friction", {})
+    x = st.tables.get("validity_crossover", {})
+    if not t:
+        return figs, rows
+    widths = sorted(set(t["width"]))
+    fig, axs = plt.subplots(1, len(widths), figsize=(5.2 * len(widths), 4.3), squeeze=False)
+    for ax, w in zip(axs[0], widths):
+        for i, a in enumerate(sorted(set(t["alpha"]))):
+            m = (t["alpha"] == a) & (t["width"] == w)
+            ax.loglog(t["N"][m], np.maximum(t["bias"][m], 1e-5), "o-", color=f"C{i}", ms=4, label=f"alpha - 1 = {a - 1:.3g}")
+        for lev in (0.01, 0.05):
+            ax.axhline(lev, color="gray", ls=":", lw=0.8)
+        ax.set_xlabel("contacts per site N")
+        ax.set_ylabel("bias of the steady friction (RMS over v)")
+        ax.set_title(f"w = {w:g}", fontsize=9)
+        ax.legend(fontsize=6)
+    fig.suptitle(st.title("validity map, steady law: systematic error vs N"), fontsize=9)
+    save(fig, outdir, f"{st.name}_bias_vs_N.png", figs)
+    # the map (w = 0): where the continuum holds to 1% and 5%
+    m0 = t["width"] == 0
+    if m0.any():
+        Ns, As = sorted(set(t["N"][m0])), sorted(set(t["alpha_minus_1"][m0]))
+        grid = np.full((len(As), len(Ns)), np.nan)
+        for k in np.where(m0)[0]:
+            grid[As.index(t["alpha_minus_1"][k]), Ns.index(t["N"][k])] = max(t["bias"][k], 1e-5)
+        fig, ax = plt.subplots(figsize=(6.8, 4.8))
+        X, Y = np.meshgrid(np.log10(Ns), np.log10(As))
+        pc = ax.pcolormesh(X, Y, np.log10(grid), shading="nearest", cmap="viridis")
+        fig.colorbar(pc, ax=ax, label="log10 bias")
+        cs = ax.contour(X, Y, np.log10(grid), levels=[-2, np.log10(0.05)], colors=["w", "r"], linewidths=1.5)
+        ax.clabel(cs, fmt={-2: "1%", np.log10(0.05): "5%"}, fontsize=8)
+        if x:
+            mx = (x["width"] == 0) & np.isfinite(x["N_star_1"])
+            ax.plot(np.log10(x["N_star_1"][mx]), np.log10(x["alpha_minus_1"][mx]), "w*", ms=10, label="N* (1%)")
+            p = st.scalars.get("validity_friction_Nstar1_exponent", math.nan)
+            c = st.scalars.get("validity_friction_Nstar1_exponent_prefactor", math.nan)
+            if math.isfinite(p):
+                am = np.array(As)
+                ax.plot(np.log10(c * am ** p), np.log10(am), "w--", lw=1, label=f"N* = {c:.3g} (alpha-1)^{p:.2f}")
+            ax.legend(fontsize=7, loc="lower left")
+        ax.set_xlabel("log10 N")
+        ax.set_ylabel("log10 (alpha - 1)")
+        ax.set_title(st.title("where the continuum law holds (w = 0): bias of the steady friction"), fontsize=8)
+        save(fig, outdir, f"{st.name}_map.png", figs)
+        # the collapse: bias against N (alpha - 1)^{-p}, fitted p and the naive p = -2
+        p = st.scalars.get("validity_friction_Nstar1_exponent", -1.5)
+        fig, axs = plt.subplots(1, 2, figsize=(11, 4.2))
+        for ax, q, lab in ((axs[0], -p, f"N (alpha - 1)^{-p:.2f} (fitted)"), (axs[1], 2.0, "N (alpha - 1)^2 (naive)")):
+            for i, a in enumerate(sorted(set(t["alpha"][m0]))):
+                m = m0 & (t["alpha"] == a)
+                ax.loglog(t["N"][m] * (a - 1) ** q, np.maximum(t["bias"][m], 1e-5), "o-", color=f"C{i}", ms=4,
+                          label=f"alpha - 1 = {a - 1:.3g}")
+            ax.set_xlabel(lab)
+            ax.set_ylabel("bias")
+            ax.legend(fontsize=6)
+        fig.suptitle(st.title("collapse of the steady-law bias"), fontsize=9)
+        save(fig, outdir, f"{st.name}_collapse.png", figs)
+    rows.append((f"{st.name}: N* (steady-law bias < 1%, w = 0) ~ (alpha - 1)^p", "", "", "",
+                 st.fit_label("validity_friction_Nstar1_exponent") + "; theory -3/2, naive -2"))
+    if x:
+        for k in range(len(x["alpha"])):
+            if x["width"][k] == 0 and math.isfinite(x["N_star_1"][k]):
+                rows.append((f"{st.name}: N* (1%) at alpha - 1 = {x['alpha_minus_1'][k]:.3g}", "", f"{x['N_star_1'][k]:.3g}", "",
+                             f"between N = {x['N_star_1_low'][k]:.3g} and {x['N_star_1_high'][k]:.3g}"))
+    return figs, rows
+
+
+def validity_fig1_study(st, outdir):
+    """The validity map on fig1: the fraction of continuum-like runs vs N per alpha, and its collapse."""
+    figs, rows = [], []
+    t = st.tables.get("validity_fig1", {})
+    if not t:
+        return figs, rows
+    dt_ref = max(t["dt"])
+    ref = t["dt"] == dt_ref
+    fig, axs = plt.subplots(1, 2, figsize=(11, 4.2))
+    for i, a in enumerate(sorted(set(t["alpha"][ref]))):
+        m = ref & (t["alpha"] == a)
+        yerr = [t["fraction"][m] - t["fraction_low"][m], t["fraction_high"][m] - t["fraction"][m]]
+        axs[0].errorbar(t["N"][m], t["fraction"][m], yerr=yerr, marker="o", capsize=3, color=f"C{i}", label=f"alpha - 1 = {a - 1:.3g}")
+        axs[1].plot(t["N"][m] * (a - 1) ** 2, t["fraction"][m], "o-", color=f"C{i}", label=f"alpha - 1 = {a - 1:.3g}")
+    fine = ~ref
+    if fine.any():
+        axs[0].errorbar(t["N"][fine], t["fraction"][fine], yerr=[t["fraction"][fine] - t["fraction_low"][fine],
+                        t["fraction_high"][fine] - t["fraction"][fine]], marker="s", ls="none", color="k", capsize=3,
+                        label=f"dt = {t['dt'][fine][0]:g} (step check)")
+    for ax in axs:
+        ax.set_xscale("log")
+        ax.set_ylabel("fraction of continuum-like fig1 runs")
+        ax.legend(fontsize=7)
+    axs[0].set_xlabel("contacts per site N")
+    axs[1].set_xlabel("N (alpha - 1)^2")
+    fig.suptitle(st.title(f"validity map, fig1 (implicit dt = {dt_ref:g}, Wilson 95% intervals)"), fontsize=9)
+    save(fig, outdir, f"{st.name}_fraction.png", figs)
+    rows.append((f"{st.name}: N* (half of fig1 runs continuum-like) ~ (alpha - 1)^p", "", "", "",
+                 st.fit_label("validity_fig1_Nstar50_exponent") + "; theory -2"))
+    pv = st.scalars.get("validity_fig1_dt_pvalue", math.nan)
+    if math.isfinite(pv):
+        rows.append((f"{st.name}: continuum-like fraction, dt {dt_ref:g} vs {st.scalars.get('validity_fig1_dt_fine', math.nan):g}",
+                     "", f"{st.scalars.get('validity_fig1_dt_fraction_difference', math.nan):+.3f}", "",
+                     f"p = {pv:.2f} (two-proportion z test)"))
+    return figs, rows
+
+
 STUDY_PLOTS = {"friction_law": friction_law_study, "threshold_width": threshold_width_study,
                "transient_friction": transient_study, "front_speeds": front_speeds_study, "fig2": fig2_study,
-               "front_spectrum": spectrum_study, "steady_fronts": steady_fronts_study}
+               "front_spectrum": spectrum_study, "steady_fronts": steady_fronts_study,
+               "validity_friction": validity_friction_study, "validity_fig1": validity_fig1_study}
 
 
 def scene_rows(res):

@@ -1,0 +1,301 @@
+#include "compare/validity.hpp"
+
+#include <boost/math/distributions/normal.hpp>
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <tuple>
+
+#include "compare/fit.hpp"
+#include "continuum/params.hpp"
+
+namespace slipfront::compare {
+namespace {
+
+constexpr double nan_v = std::numeric_limits<double>::quiet_NaN();
+
+// Bias (RMS over v of the seed-mean relative error, with the random share var/S removed), random part (RMS
+// over v of the seed spread) and total, of errors e[seed][v] — the estimators of the friction_law study.
+struct ErrorParts {
+  double bias = nan_v, random = nan_v, total = nan_v;
+};
+ErrorParts error_parts(const std::vector<std::vector<double>>& e) {
+  ErrorParts p;
+  const std::size_t S = e.size();
+  if (S == 0 || e[0].empty()) return p;
+  const std::size_t K = e[0].size();
+  double bias = 0, var_sum = 0, tot = 0;
+  for (std::size_t k = 0; k < K; ++k) {
+    double m = 0;
+    for (std::size_t s = 0; s < S; ++s) m += e[s][k];
+    m /= static_cast<double>(S);
+    double v = 0;
+    for (std::size_t s = 0; s < S; ++s) {
+      v += (e[s][k] - m) * (e[s][k] - m);
+      tot += e[s][k] * e[s][k];
+    }
+    v = S > 1 ? v / static_cast<double>(S - 1) : 0.0;
+    var_sum += v;
+    bias += std::max(0.0, m * m - v / static_cast<double>(S));
+  }
+  const double Kd = static_cast<double>(K), Sd = static_cast<double>(S);
+  p.bias = std::sqrt(bias / Kd);
+  p.random = std::sqrt(var_sum / Kd);
+  p.total = std::sqrt(tot / (Kd * Sd));
+  return p;
+}
+
+double value_of(const Scene& s, const char* what) {
+  if (std::string(what) == "alpha") return s.interface.alpha;
+  if (std::string(what) == "width") return s.discrete.width;
+  if (std::string(what) == "N") return static_cast<double>(s.discrete.contacts_per_site);
+  return s.time.integrator == continuum::Integrator::implicit_trapezoidal ? s.time.dt : 0.0;
+}
+
+// Power-law fit of N* against α − 1 over the finite points: the collapse exponent.
+void put_collapse(StudyReport& rep, const std::string& name, const std::vector<double>& am1, const std::vector<double>& nstar,
+                  const std::string& what) {
+  std::vector<double> x, y;
+  for (std::size_t k = 0; k < am1.size(); ++k)
+    if (std::isfinite(nstar[k]) && nstar[k] > 0) {
+      x.push_back(am1[k]);
+      y.push_back(nstar[k]);
+    }
+  if (x.size() < 3) {
+    rep.notes.push_back(name + ": fewer than 3 finite crossovers, no exponent fitted");
+    return;
+  }
+  const LineFit f = fit_power_law(x, y);
+  rep.scalars[name] = f.slope;
+  rep.scalars[name + "_ci_low"] = f.slope_ci_low;
+  rep.scalars[name + "_ci_high"] = f.slope_ci_high;
+  rep.scalars[name + "_points"] = f.n;
+  rep.scalars[name + "_prefactor"] = std::exp(f.intercept);
+  rep.definitions[name] = what + " (least-squares slope in log-log; _ci_low/_ci_high: 95% Student-t interval)";
+}
+
+}  // namespace
+
+Crossover crossover_n(std::span<const double> n, std::span<const double> error, double level) {
+  Crossover c;
+  c.n_star = nan_v;
+  const std::size_t m = std::min(n.size(), error.size());
+  if (m == 0) return c;
+  // the last grid point at or above the level; the crossing lies after it
+  std::size_t last_above = m;
+  for (std::size_t k = 0; k < m; ++k)
+    if (!(error[k] < level)) last_above = k;
+  if (last_above == m) {
+    c.below_at_start = true;
+    return c;
+  }
+  if (last_above + 1 == m) {
+    c.never_below = true;
+    return c;
+  }
+  const std::size_t k = last_above;
+  const double x0 = std::log(n[k]), x1 = std::log(n[k + 1]);
+  const double y0 = std::log(std::max(error[k], 1e-300)), y1 = std::log(std::max(error[k + 1], 1e-300));
+  const double t = (std::log(level) - y0) / (y1 - y0);
+  c.n_star = std::exp(x0 + std::clamp(t, 0.0, 1.0) * (x1 - x0));
+  return c;
+}
+
+bool continuum_like(double c_ratio, double t_hat_shift, double c_threshold, double t_threshold) {
+  return std::isfinite(c_ratio) && c_ratio < c_threshold && std::abs(t_hat_shift) < t_threshold;
+}
+
+ModeSplit classify_modes(std::span<const double> c_ratio, std::span<const double> t_hat_shift, double c_threshold,
+                         double t_threshold) {
+  ModeSplit m;
+  for (std::size_t k = 0; k < c_ratio.size(); ++k) {
+    ++m.runs;
+    if (continuum_like(c_ratio[k], k < t_hat_shift.size() ? t_hat_shift[k] : 0.0, c_threshold, t_threshold)) ++m.continuum_like;
+  }
+  if (m.runs == 0) {
+    m.fraction = m.low = m.high = nan_v;
+    return m;
+  }
+  const double n = m.runs, p = m.continuum_like / n, z = 1.959963984540054;
+  m.fraction = p;
+  const double centre = (p + z * z / (2 * n)) / (1 + z * z / n);
+  const double half = z * std::sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z * z / n);
+  m.low = std::max(0.0, centre - half);
+  m.high = std::min(1.0, centre + half);
+  return m;
+}
+
+void analyse_validity_friction(StudyReport& rep, const std::vector<StudyRun>& runs, const std::vector<Scene>& scenes,
+                               const std::vector<std::vector<ModelResult>>& res) {
+  // errors[(α, w)][N] = per seed, the relative error of the steady friction at each v
+  using Key = std::pair<double, double>;
+  std::map<Key, std::map<double, std::vector<std::vector<double>>>> errors;
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    const auto* c = find_model(res[i], "continuum");
+    const auto* d = find_model(res[i], "discrete");
+    if (!c || !d || !c->friction_law.count("sigma") || !d->friction_law.count("sigma")) continue;
+    const auto &sc = c->friction_law.at("sigma"), &sd = d->friction_law.at("sigma");
+    std::vector<double> e;
+    for (std::size_t k = 0; k < std::min(sc.size(), sd.size()); ++k) e.push_back(sd[k] / sc[k] - 1.0);
+    errors[{value_of(scenes[i], "alpha"), value_of(scenes[i], "width")}][value_of(scenes[i], "N")].push_back(e);
+  }
+  Columns t, x;
+  for (auto& [key, byN] : errors) {
+    const auto [alpha, width] = key;
+    std::vector<double> Ns, bias;
+    for (auto& [N, e] : byN) {
+      const ErrorParts p = error_parts(e);
+      t["alpha"].push_back(alpha);
+      t["alpha_minus_1"].push_back(alpha - 1.0);
+      t["width"].push_back(width);
+      t["N"].push_back(N);
+      t["bias"].push_back(p.bias);
+      t["random"].push_back(p.random);
+      t["total"].push_back(p.total);
+      t["seeds"].push_back(static_cast<double>(e.size()));
+      Ns.push_back(N);
+      bias.push_back(p.bias);
+    }
+    x["alpha"].push_back(alpha);
+    x["alpha_minus_1"].push_back(alpha - 1.0);
+    x["width"].push_back(width);
+    for (const auto& [level, tag] : {std::pair{0.01, "1"}, std::pair{0.05, "5"}}) {
+      const Crossover c = crossover_n(Ns, bias, level);
+      // The interval: the grid points the crossing lies between (the bias falls from a few % to ~1e-4 within one
+      // factor of 3 in N — the re-sticking stops — so the grid, not the seeds, bounds N*).
+      double lo = nan_v, hi = nan_v;
+      for (std::size_t k = 0; k + 1 < Ns.size(); ++k)
+        if (std::isfinite(c.n_star) && Ns[k] <= c.n_star && c.n_star <= Ns[k + 1]) lo = Ns[k], hi = Ns[k + 1];
+      if (c.below_at_start) lo = 0.0, hi = Ns.front();
+      if (c.never_below) lo = Ns.back(), hi = std::numeric_limits<double>::infinity();
+      const std::string n = std::string("N_star_") + tag;
+      x[n].push_back(c.n_star);
+      x[n + "_low"].push_back(lo);
+      x[n + "_high"].push_back(hi);
+      x[n + "_valid_everywhere"].push_back(c.below_at_start ? 1.0 : 0.0);
+      x[n + "_valid_nowhere"].push_back(c.never_below ? 1.0 : 0.0);
+    }
+  }
+  rep.tables["validity_friction"] = t;
+  rep.definitions["validity_friction/bias"] =
+      "RMS over v of the seed-mean relative error of the discrete steady friction against the continuum, the random "
+      "share var/S removed: the systematic error of the mean-field limit";
+  rep.definitions["validity_friction/random"] = "RMS over v of the spread over seeds of the relative error";
+  rep.tables["validity_crossover"] = x;
+  rep.definitions["validity_crossover/N_star_1"] =
+      "N from which the bias stays below 1% (log-log interpolation); NaN with valid_everywhere = 1 (below at the "
+      "smallest N: _low/_high = 0, N_min) or valid_nowhere = 1 (above at the largest: N_max, inf); _low/_high: the grid "
+      "points the crossing lies between";
+  rep.definitions["validity_crossover/N_star_5"] = "the same for 5%";
+  // The collapse (docs/validity.md §2): N* ∝ (α − 1)^p at w = 0; the noise-over-margin argument predicts
+  // p = −3/2 for the steady law over a sweep that contains v* ≈ sqrt((α − 1)/(3ηκ)), −2 at a fixed small v.
+  for (const char* tag : {"1", "5"}) {
+    std::vector<double> am1, ns;
+    for (std::size_t k = 0; k < x["alpha"].size(); ++k)
+      if (x["width"][k] == 0.0) {
+        am1.push_back(x["alpha_minus_1"][k]);
+        ns.push_back(x[std::string("N_star_") + tag][k]);
+      }
+    put_collapse(rep, std::string("validity_friction_Nstar") + tag + "_exponent", am1, ns,
+                 std::string("exponent p of N* (bias < ") + tag + "%) ~ (alpha - 1)^p at w = 0 (theory: -3/2)");
+  }
+}
+
+void analyse_validity_fig1(StudyReport& rep, const std::vector<StudyRun>& runs, const std::vector<Scene>& scenes,
+                           const std::vector<std::vector<ModelResult>>& res) {
+  using Key = std::tuple<double, double, double>;  // α, implicit dt (0: explicit), N
+  struct Group {
+    std::vector<double> ratio, t_hat_rel, c;
+    double c_cont = nan_v, t_cont = nan_v;
+  };
+  std::map<Key, Group> groups;
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    const auto* c = find_model(res[i], "continuum");
+    const auto* d = find_model(res[i], "discrete");
+    if (!c || !d) continue;
+    Group& g = groups[{value_of(scenes[i], "alpha"), value_of(scenes[i], "dt"), value_of(scenes[i], "N")}];
+    g.c_cont = c->events.c_transient;
+    g.t_cont = c->events.t_hat;
+    g.ratio.push_back(d->events.c_transient / c->events.c_transient);
+    g.t_hat_rel.push_back(d->events.t_hat / c->events.t_hat - 1.0);
+    g.c.push_back(d->events.c_transient);
+  }
+  Columns t;
+  for (const auto& [key, g] : groups) {
+    const auto [alpha, dt, N] = key;
+    const ModeSplit m = classify_modes(g.ratio, g.t_hat_rel);
+    double c1 = 0, c2 = 0, t1 = 0, t2 = 0;
+    int n1 = 0, n2 = 0;
+    for (std::size_t k = 0; k < g.ratio.size(); ++k) {
+      if (continuum_like(g.ratio[k], g.t_hat_rel[k])) {
+        c1 += g.c[k];
+        t1 += g.t_hat_rel[k];
+        ++n1;
+      } else if (std::isfinite(g.ratio[k])) {
+        c2 += g.c[k];
+        t2 += g.t_hat_rel[k];
+        ++n2;
+      }
+    }
+    t["alpha"].push_back(alpha);
+    t["alpha_minus_1"].push_back(alpha - 1.0);
+    t["dt"].push_back(dt);
+    t["N"].push_back(N);
+    t["runs"].push_back(m.runs);
+    t["continuum_like"].push_back(m.continuum_like);
+    t["fraction"].push_back(m.fraction);
+    t["fraction_low"].push_back(m.low);
+    t["fraction_high"].push_back(m.high);
+    t["c_continuum"].push_back(g.c_cont);
+    t["c_continuum_like_mean"].push_back(n1 ? c1 / n1 : nan_v);
+    t["c_restuck_mean"].push_back(n2 ? c2 / n2 : nan_v);
+    t["t_hat_rel_continuum_like_mean"].push_back(n1 ? t1 / n1 : nan_v);
+    t["t_hat_rel_restuck_mean"].push_back(n2 ? t2 / n2 : nan_v);
+  }
+  rep.tables["validity_fig1"] = t;
+  rep.definitions["validity_fig1/fraction"] =
+      "fraction of continuum-like runs: c_transient(discrete)/c_transient(continuum) < 1.3 (the modes sit at 1 and "
+      "about 1.6) and |t^(discrete)/t^(continuum) - 1| < 0.1; _low/_high: 95% Wilson interval";
+  // N*_fig1(α): where the continuum-like fraction reaches 0.5 and 0.9 (log N interpolation), reference dt only.
+  const double dt_ref = t["dt"].empty() ? 0.0 : *std::max_element(t["dt"].begin(), t["dt"].end());
+  Columns x;
+  std::map<double, std::pair<std::vector<double>, std::vector<double>>> byAlpha;
+  for (std::size_t k = 0; k < t["alpha"].size(); ++k)
+    if (t["dt"][k] == dt_ref) {
+      byAlpha[t["alpha"][k]].first.push_back(t["N"][k]);
+      byAlpha[t["alpha"][k]].second.push_back(1.0 - t["fraction"][k]);  // the re-stuck fraction falls with N
+    }
+  for (const auto& [alpha, ne] : byAlpha) {
+    x["alpha"].push_back(alpha);
+    x["alpha_minus_1"].push_back(alpha - 1.0);
+    for (const auto& [level, tag] : {std::pair{0.5, "50"}, std::pair{0.1, "90"}}) {
+      const Crossover c = crossover_n(ne.first, ne.second, level);
+      x[std::string("N_star_") + tag].push_back(c.n_star);
+      x[std::string("N_star_") + tag + "_valid_everywhere"].push_back(c.below_at_start ? 1.0 : 0.0);
+    }
+  }
+  rep.tables["validity_fig1_crossover"] = x;
+  rep.definitions["validity_fig1_crossover/N_star_50"] =
+      "N at which the continuum-like fraction of fig1 runs reaches 0.5 (log N interpolation; N_star_90: 0.9)";
+  put_collapse(rep, "validity_fig1_Nstar50_exponent", x["alpha_minus_1"], x["N_star_50"],
+               "exponent p of N* (half of the fig1 runs continuum-like) ~ (alpha - 1)^p (theory: -2)");
+  // The step: where the same (α, N) ran at two steps, the continuum-like fractions compared (two-proportion
+  // z test): the fixed-step implicit integrator's step error against the statistical error of the fraction.
+  for (std::size_t a = 0; a < t["alpha"].size(); ++a)
+    for (std::size_t b = 0; b < t["alpha"].size(); ++b)
+      if (t["alpha"][a] == t["alpha"][b] && t["N"][a] == t["N"][b] && t["dt"][a] == dt_ref && t["dt"][b] < dt_ref) {
+        const double n1 = t["runs"][a], n2 = t["runs"][b], p1 = t["fraction"][a], p2 = t["fraction"][b];
+        const double p = (p1 * n1 + p2 * n2) / (n1 + n2), se = std::sqrt(p * (1 - p) * (1 / n1 + 1 / n2));
+        const double z = se > 0 ? (p1 - p2) / se : 0.0;
+        const boost::math::normal unit;
+        rep.scalars["validity_fig1_dt_fraction_difference"] = p1 - p2;
+        rep.scalars["validity_fig1_dt_pvalue"] = 2 * boost::math::cdf(boost::math::complement(unit, std::abs(z)));
+        rep.scalars["validity_fig1_dt_ref"] = dt_ref;
+        rep.scalars["validity_fig1_dt_fine"] = t["dt"][b];
+        rep.definitions["validity_fig1_dt_pvalue"] =
+            "two-sided p-value of a two-proportion z test: the continuum-like fraction at the study's step against a "
+            "finer step at the same alpha and N (large: the step's error is below the fraction's statistical error)";
+      }
+}
+
+}  // namespace slipfront::compare

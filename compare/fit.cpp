@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include <Eigen/Dense>
 #include <boost/math/distributions/students_t.hpp>
 #include <cmath>
 #include <limits>
@@ -61,6 +62,46 @@ LineFit fit_power_law(std::span<const double> x, std::span<const double> err, do
   for (std::size_t i = 0; i < x.size(); ++i)
     if (err[i] > 0 && x[i] > 0 && std::isfinite(err[i])) { lx.push_back(std::log(x[i])); ly.push_back(std::log(err[i])); }
   return fit_line(lx, ly, confidence);
+}
+
+PowerLawFit fit_power_law_multi(const std::vector<std::vector<double>>& factors, std::span<const double> y,
+                                double confidence) {
+  PowerLawFit f;
+  const std::size_t k = factors.size();
+  std::vector<std::size_t> keep;
+  for (std::size_t i = 0; i < y.size(); ++i) {
+    bool ok = y[i] > 0 && std::isfinite(y[i]);
+    for (const auto& x : factors) ok = ok && i < x.size() && x[i] > 0 && std::isfinite(x[i]);
+    if (ok) keep.push_back(i);
+  }
+  f.n = static_cast<int>(keep.size());
+  if (keep.size() < k + 2) return f;
+  Eigen::MatrixXd a(keep.size(), k + 1);
+  Eigen::VectorXd b(keep.size());
+  for (std::size_t r = 0; r < keep.size(); ++r) {
+    a(r, 0) = 1.0;
+    for (std::size_t c = 0; c < k; ++c) a(r, c + 1) = std::log(factors[c][keep[r]]);
+    b(r) = std::log(y[keep[r]]);
+  }
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(a);
+  if (qr.rank() < static_cast<Eigen::Index>(k + 1)) return f;
+  const Eigen::VectorXd coef = qr.solve(b);
+  const Eigen::VectorXd res = b - a * coef;
+  const double dof = static_cast<double>(keep.size() - k - 1);
+  const double s2 = res.squaredNorm() / dof;
+  const Eigen::MatrixXd cov = s2 * (a.transpose() * a).inverse();
+  const boost::math::students_t t(dof);
+  const double q = boost::math::quantile(boost::math::complement(t, 0.5 * (1.0 - confidence)));
+  f.prefactor = std::exp(coef(0));
+  f.log_rms = std::sqrt(res.squaredNorm() / static_cast<double>(keep.size()));
+  for (std::size_t c = 0; c < k; ++c) {
+    const double p = coef(c + 1), se = std::sqrt(cov(c + 1, c + 1));
+    f.exponents.push_back(p);
+    f.stderrs.push_back(se);
+    f.ci_low.push_back(p - q * se);
+    f.ci_high.push_back(p + q * se);
+  }
+  return f;
 }
 
 TabulatedMinimum parabola_minimum_log(std::span<const double> xs, std::span<const double> ys) {

@@ -4,6 +4,7 @@
 // pulling in a statistics library; the t quantile comes from Boost.Math.
 #include <functional>
 #include <span>
+#include <vector>
 
 namespace slipfront::compare {
 
@@ -23,6 +24,19 @@ LineFit fit_line_weighted(std::span<const double> x, std::span<const double> y, 
 
 /// err ≈ C x^p: the line fit of log err against log x (slope = p); points with err ≤ 0 are dropped.
 LineFit fit_power_law(std::span<const double> x, std::span<const double> err, double confidence = 0.95);
+
+/// y ≈ C x_1^{p_1} ... x_k^{p_k}: ordinary least squares of log y on (1, log x_1, ..., log x_k) (Eigen's
+/// column-pivoting QR), with Student-t intervals on n − k − 1 degrees of freedom; points with a
+/// non-positive or non-finite value dropped. `exponents` empty when fewer than k + 2 points remain or
+/// the design is rank deficient (a factor that never varies).
+struct PowerLawFit {
+  std::vector<double> exponents, stderrs, ci_low, ci_high;
+  double prefactor = 0.0;
+  double log_rms = 0.0;  ///< RMS of the log residuals
+  int n = 0;
+};
+PowerLawFit fit_power_law_multi(const std::vector<std::vector<double>>& factors, std::span<const double> y,
+                                double confidence = 0.95);
 
 /// Minimum of a tabulated curve y(x) with x > 0 (the steady friction law σ(v)): the parabola in log x
 /// through the smallest y and its two neighbours (the ends excluded: the three points around the

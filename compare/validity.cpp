@@ -49,6 +49,8 @@ double value_of(const Scene& s, const char* what) {
   if (std::string(what) == "alpha") return s.interface.alpha;
   if (std::string(what) == "width") return s.discrete.width;
   if (std::string(what) == "N") return static_cast<double>(s.discrete.contacts_per_site);
+  if (std::string(what) == "kappa") return s.interface.kappa;
+  if (std::string(what) == "eta") return s.interface.eta;
   return s.time.integrator == continuum::Integrator::implicit_trapezoidal ? s.time.dt : 0.0;
 }
 
@@ -127,8 +129,8 @@ ModeSplit classify_modes(std::span<const double> c_ratio, std::span<const double
 
 void analyse_validity_friction(StudyReport& rep, const std::vector<StudyRun>& runs, const std::vector<Scene>& scenes,
                                const std::vector<std::vector<ModelResult>>& res) {
-  // errors[(α, w)][N] = per seed, the relative error of the steady friction at each v
-  using Key = std::pair<double, double>;
+  // errors[(α, w, κ, η)][N] = per seed, the relative error of the steady friction at each v
+  using Key = std::tuple<double, double, double, double>;
   std::map<Key, std::map<double, std::vector<std::vector<double>>>> errors;
   for (std::size_t i = 0; i < runs.size(); ++i) {
     const auto* c = find_model(res[i], "continuum");
@@ -137,17 +139,21 @@ void analyse_validity_friction(StudyReport& rep, const std::vector<StudyRun>& ru
     const auto &sc = c->friction_law.at("sigma"), &sd = d->friction_law.at("sigma");
     std::vector<double> e;
     for (std::size_t k = 0; k < std::min(sc.size(), sd.size()); ++k) e.push_back(sd[k] / sc[k] - 1.0);
-    errors[{value_of(scenes[i], "alpha"), value_of(scenes[i], "width")}][value_of(scenes[i], "N")].push_back(e);
+    const Scene& s = scenes[i];
+    errors[{value_of(s, "alpha"), value_of(s, "width"), value_of(s, "kappa"), value_of(s, "eta")}][value_of(s, "N")]
+        .push_back(e);
   }
   Columns t, x;
   for (auto& [key, byN] : errors) {
-    const auto [alpha, width] = key;
+    const auto [alpha, width, kappa, eta] = key;
     std::vector<double> Ns, bias;
     for (auto& [N, e] : byN) {
       const ErrorParts p = error_parts(e);
       t["alpha"].push_back(alpha);
       t["alpha_minus_1"].push_back(alpha - 1.0);
       t["width"].push_back(width);
+      t["kappa"].push_back(kappa);
+      t["eta"].push_back(eta);
       t["N"].push_back(N);
       t["bias"].push_back(p.bias);
       t["random"].push_back(p.random);
@@ -159,6 +165,8 @@ void analyse_validity_friction(StudyReport& rep, const std::vector<StudyRun>& ru
     x["alpha"].push_back(alpha);
     x["alpha_minus_1"].push_back(alpha - 1.0);
     x["width"].push_back(width);
+    x["kappa"].push_back(kappa);
+    x["eta"].push_back(eta);
     for (const auto& [level, tag] : {std::pair{0.01, "1"}, std::pair{0.05, "5"}}) {
       const Crossover c = crossover_n(Ns, bias, level);
       // The interval: the grid points the crossing lies between (the bias falls from a few % to ~1e-4 within one
@@ -187,17 +195,104 @@ void analyse_validity_friction(StudyReport& rep, const std::vector<StudyRun>& ru
       "smallest N: _low/_high = 0, N_min) or valid_nowhere = 1 (above at the largest: N_max, inf); _low/_high: the grid "
       "points the crossing lies between";
   rep.definitions["validity_crossover/N_star_5"] = "the same for 5%";
+  if (x["alpha"].empty()) return;
+  // The reference (κ, η): the pair most (α, w) points were run at; the α collapse uses it, the κ and η
+  // dependence is read where one of them differs from it.
+  std::map<std::pair<double, double>, int> pairs;
+  for (std::size_t k = 0; k < x["alpha"].size(); ++k) ++pairs[{x["kappa"][k], x["eta"][k]}];
+  const auto [kappa0, eta0] =
+      std::max_element(pairs.begin(), pairs.end(), [](const auto& a, const auto& b) { return a.second < b.second; })->first;
+  rep.scalars["validity_friction_kappa_ref"] = kappa0;
+  rep.scalars["validity_friction_eta_ref"] = eta0;
   // The collapse (docs/validity.md §2): N* ∝ (α − 1)^p at w = 0; the noise-over-margin argument predicts
   // p = −3/2 for the steady law over a sweep that contains v* ≈ sqrt((α − 1)/(3ηκ)), −2 at a fixed small v.
   for (const char* tag : {"1", "5"}) {
     std::vector<double> am1, ns;
     for (std::size_t k = 0; k < x["alpha"].size(); ++k)
-      if (x["width"][k] == 0.0) {
+      if (x["width"][k] == 0.0 && x["kappa"][k] == kappa0 && x["eta"][k] == eta0) {
         am1.push_back(x["alpha_minus_1"][k]);
         ns.push_back(x[std::string("N_star_") + tag][k]);
       }
     put_collapse(rep, std::string("validity_friction_Nstar") + tag + "_exponent", am1, ns,
                  std::string("exponent p of N* (bias < ") + tag + "%) ~ (alpha - 1)^p at w = 0 (theory: -3/2)");
+  }
+  // κ and η (§1: N* ∝ (κ/η)^{1/2} (α − 1)^{−3/2}): at each α run at several κ (η = η0) or several η (κ = κ0),
+  // the ratio N*/N*(κ0, η0) against κ/κ0 or η/η0, pooled over α, fitted as a power law with a free prefactor
+  // (theory +1/2, −1/2, prefactor 1; the reference points themselves are not in the fit: they are 1 by construction);
+  // and the full collapse: N* (η/κ)^{1/2} against α − 1 over every w = 0 point.
+  for (const auto& [param, ref, other, other_ref, theory] :
+       {std::tuple{"kappa", kappa0, "eta", eta0, "+1/2"}, std::tuple{"eta", eta0, "kappa", kappa0, "-1/2"}}) {
+    std::vector<double> ratio, nratio;
+    for (std::size_t k = 0; k < x["alpha"].size(); ++k) {
+      if (x["width"][k] != 0.0 || x[other][k] != other_ref || x[param][k] == ref || !std::isfinite(x["N_star_1"][k]))
+        continue;
+      for (std::size_t j = 0; j < x["alpha"].size(); ++j)
+        if (x["width"][j] == 0.0 && x["alpha"][j] == x["alpha"][k] && x["kappa"][j] == kappa0 && x["eta"][j] == eta0 &&
+            std::isfinite(x["N_star_1"][j])) {
+          ratio.push_back(x[param][k] / ref);
+          nratio.push_back(x["N_star_1"][k] / x["N_star_1"][j]);
+        }
+    }
+    put_collapse(rep, std::string("validity_friction_Nstar1_") + param + "_exponent", ratio, nratio,
+                 std::string("exponent q of N*(bias < 1%) ~ ") + param + "^q at fixed alpha, w = 0 (the ratio to N* at the "
+                 "reference " + param + ", pooled over alpha; theory " + theory + ")");
+  }
+  std::vector<double> am1, scaled;
+  for (std::size_t k = 0; k < x["alpha"].size(); ++k)
+    if (x["width"][k] == 0.0) {
+      am1.push_back(x["alpha_minus_1"][k]);
+      scaled.push_back(x["N_star_1"][k] * std::sqrt((x["eta"][k] / eta0) / (x["kappa"][k] / kappa0)));
+    }
+  put_collapse(rep, "validity_friction_collapse_exponent", am1, scaled,
+               "exponent p of N*(bias < 1%) (eta kappa0/(kappa eta0))^(1/2) ~ (alpha - 1)^p over every w = 0 point, all "
+               "kappa and eta (theory -3/2: the points of every kappa and eta on one line)");
+  if (!scaled.empty()) {
+    // the scatter of the collapse: RMS of the log residuals about the fitted line
+    const auto it = rep.scalars.find("validity_friction_collapse_exponent");
+    if (it != rep.scalars.end()) {
+      const double p = it->second, a = std::log(rep.scalars["validity_friction_collapse_exponent_prefactor"]);
+      double ss = 0;
+      int n = 0;
+      for (std::size_t k = 0; k < am1.size(); ++k)
+        if (std::isfinite(scaled[k]) && scaled[k] > 0) {
+          const double r = std::log(scaled[k]) - a - p * std::log(am1[k]);
+          ss += r * r;
+          ++n;
+        }
+      rep.scalars["validity_friction_collapse_log_rms"] = n ? std::sqrt(ss / n) : nan_v;
+      rep.definitions["validity_friction_collapse_log_rms"] =
+          "RMS of the natural-log residuals of the collapse fit (ln 3 = 1.10 is one step of the factor-3 N grid)";
+    }
+  }
+  // The exponents left free: N*(1%) = C (α − 1)^p κ^q η^r over every w = 0 point, to compare with the argument's
+  // (−3/2, +1/2, −1/2).
+  std::vector<std::vector<double>> f(3);
+  std::vector<double> ns;
+  for (std::size_t k = 0; k < x["alpha"].size(); ++k)
+    if (x["width"][k] == 0.0) {
+      f[0].push_back(x["alpha_minus_1"][k]);
+      f[1].push_back(x["kappa"][k]);
+      f[2].push_back(x["eta"][k]);
+      ns.push_back(x["N_star_1"][k]);
+    }
+  const PowerLawFit fit = fit_power_law_multi(f, ns);
+  if (fit.exponents.size() == 3) {
+    const char* names[] = {"alpha_minus_1", "kappa", "eta"};
+    const char* theory[] = {"-3/2", "+1/2", "-1/2"};
+    for (int c = 0; c < 3; ++c) {
+      const std::string n = std::string("validity_friction_free_fit_") + names[c] + "_exponent";
+      rep.scalars[n] = fit.exponents[c];
+      rep.scalars[n + "_ci_low"] = fit.ci_low[c];
+      rep.scalars[n + "_ci_high"] = fit.ci_high[c];
+      rep.definitions[n] = std::string("exponent of ") + names[c] + " in N*(bias < 1%) = C (alpha - 1)^p kappa^q eta^r, "
+                           "least squares in log over every w = 0 point with a finite N* (theory " + theory[c] +
+                           "; _ci_low/_ci_high: 95% Student-t interval; N* interpolated on the grid, so the interval "
+                           "understates the grid's share of the error)";
+    }
+    rep.scalars["validity_friction_free_fit_log_rms"] = fit.log_rms;
+    rep.scalars["validity_friction_free_fit_points"] = fit.n;
+  } else if (fit.n > 0) {
+    rep.notes.push_back("validity_friction: kappa and eta not varied (or too few finite N*): no free three-exponent fit");
   }
 }
 
@@ -205,37 +300,58 @@ void analyse_validity_fig1(StudyReport& rep, const std::vector<StudyRun>& runs, 
                            const std::vector<std::vector<ModelResult>>& res) {
   using Key = std::tuple<double, double, double>;  // α, implicit dt (0: explicit), N
   struct Group {
-    std::vector<double> ratio, t_hat_rel, c;
+    std::vector<double> ratio, t_hat_rel, c, t_hat, x_arrest;
     double c_cont = nan_v, t_cont = nan_v;
   };
   std::map<Key, Group> groups;
+  Columns per_run;  // every run with its mode: the event distributions per mode
   for (std::size_t i = 0; i < runs.size(); ++i) {
     const auto* c = find_model(res[i], "continuum");
     const auto* d = find_model(res[i], "discrete");
     if (!c || !d) continue;
-    Group& g = groups[{value_of(scenes[i], "alpha"), value_of(scenes[i], "dt"), value_of(scenes[i], "N")}];
+    const double alpha = value_of(scenes[i], "alpha"), dt = value_of(scenes[i], "dt"), N = value_of(scenes[i], "N");
+    Group& g = groups[{alpha, dt, N}];
     g.c_cont = c->events.c_transient;
     g.t_cont = c->events.t_hat;
-    g.ratio.push_back(d->events.c_transient / c->events.c_transient);
-    g.t_hat_rel.push_back(d->events.t_hat / c->events.t_hat - 1.0);
+    const double r = d->events.c_transient / c->events.c_transient, sh = d->events.t_hat / c->events.t_hat - 1.0;
+    g.ratio.push_back(r);
+    g.t_hat_rel.push_back(sh);
     g.c.push_back(d->events.c_transient);
+    g.t_hat.push_back(d->events.t_hat);
+    g.x_arrest.push_back(d->events.x_arrest);
+    per_run["run"].push_back(static_cast<double>(i));
+    per_run["seed"].push_back(runs[i].seed);
+    per_run["alpha"].push_back(alpha);
+    per_run["dt"].push_back(dt);
+    per_run["N"].push_back(N);
+    per_run["continuum_like"].push_back(continuum_like(r, sh) ? 1.0 : 0.0);
+    per_run["c_ratio"].push_back(r);
+    per_run["t_hat_shift"].push_back(sh);
+    for (const auto& f : event_fields) per_run[f.name].push_back(d->events.*f.member);
   }
+  rep.tables["validity_fig1_runs"] = per_run;
+  rep.definitions["validity_fig1_runs"] =
+      "one row per run: its mode (continuum_like 1/0), c_ratio = c_transient(discrete)/c_transient(continuum), "
+      "t_hat_shift = t^(discrete)/t^(continuum) - 1 and the discrete run's events (docs/model.md §3)";
+  // the 10/50/90% quantiles (linear interpolation) of one mode's values; NaN when the mode is empty
+  auto quantile = [](std::vector<double> v, double q) {
+    std::erase_if(v, [](double y) { return !std::isfinite(y); });
+    if (v.empty()) return nan_v;
+    std::sort(v.begin(), v.end());
+    const double pos = q * static_cast<double>(v.size() - 1);
+    const auto k = static_cast<std::size_t>(pos);
+    return k + 1 < v.size() ? v[k] + (pos - static_cast<double>(k)) * (v[k + 1] - v[k]) : v[k];
+  };
   Columns t;
   for (const auto& [key, g] : groups) {
     const auto [alpha, dt, N] = key;
     const ModeSplit m = classify_modes(g.ratio, g.t_hat_rel);
-    double c1 = 0, c2 = 0, t1 = 0, t2 = 0;
-    int n1 = 0, n2 = 0;
+    std::map<std::string, std::vector<double>> by;  // "<mode>/<event>" -> values
     for (std::size_t k = 0; k < g.ratio.size(); ++k) {
-      if (continuum_like(g.ratio[k], g.t_hat_rel[k])) {
-        c1 += g.c[k];
-        t1 += g.t_hat_rel[k];
-        ++n1;
-      } else if (std::isfinite(g.ratio[k])) {
-        c2 += g.c[k];
-        t2 += g.t_hat_rel[k];
-        ++n2;
-      }
+      const std::string mode = continuum_like(g.ratio[k], g.t_hat_rel[k]) ? "continuum_like" : "other";
+      by[mode + "/c_transient"].push_back(g.c[k]);
+      by[mode + "/t_hat_shift"].push_back(g.t_hat_rel[k]);
+      by[mode + "/x_arrest"].push_back(g.x_arrest[k]);
     }
     t["alpha"].push_back(alpha);
     t["alpha_minus_1"].push_back(alpha - 1.0);
@@ -247,15 +363,21 @@ void analyse_validity_fig1(StudyReport& rep, const std::vector<StudyRun>& runs, 
     t["fraction_low"].push_back(m.low);
     t["fraction_high"].push_back(m.high);
     t["c_continuum"].push_back(g.c_cont);
-    t["c_continuum_like_mean"].push_back(n1 ? c1 / n1 : nan_v);
-    t["c_restuck_mean"].push_back(n2 ? c2 / n2 : nan_v);
-    t["t_hat_rel_continuum_like_mean"].push_back(n1 ? t1 / n1 : nan_v);
-    t["t_hat_rel_restuck_mean"].push_back(n2 ? t2 / n2 : nan_v);
+    t["t_hat_continuum"].push_back(g.t_cont);
+    for (const char* mode : {"continuum_like", "other"})
+      for (const char* ev : {"c_transient", "t_hat_shift", "x_arrest"})
+        for (const auto& [q, tag] : {std::pair{0.1, "q10"}, std::pair{0.5, "q50"}, std::pair{0.9, "q90"}}) {
+          const auto it = by.find(std::string(mode) + "/" + ev);
+          t[std::string(ev) + "_" + mode + "_" + tag].push_back(it == by.end() ? nan_v : quantile(it->second, q));
+        }
   }
   rep.tables["validity_fig1"] = t;
   rep.definitions["validity_fig1/fraction"] =
       "fraction of continuum-like runs: c_transient(discrete)/c_transient(continuum) < 1.3 (the modes sit at 1 and "
       "about 1.6) and |t^(discrete)/t^(continuum) - 1| < 0.1; _low/_high: 95% Wilson interval";
+  rep.definitions["validity_fig1/c_transient_continuum_like_q50"] =
+      "the median of c_transient over the continuum-like runs of the point; q10/q90: the 10% and 90% quantiles; the "
+      "same for the other runs (_other_) and for t_hat_shift and x_arrest: the event distributions per mode";
   // N*_fig1(α): where the continuum-like fraction reaches 0.5 and 0.9 (log N interpolation), reference dt only.
   const double dt_ref = t["dt"].empty() ? 0.0 : *std::max_element(t["dt"].begin(), t["dt"].end());
   Columns x;

@@ -456,11 +456,15 @@ def validity_friction_study(st, outdir):
     x = st.tables.get("validity_crossover", {})
     if not t:
         return figs, rows
+    # the reference kappa, eta (the analysis picks the pair most points ran at); other pairs: the kappa/eta figure
+    kref = st.scalars.get("validity_friction_kappa_ref", t["kappa"][0] if "kappa" in t else math.nan)
+    eref = st.scalars.get("validity_friction_eta_ref", t["eta"][0] if "eta" in t else math.nan)
+    tref = (t["kappa"] == kref) & (t["eta"] == eref) if "kappa" in t else np.ones(len(t["N"]), bool)
     widths = sorted(set(t["width"]))
     fig, axs = plt.subplots(1, len(widths), figsize=(5.2 * len(widths), 4.3), squeeze=False)
     for ax, w in zip(axs[0], widths):
         for i, a in enumerate(sorted(set(t["alpha"]))):
-            m = (t["alpha"] == a) & (t["width"] == w)
+            m = (t["alpha"] == a) & (t["width"] == w) & tref
             ax.loglog(t["N"][m], np.maximum(t["bias"][m], 1e-5), "o-", color=f"C{i}", ms=4, label=f"alpha - 1 = {a - 1:.3g}")
         for lev in (0.01, 0.05):
             ax.axhline(lev, color="gray", ls=":", lw=0.8)
@@ -468,10 +472,10 @@ def validity_friction_study(st, outdir):
         ax.set_ylabel("bias of the steady friction (RMS over v)")
         ax.set_title(f"w = {w:g}", fontsize=9)
         ax.legend(fontsize=6)
-    fig.suptitle(st.title("validity map, steady law: systematic error vs N"), fontsize=9)
+    fig.suptitle(st.title(f"validity map, steady law: systematic error vs N (kappa = {kref:g}, eta = {eref:g})"), fontsize=9)
     save(fig, outdir, f"{st.name}_bias_vs_N.png", figs)
     # the map (w = 0): where the continuum holds to 1% and 5%
-    m0 = t["width"] == 0
+    m0 = (t["width"] == 0) & tref
     if m0.any():
         Ns, As = sorted(set(t["N"][m0])), sorted(set(t["alpha_minus_1"][m0]))
         grid = np.full((len(As), len(Ns)), np.nan)
@@ -485,6 +489,8 @@ def validity_friction_study(st, outdir):
         ax.clabel(cs, fmt={-2: "1%", np.log10(0.05): "5%"}, fontsize=8)
         if x:
             mx = (x["width"] == 0) & np.isfinite(x["N_star_1"])
+            if "kappa" in x:
+                mx &= (x["kappa"] == kref) & (x["eta"] == eref)
             ax.plot(np.log10(x["N_star_1"][mx]), np.log10(x["alpha_minus_1"][mx]), "w*", ms=10, label="N* (1%)")
             p = st.scalars.get("validity_friction_Nstar1_exponent", math.nan)
             c = st.scalars.get("validity_friction_Nstar1_exponent_prefactor", math.nan)
@@ -509,11 +515,48 @@ def validity_friction_study(st, outdir):
             ax.legend(fontsize=6)
         fig.suptitle(st.title("collapse of the steady-law bias"), fontsize=9)
         save(fig, outdir, f"{st.name}_collapse.png", figs)
+    # kappa and eta: N* of every w = 0 point against alpha - 1, raw and scaled by the free fit's kappa^q eta^r
+    pa, pk, pe = (st.scalars.get(f"validity_friction_free_fit_{n}_exponent", math.nan) for n in ("alpha_minus_1", "kappa", "eta"))
+    if x and "kappa" in x and math.isfinite(pk):
+        w0 = (x["width"] == 0) & np.isfinite(x["N_star_1"])
+        pairs = sorted(set(zip(x["kappa"][w0], x["eta"][w0])))
+        fig, axs = plt.subplots(1, 3, figsize=(15, 4.3))
+        for j, (kk, ee) in enumerate(pairs):
+            m = w0 & (x["kappa"] == kk) & (x["eta"] == ee)
+            lab = f"kappa = {kk:g}, eta = {ee:g}"
+            axs[0].loglog(x["alpha_minus_1"][m], x["N_star_1"][m], "o", color=f"C{j}", label=lab)
+            axs[1].loglog(x["alpha_minus_1"][m], x["N_star_1"][m] * ((ee / eref) / (kk / kref)) ** 0.5, "o", color=f"C{j}", label=lab)
+            axs[2].loglog(x["alpha_minus_1"][m], x["N_star_1"][m] / ((kk / kref) ** pk * (ee / eref) ** pe), "o", color=f"C{j}",
+                          label=lab)
+        am = np.geomspace(min(x["alpha_minus_1"][w0]), max(x["alpha_minus_1"][w0]), 50)
+        pc = st.scalars.get("validity_friction_collapse_exponent", math.nan)
+        cc = st.scalars.get("validity_friction_collapse_exponent_prefactor", math.nan)
+        if math.isfinite(pc):
+            axs[1].loglog(am, cc * am ** pc, "k--", lw=1, label=f"fit: (alpha - 1)^{pc:.2f}")
+        # the free fit's line at the reference kappa, eta
+        sel = w0
+        pref = np.exp(np.mean(np.log(x["N_star_1"][sel]) - pa * np.log(x["alpha_minus_1"][sel])
+                              - pk * np.log(x["kappa"][sel] / kref) - pe * np.log(x["eta"][sel] / eref)))
+        axs[2].loglog(am, pref * am ** pa, "k--", lw=1, label=f"free fit: (alpha - 1)^{pa:.2f}")
+        axs[0].set_ylabel("N* (bias < 1%)")
+        axs[0].set_title("measured", fontsize=8)
+        axs[1].set_ylabel("scaled N*")
+        axs[1].set_title(f"N* ((eta/{eref:g}) / (kappa/{kref:g}))^(1/2): the argument's scaling", fontsize=8)
+        axs[2].set_ylabel("scaled N*")
+        axs[2].set_title(f"N* / ((kappa/{kref:g})^{pk:.2f} (eta/{eref:g})^{pe:.2f}): the free fit", fontsize=8)
+        for ax in axs:
+            ax.set_xlabel("alpha - 1")
+            ax.legend(fontsize=6)
+        fig.suptitle(st.title("N* against kappa and eta: the (kappa/eta)^(1/2) of the argument and the free fit"), fontsize=9)
+        save(fig, outdir, f"{st.name}_kappa_eta.png", figs)
+        rows.append((f"{st.name}: N* ~ (alpha - 1)^p kappa^q eta^r, free fit (w = 0)", "", f"{pa:.2f}, {pk:.2f}, {pe:.2f}", "",
+                     "argument: -3/2, +1/2, -1/2; " + ", ".join(st.fit_label(f"validity_friction_free_fit_{n}_exponent")
+                                                              for n in ("alpha_minus_1", "kappa", "eta"))))
     rows.append((f"{st.name}: N* (steady-law bias < 1%, w = 0) ~ (alpha - 1)^p", "", "", "",
                  st.fit_label("validity_friction_Nstar1_exponent") + "; theory -3/2, naive -2"))
     if x:
         for k in range(len(x["alpha"])):
-            if x["width"][k] == 0 and math.isfinite(x["N_star_1"][k]):
+            if x["width"][k] == 0 and math.isfinite(x["N_star_1"][k]) and ("kappa" not in x or (x["kappa"][k] == kref and x["eta"][k] == eref)):
                 rows.append((f"{st.name}: N* (1%) at alpha - 1 = {x['alpha_minus_1'][k]:.3g}", "", f"{x['N_star_1'][k]:.3g}", "",
                              f"between N = {x['N_star_1_low'][k]:.3g} and {x['N_star_1_high'][k]:.3g}"))
     return figs, rows
@@ -546,6 +589,23 @@ def validity_fig1_study(st, outdir):
     axs[1].set_xlabel("N (alpha - 1)^2")
     fig.suptitle(st.title(f"validity map, fig1 (implicit dt = {dt_ref:g}, Wilson 95% intervals)"), fontsize=9)
     save(fig, outdir, f"{st.name}_fraction.png", figs)
+    # the modes, run by run: c_ratio against the t^ shift, the classification box, per alpha, coloured by N
+    r = st.tables.get("validity_fig1_runs", {})
+    if r:
+        rr = r["dt"] == dt_ref
+        alphas = sorted(set(r["alpha"][rr]))
+        fig, axs = plt.subplots(1, len(alphas), figsize=(4.2 * len(alphas), 4.0), squeeze=False, sharey=True)
+        for ax, a in zip(axs[0], alphas):
+            for i, n in enumerate(sorted(set(r["N"][rr]))):
+                m = rr & (r["alpha"] == a) & (r["N"] == n)
+                ax.plot(r["t_hat_shift"][m], r["c_ratio"][m], ".", color=f"C{i}", ms=4, alpha=0.7, label=f"N = {n:g}")
+            ax.add_patch(plt.Rectangle((-0.1, 0), 0.2, 1.3, fill=False, ls="--", color="k", lw=1))
+            ax.set_xlabel("t^ shift: t^(discrete)/t^(continuum) - 1")
+            ax.set_title(f"alpha - 1 = {a - 1:.3g}", fontsize=8)
+        axs[0][0].set_ylabel("c_transient(discrete) / c_transient(continuum)")
+        axs[0][0].legend(fontsize=6)
+        fig.suptitle(st.title("fig1 runs by mode (dashed box: continuum-like)"), fontsize=9)
+        save(fig, outdir, f"{st.name}_modes.png", figs)
     rows.append((f"{st.name}: N* (half of fig1 runs continuum-like) ~ (alpha - 1)^p", "", "", "",
                  st.fit_label("validity_fig1_Nstar50_exponent") + "; theory -2"))
     pv = st.scalars.get("validity_fig1_dt_pvalue", math.nan)

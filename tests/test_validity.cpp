@@ -1,6 +1,7 @@
 // The validity map's analysis (issue 13, compare/validity.hpp): the mode classifier on synthetic two-mode
-// samples, the crossover on data generated with a known law, and the collapse exponent recovered from a
-// synthetic study with a known N* ~ (alpha - 1)^p.
+// samples, the crossover on data generated with a known law, the collapse exponent and the kappa, eta
+// exponents recovered from synthetic studies with a known N*(alpha, kappa, eta), and the fig1 analysis's
+// per-run modes and per-mode event quantiles.
 #include <catch2/catch.hpp>
 
 #include <boost/random/mersenne_twister.hpp>
@@ -113,4 +114,99 @@ TEST_CASE("validity: the collapse exponent of a synthetic study with a known law
   CHECK(p == Approx(-1.5).margin(0.1));
   CHECK(rep.scalars.at("validity_friction_Nstar1_exponent_ci_low") <= -1.5);
   CHECK(rep.scalars.at("validity_friction_Nstar1_exponent_ci_high") >= -1.5);
+}
+
+TEST_CASE("validity: the kappa and eta exponents of a synthetic study with a known law", "[validity]") {
+  // The same construction with N*(alpha, kappa, eta) = 30 (alpha - 1)^(-1.5) (kappa/8)^(0.9) (eta/0.1)^(-0.8):
+  // alpha - 1 in {0.02, 0.05, 0.1, 0.2} at the reference (kappa, eta) = (8, 0.1), and at alpha - 1 in {0.05,
+  // 0.2} kappa in {2, 32} and eta in {0.025, 0.4} one at a time (the shape of configs/studies/
+  // validity_friction.toml). The reference pair is found, the free fit recovers the three exponents within
+  // 0.05 (N* is interpolated on a factor-1.25 grid: at most 0.1 in log per point) and the one-parameter ratios
+  // the kappa and eta exponents within 0.1; the (kappa/eta)^(1/2) collapse has residuals (the law is not it).
+  std::vector<compare::StudyRun> runs;
+  std::vector<compare::Scene> scenes;
+  std::vector<std::vector<compare::ModelResult>> res;
+  auto add = [&](double am1, double kappa, double eta) {
+    const double nstar = 30.0 * std::pow(am1, -1.5) * std::pow(kappa / 8, 0.9) * std::pow(eta / 0.1, -0.8);
+    for (double N = 20; N < 200000; N *= 1.25) {
+      compare::Scene s = testing::imposed_rate_scene();
+      s.interface.alpha = 1.0 + am1;
+      s.interface.kappa = kappa;
+      s.interface.eta = eta;
+      s.discrete.contacts_per_site = static_cast<long>(std::lround(N));
+      compare::ModelResult c, d;
+      c.model = "continuum";
+      d.model = "discrete";
+      for (double v : {0.1, 1.0, 10.0}) {
+        c.friction_law["sigma"].push_back(1.0 + v);
+        d.friction_law["sigma"].push_back((1.0 + v) * (1.0 + (static_cast<double>(s.discrete.contacts_per_site) < nstar ? 0.1 : 1e-4)));
+      }
+      runs.emplace_back();
+      scenes.push_back(s);
+      res.push_back({c, d});
+    }
+  };
+  for (double am1 : {0.02, 0.05, 0.1, 0.2}) add(am1, 8.0, 0.1);
+  for (double am1 : {0.05, 0.2}) {
+    add(am1, 2.0, 0.1);
+    add(am1, 32.0, 0.1);
+    add(am1, 8.0, 0.025);
+    add(am1, 8.0, 0.4);
+  }
+  compare::StudyReport rep;
+  compare::analyse_validity_friction(rep, runs, scenes, res);
+  CHECK(rep.scalars.at("validity_friction_kappa_ref") == 8.0);
+  CHECK(rep.scalars.at("validity_friction_eta_ref") == 0.1);
+  CHECK(rep.scalars.at("validity_friction_free_fit_alpha_minus_1_exponent") == Approx(-1.5).margin(0.05));
+  CHECK(rep.scalars.at("validity_friction_free_fit_kappa_exponent") == Approx(0.9).margin(0.05));
+  CHECK(rep.scalars.at("validity_friction_free_fit_eta_exponent") == Approx(-0.8).margin(0.05));
+  CHECK(rep.scalars.at("validity_friction_Nstar1_kappa_exponent") == Approx(0.9).margin(0.1));
+  CHECK(rep.scalars.at("validity_friction_Nstar1_eta_exponent") == Approx(-0.8).margin(0.1));
+  CHECK(rep.scalars.at("validity_friction_Nstar1_exponent") == Approx(-1.5).margin(0.1));  // reference pair only
+  CHECK(rep.scalars.at("validity_friction_free_fit_log_rms") < 0.1);
+  CHECK(rep.scalars.at("validity_friction_collapse_log_rms") > 0.2);  // (kappa/eta)^(1/2) leaves a log residual
+}
+
+TEST_CASE("validity: the fig1 analysis splits runs by mode and gives each mode's event quantiles", "[validity]") {
+  // A synthetic validity_fig1 point (alpha = 1.05, N = 1000, 10 runs): 4 continuum-like runs (c = 16, 16.5,
+  // 17, 15.5 against the continuum's 16.2; t^ within 2%) and 6 others (c = 26..28.5, t^ 8% late). The per-run
+  // table marks the modes, the point's fraction is 0.4, and the medians of c_transient per mode are those of
+  // the two sets (16.25 and 27.25, linear interpolation); a point at a second alpha with every run
+  // continuum-like has fraction 1 and NaN quantiles for the empty mode.
+  std::vector<compare::StudyRun> runs;
+  std::vector<compare::Scene> scenes;
+  std::vector<std::vector<compare::ModelResult>> res;
+  auto add = [&](double alpha, double c_disc, double t_disc) {
+    compare::Scene s = testing::fig1_scene();
+    s.interface.alpha = alpha;
+    s.discrete.contacts_per_site = 1000;
+    compare::ModelResult c, d;
+    c.model = "continuum";
+    d.model = "discrete";
+    c.events.c_transient = 16.2;
+    c.events.t_hat = 100.0;
+    d.events.c_transient = c_disc;
+    d.events.t_hat = t_disc;
+    runs.emplace_back();
+    runs.back().seed = static_cast<int>(runs.size());
+    scenes.push_back(s);
+    res.push_back({c, d});
+  };
+  for (double c : {16.0, 16.5, 17.0, 15.5}) add(1.05, c, 101.0);
+  for (double c : {26.0, 26.5, 27.0, 27.5, 28.0, 28.5}) add(1.05, c, 108.0);
+  for (double c : {16.0, 16.4}) add(1.2, c, 99.0);
+  compare::StudyReport rep;
+  compare::analyse_validity_fig1(rep, runs, scenes, res);
+  const auto& r = rep.tables.at("validity_fig1_runs");
+  REQUIRE(r.at("continuum_like").size() == 12);
+  for (std::size_t k = 0; k < 12; ++k) CHECK(r.at("continuum_like")[k] == ((k < 4 || k >= 10) ? 1.0 : 0.0));
+  const auto& t = rep.tables.at("validity_fig1");
+  REQUIRE(t.at("alpha").size() == 2);
+  CHECK(t.at("fraction")[0] == Approx(0.4));
+  CHECK(t.at("c_transient_continuum_like_q50")[0] == Approx(16.25));
+  CHECK(t.at("c_transient_other_q50")[0] == Approx(27.25));
+  CHECK(t.at("c_transient_other_q10")[0] == Approx(26.25));
+  CHECK(t.at("t_hat_shift_other_q50")[0] == Approx(0.08));
+  CHECK(t.at("fraction")[1] == 1.0);
+  CHECK(std::isnan(t.at("c_transient_other_q50")[1]));
 }

@@ -599,20 +599,23 @@ def validity_fig1_study(st, outdir):
             for i, n in enumerate(sorted(set(r["N"][rr]))):
                 m = rr & (r["alpha"] == a) & (r["N"] == n)
                 ax.plot(r["t_hat_shift"][m], r["c_ratio"][m], ".", color=f"C{i}", ms=4, alpha=0.7, label=f"N = {n:g}")
-            ax.add_patch(plt.Rectangle((-0.1, 0), 0.2, 1.3, fill=False, ls="--", color="k", lw=1))
+            ax.add_patch(plt.Rectangle((-0.1, 0), 0.2, 1.2, fill=False, ls="--", color="k", lw=1))
             ax.set_xlabel("t^ shift: t^(discrete)/t^(continuum) - 1")
             ax.set_title(f"alpha - 1 = {a - 1:.3g}", fontsize=8)
         axs[0][0].set_ylabel("c_transient(discrete) / c_transient(continuum)")
         axs[0][0].legend(fontsize=6)
         fig.suptitle(st.title("fig1 runs by mode (dashed box: continuum-like)"), fontsize=9)
         save(fig, outdir, f"{st.name}_modes.png", figs)
-    rows.append((f"{st.name}: N* (half of fig1 runs continuum-like) ~ (alpha - 1)^p", "", "", "",
-                 st.fit_label("validity_fig1_Nstar50_exponent") + "; theory -2"))
-    pv = st.scalars.get("validity_fig1_dt_pvalue", math.nan)
-    if math.isfinite(pv):
-        rows.append((f"{st.name}: continuum-like fraction, dt {dt_ref:g} vs {st.scalars.get('validity_fig1_dt_fine', math.nan):g}",
-                     "", f"{st.scalars.get('validity_fig1_dt_fraction_difference', math.nan):+.3f}", "",
-                     f"p = {pv:.2f} (two-proportion z test)"))
+    if math.isfinite(st.scalars.get("validity_fig1_Nstar50_exponent", math.nan)):
+        rows.append((f"{st.name}: N* (half of fig1 runs continuum-like) ~ (alpha - 1)^p", "", "", "",
+                     st.fit_label("validity_fig1_Nstar50_exponent") + "; theory -2"))
+    stp = st.tables.get("validity_fig1_step", {})
+    for k in range(len(stp.get("alpha", []))):
+        fine = "explicit" if stp["dt_fine"][k] == 0 else f"dt {stp['dt_fine'][k]:g}"
+        rows.append((f"{st.name}: continuum-like fraction at alpha = {stp['alpha'][k]:g}, N = {stp['N'][k]:g}, dt {stp['dt'][k]:g} vs {fine}",
+                     "", f"{stp['fraction'][k]:.3f} vs {stp['fraction_fine'][k]:.3f}", "",
+                     f"difference {stp['difference'][k]:+.3f}, p = {stp['pvalue'][k]:.2f} (two-proportion z test, "
+                     f"{stp['runs'][k]:g} seeds)"))
     return figs, rows
 
 

@@ -168,6 +168,7 @@ const std::vector<Section>& schema() {
            {"series_dt", at<&Scene::output, &OutputParams::series_dt>, always, "always"},
            {"snapshot_dt", at<&Scene::output, &OutputParams::snapshot_dt>, always, "always"},
            {"energy", at<&Scene::output, &OutputParams::energy>, always, "always"},
+           {"ages", at<&Scene::output, &OutputParams::ages>, always, "always"},
            {"compare_dt", at<&Scene::output, &OutputParams::compare_dt>, both_models_bulk,
             "when models lists continuum and discrete on a bulk scene"},
        }},

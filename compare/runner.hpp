@@ -126,8 +126,16 @@ void set_initial_conditions(const Scene& s, Stepper& sim) {
   }
 }
 
+// What a law is asked to carry beyond its state: the mean contact age (output.ages, docs/model.md §7).
+// Before any set_site: ages start at 0.
+template <class Law>
+void configure_law(const Scene& s, Law& law) {
+  if constexpr (requires { law.track_ages(true); }) law.track_ages(s.output.ages);
+}
+
 template <class Stepper, class Law>
 Stepper make_stepper(const Scene& s, Law law) {
+  configure_law(s, law);
   continuum::Bulk bulk(s.bulk, s.drive, s.interface, s.grid.dx);
   if constexpr (DenseStepper<Stepper>) {
     Stepper sim(std::move(bulk), std::move(law), continuum::AdaptiveOptions::from(s.time));
@@ -406,6 +414,7 @@ ModelResult run_imposed_rate(const Scene& s, MakeLaw make_law, const std::string
   } else {
     // One history: piecewise-constant v, steps aligned with the switch times.
     Law law = make_law(std::size_t{1});
+    detail::configure_law(s, law);
     const auto& vs = s.drive.v;
     const auto& ts = s.drive.v_times;
     const double dt_target = s.time.dt > 0 ? s.time.dt : s.time.t_end / s.time.steps;

@@ -114,6 +114,7 @@ struct OutputParams {
   double series_dt = 0.05;    ///< cadence of /series (0: every step)
   double snapshot_dt = 1.0;   ///< cadence of /snapshots (0: none)
   bool energy = false;        ///< store the energy budget series
+  bool ages = false;          ///< carry and store the mean contact age ā (docs/model.md §7): snapshots/age, 0D series/age
   double compare_dt = 1.0;    ///< cadence of the online field comparison of alongside runs (0: none)
   void validate() const;
 };

@@ -69,6 +69,7 @@ void AgentLaw::set_site(std::size_t i, double area, double sigma_bar) {
   for (std::size_t k = n; k < n_contacts_; ++k)
     st.detached.push_back({t_, quenched_ ? draw_threshold(st.engine) : std::numeric_limits<double>::quiet_NaN()});
   st.n_att = n;
+  st.attach_time_sum = static_cast<double>(n) * t_;
   area_[i] = static_cast<double>(n) / static_cast<double>(n_contacts_);
   sigma_bar_[i] = sigma_bar;
 }
@@ -103,6 +104,7 @@ void AgentLaw::add_attached(Site& st, Load& ld, AttachedContact c, double tau) {
   bin.push_back(c);
   if (nbins_ > 1) st.counts.add(b, 1);
   ++st.n_att;
+  st.attach_time_sum += c.attached_at;
   if (b < ld.full_bins) {
     ++ld.members;
   } else if (b == ld.partial && c.threshold < tau) {
@@ -145,6 +147,7 @@ AttachedContact AgentLaw::remove_member(Site& st, Load& ld, std::uint64_t rank) 
   if (nbins_ > 1) st.counts.add(b, -1);
   --ld.members;
   --st.n_att;
+  st.attach_time_sum -= c.attached_at;
   return c;
 }
 
@@ -245,6 +248,14 @@ void AgentLaw::linearise(double dt, std::span<const double> w_prev, std::span<do
     double y = 0.0;
     if (wp != 0.0 && continuum::contact_stress(sb + eta * wp, a) > s_min) y = overloaded_fraction(i, wp);
     continuum::linearise_stress(a, sb, y, wp, k, c0[i], c1[i]);
+  }
+}
+
+void AgentLaw::mean_age(std::span<double> out) const {
+  for (std::size_t i = 0; i < sites_.size(); ++i) {
+    const Site& st = sites_[i];
+    out[i] = st.n_att > 0 ? t_ - st.attach_time_sum / static_cast<double>(st.n_att)
+                          : std::numeric_limits<double>::quiet_NaN();
   }
 }
 

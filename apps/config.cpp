@@ -75,6 +75,7 @@ bool adaptive(const Scene& s) { return !imposed(s) && s.time.integrator == conti
 bool discrete_listed(const Scene& s) {
   return std::find(s.models.begin(), s.models.end(), "discrete") != s.models.end();
 }
+bool contact_statistics(const Scene& s) { return discrete_listed(s) && s.discrete.contact_statistics; }
 bool both_models_bulk(const Scene& s) {
   return discrete_listed(s) && std::find(s.models.begin(), s.models.end(), "continuum") != s.models.end() &&
          s.drive.loading != Loading::imposed_rate;
@@ -162,6 +163,8 @@ const std::vector<Section>& schema() {
             "with drive.loading = homogeneous"},
            {"behind_gap", at<&Scene::measure, &MeasureParams::behind_gap>, homogeneous,
             "with drive.loading = homogeneous"},
+           {"tip_band", at<&Scene::measure, &MeasureParams::tip_band>, one_d,
+            "with drive.loading = edge or homogeneous"},
        }},
       {"output",
        {
@@ -171,6 +174,8 @@ const std::vector<Section>& schema() {
            {"ages", at<&Scene::output, &OutputParams::ages>, always, "always"},
            {"compare_dt", at<&Scene::output, &OutputParams::compare_dt>, both_models_bulk,
             "when models lists continuum and discrete on a bulk scene"},
+           {"contact_snapshot_dt", at<&Scene::output, &OutputParams::contact_snapshot_dt>, contact_statistics,
+            "with discrete.contact_statistics = true"},
        }},
       {"discrete",
        {

@@ -337,7 +337,7 @@ void comparison_group(hid_t file, const compare::Comparison& c) {
     attr_string(ds.get(), "definition", definition(name));
   }
   for (const auto& [group, cols] : {std::pair<const char*, const compare::Columns*>{"fields", &c.fields},
-                                    {"friction_law", &c.friction_law}}) {
+                                    {"friction_law", &c.friction_law}, {"contacts", &c.contacts}}) {
     if (cols->empty()) continue;
     Hid sub = make_group(g.get(), group, std::string("/compare/") + group);
     for (const auto& [name, v] : *cols) {

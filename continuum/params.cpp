@@ -149,12 +149,15 @@ void MeasureParams::validate() const {
   require(arrest_fraction > 0.0 && arrest_fraction < 1.0, "measure.arrest_fraction", "must be in (0, 1)");
   require(behind_tip_fraction > 0.0 && behind_tip_fraction <= 1.0, "measure.behind_tip_fraction", "must be in (0, 1]");
   require(finite(behind_gap) && behind_gap >= 0.0, "measure.behind_gap", "must be >= 0");
+  require(finite(tip_band) && tip_band >= 0.0, "measure.tip_band", "must be >= 0 (length units)");
 }
 
 void OutputParams::validate() const {
   require(finite(series_dt) && series_dt >= 0.0, "output.series_dt", "must be >= 0");
   require(finite(snapshot_dt) && snapshot_dt >= 0.0, "output.snapshot_dt", "must be >= 0");
   require(finite(compare_dt) && compare_dt >= 0.0, "output.compare_dt", "must be >= 0 (0: no field comparison)");
+  require(finite(contact_snapshot_dt), "output.contact_snapshot_dt",
+          "must be a number (< 0: output.snapshot_dt; 0: no contact snapshots)");
 }
 
 }  // namespace slipfront::continuum

@@ -61,13 +61,17 @@ void AgentLaw::set_site(std::size_t i, double area, double sigma_bar) {
   const auto n = static_cast<std::size_t>(std::llround(area * static_cast<double>(n_contacts_)));
   for (std::size_t k = 0; k < n; ++k) {
     const double s = draw_threshold(st.engine);
+    if (!degenerate_) stats_.drawn(s);
     const std::size_t b = bin_of(s);
     st.bins[b].push_back({s, t_});
     if (nbins_ > 1) st.counts.add(b, 1);
   }
   st.detached.reserve(n_contacts_ - n);
-  for (std::size_t k = n; k < n_contacts_; ++k)
-    st.detached.push_back({t_, quenched_ ? draw_threshold(st.engine) : std::numeric_limits<double>::quiet_NaN()});
+  for (std::size_t k = n; k < n_contacts_; ++k) {
+    const double s = quenched_ ? draw_threshold(st.engine) : std::numeric_limits<double>::quiet_NaN();
+    if (quenched_ && !degenerate_) stats_.drawn(s);
+    st.detached.push_back({t_, s});
+  }
   st.n_att = n;
   st.attach_time_sum = static_cast<double>(n) * t_;
   area_[i] = static_cast<double>(n) / static_cast<double>(n_contacts_);
@@ -186,7 +190,10 @@ void AgentLaw::run_events(std::size_t i, Site& st, Load& ld, double tau, double 
       pool.pop_back();
       st.attach_mark = -1.0;
       double s = c.threshold;  // quenched; or fresh and re-attaching within the step it detached in
-      if (!quenched_ && !(c.detached_at >= t0 && !std::isnan(s))) s = draw_threshold(e);
+      if (!quenched_ && !(c.detached_at >= t0 && !std::isnan(s))) {
+        s = draw_threshold(e);
+        if (!degenerate_) stats_.drawn(s);
+      }
       stats_.record_detached(i, c.detached_at, t - c.detached_at);
       add_attached(st, ld, {s, t}, tau);
     }
@@ -262,8 +269,15 @@ void AgentLaw::mean_age(std::span<double> out) const {
 void AgentLaw::record_contacts(double t) {
   if (!stats_.enabled()) return;
   stats_.begin_snapshot(t);
-  for (std::size_t i = 0; i < sites_.size(); ++i)
-    for_each_attached(i, [&](const AttachedContact& c) { stats_.attached(t_ - c.attached_at, c.threshold); });
+  for (std::size_t i = 0; i < sites_.size(); ++i) {
+    const std::size_t cls = stats_.class_of(i);
+    for_each_attached(i, [&](const AttachedContact& c) { stats_.attached_age(cls, t_ - c.attached_at); });
+    if (degenerate_) {  // every threshold is 1: one addition per site
+      if (sites_[i].n_att > 0) stats_.attached_threshold(cls, 1.0, static_cast<double>(sites_[i].n_att));
+    } else {
+      for_each_attached(i, [&](const AttachedContact& c) { stats_.attached_threshold(cls, c.threshold); });
+    }
+  }
   stats_.end_snapshot();
 }
 

@@ -140,6 +140,9 @@ class AgentLaw {
   /// Snapshot of the attached contacts (ages, thresholds) and the per-site event counts since the
   /// previous snapshot; a no-op unless DiscreteParams::contact_statistics.
   void record_contacts(double t);
+  /// Where the sites are relative to the front and the phase of the run (the runner, at every tip
+  /// sample): the class of each event and snapshot (docs/model.md §7.2).
+  void observe_front(const FrontClasses& f) { stats_.set_front(f); }
   ContactTables contact_tables() const { return stats_.tables(); }
   const ContactStats& contact_stats() const { return stats_; }
 

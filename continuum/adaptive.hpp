@@ -212,12 +212,13 @@ class AdaptiveSimulation : public StepperCore<Law> {
   }
   const AdaptiveStats& stats() const { return stats_; }
   const AdaptiveOptions& options() const { return opt_; }
-  /// (t, i) → SiteSample{A_i(t), v_i(t)} on the last step's dense output.
-  auto dense_sampler() const {
-    return [this](double t, std::size_t i) {
-      return SiteSample{dense_value(t, Field::contact_area, i), dense_value(t, Field::slip_rate, i)};
-    };
-  }
+  /// A_i(t) and v_i(t) on the last step's dense output (area(t, i), slip_rate(t, i)).
+  struct DenseSampler {
+    const AdaptiveSimulation* sim;
+    double area(double t, std::size_t i) const { return sim->dense_value(t, Field::contact_area, i); }
+    double slip_rate(double t, std::size_t i) const { return sim->dense_value(t, Field::slip_rate, i); }
+  };
+  DenseSampler dense_sampler() const { return DenseSampler{this}; }
 
  private:
   // Optional hook of the law (docs/model.md §7, FrictionLaw::advance_age): quantities the law carries

@@ -111,7 +111,8 @@ class FrictionLaw {
 
   /// The adaptive integrator's hook (continuum/adaptive.hpp calls it after each accepted step
   /// [t0, t1], before Θ flips): M over the step with Θ_i = theta[i] fixed, from the step's dense output
-  /// at(t, i) → SiteSample{A, v} (integrate_age_mass: second order). Keeps M(t0) and Θ for age_at().
+  /// at.area(t, i), at.slip_rate(t, i) (integrate_age_mass: second order). Keeps M(t0) and Θ for
+  /// age_mass_at().
   template <class Sample>
   void advance_age(double t0, double t1, std::span<const std::uint8_t> theta, const Sample& at) {
     if (!ages_) return;
@@ -120,16 +121,18 @@ class FrictionLaw {
     theta_step_.assign(theta.begin(), theta.end());
     step_t0_ = t0;
     for (std::size_t i = 0; i < n_; ++i)
-      age_mass_[i] = integrate_age_mass(age_prev_[i], t0, t1, theta[i] != 0, p_.kappa,
-                                        [&](double t) { return at(t, i); });
+      age_mass_[i] = integrate_age_mass(
+          age_prev_[i], t0, t1, theta[i] != 0, p_.kappa, [&](double t) { return at.area(t, i); },
+          [&](double t) { return at.slip_rate(t, i); });
   }
   /// M_i at t inside the last adaptive step (the same integration, stopped at t): for records at
   /// exact times on the dense output. Before any adaptive step, the current M_i.
   template <class Sample>
   double age_mass_at(std::size_t i, double t, const Sample& at) const {
     if (age_prev_.empty()) return age_mass_[i];
-    return integrate_age_mass(age_prev_[i], step_t0_, t, theta_step_[i] != 0, p_.kappa,
-                              [&](double s) { return at(s, i); });
+    return integrate_age_mass(
+        age_prev_[i], step_t0_, t, theta_step_[i] != 0, p_.kappa, [&](double s) { return at.area(s, i); },
+        [&](double s) { return at.slip_rate(s, i); });
   }
 
   // --- the rates (adaptive integrator), docs/model.md §1 ----------------------------------------

@@ -74,6 +74,8 @@ void AgentLaw::set_site(std::size_t i, double area, double sigma_bar) {
   }
   st.n_att = n;
   st.attach_time_sum = static_cast<double>(n) * t_;
+  st.pristine = true;
+  st.set_at = t_;
   area_[i] = static_cast<double>(n) / static_cast<double>(n_contacts_);
   sigma_bar_[i] = sigma_bar;
 }
@@ -175,6 +177,7 @@ void AgentLaw::run_events(std::size_t i, Site& st, Load& ld, double tau, double 
     if (k_att > 0.0) st.attach_mark = std::max(0.0, st.attach_mark - k_att * (t_next - t));
     if (!(t_next < t1)) return;  // nothing more in this step
     t = t_next;
+    st.pristine = false;
     if (t_det <= t_att) {
       // a member detaches, chosen uniformly
       const auto rank = std::min<std::uint64_t>(ld.members - 1, static_cast<std::uint64_t>(uniform01(e) * static_cast<double>(ld.members)));
@@ -271,7 +274,12 @@ void AgentLaw::record_contacts(double t) {
   stats_.begin_snapshot(t);
   for (std::size_t i = 0; i < sites_.size(); ++i) {
     const std::size_t cls = stats_.class_of(i);
-    for_each_attached(i, [&](const AttachedContact& c) { stats_.attached_age(cls, t_ - c.attached_at); });
+    const Site& st = sites_[i];
+    if (st.pristine) {  // untouched since set_site: one age for all (the same bins, one addition)
+      if (st.n_att > 0) stats_.attached_age(cls, t_ - st.set_at, static_cast<double>(st.n_att));
+    } else {
+      for_each_attached(i, [&](const AttachedContact& c) { stats_.attached_age(cls, t_ - c.attached_at); });
+    }
     if (degenerate_) {  // every threshold is 1: one addition per site
       if (sites_[i].n_att > 0) stats_.attached_threshold(cls, 1.0, static_cast<double>(sites_[i].n_att));
     } else {

@@ -176,6 +176,8 @@ class AgentLaw {
     std::vector<DetachedContact> detached;           ///< unordered
     std::size_t n_att = 0;
     double attach_time_sum = 0.0;  ///< Σ t_attach over the attached contacts (docs/model.md §7)
+    bool pristine = true;          ///< no event since set_site: every attached contact attached at set_at
+    double set_at = 0.0;           ///< the time of set_site
     double detach_mark = -1.0;  ///< residual Exp(1) of ∫ K d dt until the next detachment (< 0: not drawn)
     double attach_mark = -1.0;  ///< residual Exp(1) of ∫ D dt until the next attachment (< 0: not drawn)
     Engine engine;

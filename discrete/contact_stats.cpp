@@ -11,10 +11,39 @@ Histogram::Histogram(std::vector<double> edges) : edges_(std::move(edges)) {
   if (edges_.size() < 2 || !std::is_sorted(edges_.begin(), edges_.end()))
     throw std::invalid_argument("Histogram: need at least two ascending edges");
   counts_.assign(edges_.size() - 1, 0.0);
+  // interior edges e_1 .. e_{n−1} geometric (ratio constant to 1e-12) and positive: the fast path
+  const std::size_t n = edges_.size() - 1;
+  if (n >= 4 && edges_[1] > 0.0 && std::isfinite(edges_[n - 1])) {
+    const double ratio = std::log2(edges_[2] / edges_[1]);
+    bool geometric = ratio > 0.0;
+    for (std::size_t k = 2; geometric && k < n; ++k)
+      geometric = std::abs(std::log2(edges_[k] / edges_[k - 1]) - ratio) < 1e-9 * ratio;
+    if (geometric) {
+      geometric_ = true;
+      log2_lo_ = std::log2(edges_[1]);
+      bins_per_log2_ = 1.0 / ratio;
+    }
+  }
 }
 
 std::size_t Histogram::bin(double x) const {
-  // bin b holds [e_b, e_{b+1}); below e_0 → bin 0, at or above e_n → last bin
+  // bin b holds [e_b, e_{b+1}); below e_1 → bin 0, at or above e_{n−1} (or NaN) → the last bin
+  const std::size_t last = edges_.size() - 2;
+  if (geometric_) {
+    if (x < edges_[1]) return 0;
+    if (!(x < edges_[last])) return last;
+    // log2 x ≈ e + p(m), x = m 2^e, m ∈ [0.5, 1): a least-squares cubic within 0.0014 of log2 m; the loops make
+    // the result exact
+    int e = 0;
+    const double m = std::frexp(x, &e);
+    const double l2 = e + (-3.13382433 + m * (6.02148744 + m * (-4.11800022 + m * 1.23131817)));
+    auto k = static_cast<std::ptrdiff_t>(1.0 + std::floor((l2 - log2_lo_) * bins_per_log2_));
+    k = std::clamp<std::ptrdiff_t>(k, 1, static_cast<std::ptrdiff_t>(last) - 1);
+    auto b = static_cast<std::size_t>(k);
+    while (x < edges_[b]) --b;
+    while (x >= edges_[b + 1]) ++b;
+    return b;
+  }
   const auto it = std::upper_bound(edges_.begin() + 1, edges_.end() - 1, x);
   return static_cast<std::size_t>(it - (edges_.begin() + 1));
 }

@@ -94,6 +94,10 @@ class Histogram {
 
  private:
   std::vector<double> edges_, counts_;
+  // Geometric interior edges (log_time_edges): bin() guesses the bin from the binary exponent and a
+  // polynomial log2 of the mantissa, then corrects it against the edges (the same bin as the search).
+  bool geometric_ = false;
+  double log2_lo_ = 0.0, bins_per_log2_ = 0.0;
 };
 
 /// Edges {0, lo, lo·10^{1/k}, ..., hi, +∞}: times spanning many decades (lifetimes, ages).
@@ -154,11 +158,11 @@ class ContactStats {
   /// and threshold (attached_threshold; `count` contacts of one threshold at once), with the class of
   /// its site (class_of).
   void begin_snapshot(double t);
-  void attached_age(std::size_t cls, double age) {
+  void attached_age(std::size_t cls, double age, double count = 1.0) {
     const std::size_t b = age_.bin(age), cb = class_bin_[b];
-    age_.add_to(b);
-    class_age_[cls * class_bins_ + cb] += 1.0;
-    region_age_row_[(cls % FrontClasses::regions) * class_bins_ + cb] += 1.0;
+    age_.add_to(b, count);
+    class_age_[cls * class_bins_ + cb] += count;
+    region_age_row_[(cls % FrontClasses::regions) * class_bins_ + cb] += count;
   }
   void attached_threshold(std::size_t cls, double threshold, double count = 1.0) {
     const std::size_t b = threshold_.bin(threshold);

@@ -22,6 +22,7 @@
 #include <boost/math/distributions/normal.hpp>
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
 #include <vector>
 
 #include "compare/alongside.hpp"
@@ -172,8 +173,9 @@ TEST_CASE("contact age at rest: unit growth with A = 1, rejuvenation by new cont
 TEST_CASE("contact age: the adaptive step's age integration is second order on its dense output", "[age][adaptive]") {
   // Smooth A(t), v(t) standing in for a dense output; reference by RK4 with 2e5 steps.
   const double kappa = 2.0, T = 2.0;
-  auto at = [](double t) { return continuum::SiteSample{0.5 + 0.3 * std::sin(t), 1.0 + 0.5 * std::cos(2.0 * t)}; };
-  auto f = [&](double t, double m) { const auto s = at(t); return s.area - kappa * std::abs(s.v) * m; };
+  auto area = [](double t) { return 0.5 + 0.3 * std::sin(t); };
+  auto speed = [](double t) { return 1.0 + 0.5 * std::cos(2.0 * t); };
+  auto f = [&](double t, double m) { return area(t) - kappa * std::abs(speed(t)) * m; };
   double ref = 0.3;
   const int nref = 200000;
   for (int k = 0; k < nref; ++k) {
@@ -185,7 +187,7 @@ TEST_CASE("contact age: the adaptive step's age integration is second order on i
   std::vector<double> err;
   for (const int n : {10, 20, 40, 80}) {
     double m = 0.3;
-    for (int k = 0; k < n; ++k) m = continuum::integrate_age_mass(m, T * k / n, T * (k + 1) / n, true, kappa, at);
+    for (int k = 0; k < n; ++k) m = continuum::integrate_age_mass(m, T * k / n, T * (k + 1) / n, true, kappa, area, speed);
     err.push_back(std::abs(m - ref));
   }
   std::printf("adaptive age integration: errors %.2e %.2e %.2e %.2e, orders %.2f %.2f %.2f\n", err[0], err[1], err[2],
@@ -196,8 +198,9 @@ TEST_CASE("contact age: the adaptive step's age integration is second order on i
     CHECK(testing::observed_order(err[k], err[k + 1]) < 2.3);
   }
   // Θ = 0 and constant A: exact, M grows by A·T.
-  auto flat = [](double) { return continuum::SiteSample{0.7, 3.0}; };
-  CHECK(continuum::integrate_age_mass(1.0, 0.0, 2.0, false, 8.0, flat) == Approx(2.4).epsilon(1e-15));
+  auto flat = [](double) { return 0.7; };
+  auto never = [](double) -> double { throw std::logic_error("slip rate read with Theta = 0"); };
+  CHECK(continuum::integrate_age_mass(1.0, 0.0, 2.0, false, 8.0, flat, never) == Approx(2.4).epsilon(1e-15));
 }
 
 TEST_CASE("contact age on fig1: the adaptive integrator's age map agrees with the explicit scheme's", "[age][adaptive]") {

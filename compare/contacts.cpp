@@ -30,7 +30,7 @@ ContactPrediction::ContactPrediction(std::size_t sites, double contacts_per_site
 void ContactPrediction::start(std::span<const double> areas) {
   for (std::size_t i = 0; i < cohorts_.size(); ++i) {
     cohorts_[i].clear();
-    if (areas[i] > negligible) cohorts_[i].push_back({0.0, 0.0, areas[i], 0.0});
+    if (areas[i] > negligible) cohorts_[i].push_back({0.0, 0.0, areas[i], 0.0, 0.0});
   }
   max_cohorts_ = 1;
 }
@@ -38,6 +38,11 @@ void ContactPrediction::start(std::span<const double> areas) {
 std::size_t ContactPrediction::bin(double x) const {
   const auto it = std::upper_bound(edges_.begin() + 1, edges_.end() - 1, x);
   return static_cast<std::size_t>(it - (edges_.begin() + 1));
+}
+
+double ContactPrediction::mean_back(double tilt, double w) {
+  const double lw = tilt * w;  // 1/tilt − w/(e^{tilt w} − 1), → w/2 as tilt w → 0
+  return lw < 1e-6 ? 0.5 * w * (1.0 - lw / 6.0) : 1.0 / tilt - w / std::expm1(lw);
 }
 
 double ContactPrediction::share_before(const Cohort& c, double x) {
@@ -158,7 +163,7 @@ void ContactPrediction::step(double dt, std::span<const double> area0, std::span
         row[b] += gone_new * n_contacts_ * (1.0 - done);
       }
     }
-    if (survivors >= negligible) cs.push_back({t0, t1, survivors, hs});
+    if (survivors >= negligible) cs.push_back({t0, t1, survivors, hs, t1 - mean_back(hs, dt)});
     detach_total_[i] += lost * n_contacts_;
     attach_total_[i] += births * n_contacts_;
     if (cs.size() > compacted_size_[i] + 16) compact(i, t1);
@@ -177,8 +182,9 @@ void ContactPrediction::compact(std::size_t i, double t) {
       const double young = t - cs[k].end;
       if (cs[k].end - prev.start <= width_ * young || young >= age_cap_) {
         prev.end = cs[k].end;
+        prev.mean = (prev.mass * prev.mean + cs[k].mass * cs[k].mean) / (prev.mass + cs[k].mass);
         prev.mass += cs[k].mass;
-        prev.tilt = 0.0;  // old and narrow against its age: uniform
+        prev.tilt = 0.0;  // old and narrow against its age: uniform (its mean is kept)
         continue;
       }
     }
@@ -209,7 +215,7 @@ double ContactPrediction::mean_age(std::size_t i) const {
   double m = 0.0, s = 0.0;
   for (const Cohort& c : cohorts_[i]) {
     m += c.mass;
-    s += c.mass * (t - 0.5 * (c.start + c.end));  // (the midpoint: tilts are within a step)
+    s += c.mass * (t - c.mean);
   }
   return m > 0.0 ? s / m : std::numeric_limits<double>::quiet_NaN();
 }

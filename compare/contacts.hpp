@@ -16,7 +16,8 @@
 // their exact density for a constant attachment rate). At each contact snapshot the cohorts' masses
 // are added to the age histogram of the site's class (uniform over each cohort's age interval).
 // Adjacent cohorts are merged while the merged attachment interval stays within cohort_width × its
-// youngest age (or past age_cap), and cohorts below 1e-14 of a site are dropped: at most
+// youngest age (or past age_cap; a merged cohort is uniform with its mean attachment time kept exactly),
+// and cohorts below 1e-14 of a site are dropped: at most
 // ln(age_cap/Δt)/ln(1 + cohort_width/2) + 2 cohorts per site (≈ 270 for Δt = 0.02, the defaults),
 // whatever t_end. With hazard_scale ≠ 1 the survival uses s·h (a deliberately wrong prediction for
 // tests: the births still follow the run's A).
@@ -80,7 +81,10 @@ class ContactPrediction {
     double start, end;  ///< attachment times [start, end]
     double mass;        ///< expected attached contacts as a fraction of N
     double tilt;        ///< density ∝ e^{tilt (s − end)} on [start, end]
+    double mean;        ///< mean attachment time (kept exactly through merges: the mean age)
   };
+  // Mean of end − s for the density ∝ e^{−tilt (end − s)} on [0, w].
+  static double mean_back(double tilt, double w);
   // P(attached at s ≤ x) within cohort c.
   static double share_before(const Cohort& c, double x);
   // Lifetimes of `mass` lost over [t0, t0 + dt] from cohort c, by class bin: loss times with the

@@ -27,6 +27,7 @@
 #include <numeric>
 #include <vector>
 
+#include "apps/config.hpp"
 #include "compare/alongside.hpp"
 #include "compare/contacts.hpp"
 #include "compare/laws.hpp"
@@ -55,6 +56,7 @@ continuum::InterfaceParams alpha2() {
 discrete::ContactTables predict_0d(double contacts, double hazard_scale) {
   const auto p = alpha2();
   continuum::FrictionLaw law(p, 1);
+  law.track_ages(true);
   compare::ContactPrediction pred(1, contacts, hazard_scale);
   pred.start(law.contact_area());
   for (int n = 1; n <= kSteps; ++n) {
@@ -64,6 +66,11 @@ discrete::ContactTables predict_0d(double contacts, double hazard_scale) {
     law.advance(kDt, vv);
     pred.step(kDt, aa, h);
     if (snapshot_step(n)) pred.snapshot();
+    // the cohorts hold the law's A, and their mean age is its age field's (docs/contacts.md §3)
+    if (hazard_scale == 1.0 && n % 500 == 0) {
+      REQUIRE(pred.attached_mass(0) == Approx(law.contact_area()[0]).epsilon(1e-9));
+      REQUIRE(pred.mean_age(0) == Approx(law.age_mass()[0] / law.contact_area()[0]).epsilon(1e-4));
+    }
   }
   return pred.tables();
 }
@@ -244,4 +251,26 @@ TEST_CASE("contact statistics with threshold disorder: the front keeps the stron
   CHECK(std::abs(drawn_mean - 1.0) < 0.02);
   CHECK(std::abs(ahead - drawn_mean) < 0.02);
   CHECK(behind > drawn_mean + 0.05);
+}
+
+TEST_CASE("contact statistics keys: output.ages, output.contact_snapshot_dt, measure.tip_band", "[contacts][config]") {
+  const std::string base = testing::minimal_config();
+  std::vector<std::string> notes;
+  const auto s = app::parse_scene(base + "[output]\nages = true\n[measure]\ntip_band = 3\n", "t.toml", {}, &notes);
+  CHECK(s.output.ages);
+  CHECK(s.measure.tip_band == 3.0);
+  CHECK(s.output.contact_every() == s.output.snapshot_dt);  // default: the field snapshots' cadence
+  CHECK_THROWS_WITH(app::parse_scene(base + "[measure]\ntip_band = -1\n", "t.toml", {}, nullptr),
+                    Catch::Contains("measure.tip_band") && Catch::Contains(">= 0"));
+  // used only with discrete.contact_statistics: noted and reset otherwise
+  notes.clear();
+  const auto u = app::parse_scene(base + "[output]\ncontact_snapshot_dt = 5\n", "t.toml", {}, &notes);
+  CHECK(u.output.contact_snapshot_dt < 0.0);
+  REQUIRE(notes.size() == 1);
+  CHECK(notes[0].find("output.contact_snapshot_dt") != std::string::npos);
+  const auto v = app::parse_scene("models = [\"continuum\", \"discrete\"]\n" + base +
+                                      "[output]\ncontact_snapshot_dt = 0\n[discrete]\nrepresentation = \"agent\"\n"
+                                      "contact_statistics = true\n",
+                                  "t.toml", {}, nullptr);
+  CHECK(v.output.contact_every() < 0.0);  // 0: no contact snapshots
 }

@@ -80,6 +80,7 @@ bool adaptive(const Scene& s) { return !imposed(s) && s.time.integrator == conti
 bool discrete_listed(const Scene& s) {
   return std::find(s.models.begin(), s.models.end(), "discrete") != s.models.end();
 }
+bool contact_statistics(const Scene& s) { return discrete_listed(s) && s.discrete.contact_statistics; }
 bool both_models_bulk(const Scene& s) {
   return discrete_listed(s) && std::find(s.models.begin(), s.models.end(), "continuum") != s.models.end() &&
          s.drive.loading != Loading::imposed_rate;
@@ -182,14 +183,19 @@ const std::vector<Section>& schema() {
             "with drive.loading = homogeneous"},
            {"behind_far", at<&Scene::measure, &MeasureParams::behind_far>, homogeneous,
             "with drive.loading = homogeneous"},
+           {"tip_band", at<&Scene::measure, &MeasureParams::tip_band>, one_d,
+            "with drive.loading = edge or homogeneous"},
        }},
       {"output",
        {
            {"series_dt", at<&Scene::output, &OutputParams::series_dt>, always, "always"},
            {"snapshot_dt", at<&Scene::output, &OutputParams::snapshot_dt>, always, "always"},
            {"energy", at<&Scene::output, &OutputParams::energy>, always, "always"},
+           {"ages", at<&Scene::output, &OutputParams::ages>, always, "always"},
            {"compare_dt", at<&Scene::output, &OutputParams::compare_dt>, both_models_bulk,
             "when models lists continuum and discrete on a bulk scene"},
+           {"contact_snapshot_dt", at<&Scene::output, &OutputParams::contact_snapshot_dt>, contact_statistics,
+            "with discrete.contact_statistics = true"},
        }},
       {"discrete",
        {

@@ -180,7 +180,7 @@ std::string description_of(const std::string& group, const std::string& name) {
       {"contacts/detached_total", "number of completed detached periods counted [1]"},
       {"contacts/detached_durations", "raw detached durations (only when at most 100000 were recorded)"},
       {"contacts/detached_start_t", "detachment time of each raw detached duration"},
-      {"contacts/snapshot_t", "times of the contact snapshots (cadence output.snapshot_dt) [ns]"},
+      {"contacts/snapshot_t", "times of the contact snapshots (cadence output.contact_snapshot_dt) [ns]"},
       {"contacts/age_hist_edges", "bin edges of the age histogram of attached contacts [nb + 1]"},
       {"contacts/age_hist_counts", "ages t - t_attach of the attached contacts at each snapshot [ns, nb]"},
       {"contacts/threshold_hist_edges", "bin edges of the threshold histogram of attached contacts [nb + 1]"},
@@ -188,11 +188,38 @@ std::string description_of(const std::string& group, const std::string& name) {
       {"contacts/detachments_per_site",
        "detachments per site in (t_{k-1}, t_k] between snapshots (row 0: since the start) [ns, nx]"},
       {"contacts/attachments_per_site", "attachments per site in the same intervals [ns, nx]"},
+      // by region and phase (docs/model.md §7.2, docs/contacts.md): counted by the agent; expected counts
+      // predicted from its fields by the continuum
+      {"contacts/class_time_edges",
+       "bin edges of the class tables [nc + 1]: 0, 1e-3 .. 1e4 (5 per decade, edges of the log time edges), inf"},
+      {"contacts/class_lifetime_counts",
+       "completed attachments by lifetime [12, nc], row 3 phase + region (phase: before yield, slow front, transient, "
+       "after arrest; region: behind, tip band, ahead of the A_tip_alt front), classed at the detachment; continuum: "
+       "expected counts predicted from its fields"},
+      {"contacts/class_age_counts",
+       "ages of the attached contacts summed over the contact snapshots [12, nc], classed at each snapshot (rows as "
+       "class_lifetime_counts); continuum: expected counts"},
+      {"contacts/region_age_counts",
+       "ages of the attached contacts at each contact snapshot by region [ns, 3 nc] (behind | tip | ahead, nc bins "
+       "each); continuum: expected counts"},
+      {"contacts/contact_snapshot_phase", "phase at each contact snapshot (0 before yield, 1 slow front, 2 transient, 3 "
+                                          "after arrest) [ns]"},
+      {"contacts/contact_snapshots_per_phase", "number of contact snapshots taken in each phase [4]"},
+      {"contacts/class_threshold_counts",
+       "yield thresholds of the attached contacts summed over the contact snapshots [12, nt] (rows as "
+       "class_lifetime_counts, edges threshold_hist_edges)"},
+      {"contacts/threshold_drawn_counts", "every threshold drawn from g (w > 0), on threshold_hist_edges [nt]"},
+      {"contacts/detachments_total_per_site", "detachments per site over the whole run [nx] (continuum: expected)"},
+      {"contacts/attachments_total_per_site", "attachments per site over the whole run [nx] (continuum: expected)"},
       {"snapshots/t", "time of each snapshot (cadence output.snapshot_dt) [ns]"},
       {"snapshots/A", "contact-area fraction A(x, t) [ns, nx]"},
       {"snapshots/sigma_bar", "interfacial elastic stress sigma_bar(x, t) [ns, nx]"},
       {"snapshots/v", "slip rate v(x, t) [ns, nx]"},
       {"snapshots/u", "slip u(x, t) [ns, nx]"},
+      {"snapshots/age",
+       "mean contact age a(x, t) of the attached contacts [ns, nx] (output.ages; continuum: M/A of its age mass, "
+       "docs/model.md §7.1; agent: exact; NaN where no contact is attached)"},
+      {"series/age", "mean contact age of the attached contacts of the single site (0D, output.ages)"},
       {"cycles/t_start", "spring block stick-slip cycles: time the slip event started (v > measure.v_event)"},
       {"cycles/F_peak", "spring block stick-slip cycles: largest drive force since the previous event (peak friction)"},
       {"cycles/F_residual", "spring block stick-slip cycles: smallest drive force during the event (residual friction)"},
@@ -216,7 +243,8 @@ std::string group_description(const std::string& group) {
                  "the _alt names are measured on the measure.A_tip_alt front"},
       {"cycles", "stick-slip cycles of the spring block, one entry per cycle"},
       {"friction_law", "steady friction law of an imposed slip-rate sweep, one entry per slip rate"},
-      {"contacts", "contact statistics of the agent representation"},
+      {"contacts", "contact statistics: measured (agent representation) or predicted from the fields (continuum, "
+                   "docs/contacts.md)"},
   };
   const auto it = known.find(group);
   return it == known.end() ? group : it->second;
@@ -344,7 +372,7 @@ void comparison_group(hid_t file, const compare::Comparison& c) {
     attr_string(ds.get(), "definition", definition(name));
   }
   for (const auto& [group, cols] : {std::pair<const char*, const compare::Columns*>{"fields", &c.fields},
-                                    {"friction_law", &c.friction_law}}) {
+                                    {"friction_law", &c.friction_law}, {"contacts", &c.contacts}}) {
     if (cols->empty()) continue;
     Hid sub = make_group(g.get(), group, std::string("/compare/") + group);
     for (const auto& [name, v] : *cols) {

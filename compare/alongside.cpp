@@ -1,9 +1,11 @@
 #include "compare/alongside.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 
+#include "compare/contacts.hpp"
 #include "compare/laws.hpp"
 
 namespace slipfront::compare {
@@ -99,6 +101,87 @@ double rel_rms_distance(const std::vector<double>& a, const std::vector<double>&
   return den > 0 ? std::sqrt(num / den) : (num > 0 ? nan : 0.0);
 }
 
+// docs/model.md §7.2: the agent's lifetime and age histograms by region and phase against the continuum's
+// prediction (compare/contacts.hpp: contact_fit), one row per statistic and class.
+void compare_contacts(const ModelResult& c, const ModelResult& d, Comparison& cmp) {
+  double min_p = 1.0, max_ks = 0.0, tested = 0.0;
+  // Ages are sampled at the contact snapshots only, so they are compared at the snapshots at which both
+  // models were in the same phase (matched_age_tables), and a class is tested only if at least 3 such
+  // snapshots had contacts in it: near a fast event (the transient, the arrest) one snapshot of each
+  // model compares different moments of it.
+  const auto [age_measured, age_predicted] = matched_age_tables(d, c);
+  std::vector<double> age_snapshots(discrete::FrontClasses::count, 0.0);
+  if (!age_measured.data.empty()) {
+    const auto& pm = d.contacts.at("contact_snapshot_phase");
+    const auto& rows_m = d.contacts_2d.at("region_age_counts");
+    const auto& rows_p = c.contacts_2d.at("region_age_counts");
+    const std::size_t nb = age_measured.cols;
+    for (std::size_t k = 0; k < pm.size(); ++k) {
+      if (pm[k] != c.contacts.at("contact_snapshot_phase")[k]) continue;
+      for (std::size_t r = 0; r < discrete::FrontClasses::regions; ++r) {
+        double m = 0.0, p = 0.0;
+        for (std::size_t j = 0; j < nb; ++j) {
+          m += rows_m.data[k * rows_m.cols + r * nb + j];
+          p += rows_p.data[k * rows_p.cols + r * nb + j];
+        }
+        if (m > 0.0 && p > 0.0) age_snapshots[static_cast<std::size_t>(pm[k]) * discrete::FrontClasses::regions + r] += 1.0;
+      }
+    }
+  }
+  for (const char* stat : {"lifetime", "age"}) {
+    const bool age = std::string(stat) == "age";
+    const std::string name = std::string("class_") + stat + "_counts";
+    if (age ? age_measured.data.empty() : (!c.contacts_2d.count(name) || !d.contacts_2d.count(name))) continue;
+    const Table2D& measured = age ? age_measured : d.contacts_2d.at(name);
+    const Table2D& predicted = age ? age_predicted : c.contacts_2d.at(name);
+    for (ContactFit f : contact_fit(stat, measured, predicted)) {
+      if (age && age_snapshots[f.phase * discrete::FrontClasses::regions + f.region] < 3.0) f.tested = false;
+      auto& col = cmp.contacts;
+      detail::push(col, "statistic", std::string(stat) == "lifetime" ? 0.0 : 1.0);
+      detail::push(col, "phase", static_cast<double>(f.phase));
+      detail::push(col, "region", static_cast<double>(f.region));
+      detail::push(col, "measured_total", f.measured_total);
+      detail::push(col, "predicted_total", f.predicted_total);
+      detail::push(col, "ks_distance", f.ks_distance);
+      detail::push(col, "thinned_size", f.thinned_size);
+      detail::push(col, "chi2", f.chi2);
+      detail::push(col, "dof", f.dof);
+      detail::push(col, "p_value", f.p_value);
+      detail::push(col, "tested", f.tested ? 1.0 : 0.0);
+      if (f.tested) {
+        min_p = std::min(min_p, f.p_value);
+        max_ks = std::max(max_ks, f.ks_distance);
+        tested += 1.0;
+      }
+    }
+  }
+  if (cmp.contacts.empty()) return;
+  cmp.metrics["contacts_tested"] = tested;
+  cmp.metrics["contacts_min_p"] = min_p;
+  cmp.metrics["contacts_max_ks_distance"] = max_ks;
+  const std::pair<const char*, const char*> defs[] = {
+      {"contacts_tested", "number of (statistic, class) rows of contacts/ tested: at least 500 measured contacts and 2 merged bins"},
+      {"contacts_min_p", "smallest p_value over the tested rows of contacts/ (false-alarm rate per row alpha: reject at p < alpha; "
+                         "Bonferroni over contacts_tested rows for the family)"},
+      {"contacts_max_ks_distance", "largest ks_distance over the tested rows of contacts/"},
+      {"contacts/statistic", "0: lifetimes of completed attachments (classed at the detachment); 1: ages of attached contacts "
+                             "at the contact snapshots at which both models were in the same phase (docs/model.md §7.2)"},
+      {"contacts/phase", "0 before first yield, 1 slow front, 2 transient, 3 after arrest (each model's own events)"},
+      {"contacts/region", "0 behind the front, 1 in the tip band (|x - x_f| <= measure.tip_band), 2 ahead (x_f: the "
+                          "A_tip_alt tip of each model)"},
+      {"contacts/measured_total", "contacts counted by the agent in this statistic and class"},
+      {"contacts/predicted_total", "expected count predicted from the continuum fields (N x the expected fraction)"},
+      {"contacts/ks_distance", "max over the class_time_edges of |F_measured - F_predicted| (whole population, binned CDFs)"},
+      {"contacts/thinned_size", "m: size of the uniform subsample of the measured contacts tested (min(2000, measured_total))"},
+      {"contacts/chi2", "Pearson X^2 of the subsample against the predicted proportions, bins merged until each expects >= 5"},
+      {"contacts/dof", "merged bins - 1"},
+      {"contacts/p_value", "P(chi^2_dof >= chi2) (Boost.Math): false-alarm rate alpha when the measured population has the "
+                           "predicted distribution; resolution ~1/sqrt(m)"},
+      {"contacts/tested", "1 when the row is tested: measured_total >= 500, dof >= 1, and for ages at least 3 matched "
+                          "contact snapshots with contacts in the class in both models"}};
+  for (const auto& [k, v] : defs) cmp.definitions[k] = v;
+}
+
 }  // namespace
 
 double relative_distance(std::span<const double> a, std::span<const double> b) {
@@ -144,6 +227,7 @@ Comparison compare_results(const Scene& s, const ModelResult& c, const ModelResu
     cmp.definitions["tip_x_rms_difference"] =
         "RMS over the series times where both fronts exist of x_tip(discrete) - x_tip(continuum)";
   }
+  compare_contacts(c, d, cmp);
   if (c.friction_law.count("sigma") && d.friction_law.count("sigma")) {
     const auto& a = c.friction_law.at("sigma");
     const auto& b = d.friction_law.at("sigma");

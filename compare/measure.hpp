@@ -3,6 +3,7 @@
 // and every stepper. FrontTracker is fed online by the runner: observe_step() every step (or every
 // sub-interval of a dense step), sample_tip() at a cadence; CycleDetector (the spring block's stick–slip
 // cycles) and BehindRate (homogeneous loading) likewise. Their constants are MeasureParams.
+#include <cmath>
 #include <cstddef>
 #include <limits>
 #include <map>
@@ -88,6 +89,13 @@ class FrontTracker {
   double record_tips(double t, double tip, double tip_alt);
   /// Between t^ and the arrest (max v has not yet fallen back below v_event/5).
   bool in_transient() const { return in_transient_; }
+  /// Phase of the run so far (docs/model.md §7.2): 0 before first yield, 1 slow front (t* ≤ t < t^),
+  /// 2 transient (t^ to the arrest), 3 after the arrest.
+  std::size_t phase() const {
+    if (in_transient_) return 2;
+    if (!std::isnan(ev_.t_arrest)) return 3;
+    return std::isnan(ev_.t_star) ? 0 : 1;
+  }
 
   const std::vector<double>& sample_times() const { return ts_; }
   const std::vector<double>& tips() const { return tips_; }

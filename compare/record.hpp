@@ -8,9 +8,12 @@
 //   drive_force()                                       F = K (v_d t − u_0) (imposed rate: the stress σ)
 //   max_slip_rate()                                     max |v|: over the last step (fixed-step
 //                                                       steppers) or at t (dense output)
+//   mean_age(out)                                       mean contact age ā per node (docs/model.md §7)
+//                                                       into out; false when the law carries none
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <span>
 #include <vector>
@@ -61,6 +64,24 @@ inline void append(Columns& c, const char* name, std::span<const double> v) {
   auto& col = c[name];
   col.insert(col.end(), v.begin(), v.end());
 }
+// Laws that carry the mean contact age (docs/model.md §7: FrictionLaw's age mass, AgentLaw's exact
+// ages) when asked (output.ages).
+template <class Law>
+concept CarriesAges = requires(const Law& l, std::span<double> out) {
+  { l.tracks_ages() } -> std::convertible_to<bool>;
+  l.mean_age(out);
+};
+template <class Law>
+bool law_mean_age(const Law& law, std::span<double> out) {
+  if constexpr (CarriesAges<Law>) {
+    if (law.tracks_ages()) {
+      law.mean_age(out);
+      return true;
+    }
+  }
+  return false;
+}
+
 inline double max_abs(std::span<const double> v) {
   double m = 0.0;
   for (double x : v) m = std::max(m, std::abs(x));
@@ -80,6 +101,7 @@ struct StepEndState {
   std::span<const double> slip() const { return sim.slip(); }
   double drive_force() const { return sim.drive_force(); }
   double max_slip_rate() const { return sim.max_slip_rate(); }
+  bool mean_age(std::span<double> out) const { return detail::law_mean_age(sim.law(), out); }
 };
 
 /// A stepper with dense output (AdaptiveSimulation): its state at any t in the last step, each field
@@ -97,6 +119,20 @@ class DenseState {
     return sim_.bulk().drive_force(t_, sim_.dense_value(t_, continuum::Field::slip, 0));
   }
   double max_slip_rate() const { return detail::max_abs(slip_rate()); }
+  /// ā at t: the law's age mass integrated from the step's start to t on the dense output, over A(t).
+  bool mean_age(std::span<double> out) const {
+    const auto& law = sim_.law();
+    if constexpr (requires { law.age_mass_at(std::size_t{0}, 0.0, sim_.dense_sampler()); }) {
+      if (!law.tracks_ages()) return false;
+      const auto area = contact_area();
+      const auto at = sim_.dense_sampler();
+      for (std::size_t i = 0; i < area.size(); ++i)
+        out[i] = area[i] > 0.0 ? law.age_mass_at(i, t_, at) / area[i] : std::numeric_limits<double>::quiet_NaN();
+      return true;
+    } else {
+      return detail::law_mean_age(law, out);
+    }
+  }
 
  private:
   std::span<const double> field(continuum::Field f) const {
@@ -128,6 +164,7 @@ struct SiteState {
   std::span<const double> slip() const { return {}; }
   double drive_force() const { return law.sigma_bar()[0] + law.params().eta * v; }
   double max_slip_rate() const { return std::abs(v); }
+  bool mean_age(std::span<double> out) const { return detail::law_mean_age(law, out); }
 };
 
 /// What a run stores, and when: series rows every output.series_dt, snapshots every
@@ -174,6 +211,8 @@ class Recorder {
       detail::push(c, "sigma", sb + eta_ * v);
       detail::push(c, "slip_rate", v);
       if (const auto u = st.slip(); !u.empty()) detail::push(c, "slip", u[0]);
+      double age = 0.0;
+      if (st.mean_age({&age, 1})) detail::push(c, "age", age);
     }
     if (energy) {
       const bool started = !std::isnan(energy->mechanical0);
@@ -191,7 +230,8 @@ class Recorder {
     ar(series_due_, snap_due_);
   }
 
-  /// One snapshot row (docs/output.md /snapshots): A, sigma_bar, v, u over the nodes.
+  /// One snapshot row (docs/output.md /snapshots): A, sigma_bar, v, u over the nodes; age (the mean
+  /// contact age, docs/model.md §7) when the law carries it.
   template <class State>
   void snapshot(const State& st) {
     r_.snapshot_t.push_back(st.t());
@@ -199,6 +239,8 @@ class Recorder {
     detail::append(r_.snapshots, "sigma_bar", st.sigma_bar());
     detail::append(r_.snapshots, "v", st.slip_rate());
     detail::append(r_.snapshots, "u", st.slip());
+    age_.resize(st.contact_area().size());
+    if (st.mean_age(age_)) detail::append(r_.snapshots, "age", age_);
   }
 
  private:
@@ -207,6 +249,7 @@ class Recorder {
   double series_every_, snapshot_every_;
   detail::Cadence series_due_, snap_due_;
   ModelResult& r_;
+  std::vector<double> age_;  ///< scratch row of mean ages
 };
 
 }  // namespace slipfront::compare

@@ -3,15 +3,18 @@
 // (imposed slip rate), feeds the shared measurements (compare/measure.hpp) and hands what the scene
 // asks to store to the recorder (compare/record.hpp). Templated on the interface law and the stepper
 // so the continuum and discrete models, and the three integrators, share every line of it.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <span>
 #include <string>
 #include <type_traits>
 #include <vector>
 
+#include "compare/contacts.hpp"
 #include "compare/fit.hpp"
 #include "compare/measure.hpp"
 #include "compare/record.hpp"
@@ -24,6 +27,7 @@
 #include "continuum/law.hpp"
 #include "continuum/steady_front.hpp"
 #include "continuum/stepper.hpp"
+#include "discrete/contact_stats.hpp"
 
 namespace slipfront::compare {
 
@@ -131,6 +135,10 @@ concept RecordsContacts = requires(Law& law, const Law& cl, double t) {
   law.record_contacts(t);
   cl.contact_tables();
 };
+// Laws that class their contact statistics by region and phase (docs/model.md §7.2): told at every
+// tip sample where the front is.
+template <class Law>
+concept ObservesFront = requires(Law& law, const discrete::FrontClasses& f) { law.observe_front(f); };
 template <class Law>
 void store_contacts(const Law& law, ModelResult& r) {
   auto tables = law.contact_tables();
@@ -171,10 +179,25 @@ void set_initial_conditions(const Scene& s, Stepper& sim, const std::optional<co
   }
 }
 
+// What a law is asked to carry beyond its state: the mean contact age (output.ages, docs/model.md §7).
+// Before any set_site: ages start at 0.
+template <class Law>
+void configure_law(const Scene& s, Law& law) {
+  if constexpr (requires { law.track_ages(true); }) law.track_ages(s.output.ages);
+}
+
+// docs/model.md §7.2: the continuum predicts the contact statistics the agent measures (fixed-step runs of
+// a scene with discrete.contact_statistics and a representation that records them).
+inline bool predicts_contacts(const Scene& s) {
+  const bool discrete = std::find(s.models.begin(), s.models.end(), "discrete") != s.models.end();
+  return discrete && s.discrete.contact_statistics && s.discrete.representation != "count";
+}
+
 // The stepper of a scene; a steady-front start puts the front's far-field traction μ v_b/c on the rear
 // edge (the strain u_x = −v_b/c it has far behind), so the interface behind slides steadily up to x = 0.
 template <class Stepper, class Law>
 Stepper make_stepper(const Scene& s, Law law, const std::optional<continuum::SteadyFront>& front) {
+  configure_law(s, law);
   continuum::DriveParams drive = s.drive;
   if (front) drive.rear_traction = -s.bulk.mu * front->far_field_strain;
   continuum::Bulk bulk(s.bulk, drive, s.interface, s.grid.dx);
@@ -191,6 +214,17 @@ Stepper make_stepper(const Scene& s, Law law, const std::optional<continuum::Ste
 }
 
 }  // namespace detail
+
+/// The regions of docs/model.md §7.2 on the nodes x: behind (x < front − band), tip band
+/// (|x − front| ≤ band), ahead (x > front + band); with no front (NaN) every node is ahead.
+inline discrete::FrontClasses front_classes(std::span<const double> x, double front, double band, std::size_t phase) {
+  discrete::FrontClasses f;
+  f.phase = phase;
+  if (std::isnan(front)) return f;
+  f.behind_end = static_cast<std::size_t>(std::lower_bound(x.begin(), x.end(), front - band) - x.begin());
+  f.tip_end = static_cast<std::size_t>(std::upper_bound(x.begin(), x.end(), front + band) - x.begin());
+  return f;
+}
 
 /// Dense steppers, after a step [t0, t1]: how many leading nodes the tip samples of that step need
 /// for `threshold` (docs/model.md §3 tip: the largest x with A < threshold). Nodes beyond the last one
@@ -234,15 +268,26 @@ double sample_tips_dense(const S& sim, FrontTracker& tracker, std::span<const do
 ///                the rate behind a front — at the step end, or on the dense output of the step
 ///   3. record    the recorder stores what is due in the step (series, snapshots, contact statistics)
 /// finish() hands over the result.
+/// Whether a run predicts contact statistics from its fields (compare/contacts.hpp, docs/model.md §7.2):
+/// automatic — the continuum law on a fixed-step integrator when detail::predicts_contacts(scene); on —
+/// any law on a fixed-step integrator (the hazard Θκ|v| with Θ = [|σ̄ + ηv|/A > 1]: for a discrete law this
+/// is its own overloaded fraction only when w = 0), e.g. the agent's prediction from its own fields;
+/// hazard_scale ≠ 1 gives a deliberately wrong prediction (tests); the tables are stored under
+/// prefix + their names.
+struct ContactPredictionSetup {
+  enum class Mode { automatic, on, off } mode = Mode::automatic;
+  double hazard_scale = 1.0;
+  std::string prefix;
+};
+
 template <class Law, class Stepper = continuum::ExplicitSimulation<Law>>
 class DynamicRun {
  public:
-  DynamicRun(const Scene& s, Law law, std::string model)
+  DynamicRun(const Scene& s, Law law, std::string model, ContactPredictionSetup prediction = {})
       : s_(s), wall0_(std::chrono::steady_clock::now()), front_(front_start(s)),
         sim_(detail::make_stepper<Stepper>(s, std::move(law), front_)),
         one_d_(continuum::is_one_dimensional(s.drive.loading)), tracker_(s.measure, sim_.bulk().x()),
-        cycles_(s.measure), behind_(s.measure), recorder_(s, r_),
-        contacts_due_(s.output.snapshot_dt > 0 ? s.output.snapshot_dt : -1) {
+        cycles_(s.measure), behind_(s.measure), recorder_(s, r_), contacts_due_(s.output.contact_every()) {
     r_.model = std::move(model);
     r_.x = sim_.bulk().x();
     r_.scalars["stable_dt"] = sim_.bulk().stable_dt();
@@ -260,6 +305,15 @@ class DynamicRun {
       r_.scalars["steady_front_v_tip"] = front_->v_tip;
       r_.scalars["steady_front_v_behind"] = front_->v_behind;
       r_.scalars["rear_traction"] = sim_.bulk().rear_traction();
+    }
+    if constexpr (!DenseStepper<Stepper>) {
+      using Mode = ContactPredictionSetup::Mode;
+      const bool automatic = std::is_same_v<Law, continuum::FrictionLaw> && detail::predicts_contacts(s);
+      if (prediction.mode == Mode::on || (prediction.mode == Mode::automatic && automatic)) {
+        predict_.emplace(r_.x.size(), static_cast<double>(s.discrete.contacts_per_site), prediction.hazard_scale);
+        predict_->start(sim_.law().contact_area());
+        predict_prefix_ = prediction.prefix;
+      }
     }
     const StepEndState<Stepper> now{sim_};
     if (one_d_) sample_tips(now);
@@ -280,6 +334,7 @@ class DynamicRun {
   void step() {
     try {
       const double t0 = sim_.time();
+      if (predict_) remember_start();
       sim_.step();  // 1.
       const double t1 = sim_.time();
       if constexpr (DenseStepper<Stepper>) {
@@ -288,7 +343,8 @@ class DynamicRun {
                              sim_.energy());  // 3.
       } else {
         const StepEndState<Stepper> now{sim_};
-        tracker_.observe_step(t0, t1, sim_.yielded(), sim_.max_slip_rate());  // 2.
+        if (predict_) predict_step();  // 2.
+        tracker_.observe_step(t0, t1, sim_.yielded(), sim_.max_slip_rate());
         if (one_d_ && tracker_.sample_due(t1)) sample_tips(now);
         if (!one_d_) cycles_.observe(t1, sim_.drive_force(), sim_.slip_rate()[0], r_.cycles);
         record_contacts(t1);  // 3.
@@ -306,6 +362,14 @@ class DynamicRun {
   void serialize(Ar& ar) {
     ar.tag("dynamic run");
     ar(r_, sim_, tracker_, cycles_, behind_, recorder_, contacts_due_, nsteps_, quiet_);
+    // the continuum's contact prediction (docs/model.md §7.2), made by the constructor from the scene: present
+    // in the checkpoint exactly when the restarted run made one
+    bool predicts = predict_.has_value();
+    ar(predicts);
+    if (predicts != predict_.has_value())
+      throw continuum::ArchiveError("checkpoint: the contact prediction of the checkpoint and of this run differ");
+    if (predict_) ar(*predict_);
+    ar(predict_prefix_, a0_, sb0_, hazard_);
   }
 
   void interrupt() {
@@ -316,6 +380,13 @@ class DynamicRun {
   ModelResult finish() {
     using continuum::Loading;
     if constexpr (detail::RecordsContacts<Law>) detail::store_contacts(sim_.law(), r_);
+    if (predict_) {
+      auto tables = predict_->tables();
+      for (auto& [name, col] : tables.columns) r_.contacts[predict_prefix_ + name] = std::move(col);
+      for (auto& [name, tab] : tables.tables)
+        r_.contacts_2d[predict_prefix_ + name] = Table2D{tab.cols, std::move(tab.data)};
+      r_.scalars["contact_prediction_max_cohorts"] = static_cast<double>(predict_->max_cohorts());
+    }
     const bool homogeneous = s_.drive.loading == Loading::homogeneous;
     r_.events = tracker_.finish(homogeneous);
     r_.events_alt = tracker_.finish(homogeneous, true);
@@ -337,11 +408,40 @@ class DynamicRun {
   void sample_tips(const State& st) {
     const double tip = tracker_.sample_tip(st.t(), st.contact_area());
     if (s_.drive.loading == continuum::Loading::homogeneous) behind_.observe(tip, r_.x, st.slip_rate());
+    observe_front();
   }
 
+  // docs/model.md §7.2: where the sites are relative to the front (the A_tip_alt tip) and the phase, for
+  // laws that class their contact statistics by them.
+  void observe_front() {
+    if (!detail::ObservesFront<Law> && !predict_) return;
+    const auto f = front_classes(r_.x, tracker_.last_tip_alt(), s_.measure.tip_band, tracker_.phase());
+    if constexpr (detail::ObservesFront<Law>) sim_.law().observe_front(f);
+    if (predict_) predict_->set_front(f);
+  }
+
+  // Contact snapshots: the law's (agent) and the continuum's predicted ones, at the same cadence.
   void record_contacts(double t) {
-    if constexpr (detail::RecordsContacts<Law>)
-      if (contacts_due_.due(t)) sim_.law().record_contacts(t);
+    if (!detail::RecordsContacts<Law> && !predict_) return;
+    if (!contacts_due_.due(t)) return;
+    if constexpr (detail::RecordsContacts<Law>) sim_.law().record_contacts(t);
+    if (predict_) predict_->snapshot();
+  }
+
+  // The prediction's view of a fixed step of the continuum law: A and σ̄ at its start, then the
+  // hazard Θκ|v| with Θ as FrictionLaw::advance decides it (the same expression, the same bits).
+  void remember_start() {
+    const auto a = sim_.law().contact_area(), sb = sim_.law().sigma_bar();
+    a0_.assign(a.begin(), a.end());
+    sb0_.assign(sb.begin(), sb.end());
+  }
+  void predict_step() {
+    const auto v = sim_.slip_rate();
+    const double eta = s_.interface.eta, kappa = s_.interface.kappa;
+    hazard_.resize(v.size());
+    for (std::size_t i = 0; i < v.size(); ++i)
+      hazard_[i] = continuum::contact_stress(sb0_[i] + eta * v[i], a0_[i]) > 1.0 ? kappa * std::abs(v[i]) : 0.0;
+    predict_->step(sim_.dt(), a0_, hazard_);
   }
 
   // Dense stepper: over the accepted step [t0, t1] the tracker sees max|v| on sub-intervals of at most
@@ -382,6 +482,7 @@ class DynamicRun {
     const std::size_t m_tip = tip_nodes(sim_, n, s_.measure.A_tip), m_alt = tip_nodes(sim_, n, s_.measure.A_tip_alt);
     detail::multiples_in(t0, t1, s_.measure.sample_dt, [&](double t) {
       const double tip = sample_tips_dense(sim_, tracker_, r_.x, s_.measure, t, m_tip, m_alt);
+      observe_front();
       if (s_.drive.loading == continuum::Loading::homogeneous) {
         sim_.dense_state(t, Field::slip_rate, v);
         behind_.observe(tip, r_.x, v);
@@ -403,6 +504,9 @@ class DynamicRun {
   std::int64_t nsteps_ = 0;
   bool quiet_ = false;                  // dense stepper: the last step got one max|v| observation
   std::vector<double> buffers_[4];      // dense-output buffers, one per continuum::Field
+  std::optional<ContactPrediction> predict_;  // docs/model.md §7.2 (continuum law, fixed-step steppers)
+  std::string predict_prefix_;
+  std::vector<double> a0_, sb0_, hazard_;     // the prediction's view of the current step
 };
 
 /// Bulk scenes run alone: step to t_end, polling the stop request after every step; checkpoints as
@@ -492,12 +596,13 @@ ModelResult run_imposed_rate(const Scene& s, MakeLaw make_law, const std::string
   } else {
     // One history: piecewise-constant v, steps aligned with the switch times.
     Law law = make_law(std::size_t{1});
+    detail::configure_law(s, law);
     const auto& vs = s.drive.v;
     const auto& ts = s.drive.v_times;
     const double dt_target = s.time.dt > 0 ? s.time.dt : s.time.t_end / s.time.steps;
     FrontTracker tracker(s.measure, r.x);
     Recorder recorder(s, r);
-    [[maybe_unused]] detail::Cadence contacts_due(s.output.snapshot_dt > 0 ? s.output.snapshot_dt : -1);
+    [[maybe_unused]] detail::Cadence contacts_due(s.output.contact_every());
     double t = 0.0;
     const std::optional<continuum::EnergyBudget> no_energy;
     auto record = [&](double v) {

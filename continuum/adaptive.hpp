@@ -146,7 +146,8 @@ class AdaptiveSimulation : public StepperCore<Law> {
   //   1. trial    error-controlled Rosenbrock step from t (rejections shrink h), Θ frozen
   //   2. events   earliest crossing of a switching surface on the step's dense output
   //   3. shorten  the step ends at that switching (on the dense output, or recomputed)
-  //   4. accept   advance t, keep the dense output, propose the next h (PI, from the trial's error)
+  //   4. accept   advance t, keep the dense output, propose the next h (PI, from the trial's error);
+  //               the law's optional extras over the step (advance_age: contact ages, docs/model.md §7)
   //   5. switch   flip Θ of every site that has crossed by the new t
   void step() {
     if (!started_) start();
@@ -170,6 +171,7 @@ class AdaptiveSimulation : public StepperCore<Law> {
       }
     }
     const bool at_stop = accept(h, h_dense, f_end_valid);  // 4.
+    advance_law_extras();
     propose_next(at_stop && !rejected ? std::max(h_trial, h_wanted) : h_trial, err, rejected);
     flip_crossed();  // 5.
     if (this->energy_) energy_over_step();
@@ -217,8 +219,25 @@ class AdaptiveSimulation : public StepperCore<Law> {
     ar(t_prev_, h_next_, last_dt_, err_prev_, started_, f0_valid_, y_prev_, f0_, k1_prev_, k2_prev_, h_prev_, t_stop_,
        theta_, theta_prev_, stats_);
   }
+  /// A_i(t) and v_i(t) on the last step's dense output (area(t, i), slip_rate(t, i)).
+  struct DenseSampler {
+    const AdaptiveSimulation* sim;
+    double area(double t, std::size_t i) const { return sim->dense_value(t, Field::contact_area, i); }
+    double slip_rate(double t, std::size_t i) const { return sim->dense_value(t, Field::slip_rate, i); }
+  };
+  DenseSampler dense_sampler() const { return DenseSampler{this}; }
 
  private:
+  // Optional hook of the law (docs/model.md §7, FrictionLaw::advance_age): quantities the law carries
+  // beside its state [A | σ̄] are advanced over the accepted step from its dense output, with Θ as it
+  // was during the step (before step 5 flips it). Laws without the hook compile without a trace of it.
+  void advance_law_extras() {
+    if constexpr (requires(Law& l, std::span<const std::uint8_t> th) {
+                    l.advance_age(0.0, 0.0, th, dense_sampler());
+                  })
+      this->law_.advance_age(t_prev_, this->t_, std::span<const std::uint8_t>(theta_), dense_sampler());
+  }
+
   // The current state, block f of [u | v | A | σ̄].
   const double* current(std::size_t f) const {
     if (f == 0) return this->u_.data();

@@ -3,7 +3,14 @@
 // continuum/law.hpp. Its state is one vector [A_0..A_{n−1} | σ̄_0..σ̄_{n−1}] (fields()), advanced by
 // the exact update (advance, fixed-step integrators) or by the adaptive integrator through rate() and
 // jacobian(). Nothing here knows which stepper drives it.
+//
+// On request (track_ages) it also carries the contact age of docs/model.md §7 as the age mass
+// M = A ā per site, a separate vector (not part of fields(): the adaptive integrator's state stays
+// [A | σ̄]): dM/dt = A − Θκ|v| M, advanced exactly with frozen rates in advance() (as σ̄) and, under the
+// adaptive integrator, by advance_age() after each accepted step from the step's dense output.
 #include <cstddef>
+#include <cstdint>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -28,13 +35,14 @@ class FrictionLaw {
   template <class Ar>
   void serialize(Ar& ar) {
     ar.tag("continuum law");
-    ar(fields_);
+    ar(fields_, ages_, age_mass_, age_prev_, theta_step_, step_t0_);
   }
 
   /// Set the state of one site (initial conditions).
   void set_site(std::size_t i, double area, double sigma_bar) {
     fields_[i] = area;
     fields_[n_ + i] = sigma_bar;
+    if (ages_) age_mass_[i] = 0.0;  // every contact present at the start is new (age 0)
   }
 
   // --- the exact step (explicit and implicit integrators) ---------------------------------------
@@ -61,12 +69,15 @@ class FrictionLaw {
         const double a_new = a * stuck_exp_ + stuck_weight_;
         sigma_bar[i] = sb + alpha * 0.5 * (a + a_new) * vi * dt;
         area[i] = a_new;
+        if (ages_) age_mass_[i] += 0.5 * (a + a_new) * dt;  // docs/model.md §7, Θ = 0: dM/dt = A
         continue;
       }
       const double speed = std::abs(vi);
       const double a_new = relax(a, 1.0, 1.0 + kappa * speed, dt);
       sigma_bar[i] = relax(sb, alpha * 0.5 * (a + a_new) * vi, speed, dt);
       area[i] = a_new;
+      // docs/model.md §7: dM/dt = Ā − κ|v| M, exact with Ā = (A + A')/2 and the rate frozen (as σ̄)
+      if (ages_) age_mass_[i] = relax(age_mass_[i], 0.5 * (a + a_new), kappa * speed, dt);
     }
     return {any};
   }
@@ -81,6 +92,52 @@ class FrictionLaw {
       const double y = wp != 0.0 && contact_stress(sigma_bar[i] + p_.eta * wp, area[i]) > 1.0 ? 1.0 : 0.0;
       linearise_stress(area[i], sigma_bar[i], y, wp, k, c0[i], c1[i]);
     }
+  }
+
+  // --- contact age, docs/model.md §7 -----------------------------------------------------------
+  /// Carry the age mass M = A ā (default off: advance() then costs nothing more). Every site starts
+  /// at M = 0 (its contacts are new), as set_site() does.
+  void track_ages(bool on) {
+    ages_ = on;
+    age_mass_.assign(on ? n_ : 0, 0.0);
+    age_prev_.clear();
+    theta_step_.clear();
+  }
+  bool tracks_ages() const { return ages_; }
+  /// M per site (empty unless tracks_ages()).
+  std::span<const double> age_mass() const { return age_mass_; }
+  /// Mean age of the attached contacts ā = M/A per site (NaN where A = 0); needs tracks_ages().
+  void mean_age(std::span<double> out) const {
+    for (std::size_t i = 0; i < n_; ++i)
+      out[i] = fields_[i] > 0.0 ? age_mass_[i] / fields_[i] : std::numeric_limits<double>::quiet_NaN();
+  }
+  /// Initial mean age of site i (after set_site): M = A ā.
+  void set_site_age(std::size_t i, double mean_age) { age_mass_[i] = fields_[i] * mean_age; }
+
+  /// The adaptive integrator's hook (continuum/adaptive.hpp calls it after each accepted step
+  /// [t0, t1], before Θ flips): M over the step with Θ_i = theta[i] fixed, from the step's dense output
+  /// at.area(t, i), at.slip_rate(t, i) (integrate_age_mass: second order). Keeps M(t0) and Θ for
+  /// age_mass_at().
+  template <class Sample>
+  void advance_age(double t0, double t1, std::span<const std::uint8_t> theta, const Sample& at) {
+    if (!ages_) return;
+    age_prev_.swap(age_mass_);
+    age_mass_.resize(n_);
+    theta_step_.assign(theta.begin(), theta.end());
+    step_t0_ = t0;
+    for (std::size_t i = 0; i < n_; ++i)
+      age_mass_[i] = integrate_age_mass(
+          age_prev_[i], t0, t1, theta[i] != 0, p_.kappa, [&](double t) { return at.area(t, i); },
+          [&](double t) { return at.slip_rate(t, i); });
+  }
+  /// M_i at t inside the last adaptive step (the same integration, stopped at t): for records at
+  /// exact times on the dense output. Before any adaptive step, the current M_i.
+  template <class Sample>
+  double age_mass_at(std::size_t i, double t, const Sample& at) const {
+    if (age_prev_.empty()) return age_mass_[i];
+    return integrate_age_mass(
+        age_prev_[i], step_t0_, t, theta_step_[i] != 0, p_.kappa, [&](double s) { return at.area(s, i); },
+        [&](double s) { return at.slip_rate(s, i); });
   }
 
   // --- the rates (adaptive integrator), docs/model.md §1 ----------------------------------------
@@ -106,6 +163,10 @@ class FrictionLaw {
   std::size_t n_;
   std::vector<double> fields_;  ///< [A | σ̄]
   double cached_dt_ = -1.0, stuck_exp_ = 1.0, stuck_weight_ = 0.0;
+  bool ages_ = false;
+  std::vector<double> age_mass_, age_prev_;  ///< M at the end (and start) of the last step
+  std::vector<std::uint8_t> theta_step_;     ///< Θ of the last adaptive step
+  double step_t0_ = 0.0;
 };
 
 static_assert(SmoothLaw<FrictionLaw>);

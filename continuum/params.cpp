@@ -70,10 +70,14 @@ const KeyDomain continuum_domains[] = {
     {"measure.behind_tip_fraction", K::number, 0.0, 1.0, true, false},
     {"measure.behind_near", K::number, 0.0, cap},
     {"measure.behind_far", K::number, 0.0, cap, true},
+    {"measure.tip_band", K::number, 0.0, cap, false, false, false, "", "(length units)"},
     {"output.series_dt", K::number, 0.0, cap, false, false, false, "", "(0: every step)"},
     {"output.snapshot_dt", K::number, 0.0, cap, false, false, false, "", "(0: none)"},
     {"output.energy", K::boolean},
+    {"output.ages", K::boolean},
     {"output.compare_dt", K::number, 0.0, cap, false, false, false, "", "(0: no field comparison)"},
+    {"output.contact_snapshot_dt", K::number, -cap, cap, false, false, false, "",
+     "(< 0: output.snapshot_dt; 0: no contact snapshots)"},
 };
 
 std::string lower_bound_text(const KeyDomain& d) {
@@ -287,12 +291,14 @@ void MeasureParams::validate() const {
   check_in_domain("measure.behind_near", behind_near);
   check_in_domain("measure.behind_far", behind_far);
   require(behind_far > behind_near, "measure.behind_far", "must be > measure.behind_near (" + format_number(behind_near) + ")");
+  check_in_domain("measure.tip_band", tip_band);
 }
 
 void OutputParams::validate() const {
   check_in_domain("output.series_dt", series_dt);
   check_in_domain("output.snapshot_dt", snapshot_dt);
   check_in_domain("output.compare_dt", compare_dt);
+  check_in_domain("output.contact_snapshot_dt", contact_snapshot_dt);
 }
 
 }  // namespace slipfront::continuum

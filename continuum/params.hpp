@@ -167,10 +167,13 @@ struct MeasureParams {
   int batches = 20;            ///< friction law: batch means for the standard error
   double arrest_fraction = 0.2;  ///< arrest / end of a slip event: max v falls below arrest_fraction · v_event
   /// Homogeneous loading: v_behind is measured when the tip first passes behind_tip_fraction · L, as the
-  /// mean slip rate over the nodes from the nucleation patch's end to behind_gap behind the tip.
+  /// mean slip rate over the nodes in [x_tip − behind_far, x_tip − behind_near] (docs/model.md §3).
   double behind_tip_fraction = 0.75;
   double behind_near = 100.0;
   double behind_far = 150.0;
+  /// Contact statistics by region (docs/model.md §7.2): half-width of the tip band around the
+  /// A_tip_alt front (length units).
+  double tip_band = 5.0;
   void validate() const;
 };
 
@@ -179,7 +182,16 @@ struct OutputParams {
   double series_dt = 0.05;    ///< cadence of /series (0: every step)
   double snapshot_dt = 1.0;   ///< cadence of /snapshots (0: none)
   bool energy = false;        ///< store the energy budget series
+  bool ages = false;          ///< carry and store the mean contact age ā (docs/model.md §7): snapshots/age, 0D series/age
   double compare_dt = 1.0;    ///< cadence of the online field comparison of alongside runs (0: none)
+  /// Cadence of the contact snapshots (ages and thresholds of the attached contacts, agent with
+  /// discrete.contact_statistics; the continuum's predicted ages): < 0 means snapshot_dt, 0 none.
+  double contact_snapshot_dt = -1.0;
+  /// The contact-snapshot cadence in effect (−1: none).
+  double contact_every() const {
+    const double c = contact_snapshot_dt < 0 ? snapshot_dt : contact_snapshot_dt;
+    return c > 0 ? c : -1.0;
+  }
   void validate() const;
 };
 

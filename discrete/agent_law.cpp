@@ -66,14 +66,21 @@ void AgentLaw::set_site(std::size_t i, double area, double sigma_bar) {
   const auto n = static_cast<std::size_t>(std::llround(area * static_cast<double>(n_contacts_)));
   for (std::size_t k = 0; k < n; ++k) {
     const double s = draw_threshold(st.engine);
+    if (!degenerate_) stats_.drawn(s);
     const std::size_t b = bin_of(s);
     st.bins[b].push_back({s, t_});
     if (nbins_ > 1) st.counts.add(b, 1);
   }
   st.detached.reserve(n_contacts_ - n);
-  for (std::size_t k = n; k < n_contacts_; ++k)
-    st.detached.push_back({t_, quenched_ ? draw_threshold(st.engine) : std::numeric_limits<double>::quiet_NaN()});
+  for (std::size_t k = n; k < n_contacts_; ++k) {
+    const double s = quenched_ ? draw_threshold(st.engine) : std::numeric_limits<double>::quiet_NaN();
+    if (quenched_ && !degenerate_) stats_.drawn(s);
+    st.detached.push_back({t_, s});
+  }
   st.n_att = n;
+  st.attach_time_sum = static_cast<double>(n) * t_;
+  st.pristine = true;
+  st.set_at = t_;
   area_[i] = static_cast<double>(n) / static_cast<double>(n_contacts_);
   sigma_bar_[i] = sigma_bar;
 }
@@ -108,6 +115,7 @@ void AgentLaw::add_attached(Site& st, Load& ld, AttachedContact c, double tau) {
   bin.push_back(c);
   if (nbins_ > 1) st.counts.add(b, 1);
   ++st.n_att;
+  st.attach_time_sum += c.attached_at;
   if (b < ld.full_bins) {
     ++ld.members;
   } else if (b == ld.partial && c.threshold < tau) {
@@ -150,6 +158,7 @@ AttachedContact AgentLaw::remove_member(Site& st, Load& ld, std::uint64_t rank) 
   if (nbins_ > 1) st.counts.add(b, -1);
   --ld.members;
   --st.n_att;
+  st.attach_time_sum -= c.attached_at;
   return c;
 }
 
@@ -173,6 +182,7 @@ void AgentLaw::run_events(std::size_t i, Site& st, Load& ld, double tau, double 
     if (k_att > 0.0) st.attach_mark = std::max(0.0, st.attach_mark - k_att * (t_next - t));
     if (!(t_next < t1)) return;  // nothing more in this step
     t = t_next;
+    st.pristine = false;
     if (t_det <= t_att) {
       // a member detaches, chosen uniformly
       const auto rank = std::min<std::uint64_t>(ld.members - 1, static_cast<std::uint64_t>(uniform01(e) * static_cast<double>(ld.members)));
@@ -188,7 +198,10 @@ void AgentLaw::run_events(std::size_t i, Site& st, Load& ld, double tau, double 
       pool.pop_back();
       st.attach_mark = -1.0;
       double s = c.threshold;  // quenched; or fresh and re-attaching within the step it detached in
-      if (!quenched_ && !(c.detached_at >= t0 && !std::isnan(s))) s = draw_threshold(e);
+      if (!quenched_ && !(c.detached_at >= t0 && !std::isnan(s))) {
+        s = draw_threshold(e);
+        if (!degenerate_) stats_.drawn(s);
+      }
       stats_.record_detached(i, c.detached_at, t - c.detached_at);
       add_attached(st, ld, {s, t}, tau);
     }
@@ -253,11 +266,31 @@ void AgentLaw::linearise(double dt, std::span<const double> w_prev, std::span<do
   }
 }
 
+void AgentLaw::mean_age(std::span<double> out) const {
+  for (std::size_t i = 0; i < sites_.size(); ++i) {
+    const Site& st = sites_[i];
+    out[i] = st.n_att > 0 ? t_ - st.attach_time_sum / static_cast<double>(st.n_att)
+                          : std::numeric_limits<double>::quiet_NaN();
+  }
+}
+
 void AgentLaw::record_contacts(double t) {
   if (!stats_.enabled()) return;
   stats_.begin_snapshot(t);
-  for (std::size_t i = 0; i < sites_.size(); ++i)
-    for_each_attached(i, [&](const AttachedContact& c) { stats_.attached(t_ - c.attached_at, c.threshold); });
+  for (std::size_t i = 0; i < sites_.size(); ++i) {
+    const std::size_t cls = stats_.class_of(i);
+    const Site& st = sites_[i];
+    if (st.pristine) {  // untouched since set_site: one age for all (the same bins, one addition)
+      if (st.n_att > 0) stats_.attached_age(cls, t_ - st.set_at, static_cast<double>(st.n_att));
+    } else {
+      for_each_attached(i, [&](const AttachedContact& c) { stats_.attached_age(cls, t_ - c.attached_at); });
+    }
+    if (degenerate_) {  // every threshold is 1: one addition per site
+      if (sites_[i].n_att > 0) stats_.attached_threshold(cls, 1.0, static_cast<double>(sites_[i].n_att));
+    } else {
+      for_each_attached(i, [&](const AttachedContact& c) { stats_.attached_threshold(cls, c.threshold); });
+    }
+  }
   stats_.end_snapshot();
 }
 

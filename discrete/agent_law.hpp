@@ -132,10 +132,21 @@ class AgentLaw {
   /// The implicit step's linearisation (continuum/law.hpp) with y = Y_i at the previous step's rate.
   void linearise(double dt, std::span<const double> w_prev, std::span<double> c0, std::span<double> c1) const;
 
+  // --- contact age (docs/model.md §7) ------------------------------------------------------------
+  /// Report the mean age of the attached contacts (output.ages). The sums behind it are always kept
+  /// (Σ t_attach per site, one addition per event), so this only says whether to report it.
+  void track_ages(bool on) { ages_ = on; }
+  bool tracks_ages() const { return ages_; }
+  /// ā_i = t − Σ t_attach / n_i over the attached contacts of site i, exactly (NaN when none attached).
+  void mean_age(std::span<double> out) const;
+
   // --- contact statistics (the runner calls these when the law has them) ---------------------
   /// Snapshot of the attached contacts (ages, thresholds) and the per-site event counts since the
   /// previous snapshot; a no-op unless DiscreteParams::contact_statistics.
   void record_contacts(double t);
+  /// Where the sites are relative to the front and the phase of the run (the runner, at every tip
+  /// sample): the class of each event and snapshot (docs/model.md §7.2).
+  void observe_front(const FrontClasses& f) { stats_.set_front(f); }
   ContactTables contact_tables() const { return stats_.tables(); }
   const ContactStats& contact_stats() const { return stats_; }
 
@@ -147,7 +158,8 @@ class AgentLaw {
       ar(st.bins, st.counts, st.detached, st.n_att, st.detach_mark, st.attach_mark);
       serialize_engine(ar, st.engine);
     }
-    ar(area_, sigma_bar_, t_, changes_, stats_);
+    ar(area_, sigma_bar_, t_, changes_, stats_, ages_);
+    for (auto& st : sites_) ar(st.attach_time_sum, st.pristine, st.set_at);  // ages (docs/model.md §7)
   }
 
   // --- inspection ------------------------------------------------------------------------------
@@ -179,6 +191,9 @@ class AgentLaw {
     detail::Fenwick counts;                          ///< attached counts per bin (B > 1)
     std::vector<DetachedContact> detached;           ///< unordered
     std::size_t n_att = 0;
+    double attach_time_sum = 0.0;  ///< Σ t_attach over the attached contacts (docs/model.md §7)
+    bool pristine = true;          ///< no event since set_site: every attached contact attached at set_at
+    double set_at = 0.0;           ///< the time of set_site
     double detach_mark = -1.0;  ///< residual Exp(1) of ∫ K d dt until the next detachment (< 0: not drawn)
     double attach_mark = -1.0;  ///< residual Exp(1) of ∫ D dt until the next attachment (< 0: not drawn)
     Engine engine;
@@ -208,6 +223,7 @@ class AgentLaw {
   std::vector<double> edges_;  ///< bin edges e_0..e_B (quantiles b/B of g), non-degenerate only
   double t_ = 0.0;
   std::uint64_t changes_ = 0;
+  bool ages_ = false;
 
   std::vector<Site> sites_;
   std::vector<double> area_, sigma_bar_;

@@ -143,11 +143,13 @@ class NaiveAgentLaw {
   void record_contacts(double t) {
     if (!stats_.enabled()) return;
     stats_.begin_snapshot(t);
-    for (const auto& cs : contacts_)
-      for (const Contact& c : cs)
-        if (c.attached) stats_.attached(t_ - c.since, c.threshold);
+    for (std::size_t i = 0; i < contacts_.size(); ++i)
+      for (const Contact& c : contacts_[i])
+        if (c.attached) stats_.attached(stats_.class_of(i), t_ - c.since, c.threshold);
     stats_.end_snapshot();
   }
+  /// As AgentLaw::observe_front (docs/model.md §7.2).
+  void observe_front(const FrontClasses& f) { stats_.set_front(f); }
   ContactTables contact_tables() const { return stats_.tables(); }
   const ContactStats& contact_stats() const { return stats_; }
   /// Checkpoints (continuum::Archive).

@@ -5,13 +5,13 @@
 #      results.h5 per run),
 #   3. write the report with every plot (out/report.md, out/figures/*.png) and check that every plot
 #      it names exists and is not empty.
-# Takes about 5 minutes on 2 cores (build of the program ~1 min, studies ~4 min). A scene or study that fails
-# still leaves its partial results and the rest goes on; the job then exits 1.
+# Takes about 5 minutes on 2 cores (build of the program ~1 min, studies ~4 min, the two contacts scenes
+# ~20 s). A scene or study that fails still leaves its partial results and the rest goes on; the job then exits 1.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 bash scripts/build.sh slipfront
 
-scenes=(fig1 friction_law velocity_step spring_block homogeneous_front steady_front)
+scenes=(fig1 friction_law velocity_step spring_block homogeneous_front steady_front contacts contacts_disorder)
 slipfront=build/apps/slipfront
 python=/usr/bin/python3 # Debian's python3, where python3-h5py/-matplotlib/-numpy are installed
 failed=()

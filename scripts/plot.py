@@ -6,7 +6,9 @@
 Writes PNGs (default: next to the results file) and prints the path of each one:
   1D scenes (edge, homogeneous loading)  <scene>_fronts.png   drive force F(t) (max v for homogeneous
                                                                loading) and space-time maps of A,
-                                                               sigma_bar, |v| with the front tip, t*, t^
+                                                               sigma_bar, |v| (and the mean contact age
+                                                               when the file has snapshots/age) with the
+                                                               front tip, t*, t^
                                          <scene>_tip.png      tip trajectories and measured events
   imposed-rate sweep                     <scene>_steady_friction.png   sigma(v), A(v) against closed forms
   imposed-rate history                   <scene>_history.png  sigma(t), A(t), v(t), zooms on the jumps
@@ -258,9 +260,18 @@ def plot_1d(res: Results, outdir, written, dpi):
     v_max = v_max if finite(v_max) and v_max > 0 else 1.0
     v_min = v_max * 10.0 ** (-V_LOG_DECADES)
 
+    # the mean contact age (docs/model.md §7), when the file has it: one more row, log colour scale
+    age_all = [a for a in (snap(m, "age") for m in models) if a is not None and a.size]
+    age_pos = [a[np.isfinite(a) & (a > 0)] for a in age_all]
+    age_pos = [a for a in age_pos if a.size]
+    has_age = bool(age_pos)
+    age_max = max(float(np.max(a)) for a in age_pos) if has_age else 1.0
+    age_min = max(min(float(np.min(a)) for a in age_pos), age_max * 1e-4) if has_age else 1e-4
+
     ncol = len(models)
-    fig, axes = plt.subplots(4, ncol, figsize=(6.4 * ncol, 15), squeeze=False,
-                             gridspec_kw=dict(height_ratios=[0.8, 1, 1, 1]), constrained_layout=True)
+    nrow = 5 if has_age else 4
+    fig, axes = plt.subplots(nrow, ncol, figsize=(6.4 * ncol, 15 + 3.5 * (nrow - 4)), squeeze=False,
+                             gridspec_kw=dict(height_ratios=[0.8] + [1] * (nrow - 1)), constrained_layout=True)
     t_formula = t_star_formula(res) if loading == "edge" else math.nan
     for j, m in enumerate(models):
         g = res.group(m)
@@ -295,6 +306,8 @@ def plot_1d(res: Results, outdir, written, dpi):
                   ("sigma_bar", "sigma_bar", "magma", dict(vmin=sb_lim[0], vmax=sb_lim[1])),
                   ("v", f"|v| (log, clipped below {v_min:.0e})", "inferno",
                    dict(norm=LogNorm(vmin=v_min, vmax=v_max))))
+        if has_age:
+            panels += (("age", "mean contact age (log)", "cividis", dict(norm=LogNorm(vmin=age_min, vmax=age_max))),)
         for i, (name, label, cmap, kw) in enumerate(panels, start=1):
             ax = axes[i, j]
             field = snap(m, name)
@@ -304,6 +317,8 @@ def plot_1d(res: Results, outdir, written, dpi):
                 continue
             if name == "v":
                 field = np.clip(np.abs(field), v_min, v_max)
+            if name == "age":
+                field = np.clip(field, age_min, age_max)
             pc = ax.pcolormesh(x, ts, field, shading="nearest", cmap=cmap, rasterized=True, **kw)
             fig.colorbar(pc, ax=ax, label=label, pad=0.01)
             if tip_t is not None:

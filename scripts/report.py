@@ -655,6 +655,193 @@ def scene_rows(res):
     return rows
 
 
+# --------------------------------------------------------------------------------------------
+# contact statistics (docs/contacts.md): the agent's measured ones against the continuum's prediction
+
+PHASES = ("before yield", "slow front", "transient", "after arrest")
+REGIONS = ("behind", "tip", "ahead")
+
+
+def _contacts(res):
+    """(continuum contacts group, discrete contacts group) when both have the class tables, else None."""
+    f = res.f
+    if "continuum/contacts/class_lifetime_counts" in f and "discrete/contacts/class_lifetime_counts" in f:
+        return f["continuum/contacts"], f["discrete/contacts"]
+    return None
+
+
+def _matched_ages(c, d):
+    """Ages by class summed over the contact snapshots at which both models were in the same phase
+    (as compare::matched_age_tables); (measured, predicted) [12, nb] or None."""
+    need = ("region_age_counts", "contact_snapshot_phase", "snapshot_t")
+    if not all(k in c and k in d for k in need):
+        return None
+    rm, rp = d["region_age_counts"][()], c["region_age_counts"][()]
+    pm, pp = d["contact_snapshot_phase"][()], c["contact_snapshot_phase"][()]
+    if rm.shape != rp.shape or len(pm) != len(pp):
+        return None
+    nb = rm.shape[1] // 3
+    m, p = np.zeros((12, nb)), np.zeros((12, nb))
+    for k in range(len(pm)):
+        if pm[k] != pp[k]:
+            continue
+        ph = int(pm[k])
+        m[3 * ph:3 * ph + 3] += rm[k].reshape(3, nb)
+        p[3 * ph:3 * ph + 3] += rp[k].reshape(3, nb)
+    return m, p
+
+
+def _fit_rows(res):
+    """/compare/contacts as a list of dicts."""
+    if "compare/contacts" not in res.f:
+        return []
+    g = res.f["compare/contacts"]
+    cols = {k: g[k][()] for k in g}
+    return [{k: float(v[i]) for k, v in cols.items()} for i in range(len(cols.get("phase", [])))]
+
+
+def _class_grid(res, outdir, figs, name, what, measured, predicted, edges, fits, stat):
+    """Histograms per phase (rows) and region (columns): the agent's (bars) and the prediction (line),
+    as fractions per decade of the class's total."""
+    rows = [ph for ph in range(4) if measured[3 * ph:3 * ph + 3].sum() + predicted[3 * ph:3 * ph + 3].sum() > 0]
+    if not rows:
+        return
+    fig, axes = plt.subplots(len(rows), 3, figsize=(13, 3.1 * len(rows) + 1), squeeze=False, constrained_layout=True)
+    lo = np.where(edges[:-1] > 0, edges[:-1], edges[1] / 10 ** 0.2)  # [0, 1e-3) drawn one bin wide
+    hi = np.where(np.isfinite(edges[1:]), edges[1:], edges[-2] * 10 ** 0.2)
+    dec = np.log10(hi / lo)
+    for i, ph in enumerate(rows):
+        for r in range(3):
+            ax = axes[i, r]
+            cls = 3 * ph + r
+            mt, pt = measured[cls].sum(), predicted[cls].sum()
+            if mt <= 0 and pt <= 0:
+                plot.no_data(ax, "no contacts")
+            else:
+                if mt > 0:
+                    ax.stairs(measured[cls] / mt / dec, np.append(lo[0], hi), fill=True, color="C3", alpha=0.45,
+                              label=f"agent (n = {mt:.3g})")
+                if pt > 0:
+                    ax.stairs(predicted[cls] / pt / dec, np.append(lo[0], hi), color="C0", lw=1.4,
+                              label=f"continuum prediction ({pt:.3g})")
+                ax.set_xscale("log")
+                fit = [f for f in fits if f["statistic"] == stat and int(f["phase"]) == ph and int(f["region"]) == r]
+                if fit:
+                    f = fit[0]
+                    tag = f"KS {f['ks_distance']:.4f}, p {f['p_value']:.2g}" + ("" if f["tested"] else " (not tested)")
+                    ax.text(0.02, 0.95, tag, transform=ax.transAxes, fontsize=7, va="top")
+                ax.legend(fontsize=6, loc="upper right")
+            ax.set_title(f"{PHASES[ph]}, {REGIONS[r]}", fontsize=9)
+            ax.set_xlabel(what)
+            if r == 0:
+                ax.set_ylabel("fraction per decade")
+    fig.suptitle(res.title(f"{what}: agent vs continuum prediction, by phase and region", fig), fontsize=9)
+    save(fig, outdir, f"{res.scene}_{name}.png", figs)
+
+
+def contacts_section(res, outdir):
+    """The contact-statistics figures and summary rows of a scene with the agent's statistics and the
+    continuum's prediction (docs/contacts.md): age maps, lifetime and age histograms by phase and region,
+    surviving thresholds; one summary row per tested statistic and class (distance to the prediction)."""
+    both = _contacts(res)
+    if both is None:
+        return [], []
+    c, d = both
+    figs, rows = [], []
+    # 1. age maps side by side: the continuum's mean age (its age field) and the agent's (exact)
+    maps = [(m, plot.dataset(res.group(m), "snapshots/age")) for m in ("continuum", "discrete")]
+    maps = [(m, a) for m, a in maps if a is not None and a.size]
+    if maps:
+        pos = np.concatenate([a[np.isfinite(a) & (a > 0)] for _, a in maps])
+        vmax = float(pos.max()) if pos.size else 1.0
+        vmin = max(float(pos.min()) if pos.size else 1e-3, vmax * 1e-4)
+        fig, axes = plt.subplots(1, len(maps) + 1, figsize=(6 * (len(maps) + 1), 5.5), squeeze=False,
+                                 constrained_layout=True)
+        for j, (m, a) in enumerate(maps):
+            g = res.group(m)
+            x, ts = plot.dataset(g, "x"), plot.dataset(g, "snapshots/t")
+            pc = axes[0, j].pcolormesh(x, ts, np.clip(a, vmin, vmax), shading="nearest", cmap="cividis",
+                                       norm=plot.LogNorm(vmin=vmin, vmax=vmax), rasterized=True)
+            t, tip = plot.dataset(g, "series/t"), plot.dataset(g, "series/tip_x_alt")
+            if t is not None and tip is not None:
+                axes[0, j].plot(tip, t, "w--", lw=0.9, label="front (A < A_tip_alt)")
+                axes[0, j].legend(fontsize=7, loc="upper right")
+            axes[0, j].set_title(("continuum prediction" if m == "continuum" else "agent (measured)") + ": mean age")
+            axes[0, j].set_xlabel("x")
+            axes[0, j].set_ylabel("t")
+            fig.colorbar(pc, ax=axes[0, j], label="mean contact age")
+        if len(maps) == 2 and maps[0][1].shape == maps[1][1].shape:
+            with np.errstate(divide="ignore", invalid="ignore"):
+                ratio = np.log2(maps[1][1] / maps[0][1])
+            g = res.group("continuum")
+            pc = axes[0, -1].pcolormesh(plot.dataset(g, "x"), plot.dataset(g, "snapshots/t"), np.clip(ratio, -1, 1),
+                                        shading="nearest", cmap="RdBu_r", vmin=-1, vmax=1, rasterized=True)
+            fig.colorbar(pc, ax=axes[0, -1], label="log2(agent / continuum)")
+            axes[0, -1].set_title("agent / continuum (log2, clipped at ±1)")
+            axes[0, -1].set_xlabel("x")
+        else:
+            plot.no_data(axes[0, -1], "no pair of age maps")
+        fig.suptitle(res.title("mean contact age a(x, t)", fig), fontsize=9)
+        save(fig, outdir, f"{res.scene}_ages.png", figs)
+    fits = _fit_rows(res)
+    edges = c["class_time_edges"][()]
+    # 2. lifetimes, 3. ages (at the snapshots where both models share a phase)
+    _class_grid(res, outdir, figs, "lifetimes", "lifetime of completed attachments", d["class_lifetime_counts"][()],
+                c["class_lifetime_counts"][()], edges, fits, 0)
+    matched = _matched_ages(c, d)
+    if matched is not None:
+        _class_grid(res, outdir, figs, "age_histograms", "age of attached contacts", matched[0], matched[1], edges,
+                    fits, 1)
+    # 4. surviving thresholds: attached contacts by class against the drawn ones
+    if "class_threshold_counts" in d and "threshold_hist_edges" in d:
+        th = d["class_threshold_counts"][()]
+        te = d["threshold_hist_edges"][()]
+        drawn = d["threshold_drawn_counts"][()] if "threshold_drawn_counts" in d else np.zeros(th.shape[1])
+        mid = 0.5 * (te[:-1] + np.where(np.isfinite(te[1:]), te[1:], te[:-1]))
+        width = float(plot.as_float(res.param("discrete", "width", 0.0)) or 0.0)
+        prow = [ph for ph in range(4) if th[3 * ph:3 * ph + 3].sum() > 0]
+        fig, axes = plt.subplots(max(1, len(prow)), 3, figsize=(13, 3 * max(1, len(prow)) + 1), squeeze=False,
+                                 constrained_layout=True)
+        dm = float((drawn * mid).sum() / drawn.sum()) if drawn.sum() > 0 else 1.0
+        for i, ph in enumerate(prow):
+            for r in range(3):
+                ax = axes[i, r]
+                row = th[3 * ph + r]
+                if row.sum() <= 0:
+                    plot.no_data(ax, "no contacts")
+                else:
+                    ax.stairs(row / row.sum(), te[:-1].tolist() + [te[-2] + (te[-2] - te[-3])], fill=True, color="C3",
+                              alpha=0.45, label=f"attached (mean {(row * mid).sum() / row.sum():.3f})")
+                    if drawn.sum() > 0:
+                        ax.stairs(drawn / drawn.sum(), te[:-1].tolist() + [te[-2] + (te[-2] - te[-3])], color="k",
+                                  lw=1.2, label=f"drawn from g (mean {dm:.3f})")
+                    ax.set_xlim(0, max(2.0, 1 + 4 * width))
+                    ax.legend(fontsize=6)
+                    if ph > 0 and width > 0:
+                        am = float((row * mid).sum() / row.sum())
+                        rows.append((f"{res.scene}: surviving thresholds, {PHASES[ph]}, {REGIONS[r]} (w = {width:g})",
+                                     f"drawn mean {dm:.4f}", f"attached mean {am:.4f}", f"{am / dm - 1:+.2%}", ""))
+                ax.set_title(f"{PHASES[ph]}, {REGIONS[r]}", fontsize=9)
+                ax.set_xlabel("threshold s")
+        if not prow:
+            plot.no_data(axes[0, 0], "no threshold statistics")
+        note = "" if width > 0 else "   (w = 0: every threshold is 1)"
+        fig.suptitle(res.title("thresholds of the attached contacts vs drawn" + note, fig), fontsize=9)
+        save(fig, outdir, f"{res.scene}_thresholds.png", figs)
+    n = res.param("discrete", "contacts_per_site", "?")
+    for f in fits:
+        if not f.get("tested"):
+            continue
+        stat = "lifetimes" if f["statistic"] == 0 else "ages"
+        ph, r = PHASES[int(f["phase"])], REGIONS[int(f["region"])]
+        rel = f["measured_total"] / f["predicted_total"] - 1 if f["predicted_total"] > 0 else math.nan
+        rows.append((f"{res.scene}: contact {stat}, {ph}, {r} (agent N={n} vs prediction; totals)",
+                     f"{f['predicted_total']:.4g}", f"{f['measured_total']:.4g}", f"{rel:+.2%}",
+                     f"KS distance {f['ks_distance']:.4f}; X2 {f['chi2']:.1f}/{f['dof']:.0f}, p = {f['p_value']:.2g} "
+                     f"(m = {f['thinned_size']:.0f})"))
+    return figs, rows
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description="Plots and report.md for the slipfront results under DIR.")
     ap.add_argument("dir")
@@ -689,9 +876,23 @@ def main(argv=None):
             summary += scene_rows(res)
             lines += [f"## Scene `{res.scene}`", "", f"{res.description}", "",
                       f"File: `{os.path.relpath(path, root)}`, status {res.status}, models {', '.join(res.models)}.", ""]
+            cfigs = []
+            if res.models:
+                cfigs, crows = contacts_section(res, os.path.join(figdir, res.scene))
+                summary += crows
         for w in written:
             lines.append(f"![{os.path.basename(w)}]({os.path.relpath(w, root)})")
             lines.append("")
+        if cfigs:
+            lines += ["### Contact statistics", "",
+                      "Mean contact age maps (the continuum's age field, the agent's exact ages), lifetime and age "
+                      "histograms by phase and region with the continuum's prediction, and the thresholds of the "
+                      "attached contacts against the drawn ones (docs/contacts.md). Goodness of fit: "
+                      "`/compare/contacts` (chi-square on a uniform subsample of m contacts; KS distance of the whole "
+                      "population); one summary row per tested statistic and class.", ""]
+            for w in cfigs:
+                lines.append(f"![{os.path.basename(w)}]({os.path.relpath(w, root)})")
+                lines.append("")
     front_studies = [Study(p) for p in sorted(studies)]
     front_studies = [st for st in front_studies if st.kind in ("front_spectrum", "steady_fronts")]
     for path in sorted(fronts):

@@ -64,6 +64,7 @@ void require_identical(const compare::SceneResult& x, const compare::SceneResult
     for (const auto& [k, v] : a.scalars) CHECK(same(v, b.scalars.at(k)));
   }
   CHECK(same(x.comparison.fields, y.comparison.fields));
+  CHECK(same(x.comparison.contacts, y.comparison.contacts));
   REQUIRE(x.comparison.metrics.size() == y.comparison.metrics.size());
   for (const auto& [k, v] : x.comparison.metrics) CHECK(same(v, y.comparison.metrics.at(k)));
 }
@@ -102,6 +103,7 @@ compare::Scene small(continuum::Integrator integ, const std::string& representat
   s.discrete.representation = representation;
   s.discrete.contacts_per_site = 50;
   s.discrete.contact_statistics = representation != "count";
+  s.output.ages = representation != "count";  // the mean contact age (docs/model.md §7): the count representation has none
   s.discrete.seed = 3;
   s.validate();
   return s;
@@ -117,6 +119,14 @@ TEST_CASE("checkpoint: a restarted run is the uninterrupted run bit for bit, eve
       const compare::Scene s = small(integ, rep);
       INFO(continuum::to_string(integ) << ", " << rep);
       const auto whole = compare::run_scene_alongside(s, {});
+      if (std::string(rep) != "count") {
+        // the state of docs/model.md §7 is in the run: both models' ages, the agent's classed statistics,
+        // and on the fixed-step integrators the continuum's prediction of them
+        CHECK(whole.models[0].snapshots.count("age") == 1);
+        CHECK(whole.models[1].snapshots.count("age") == (std::string(rep) == "agent" ? 1u : 0u));  // naive: no ages
+        CHECK(whole.models[1].contacts_2d.count("class_lifetime_counts") == 1);
+        if (integ != Integrator::adaptive_rosenbrock) CHECK(whole.models[0].contacts_2d.count("class_lifetime_counts") == 1);
+      }
       std::vector<Saved> saved;
       const auto with = run_checkpointed(s, 12.0, saved);
       require_identical(whole, with);  // checkpointing itself changes nothing

@@ -1,0 +1,360 @@
+#include "compare/contacts.hpp"
+
+#include <algorithm>
+#include <boost/math/distributions/chi_squared.hpp>
+#include <boost/random/binomial_distribution.hpp>
+#include <boost/random/mersenne_twister.hpp>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace slipfront::compare {
+namespace {
+
+constexpr double negligible = 1e-14;  // cohorts below this fraction of a site are dropped
+
+// (1 − e^{−x dt})/x for any real x (x < 0 allowed: a wrong prediction's hazard above the healing rate).
+double weight(double x, double dt) { return x != 0.0 ? -std::expm1(-x * dt) / x : dt; }
+
+}  // namespace
+
+ContactPrediction::ContactPrediction(std::size_t sites, double contacts_per_site, double hazard_scale,
+                                     double cohort_width, double age_cap)
+    : n_contacts_(contacts_per_site), scale_(hazard_scale), width_(cohort_width), age_cap_(age_cap),
+      edges_(discrete::class_time_edges()), bins_(edges_.size() - 1), cohorts_(sites), compacted_size_(sites, 0),
+      lifetime_(discrete::FrontClasses::count * bins_, 0.0), age_(discrete::FrontClasses::count * bins_, 0.0),
+      detach_total_(sites, 0.0), attach_total_(sites, 0.0), snapshots_per_phase_(discrete::FrontClasses::phases, 0.0) {
+  if (!(cohort_width > 0.0)) throw std::invalid_argument("ContactPrediction: cohort_width must be > 0");
+}
+
+void ContactPrediction::start(std::span<const double> areas) {
+  for (std::size_t i = 0; i < cohorts_.size(); ++i) {
+    cohorts_[i].clear();
+    if (areas[i] > negligible) cohorts_[i].push_back({0.0, 0.0, areas[i], 0.0, 0.0});
+  }
+  max_cohorts_ = 1;
+}
+
+std::size_t ContactPrediction::bin(double x) const {
+  const auto it = std::upper_bound(edges_.begin() + 1, edges_.end() - 1, x);
+  return static_cast<std::size_t>(it - (edges_.begin() + 1));
+}
+
+double ContactPrediction::mean_back(double tilt, double w) {
+  const double lw = tilt * w;  // 1/tilt − w/(e^{tilt w} − 1), → w/2 as tilt w → 0
+  return lw < 1e-6 ? 0.5 * w * (1.0 - lw / 6.0) : 1.0 / tilt - w / std::expm1(lw);
+}
+
+double ContactPrediction::share_before(const Cohort& c, double x) {
+  if (x >= c.end) return 1.0;
+  if (x < c.start) return 0.0;
+  const double w = c.end - c.start, lw = c.tilt * w;
+  if (lw < 1e-9) return (x - c.start) / w;  // uniform
+  return (std::expm1(c.tilt * (x - c.end)) - std::expm1(-lw)) / -std::expm1(-lw);
+}
+
+void ContactPrediction::add_losses(std::size_t cls, const Cohort& c, double mass, double t0, double dt, double rate) {
+  double* row = lifetime_.data() + cls * bins_;
+  const double l_min = t0 - c.end, l_max = t0 + dt - c.start;
+  std::size_t b = bin(l_min);
+  if (edges_[b + 1] >= l_max) {  // the usual case: the whole loss in one bin
+    row[b] += mass;
+    return;
+  }
+  // F(x): the fraction of the step's loss that happened by t0 + x (frozen hazard)
+  const double norm = -std::expm1(-rate * dt);
+  auto lost_by = [&](double x) {
+    if (x <= 0.0) return 0.0;
+    if (x >= dt) return 1.0;
+    return rate * dt < 1e-12 ? x / dt : -std::expm1(-rate * x) / norm;
+  };
+  // P(lifetime < l) = ∫ density(s) F(l + s − t0) ds: the attachment times after t0 + dt − l count
+  // whole; those in (t0 − l, t0 + dt − l) by 5-point Gauss–Legendre on the smooth integrand
+  static constexpr double gx[5] = {-0.9061798459386640, -0.5384693101056831, 0.0, 0.5384693101056831, 0.9061798459386640};
+  static constexpr double gw[5] = {0.2369268850561891, 0.4786286704993665, 0.5688888888888889, 0.4786286704993665,
+                                   0.2369268850561891};
+  const double width = c.end - c.start;
+  auto cdf = [&](double l) {
+    if (width <= 0.0) return lost_by(l + c.end - t0);
+    double p = 1.0 - share_before(c, t0 + dt - l);
+    const double lo = std::max(c.start, t0 - l), hi = std::min(c.end, t0 + dt - l);
+    if (hi > lo) {
+      const double lw = c.tilt * width;
+      const double half = 0.5 * (hi - lo), mid = 0.5 * (hi + lo);
+      double sum = 0.0;
+      for (int k = 0; k < 5; ++k) {
+        const double s = mid + half * gx[k];
+        const double dens = lw < 1e-9 ? 1.0 / width : c.tilt * std::exp(c.tilt * (s - c.end)) / -std::expm1(-lw);
+        sum += gw[k] * dens * lost_by(l + s - t0);
+      }
+      p += half * sum;
+    }
+    return std::clamp(p, 0.0, 1.0);
+  };
+  double done = 0.0;
+  for (; edges_[b + 1] < l_max; ++b) {
+    const double f = std::max(done, cdf(edges_[b + 1]));
+    row[b] += mass * (f - done);
+    done = f;
+  }
+  row[b] += mass * (1.0 - done);
+}
+
+void ContactPrediction::add_ages(std::vector<double>& table, std::size_t cls, const Cohort& c, double t, double mass) {
+  double* row = table.data() + cls * bins_;
+  const double lo = t - c.end, hi = t - c.start;
+  std::size_t b = bin(lo);
+  if (!(hi > lo) || edges_[b + 1] >= hi) {
+    row[b] += mass;
+    return;
+  }
+  double done = 0.0;  // P(age < a) = P(s > t − a)
+  for (; edges_[b + 1] < hi; ++b) {
+    const double f = std::max(done, 1.0 - share_before(c, t - edges_[b + 1]));
+    row[b] += mass * (f - done);
+    done = f;
+  }
+  row[b] += mass * (1.0 - done);
+}
+
+void ContactPrediction::step(double dt, std::span<const double> area0, std::span<const double> hazard) {
+  const double t0 = clock_, t1 = t0 + dt;
+  clock_ = t1;
+  for (std::size_t i = 0; i < cohorts_.size(); ++i) {
+    const double h = hazard[i], hs = scale_ * h, a0 = area0[i], r = 1.0 + h;
+    const std::size_t cls = front_.class_of(i);
+    // attachments over the step, ∫(1 − A) dt with A(u) = 1/r + (a0 − 1/r) e^{−ru} (the law's own A)
+    const double births = dt - (dt / r + (a0 - 1.0 / r) * weight(r, dt));
+    auto& cs = cohorts_[i];
+    double lost = 0.0, survivors = births;
+    if (hs > 0.0) {
+      // every cohort decays by e^{−hs dt}; its loss goes to the lifetimes of the site's class
+      const double decay = std::exp(-hs * dt), loss = -std::expm1(-hs * dt);
+      std::size_t w = 0;
+      for (std::size_t k = 0; k < cs.size(); ++k) {
+        Cohort c = cs[k];
+        const double gone = c.mass * loss;
+        c.mass *= decay;
+        lost += gone;
+        add_losses(cls, c, gone * n_contacts_, t0, dt, hs);
+        if (c.mass >= negligible) cs[w++] = c;
+      }
+      cs.resize(w);
+      // the contacts born in the step that are still attached at its end, and the lifetimes of the
+      // others: density ∝ e^{−hs l} (dt − l) on [0, dt] (constant attachment rate over the step)
+      survivors = (1.0 - 1.0 / r) * weight(hs, dt) - (a0 - 1.0 / r) * std::exp(-hs * dt) * weight(r - hs, dt);
+      const double gone_new = std::max(0.0, births - survivors);
+      lost += gone_new;
+      if (gone_new > 0.0) {
+        double* row = lifetime_.data() + cls * bins_;
+        const double x = hs * dt;
+        auto cdf = [&](double l) {  // fraction of the step's own losses with lifetime < l
+          if (x < 1e-3) return (dt * l - 0.5 * l * l) / (0.5 * dt * dt);
+          return ((1.0 / hs - dt) * std::expm1(-hs * l) + l * std::exp(-hs * l)) /
+                 ((1.0 / hs - dt) * std::expm1(-x) + dt * std::exp(-x));
+        };
+        std::size_t b = 0;
+        double done = 0.0;
+        for (; edges_[b + 1] < dt; ++b) {
+          const double f = cdf(edges_[b + 1]);
+          row[b] += gone_new * n_contacts_ * (f - done);
+          done = f;
+        }
+        row[b] += gone_new * n_contacts_ * (1.0 - done);
+      }
+    }
+    if (survivors >= negligible) cs.push_back({t0, t1, survivors, hs, t1 - mean_back(hs, dt)});
+    detach_total_[i] += lost * n_contacts_;
+    attach_total_[i] += births * n_contacts_;
+    if (cs.size() > compacted_size_[i] + 16) compact(i, t1);
+    max_cohorts_ = std::max(max_cohorts_, cs.size());
+  }
+}
+
+// Merge neighbours (oldest first) while the merged attachment interval is at most width × its youngest
+// age, or that age is past age_cap.
+void ContactPrediction::compact(std::size_t i, double t) {
+  auto& cs = cohorts_[i];
+  std::size_t w = 0;
+  for (std::size_t k = 0; k < cs.size(); ++k) {
+    if (w > 0) {
+      Cohort& prev = cs[w - 1];
+      const double young = t - cs[k].end;
+      if (cs[k].end - prev.start <= width_ * young || young >= age_cap_) {
+        prev.end = cs[k].end;
+        prev.mean = (prev.mass * prev.mean + cs[k].mass * cs[k].mean) / (prev.mass + cs[k].mass);
+        prev.mass += cs[k].mass;
+        prev.tilt = 0.0;  // old and narrow against its age: uniform (its mean is kept)
+        continue;
+      }
+    }
+    cs[w++] = cs[k];
+  }
+  cs.resize(w);
+  compacted_size_[i] = w;
+}
+
+void ContactPrediction::snapshot() {
+  const double t = clock_;
+  snapshots_per_phase_[front_.phase] += 1.0;
+  snapshot_t_.push_back(t);
+  snapshot_phase_.push_back(static_cast<double>(front_.phase));
+  // this snapshot's ages by region: the class rows of the current phase, before and after
+  const std::size_t regions = discrete::FrontClasses::regions, first = regions * front_.phase * bins_;
+  std::vector<double> before(age_.begin() + static_cast<std::ptrdiff_t>(first),
+                             age_.begin() + static_cast<std::ptrdiff_t>(first + regions * bins_));
+  for (std::size_t i = 0; i < cohorts_.size(); ++i) {
+    const std::size_t cls = front_.class_of(i);
+    for (const Cohort& c : cohorts_[i]) add_ages(age_, cls, c, t, c.mass * n_contacts_);
+  }
+  for (std::size_t k = 0; k < regions * bins_; ++k) region_age_rows_.push_back(age_[first + k] - before[k]);
+}
+
+double ContactPrediction::mean_age(std::size_t i) const {
+  const double t = clock_;
+  double m = 0.0, s = 0.0;
+  for (const Cohort& c : cohorts_[i]) {
+    m += c.mass;
+    s += c.mass * (t - c.mean);
+  }
+  return m > 0.0 ? s / m : std::numeric_limits<double>::quiet_NaN();
+}
+
+double ContactPrediction::attached_mass(std::size_t i) const {
+  double m = 0.0;
+  for (const Cohort& c : cohorts_[i]) m += c.mass;
+  return m;
+}
+
+discrete::ContactTables ContactPrediction::tables() const {
+  discrete::ContactTables out;
+  auto& c = out.columns;
+  c["class_time_edges"] = edges_;
+  c["contact_snapshots_per_phase"] = snapshots_per_phase_;
+  c["detachments_total_per_site"] = detach_total_;
+  c["attachments_total_per_site"] = attach_total_;
+  double total = 0.0;
+  for (double x : lifetime_) total += x;
+  c["lifetime_total"] = {total};
+  out.tables["class_lifetime_counts"] = {bins_, lifetime_};
+  out.tables["class_age_counts"] = {bins_, age_};
+  out.tables["region_age_counts"] = {discrete::FrontClasses::regions * bins_, region_age_rows_};
+  c["snapshot_t"] = snapshot_t_;
+  c["contact_snapshot_phase"] = snapshot_phase_;
+  return out;
+}
+
+std::pair<Table2D, Table2D> matched_age_tables(const ModelResult& measured, const ModelResult& predicted) {
+  std::pair<Table2D, Table2D> out;
+  const auto find_col = [](const ModelResult& r, const char* name) -> const std::vector<double>* {
+    const auto it = r.contacts.find(name);
+    return it == r.contacts.end() ? nullptr : &it->second;
+  };
+  const auto* tm = find_col(measured, "snapshot_t");
+  const auto* tp = find_col(predicted, "snapshot_t");
+  const auto* pm = find_col(measured, "contact_snapshot_phase");
+  const auto* pp = find_col(predicted, "contact_snapshot_phase");
+  const auto am = measured.contacts_2d.find("region_age_counts"), ap = predicted.contacts_2d.find("region_age_counts");
+  if (!tm || !tp || !pm || !pp || am == measured.contacts_2d.end() || ap == predicted.contacts_2d.end()) return out;
+  const std::size_t ns = tm->size(), cols = am->second.cols, regions = discrete::FrontClasses::regions;
+  if (tp->size() != ns || pm->size() != ns || pp->size() != ns || ap->second.cols != cols || cols % regions != 0 ||
+      am->second.data.size() != ns * cols || ap->second.data.size() != ns * cols)
+    return out;
+  for (std::size_t k = 0; k < ns; ++k)
+    if (std::abs((*tm)[k] - (*tp)[k]) > 1e-9 * std::max(1.0, std::abs((*tm)[k]))) return out;
+  const std::size_t nb = cols / regions;
+  for (Table2D* t : {&out.first, &out.second}) {
+    t->cols = nb;
+    t->data.assign(discrete::FrontClasses::count * nb, 0.0);
+  }
+  for (std::size_t k = 0; k < ns; ++k) {
+    if ((*pm)[k] != (*pp)[k]) continue;  // the models are in different phases: different moments
+    const auto phase = static_cast<std::size_t>((*pm)[k]);
+    for (std::size_t j = 0; j < cols; ++j) {
+      out.first.data[phase * cols + j] += am->second.data[k * cols + j];
+      out.second.data[phase * cols + j] += ap->second.data[k * cols + j];
+    }
+  }
+  return out;
+}
+
+std::vector<ContactFit> contact_fit(const std::string& statistic, const Table2D& measured, const Table2D& predicted,
+                                    double m, double min_total, std::uint64_t seed) {
+  if (measured.cols != predicted.cols || measured.data.size() != predicted.data.size() || measured.cols == 0)
+    throw std::invalid_argument("contact_fit: measured and predicted tables differ in shape");
+  const std::size_t nb = measured.cols, rows = measured.data.size() / nb;
+  std::vector<ContactFit> out;
+  boost::random::mt19937_64 engine(seed);
+  for (std::size_t cls = 0; cls < rows; ++cls) {
+    ContactFit f;
+    f.statistic = statistic;
+    f.phase = cls / discrete::FrontClasses::regions;
+    f.region = cls % discrete::FrontClasses::regions;
+    const double* n = measured.data.data() + cls * nb;
+    const double* mu = predicted.data.data() + cls * nb;
+    for (std::size_t k = 0; k < nb; ++k) {
+      f.measured_total += n[k];
+      f.predicted_total += mu[k];
+    }
+    if (!(f.measured_total > 0.0 && f.predicted_total > 0.0)) {
+      f.ks_distance = f.measured_total == f.predicted_total ? 0.0 : 1.0;
+      out.push_back(f);
+      continue;
+    }
+    // the whole population: binned Kolmogorov distance
+    double fm = 0.0, fp = 0.0;
+    for (std::size_t k = 0; k < nb; ++k) {
+      fm += n[k] / f.measured_total;
+      fp += mu[k] / f.predicted_total;
+      f.ks_distance = std::max(f.ks_distance, std::abs(fm - fp));
+    }
+    // bins merged until each predicted probability is ≥ 5/m' (the tail left over joins the last group)
+    f.thinned_size = f.measured_total > m ? std::floor(m) : f.measured_total;
+    const double need = 5.0 / f.thinned_size;
+    std::vector<double> p, q;
+    double acc_p = 0.0, acc_q = 0.0;
+    for (std::size_t k = 0; k < nb; ++k) {
+      acc_p += mu[k] / f.predicted_total;
+      acc_q += n[k] / f.measured_total;
+      if (acc_p >= need) {
+        p.push_back(acc_p);
+        q.push_back(acc_q);
+        acc_p = acc_q = 0.0;
+      }
+    }
+    if (!p.empty()) {
+      p.back() += acc_p;
+      q.back() += acc_q;
+    }
+    f.dof = p.size() > 1 ? static_cast<double>(p.size() - 1) : 0.0;
+    // thinning: a uniform subsample of m' measured contacts, multinomial over the merged bins (no
+    // thinning when there are at most m: the measured counts themselves)
+    const bool thin = f.measured_total > m;
+    auto left = static_cast<long long>(f.thinned_size);
+    double rest = 1.0;
+    for (std::size_t g = 0; g < p.size(); ++g) {
+      double y = q[g] * f.measured_total;
+      if (thin) {
+        long long draw = left;
+        if (g + 1 < p.size()) {
+          const double prob = rest > 0.0 ? std::clamp(q[g] / rest, 0.0, 1.0) : 0.0;
+          draw = boost::random::binomial_distribution<long long>(left, prob)(engine);
+        }
+        left -= draw;
+        rest -= q[g];
+        y = static_cast<double>(draw);
+      }
+      const double e = f.thinned_size * p[g];
+      f.chi2 += (y - e) * (y - e) / e;
+    }
+    f.tested = f.measured_total >= min_total && f.dof >= 1.0;
+    if (f.dof >= 1.0) {
+      const boost::math::chi_squared chi(f.dof);
+      f.p_value = boost::math::cdf(boost::math::complement(chi, f.chi2));
+    }
+    out.push_back(f);
+  }
+  return out;
+}
+
+}  // namespace slipfront::compare

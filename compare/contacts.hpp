@@ -1,0 +1,143 @@
+#pragma once
+// Contact statistics predicted from the continuum fields, and their goodness of fit against the agent's
+// measured ones (docs/model.md §7.2, docs/contacts.md §3–§4).
+//
+// The prediction. In the mean-field (continuum) model a contact-slot of site i attaches at unit rate
+// when free, and an attached contact detaches with the hazard h_i(t) = Θ_i κ |v_i| whatever its age:
+// a contact attached at s survives to t with probability exp(−∫_s^t h_i). The expected contacts of
+// site i attached at times in [s, s + ds] and still attached at t are therefore
+// N (1 − A_i(s)) ds · exp(−∫_s^t h_i): ContactPrediction carries them as **cohorts** (attachment-time
+// interval, expected mass as a fraction of N), fed by the continuum run step by step with the law's own
+// frozen rates (A at the step's start, h over the step: the exact solution of dA/dt = (1 − A) − hA is
+// what the law integrates). Every step, at each site with h > 0, every cohort decays by e^{−hΔt} and
+// its loss is added to the lifetime histogram of the site's current class (region × phase), with
+// lifetimes spread over the step with the exponential density of the frozen hazard; the cohort born
+// in the step is added with the mass that survives it (its own losses, lifetimes in [0, Δt], with
+// their exact density for a constant attachment rate). At each contact snapshot the cohorts' masses
+// are added to the age histogram of the site's class (uniform over each cohort's age interval).
+// Adjacent cohorts are merged while the merged attachment interval stays within cohort_width × its
+// youngest age (or past age_cap; a merged cohort is uniform with its mean attachment time kept exactly),
+// and cohorts below 1e-14 of a site are dropped: at most
+// ln(age_cap/Δt)/ln(1 + cohort_width/2) + 2 cohorts per site (≈ 270 for Δt = 0.02, the defaults),
+// whatever t_end. With hazard_scale ≠ 1 the survival uses s·h (a deliberately wrong prediction for
+// tests: the births still follow the run's A).
+//
+// The goodness of fit (contact_fit): per class, the measured histogram against the predicted one on the
+// class edges (docs/contacts.md §4): bins merged from the small end until each predicted probability is
+// at least 5/m (the rest joins the last group); the measured population thinned to a uniform subsample
+// of m contacts (a multinomial draw from the measured proportions with a fixed seed; no thinning when
+// there are at most m), and Pearson's X² of the subsample against the predicted proportions with
+// K − 1 degrees of freedom (p-value from Boost.Math's chi-squared distribution): false-alarm rate α
+// when the measured population has the predicted distribution, resolution ~ 1/sqrt(m). Beside it the
+// distances of the whole population: the binned Kolmogorov distance max |F_measured − F_predicted| and
+// the totals. Written here by hand: the bin merging, the thinning and the X² sum (a few lines each).
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "compare/result.hpp"
+#include "discrete/contact_stats.hpp"
+
+namespace slipfront::compare {
+
+class ContactPrediction {
+ public:
+  /// `contacts_per_site` N scales the expected counts; every site starts with one cohort of age 0
+  /// and the mass given by initial_areas (call start() before the first step).
+  ContactPrediction(std::size_t sites, double contacts_per_site, double hazard_scale = 1.0,
+                    double cohort_width = 0.1, double age_cap = 1e4);
+  /// The state at t = 0: every attached contact has age 0.
+  void start(std::span<const double> areas);
+  /// Where the sites are relative to the continuum's front, and its phase (docs/model.md §7.2).
+  void set_front(const discrete::FrontClasses& f) { front_ = f; }
+  /// One step of length dt of the continuum run: A at its start and the hazard Θκ|v| frozen over it.
+  /// Times are kept on the prediction's own clock Σ dt, accumulated as the agent accumulates its time
+  /// (AgentLaw::time), so that ages that fall exactly on a bin edge (before first yield every age is t)
+  /// land in the same bin in both.
+  void step(double dt, std::span<const double> area0, std::span<const double> hazard);
+  /// A contact snapshot at the end of the last step: the expected ages of the attached contacts.
+  void snapshot();
+  double time() const { return clock_; }
+  /// Expected mean age of the attached contacts of site i now, and their expected attached fraction
+  /// Σ cohort masses (= A_i of the run, hazard_scale = 1).
+  double mean_age(std::size_t i) const;
+  double attached_mass(std::size_t i) const;
+  /// The expected counts under the agent's table names (class_time_edges, class_lifetime_counts,
+  /// class_age_counts, region_age_counts, snapshot_t, contact_snapshot_phase,
+  /// contact_snapshots_per_phase, detachments_total_per_site, attachments_total_per_site,
+  /// lifetime_total).
+  discrete::ContactTables tables() const;
+  std::size_t max_cohorts() const { return max_cohorts_; }  ///< the most cohorts any site held
+  std::size_t cohorts(std::size_t i) const { return cohorts_[i].size(); }
+
+  /// Checkpoints (continuum::Archive).
+  template <class Ar>
+  void serialize(Ar& ar) {
+    ar(n_contacts_, scale_, width_, age_cap_, clock_, front_, edges_, bins_, cohorts_, compacted_size_, lifetime_, age_,
+       detach_total_, attach_total_, snapshots_per_phase_, snapshot_t_, snapshot_phase_, region_age_rows_, max_cohorts_);
+  }
+
+ private:
+  // Expected contacts attached at times s in [start, end] with density ∝ e^{tilt (s − end)}: a cohort
+  // born in one step with the hazard h has tilt h (the later-born survive the step more often); every
+  // later step multiplies the whole cohort by the same e^{−hΔt}, so the shape stays; merged cohorts
+  // (old, narrow against their age) are taken as uniform.
+  struct Cohort {
+    double start, end;  ///< attachment times [start, end]
+    double mass;        ///< expected attached contacts as a fraction of N
+    double tilt;        ///< density ∝ e^{tilt (s − end)} on [start, end]
+    double mean;        ///< mean attachment time (kept exactly through merges: the mean age)
+  };
+  // Mean of end − s for the density ∝ e^{−tilt (end − s)} on [0, w].
+  static double mean_back(double tilt, double w);
+  // P(attached at s ≤ x) within cohort c.
+  static double share_before(const Cohort& c, double x);
+  // Lifetimes of `mass` lost over [t0, t0 + dt] from cohort c, by class bin: loss times with the
+  // frozen hazard's density ∝ e^{−rate (t' − t0)}, attachment times with the cohort's density (Gauss
+  // quadrature where the lifetime range straddles a bin edge).
+  void add_losses(std::size_t cls, const Cohort& c, double mass, double t0, double dt, double rate);
+  // The cohort's mass at its ages t − s into the class bins of row cls of `table`.
+  void add_ages(std::vector<double>& table, std::size_t cls, const Cohort& c, double t, double mass);
+  void compact(std::size_t i, double t);
+  std::size_t bin(double x) const;
+
+  double n_contacts_, scale_, width_, age_cap_;
+  double clock_ = 0.0;
+  discrete::FrontClasses front_;
+  std::vector<double> edges_;  ///< class_time_edges
+  std::size_t bins_;
+  std::vector<std::vector<Cohort>> cohorts_;
+  std::vector<std::size_t> compacted_size_;
+  std::vector<double> lifetime_, age_, detach_total_, attach_total_, snapshots_per_phase_;
+  std::vector<double> snapshot_t_, snapshot_phase_, region_age_rows_;  ///< per contact snapshot
+  std::size_t max_cohorts_ = 0;
+};
+
+/// One row of the goodness of fit: a statistic ("lifetime" or "age") of one class.
+struct ContactFit {
+  std::string statistic;
+  std::size_t phase = 0, region = 0;
+  double measured_total = 0, predicted_total = 0;  ///< counts (predicted: expected)
+  double ks_distance = 0;   ///< max over the class edges of |F_measured − F_predicted|, whole population
+  double thinned_size = 0;  ///< m (or the measured total if smaller)
+  double chi2 = 0;          ///< Pearson X² of the thinned sample against the predicted proportions
+  double dof = 0;           ///< merged bins − 1 (0: no test)
+  double p_value = 1;       ///< P(χ²_dof ≥ X²); 1 when not tested
+  bool tested = false;      ///< enough contacts (measured_total ≥ min_total) and dof ≥ 1
+};
+
+/// Ages by class summed over the contact snapshots at which both models were in the same phase (rows
+/// of region_age_counts [ns, 3 · nb] with their phases): {measured, predicted} as [12, nb] tables.
+/// Empty tables when the snapshots of the two do not match in number and time.
+std::pair<Table2D, Table2D> matched_age_tables(const ModelResult& measured, const ModelResult& predicted);
+
+/// The goodness of fit of every class of one statistic: measured [12, nb] and predicted [12, nb]
+/// counts on the same edges; classes with fewer than min_total measured contacts are not tested.
+/// m = ∞ tests the whole population (valid when the contacts are independent draws of the prediction:
+/// deterministic rates, tests/test_contact_stats.cpp).
+std::vector<ContactFit> contact_fit(const std::string& statistic, const Table2D& measured, const Table2D& predicted,
+                                    double m = 2000, double min_total = 500, std::uint64_t seed = 12);
+
+}  // namespace slipfront::compare

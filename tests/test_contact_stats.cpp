@@ -221,11 +221,23 @@ TEST_CASE("contact statistics on a front: the agent agrees with the continuum's 
 }
 
 TEST_CASE("contact statistics with threshold disorder: the front keeps the strong contacts", "[contacts][thresholds]") {
+  // Fresh renewal (a new threshold at each attachment) and quenched (every contact keeps its threshold).
+  // Behind the slow front the overloaded (weak) contacts detach at rate kappa|v| and the others stay: with
+  // fresh renewal every re-attachment draws again, so the strong ones accumulate and the attached mean
+  // threshold rises well above the drawn 1 (> +0.05; measured +0.11); quenched, a site's composition is
+  // fixed and only the weak contacts' attached fraction 1/(1 + kappa v) drops, so the rise is bounded by it
+  // (> +0.015; measured +0.028) and smaller than the fresh one (by more than 2x). Ahead of the front the
+  // attached contacts are the drawn ones. Deterministic for the fixed seed; the margins are > 10 SE.
+  double bias[2] = {0, 0};
+  for (const char* renewal : {"fresh", "quenched"}) {
+  const bool quenched = std::string(renewal) == "quenched";
+  INFO("renewal " << renewal);
   auto s = front_scene();
   s.models = {"discrete"};
   s.discrete.contacts_per_site = 1000;
   s.discrete.threshold = "uniform";
   s.discrete.width = 0.3;
+  s.discrete.renewal = renewal;
   const auto r = compare::run_scene(s, compare::RunControl{});
   const auto& d = r.at(0);
   const auto& tab = d.contacts_2d.at("class_threshold_counts");
@@ -244,13 +256,16 @@ TEST_CASE("contact statistics with threshold disorder: the front keeps the stron
   const std::size_t slow = 3 * 1;  // phase 1 (slow front), rows behind, tip, ahead
   const auto [behind, nb] = mean_of(tab.data.data() + (slow + 0) * tab.cols);
   const auto [ahead, na] = mean_of(tab.data.data() + (slow + 2) * tab.cols);
-  std::printf("thresholds (w = 0.3): drawn mean %.4f (n %.0f), attached behind the slow front %.4f (n %.0f), ahead %.4f "
-              "(n %.0f)\n",
-              drawn_mean, n_drawn, behind, nb, ahead, na);
+  std::printf("thresholds (w = 0.3, %s renewal): drawn mean %.4f (n %.0f), attached behind the slow front %.4f (n %.0f), "
+              "ahead %.4f (n %.0f)\n",
+              renewal, drawn_mean, n_drawn, behind, nb, ahead, na);
   // uniform on [1 − 0.52, 1 + 0.52]: sd 0.3; the means of n contacts have SE 0.3/sqrt(n) (bins: ≤ 0.01)
   CHECK(std::abs(drawn_mean - 1.0) < 0.02);
   CHECK(std::abs(ahead - drawn_mean) < 0.02);
-  CHECK(behind > drawn_mean + 0.05);
+  CHECK(behind > drawn_mean + (quenched ? 0.015 : 0.05));
+  bias[quenched ? 1 : 0] = behind - drawn_mean;
+  }
+  CHECK(bias[0] > 2.0 * bias[1]);
 }
 
 TEST_CASE("contact statistics keys: output.ages, output.contact_snapshot_dt, measure.tip_band", "[contacts][config]") {

@@ -5,46 +5,16 @@
 #include <map>
 #include <utility>
 
+#include "apps/hdf5_handle.hpp"
+
 namespace slipfront::app {
 namespace {
 
 namespace fs = std::filesystem;
 
-// RAII for hid_t (the reader's twin of the one in h5out.cpp, throwing InputError).
-class Hid {
- public:
-  using Closer = herr_t (*)(hid_t);
-  Hid(hid_t id, Closer closer, const std::string& what) : id_(id), close_(closer) {
-    if (id_ < 0) throw InputError("cannot " + what);
-  }
-  Hid(const Hid&) = delete;
-  Hid& operator=(const Hid&) = delete;
-  Hid(Hid&& o) noexcept : id_(std::exchange(o.id_, -1)), close_(o.close_) {}
-  ~Hid() {
-    if (id_ >= 0) close_(id_);
-  }
-  hid_t get() const { return id_; }
-
- private:
-  hid_t id_;
-  Closer close_;
-};
-
-// Silences HDF5's own error printing while we read (errors are reported as InputError).
-class QuietHdf5 {
- public:
-  QuietHdf5() {
-    H5Eget_auto2(H5E_DEFAULT, &func_, &data_);
-    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  }
-  ~QuietHdf5() { H5Eset_auto2(H5E_DEFAULT, func_, data_); }
-  QuietHdf5(const QuietHdf5&) = delete;
-  QuietHdf5& operator=(const QuietHdf5&) = delete;
-
- private:
-  H5E_auto2_t func_ = nullptr;
-  void* data_ = nullptr;
-};
+// RAII for hid_t (apps/hdf5_handle.hpp): errors are InputError("cannot ...").
+inline constexpr char input_cannot[] = "cannot ";
+using Hid = HdfHandle<InputError, input_cannot>;
 
 bool has_link(hid_t loc, const std::string& name) { return H5Lexists(loc, name.c_str(), H5P_DEFAULT) > 0; }
 

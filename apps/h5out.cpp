@@ -20,56 +20,20 @@
 #include <utility>
 
 #include "apps/build_info.hpp"
+#include "apps/hdf5_handle.hpp"
 
 namespace slipfront::app {
 namespace {
 
 // ---------------------------------------------------------------------------------------------
-// RAII for hid_t: one owner, closed by the matching H5?close.
+// RAII for hid_t (apps/hdf5_handle.hpp): errors are OutputError("HDF5: cannot ...").
 
-class Hid {
- public:
-  using Closer = herr_t (*)(hid_t);
-  Hid(hid_t id, Closer closer, const std::string& what) : id_(id), close_(closer) {
-    if (id_ < 0) throw OutputError("HDF5: cannot " + what);
-  }
-  Hid(const Hid&) = delete;
-  Hid& operator=(const Hid&) = delete;
-  Hid(Hid&& o) noexcept : id_(std::exchange(o.id_, -1)), close_(o.close_) {}
-  ~Hid() {
-    if (id_ >= 0) close_(id_);
-  }
-  hid_t get() const { return id_; }
-  /// Closes now and reports failure (for the file: flushing happens here).
-  void close(const std::string& what) {
-    const hid_t id = std::exchange(id_, -1);
-    if (id >= 0 && close_(id) < 0) throw OutputError("HDF5: cannot " + what);
-  }
-
- private:
-  hid_t id_;
-  Closer close_;
-};
+inline constexpr char hdf5_cannot[] = "HDF5: cannot ";
+using Hid = HdfHandle<OutputError, hdf5_cannot>;
 
 void check(herr_t rc, const std::string& what) {
-  if (rc < 0) throw OutputError("HDF5: cannot " + what);
+  if (rc < 0) throw OutputError(hdf5_cannot + what);
 }
-
-// Silences HDF5's own error printing while we write (we report errors ourselves).
-class QuietHdf5 {
- public:
-  QuietHdf5() {
-    H5Eget_auto2(H5E_DEFAULT, &func_, &data_);
-    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  }
-  ~QuietHdf5() { H5Eset_auto2(H5E_DEFAULT, func_, data_); }
-  QuietHdf5(const QuietHdf5&) = delete;
-  QuietHdf5& operator=(const QuietHdf5&) = delete;
-
- private:
-  H5E_auto2_t func_ = nullptr;
-  void* data_ = nullptr;
-};
 
 // ---------------------------------------------------------------------------------------------
 // Groups, attributes, datasets.

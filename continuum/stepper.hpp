@@ -36,6 +36,30 @@ struct NumericalError : std::runtime_error {
         step(s), time(t), site(i) {}
 };
 
+/// max_i |x_i|, or +inf when any x_i is NaN or infinite (a NaN would be lost by std::max; x − x is 0
+/// for finite x and NaN otherwise, and never overflows). Four independent lanes: max is exact in any
+/// order, and the sums only tell finite from not.
+inline double max_abs_or_inf(std::span<const double> x) {
+  double m0 = 0.0, m1 = 0.0, m2 = 0.0, m3 = 0.0, s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
+  const std::size_t n = x.size(), n4 = n - n % 4;
+  for (std::size_t i = 0; i < n4; i += 4) {
+    m0 = std::max(m0, std::abs(x[i]));
+    m1 = std::max(m1, std::abs(x[i + 1]));
+    m2 = std::max(m2, std::abs(x[i + 2]));
+    m3 = std::max(m3, std::abs(x[i + 3]));
+    s0 += x[i] - x[i];
+    s1 += x[i + 1] - x[i + 1];
+    s2 += x[i + 2] - x[i + 2];
+    s3 += x[i + 3] - x[i + 3];
+  }
+  for (std::size_t i = n4; i < n; ++i) {
+    m0 = std::max(m0, std::abs(x[i]));
+    s0 += x[i] - x[i];
+  }
+  const double m = std::max(std::max(m0, m1), std::max(m2, m3));
+  return std::isfinite((s0 + s1) + (s2 + s3)) ? m : std::numeric_limits<double>::infinity();
+}
+
 /// Energy budget (drive work = kinetic + elastic + spring + viscous + interfacial work), accumulated
 /// when asked for. Every term holds at the same time `time`; each stepper says which (the explicit
 /// scheme: t^n, one step behind, since the kinetic energy at t^n needs v^{n+1/2}).
@@ -152,14 +176,12 @@ class ExplicitSimulation : public StepperCore<Law> {
     const std::span<const double> sb = this->law_.sigma_bar();
     const double* vo = v_prev_.data();
     double* vn = this->v_.data();
-    double vmax = 0.0, check = 0.0;  // NaN/inf propagate through the sum; std::max would drop a NaN
     this->bulk_.forces_per_length(this->slip(), this->drive_force(), [&](std::size_t i, double f) {
-      const double vi = (vo[i] * damp + dt * (f + sd - sb[i])) * inv;
-      vn[i] = vi;
-      vmax = std::max(vmax, std::abs(vi));
-      check += vi;
+      vn[i] = (vo[i] * damp + dt * (f + sd - sb[i])) * inv;
     });
-    this->max_v_ = std::isfinite(check) ? vmax : std::numeric_limits<double>::infinity();
+    // max|v| in a second pass over v: accumulators captured by the callback above would live in memory
+    // (a store through vn might alias them), one store-reload per node: the fig1 run was 25% slower.
+    this->max_v_ = max_abs_or_inf(this->v_);
   }
 
   void drift() {

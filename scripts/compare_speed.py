@@ -60,7 +60,7 @@ benches = {
 
 def timed(cmd, env=None):
     t0 = time.perf_counter()
-    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, cwd=scratch,
                    env={**os.environ, **(env or {})})
     return time.perf_counter() - t0
 

@@ -82,16 +82,14 @@ class FrictionLaw {
     return {any};
   }
 
-  /// The implicit step's linearisation (law.hpp): y = Θ of the site at the previous step's rate.
-  void linearise(double dt, std::span<const double> w_prev, std::span<double> c0, std::span<double> c1) const {
-    const StressStepConstants k(p_, dt);
-    const double* area = fields_.data();
-    const double* sigma_bar = area + n_;
-    for (std::size_t i = 0; i < n_; ++i) {
-      const double wp = w_prev[i];
-      const double y = wp != 0.0 && contact_stress(sigma_bar[i] + p_.eta * wp, area[i]) > 1.0 ? 1.0 : 0.0;
-      linearise_stress(area[i], sigma_bar[i], y, wp, k, c0[i], c1[i]);
-    }
+  /// The implicit step's linearisation (law.hpp), one site at a time: y = Θ of the site at the
+  /// previous step's rate.
+  auto linearisation(double dt) const {
+    return [this, k = StressStepConstants(p_, dt)](std::size_t i, double wp, double& c0, double& c1) {
+      const double a = fields_[i], sb = fields_[n_ + i];
+      const double y = wp != 0.0 && contact_stress(sb + p_.eta * wp, a) > 1.0 ? 1.0 : 0.0;
+      linearise_stress(a, sb, y, wp, k, c0, c1);
+    };
   }
 
   // --- contact age, docs/model.md §7 -----------------------------------------------------------

@@ -30,21 +30,32 @@ struct LawStepInfo {
 ///   set_site(i, A, σ̄)           initial state of site i
 ///   advance(dt, v)              A, σ̄: t → t + dt with the slip rates v frozen over the step (exact
 ///                               for the continuum law, the exact two-state chain for the ensembles)
-///   linearise(dt, w, c0, c1)    σ̄_i(t + dt) ≈ c0_i + c1_i W_i: the stress the law's own update would
+///   linearisation(dt)           a function (i, w_i, c0_i&, c1_i&) of one site, for one step dt:
+///                               σ̄_i(t + dt) ≈ c0_i + c1_i W_i, the stress the law's own update would
 ///                               give for a slip rate W_i frozen over the step, linear in W_i, with the
 ///                               yield state (Θ_i, or the overloaded fraction Y_i) and the relaxation
-///                               rate frozen at the rates w_i of the previous step (linearise_stress)
+///                               rate frozen at the rate w_i of the previous step (linearise_stress).
+///                               One site at a time, so that the implicit step computes it inside its
+///                               elimination loop (the loop's chain of divisions then hides its cost);
+///                               linearise() below gives every site at once.
 template <class L>
 concept InterfaceLaw = requires(L& law, const L& cl, std::size_t i, double a, double s, double dt,
-                                std::span<const double> v, std::span<double> out) {
+                                std::span<const double> v, double& r) {
   { cl.size() } -> std::convertible_to<std::size_t>;
   { cl.params() } -> std::convertible_to<const InterfaceParams&>;
   { cl.contact_area() } -> std::convertible_to<std::span<const double>>;
   { cl.sigma_bar() } -> std::convertible_to<std::span<const double>>;
   law.set_site(i, a, s);
   { law.advance(dt, v) } -> std::same_as<LawStepInfo>;
-  law.linearise(dt, v, out, out);
+  cl.linearisation(dt)(i, a, r, r);
 };
+
+/// Every site's linearisation (InterfaceLaw::linearisation) for a step dt at the rates w.
+template <class L>
+void linearise(const L& law, double dt, std::span<const double> w, std::span<double> c0, std::span<double> c1) {
+  const auto lin = law.linearisation(dt);
+  for (std::size_t i = 0; i < w.size(); ++i) lin(i, w[i], c0[i], c1[i]);
+}
 
 /// One site's state as the rates see it.
 struct SiteState {

@@ -255,17 +255,6 @@ double AgentLaw::overloaded_fraction(std::size_t i, double v) const {
   return members / static_cast<double>(st.n_att);
 }
 
-void AgentLaw::linearise(double dt, std::span<const double> w_prev, std::span<double> c0, std::span<double> c1) const {
-  const continuum::StressStepConstants k(ip_, dt);
-  const double s_min = degenerate_ ? 1.0 : edges_.front(), eta = ip_.eta;
-  for (std::size_t i = 0; i < size(); ++i) {
-    const double wp = w_prev[i], a = area_[i], sb = sigma_bar_[i];
-    double y = 0.0;
-    if (wp != 0.0 && continuum::contact_stress(sb + eta * wp, a) > s_min) y = overloaded_fraction(i, wp);
-    continuum::linearise_stress(a, sb, y, wp, k, c0[i], c1[i]);
-  }
-}
-
 void AgentLaw::mean_age(std::span<double> out) const {
   for (std::size_t i = 0; i < sites_.size(); ++i) {
     const Site& st = sites_[i];

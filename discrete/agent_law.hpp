@@ -129,8 +129,17 @@ class AgentLaw {
   /// Y_i: the overloaded fraction of the attached contacts of site i at slip rate v, now (1 when none
   /// is attached: τ = ∞).
   double overloaded_fraction(std::size_t i, double v) const;
-  /// The implicit step's linearisation (continuum/law.hpp) with y = Y_i at the previous step's rate.
-  void linearise(double dt, std::span<const double> w_prev, std::span<double> c0, std::span<double> c1) const;
+  /// The implicit step's linearisation (continuum/law.hpp), one site at a time, with y = Y_i at the
+  /// previous step's rate.
+  auto linearisation(double dt) const {
+    return [this, k = continuum::StressStepConstants(ip_, dt), s_min = degenerate_ ? 1.0 : edges_.front()](
+               std::size_t i, double wp, double& c0, double& c1) {
+      const double a = area_[i], sb = sigma_bar_[i];
+      double y = 0.0;
+      if (wp != 0.0 && continuum::contact_stress(sb + ip_.eta * wp, a) > s_min) y = overloaded_fraction(i, wp);
+      continuum::linearise_stress(a, sb, y, wp, k, c0, c1);
+    };
+  }
 
   // --- contact age (docs/model.md §7) ------------------------------------------------------------
   /// Report the mean age of the attached contacts (output.ages). The sums behind it are always kept

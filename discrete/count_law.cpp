@@ -235,17 +235,6 @@ double CountLaw::overloaded_fraction(std::size_t i, double v) const {
   return over / n_att_[i];
 }
 
-void CountLaw::linearise(double dt, std::span<const double> w_prev, std::span<double> c0, std::span<double> c1) const {
-  const continuum::StressStepConstants k(ip_, dt);
-  const double s_min = thresholds_.front(), eta = ip_.eta;
-  for (std::size_t i = 0; i < size(); ++i) {
-    const double wp = w_prev[i], a = area_[i], sb = sigma_bar_[i];
-    double y = 0.0;
-    if (wp != 0.0 && continuum::contact_stress(sb + eta * wp, a) > s_min) y = overloaded_fraction(i, wp);
-    continuum::linearise_stress(a, sb, y, wp, k, c0[i], c1[i]);
-  }
-}
-
 continuum::LawStepInfo CountLaw::advance(double dt, std::span<const double> v) {
   if (v.size() != size()) throw std::invalid_argument("CountLaw::advance: one slip rate per site");
   if (dt != cached_dt_) {  // the non-overloaded transition (a = 1, d = 0) depends on dt only

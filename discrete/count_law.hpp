@@ -75,9 +75,18 @@ class CountLaw {
   /// v_i ≠ 0 at the start of the step.
   continuum::LawStepInfo advance(double dt, std::span<const double> v);
 
-  /// The implicit step's linearisation (continuum/law.hpp): y = Y_i, the overloaded fraction of the
-  /// attached contacts at the previous step's rate (0 below the weakest threshold: no call there).
-  void linearise(double dt, std::span<const double> w_prev, std::span<double> c0, std::span<double> c1) const;
+  /// The implicit step's linearisation (continuum/law.hpp), one site at a time: y = Y_i, the overloaded
+  /// fraction of the attached contacts at the previous step's rate (0 below the weakest threshold: no
+  /// call there).
+  auto linearisation(double dt) const {
+    return [this, k = continuum::StressStepConstants(ip_, dt), s_min = thresholds_.front()](
+               std::size_t i, double wp, double& c0, double& c1) {
+      const double a = area_[i], sb = sigma_bar_[i];
+      double y = 0.0;
+      if (wp != 0.0 && continuum::contact_stress(sb + ip_.eta * wp, a) > s_min) y = overloaded_fraction(i, wp);
+      continuum::linearise_stress(a, sb, y, wp, k, c0, c1);
+    };
+  }
 
   // --- inspection ------------------------------------------------------------------------------
   const DiscreteParams& discrete_params() const { return dp_; }

@@ -129,14 +129,13 @@ class NaiveAgentLaw {
     for (const Contact& c : contacts_[i]) over += c.attached && tau > c.threshold ? 1 : 0;
     return static_cast<double>(over) / static_cast<double>(n_att_[i]);
   }
-  /// The implicit step's linearisation (continuum/law.hpp) with y = Y_i at the previous step's rate.
-  void linearise(double dt, std::span<const double> w_prev, std::span<double> c0, std::span<double> c1) const {
-    const continuum::StressStepConstants k(ip_, dt);
-    for (std::size_t i = 0; i < size(); ++i) {
-      const double wp = w_prev[i];
+  /// The implicit step's linearisation (continuum/law.hpp), one site at a time, with y = Y_i at the
+  /// previous step's rate.
+  auto linearisation(double dt) const {
+    return [this, k = continuum::StressStepConstants(ip_, dt)](std::size_t i, double wp, double& c0, double& c1) {
       const double y = wp != 0.0 ? overloaded_fraction(i, wp) : 0.0;
-      continuum::linearise_stress(area_[i], sigma_bar_[i], y, wp, k, c0[i], c1[i]);
-    }
+      continuum::linearise_stress(area_[i], sigma_bar_[i], y, wp, k, c0, c1);
+    };
   }
 
   // --- contact statistics ----------------------------------------------------------------------

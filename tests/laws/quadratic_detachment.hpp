@@ -47,15 +47,15 @@ class QuadraticDetachmentLaw {
     return {any};
   }
   // σ̄' ≈ c0 + c1 W with Θ and the rates frozen at the previous W.
-  void linearise(double dt, std::span<const double> w, std::span<double> c0, std::span<double> c1) const {
-    for (std::size_t i = 0; i < n_; ++i) {
+  auto linearisation(double dt) const {
+    return [this, dt](std::size_t i, double w, double& c0, double& c1) {
       const double a = fields_[i], s = fields_[n_ + i];
-      const bool theta = w[i] != 0.0 && sliding({w[i], a, s});
-      const double lam = theta ? std::abs(w[i]) : 0.0;
-      const double a_new = continuum::relax(a, 1.0, 1.0 + (theta ? p_.kappa * w[i] * w[i] : 0.0), dt);
-      c0[i] = s * std::exp(-lam * dt);
-      c1[i] = p_.alpha * 0.5 * (a + a_new) * continuum::relax_weight(lam, dt);
-    }
+      const bool theta = w != 0.0 && sliding({w, a, s});
+      const double lam = theta ? std::abs(w) : 0.0;
+      const double a_new = continuum::relax(a, 1.0, 1.0 + (theta ? p_.kappa * w * w : 0.0), dt);
+      c0 = s * std::exp(-lam * dt);
+      c1 = p_.alpha * 0.5 * (a + a_new) * continuum::relax_weight(lam, dt);
+    };
   }
 
   bool sliding(continuum::SiteState s) const { return continuum::contact_stress(s.sigma_bar + p_.eta * s.v, s.area) > 1.0; }

@@ -43,12 +43,11 @@ class RedrawnThresholdLaw {
     return {any};
   }
   // y = Θ with the threshold of the last step.
-  void linearise(double dt, std::span<const double> w, std::span<double> c0, std::span<double> c1) const {
-    const continuum::StressStepConstants k(p_, dt);
-    for (std::size_t i = 0; i < size(); ++i) {
-      const double y = w[i] != 0.0 && continuum::contact_stress(sigma_bar_[i] + p_.eta * w[i], area_[i]) > s_[i] ? 1.0 : 0.0;
-      continuum::linearise_stress(area_[i], sigma_bar_[i], y, w[i], k, c0[i], c1[i]);
-    }
+  auto linearisation(double dt) const {
+    return [this, k = continuum::StressStepConstants(p_, dt)](std::size_t i, double w, double& c0, double& c1) {
+      const double y = w != 0.0 && continuum::contact_stress(sigma_bar_[i] + p_.eta * w, area_[i]) > s_[i] ? 1.0 : 0.0;
+      continuum::linearise_stress(area_[i], sigma_bar_[i], y, w, k, c0, c1);
+    };
   }
 
  private:

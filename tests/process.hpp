@@ -111,6 +111,40 @@ inline Output run(const std::vector<std::string>& args, const std::filesystem::p
   return o;
 }
 
+/// `s` as one word of a POSIX shell (single quotes; a quote inside becomes '\'').
+inline std::string shell_quote(const std::string& s) {
+  std::string q = "'";
+  for (const char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+inline void write_text(const std::filesystem::path& p, const std::string& text) {
+  std::ofstream(p, std::ios::binary) << text;
+}
+
+struct ShellResult {
+  int code = -1;           ///< the exit status (-1 when the shell did not exit normally)
+  bool signalled = false;  ///< killed by a signal (the program or its shell)
+  std::string out, err;
+};
+
+/// Runs `program args` in `dir` through bash, for command lines written as a user types them
+/// (quotes, `--set 'models=[...]'`); `prefix` runs first in the same shell (e.g. "ulimit -f 64;").
+/// Standard input is /dev/null; both streams are captured in `dir`.
+inline ShellResult run_in_shell(const std::filesystem::path& dir, const std::string& program, const std::string& args,
+                                const std::string& prefix = "") {
+  const std::string cmd = "cd " + shell_quote(dir.string()) + " && " + prefix + " exec " + shell_quote(program) + " " +
+                          args + " >" + shell_quote((dir / "stdout.txt").string()) + " 2>" +
+                          shell_quote((dir / "stderr.txt").string()) + " </dev/null";
+  const int status = std::system(("bash -c " + shell_quote(cmd)).c_str());
+  ShellResult r;
+  r.signalled = !WIFEXITED(status) || WEXITSTATUS(status) > 128;
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = slurp(dir / "stdout.txt");
+  r.err = slurp(dir / "stderr.txt");
+  return r;
+}
+
 /// The full path of `program` on PATH, or "" when it is not installed.
 inline std::string find_program(const std::string& program) {
   const char* path = std::getenv("PATH");

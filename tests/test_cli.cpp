@@ -18,6 +18,7 @@
 #include <thread>
 #include <vector>
 
+#include "process.hpp"
 #include "scenes.hpp"
 
 extern char** environ;
@@ -30,35 +31,14 @@ using slipfront::testing::TempDir;
 
 const std::string tiny = slipfront::testing::minimal_config();
 
-std::string quote(const std::string& s) {
-  std::string q = "'";
-  for (const char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-void write(const fs::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
-
-struct Result {
-  int code = -1;
-  std::string out, err;
-};
+using slipfront::testing::slurp;
+using slipfront::testing::write_text;
+using Result = slipfront::testing::ShellResult;
 
 // Runs `slipfront <args>` in `dir` through the shell; returns the exit code and both streams.
 Result run_slipfront(const fs::path& dir, const std::string& args) {
-  const std::string cmd = "cd " + quote(dir.string()) + " && " + quote(SLIPFRONT_BINARY) + " " + args + " >" +
-                          quote((dir / "stdout.txt").string()) + " 2>" + quote((dir / "stderr.txt").string()) +
-                          " </dev/null";
-  const int status = std::system(cmd.c_str());
-  Result r;
-  REQUIRE(WIFEXITED(status));
-  r.code = WEXITSTATUS(status);
-  r.out = slurp(dir / "stdout.txt");
-  r.err = slurp(dir / "stderr.txt");
+  Result r = slipfront::testing::run_in_shell(dir, SLIPFRONT_BINARY, args);
+  REQUIRE(r.code != -1);  // exited (not killed)
   return r;
 }
 
@@ -106,13 +86,13 @@ TEST_CASE("cli: a bad configuration exits 2 naming file and key before any work"
   const TempDir dir("cli-badconfig");
   std::string text = tiny;
   text.replace(text.find("alpha = 1.05"), 12, "alpha = 0.5");
-  write(dir.path / "bad.toml", text);
+  write_text(dir.path / "bad.toml", text);
   const Result r = run_slipfront(dir.path, "run bad.toml");
   CHECK(r.code == 2);
   CHECK(r.err.rfind("slipfront: error: bad.toml: interface.alpha: ", 0) == 0);
   CHECK_FALSE(fs::exists(dir.path / "out"));  // nothing created
 
-  write(dir.path / "good.toml", tiny);
+  write_text(dir.path / "good.toml", tiny);
   const Result s = run_slipfront(dir.path, "run good.toml --set bulk.muu=3");
   CHECK(s.code == 2);
   CHECK(s.err.find("good.toml: --set bulk.muu: unknown key") != std::string::npos);
@@ -124,11 +104,11 @@ TEST_CASE("cli: a bad configuration exits 2 naming file and key before any work"
 
 TEST_CASE("cli: an existing results.h5 is not touched without --force", "[cli]") {
   const TempDir dir("cli-exists");
-  write(dir.path / "tiny.toml", tiny);
+  write_text(dir.path / "tiny.toml", tiny);
   fs::create_directories(dir.path / "out" / "tiny");
   const fs::path file = dir.path / "out" / "tiny" / "results.h5";
   const std::string previous = "previous results, not to be lost\n";
-  write(file, previous);
+  write_text(file, previous);
   const Result r = run_slipfront(dir.path, "run tiny.toml");
   CHECK(r.code == 2);
   CHECK(r.err.find("results.h5") != std::string::npos);
@@ -142,12 +122,12 @@ TEST_CASE("cli: an existing results.h5 is not touched without --force", "[cli]")
 
 TEST_CASE("cli: an unusable output directory exits 2", "[cli]") {
   const TempDir dir("cli-unwritable");
-  write(dir.path / "tiny.toml", tiny);
+  write_text(dir.path / "tiny.toml", tiny);
   const Result r = run_slipfront(dir.path, "run tiny.toml --out /proc/slipfront_test");
   CHECK(r.code == 2);
   CHECK(r.err.find("/proc/slipfront_test") != std::string::npos);
 
-  write(dir.path / "a_file", "x");  // a file where the directory should be
+  write_text(dir.path / "a_file", "x");  // a file where the directory should be
   const Result g = run_slipfront(dir.path, "run tiny.toml --out a_file");
   CHECK(g.code == 2);
   CHECK(g.err.find("a_file") != std::string::npos);
@@ -155,7 +135,7 @@ TEST_CASE("cli: an unusable output directory exits 2", "[cli]") {
 
 TEST_CASE("cli: a tiny run exits 0 and writes DIR/results.h5 and check prints the resolved TOML", "[cli]") {
   const TempDir dir("cli-good");
-  write(dir.path / "tiny.toml", tiny);
+  write_text(dir.path / "tiny.toml", tiny);
   const Result r = run_slipfront(dir.path, "run tiny.toml --set bulk.mu=200");
   CHECK(r.code == 0);
   const fs::path file = dir.path / "out" / "tiny" / "results.h5";
@@ -186,7 +166,7 @@ TEST_CASE("cli: SIGINT stops the run and writes a readable file with status inte
   text.replace(text.find("dx = 2"), 6, "dx = 0.5");
   text.replace(text.find("t_end = 2"), 9, "t_end = 100000");
   text += "[output]\nsnapshot_dt = 0\n";
-  write(dir.path / "long.toml", text);
+  write_text(dir.path / "long.toml", text);
 
   const std::string out = (dir.path / "out").string();
   const std::string config = (dir.path / "long.toml").string();

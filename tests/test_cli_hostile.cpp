@@ -15,6 +15,7 @@
 
 #include "apps/h5out.hpp"
 #include "compare/scene.hpp"
+#include "process.hpp"
 #include "scenes.hpp"
 
 namespace fs = std::filesystem;
@@ -24,35 +25,13 @@ namespace {
 
 const std::string tiny = slipfront::testing::minimal_config();
 
-std::string quote(const std::string& s) {
-  std::string q = "'";
-  for (const char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-void write(const fs::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
-
-struct Result {
-  int code = -1;
-  bool signalled = false;
-  std::string out, err;
-};
+using slipfront::testing::slurp;
+using slipfront::testing::write_text;
+using Result = slipfront::testing::ShellResult;
 
 // `prefix` runs before the program in the same shell (e.g. "ulimit -f 64;").
 Result run_slipfront(const fs::path& dir, const std::string& args, const std::string& prefix = "") {
-  const std::string cmd = "cd " + quote(dir.string()) + " && " + prefix + " exec " + quote(SLIPFRONT_BINARY) + " " +
-                          args + " >" + quote((dir / "stdout.txt").string()) + " 2>" +
-                          quote((dir / "stderr.txt").string()) + " </dev/null";
-  const int status = std::system(("bash -c " + quote(cmd)).c_str());
-  Result r;
-  r.signalled = !WIFEXITED(status) || WEXITSTATUS(status) > 128;
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.out = slurp(dir / "stdout.txt");
-  r.err = slurp(dir / "stderr.txt");
-  return r;
+  return slipfront::testing::run_in_shell(dir, SLIPFRONT_BINARY, args, prefix);
 }
 
 bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
@@ -61,7 +40,7 @@ bool contains(const std::string& s, const std::string& part) { return s.find(par
 
 TEST_CASE("cli hostile: absurd runs exit 2 before any work, naming the key and the estimate", "[cli][hostile]") {
   const TempDir dir("clih-absurd");
-  write(dir.path / "tiny.toml", tiny);
+  write_text(dir.path / "tiny.toml", tiny);
   const Result t = run_slipfront(dir.path, "run tiny.toml --set time.t_end=1e17");
   CHECK(t.code == 2);
   CHECK(contains(t.err, "tiny.toml: --set time.t_end: must be <= 1e+12"));
@@ -80,7 +59,7 @@ TEST_CASE("cli hostile: absurd runs exit 2 before any work, naming the key and t
 
 TEST_CASE("cli hostile: check prints the estimate as comments and its output still parses back", "[cli][hostile]") {
   const TempDir dir("clih-check");
-  write(dir.path / "tiny.toml", "models = [\"continuum\", \"discrete\"]\n" + tiny);
+  write_text(dir.path / "tiny.toml", "models = [\"continuum\", \"discrete\"]\n" + tiny);
   const Result c = run_slipfront(dir.path, "check tiny.toml");
   REQUIRE(c.code == 0);
   CHECK(contains(c.out, "[limits]"));
@@ -88,7 +67,7 @@ TEST_CASE("cli hostile: check prints the estimate as comments and its output sti
   CHECK(contains(c.out, "# estimate"));
   CHECK(contains(c.out, "#   continuum: "));
   CHECK(contains(c.out, "#   memory: ~"));
-  write(dir.path / "resolved.toml", c.out);
+  write_text(dir.path / "resolved.toml", c.out);
   const Result again = run_slipfront(dir.path, "check resolved.toml");
   CHECK(again.code == 0);
   CHECK(again.out == c.out);
@@ -108,7 +87,7 @@ TEST_CASE("cli hostile: a full disk (RLIMIT_FSIZE) ends with exit 1 and a readab
   const TempDir dir("clih-full");
   std::string text = tiny;
   text.replace(text.find("t_end = 2"), 9, "t_end = 40");
-  write(dir.path / "big.toml", text + "[output]\nsnapshot_dt = 0.1\nseries_dt = 0.01\n");
+  write_text(dir.path / "big.toml", text + "[output]\nsnapshot_dt = 0.1\nseries_dt = 0.01\n");
   const Result r = run_slipfront(dir.path, "run big.toml --out full", "ulimit -f 64;");
   INFO(r.err);
   CHECK_FALSE(r.signalled);  // was a segmentation fault (139) after a failed H5Fclose
@@ -128,7 +107,7 @@ TEST_CASE("cli hostile: the temporary results file never follows a planted symbo
   // precious file must leave the file untouched, and the results must still be written.
   const TempDir dir("clih-link");
   const fs::path victim = dir.path / "precious.txt";
-  write(victim, "do not overwrite\n");
+  write_text(victim, "do not overwrite\n");
   const fs::path results = dir.path / "results.h5";
   fs::create_symlink(victim, slipfront::app::temporary_path(results));
   slipfront::compare::Scene scene;
@@ -144,7 +123,7 @@ TEST_CASE("cli hostile: the temporary results file never follows a planted symbo
 
 TEST_CASE("cli hostile: stale temporaries of dead processes are removed, live ones kept", "[cli][hostile]") {
   const TempDir dir("clih-stale");
-  write(dir.path / "tiny.toml", tiny);
+  write_text(dir.path / "tiny.toml", tiny);
   fs::create_directories(dir.path / "out");
   // a pid that is surely dead: a child that has exited and been reaped
   const pid_t child = ::fork();
@@ -155,7 +134,7 @@ TEST_CASE("cli hostile: stale temporaries of dead processes are removed, live on
   const fs::path dead = dir.path / "out" / (".results.h5.tmp." + std::to_string(child));
   const fs::path dead_probe = dir.path / "out" / (".slipfront-probe." + std::to_string(child));
   const fs::path alive = dir.path / "out" / (".results.h5.tmp." + std::to_string(::getpid()));  // this test: alive
-  for (const auto& p : {dead, dead_probe, alive}) write(p, "partial");
+  for (const auto& p : {dead, dead_probe, alive}) write_text(p, "partial");
   const Result r = run_slipfront(dir.path, "run tiny.toml --out out --quiet");
   CHECK(r.code == 0);
   CHECK_FALSE(fs::exists(dead));
@@ -166,7 +145,7 @@ TEST_CASE("cli hostile: stale temporaries of dead processes are removed, live on
 
 TEST_CASE("cli hostile: empty --out, '--set =' and out-of-range integers are refused with a reason", "[cli][hostile]") {
   const TempDir dir("clih-args");
-  write(dir.path / "tiny.toml", tiny);
+  write_text(dir.path / "tiny.toml", tiny);
   const Result out = run_slipfront(dir.path, "run tiny.toml --out ''");
   CHECK(out.code == 2);
   CHECK(contains(out.err, "--out: the output directory is empty"));

@@ -82,12 +82,6 @@ bool law_mean_age(const Law& law, std::span<double> out) {
   return false;
 }
 
-inline double max_abs(std::span<const double> v) {
-  double m = 0.0;
-  for (double x : v) m = std::max(m, std::abs(x));
-  return m;
-}
-
 }  // namespace detail
 
 /// A fixed-step stepper's state at the end of its last step (or the initial state).
@@ -118,7 +112,7 @@ class DenseState {
   double drive_force() const {
     return sim_.bulk().drive_force(t_, sim_.dense_value(t_, continuum::Field::slip, 0));
   }
-  double max_slip_rate() const { return detail::max_abs(slip_rate()); }
+  double max_slip_rate() const { return continuum::max_abs_or_inf(slip_rate()); }
   /// ā at t: the law's age mass integrated from the step's start to t on the dense output, over A(t).
   bool mean_age(std::span<double> out) const {
     const auto& law = sim_.law();

@@ -429,7 +429,7 @@ class DynamicRun {
   }
 
   // The prediction's view of a fixed step of the continuum law: A and σ̄ at its start, then the
-  // hazard Θκ|v| with Θ as FrictionLaw::advance decides it (the same expression, the same bits).
+  // hazard Θκ|v| with Θ decided by continuum::slides, as FrictionLaw::advance decides it (the same bits).
   void remember_start() {
     const auto a = sim_.law().contact_area(), sb = sim_.law().sigma_bar();
     a0_.assign(a.begin(), a.end());
@@ -440,7 +440,7 @@ class DynamicRun {
     const double eta = s_.interface.eta, kappa = s_.interface.kappa;
     hazard_.resize(v.size());
     for (std::size_t i = 0; i < v.size(); ++i)
-      hazard_[i] = continuum::contact_stress(sb0_[i] + eta * v[i], a0_[i]) > 1.0 ? kappa * std::abs(v[i]) : 0.0;
+      hazard_[i] = continuum::slides(sb0_[i], v[i], a0_[i], eta) ? kappa * std::abs(v[i]) : 0.0;
     predict_->step(sim_.dt(), a0_, hazard_);
   }
 
@@ -458,9 +458,9 @@ class DynamicRun {
     std::vector<double>& v = buffers_[static_cast<std::size_t>(Field::slip_rate)];
     v.resize(n);
     sim_.dense_state(t0, Field::slip_rate, v);
-    const double v_start = detail::max_abs(v);
+    const double v_start = continuum::max_abs_or_inf(v);
     sim_.dense_state(0.5 * (t0 + t1), Field::slip_rate, v);
-    const double bound = 1.25 * std::max({v_start, detail::max_abs(v), detail::max_abs(sim_.slip_rate())});
+    const double bound = 1.25 * std::max({v_start, continuum::max_abs_or_inf(v), continuum::max_abs_or_inf(sim_.slip_rate())});
     if (!tracker_.in_transient() && bound <= s_.measure.v_event) {
       tracker_.observe_step(t0, t1, sim_.yielded(), bound);
       quiet_ = true;
@@ -473,7 +473,7 @@ class DynamicRun {
         const double a = t0 + (t1 - t0) * static_cast<double>(j) / static_cast<double>(m);
         const double b = j + 1 == m ? t1 : t0 + (t1 - t0) * static_cast<double>(j + 1) / static_cast<double>(m);
         sim_.dense_state(0.5 * (a + b), Field::slip_rate, v);
-        tracker_.observe_step(a, b, sim_.yielded(), detail::max_abs(v));
+        tracker_.observe_step(a, b, sim_.yielded(), continuum::max_abs_or_inf(v));
       }
     }
     if (!one_d_) cycles_.observe(t1, sim_.drive_force(), sim_.slip_rate()[0], r_.cycles);

@@ -23,6 +23,13 @@ inline double contact_stress(double sigma, double area) {
   return area > 0.0 ? std::abs(sigma) / area : std::numeric_limits<double>::infinity();
 }
 
+/// Θ of docs/model.md §1: a site of the continuum law slides when its contact-level stress
+/// |σ̄ + η v|/A exceeds 1 (the law's exact step, its linearisation and rates, and the contact
+/// prediction from the continuum's fields all decide it here).
+inline bool slides(double sigma_bar, double v, double area, double eta) {
+  return contact_stress(sigma_bar + eta * v, area) > 1.0;
+}
+
 /// Two-state Markov chain (attached ⇄ detached) with constant attach rate a and detach rate d,
 /// docs/model.md §2: r = a + d, P(att→att) = (a + d e^{−r dt})/r, P(det→att) = a (1 − e^{−r dt})/r.
 struct TwoStateTransition {

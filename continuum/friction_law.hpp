@@ -63,7 +63,7 @@ class FrictionLaw {
     double* sigma_bar = area + n_;
     for (std::size_t i = 0; i < n_; ++i) {
       const double vi = v[i], a = area[i], sb = sigma_bar[i];
-      const bool theta = contact_stress(sb + eta * vi, a) > 1.0;
+      const bool theta = slides(sb, vi, a, eta);
       any |= theta;
       if (!theta) {
         const double a_new = a * stuck_exp_ + stuck_weight_;
@@ -87,7 +87,7 @@ class FrictionLaw {
   auto linearisation(double dt) const {
     return [this, k = StressStepConstants(p_, dt)](std::size_t i, double wp, double& c0, double& c1) {
       const double a = fields_[i], sb = fields_[n_ + i];
-      const double y = wp != 0.0 && contact_stress(sb + p_.eta * wp, a) > 1.0 ? 1.0 : 0.0;
+      const double y = wp != 0.0 && slides(sb, wp, a, p_.eta) ? 1.0 : 0.0;
       linearise_stress(a, sb, y, wp, k, c0, c1);
     };
   }
@@ -140,7 +140,7 @@ class FrictionLaw {
 
   // --- the rates (adaptive integrator), docs/model.md §1 ----------------------------------------
   /// Θ = θ(|σ̄ + η v|/A − 1).
-  bool sliding(SiteState s) const { return contact_stress(s.sigma_bar + p_.eta * s.v, s.area) > 1.0; }
+  bool sliding(SiteState s) const { return slides(s.sigma_bar, s.v, s.area, p_.eta); }
   /// |σ̄ + η v|: Θ flips where the load crosses A (|σ|/A = 1).
   double load(SiteState s) const { return std::abs(s.sigma_bar + p_.eta * s.v); }
   /// dA/dt = 1 − A − Θ κ A |v|,  dσ̄/dt = α A v − Θ σ̄ |v|.

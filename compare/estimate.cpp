@@ -355,6 +355,10 @@ Estimate estimate(const Scene& s) {
     e.notes.push_back("bulk.length = " + format_number(s.bulk.length) + " is shorter than 2 elastic lengths sqrt(mu/alpha) = " +
                       format_number(2.0 * e.elastic_length) +
                       ": fronts have no room to run and t* departs from the half-line formula of docs/model.md §1");
+  if (s.output.ages && lists(s, "discrete") && s.discrete.representation != "agent")
+    e.notes.push_back("output.ages: the " + s.discrete.representation +
+                      " representation carries no contact age: ages are written for the continuum model only "
+                      "(discrete.representation = \"agent\" carries them)");
   if (lists(s, "discrete") && s.discrete.representation == "count" && s.discrete.threads > 1) {
     const unsigned hw = std::thread::hardware_concurrency();
     if (hw > 0 && static_cast<unsigned>(s.discrete.threads) > hw)

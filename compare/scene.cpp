@@ -1,5 +1,7 @@
 #include "compare/scene.hpp"
 
+#include <algorithm>
+
 #include "continuum/bulk.hpp"
 #include "continuum/implicit.hpp"
 #include "compare/estimate.hpp"
@@ -55,8 +57,17 @@ void Scene::validate() const {
   measure.validate();
   output.validate();
   limits.validate();
-  for (const auto& m : models)
-    if (m == "discrete") discrete.validate();
+  const bool continuum_runs = std::find(models.begin(), models.end(), "continuum") != models.end();
+  const bool discrete_runs = std::find(models.begin(), models.end(), "discrete") != models.end();
+  if (discrete_runs) discrete.validate();
+  // Only the continuum law and the agent representation carry contact ages (docs/model.md §7.1): a run that
+  // asks for them and has neither would end "complete" with none (a run with the continuum and count or
+  // naive gets the continuum's, and a note says so: compare::estimate).
+  if (output.ages && !continuum_runs && discrete.representation != "agent")
+    throw ParamError("output.ages", "the " + discrete.representation +
+                                        " representation carries no contact age and the continuum model does not run: no "
+                                        "age would be written (use discrete.representation = \"agent\", or add \"continuum\" "
+                                        "to models)");
   if (drive.loading == continuum::Loading::imposed_rate && drive.sweep_points == 0 && drive.v_times.back() >= time.t_end)
     throw ParamError("drive.switch_times", "every switch time must be before time.t_end (" +
                                               continuum::format_number(time.t_end) + "), got " +

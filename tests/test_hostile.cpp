@@ -398,3 +398,22 @@ TEST_CASE("hostile reproducers: grids that do not resolve the elastic length are
   CHECK(contains(e.notes.front(), "nodes per elastic length"));
   CHECK(refusal({"grid.dx=100", "limits.min_nodes_per_elastic_length=0"}).empty());
 }
+
+TEST_CASE("hostile: asking for records a representation does not carry is refused, not an empty 'complete'", "[hostile]") {
+  // the count representation keeps counts, not contacts: contact statistics would record nothing
+  CHECK(contains(refusal({"discrete.contact_statistics=true"}), "discrete.contact_statistics: the count representation"));
+  CHECK(refusal({"discrete.contact_statistics=true", "discrete.representation=agent"}).empty());
+  // contact ages: only the continuum law and the agent carry them
+  for (const std::string rep : {"count", "naive"})
+    CHECK(contains(refusal({"models=[\"discrete\"]", "output.ages=true", "discrete.representation=" + rep}),
+                   "output.ages: the " + rep + " representation carries no contact age"));
+  CHECK(refusal({"models=[\"discrete\"]", "output.ages=true", "discrete.representation=agent"}).empty());
+  // with the continuum alongside, the run is accepted and a note says whose ages are written
+  const auto with_count = compare::estimate(parse_scene(fig1_text, "fig1.toml", {"output.ages=true"}));
+  bool noted = false;
+  for (const auto& n : with_count.notes) noted |= contains(n, "ages are written for the continuum model only");
+  CHECK(noted);
+  const auto with_agent =
+      compare::estimate(parse_scene(fig1_text, "fig1.toml", {"output.ages=true", "discrete.representation=agent"}));
+  for (const auto& n : with_agent.notes) CHECK_FALSE(contains(n, "output.ages"));
+}

@@ -77,18 +77,18 @@ void Scene::validate() const {
     const continuum::Bulk b(bulk, drive, interface, grid.dx);
     const auto r = continuum::implicit_resolution(b, interface, measure.v_event, time.dt);
     using R = continuum::ImplicitResolution;
-    if (r.drive > R::drive_bound)
-      throw ParamError("time.dt", "too large for the implicit integrator: dt sqrt(K/(rho w_0)) = " + continuum::format_number(r.drive, 4) +
-                                      " > " + continuum::format_number(R::drive_bound) +
-                                      " (the drive spring's oscillation of the edge node is neither resolved nor damped); use time.dt <= " +
-                                      continuum::format_number(time.dt * R::drive_bound / r.drive, 4) +
-                                      ", the explicit or adaptive integrator, or time.implicit_resolution_check = false");
-    if (r.detach > R::detach_bound)
-      throw ParamError("time.dt", "too large for the implicit integrator: dt (1 + kappa v_event) = " + continuum::format_number(r.detach, 4) +
-                                      " > " + continuum::format_number(R::detach_bound) +
-                                      " (the contact turnover at the event slip rate is not resolved: spurious or missed events); use time.dt <= " +
-                                      continuum::format_number(time.dt * R::detach_bound / r.detach, 4) +
-                                      ", the explicit or adaptive integrator, or time.implicit_resolution_check = false");
+    // both values are proportional to dt: the largest admissible step is dt · bound / value
+    auto check = [&](const char* what, double value, double bound, const char* why) {
+      if (value > bound)
+        throw ParamError("time.dt", std::string("too large for the implicit integrator: ") + what + " = " +
+                                        continuum::format_number(value, 4) + " > " + continuum::format_number(bound) + " (" +
+                                        why + "); use time.dt <= " + continuum::format_number(time.dt * bound / value, 4) +
+                                        ", the explicit or adaptive integrator, or time.implicit_resolution_check = false");
+    };
+    check("dt sqrt(K/(rho w_0))", r.drive, R::drive_bound,
+          "the drive spring's oscillation of the edge node is neither resolved nor damped");
+    check("dt (1 + kappa v_event)", r.detach, R::detach_bound,
+          "the contact turnover at the event slip rate is not resolved: spurious or missed events");
   }
   if (drive.loading != continuum::Loading::imposed_rate && time.dt > 0 && time.integrator != continuum::Integrator::implicit_trapezoidal) {
     const double stable = explicit_stable_dt(*this);

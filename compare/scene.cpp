@@ -60,6 +60,11 @@ void Scene::validate() const {
   const bool continuum_runs = std::find(models.begin(), models.end(), "continuum") != models.end();
   const bool discrete_runs = std::find(models.begin(), models.end(), "discrete") != models.end();
   if (discrete_runs) discrete.validate();
+  // (scene rules, not DiscreteParams::validate, which every law's constructor runs on its own parameters)
+  if (discrete_runs && discrete.contact_statistics && discrete.representation == "count")  // would record nothing
+    throw ParamError("discrete.contact_statistics",
+                     "the count representation keeps counts per threshold bin, not contacts: it has no lifetimes, ages or "
+                     "thresholds to record (use discrete.representation = \"agent\")");
   // Only the continuum law and the agent representation carry contact ages (docs/model.md §7.1): a run that
   // asks for them and has neither would end "complete" with none (a run with the continuum and count or
   // naive gets the continuum's, and a note says so: compare::estimate).

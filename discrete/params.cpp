@@ -61,10 +61,6 @@ void DiscreteParams::validate() const {
     throw ParamError("discrete.seed", "must be <= 2^63 - 1 = 9223372036854775807 (a TOML integer), got " + std::to_string(seed));
   continuum::check_in_domain(domain("discrete.bins"), bins);
   continuum::check_in_domain(domain("discrete.threads"), threads);
-  if (contact_statistics && representation == "count")  // it would run "complete" and record nothing
-    throw ParamError("discrete.contact_statistics",
-                     "the count representation keeps counts per threshold bin, not contacts: it has no lifetimes, ages or "
-                     "thresholds to record (use discrete.representation = \"agent\")");
 }
 
 }  // namespace slipfront::discrete

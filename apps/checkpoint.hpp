@@ -15,7 +15,7 @@ struct CheckpointError : std::runtime_error {
 struct Checkpoint {
   std::string resolved_toml;  ///< the fully resolved configuration of the run
   double time = 0.0;          ///< simulated time of the state
-  std::string state;          ///< compare::RunControl state (continuum::Archive bytes)
+  std::string state;          ///< compare::RunControl state (core::Archive bytes)
 };
 
 /// Writes `path` atomically (".<name>.tmp.<pid>" created exclusively, then renamed). Throws CheckpointError.

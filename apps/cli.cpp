@@ -16,7 +16,7 @@
 
 #include "apps/build_info.hpp"
 #include "apps/checkpoint.hpp"
-#include "continuum/interrupt.hpp"
+#include "core/interrupt.hpp"
 #include "apps/config.hpp"
 #include "apps/h5out.hpp"
 #include "apps/study.hpp"
@@ -37,7 +37,7 @@ std::atomic<int> stop_signal{0};
 static_assert(std::atomic<int>::is_always_lock_free, "the signal handler needs a lock-free flag");
 
 extern "C" void on_stop_signal(int sig) {
-  continuum::stop_flag().store(true);  // set-up loops (continuum/interrupt.hpp)
+  core::stop_flag().store(true);  // set-up loops (core/interrupt.hpp)
   if (stop_signal.exchange(sig) != 0) {
     std::signal(sig, SIG_DFL);
     std::raise(sig);
@@ -52,7 +52,7 @@ class StopSignals {
  public:
   StopSignals() {
     stop_signal.store(0);
-    continuum::stop_flag().store(false);
+    core::stop_flag().store(false);
     struct sigaction sa {};
     sa.sa_handler = on_stop_signal;
     sigemptyset(&sa.sa_mask);
@@ -147,7 +147,7 @@ std::string prepare_output_dir(const fs::path& dir, bool force) {
 }
 
 // Numbers in the summary: 6 significant digits.
-std::string format_number(double x) { return continuum::format_number(x, 6); }
+std::string format_number(double x) { return core::format_number(x, 6); }
 
 std::string format_seconds(double s) {
   char buf[32];
@@ -281,7 +281,7 @@ int run_command(const RunOptions& opts, std::ostream& out, std::ostream& err) {
   const fs::path file = dir / "results.h5";
 
   // checkpoints: validated before any work too
-  const bool imposed = scene.drive.loading == continuum::Loading::imposed_rate;
+  const bool imposed = scene.drive.loading == core::Loading::imposed_rate;
   if (!(opts.checkpoint_every >= 0.0) || !std::isfinite(opts.checkpoint_every)) {
     print_error(err, "--checkpoint-every: must be a finite time >= 0, got " + format_number(opts.checkpoint_every));
     return exit_code::usage;
@@ -337,7 +337,7 @@ int run_command(const RunOptions& opts, std::ostream& out, std::ostream& err) {
       compare::SceneResult sr = compare::run_scene_alongside(scene, control);
       results = std::move(sr.models);
       comparison = std::move(sr.comparison);
-    } catch (const continuum::Interrupted& e) {
+    } catch (const core::Interrupted& e) {
       meta.status = "interrupted";
       meta.message = e.what();
     } catch (const std::exception& e) {
@@ -384,10 +384,10 @@ int fronts_command(const FrontsOptions& opts, std::ostream& out, std::ostream& e
   compare::Scene scene;
   try {
     scene = load_scene(opts.config, opts.overrides);
-    if (scene.drive.loading != continuum::Loading::homogeneous)
+    if (scene.drive.loading != core::Loading::homogeneous)
       throw ConfigError(opts.config.string(), "drive.loading",
                         "steady fronts are solved for homogeneous loading (docs/model.md §6), got " +
-                            std::string(continuum::to_string(scene.drive.loading)));
+                            std::string(core::to_string(scene.drive.loading)));
   } catch (const ConfigError& e) {
     print_error(err, e.what());
     return exit_code::usage;
@@ -432,7 +432,7 @@ int fronts_command(const FrontsOptions& opts, std::ostream& out, std::ostream& e
       << format_number(get("c_min_over_scale")) << "\n";
   if (opts.scaling)
     out << "  scaling: c_min = " << format_number(get("scaling_prefactor")) << " sqrt(mu alpha/(eta kappa)), largest deviation "
-        << continuum::format_number(100.0 * get("scaling_spread"), 3) << " %\n";
+        << core::format_number(100.0 * get("scaling_spread"), 3) << " %\n";
   return exit_code::ok;
 }
 

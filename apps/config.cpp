@@ -33,7 +33,7 @@ ConfigError::ConfigError(std::string f, long line, long column, std::string r)
 namespace {
 
 using compare::Scene;
-using continuum::Loading;
+using core::Loading;
 
 // ---------------------------------------------------------------------------------------------
 // The schema: one row per key. `target` points into the Scene; `used` says whether the run uses
@@ -42,7 +42,7 @@ using continuum::Loading;
 // To add a key: add a member to the param struct and one row below (and a line in docs/cli.md).
 
 using Target = std::variant<double*, int*, long*, std::uint64_t*, bool*, std::string*, std::vector<std::string>*,
-                            std::vector<double>*, Loading*, continuum::Integrator*>;
+                            std::vector<double>*, Loading*, core::Integrator*>;
 using Predicate = bool (*)(const Scene&);
 
 struct Field {
@@ -60,7 +60,7 @@ struct Section {
 };
 
 bool always(const Scene&) { return true; }
-bool one_d(const Scene& s) { return continuum::is_one_dimensional(s.drive.loading); }
+bool one_d(const Scene& s) { return core::is_one_dimensional(s.drive.loading); }
 bool spring_driven(const Scene& s) {
   return s.drive.loading == Loading::edge || s.drive.loading == Loading::spring_block;
 }
@@ -74,9 +74,9 @@ bool dt_given(const Scene& s) { return s.time.dt != 0.0; }
 bool cfl_used(const Scene& s) { return !imposed(s) && s.time.dt == 0.0; }
 bool bulk_scene(const Scene& s) { return !imposed(s); }
 bool implicit_integrator(const Scene& s) {
-  return !imposed(s) && s.time.integrator == continuum::Integrator::implicit_trapezoidal;
+  return !imposed(s) && s.time.integrator == core::Integrator::implicit_trapezoidal;
 }
-bool adaptive(const Scene& s) { return !imposed(s) && s.time.integrator == continuum::Integrator::adaptive_rosenbrock; }
+bool adaptive(const Scene& s) { return !imposed(s) && s.time.integrator == core::Integrator::adaptive_rosenbrock; }
 bool discrete_listed(const Scene& s) {
   return std::find(s.models.begin(), s.models.end(), "discrete") != s.models.end();
 }
@@ -93,7 +93,7 @@ Target at(Scene& s) {
 }
 
 const std::vector<Section>& schema() {
-  using namespace continuum;
+  using namespace core;
   using D = discrete::DiscreteParams;
   static const std::vector<Section> sections = {
       {"",
@@ -398,16 +398,16 @@ struct Reader {
             const auto* s = n.as_string();
             if (!s) fail("expected a string (edge, homogeneous, imposed_rate or spring_block), got " + describe(n));
             try {
-              *p = continuum::loading_from_string(s->get());
-            } catch (const continuum::ParamError& e) {
+              *p = core::loading_from_string(s->get());
+            } catch (const core::ParamError& e) {
               fail(e.reason);
             }
-          } else if constexpr (std::is_same_v<T, continuum::Integrator>) {
+          } else if constexpr (std::is_same_v<T, core::Integrator>) {
             const auto* s = n.as_string();
             if (!s) fail("expected a string (explicit, implicit or adaptive), got " + describe(n));
             try {
-              *p = continuum::integrator_from_string(s->get());
-            } catch (const continuum::ParamError& e) {
+              *p = core::integrator_from_string(s->get());
+            } catch (const core::ParamError& e) {
               fail(e.reason);
             }
           }
@@ -608,7 +608,7 @@ Scene scene_from_table(toml::table& root, const std::string& source, const std::
 
   try {
     s.validate();
-  } catch (const continuum::ParamError& e) {
+  } catch (const core::ParamError& e) {
     throw ConfigError(source, shown(e.key), e.reason);
   } catch (const std::exception& e) {  // a check outside the parameter structs (e.g. building the grid)
     throw ConfigError(source, "", e.what());
@@ -677,8 +677,8 @@ std::string format_value(Target t) {
           text += join(items);
           text += "]";
           return text;
-        } else if constexpr (std::is_same_v<T, Loading> || std::is_same_v<T, continuum::Integrator>) {
-          return format_string(continuum::to_string(*p));
+        } else if constexpr (std::is_same_v<T, Loading> || std::is_same_v<T, core::Integrator>) {
+          return format_string(core::to_string(*p));
         } else {
           return std::to_string(*p);  // integers (a seed above 2^63 - 1 cannot be written in TOML)
         }

@@ -24,7 +24,7 @@
 #include "apps/build_info.hpp"
 #include "apps/cli.hpp"
 #include "apps/config.hpp"
-#include "continuum/interrupt.hpp"
+#include "core/interrupt.hpp"
 #include "apps/h5in.hpp"
 #include "apps/h5out.hpp"
 #include "apps/paths.hpp"
@@ -177,14 +177,14 @@ static_assert(std::atomic<bool>::is_always_lock_free, "the signal handler needs 
 
 extern "C" void on_study_signal(int) {
   stop_signal.store(true);
-  continuum::stop_flag().store(true);  // set-up loops (continuum/interrupt.hpp)
+  core::stop_flag().store(true);  // set-up loops (core/interrupt.hpp)
 }
 
 class StudySignals {
  public:
   StudySignals() {
     stop_signal.store(false);
-    continuum::stop_flag().store(false);
+    core::stop_flag().store(false);
     struct sigaction sa {};
     sa.sa_handler = on_study_signal;
     sigemptyset(&sa.sa_mask);
@@ -470,7 +470,7 @@ int study_command(const StudyOptions& opts, std::ostream& out_all, std::ostream&
       compare::SceneResult sr = compare::run_scene_alongside(scenes[i], ctl);
       r = std::move(sr.models);
       cmp = std::move(sr.comparison);
-    } catch (const continuum::Interrupted& e) {
+    } catch (const core::Interrupted& e) {
       meta.status = "interrupted";
       meta.message = e.what();
     } catch (const std::exception& e) {

@@ -41,7 +41,7 @@ struct Record {
 };
 std::map<std::string, Record> results;  // "<case> <law> N=<n>" → measured numbers
 
-const continuum::InterfaceParams paper = testing::paper_interface();
+const core::InterfaceParams paper = testing::paper_interface();
 
 double cpu_seconds() {
   timespec ts{};
@@ -111,7 +111,7 @@ template <class Law>
 void fig1_run(benchmark::State& state, const char* name) {
   const long n = state.range(0);
   const compare::Scene s = bench::fig1_scene(40.0);
-  const continuum::Bulk probe(s.bulk, s.drive, s.interface, s.grid.dx);
+  const core::Bulk probe(s.bulk, s.drive, s.interface, s.grid.dx);
   Record rec;
   for (auto _ : state) {
     const double t0 = cpu_seconds();

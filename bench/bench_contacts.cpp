@@ -62,23 +62,23 @@ int main() {
 
   std::printf("1. continuum, output.ages off vs on (wall seconds)\n");
   std::printf("%-10s %10s %10s %8s\n", "integrator", "off", "on", "on/off");
-  for (const auto integ : {continuum::Integrator::central_difference, continuum::Integrator::implicit_trapezoidal,
-                           continuum::Integrator::adaptive_rosenbrock}) {
+  for (const auto integ : {core::Integrator::central_difference, core::Integrator::implicit_trapezoidal,
+                           core::Integrator::adaptive_rosenbrock}) {
     compare::Scene s = base;
     s.time.integrator = integ;
-    if (integ == continuum::Integrator::implicit_trapezoidal) s.time.dt = 0.02;
+    if (integ == core::Integrator::implicit_trapezoidal) s.time.dt = 0.02;
     compare::Scene on = s;
     on.output.ages = true;
     auto run = [](const compare::Scene& sc) { return [&sc] { testing::run_continuum(sc); }; };
     const auto [a, b] = alternate(repeats, run(s), run(on));
-    std::printf("%-10s %10.4f %10.4f %8.3f\n", continuum::to_string(integ), a, b, b / a);
+    std::printf("%-10s %10.4f %10.4f %8.3f\n", core::to_string(integ), a, b, b / a);
   }
 
   const long n = env_int("SLIPFRONT_BENCH_N", 10000);
   std::printf("\n2. contacts scene: continuum + agent N = %ld in lockstep, implicit dt = 0.02, output.ages = true\n", n);
   compare::Scene s = base;
   s.models = {"continuum", "discrete"};
-  s.time.integrator = continuum::Integrator::implicit_trapezoidal;
+  s.time.integrator = core::Integrator::implicit_trapezoidal;
   s.time.dt = 0.02;
   s.output.snapshot_dt = 0.5;
   s.output.ages = true;

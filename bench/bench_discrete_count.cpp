@@ -34,7 +34,7 @@ compare::Scene fig1() { return bench::fig1_scene(80.0); }  // t_end = 80 unless 
 template <class Law, class Make>
 void run(benchmark::State& state, const std::string& label, Make make) {
   const compare::Scene s = fig1();
-  const continuum::Bulk probe(s.bulk, s.drive, s.interface, s.grid.dx);
+  const core::Bulk probe(s.bulk, s.drive, s.interface, s.grid.dx);
   double site_steps = 0.0, seconds = 0.0, cpu = 0.0;
   for (auto _ : state) {
     const std::clock_t c0 = std::clock();

@@ -26,7 +26,7 @@
 #include <vector>
 
 #include "compare/result.hpp"
-#include "continuum/implicit.hpp"
+#include "core/implicit.hpp"
 #include "compare/runner.hpp"
 #include "compare/scene.hpp"
 #include "tests/scenes.hpp"
@@ -39,15 +39,15 @@ bool quick() { return std::getenv("SLIPFRONT_BENCH_QUICK") != nullptr; }
 long contacts() { return std::getenv("SLIPFRONT_BENCH_N") ? std::atol(std::getenv("SLIPFRONT_BENCH_N")) : 1000; }
 
 bool beyond_guard(const compare::Scene& s) {
-  const continuum::Bulk b(s.bulk, s.drive, s.interface, s.grid.dx);
-  return !continuum::implicit_resolution(b, s.interface, s.measure.v_event, s.time.dt).ok();
+  const core::Bulk b(s.bulk, s.drive, s.interface, s.grid.dx);
+  return !core::implicit_resolution(b, s.interface, s.measure.v_event, s.time.dt).ok();
 }
 
 compare::Scene fig1(const std::string& integrator, double dt) {
   compare::Scene s = testing::fig1_scene();
   if (quick()) s.time.t_end = 60.0;
   s.models = {"continuum"};
-  s.time.integrator = continuum::integrator_from_string(integrator);
+  s.time.integrator = core::integrator_from_string(integrator);
   if (integrator == "implicit") {
     s.time.dt = dt;
     // Steps beyond the implicit accuracy guard (docs/robustness.md §7; fig1: dt <= 0.0316, the drive

@@ -65,7 +65,7 @@ compare::ModelResult run(compare::Scene s, const std::string& model, const std::
   s.discrete.width = 0.0;
   s.discrete.seed = seed;
   if (integrator == "implicit") {
-    s.time.integrator = continuum::Integrator::implicit_trapezoidal;
+    s.time.integrator = core::Integrator::implicit_trapezoidal;
     s.time.dt = 0.02;
   }
   s.validate();

@@ -21,7 +21,7 @@
 #include "compare/result.hpp"
 #include "compare/runner.hpp"
 #include "compare/scene.hpp"
-#include "continuum/bulk.hpp"
+#include "core/bulk.hpp"
 #include "tests/scenes.hpp"
 
 using namespace slipfront;
@@ -41,7 +41,7 @@ compare::Scene fig1(double length, double t_end) {
   return s;
 }
 
-std::size_t nodes(const compare::Scene& s) { return continuum::Bulk(s.bulk, s.drive, s.interface, s.grid.dx).nodes(); }
+std::size_t nodes(const compare::Scene& s) { return core::Bulk(s.bulk, s.drive, s.interface, s.grid.dx).nodes(); }
 
 Timed run(compare::Scene s, const std::string& model, const std::string& rep = "count", long n = 1000) {
   s.models = {model};

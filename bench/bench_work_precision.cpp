@@ -2,8 +2,8 @@
 //
 // One scene (fig1 by default), one spatial discretisation (dx = 0.5), three integrators of its
 // method-of-lines ODE:
-//   explicit          the reference scheme (continuum/stepper.hpp) at several cfl
-//   adaptive          continuum::AdaptiveSimulation at several rtol (atol = rtol/100), and the
+//   explicit          the reference scheme (core/stepper.hpp) at several cfl
+//   adaptive          core::AdaptiveSimulation at several rtol (atol = rtol/100), and the
 //                     variant that recomputes event steps (adaptive_retake)
 //   cvode, cvode_roots  the SUNDIALS CVODE peer (BDF order ≤ 2, banded DQ Jacobian), Θ inside the RHS
 //                     or switched at located roots, atol = rtol/100 and atol = rtol
@@ -33,6 +33,7 @@
 
 namespace bench = slipfront::bench;
 namespace continuum = slipfront::continuum;
+namespace core = slipfront::core;
 
 namespace {
 
@@ -63,7 +64,7 @@ bench::RunRecord best_of(const std::function<bench::RunRecord()>& run) {
   return best;
 }
 
-Row evaluate(bench::RunRecord r, std::string family, const bench::RunRecord& ref, const continuum::Bulk& bulk) {
+Row evaluate(bench::RunRecord r, std::string family, const bench::RunRecord& ref, const core::Bulk& bulk) {
   Row row;
   row.family = std::move(family);
   row.err_t_hat = rel(metric_a(r.events), metric_a(ref.events));
@@ -152,12 +153,12 @@ int main(int argc, char** argv) {
   const bool fig1 = scene_name == "fig1";
   g_homogeneous = !fig1;
   const std::vector<double> snaps = fig1 ? std::vector<double>{60, 110, 130} : std::vector<double>{5, 10};
-  const continuum::Bulk bulk(scene.bulk, scene.drive, scene.interface, scene.grid.dx);
+  const core::Bulk bulk(scene.bulk, scene.drive, scene.interface, scene.grid.dx);
   std::printf("# work-precision, scene %s: %zu nodes, dx = %g, t_end = %g, explicit stable dt = %.4g\n",
               scene_name.c_str(), bulk.nodes(), scene.grid.dx, scene.time.t_end, bulk.stable_dt());
 
-  auto adaptive = [&](double rtol, continuum::EventEnd end = continuum::EventEnd::interpolate, double window = -1.0) {
-    continuum::AdaptiveOptions o;
+  auto adaptive = [&](double rtol, core::EventEnd end = core::EventEnd::interpolate, double window = -1.0) {
+    core::AdaptiveOptions o;
     o.event_window = window >= 0.0 ? window : event_window;
     o.rtol = rtol;
     o.atol = rtol * 1e-2;
@@ -174,8 +175,8 @@ int main(int argc, char** argv) {
   };
 
   // --- reference ---------------------------------------------------------------------------------
-  const auto ref = adaptive(ref_rtol, continuum::EventEnd::interpolate, 0.0);
-  const auto ref10 = adaptive(10.0 * ref_rtol, continuum::EventEnd::interpolate, 0.0);
+  const auto ref = adaptive(ref_rtol, core::EventEnd::interpolate, 0.0);
+  const auto ref10 = adaptive(10.0 * ref_rtol, core::EventEnd::interpolate, 0.0);
   std::printf("# reference: adaptive rtol %g: t* = %.6f  t^ = %.6f  c_transient = %.5f  c_front = %.5f  x_arrest = %.3f  (%lld steps, %.1f s)\n",
               ref_rtol, ref.events.t_star, ref.events.t_hat, ref.events.c_transient, ref.events.c_front, ref.events.x_arrest,
               static_cast<long long>(ref.steps), ref.wall);
@@ -212,7 +213,7 @@ int main(int argc, char** argv) {
                                           : std::vector<double>{1e-1, 3e-2, 1e-2, 3e-3, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7};
   for (double t : rtols) add("adaptive", [&] { return adaptive(t); });
   const std::vector<double> retake = quick ? std::vector<double>{1e-2} : std::vector<double>{1e-1, 1e-2, 1e-3, 1e-4, 1e-5};
-  for (double t : retake) add("adaptive_retake", [&] { return adaptive(t, continuum::EventEnd::retake); });
+  for (double t : retake) add("adaptive_retake", [&] { return adaptive(t, core::EventEnd::retake); });
   const std::vector<double> ctols = quick ? std::vector<double>{1e-3, 1e-4}
                                           : std::vector<double>{1e-2, 1e-3, 1e-4, 1e-5, 1e-6};
   for (double t : ctols) add("cvode", [&] { return cvode(t, 1e-2, false); });

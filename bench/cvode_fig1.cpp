@@ -1,5 +1,5 @@
 // The peer integrator of the work-precision study: SUNDIALS CVODE (6.x) on the method-of-lines ODE of
-// docs/model.md §1 (continuum/bulk.hpp grid), written independently of continuum/adaptive.cpp.
+// docs/model.md §1 (core/bulk.hpp grid), written independently of core/adaptive.cpp.
 //   unknowns interleaved per node: y[4i + 0..3] = u_i, v_i, A_i, σ̄_i
 //   the v row of node i couples u_{i−1}, u_i, u_{i+1}: band widths mu = 3, ml = 5
 //   BDF orders 1–5, Newton with the banded difference-quotient Jacobian (mu + ml + 1 = 9 right-hand
@@ -28,7 +28,7 @@ void check(int flag, const char* what) {
 
 class CvodePeer {
  public:
-  CvodePeer(const compare::Scene& s, const continuum::Bulk& bulk, const InitialState& init, const CvodeOptions& opt)
+  CvodePeer(const compare::Scene& s, const core::Bulk& bulk, const InitialState& init, const CvodeOptions& opt)
       : bulk_(bulk), ip_(s.interface), opt_(opt), n_(bulk.nodes()), theta_(n_, 0), rootsfound_(n_, 0),
         rootdir_(n_, 0) {
     check(SUNContext_Create(nullptr, &ctx_), "SUNContext_Create");
@@ -41,7 +41,7 @@ class CvodePeer {
       y[4 * i + 1] = init.v[i];
       y[4 * i + 2] = init.A[i];
       y[4 * i + 3] = init.sb[i];
-      theta_[i] = continuum::contact_stress(init.sb[i] + ip_.eta * init.v[i], init.A[i]) > 1.0 ? 1 : 0;
+      theta_[i] = core::contact_stress(init.sb[i] + ip_.eta * init.v[i], init.A[i]) > 1.0 ? 1 : 0;
     }
     mem_ = CVodeCreate(CV_BDF, ctx_);
     if (!mem_) throw std::runtime_error("CVODE: CVodeCreate failed");
@@ -84,7 +84,7 @@ class CvodePeer {
     t_prev_ = t_;
     theta_step_ = theta_;
     const int flag = CVode(mem_, 1e300, y_, &t_, CV_ONE_STEP);
-    if (flag < 0) throw continuum::NumericalError(steps(), t_, 0, "CVODE flag " + std::to_string(flag));
+    if (flag < 0) throw core::NumericalError(steps(), t_, 0, "CVODE flag " + std::to_string(flag));
     if (flag == CV_ROOT_RETURN) {
       check(CVodeGetRootInfo(mem_, rootsfound_.data()), "CVodeGetRootInfo");
       for (std::size_t i = 0; i < n_; ++i)
@@ -98,20 +98,20 @@ class CvodePeer {
     const double* y = N_VGetArrayPointer(y_);
     for (std::size_t i = 0; i < n_ && !yielded_; ++i)
       yielded_ = opt_.roots ? theta_step_[i] != 0
-                            : continuum::contact_stress(y[4 * i + 3] + ip_.eta * y[4 * i + 1], y[4 * i + 2]) > 1.0;
+                            : core::contact_stress(y[4 * i + 3] + ip_.eta * y[4 * i + 1], y[4 * i + 2]) > 1.0;
   }
 
   double time() const { return t_; }
   double previous_time() const { return t_prev_; }
   bool yielded() const { return yielded_; }
-  void dense_state(double t, continuum::Field f, std::span<double> out) const {
+  void dense_state(double t, core::Field f, std::span<double> out) const {
     const double tc = std::clamp(t, t_prev_, t_);
     if (CVodeGetDky(mem_, tc, 0, dky_) < 0) throw std::runtime_error("CVODE: CVodeGetDky failed");
     const double* d = N_VGetArrayPointer(dky_);
     const auto k = static_cast<std::size_t>(f);
     for (std::size_t i = 0; i < n_; ++i) out[i] = d[4 * i + k];
   }
-  std::span<const double> field(continuum::Field f, std::vector<double>& buf) const {
+  std::span<const double> field(core::Field f, std::vector<double>& buf) const {
     buf.resize(n_);
     const double* y = N_VGetArrayPointer(y_);
     for (std::size_t i = 0; i < n_; ++i) buf[i] = y[4 * i + static_cast<std::size_t>(f)];
@@ -140,7 +140,7 @@ class CvodePeer {
     check(CVodeSetRootDirection(mem_, rootdir_.data()), "CVodeSetRootDirection");
   }
 
-  // docs/model.md §1 on the grid of continuum/bulk.hpp (see continuum/adaptive.hpp for the equations).
+  // docs/model.md §1 on the grid of core/bulk.hpp (see core/adaptive.hpp for the equations).
   static int rhs(sunrealtype t, N_Vector yv, N_Vector fv, void* user) {
     const auto& P = *static_cast<const CvodePeer*>(user);
     const double* y = N_VGetArrayPointer(yv);
@@ -154,7 +154,7 @@ class CvodePeer {
       if (i > 0) force += k * (y[4 * (i - 1)] - u);
       if (i + 1 < n) force += k * (y[4 * (i + 1)] - u);
       if (i == 0) force += P.bulk_.drive_force(t, u);
-      const bool sliding = P.opt_.roots ? P.theta_[i] != 0 : continuum::contact_stress(sb + eta * v, a) > 1.0;
+      const bool sliding = P.opt_.roots ? P.theta_[i] != 0 : core::contact_stress(sb + eta * v, a) > 1.0;
       const double speed = sliding ? std::abs(v) : 0.0;
       f[4 * i] = v;
       f[4 * i + 1] = (force / P.bulk_.node_weight(i) + sd - sb - eta * v) * inv_rho;
@@ -170,8 +170,8 @@ class CvodePeer {
     return 0;
   }
 
-  const continuum::Bulk& bulk_;
-  continuum::InterfaceParams ip_;
+  const core::Bulk& bulk_;
+  core::InterfaceParams ip_;
   CvodeOptions opt_;
   std::size_t n_;
   SUNContext ctx_ = nullptr;
@@ -190,7 +190,7 @@ class CvodePeer {
 
 RunRecord run_cvode(const compare::Scene& s, const CvodeOptions& opt, const std::vector<double>& snap_times) {
   const auto wall0 = std::chrono::steady_clock::now();
-  const continuum::Bulk bulk(s.bulk, s.drive, s.interface, s.grid.dx);
+  const core::Bulk bulk(s.bulk, s.drive, s.interface, s.grid.dx);
   const auto init = initial_state(s, bulk);
   RunRecord rec;
   rec.integrator = opt.roots ? "cvode_roots" : "cvode";
@@ -207,7 +207,7 @@ RunRecord run_cvode(const compare::Scene& s, const CvodeOptions& opt, const std:
     rec.status = "failed";
     rec.message = e.what();
   }
-  rec.events = obs.finish(s.drive.loading == continuum::Loading::homogeneous);
+  rec.events = obs.finish(s.drive.loading == core::Loading::homogeneous);
   rec.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   rec.wall_observer = obs.seconds();
   rec.steps = peer.steps();

@@ -1,9 +1,9 @@
 #pragma once
 // Work-precision runs of one dynamic scene (fig1 by default) with three integrators of the same
-// method-of-lines ODE (continuum/bulk.hpp grid, docs/model.md §1), all measured by the one implementation of
+// method-of-lines ODE (core/bulk.hpp grid, docs/model.md §1), all measured by the one implementation of
 // docs/model.md §3 (compare::FrontTracker):
 //   explicit  the reference scheme, run through compare::run_model exactly as `slipfront run` does;
-//   adaptive  continuum::AdaptiveSimulation (continuum/adaptive.hpp);
+//   adaptive  core::AdaptiveSimulation (core/adaptive.hpp);
 //   cvode     the peer: SUNDIALS CVODE (BDF 1–5, banded difference-quotient Jacobian, band LU) on the
 //             same ODE, Θ either evaluated inside the right-hand side (discontinuous) or frozen and
 //             switched at CVODE's located roots of |σ|/A − 1 (`roots`).  Defined in cvode_fig1.cpp.
@@ -26,10 +26,10 @@
 #include "compare/result.hpp"
 #include "compare/runner.hpp"
 #include "compare/scene.hpp"
-#include "continuum/adaptive.hpp"
-#include "continuum/bulk.hpp"
+#include "core/adaptive.hpp"
+#include "core/bulk.hpp"
 #include "continuum/friction_law.hpp"
-#include "continuum/stepper.hpp"
+#include "core/stepper.hpp"
 #include "tests/scenes.hpp"
 
 namespace slipfront::bench {
@@ -71,11 +71,11 @@ struct RunRecord {
 struct InitialState {
   std::vector<double> u, v, A, sb;
 };
-inline InitialState initial_state(const compare::Scene& s, const continuum::Bulk& bulk) {
+inline InitialState initial_state(const compare::Scene& s, const core::Bulk& bulk) {
   const std::size_t n = bulk.nodes();
   InitialState st{std::vector<double>(n, 0.0), std::vector<double>(n, 0.0), std::vector<double>(n, 1.0),
                   std::vector<double>(n, 0.0)};
-  if (s.drive.loading != continuum::Loading::homogeneous) return st;
+  if (s.drive.loading != core::Loading::homogeneous) return st;
   const auto& ip = s.interface;
   const double sd = s.drive.sigma_d, vs = continuum::strengthening_branch_velocity(ip, sd);
   for (std::size_t i = 0; i < n; ++i) {
@@ -123,7 +123,7 @@ class DenseObserver {
  private:
   template <class Stepper>
   void observe(const Stepper& sim) {
-    using continuum::Field;
+    using core::Field;
     const double t0 = sim.previous_time(), t1 = sim.time();
     // max_x |v|: at the midpoint of the step (or of each sub-interval), where the tracker puts it.
     sim.dense_state(t1, Field::slip_rate, rate_);
@@ -177,7 +177,7 @@ class DenseObserver {
     for (double x : v) m = std::max(m, std::abs(x));
     return m;
   }
-  continuum::MeasureParams p_;
+  core::MeasureParams p_;
   std::vector<double> x_;
   compare::FrontTracker tracker_;
   std::vector<double> snap_times_;
@@ -191,7 +191,7 @@ class DenseObserver {
 /// Time step of the explicit scheme at `cfl`, shortened so that every multiple of 10 (the snapshot
 /// times must be multiples of 10) and t_end are step ends.
 inline double explicit_time_step(const compare::Scene& s, double cfl) {
-  const continuum::Bulk bulk(s.bulk, s.drive, s.interface, s.grid.dx);
+  const core::Bulk bulk(s.bulk, s.drive, s.interface, s.grid.dx);
   const double quantum = 10.0;
   return quantum / std::ceil(quantum / (cfl * bulk.stable_dt()) - 1e-9);
 }
@@ -232,12 +232,12 @@ inline RunRecord run_explicit(compare::Scene s, double cfl, const std::vector<do
   }
   using clock = std::chrono::steady_clock;
   const auto wall0 = clock::now();
-  continuum::Bulk bulk(s.bulk, s.drive, s.interface, s.grid.dx);
+  core::Bulk bulk(s.bulk, s.drive, s.interface, s.grid.dx);
   const auto init = initial_state(s, bulk);
   const std::vector<double> x = bulk.x();
   const double dt = s.time.dt;
   const auto nsteps = static_cast<std::int64_t>(std::llround(s.time.t_end / dt));
-  continuum::ExplicitSimulation<continuum::FrictionLaw> sim(std::move(bulk), continuum::FrictionLaw(s.interface, x.size()),
+  core::ExplicitSimulation<continuum::FrictionLaw> sim(std::move(bulk), continuum::FrictionLaw(s.interface, x.size()),
                                                             dt);
   for (std::size_t i = 0; i < x.size(); ++i) {
     sim.law().set_site(i, init.A[i], init.sb[i]);
@@ -263,11 +263,11 @@ inline RunRecord run_explicit(compare::Scene s, double cfl, const std::vector<do
       }
       observer += std::chrono::duration<double>(clock::now() - c0).count();
     }
-  } catch (const continuum::NumericalError& e) {
+  } catch (const core::NumericalError& e) {
     rec.status = "failed";
     rec.message = e.what();
   }
-  rec.events = tracker.finish(s.drive.loading == continuum::Loading::homogeneous);
+  rec.events = tracker.finish(s.drive.loading == core::Loading::homogeneous);
   rec.wall = std::chrono::duration<double>(clock::now() - wall0).count();
   rec.wall_observer = observer;
   rec.steps = rec.rhs = sim.steps();
@@ -275,13 +275,13 @@ inline RunRecord run_explicit(compare::Scene s, double cfl, const std::vector<do
 }
 
 /// The adaptive integrator on a dynamic scene, observed through its dense output.
-inline RunRecord run_adaptive(const compare::Scene& s, const continuum::AdaptiveOptions& opt,
+inline RunRecord run_adaptive(const compare::Scene& s, const core::AdaptiveOptions& opt,
                               const std::vector<double>& snap_times) {
   const auto wall0 = std::chrono::steady_clock::now();
-  continuum::Bulk bulk(s.bulk, s.drive, s.interface, s.grid.dx);
+  core::Bulk bulk(s.bulk, s.drive, s.interface, s.grid.dx);
   const auto init = initial_state(s, bulk);
   const std::vector<double> x = bulk.x();
-  continuum::AdaptiveSimulation sim(std::move(bulk), continuum::FrictionLaw(s.interface, x.size()), opt);
+  core::AdaptiveSimulation sim(std::move(bulk), continuum::FrictionLaw(s.interface, x.size()), opt);
   for (std::size_t i = 0; i < x.size(); ++i) {
     sim.law().set_site(i, init.A[i], init.sb[i]);
     sim.set_initial(i, init.u[i], init.v[i]);
@@ -297,11 +297,11 @@ inline RunRecord run_adaptive(const compare::Scene& s, const continuum::Adaptive
       sim.step();
       obs.after_step(sim);
     }
-  } catch (const continuum::NumericalError& e) {
+  } catch (const core::NumericalError& e) {
     rec.status = "failed";
     rec.message = e.what();
   }
-  rec.events = obs.finish(s.drive.loading == continuum::Loading::homogeneous);
+  rec.events = obs.finish(s.drive.loading == core::Loading::homogeneous);
   rec.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   rec.wall_observer = obs.seconds();
   const auto& st = sim.stats();
@@ -328,7 +328,7 @@ struct CvodeOptions {
 RunRecord run_cvode(const compare::Scene& s, const CvodeOptions& opt, const std::vector<double>& snap_times);
 
 /// Discrete L2 distance over the interface, sqrt(Σ w_i (a_i − b_i)²) with the lumped node weights.
-inline double l2_distance(const continuum::Bulk& bulk, std::span<const double> a, std::span<const double> b) {
+inline double l2_distance(const core::Bulk& bulk, std::span<const double> a, std::span<const double> b) {
   double s = 0.0;
   for (std::size_t i = 0; i < a.size(); ++i) s += bulk.node_weight(i) * (a[i] - b[i]) * (a[i] - b[i]);
   return std::sqrt(s);

@@ -41,7 +41,7 @@ SceneResult lockstep(const Scene& s, LawA a, LawB b, const RunControl& ctl) {
   DynamicRun<LawB, typename Tag::template stepper<LawB>> rb(s, std::move(b), "discrete");
   FieldComparison fields(s.output.compare_dt);
   if (!ctl.restart.empty()) {  // continue from a checkpoint (RunControl)
-    continuum::Archive ar = continuum::Archive::reader(ctl.restart);
+    core::Archive ar = core::Archive::reader(ctl.restart);
     ar.tag("lockstep");
     ar(ra, rb, fields);
   } else {
@@ -55,7 +55,7 @@ SceneResult lockstep(const Scene& s, LawA a, LawB b, const RunControl& ctl) {
     if ((n & 1023) == 0) ctl.progress("continuum+discrete", ra.time(), s.time.t_end);
     const bool stop = ctl.stop();
     if (clock.due(ra.time()) || (stop && ctl.checkpointing() && !(ra.done() && rb.done()))) {
-      continuum::Archive ar = continuum::Archive::writer();
+      core::Archive ar = core::Archive::writer();
       ar.tag("lockstep");
       ar(ra, rb, fields);
       ctl.checkpoint(ar.data(), ra.time());
@@ -208,8 +208,8 @@ Comparison compare_results(const Scene& s, const ModelResult& c, const ModelResu
                                            "one model has no such event or only the continuum value is 0 (see _abs_diff)";
       cmp.definitions[key + "_abs_diff"] = "discrete - continuum of the event " + key + "; NaN where one model has no such event";
     }
-  const bool zero_d = !continuum::is_one_dimensional(s.drive.loading);
-  const char* col = zero_d && s.drive.loading == continuum::Loading::imposed_rate ? "sigma" : "drive_force";
+  const bool zero_d = !core::is_one_dimensional(s.drive.loading);
+  const char* col = zero_d && s.drive.loading == core::Loading::imposed_rate ? "sigma" : "drive_force";
   if (c.series.count(col) && d.series.count(col)) {
     cmp.metrics[std::string(col) + "_history_distance"] = rel_rms_distance(c.series.at(col), d.series.at(col));
     cmp.definitions[std::string(col) + "_history_distance"] =
@@ -261,14 +261,14 @@ SceneResult run_scene_alongside(const Scene& s, const RunControl& ctl) {
     if (c && d) out.comparison = compare_results(s, *c, *d);
     return out;
   };
-  if (!both || s.drive.loading == continuum::Loading::imposed_rate) return separately();
+  if (!both || s.drive.loading == core::Loading::imposed_rate) return separately();
   return with_integrator(s, [&](auto tag) {
     using Tag = decltype(tag);
     if constexpr (std::is_same_v<Tag, AdaptiveTag>) {
       return separately();
     } else {
       return with_discrete_law(s, [&](auto make_discrete) {
-        const continuum::Bulk probe(s.bulk, s.drive, s.interface, s.grid.dx);
+        const core::Bulk probe(s.bulk, s.drive, s.interface, s.grid.dx);
         return lockstep<Tag>(s, continuum::FrictionLaw(s.interface, probe.nodes()), make_discrete(probe.nodes()), ctl);
       });
     }

@@ -72,7 +72,7 @@ class ContactPrediction {
   std::size_t max_cohorts() const { return max_cohorts_; }  ///< the most cohorts any site held
   std::size_t cohorts(std::size_t i) const { return cohorts_[i].size(); }
 
-  /// Checkpoints (continuum::Archive).
+  /// Checkpoints (core::Archive).
   template <class Ar>
   void serialize(Ar& ar) {
     ar(n_contacts_, scale_, width_, age_cap_, clock_, front_, edges_, bins_, cohorts_, compacted_size_, lifetime_, age_,

@@ -12,10 +12,10 @@
 namespace slipfront::compare {
 namespace {
 
-using continuum::format_number;
-using continuum::Integrator;
-using continuum::Loading;
-using continuum::ParamError;
+using core::format_number;
+using core::Integrator;
+using core::Loading;
+using core::ParamError;
 
 constexpr double KiB = 1024.0, MiB = KiB * KiB, GiB = MiB * KiB;
 constexpr double word = 8.0;                   // a double
@@ -70,7 +70,7 @@ double agent_bins(const discrete::DiscreteParams& d) {
 
 // Contact state changes per contact and unit of time in steady sliding at slip rate v: detachments
 // at κ|v| A_ss = κ|v|/(1 + κ|v|), each followed by an attachment.
-double event_rate(const continuum::InterfaceParams& ip, double v) {
+double event_rate(const core::InterfaceParams& ip, double v) {
   const double kv = ip.kappa * std::abs(v);
   return 2.0 * kv / (1.0 + kv);
 }
@@ -209,7 +209,7 @@ double active_fraction(Loading loading) {
 
 double explicit_stable_dt(const Scene& s) {
   // ω_max² = 4μ/(ρ dx²) + 2K/(ρ dx) + α/ρ (1D edge: the drive spring on the half cell of node 0;
-  // homogeneous: no spring), (K + α)/ρ for the 0D spring block: continuum/bulk.hpp.
+  // homogeneous: no spring), (K + α)/ρ for the 0D spring block: core/bulk.hpp.
   const double rho = s.bulk.rho, alpha = s.interface.alpha;
   double omega2 = alpha / rho;
   switch (s.drive.loading) {
@@ -227,7 +227,7 @@ double explicit_stable_dt(const Scene& s) {
 Estimate estimate(const Scene& s) {
   const StepCosts& c = step_costs();
   Estimate e;
-  const bool one_d = continuum::is_one_dimensional(s.drive.loading);
+  const bool one_d = core::is_one_dimensional(s.drive.loading);
   const bool imposed = s.drive.loading == Loading::imposed_rate;
   e.sites = one_d ? std::round(s.bulk.length / s.grid.dx) + 1.0 : 1.0;
   if (one_d) {
@@ -370,7 +370,7 @@ Estimate estimate(const Scene& s) {
 
 void check_limits(const Scene& s, const Estimate& e) {
   const auto& lim = s.limits;
-  if (continuum::is_one_dimensional(s.drive.loading) && e.nodes_per_elastic_length < lim.min_nodes_per_elastic_length)
+  if (core::is_one_dimensional(s.drive.loading) && e.nodes_per_elastic_length < lim.min_nodes_per_elastic_length)
     throw ParamError("grid.dx",
                      format_number(s.grid.dx) + " gives " + format_number(e.nodes_per_elastic_length) +
                          " nodes per elastic length sqrt(bulk.mu/interface.alpha) = " + format_number(e.elastic_length) +

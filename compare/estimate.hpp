@@ -43,7 +43,7 @@ struct Estimate {
 /// domain checks). Never allocates anything of the scene's size.
 Estimate estimate(const Scene& s);
 
-/// Throws continuum::ParamError when the estimate exceeds a limit (key "limits.<key>", the reason
+/// Throws core::ParamError when the estimate exceeds a limit (key "limits.<key>", the reason
 /// naming the estimate and what drives it) or the grid does not resolve the elastic length
 /// (key "grid.dx", naming limits.min_nodes_per_elastic_length).
 void check_limits(const Scene& s, const Estimate& e);
@@ -53,7 +53,7 @@ void check_limits(const Scene& s, const Estimate& e);
 std::vector<std::string> describe(const Estimate& e);
 
 /// The explicit scheme's stability limit of the scene's grid, 2/ω_max with the Gershgorin bound of
-/// continuum::Bulk::stable_dt() (continuum/bulk.hpp), computed without building the grid.
+/// core::Bulk::stable_dt() (core/bulk.hpp), computed without building the grid.
 double explicit_stable_dt(const Scene& s);
 
 /// Calibrated costs in nanoseconds on the reference machine (docs/robustness.md §3). "Active" site-steps
@@ -79,7 +79,7 @@ const StepCosts& step_costs();
 /// The fraction of site-steps that are active (see StepCosts), by loading: edge 0.1 (the fronts creep
 /// from the loaded edge; fitted on fig1), homogeneous 0.6 (the front sweeps the system; fitted on
 /// homogeneous_front), one site (spring block, imposed slip rate) 1.
-double active_fraction(continuum::Loading loading);
+double active_fraction(core::Loading loading);
 
 
 

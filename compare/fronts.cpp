@@ -33,8 +33,8 @@ double solved_front_speed(const Scene& s, double sigma_d) {
 
 FrontsResult compute_fronts(const Scene& s, bool scaling) {
   const auto wall0 = std::chrono::steady_clock::now();
-  if (s.drive.loading != continuum::Loading::homogeneous)
-    throw continuum::ParamError("drive.loading", "steady fronts are solved for homogeneous loading (docs/model.md §6)");
+  if (s.drive.loading != core::Loading::homogeneous)
+    throw core::ParamError("drive.loading", "steady fronts are solved for homogeneous loading (docs/model.md §6)");
   FrontsResult r;
   const auto branch = continuum::continue_steady_fronts(s.interface, s.bulk);
   for (const auto& p : branch.points) {

@@ -32,7 +32,7 @@ struct FrontsResult {
 };
 
 /// The branch of the scene's interface and bulk parameters (the scene's σ_d only chooses one of the
-/// profiles), with `scaling` the minimal-speed scaling study too. Throws continuum::ParamError when the
+/// profiles), with `scaling` the minimal-speed scaling study too. Throws core::ParamError when the
 /// scene is not under homogeneous loading.
 FrontsResult compute_fronts(const Scene& s, bool scaling);
 

@@ -5,7 +5,7 @@
 
 #include "compare/result.hpp"
 #include "compare/scene.hpp"
-#include "continuum/params.hpp"
+#include "core/params.hpp"
 #include "discrete/agent_law.hpp"
 #include "discrete/count_law.hpp"
 #include "discrete/naive_law.hpp"
@@ -22,7 +22,7 @@ auto with_discrete_law(const Scene& s, F&& f) {
     return f([&](std::size_t n) { return discrete::AgentLaw(s.interface, d, n); });
   if (d.representation == "naive")
     return f([&](std::size_t n) { return discrete::NaiveAgentLaw(s.interface, d, n); });
-  throw continuum::ParamError("discrete.representation", "unknown representation '" + d.representation + "'");
+  throw core::ParamError("discrete.representation", "unknown representation '" + d.representation + "'");
 }
 
 /// The discrete settings as attributes of the model's group.

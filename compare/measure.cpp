@@ -31,7 +31,7 @@ double ls_slope(std::span<const double> t, std::span<const double> y) {
   return stt > 0 ? sty / stt : nan;
 }
 
-FrontTracker::FrontTracker(const continuum::MeasureParams& p, std::vector<double> x)
+FrontTracker::FrontTracker(const core::MeasureParams& p, std::vector<double> x)
     : p_(p), x_(std::move(x)) {}
 
 void FrontTracker::observe_step(double t0, double t1, bool yielded, double max_v) {
@@ -107,8 +107,8 @@ Events FrontTracker::finish(bool homogeneous, bool alt) const {
   } else if (std::isfinite(ev.t_hat) && !(std::isfinite(ev.t_star) && ev.t_hat > ev.t_star)) {
     // max v > v_event before any site yielded: the motion is elastic (a fast drive), not an instability
     drop(&Events::t_hat, "t_hat",
-         "max v exceeded v_event at t = " + continuum::format_number(ev.t_hat, 6) +
-             (std::isfinite(ev.t_star) ? ", before first yield (t* = " + continuum::format_number(ev.t_star, 6) + ")"
+         "max v exceeded v_event at t = " + core::format_number(ev.t_hat, 6) +
+             (std::isfinite(ev.t_star) ? ", before first yield (t* = " + core::format_number(ev.t_star, 6) + ")"
                                        : ", with no yield at all") +
              ": elastic motion, not an instability");
     drop(&Events::t_arrest, "t_arrest", "no instability (t_hat)");
@@ -155,7 +155,7 @@ Events FrontTracker::finish(bool homogeneous, bool alt) const {
   // A front speed is the slope of an advancing tip: a negative value is a receding tip (healing), not a front.
   for (const auto& [field, name] : {std::pair{&Events::c_slow, "c_slow"}, std::pair{&Events::c_transient, "c_transient"},
                                     std::pair{&Events::c_transient_peak, "c_transient_peak"}, std::pair{&Events::c_front, "c_front"}})
-    if (ev.*field < 0.0) drop(field, name, "negative (" + continuum::format_number(ev.*field, 6) + "): the tip receded, no advancing front");
+    if (ev.*field < 0.0) drop(field, name, "negative (" + core::format_number(ev.*field, 6) + "): the tip receded, no advancing front");
   return ev;
 }
 

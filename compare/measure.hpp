@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "continuum/params.hpp"
+#include "core/params.hpp"
 
 namespace slipfront::compare {
 
@@ -76,7 +76,7 @@ double ls_slope(std::span<const double> t, std::span<const double> y);
 
 class FrontTracker {
  public:
-  FrontTracker(const continuum::MeasureParams& p, std::vector<double> x);
+  FrontTracker(const core::MeasureParams& p, std::vector<double> x);
 
   /// Every step [t0, t1]: whether some site yielded at t0, and max |v| over the step.
   void observe_step(double t0, double t1, bool yielded, double max_v);
@@ -111,7 +111,7 @@ class FrontTracker {
   }
 
  private:
-  continuum::MeasureParams p_;
+  core::MeasureParams p_;
   std::vector<double> x_;
   std::vector<double> ts_, tips_, tips_alt_;
   double next_sample_ = 0.0, last_tip_alt_ = nan;
@@ -125,7 +125,7 @@ class FrontTracker {
 /// smallest F during the event. Each finished cycle appends t_start, F_peak, F_residual to `out`.
 class CycleDetector {
  public:
-  explicit CycleDetector(const continuum::MeasureParams& p) : v_event_(p.v_event), v_end_(p.v_event * p.arrest_fraction) {}
+  explicit CycleDetector(const core::MeasureParams& p) : v_event_(p.v_event), v_end_(p.v_event * p.arrest_fraction) {}
   void observe(double t, double force, double v, std::map<std::string, std::vector<double>>& out);
   template <class Ar>
   void serialize(Ar& ar) {
@@ -144,7 +144,7 @@ class CycleDetector {
 /// clear of the rear edge), taken once, when the tip first passes behind_tip_fraction · L.
 class BehindRate {
  public:
-  explicit BehindRate(const continuum::MeasureParams& p) : p_(p) {}
+  explicit BehindRate(const core::MeasureParams& p) : p_(p) {}
   /// At a tip sample: the tip and the slip rates of every node at that time.
   void observe(double tip, std::span<const double> x, std::span<const double> v);
   double value() const { return v_behind_; }
@@ -154,7 +154,7 @@ class BehindRate {
   }
 
  private:
-  continuum::MeasureParams p_;
+  core::MeasureParams p_;
   double v_behind_ = nan;
 };
 

@@ -21,8 +21,8 @@
 #include "compare/measure.hpp"
 #include "compare/result.hpp"
 #include "compare/scene.hpp"
-#include "continuum/adaptive.hpp"
-#include "continuum/stepper.hpp"
+#include "core/adaptive.hpp"
+#include "core/stepper.hpp"
 
 namespace slipfront::compare {
 
@@ -105,14 +105,14 @@ class DenseState {
  public:
   DenseState(const Sim& sim, double t, std::vector<double> (&buffers)[4]) : sim_(sim), t_(t), buf_(buffers) {}
   double t() const { return t_; }
-  std::span<const double> contact_area() const { return field(continuum::Field::contact_area); }
-  std::span<const double> sigma_bar() const { return field(continuum::Field::sigma_bar); }
-  std::span<const double> slip_rate() const { return field(continuum::Field::slip_rate); }
-  std::span<const double> slip() const { return field(continuum::Field::slip); }
+  std::span<const double> contact_area() const { return field(core::Field::contact_area); }
+  std::span<const double> sigma_bar() const { return field(core::Field::sigma_bar); }
+  std::span<const double> slip_rate() const { return field(core::Field::slip_rate); }
+  std::span<const double> slip() const { return field(core::Field::slip); }
   double drive_force() const {
-    return sim_.bulk().drive_force(t_, sim_.dense_value(t_, continuum::Field::slip, 0));
+    return sim_.bulk().drive_force(t_, sim_.dense_value(t_, core::Field::slip, 0));
   }
-  double max_slip_rate() const { return continuum::max_abs_or_inf(slip_rate()); }
+  double max_slip_rate() const { return core::max_abs_or_inf(slip_rate()); }
   /// ā at t: the law's age mass integrated from the step's start to t on the dense output, over A(t).
   bool mean_age(std::span<double> out) const {
     const auto& law = sim_.law();
@@ -129,7 +129,7 @@ class DenseState {
   }
 
  private:
-  std::span<const double> field(continuum::Field f) const {
+  std::span<const double> field(core::Field f) const {
     const auto k = static_cast<std::size_t>(f);
     auto& b = buf_[k];
     if (!(loaded_ & (1u << k))) {
@@ -167,7 +167,7 @@ struct SiteState {
 class Recorder {
  public:
   Recorder(const Scene& s, ModelResult& r)
-      : eta_(s.interface.eta), one_d_(continuum::is_one_dimensional(s.drive.loading)),
+      : eta_(s.interface.eta), one_d_(core::is_one_dimensional(s.drive.loading)),
         series_every_(s.output.series_dt), snapshot_every_(one_d_ && s.output.snapshot_dt > 0 ? s.output.snapshot_dt : -1),
         series_due_(series_every_), snap_due_(snapshot_every_), r_(r) {}
 
@@ -176,7 +176,7 @@ class Recorder {
   /// the latest tip positions (1D); energy, the budget when tracked.
   template <class StateAt>
   void after_step(double t0, double t1, bool exact, StateAt&& state_at, const FrontTracker& tracker,
-                  const std::optional<continuum::EnergyBudget>& energy) {
+                  const std::optional<core::EnergyBudget>& energy) {
     if (!exact) {
       if (series_due_.due(t1)) series_row(state_at(t1), tracker, energy);
       if (snap_due_.due(t1)) snapshot(state_at(t1));
@@ -190,7 +190,7 @@ class Recorder {
   /// A, sigma_bar, sigma, slip_rate (and slip where there is a bulk); the energy budget when tracked
   /// (its terms hold at energy_time; all 0 before the first step).
   template <class State>
-  void series_row(const State& st, const FrontTracker& tracker, const std::optional<continuum::EnergyBudget>& energy) {
+  void series_row(const State& st, const FrontTracker& tracker, const std::optional<core::EnergyBudget>& energy) {
     Columns& c = r_.series;
     detail::push(c, "t", st.t());
     detail::push(c, "drive_force", st.drive_force());

@@ -4,22 +4,22 @@
 #include <stdexcept>
 
 #include "compare/laws.hpp"
-#include "continuum/interrupt.hpp"
+#include "core/interrupt.hpp"
 
 namespace slipfront::compare {
 
 double dynamic_time_step(const Scene& s) {
-  const continuum::Bulk bulk(s.bulk, s.drive, s.interface, s.grid.dx);
+  const core::Bulk bulk(s.bulk, s.drive, s.interface, s.grid.dx);
   const double dt = s.time.dt > 0 ? s.time.dt : s.time.cfl * bulk.stable_dt();
   const double n = std::max(1.0, std::ceil(s.time.t_end / dt - 1e-9));
   return s.time.t_end / n;
 }
 
 std::optional<continuum::SteadyFront> front_start(const Scene& s) {
-  if (s.drive.loading != continuum::Loading::homogeneous || s.drive.start != "steady_front") return std::nullopt;
+  if (s.drive.loading != core::Loading::homogeneous || s.drive.start != "steady_front") return std::nullopt;
   auto front = continuum::solve_steady_front(s.interface, s.bulk, s.drive.sigma_d);
   if (front.status != continuum::FrontStatus::converged)
-    throw continuum::ParamError("drive.sigma_d", "no steady front at sigma_d = " + continuum::format_number(s.drive.sigma_d) +
+    throw core::ParamError("drive.sigma_d", "no steady front at sigma_d = " + core::format_number(s.drive.sigma_d) +
                                                      " to start from (" + continuum::to_string(front.status) + ": " +
                                                      front.reason + ")");
   return front;
@@ -28,12 +28,12 @@ std::optional<continuum::SteadyFront> front_start(const Scene& s) {
 std::int64_t fixed_step_count(const Scene& s) {
   const double n = std::round(s.time.t_end / dynamic_time_step(s));
   if (!(n < 9.0e18))
-    throw continuum::ParamError("time.t_end", "gives " + continuum::format_number(n) +
+    throw core::ParamError("time.t_end", "gives " + core::format_number(n) +
                                                   " time steps, more than a 64-bit count holds (time.t_end / time.dt)");
   return static_cast<std::int64_t>(n);
 }
 
-std::vector<double> sweep_rates(const continuum::DriveParams& d) {
+std::vector<double> sweep_rates(const core::DriveParams& d) {
   std::vector<double> v(static_cast<std::size_t>(d.sweep_points));
   const double a = std::log(d.v_min), b = std::log(d.v_max);
   for (std::size_t k = 0; k < v.size(); ++k)
@@ -44,20 +44,20 @@ std::vector<double> sweep_rates(const continuum::DriveParams& d) {
 std::vector<ModelResult> run_scene(const Scene& s, const RunControl& ctl) {
   // Models one after the other. A checkpoint holds the models finished so far and the one running.
   std::vector<ModelResult> out;
-  std::optional<continuum::Archive> resume;
+  std::optional<core::Archive> resume;
   if (!ctl.restart.empty()) {
-    resume = continuum::Archive::reader(ctl.restart);
+    resume = core::Archive::reader(ctl.restart);
     resume->tag("sequential");
     (*resume)(out);
   }
-  const CheckpointHeader header = [&](continuum::Archive& ar) {
+  const CheckpointHeader header = [&](core::Archive& ar) {
     ar.tag("sequential");
     auto done = out;
     ar(done);
   };
   for (std::size_t k = out.size(); k < s.models.size(); ++k) {
     const std::string& m = s.models[k];
-    continuum::Archive* from = resume && !resume->at_end() ? &*resume : nullptr;
+    core::Archive* from = resume && !resume->at_end() ? &*resume : nullptr;
     try {
       if (m == "continuum") {
         auto make = [&](std::size_t n) { return continuum::FrictionLaw(s.interface, n); };
@@ -72,9 +72,9 @@ std::vector<ModelResult> run_scene(const Scene& s, const RunControl& ctl) {
       } else {
         throw std::invalid_argument("unknown model '" + m + "'");
       }
-    } catch (const continuum::ArchiveError&) {
+    } catch (const core::ArchiveError&) {
       throw;  // a checkpoint that does not fit this scene: the caller reports it
-    } catch (const continuum::Interrupted& e) {  // a stop request during the set-up of its law
+    } catch (const core::Interrupted& e) {  // a stop request during the set-up of its law
       ModelResult stopped;
       stopped.model = m;
       stopped.status = "interrupted";

@@ -20,13 +20,13 @@
 #include "compare/record.hpp"
 #include "compare/result.hpp"
 #include "compare/scene.hpp"
-#include "continuum/adaptive.hpp"
-#include "continuum/bulk.hpp"
+#include "core/adaptive.hpp"
+#include "core/bulk.hpp"
 #include "continuum/friction_law.hpp"
-#include "continuum/implicit.hpp"
-#include "continuum/law.hpp"
+#include "core/implicit.hpp"
+#include "core/law.hpp"
 #include "continuum/steady_front.hpp"
-#include "continuum/stepper.hpp"
+#include "core/stepper.hpp"
 #include "discrete/contact_stats.hpp"
 
 namespace slipfront::compare {
@@ -64,43 +64,43 @@ class CheckpointClock {
 
 /// What a checkpoint of a model run is written after: the state of the scene run around it (the models
 /// already finished), so that the whole run can be resumed.
-using CheckpointHeader = std::function<void(continuum::Archive&)>;
+using CheckpointHeader = std::function<void(core::Archive&)>;
 
 /// The time step a fixed-step scene will use: time.dt, or time.cfl × the explicit limit, shortened so
 /// that t_end is a whole number of steps.
 double dynamic_time_step(const Scene& s);
-/// The number of fixed steps to t_end (dynamic_time_step); throws continuum::ParamError naming
+/// The number of fixed steps to t_end (dynamic_time_step); throws core::ParamError naming
 /// time.t_end when it would not fit a 64-bit count (the run could not even start).
 std::int64_t fixed_step_count(const Scene& s);
 
 /// Slip-rate grid of an imposed-rate sweep (log spaced, docs/model.md §4 friction_law).
-std::vector<double> sweep_rates(const continuum::DriveParams& d);
+std::vector<double> sweep_rates(const core::DriveParams& d);
 
 /// Homogeneous loading with drive.start = "steady_front": the steady front at σ_d (docs/model.md §6),
-/// solved by continuum::solve_steady_front; nothing otherwise. Throws continuum::ParamError naming
+/// solved by continuum::solve_steady_front; nothing otherwise. Throws core::ParamError naming
 /// drive.sigma_d when there is no front there.
 std::optional<continuum::SteadyFront> front_start(const Scene& s);
 
 // --- the integrator, chosen in one place --------------------------------------------------------
 /// Tags of time.integrator: Tag::stepper<Law> is the stepper class for a law. The adaptive integrator
-/// advances deterministic rate laws (continuum::SmoothLaw); a stochastic law runs on the explicit
+/// advances deterministic rate laws (core::SmoothLaw); a stochastic law runs on the explicit
 /// scheme then (it has no rates to integrate), alongside on the same scene.
 struct ExplicitTag {
   template <class Law>
-  using stepper = continuum::ExplicitSimulation<Law>;
+  using stepper = core::ExplicitSimulation<Law>;
 };
 struct ImplicitTag {
   template <class Law>
-  using stepper = continuum::ImplicitSimulation<Law>;
+  using stepper = core::ImplicitSimulation<Law>;
 };
 namespace detail {
-template <class Law, bool Smooth = continuum::SmoothLaw<Law>>
+template <class Law, bool Smooth = core::SmoothLaw<Law>>
 struct AdaptiveStepper {
-  using type = continuum::ExplicitSimulation<Law>;
+  using type = core::ExplicitSimulation<Law>;
 };
 template <class Law>
 struct AdaptiveStepper<Law, true> {
-  using type = continuum::AdaptiveSimulation<Law>;
+  using type = core::AdaptiveSimulation<Law>;
 };
 }  // namespace detail
 struct AdaptiveTag {
@@ -111,9 +111,9 @@ struct AdaptiveTag {
 template <class F>
 decltype(auto) with_integrator(const Scene& s, F&& f) {
   switch (s.time.integrator) {
-    case continuum::Integrator::implicit_trapezoidal: return f(ImplicitTag{});
-    case continuum::Integrator::adaptive_rosenbrock: return f(AdaptiveTag{});
-    case continuum::Integrator::central_difference: break;
+    case core::Integrator::implicit_trapezoidal: return f(ImplicitTag{});
+    case core::Integrator::adaptive_rosenbrock: return f(AdaptiveTag{});
+    case core::Integrator::central_difference: break;
   }
   return f(ExplicitTag{});
 }
@@ -122,7 +122,7 @@ decltype(auto) with_integrator(const Scene& s, F&& f) {
 template <class S>
 concept DenseStepper = requires(const S& sim, double t, std::span<double> out) {
   sim.previous_time();
-  sim.dense_state(t, continuum::Field::slip_rate, out);
+  sim.dense_state(t, core::Field::slip_rate, out);
 };
 
 namespace detail {
@@ -152,7 +152,7 @@ void store_contacts(const Law& law, ModelResult& r) {
 // with its tip at drive.front_x (docs/model.md §6), plus the slip-rate kick drive.kick_dv behind it.
 template <class Stepper>
 void set_initial_conditions(const Scene& s, Stepper& sim, const std::optional<continuum::SteadyFront>& front) {
-  if (s.drive.loading != continuum::Loading::homogeneous) return;
+  if (s.drive.loading != core::Loading::homogeneous) return;
   if (front) {
     const auto& x = sim.bulk().x();
     const auto f = continuum::sample_steady_front(*front, x, s.drive.front_x);
@@ -198,11 +198,11 @@ inline bool predicts_contacts(const Scene& s) {
 template <class Stepper, class Law>
 Stepper make_stepper(const Scene& s, Law law, const std::optional<continuum::SteadyFront>& front) {
   configure_law(s, law);
-  continuum::DriveParams drive = s.drive;
+  core::DriveParams drive = s.drive;
   if (front) drive.rear_traction = -s.bulk.mu * front->far_field_strain;
-  continuum::Bulk bulk(s.bulk, drive, s.interface, s.grid.dx);
+  core::Bulk bulk(s.bulk, drive, s.interface, s.grid.dx);
   if constexpr (DenseStepper<Stepper>) {
-    Stepper sim(std::move(bulk), std::move(law), continuum::AdaptiveOptions::from(s.time));
+    Stepper sim(std::move(bulk), std::move(law), core::AdaptiveOptions::from(s.time));
     sim.set_stop_time(s.time.t_end);
     return sim;
   } else {
@@ -234,9 +234,9 @@ inline discrete::FrontClasses front_classes(std::span<const double> x, double fr
 /// three equispaced points). Returns that node + 2 (one more for the tip's interpolation; at most the
 /// node count), or 1 when every node stays above.
 template <class S>
-  requires requires(const S& sim, double t, std::size_t i) { sim.dense_value(t, continuum::Field::contact_area, i); }
+  requires requires(const S& sim, double t, std::size_t i) { sim.dense_value(t, core::Field::contact_area, i); }
 std::size_t tip_nodes(const S& sim, std::size_t nodes, double threshold) {
-  using continuum::Field;
+  using core::Field;
   const double t0 = sim.previous_time(), t1 = sim.time(), margin = 1.0 - threshold;
   for (std::size_t i = nodes; i-- > 0;) {
     double bound;
@@ -255,9 +255,9 @@ std::size_t tip_nodes(const S& sim, std::size_t nodes, double threshold) {
 /// Dense steppers: record the tips at time t inside the last step, each searched lazily over the
 /// nodes tip_nodes() left for its threshold (m_tip, m_alt). Returns the A_tip position.
 template <class S>
-double sample_tips_dense(const S& sim, FrontTracker& tracker, std::span<const double> x, const continuum::MeasureParams& p,
+double sample_tips_dense(const S& sim, FrontTracker& tracker, std::span<const double> x, const core::MeasureParams& p,
                          double t, std::size_t m_tip, std::size_t m_alt) {
-  auto area = [&](std::size_t i) { return sim.dense_value(t, continuum::Field::contact_area, i); };
+  auto area = [&](std::size_t i) { return sim.dense_value(t, core::Field::contact_area, i); };
   return tracker.record_tips(t, tip_position_lazy(x, m_tip, p.A_tip, area), tip_position_lazy(x, m_alt, p.A_tip_alt, area));
 }
 
@@ -280,13 +280,13 @@ struct ContactPredictionSetup {
   std::string prefix;
 };
 
-template <class Law, class Stepper = continuum::ExplicitSimulation<Law>>
+template <class Law, class Stepper = core::ExplicitSimulation<Law>>
 class DynamicRun {
  public:
   DynamicRun(const Scene& s, Law law, std::string model, ContactPredictionSetup prediction = {})
       : s_(s), wall0_(std::chrono::steady_clock::now()), front_(front_start(s)),
         sim_(detail::make_stepper<Stepper>(s, std::move(law), front_)),
-        one_d_(continuum::is_one_dimensional(s.drive.loading)), tracker_(s.measure, sim_.bulk().x()),
+        one_d_(core::is_one_dimensional(s.drive.loading)), tracker_(s.measure, sim_.bulk().x()),
         cycles_(s.measure), behind_(s.measure), recorder_(s, r_), contacts_due_(s.output.contact_every()) {
     r_.model = std::move(model);
     r_.x = sim_.bulk().x();
@@ -350,13 +350,13 @@ class DynamicRun {
         record_contacts(t1);  // 3.
         recorder_.after_step(t0, t1, false, [&](double) { return now; }, tracker_, sim_.energy());
       }
-    } catch (const continuum::NumericalError& e) {
+    } catch (const core::NumericalError& e) {
       r_.status = "failed";
       r_.message = e.what();
     }
   }
 
-  /// Checkpoints (continuum::Archive): the stepper with its law, the measurements, the recorder and
+  /// Checkpoints (core::Archive): the stepper with its law, the measurements, the recorder and
   /// the result so far — all a restarted run needs to continue bit for bit.
   template <class Ar>
   void serialize(Ar& ar) {
@@ -367,7 +367,7 @@ class DynamicRun {
     bool predicts = predict_.has_value();
     ar(predicts);
     if (predicts != predict_.has_value())
-      throw continuum::ArchiveError("checkpoint: the contact prediction of the checkpoint and of this run differ");
+      throw core::ArchiveError("checkpoint: the contact prediction of the checkpoint and of this run differ");
     if (predict_) ar(*predict_);
     ar(predict_prefix_, a0_, sb0_, hazard_);
   }
@@ -378,7 +378,7 @@ class DynamicRun {
   }
 
   ModelResult finish() {
-    using continuum::Loading;
+    using core::Loading;
     if constexpr (detail::RecordsContacts<Law>) detail::store_contacts(sim_.law(), r_);
     if (predict_) {
       auto tables = predict_->tables();
@@ -407,7 +407,7 @@ class DynamicRun {
   template <class State>
   void sample_tips(const State& st) {
     const double tip = tracker_.sample_tip(st.t(), st.contact_area());
-    if (s_.drive.loading == continuum::Loading::homogeneous) behind_.observe(tip, r_.x, st.slip_rate());
+    if (s_.drive.loading == core::Loading::homogeneous) behind_.observe(tip, r_.x, st.slip_rate());
     observe_front();
   }
 
@@ -429,7 +429,7 @@ class DynamicRun {
   }
 
   // The prediction's view of a fixed step of the continuum law: A and σ̄ at its start, then the
-  // hazard Θκ|v| with Θ decided by continuum::slides, as FrictionLaw::advance decides it (the same bits).
+  // hazard Θκ|v| with Θ decided by core::slides, as FrictionLaw::advance decides it (the same bits).
   void remember_start() {
     const auto a = sim_.law().contact_area(), sb = sim_.law().sigma_bar();
     a0_.assign(a.begin(), a.end());
@@ -440,7 +440,7 @@ class DynamicRun {
     const double eta = s_.interface.eta, kappa = s_.interface.kappa;
     hazard_.resize(v.size());
     for (std::size_t i = 0; i < v.size(); ++i)
-      hazard_[i] = continuum::slides(sb0_[i], v[i], a0_[i], eta) ? kappa * std::abs(v[i]) : 0.0;
+      hazard_[i] = core::slides(sb0_[i], v[i], a0_[i], eta) ? kappa * std::abs(v[i]) : 0.0;
     predict_->step(sim_.dt(), a0_, hazard_);
   }
 
@@ -453,14 +453,14 @@ class DynamicRun {
   // instead of sub-intervals; a node whose A stays above both tip thresholds over the whole step is not
   // interpolated for the tip samples.
   void observe_dense(double t0, double t1) {
-    using continuum::Field;
+    using core::Field;
     const std::size_t n = r_.x.size();
     std::vector<double>& v = buffers_[static_cast<std::size_t>(Field::slip_rate)];
     v.resize(n);
     sim_.dense_state(t0, Field::slip_rate, v);
-    const double v_start = continuum::max_abs_or_inf(v);
+    const double v_start = core::max_abs_or_inf(v);
     sim_.dense_state(0.5 * (t0 + t1), Field::slip_rate, v);
-    const double bound = 1.25 * std::max({v_start, continuum::max_abs_or_inf(v), continuum::max_abs_or_inf(sim_.slip_rate())});
+    const double bound = 1.25 * std::max({v_start, core::max_abs_or_inf(v), core::max_abs_or_inf(sim_.slip_rate())});
     if (!tracker_.in_transient() && bound <= s_.measure.v_event) {
       tracker_.observe_step(t0, t1, sim_.yielded(), bound);
       quiet_ = true;
@@ -473,7 +473,7 @@ class DynamicRun {
         const double a = t0 + (t1 - t0) * static_cast<double>(j) / static_cast<double>(m);
         const double b = j + 1 == m ? t1 : t0 + (t1 - t0) * static_cast<double>(j + 1) / static_cast<double>(m);
         sim_.dense_state(0.5 * (a + b), Field::slip_rate, v);
-        tracker_.observe_step(a, b, sim_.yielded(), continuum::max_abs_or_inf(v));
+        tracker_.observe_step(a, b, sim_.yielded(), core::max_abs_or_inf(v));
       }
     }
     if (!one_d_) cycles_.observe(t1, sim_.drive_force(), sim_.slip_rate()[0], r_.cycles);
@@ -483,7 +483,7 @@ class DynamicRun {
     detail::multiples_in(t0, t1, s_.measure.sample_dt, [&](double t) {
       const double tip = sample_tips_dense(sim_, tracker_, r_.x, s_.measure, t, m_tip, m_alt);
       observe_front();
-      if (s_.drive.loading == continuum::Loading::homogeneous) {
+      if (s_.drive.loading == core::Loading::homogeneous) {
         sim_.dense_state(t, Field::slip_rate, v);
         behind_.observe(tip, r_.x, v);
       }
@@ -503,7 +503,7 @@ class DynamicRun {
   detail::Cadence contacts_due_;
   std::int64_t nsteps_ = 0;
   bool quiet_ = false;                  // dense stepper: the last step got one max|v| observation
-  std::vector<double> buffers_[4];      // dense-output buffers, one per continuum::Field
+  std::vector<double> buffers_[4];      // dense-output buffers, one per core::Field
   std::optional<ContactPrediction> predict_;  // docs/model.md §7.2 (continuum law, fixed-step steppers)
   std::string predict_prefix_;
   std::vector<double> a0_, sb0_, hazard_;     // the prediction's view of the current step
@@ -511,14 +511,14 @@ class DynamicRun {
 
 /// Bulk scenes run alone: step to t_end, polling the stop request after every step; checkpoints as
 /// `ctl` asks (written after `header`), and, with `resume`, continued from a checkpoint's state.
-template <class Law, class Stepper = continuum::ExplicitSimulation<Law>>
+template <class Law, class Stepper = core::ExplicitSimulation<Law>>
 ModelResult run_dynamic(const Scene& s, Law law, const std::string& model, const RunControl& ctl,
-                        const CheckpointHeader& header = {}, continuum::Archive* resume = nullptr) {
+                        const CheckpointHeader& header = {}, core::Archive* resume = nullptr) {
   DynamicRun<Law, Stepper> run(s, std::move(law), model);
   if (resume) (*resume)(run);
   CheckpointClock clock(ctl, run.time());
   auto save = [&] {
-    continuum::Archive ar = continuum::Archive::writer();
+    core::Archive ar = core::Archive::writer();
     if (header) header(ar);
     ar(run);
     ctl.checkpoint(ar.data(), run.time());
@@ -586,7 +586,7 @@ ModelResult run_imposed_rate(const Scene& s, MakeLaw make_law, const std::string
         r.scalars["v_m_fit"] = m.x;
         r.scalars["sigma_c_fit"] = m.y;
       }
-      if constexpr (continuum::SmoothLaw<Law>) {
+      if constexpr (core::SmoothLaw<Law>) {
         auto f = [&](double lx) { return steady_point<Law>(s, make_law(std::size_t{1}), std::exp(lx)).sigma; };
         const double lx = golden_section_minimum(f, std::log(vv[m.index - 1]), std::log(vv[m.index + 1]), 1e-7);
         r.scalars["v_m_numeric"] = std::exp(lx);
@@ -604,7 +604,7 @@ ModelResult run_imposed_rate(const Scene& s, MakeLaw make_law, const std::string
     Recorder recorder(s, r);
     [[maybe_unused]] detail::Cadence contacts_due(s.output.contact_every());
     double t = 0.0;
-    const std::optional<continuum::EnergyBudget> no_energy;
+    const std::optional<core::EnergyBudget> no_energy;
     auto record = [&](double v) {
       if constexpr (detail::RecordsContacts<Law>)
         if (contacts_due.due(t)) law.record_contacts(t);
@@ -618,7 +618,7 @@ ModelResult run_imposed_rate(const Scene& s, MakeLaw make_law, const std::string
       if (t_seg_end <= ts[k]) break;
       const double segment_steps = std::ceil((t_seg_end - ts[k]) / dt_target - 1e-9);
       if (!(segment_steps < 9.0e18))
-        throw continuum::ParamError("time.dt", "gives more than 9e18 steps in one segment of drive.v");
+        throw core::ParamError("time.dt", "gives more than 9e18 steps in one segment of drive.v");
       const auto n = static_cast<std::int64_t>(segment_steps);
       const double dt = (t_seg_end - ts[k]) / static_cast<double>(n);
       const double v[1] = {vs[k]};
@@ -647,12 +647,12 @@ ModelResult run_imposed_rate(const Scene& s, MakeLaw make_law, const std::string
 /// Run one model on a scene, whichever loading and integrator it has. make_law(n_sites) builds the law.
 template <class Law, class MakeLaw>
 ModelResult run_model(const Scene& s, MakeLaw make_law, const std::string& model, const RunControl& ctl,
-                      const CheckpointHeader& header = {}, continuum::Archive* resume = nullptr) {
-  if (s.drive.loading == continuum::Loading::imposed_rate) {
-    if (resume) throw continuum::ArchiveError("checkpoint: an imposed-rate scene has no checkpoints");
+                      const CheckpointHeader& header = {}, core::Archive* resume = nullptr) {
+  if (s.drive.loading == core::Loading::imposed_rate) {
+    if (resume) throw core::ArchiveError("checkpoint: an imposed-rate scene has no checkpoints");
     return run_imposed_rate<Law>(s, make_law, model, ctl);
   }
-  const continuum::Bulk probe(s.bulk, s.drive, s.interface, s.grid.dx);
+  const core::Bulk probe(s.bulk, s.drive, s.interface, s.grid.dx);
   return with_integrator(s, [&](auto tag) {
     using Stepper = typename decltype(tag)::template stepper<Law>;
     return run_dynamic<Law, Stepper>(s, make_law(probe.nodes()), model, ctl, header, resume);

@@ -2,15 +2,15 @@
 
 #include <algorithm>
 
-#include "continuum/bulk.hpp"
-#include "continuum/implicit.hpp"
+#include "core/bulk.hpp"
+#include "core/implicit.hpp"
 #include "compare/estimate.hpp"
 
 namespace slipfront::compare {
 
 namespace {
-using continuum::KeyDomain;
-using K = continuum::KeyKind;
+using core::KeyDomain;
+using K = core::KeyKind;
 const KeyDomain limit_domains[] = {
     {"limits.max_steps", K::number, 1.0, 1e15, false, false, false, "",
      "(time steps of any model; step counts stay exact in doubles and int64)"},
@@ -24,14 +24,14 @@ std::span<const KeyDomain> limit_key_domains() { return limit_domains; }
 
 std::vector<KeyDomain> all_key_domains() {
   std::vector<KeyDomain> out;
-  for (const auto table : {continuum::key_domains(), discrete::key_domains(), limit_key_domains()})
+  for (const auto table : {core::key_domains(), discrete::key_domains(), limit_key_domains()})
     out.insert(out.end(), table.begin(), table.end());
   return out;
 }
 
 const KeyDomain* find_key_domain(std::string_view key) {
-  for (const auto table : {continuum::key_domains(), discrete::key_domains(), limit_key_domains()})
-    if (const KeyDomain* d = continuum::find_key_domain(table, key)) return d;
+  for (const auto table : {core::key_domains(), discrete::key_domains(), limit_key_domains()})
+    if (const KeyDomain* d = core::find_key_domain(table, key)) return d;
   return nullptr;
 }
 
@@ -39,16 +39,16 @@ void LimitParams::validate() const {
   for (const auto& [key, value] : {std::pair{"limits.max_steps", max_steps}, {"limits.max_memory_gib", max_memory_gib},
                                    {"limits.max_hours", max_hours},
                                    {"limits.min_nodes_per_elastic_length", min_nodes_per_elastic_length}})
-    continuum::check_in_domain(*continuum::find_key_domain(limit_key_domains(), key), value);
+    core::check_in_domain(*core::find_key_domain(limit_key_domains(), key), value);
 }
 
 void Scene::validate() const {
-  using continuum::ParamError;
+  using core::ParamError;
   if (models.empty()) throw ParamError("models", "must list at least one model");
   for (const auto& m : models)
     if (m != "continuum" && m != "discrete")
       throw ParamError("models", "unknown model '" + m + "' (expected continuum or discrete)");
-  const bool one_d = continuum::is_one_dimensional(drive.loading);
+  const bool one_d = core::is_one_dimensional(drive.loading);
   interface.validate();
   bulk.validate(one_d);
   drive.validate();
@@ -73,21 +73,21 @@ void Scene::validate() const {
                                         " representation carries no contact age and the continuum model does not run: no "
                                         "age would be written (use discrete.representation = \"agent\", or add \"continuum\" "
                                         "to models)");
-  if (drive.loading == continuum::Loading::imposed_rate && drive.sweep_points == 0 && drive.v_times.back() >= time.t_end)
+  if (drive.loading == core::Loading::imposed_rate && drive.sweep_points == 0 && drive.v_times.back() >= time.t_end)
     throw ParamError("drive.switch_times", "every switch time must be before time.t_end (" +
-                                              continuum::format_number(time.t_end) + "), got " +
-                                              continuum::format_number(drive.v_times.back()));
-  if (drive.loading != continuum::Loading::imposed_rate && time.integrator == continuum::Integrator::implicit_trapezoidal &&
+                                              core::format_number(time.t_end) + "), got " +
+                                              core::format_number(drive.v_times.back()));
+  if (drive.loading != core::Loading::imposed_rate && time.integrator == core::Integrator::implicit_trapezoidal &&
       time.implicit_resolution_check) {
-    const continuum::Bulk b(bulk, drive, interface, grid.dx);
-    const auto r = continuum::implicit_resolution(b, interface, measure.v_event, time.dt);
-    using R = continuum::ImplicitResolution;
+    const core::Bulk b(bulk, drive, interface, grid.dx);
+    const auto r = core::implicit_resolution(b, interface, measure.v_event, time.dt);
+    using R = core::ImplicitResolution;
     // both values are proportional to dt: the largest admissible step is dt · bound / value
     auto check = [&](const char* what, double value, double bound, const char* why) {
       if (value > bound)
         throw ParamError("time.dt", std::string("too large for the implicit integrator: ") + what + " = " +
-                                        continuum::format_number(value, 4) + " > " + continuum::format_number(bound) + " (" +
-                                        why + "); use time.dt <= " + continuum::format_number(time.dt * bound / value, 4) +
+                                        core::format_number(value, 4) + " > " + core::format_number(bound) + " (" +
+                                        why + "); use time.dt <= " + core::format_number(time.dt * bound / value, 4) +
                                         ", the explicit or adaptive integrator, or time.implicit_resolution_check = false");
     };
     check("dt sqrt(K/(rho w_0))", r.drive, R::drive_bound,
@@ -95,10 +95,10 @@ void Scene::validate() const {
     check("dt (1 + kappa v_event)", r.detach, R::detach_bound,
           "the contact turnover at the event slip rate is not resolved: spurious or missed events");
   }
-  if (drive.loading != continuum::Loading::imposed_rate && time.dt > 0 && time.integrator != continuum::Integrator::implicit_trapezoidal) {
+  if (drive.loading != core::Loading::imposed_rate && time.dt > 0 && time.integrator != core::Integrator::implicit_trapezoidal) {
     const double stable = explicit_stable_dt(*this);
     if (time.dt > stable)
-      throw ParamError("time.dt", "exceeds the explicit stability limit " + continuum::format_number(stable) +
+      throw ParamError("time.dt", "exceeds the explicit stability limit " + core::format_number(stable) +
                                       " of this grid (use time.cfl <= 1, a smaller dt, or time.integrator = \"implicit\")");
   }
   check_limits(*this, estimate(*this));

@@ -5,7 +5,7 @@
 #include <string_view>
 #include <vector>
 
-#include "continuum/params.hpp"
+#include "core/params.hpp"
 #include "discrete/params.hpp"
 
 namespace slipfront::compare {
@@ -23,29 +23,29 @@ struct LimitParams {
   void validate() const;
 };
 
-/// The domains of the [limits] keys (continuum::KeyDomain).
-std::span<const continuum::KeyDomain> limit_key_domains();
+/// The domains of the [limits] keys (core::KeyDomain).
+std::span<const core::KeyDomain> limit_key_domains();
 
-/// Every key domain of the schema: continuum::key_domains(), discrete::key_domains(),
+/// Every key domain of the schema: core::key_domains(), discrete::key_domains(),
 /// limit_key_domains(), in that order.
-std::vector<continuum::KeyDomain> all_key_domains();
+std::vector<core::KeyDomain> all_key_domains();
 /// The row of a dotted key in all_key_domains() (nullptr if none).
-const continuum::KeyDomain* find_key_domain(std::string_view key);
+const core::KeyDomain* find_key_domain(std::string_view key);
 
 struct Scene {
   std::string name;         ///< scene name (default output directory out/<name>)
   std::string description;
   std::vector<std::string> models{"continuum"};  ///< which models to run
-  continuum::InterfaceParams interface;
-  continuum::BulkParams bulk;
-  continuum::DriveParams drive;
-  continuum::GridParams grid;
-  continuum::TimeParams time;
-  continuum::MeasureParams measure;
-  continuum::OutputParams output;
+  core::InterfaceParams interface;
+  core::BulkParams bulk;
+  core::DriveParams drive;
+  core::GridParams grid;
+  core::TimeParams time;
+  core::MeasureParams measure;
+  core::OutputParams output;
   discrete::DiscreteParams discrete;
   LimitParams limits;
-  /// Validate everything (throws continuum::ParamError naming the key): every value in its domain,
+  /// Validate everything (throws core::ParamError naming the key): every value in its domain,
   /// the rules between keys, then the cost estimate against the limits and the grid's resolution
   /// (compare::estimate, compare::check_limits).
   void validate() const;

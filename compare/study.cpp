@@ -68,7 +68,7 @@ void put_fits(StudyReport& rep, const std::string& name, const std::vector<doubl
   for (std::size_t k = 0; k < x.size(); ++k)
     if (x[k] >= from) { fx.push_back(x[k]); fy.push_back(y[k]); }
   if (fx.size() >= 3)
-    put_fit(rep, name + "_from", fit_power_law(fx, fy), what + ", points with N >= " + continuum::format_number(from) +
+    put_fit(rep, name + "_from", fit_power_law(fx, fy), what + ", points with N >= " + core::format_number(from) +
                                                              " (study key fit_from: the mean-field regime)");
 }
 
@@ -162,7 +162,7 @@ void friction_law_vs_width(StudyReport& rep, const std::vector<StudyRun>& runs, 
       t["sigma_at_vmin"].push_back(sd.empty() ? nan : sd.front());
       t["sigma_min"].push_back(sd.empty() ? nan : *std::min_element(sd.begin(), sd.end()));
     } else {
-      const char* col = scenes[idx[0]].drive.loading == continuum::Loading::imposed_rate ? "sigma" : "drive_force";
+      const char* col = scenes[idx[0]].drive.loading == core::Loading::imposed_rate ? "sigma" : "drive_force";
       dist = rel_rms(column(d->series, col), column(c->series, col));
       const auto& pk = column(d->cycles, "F_peak");
       const auto& pc = column(c->cycles, "F_peak");
@@ -216,7 +216,7 @@ void transient_vs_N(StudyReport& rep, const StudySpec& spec, const std::vector<S
       const auto* c = find_model(res[i], "continuum");
       const auto* m = find_model(res[i], "discrete");
       if (!c || !m) continue;
-      const char* col = scenes[i].drive.loading == continuum::Loading::imposed_rate ? "sigma" : "drive_force";
+      const char* col = scenes[i].drive.loading == core::Loading::imposed_rate ? "sigma" : "drive_force";
       d.push_back(rel_rms(column(m->series, col), column(c->series, col)));
     }
     t["N"].push_back(N);
@@ -379,11 +379,11 @@ void spectrum(StudyReport& rep, const std::vector<StudyRun>& runs, const std::ve
     rep.scalars["branch_c_min"] = branch.c_min;
     rep.scalars["branch_sigma_d_at_c_min"] = branch.sigma_d_at_c_min;
     rep.definitions["branch_c_min"] = "minimal steady front speed: the end of the solved branch, and its sigma_d";
-    rep.notes.push_back("the solved branch ends at sigma_d = " + continuum::format_number(branch.sigma_d_at_c_min, 6) +
-                        " with c_min = " + continuum::format_number(branch.c_min, 6) + " (" + branch.reason + ")");
+    rep.notes.push_back("the solved branch ends at sigma_d = " + core::format_number(branch.sigma_d_at_c_min, 6) +
+                        " with c_min = " + core::format_number(branch.c_min, 6) + " (" + branch.reason + ")");
     if (std::isfinite(limit_started))
-      rep.notes.push_back("nucleation limit: the patch starts fronts down to sigma_d = " + continuum::format_number(limit_started, 4) +
-                          (std::isfinite(limit_failed) ? " and none at " + continuum::format_number(limit_failed, 4) : std::string()) +
+      rep.notes.push_back("nucleation limit: the patch starts fronts down to sigma_d = " + core::format_number(limit_started, 4) +
+                          (std::isfinite(limit_failed) ? " and none at " + core::format_number(limit_failed, 4) : std::string()) +
                           "; below it the patch's leading edge heals before it loads the stuck interface to the threshold. "
                           "Steady fronts exist down to sigma_c^d (start them with drive.start = steady_front)");
   }

@@ -7,7 +7,7 @@
 #include <tuple>
 
 #include "compare/fit.hpp"
-#include "continuum/params.hpp"
+#include "core/params.hpp"
 
 namespace slipfront::compare {
 namespace {
@@ -51,7 +51,7 @@ double value_of(const Scene& s, const char* what) {
   if (std::string(what) == "N") return static_cast<double>(s.discrete.contacts_per_site);
   if (std::string(what) == "kappa") return s.interface.kappa;
   if (std::string(what) == "eta") return s.interface.eta;
-  return s.time.integrator == continuum::Integrator::implicit_trapezoidal ? s.time.dt : 0.0;
+  return s.time.integrator == core::Integrator::implicit_trapezoidal ? s.time.dt : 0.0;
 }
 
 // Power-law fit of N* against α − 1 over the finite points: the collapse exponent.

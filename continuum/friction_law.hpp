@@ -1,6 +1,6 @@
 #pragma once
 // The continuum friction law of docs/model.md §1 as an interface law: InterfaceLaw and SmoothLaw of
-// continuum/law.hpp. Its state is one vector [A_0..A_{n−1} | σ̄_0..σ̄_{n−1}] (fields()), advanced by
+// core/law.hpp. Its state is one vector [A_0..A_{n−1} | σ̄_0..σ̄_{n−1}] (fields()), advanced by
 // the exact update (advance, fixed-step integrators) or by the adaptive integrator through rate() and
 // jacobian(). Nothing here knows which stepper drives it.
 //
@@ -14,21 +14,21 @@
 #include <span>
 #include <vector>
 
-#include "continuum/exact_update.hpp"
-#include "continuum/law.hpp"
-#include "continuum/params.hpp"
+#include "core/exact_update.hpp"
+#include "core/law.hpp"
+#include "core/params.hpp"
 
 namespace slipfront::continuum {
 
 class FrictionLaw {
  public:
-  FrictionLaw(const InterfaceParams& p, std::size_t sites) : p_(p), n_(sites), fields_(2 * sites, 0.0) {
+  FrictionLaw(const core::InterfaceParams& p, std::size_t sites) : p_(p), n_(sites), fields_(2 * sites, 0.0) {
     std::fill(fields_.begin(), fields_.begin() + static_cast<std::ptrdiff_t>(sites), 1.0);
   }
 
   // --- state ------------------------------------------------------------------------------------
   std::size_t size() const { return n_; }
-  const InterfaceParams& params() const { return p_; }
+  const core::InterfaceParams& params() const { return p_; }
   std::span<const double> contact_area() const { return {fields_.data(), n_}; }
   std::span<const double> sigma_bar() const { return {fields_.data() + n_, n_}; }
   std::span<double> fields() { return fields_; }
@@ -49,7 +49,7 @@ class FrictionLaw {
   /// docs/model.md §1 over [t, t+dt], v frozen; Θ evaluated from the start-of-step state:
   ///   Θ = θ(|σ̄ + η v|/A − 1),  r = 1 + Θκ|v|,  A' = A e^{−r dt} + (1 − e^{−r dt})/r,
   ///   σ̄' = exact solution of dσ̄/dt = α Ā v − Θ|v| σ̄ with Ā = (A + A')/2.
-  LawStepInfo advance(double dt, std::span<const double> v) {
+  core::LawStepInfo advance(double dt, std::span<const double> v) {
     bool any = false;
     const double alpha = p_.alpha, kappa = p_.kappa, eta = p_.eta;
     // A stuck site (Θ = 0) relaxes A at rate 1 and σ̄ at rate 0: relax() with these rates is
@@ -57,13 +57,13 @@ class FrictionLaw {
     if (dt != cached_dt_) {
       cached_dt_ = dt;
       stuck_exp_ = std::exp(-dt);
-      stuck_weight_ = relax_weight(1.0, dt);
+      stuck_weight_ = core::relax_weight(1.0, dt);
     }
     double* area = fields_.data();
     double* sigma_bar = area + n_;
     for (std::size_t i = 0; i < n_; ++i) {
       const double vi = v[i], a = area[i], sb = sigma_bar[i];
-      const bool theta = slides(sb, vi, a, eta);
+      const bool theta = core::slides(sb, vi, a, eta);
       any |= theta;
       if (!theta) {
         const double a_new = a * stuck_exp_ + stuck_weight_;
@@ -73,11 +73,11 @@ class FrictionLaw {
         continue;
       }
       const double speed = std::abs(vi);
-      const double a_new = relax(a, 1.0, 1.0 + kappa * speed, dt);
-      sigma_bar[i] = relax(sb, alpha * 0.5 * (a + a_new) * vi, speed, dt);
+      const double a_new = core::relax(a, 1.0, 1.0 + kappa * speed, dt);
+      sigma_bar[i] = core::relax(sb, alpha * 0.5 * (a + a_new) * vi, speed, dt);
       area[i] = a_new;
       // docs/model.md §7: dM/dt = Ā − κ|v| M, exact with Ā = (A + A')/2 and the rate frozen (as σ̄)
-      if (ages_) age_mass_[i] = relax(age_mass_[i], 0.5 * (a + a_new), kappa * speed, dt);
+      if (ages_) age_mass_[i] = core::relax(age_mass_[i], 0.5 * (a + a_new), kappa * speed, dt);
     }
     return {any};
   }
@@ -85,10 +85,10 @@ class FrictionLaw {
   /// The implicit step's linearisation (law.hpp), one site at a time: y = Θ of the site at the
   /// previous step's rate.
   auto linearisation(double dt) const {
-    return [this, k = StressStepConstants(p_, dt)](std::size_t i, double wp, double& c0, double& c1) {
+    return [this, k = core::StressStepConstants(p_, dt)](std::size_t i, double wp, double& c0, double& c1) {
       const double a = fields_[i], sb = fields_[n_ + i];
-      const double y = wp != 0.0 && slides(sb, wp, a, p_.eta) ? 1.0 : 0.0;
-      linearise_stress(a, sb, y, wp, k, c0, c1);
+      const double y = wp != 0.0 && core::slides(sb, wp, a, p_.eta) ? 1.0 : 0.0;
+      core::linearise_stress(a, sb, y, wp, k, c0, c1);
     };
   }
 
@@ -112,7 +112,7 @@ class FrictionLaw {
   /// Initial mean age of site i (after set_site): M = A ā.
   void set_site_age(std::size_t i, double mean_age) { age_mass_[i] = fields_[i] * mean_age; }
 
-  /// The adaptive integrator's hook (continuum/adaptive.hpp calls it after each accepted step
+  /// The adaptive integrator's hook (core/adaptive.hpp calls it after each accepted step
   /// [t0, t1], before Θ flips): M over the step with Θ_i = theta[i] fixed, from the step's dense output
   /// at.area(t, i), at.slip_rate(t, i) (integrate_age_mass: second order). Keeps M(t0) and Θ for
   /// age_mass_at().
@@ -124,7 +124,7 @@ class FrictionLaw {
     theta_step_.assign(theta.begin(), theta.end());
     step_t0_ = t0;
     for (std::size_t i = 0; i < n_; ++i)
-      age_mass_[i] = integrate_age_mass(
+      age_mass_[i] = core::integrate_age_mass(
           age_prev_[i], t0, t1, theta[i] != 0, p_.kappa, [&](double t) { return at.area(t, i); },
           [&](double t) { return at.slip_rate(t, i); });
   }
@@ -133,23 +133,23 @@ class FrictionLaw {
   template <class Sample>
   double age_mass_at(std::size_t i, double t, const Sample& at) const {
     if (age_prev_.empty()) return age_mass_[i];
-    return integrate_age_mass(
+    return core::integrate_age_mass(
         age_prev_[i], step_t0_, t, theta_step_[i] != 0, p_.kappa, [&](double s) { return at.area(s, i); },
         [&](double s) { return at.slip_rate(s, i); });
   }
 
   // --- the rates (adaptive integrator), docs/model.md §1 ----------------------------------------
   /// Θ = θ(|σ̄ + η v|/A − 1).
-  bool sliding(SiteState s) const { return slides(s.sigma_bar, s.v, s.area, p_.eta); }
+  bool sliding(core::SiteState s) const { return core::slides(s.sigma_bar, s.v, s.area, p_.eta); }
   /// |σ̄ + η v|: Θ flips where the load crosses A (|σ|/A = 1).
-  double load(SiteState s) const { return std::abs(s.sigma_bar + p_.eta * s.v); }
+  double load(core::SiteState s) const { return std::abs(s.sigma_bar + p_.eta * s.v); }
   /// dA/dt = 1 − A − Θ κ A |v|,  dσ̄/dt = α A v − Θ σ̄ |v|.
-  SiteRate rate(SiteState s, bool theta) const {
+  core::SiteRate rate(core::SiteState s, bool theta) const {
     const double speed = theta ? std::abs(s.v) : 0.0;
     return {1.0 - s.area - p_.kappa * s.area * speed, p_.alpha * s.area * s.v - s.sigma_bar * speed};
   }
   /// Jacobian of rate() with Θ fixed (sgn v at v = 0 taken as +1).
-  SiteJacobian jacobian(SiteState s, bool theta) const {
+  core::SiteJacobian jacobian(core::SiteState s, bool theta) const {
     if (!theta) return {0.0, -1.0, p_.alpha * s.area, p_.alpha * s.v, 0.0};
     const double sg = s.v >= 0.0 ? 1.0 : -1.0, speed = std::abs(s.v);
     return {-p_.kappa * s.area * sg, -(1.0 + p_.kappa * speed), p_.alpha * s.area - s.sigma_bar * sg, p_.alpha * s.v,
@@ -157,7 +157,7 @@ class FrictionLaw {
   }
 
  private:
-  InterfaceParams p_;
+  core::InterfaceParams p_;
   std::size_t n_;
   std::vector<double> fields_;  ///< [A | σ̄]
   double cached_dt_ = -1.0, stuck_exp_ = 1.0, stuck_weight_ = 0.0;
@@ -167,27 +167,27 @@ class FrictionLaw {
   double step_t0_ = 0.0;
 };
 
-static_assert(SmoothLaw<FrictionLaw>);
+static_assert(core::SmoothLaw<FrictionLaw>);
 
 // Closed forms of docs/model.md §1 (tests and the comparison layer check against these).
 struct SteadyState {
   double area, sigma_bar, sigma;
 };
-inline SteadyState steady_sliding(const InterfaceParams& p, double v) {
+inline SteadyState steady_sliding(const core::InterfaceParams& p, double v) {
   const double s = std::abs(v);
   const double area = 1.0 / (1.0 + p.kappa * s);
   const double sb = p.alpha * area * (v >= 0 ? 1.0 : -1.0);
   return {area, sb, sb + p.eta * v};
 }
 /// Velocity of the minimum of σ_ss(v): v_m = (sqrt(ακ/η) − 1)/κ.
-inline double steady_minimum_velocity(const InterfaceParams& p) {
+inline double steady_minimum_velocity(const core::InterfaceParams& p) {
   return (std::sqrt(p.alpha * p.kappa / p.eta) - 1.0) / p.kappa;
 }
 /// σ_c^d = 2 sqrt(αη/κ) − η/κ.
-inline double steady_minimum_stress(const InterfaceParams& p) {
+inline double steady_minimum_stress(const core::InterfaceParams& p) {
   return 2.0 * std::sqrt(p.alpha * p.eta / p.kappa) - p.eta / p.kappa;
 }
 /// Slip rate on the strengthening branch (v > v_m) with σ_ss(v) = σ_d; NaN if σ_d < σ_c^d.
-double strengthening_branch_velocity(const InterfaceParams& p, double sigma_d);
+double strengthening_branch_velocity(const core::InterfaceParams& p, double sigma_d);
 
 }  // namespace slipfront::continuum

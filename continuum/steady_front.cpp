@@ -51,10 +51,10 @@ struct Model {
   /// The limiting problem at σ_d = σ_c^d: the sliding state behind is v_m and its decaying mode is
   /// the null mode (λ_s = 0 exactly), instead of rounding near a double root.
   bool saddle_node = false;
-  Model(const InterfaceParams& law, double rho_, double mu_)
+  Model(const core::InterfaceParams& law, double rho_, double mu_)
       : rho(rho_), mu(mu_), alpha(law.alpha), kappa(law.kappa), eta(law.eta) {}
   double sound_speed() const { return std::sqrt(mu / rho); }
-  InterfaceParams law() const { return {alpha, kappa, eta}; }
+  core::InterfaceParams law() const { return {alpha, kappa, eta}; }
 };
 
 // docs/model.md §1 in the co-moving frame behind the tip (Θ = 1), docs/fronts.md eq. (1), y = (v, A, σ̄):
@@ -472,10 +472,10 @@ void finish(const Model& m, const Collocation& col, const Eigen::VectorXd& x, St
                std::to_string(positive) + " growing modes (need 1 and 2)";
   } else if (f.min_slip_rate <= 0.0) {
     f.status = FrontStatus::reverse_slip;
-    f.reason = "v <= 0 behind the tip (min v = " + format_number(f.min_slip_rate) + ")";
+    f.reason = "v <= 0 behind the tip (min v = " + core::format_number(f.min_slip_rate) + ")";
   } else if (margin <= 0.0) {
     f.status = FrontStatus::resticks;
-    f.reason = "|sigma|/A - 1 <= 0 behind the tip (min " + format_number(margin) + "): Theta = 1 violated";
+    f.reason = "|sigma|/A - 1 <= 0 behind the tip (min " + core::format_number(margin) + "): Theta = 1 violated";
   }
 }
 
@@ -587,14 +587,14 @@ BranchEnd end_of(FrontStatus s) {
 
 }  // namespace detail
 
-SteadyFront solve_steady_front(const InterfaceParams& law, const BulkParams& bulk, double sigma_d,
+SteadyFront solve_steady_front(const core::InterfaceParams& law, const core::BulkParams& bulk, double sigma_d,
                                const SteadyFrontOptions& o, const SteadyFront* guess) {
   const detail::Model m(law, bulk.rho, bulk.mu);
   const double sigma_c = steady_minimum_stress(law);
   if (!(sigma_d > sigma_c) || !(sigma_d < 1.0)) {
     SteadyFront f = detail::empty_front(m, sigma_d);
     f.status = FrontStatus::no_front_state;
-    f.reason = "sigma_d = " + format_number(sigma_d) + " outside (sigma_c^d, 1) = (" + format_number(sigma_c) +
+    f.reason = "sigma_d = " + core::format_number(sigma_d) + " outside (sigma_c^d, 1) = (" + core::format_number(sigma_c) +
                ", 1): no sliding state on the strengthening branch behind, or no stuck state ahead";
     return f;
   }
@@ -612,7 +612,7 @@ SteadyFront solve_steady_front(const InterfaceParams& law, const BulkParams& bul
   return detail::solve_on_mesh(m, o, sigma_d, c0, nullptr, guess, std::nullopt);
 }
 
-SteadyFront solve_saddle_node_front(const InterfaceParams& law, const BulkParams& bulk,
+SteadyFront solve_saddle_node_front(const core::InterfaceParams& law, const core::BulkParams& bulk,
                                     const SteadyFrontOptions& o, const SteadyFront* guess) {
   detail::Model m(law, bulk.rho, bulk.mu);
   m.saddle_node = true;
@@ -627,7 +627,7 @@ SteadyFront solve_saddle_node_front(const InterfaceParams& law, const BulkParams
   return detail::solve_on_mesh(m, o, sigma_c, c0, nullptr, guess, std::nullopt);
 }
 
-FrontBranch continue_steady_fronts(const InterfaceParams& law, const BulkParams& bulk, const ContinuationOptions& o) {
+FrontBranch continue_steady_fronts(const core::InterfaceParams& law, const core::BulkParams& bulk, const ContinuationOptions& o) {
   const detail::Model m(law, bulk.rho, bulk.mu);
   const double cs = m.sound_speed(), sigma_c = steady_minimum_stress(law);
   FrontBranch br;
@@ -646,7 +646,7 @@ FrontBranch continue_steady_fronts(const InterfaceParams& law, const BulkParams&
     prev = solve_steady_front(law, bulk, br.sigma_first, o.front);
   }
   if (prev.status != FrontStatus::converged) {
-    stop(detail::end_of(prev.status), "no front at sigma_start = " + format_number(o.sigma_start) +
+    stop(detail::end_of(prev.status), "no front at sigma_start = " + core::format_number(o.sigma_start) +
                                           " nor below it: " + prev.reason);
     br.last = prev;
     return br;
@@ -680,7 +680,7 @@ FrontBranch continue_steady_fronts(const InterfaceParams& law, const BulkParams&
       break;
     }
     if (cur.sigma_d <= o.sigma_stop) {
-      stop(BranchEnd::sigma_stop, "reached sigma_stop = " + format_number(o.sigma_stop));
+      stop(BranchEnd::sigma_stop, "reached sigma_stop = " + core::format_number(o.sigma_stop));
       break;
     }
     ds = std::min(ds, o.max_step);
@@ -696,7 +696,7 @@ FrontBranch continue_steady_fronts(const InterfaceParams& law, const BulkParams&
       if (ds < o.min_step) break;
     }
     if (next.status != FrontStatus::converged) {
-      stop(detail::end_of(next.status), "continuation stalls at sigma_d = " + format_number(cur.sigma_d) +
+      stop(detail::end_of(next.status), "continuation stalls at sigma_d = " + core::format_number(cur.sigma_d) +
                                              " (step < min_step): " + std::string(to_string(next.status)) + ": " + next.reason);
       break;
     }
@@ -718,10 +718,10 @@ FrontBranch continue_steady_fronts(const InterfaceParams& law, const BulkParams&
     if (end.status == FrontStatus::converged) {
       br.points.push_back(detail::branch_point(end));
       br.last = end;
-      br.reason = "sigma_d -> sigma_c^d = " + format_number(sigma_c) +
+      br.reason = "sigma_d -> sigma_c^d = " + core::format_number(sigma_c) +
                   ": v_b -> v_m, the decaying eigenvalue of the sliding state behind -> 0 (saddle-node with the "
                   "weakening branch); below sigma_c^d there is no steady sliding state behind a front. Limiting "
-                  "front at sigma_c^d solved directly: c = " + format_number(end.c);
+                  "front at sigma_c^d solved directly: c = " + core::format_number(end.c);
     } else {
       br.reason = "sigma_d -> sigma_c^d (saddle-node of the sliding state behind); the limiting front did not "
                   "converge: " + end.reason;
@@ -756,14 +756,14 @@ FrontBranch continue_steady_fronts(const InterfaceParams& law, const BulkParams&
   return br;
 }
 
-ScalingStudy minimal_speed_scaling(const InterfaceParams& law, const BulkParams& bulk, const ScalingOptions& o) {
+ScalingStudy minimal_speed_scaling(const core::InterfaceParams& law, const core::BulkParams& bulk, const ScalingOptions& o) {
   ScalingStudy study;
   const std::pair<const char*, const std::vector<double>*> sweeps[] = {
       {"mu", &o.mu}, {"alpha", &o.alpha}, {"eta", &o.eta}, {"kappa", &o.kappa}};
   for (const auto& [name, values] : sweeps) {
     for (double value : *values) {
-      InterfaceParams l = law;
-      BulkParams b = bulk;
+      core::InterfaceParams l = law;
+      core::BulkParams b = bulk;
       const std::string p = name;
       if (p == "mu") b.mu = value;
       else if (p == "alpha") l.alpha = value;

@@ -20,7 +20,7 @@
 #include <vector>
 
 #include "continuum/friction_law.hpp"
-#include "continuum/params.hpp"
+#include "core/params.hpp"
 
 namespace slipfront::continuum {
 
@@ -57,7 +57,7 @@ struct SteadyFront {
   std::string reason;  ///< one line: why the status (empty when converged)
 
   // Problem (kept so that sample_steady_front needs nothing else).
-  InterfaceParams law;
+  core::InterfaceParams law;
   double rho = 0.0, mu = 0.0;
   double sigma_d = 0.0;
 
@@ -93,12 +93,12 @@ struct SteadyFront {
 
 /// Solve for the steady front at applied stress σ_d. `guess` (optional, e.g. the neighbouring front of
 /// a continuation) gives the starting speed and profile; without it the speed is bracketed by shooting.
-SteadyFront solve_steady_front(const InterfaceParams& law, const BulkParams& bulk, double sigma_d,
+SteadyFront solve_steady_front(const core::InterfaceParams& law, const core::BulkParams& bulk, double sigma_d,
                                const SteadyFrontOptions& options = {}, const SteadyFront* guess = nullptr);
 
 /// The limiting front at the end of the branch, σ_d = σ_c^d: sliding at v_m behind, the decaying mode
 /// replaced by the null mode of the saddle-node (docs/fronts.md §4). Needs a guess (a front near σ_c^d).
-SteadyFront solve_saddle_node_front(const InterfaceParams& law, const BulkParams& bulk,
+SteadyFront solve_saddle_node_front(const core::InterfaceParams& law, const core::BulkParams& bulk,
                                     const SteadyFrontOptions& options, const SteadyFront* guess);
 
 /// Fields of a solved front sampled on nodes x (any order) with the tip at x_tip, for starting a
@@ -155,7 +155,7 @@ struct FrontBranch {
   SteadyFront last;                 ///< the last converged front (for a time-dependent start, or diagnosis)
 };
 
-FrontBranch continue_steady_fronts(const InterfaceParams& law, const BulkParams& bulk,
+FrontBranch continue_steady_fronts(const core::InterfaceParams& law, const core::BulkParams& bulk,
                                    const ContinuationOptions& options = {});
 
 // ---------------------------------------------------------------------------------------------------
@@ -187,7 +187,7 @@ struct ScalingOptions {
   std::vector<double> kappa{4.0, 8.0, 16.0, 32.0};
   ContinuationOptions continuation;
 };
-ScalingStudy minimal_speed_scaling(const InterfaceParams& law, const BulkParams& bulk,
+ScalingStudy minimal_speed_scaling(const core::InterfaceParams& law, const core::BulkParams& bulk,
                                    const ScalingOptions& options = {});
 
 }  // namespace slipfront::continuum

@@ -1,6 +1,6 @@
 #include "discrete/agent_law.hpp"
 
-#include "continuum/interrupt.hpp"
+#include "core/interrupt.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -19,11 +19,11 @@ inline double exp1(Engine& e) { return -std::log(uniform01(e)); }
 
 }  // namespace
 
-AgentLaw::AgentLaw(const continuum::InterfaceParams& ip, const DiscreteParams& dp, std::size_t sites)
+AgentLaw::AgentLaw(const core::InterfaceParams& ip, const DiscreteParams& dp, std::size_t sites)
     : ip_(ip), dp_(dp), g_((dp.validate(), ThresholdDistribution(dp.threshold, dp.width))) {
   if (sites == 0) throw std::invalid_argument("AgentLaw: no sites");
   if (!dp.noise)
-    throw continuum::ParamError("discrete.noise",
+    throw core::ParamError("discrete.noise",
                                 "the agent representation has whole contacts: noise = false needs representation = count");
   n_contacts_ = static_cast<std::size_t>(dp.contacts_per_site);
   degenerate_ = g_.degenerate();
@@ -41,7 +41,7 @@ AgentLaw::AgentLaw(const continuum::InterfaceParams& ip, const DiscreteParams& d
   sigma_bar_.assign(sites, 0.0);
   if (dp.contact_statistics) stats_ = ContactStats(sites, std::max(2.0, 1.0 + 8.0 * dp.width));
   for (std::size_t i = 0; i < sites; ++i) {
-    continuum::poll_stop();  // seconds for 10^8 contacts: a stop request is honoured per site
+    core::poll_stop();  // seconds for 10^8 contacts: a stop request is honoured per site
     set_site(i, 1.0, 0.0);
   }
 }
@@ -209,7 +209,7 @@ void AgentLaw::run_events(std::size_t i, Site& st, Load& ld, double tau, double 
   }
 }
 
-continuum::LawStepInfo AgentLaw::advance(double dt, std::span<const double> v) {
+core::LawStepInfo AgentLaw::advance(double dt, std::span<const double> v) {
   if (v.size() != size()) throw std::invalid_argument("AgentLaw::advance: one slip rate per site");
   const double alpha = ip_.alpha, kappa = ip_.kappa, eta = ip_.eta;
   const double inv_n = 1.0 / static_cast<double>(n_contacts_);
@@ -223,7 +223,7 @@ continuum::LawStepInfo AgentLaw::advance(double dt, std::span<const double> v) {
     }
     Site& st = sites_[i];
     // 1. load: contact stress at the start of the step, the members, Y_i
-    const double tau = continuum::contact_stress(sb + eta * vi, a0);
+    const double tau = core::contact_stress(sb + eta * vi, a0);
     Load ld = classify(st, tau);
     const std::size_t n0 = st.n_att;
     const double y = n0 > 0 ? static_cast<double>(ld.members) / static_cast<double>(n0) : 1.0;
@@ -234,8 +234,8 @@ continuum::LawStepInfo AgentLaw::advance(double dt, std::span<const double> v) {
       run_events(i, st, ld, tau, detach, t0, t1);  // 3. contacts
     const double a1 = static_cast<double>(st.n_att) * inv_n;
     area_[i] = a1;
-    // 4. stress: exact update with Ā = (A + A')/2 and Y frozen (as continuum::FrictionLaw)
-    sigma_bar_[i] = continuum::relax(sb, alpha * 0.5 * (a0 + a1) * vi, y * speed, dt);
+    // 4. stress: exact update with Ā = (A + A')/2 and Y frozen (as the continuum friction law)
+    sigma_bar_[i] = core::relax(sb, alpha * 0.5 * (a0 + a1) * vi, y * speed, dt);
   }
   t_ = t1;
   return {any};
@@ -244,7 +244,7 @@ continuum::LawStepInfo AgentLaw::advance(double dt, std::span<const double> v) {
 double AgentLaw::overloaded_fraction(std::size_t i, double v) const {
   const Site& st = sites_[i];
   if (st.n_att == 0) return 1.0;
-  const double tau = continuum::contact_stress(sigma_bar_[i] + ip_.eta * v, area_[i]);
+  const double tau = core::contact_stress(sigma_bar_[i] + ip_.eta * v, area_[i]);
   if (degenerate_) return tau > 1.0 ? 1.0 : 0.0;
   // members: every contact of the bins wholly below τ, and those of the straddling bin with s < τ
   const auto first = edges_.begin() + 1, last = edges_.begin() + static_cast<std::ptrdiff_t>(nbins_);

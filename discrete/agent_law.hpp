@@ -1,6 +1,6 @@
 #pragma once
 // The microcontact ensemble of docs/model.md §2 in the AGENT representation: every contact explicit (state,
-// threshold s_j, time of last attachment), with the step contract of continuum::FrictionLaw (size,
+// threshold s_j, time of last attachment), with the step contract core::InterfaceLaw (size,
 // contact_area, sigma_bar, set_site, advance, params), so the bulk stepper and the scene runner
 // take it unchanged. It samples the same process as the count representation (CountLaw) and can
 // record contact statistics (discrete/contact_stats.hpp, docs/model.md §2 item 5).
@@ -45,9 +45,9 @@
 #include <span>
 #include <vector>
 
-#include "continuum/exact_update.hpp"
-#include "continuum/law.hpp"
-#include "continuum/params.hpp"
+#include "core/exact_update.hpp"
+#include "core/law.hpp"
+#include "core/params.hpp"
 #include "discrete/contact_stats.hpp"
 #include "discrete/params.hpp"
 #include "discrete/streams.hpp"
@@ -108,11 +108,11 @@ struct DetachedContact {
 class AgentLaw {
  public:
   /// Validates `dp` (ParamError naming the key). All sites start stuck: A = 1, σ̄ = 0.
-  AgentLaw(const continuum::InterfaceParams& ip, const DiscreteParams& dp, std::size_t sites);
+  AgentLaw(const core::InterfaceParams& ip, const DiscreteParams& dp, std::size_t sites);
 
-  // --- the step contract (continuum::FrictionLaw) -------------------------------------------
+  // --- the step contract (core::InterfaceLaw) -------------------------------------------
   std::size_t size() const { return area_.size(); }
-  const continuum::InterfaceParams& params() const { return ip_; }
+  const core::InterfaceParams& params() const { return ip_; }
   std::span<const double> contact_area() const { return area_; }
   std::span<const double> sigma_bar() const { return sigma_bar_; }
 
@@ -124,20 +124,20 @@ class AgentLaw {
   /// docs/model.md §2 over [t, t + dt] with the slip rates v frozen. any_yield: some site had an
   /// overloaded attached contact (or none attached, τ = ∞) and v_i ≠ 0 at the start of the step
   /// (the definition of CountLaw).
-  continuum::LawStepInfo advance(double dt, std::span<const double> v);
+  core::LawStepInfo advance(double dt, std::span<const double> v);
 
   /// Y_i: the overloaded fraction of the attached contacts of site i at slip rate v, now (1 when none
   /// is attached: τ = ∞).
   double overloaded_fraction(std::size_t i, double v) const;
-  /// The implicit step's linearisation (continuum/law.hpp), one site at a time, with y = Y_i at the
+  /// The implicit step's linearisation (core/law.hpp), one site at a time, with y = Y_i at the
   /// previous step's rate.
   auto linearisation(double dt) const {
-    return [this, k = continuum::StressStepConstants(ip_, dt), s_min = degenerate_ ? 1.0 : edges_.front()](
+    return [this, k = core::StressStepConstants(ip_, dt), s_min = degenerate_ ? 1.0 : edges_.front()](
                std::size_t i, double wp, double& c0, double& c1) {
       const double a = area_[i], sb = sigma_bar_[i];
       double y = 0.0;
-      if (wp != 0.0 && continuum::contact_stress(sb + ip_.eta * wp, a) > s_min) y = overloaded_fraction(i, wp);
-      continuum::linearise_stress(a, sb, y, wp, k, c0, c1);
+      if (wp != 0.0 && core::contact_stress(sb + ip_.eta * wp, a) > s_min) y = overloaded_fraction(i, wp);
+      core::linearise_stress(a, sb, y, wp, k, c0, c1);
     };
   }
 
@@ -159,7 +159,7 @@ class AgentLaw {
   ContactTables contact_tables() const { return stats_.tables(); }
   const ContactStats& contact_stats() const { return stats_; }
 
-  /// Checkpoints (continuum::Archive): every contact in its order, the marks, the streams, the statistics.
+  /// Checkpoints (core::Archive): every contact in its order, the marks, the streams, the statistics.
   template <class Ar>
   void serialize(Ar& ar) {
     ar.tag("agent law");
@@ -224,7 +224,7 @@ class AgentLaw {
   /// Step 3 at site i over [t0, t1]: the event-driven chain.
   void run_events(std::size_t i, Site& st, Load& ld, double tau, double detach, double t0, double t1);
 
-  continuum::InterfaceParams ip_;
+  core::InterfaceParams ip_;
   DiscreteParams dp_;
   ThresholdDistribution g_;
   std::size_t n_contacts_ = 1, nbins_ = 1;

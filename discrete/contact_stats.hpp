@@ -193,7 +193,7 @@ class ContactStats {
 
   ContactTables tables() const;
 
-  /// Checkpoints (continuum::Archive).
+  /// Checkpoints (core::Archive).
   template <class Ar>
   void serialize(Ar& ar) {
     ar(enabled_, sites_, lifetime_, detached_, age_, threshold_, n_lifetimes_, n_detached_, lifetimes_, lifetime_start_,

@@ -1,6 +1,6 @@
 #include "discrete/count_law.hpp"
 
-#include "continuum/interrupt.hpp"
+#include "core/interrupt.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -50,10 +50,10 @@ inline void split_rounded(double total, std::span<const std::int64_t> cumulative
   }
 }
 
-// σ̄' of docs/model.md §2: relax() of continuum/exact_update.hpp; at rate 0 it is σ̄ + source Δt, computed
+// σ̄' of docs/model.md §2: relax() of core/exact_update.hpp; at rate 0 it is σ̄ + source Δt, computed
 // without the exponential (bit for bit what relax() returns there: e^{−0} = 1, weight = Δt).
 inline double relax_stress(double sb, double source, double rate, double dt) {
-  return rate > 0.0 ? continuum::relax(sb, source, rate, dt) : sb + source * dt;
+  return rate > 0.0 ? core::relax(sb, source, rate, dt) : sb + source * dt;
 }
 
 /// Persistent worker threads; step k hands each thread the chunks of 64 sites c with
@@ -126,7 +126,7 @@ const DiscreteParams& validated(const DiscreteParams& dp) {
 }
 }  // namespace
 
-CountLaw::CountLaw(const continuum::InterfaceParams& ip, const DiscreteParams& dp, std::size_t sites)
+CountLaw::CountLaw(const core::InterfaceParams& ip, const DiscreteParams& dp, std::size_t sites)
     : ip_(ip), dp_(validated(dp)), g_(dp_.threshold, dp_.width) {
   if (sites == 0) throw std::invalid_argument("CountLaw: no sites");
   nbins_ = g_.degenerate() ? 1 : static_cast<std::size_t>(dp.bins);
@@ -147,7 +147,7 @@ CountLaw::CountLaw(const continuum::InterfaceParams& ip, const DiscreteParams& d
   sigma_bar_.assign(sites, 0.0);
   engines_ = site_engines(dp.seed, sites);
   for (std::size_t i = 0; i < sites; ++i) {
-    continuum::poll_stop();
+    core::poll_stop();
     set_site(i, 1.0, 0.0);
   }
 }
@@ -227,7 +227,7 @@ std::size_t CountLaw::overloaded_bins(double tau) const {
 }
 
 double CountLaw::overloaded_fraction(std::size_t i, double v) const {
-  const double tau = continuum::contact_stress(sigma_bar_[i] + ip_.eta * v, area_[i]);
+  const double tau = core::contact_stress(sigma_bar_[i] + ip_.eta * v, area_[i]);
   const std::size_t k = overloaded_bins(tau);
   if (!(n_att_[i] > 0.0)) return 1.0;
   double over = 0.0;
@@ -235,10 +235,10 @@ double CountLaw::overloaded_fraction(std::size_t i, double v) const {
   return over / n_att_[i];
 }
 
-continuum::LawStepInfo CountLaw::advance(double dt, std::span<const double> v) {
+core::LawStepInfo CountLaw::advance(double dt, std::span<const double> v) {
   if (v.size() != size()) throw std::invalid_argument("CountLaw::advance: one slip rate per site");
   if (dt != cached_dt_) {  // the non-overloaded transition (a = 1, d = 0) depends on dt only
-    attach_only_ = continuum::two_state_transition(1.0, 0.0, dt);
+    attach_only_ = core::two_state_transition(1.0, 0.0, dt);
     cached_free_exp_ = std::exp(-1.0 * dt);
     cached_dt_ = dt;
   }
@@ -260,7 +260,7 @@ bool CountLaw::advance_sites(std::size_t lo, std::size_t hi, double dt, const do
       continue;
     }
     // 1. load: contact stress at the start of the step, overloaded bins [0, k), yield fraction Y
-    const double tau = continuum::contact_stress(sb + eta * vi, a0);
+    const double tau = core::contact_stress(sb + eta * vi, a0);
     if (noise_ && n_att_[i] == n_contacts_ && tau <= thresholds_[0]) {
       // idle (every contact attached, none overloaded): the general path below with k = 0, A' = A
       // and Y = 0, without its calls — the same arithmetic, so the same bits
@@ -293,8 +293,8 @@ double CountLaw::step_contacts_sampled(std::size_t i, std::size_t k, double n_ov
   // 2. idle: nothing can change state
   if (!((n_over > 0.0 && detach > 0.0) || n_det > 0.0)) return area_[i];
   // 3. exact two-state transitions, rates frozen: a = 1; d = κ|v| in overloaded bins, 0 elsewhere
-  const continuum::TwoStateTransition free_tr = attach_only_;
-  const continuum::TwoStateTransition over_tr = k > 0 ? continuum::two_state_transition(1.0, detach, dt) : free_tr;
+  const core::TwoStateTransition free_tr = attach_only_;
+  const core::TwoStateTransition over_tr = k > 0 ? core::two_state_transition(1.0, detach, dt) : free_tr;
   const double leave_p = detach * over_tr.become_attached;  // 1 − P(att→att) = d (1 − e^{−rΔt})/r
   Engine& e = engines_[i];
   if (!quenched_) {
@@ -341,7 +341,7 @@ double CountLaw::step_contacts_mean(std::size_t i, std::size_t k, double detach,
   double* de = det(i);
   // relax(y, s, r, dt) = y e^{−r dt} + s relax_weight(r, dt): the two rates' factors, computed once
   const double r_over = 1.0 + detach;
-  const double e_over = std::exp(-r_over * dt), w_over = continuum::relax_weight(r_over, dt);
+  const double e_over = std::exp(-r_over * dt), w_over = core::relax_weight(r_over, dt);
   const double e_free = cached_free_exp_, w_free = attach_only_.become_attached;
   const double pool = quenched_ ? 0.0 : (1.0 - n_att_[i]) * inv_b;
   double n_new = 0.0;

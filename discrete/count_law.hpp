@@ -1,6 +1,6 @@
 #pragma once
 // The microcontact ensemble of docs/model.md §2 in the COUNT representation, as an interface law with the
-// step contract of continuum::FrictionLaw (size, contact_area, sigma_bar, set_site, advance,
+// step contract core::InterfaceLaw (size, contact_area, sigma_bar, set_site, advance,
 // params): the bulk stepper and the scene runner take it unchanged (docs/discrete.md).
 //
 // State of site i: the attached counts n_{i,b} per threshold bin b (B quantile bins of g with
@@ -26,9 +26,9 @@
 #include <string>
 #include <vector>
 
-#include "continuum/exact_update.hpp"
-#include "continuum/law.hpp"
-#include "continuum/params.hpp"
+#include "core/exact_update.hpp"
+#include "core/law.hpp"
+#include "core/params.hpp"
 #include "discrete/params.hpp"
 #include "discrete/streams.hpp"
 #include "discrete/thresholds.hpp"
@@ -53,16 +53,16 @@ class CountLaw {
  public:
   /// Validates `dp` (ParamError naming the key). All sites start stuck: A = 1, σ̄ = 0, the N
   /// attached contacts spread over the bins by expectation rounding (a stratified sample of g).
-  CountLaw(const continuum::InterfaceParams& ip, const DiscreteParams& dp, std::size_t sites);
+  CountLaw(const core::InterfaceParams& ip, const DiscreteParams& dp, std::size_t sites);
   ~CountLaw();
   CountLaw(CountLaw&&) noexcept;
   CountLaw& operator=(CountLaw&&) noexcept;
   CountLaw(const CountLaw&);  ///< copies the state and the engines; the copy starts its own threads
   CountLaw& operator=(const CountLaw&);
 
-  // --- the step contract (continuum::FrictionLaw) -------------------------------------------
+  // --- the step contract (core::InterfaceLaw) -------------------------------------------
   std::size_t size() const { return area_.size(); }
-  const continuum::InterfaceParams& params() const { return ip_; }
+  const core::InterfaceParams& params() const { return ip_; }
   std::span<const double> contact_area() const { return area_; }
   std::span<const double> sigma_bar() const { return sigma_bar_; }
 
@@ -73,18 +73,18 @@ class CountLaw {
   /// docs/model.md §2 over [t, t + dt] with the slip rates v frozen; any_yield: some site had an
   /// overloaded attached contact (or no attached contact at all, τ = ∞: Θ = 1 of docs/model.md §1) and
   /// v_i ≠ 0 at the start of the step.
-  continuum::LawStepInfo advance(double dt, std::span<const double> v);
+  core::LawStepInfo advance(double dt, std::span<const double> v);
 
-  /// The implicit step's linearisation (continuum/law.hpp), one site at a time: y = Y_i, the overloaded
+  /// The implicit step's linearisation (core/law.hpp), one site at a time: y = Y_i, the overloaded
   /// fraction of the attached contacts at the previous step's rate (0 below the weakest threshold: no
   /// call there).
   auto linearisation(double dt) const {
-    return [this, k = continuum::StressStepConstants(ip_, dt), s_min = thresholds_.front()](
+    return [this, k = core::StressStepConstants(ip_, dt), s_min = thresholds_.front()](
                std::size_t i, double wp, double& c0, double& c1) {
       const double a = area_[i], sb = sigma_bar_[i];
       double y = 0.0;
-      if (wp != 0.0 && continuum::contact_stress(sb + ip_.eta * wp, a) > s_min) y = overloaded_fraction(i, wp);
-      continuum::linearise_stress(a, sb, y, wp, k, c0, c1);
+      if (wp != 0.0 && core::contact_stress(sb + ip_.eta * wp, a) > s_min) y = overloaded_fraction(i, wp);
+      core::linearise_stress(a, sb, y, wp, k, c0, c1);
     };
   }
 
@@ -109,7 +109,7 @@ class CountLaw {
   /// built with the same parameters and size (throws std::invalid_argument otherwise).
   std::string save_state() const;
   void load_state(const std::string& text);
-  /// Checkpoints (continuum::Archive): save_state / load_state.
+  /// Checkpoints (core::Archive): save_state / load_state.
   template <class Ar>
   void serialize(Ar& ar) {
     ar.tag("count law");
@@ -131,7 +131,7 @@ class CountLaw {
   double* att(std::size_t i) { return att_.data() + i * nbins_; }
   double* det(std::size_t i) { return det_.data() + i * det_stride_; }
 
-  continuum::InterfaceParams ip_;
+  core::InterfaceParams ip_;
   DiscreteParams dp_;
   ThresholdDistribution g_;
   std::vector<double> thresholds_;  ///< s_b, ascending [B]
@@ -148,7 +148,7 @@ class CountLaw {
   std::vector<Engine> engines_;    ///< [sites] site_engine(seed, i)
 
   double cached_dt_ = -1.0;        ///< two-state transition of a non-overloaded bin for cached_dt_
-  continuum::TwoStateTransition attach_only_{1.0, 0.0};
+  core::TwoStateTransition attach_only_{1.0, 0.0};
   double cached_free_exp_ = 1.0;   ///< e^{−cached_dt_}
 
   detail::PoolHandle pool_;

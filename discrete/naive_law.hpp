@@ -18,10 +18,10 @@
 #include <stdexcept>
 #include <vector>
 
-#include "continuum/exact_update.hpp"
-#include "continuum/interrupt.hpp"
-#include "continuum/law.hpp"
-#include "continuum/params.hpp"
+#include "core/exact_update.hpp"
+#include "core/interrupt.hpp"
+#include "core/law.hpp"
+#include "core/params.hpp"
 #include "discrete/contact_stats.hpp"
 #include "discrete/params.hpp"
 #include "discrete/streams.hpp"
@@ -31,11 +31,11 @@ namespace slipfront::discrete {
 
 class NaiveAgentLaw {
  public:
-  NaiveAgentLaw(const continuum::InterfaceParams& ip, const DiscreteParams& dp, std::size_t sites)
+  NaiveAgentLaw(const core::InterfaceParams& ip, const DiscreteParams& dp, std::size_t sites)
       : ip_(ip), dp_(dp), g_((dp.validate(), ThresholdDistribution(dp.threshold, dp.width))) {
     if (sites == 0) throw std::invalid_argument("NaiveAgentLaw: no sites");
     if (!dp.noise)
-      throw continuum::ParamError("discrete.noise",
+      throw core::ParamError("discrete.noise",
                                   "the agent representation has whole contacts: noise = false needs representation = count");
     n_contacts_ = static_cast<std::size_t>(dp.contacts_per_site);
     quenched_ = dp.renewal == "quenched";
@@ -46,14 +46,14 @@ class NaiveAgentLaw {
     sigma_bar_.assign(sites, 0.0);
     if (dp.contact_statistics) stats_ = ContactStats(sites, std::max(2.0, 1.0 + 8.0 * dp.width));
     for (std::size_t i = 0; i < sites; ++i) {
-      continuum::poll_stop();
+      core::poll_stop();
       set_site(i, 1.0, 0.0);
     }
   }
 
-  // --- the step contract (continuum::FrictionLaw) -------------------------------------------
+  // --- the step contract (core::InterfaceLaw) -------------------------------------------
   std::size_t size() const { return area_.size(); }
-  const continuum::InterfaceParams& params() const { return ip_; }
+  const core::InterfaceParams& params() const { return ip_; }
   std::span<const double> contact_area() const { return area_; }
   std::span<const double> sigma_bar() const { return sigma_bar_; }
 
@@ -72,11 +72,11 @@ class NaiveAgentLaw {
   }
 
   /// docs/model.md §2 over [t, t + dt], v frozen; any_yield as AgentLaw.
-  continuum::LawStepInfo advance(double dt, std::span<const double> v) {
+  core::LawStepInfo advance(double dt, std::span<const double> v) {
     if (v.size() != size()) throw std::invalid_argument("NaiveAgentLaw::advance: one slip rate per site");
     const double alpha = ip_.alpha, kappa = ip_.kappa, eta = ip_.eta;
     const double t1 = t_ + dt;
-    const continuum::TwoStateTransition free_tr = continuum::two_state_transition(1.0, 0.0, dt);
+    const core::TwoStateTransition free_tr = core::two_state_transition(1.0, 0.0, dt);
     bool any = false;
     for (std::size_t i = 0; i < size(); ++i) {
       const double vi = v[i], speed = std::abs(vi), a0 = area_[i], sb = sigma_bar_[i];
@@ -84,9 +84,9 @@ class NaiveAgentLaw {
         sigma_bar_[i] = std::numeric_limits<double>::quiet_NaN();
         continue;
       }
-      const double tau = continuum::contact_stress(sb + eta * vi, a0);
+      const double tau = core::contact_stress(sb + eta * vi, a0);
       const double detach = kappa * speed;
-      const continuum::TwoStateTransition over_tr = continuum::two_state_transition(1.0, detach, dt);
+      const core::TwoStateTransition over_tr = core::two_state_transition(1.0, detach, dt);
       Engine& e = engines_[i];
       std::size_t members = 0, n = n_att_[i];
       for (Contact& c : contacts_[i]) {
@@ -114,7 +114,7 @@ class NaiveAgentLaw {
       const double a1 = static_cast<double>(n) / static_cast<double>(n_contacts_);
       n_att_[i] = n;
       area_[i] = a1;
-      sigma_bar_[i] = continuum::relax(sb, alpha * 0.5 * (a0 + a1) * vi, y * speed, dt);
+      sigma_bar_[i] = core::relax(sb, alpha * 0.5 * (a0 + a1) * vi, y * speed, dt);
     }
     t_ = t1;
     return {any};
@@ -124,17 +124,17 @@ class NaiveAgentLaw {
   /// attached).
   double overloaded_fraction(std::size_t i, double v) const {
     if (n_att_[i] == 0) return 1.0;
-    const double tau = continuum::contact_stress(sigma_bar_[i] + ip_.eta * v, area_[i]);
+    const double tau = core::contact_stress(sigma_bar_[i] + ip_.eta * v, area_[i]);
     std::size_t over = 0;
     for (const Contact& c : contacts_[i]) over += c.attached && tau > c.threshold ? 1 : 0;
     return static_cast<double>(over) / static_cast<double>(n_att_[i]);
   }
-  /// The implicit step's linearisation (continuum/law.hpp), one site at a time, with y = Y_i at the
+  /// The implicit step's linearisation (core/law.hpp), one site at a time, with y = Y_i at the
   /// previous step's rate.
   auto linearisation(double dt) const {
-    return [this, k = continuum::StressStepConstants(ip_, dt)](std::size_t i, double wp, double& c0, double& c1) {
+    return [this, k = core::StressStepConstants(ip_, dt)](std::size_t i, double wp, double& c0, double& c1) {
       const double y = wp != 0.0 ? overloaded_fraction(i, wp) : 0.0;
-      continuum::linearise_stress(area_[i], sigma_bar_[i], y, wp, k, c0, c1);
+      core::linearise_stress(area_[i], sigma_bar_[i], y, wp, k, c0, c1);
     };
   }
 
@@ -151,7 +151,7 @@ class NaiveAgentLaw {
   void observe_front(const FrontClasses& f) { stats_.set_front(f); }
   ContactTables contact_tables() const { return stats_.tables(); }
   const ContactStats& contact_stats() const { return stats_; }
-  /// Checkpoints (continuum::Archive).
+  /// Checkpoints (core::Archive).
   template <class Ar>
   void serialize(Ar& ar) {
     ar.tag("naive law");
@@ -173,7 +173,7 @@ class NaiveAgentLaw {
   };
   double draw_threshold(Engine& e) const { return g_.degenerate() ? 1.0 : g_.from_uniform(uniform01(e)); }
 
-  continuum::InterfaceParams ip_;
+  core::InterfaceParams ip_;
   DiscreteParams dp_;
   ThresholdDistribution g_;
   std::size_t n_contacts_ = 1;

@@ -8,8 +8,8 @@
 namespace slipfront::discrete {
 
 namespace {
-using continuum::KeyDomain;
-using K = continuum::KeyKind;
+using core::KeyDomain;
+using K = core::KeyKind;
 const KeyDomain discrete_domains[] = {
     {"discrete.contacts_per_site", K::integer, 1.0, 1e15, false, false, false, "",
      "(counts are whole numbers held in doubles: exact up to 2^53)"},
@@ -41,13 +41,13 @@ bool one_of(const std::string& value, const char* choices) {
 std::span<const KeyDomain> key_domains() { return discrete_domains; }
 
 void DiscreteParams::validate() const {
-  using continuum::ParamError;
-  auto domain = [](const char* key) { return *continuum::find_key_domain(key_domains(), key); };
-  continuum::check_in_domain(domain("discrete.contacts_per_site"), static_cast<double>(contacts_per_site));
+  using core::ParamError;
+  auto domain = [](const char* key) { return *core::find_key_domain(key_domains(), key); };
+  core::check_in_domain(domain("discrete.contacts_per_site"), static_cast<double>(contacts_per_site));
   if (!one_of(threshold, domain("discrete.threshold").choices))
     throw ParamError("discrete.threshold",
                      "unknown distribution '" + threshold + "' (expected delta, uniform, gaussian or weibull)");
-  continuum::check_in_domain(domain("discrete.width"), width);
+  core::check_in_domain(domain("discrete.width"), width);
   if (threshold == "delta" && width != 0.0)
     throw ParamError("discrete.width", "a delta distribution has width 0 (choose uniform, gaussian or weibull)");
   // the law itself: its domain, the convergence of its construction, its mean and sd (throws with the reason)
@@ -59,8 +59,8 @@ void DiscreteParams::validate() const {
                      "unknown representation '" + representation + "' (expected count, agent or naive)");
   if (seed > static_cast<std::uint64_t>(INT64_MAX))  // (as a double 2^63 - 1 and 2^63 are the same number)
     throw ParamError("discrete.seed", "must be <= 2^63 - 1 = 9223372036854775807 (a TOML integer), got " + std::to_string(seed));
-  continuum::check_in_domain(domain("discrete.bins"), bins);
-  continuum::check_in_domain(domain("discrete.threads"), threads);
+  core::check_in_domain(domain("discrete.bins"), bins);
+  core::check_in_domain(domain("discrete.threads"), threads);
 }
 
 }  // namespace slipfront::discrete

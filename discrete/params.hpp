@@ -4,7 +4,7 @@
 #include <span>
 #include <string>
 
-#include "continuum/params.hpp"
+#include "core/params.hpp"
 
 namespace slipfront::discrete {
 
@@ -19,13 +19,13 @@ struct DiscreteParams {
   int bins = 64;                         ///< count representation: quantile bins of g when w > 0
   bool contact_statistics = false;       ///< agent: store /discrete/contacts
   int threads = 1;                       ///< threads over sites (results do not depend on it)
-  void validate() const;                 ///< throws continuum::ParamError("discrete.<key>", reason)
+  void validate() const;                 ///< throws core::ParamError("discrete.<key>", reason)
 };
 
-/// The domains of the [discrete] keys (see continuum::KeyDomain): validate() checks them, the
+/// The domains of the [discrete] keys (see core::KeyDomain): validate() checks them, the
 /// hostile-input test iterates them. discrete.width's row is the widest law's; each law's own limit
 /// is max_width(threshold) (discrete/thresholds.hpp).
-std::span<const continuum::KeyDomain> key_domains();
+std::span<const core::KeyDomain> key_domains();
 
 /// Largest accepted discrete.threads: more threads than this only adds overhead (sites are shared in
 /// chunks of 64, so 1024 threads need 65536 sites to be busy) and each costs a stack.

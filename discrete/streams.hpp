@@ -38,7 +38,7 @@ inline void load_state(Engine& e, const std::string& s) {
   is >> e;
 }
 
-/// An engine in a checkpoint (continuum::Archive): its state as text.
+/// An engine in a checkpoint (core::Archive): its state as text.
 template <class Ar>
 void serialize_engine(Ar& ar, Engine& e) {
   std::string s = ar.loading() ? std::string() : save_state(e);

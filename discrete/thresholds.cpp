@@ -10,13 +10,13 @@
 #include <limits>
 #include <numbers>
 
-#include "continuum/params.hpp"
+#include "core/params.hpp"
 
 namespace slipfront::discrete {
 namespace {
 
-using continuum::format_number;
-using continuum::ParamError;
+using core::format_number;
+using core::ParamError;
 
 constexpr double inf = std::numeric_limits<double>::infinity();
 const double uniform_max_width = 1.0 / std::numbers::sqrt3;  // 1/√3, as the old check computed it

@@ -8,7 +8,7 @@
 //             built for w ≤ 10 (k ≥ 0.188: beyond, the law is a few huge thresholds among
 //             vanishing ones and the count representation's bins lose their meaning)
 // Construction solves for the parameters with a bracketing root finder (Boost TOMS 748) and
-// refuses (continuum::ParamError naming discrete.width) when the width is outside the domain, the
+// refuses (core::ParamError naming discrete.width) when the width is outside the domain, the
 // solver does not converge, or the constructed law's theoretical mean and sd differ from 1 and w
 // by more than 1e-9 (docs/robustness.md §2). Conditional means over quantile intervals (the count
 // representation's bins) are closed forms.
@@ -23,7 +23,7 @@ double max_width(const std::string& kind);
 
 class ThresholdDistribution {
  public:
-  /// Throws continuum::ParamError("discrete.width" or "discrete.threshold", reason) when the law
+  /// Throws core::ParamError("discrete.width" or "discrete.threshold", reason) when the law
   /// cannot be built (see the header comment).
   ThresholdDistribution(const std::string& kind, double width);
 

@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "continuum/params.hpp"
+#include "core/params.hpp"
 #include "discrete/params.hpp"
 
 namespace slipfront::testing {
@@ -91,7 +91,7 @@ struct Sample0D {
 };
 
 template <class Law>
-Sample0D run_0d(const discrete::DiscreteParams& base, continuum::InterfaceParams ip, double v, std::uint64_t seed0, int seeds) {
+Sample0D run_0d(const discrete::DiscreteParams& base, core::InterfaceParams ip, double v, std::uint64_t seed0, int seeds) {
   Sample0D out;
   const double dt = 0.01;
   const int at[3] = {250, 500, 2000}, steps = 12000;

@@ -18,13 +18,13 @@
 #include "compare/runner.hpp"
 #include "compare/scene.hpp"
 #include "continuum/friction_law.hpp"
-#include "continuum/params.hpp"
+#include "core/params.hpp"
 
 namespace slipfront::testing {
 
 /// The paper's interface parameters (docs/model.md §1): α = 1.05, κ = 8, η = 0.1.
-inline continuum::InterfaceParams paper_interface() {
-  continuum::InterfaceParams p;
+inline core::InterfaceParams paper_interface() {
+  core::InterfaceParams p;
   p.alpha = 1.05;
   p.kappa = 8.0;
   p.eta = 0.1;
@@ -40,7 +40,7 @@ inline compare::Scene fig1_scene() {
   s.bulk.rho = 0.01;
   s.bulk.mu = 300.0;
   s.bulk.length = 300.0;
-  s.drive.loading = continuum::Loading::edge;
+  s.drive.loading = core::Loading::edge;
   s.drive.K = 2.5;
   s.drive.v_d = 0.3;
   s.grid.dx = 0.5;
@@ -57,7 +57,7 @@ inline compare::Scene fig1_scene() {
 inline compare::Scene homogeneous_scene(double sigma_d, double nucleation_length, double t_end) {
   compare::Scene s = fig1_scene();
   s.name = "homogeneous_front";
-  s.drive.loading = continuum::Loading::homogeneous;
+  s.drive.loading = core::Loading::homogeneous;
   s.drive.sigma_d = sigma_d;
   s.drive.nucleation_length = nucleation_length;
   s.time.t_end = t_end;
@@ -69,7 +69,7 @@ inline compare::Scene homogeneous_scene(double sigma_d, double nucleation_length
 inline compare::Scene spring_block_scene(double t_end) {
   compare::Scene s = fig1_scene();
   s.name = "spring_block";
-  s.drive.loading = continuum::Loading::spring_block;
+  s.drive.loading = core::Loading::spring_block;
   s.time.t_end = t_end;
   s.output.series_dt = 0.0;  // every step
   s.output.snapshot_dt = 0.0;
@@ -82,7 +82,7 @@ inline compare::Scene imposed_rate_scene() {
   compare::Scene s;
   s.name = "friction_law";
   s.interface = paper_interface();
-  s.drive.loading = continuum::Loading::imposed_rate;
+  s.drive.loading = core::Loading::imposed_rate;
   s.time.t_end = 100.0;
   s.time.slip_end = 50.0;
   s.time.steps = 4000;

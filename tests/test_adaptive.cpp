@@ -1,4 +1,4 @@
-// The adaptive integrator (continuum/adaptive.hpp) against closed forms, against itself (orders of
+// The adaptive integrator (core/adaptive.hpp) against closed forms, against itself (orders of
 // accuracy), against the explicit reference scheme (fig1 events) and against the CVODE peer
 // (bench/cvode_fig1.*): it must solve the same method-of-lines ODE as the explicit scheme, locate
 // every Θ switching, and be as accurate as it claims (docs/performance.md).
@@ -11,16 +11,17 @@
 #include <vector>
 
 #include "bench/cvode_fig1.hpp"
-#include "continuum/adaptive.hpp"
+#include "core/adaptive.hpp"
 #include "scenes.hpp"
 
 namespace continuum = slipfront::continuum;
+namespace core = slipfront::core;
 namespace compare = slipfront::compare;
 namespace bench = slipfront::bench;
 namespace testing = slipfront::testing;
-using continuum::AdaptiveOptions;
-using continuum::AdaptiveSimulation;
-using continuum::Field;
+using core::AdaptiveOptions;
+using core::AdaptiveSimulation;
+using core::Field;
 
 namespace {
 
@@ -50,7 +51,7 @@ struct EndState {
 
 // Run a dynamic scene (edge loading or spring block, at rest at t = 0) to exactly t_end.
 EndState run_to(const compare::Scene& s, double t_end, const AdaptiveOptions& o) {
-  continuum::Bulk bulk(s.bulk, s.drive, s.interface, s.grid.dx);
+  core::Bulk bulk(s.bulk, s.drive, s.interface, s.grid.dx);
   const std::size_t n = bulk.nodes();
   AdaptiveSimulation sim(std::move(bulk), continuum::FrictionLaw(s.interface, n), o);
   sim.set_stop_time(t_end);
@@ -116,21 +117,21 @@ TEST_CASE("adaptive: options are validated and name their config key", "[adaptiv
   AdaptiveOptions o;
   CHECK_NOTHROW(o.validate());
   o.rtol = 0.0;
-  CHECK_THROWS_AS(o.validate(), continuum::ParamError);
+  CHECK_THROWS_AS(o.validate(), core::ParamError);
   try {
     o.validate();
-  } catch (const continuum::ParamError& e) {
+  } catch (const core::ParamError& e) {
     CHECK(e.key == "time.rtol");
   }
   o = AdaptiveOptions{};
   o.atol = -1.0;
-  CHECK_THROWS_AS(o.validate(), continuum::ParamError);
+  CHECK_THROWS_AS(o.validate(), core::ParamError);
   o = AdaptiveOptions{};
   o.dt_max = 0.0;
-  CHECK_THROWS_AS(o.validate(), continuum::ParamError);
+  CHECK_THROWS_AS(o.validate(), core::ParamError);
   o = AdaptiveOptions{};
   o.dt_min = 2.0 * o.dt_initial;
-  CHECK_THROWS_AS(o.validate(), continuum::ParamError);
+  CHECK_THROWS_AS(o.validate(), core::ParamError);
 }
 
 TEST_CASE("adaptive: the stuck state of homogeneous loading stays put and steps grow to dt_max", "[adaptive]") {
@@ -139,7 +140,7 @@ TEST_CASE("adaptive: the stuck state of homogeneous loading stays put and steps 
   // nothing happening, take the largest steps it is allowed: 20 time units in ≤ 20 + 15 steps
   // (dt_max = 1, first step 1e-3 growing ×5 per step at most).
   auto s = testing::homogeneous_scene(0.5, 0.0, 20.0);
-  continuum::Bulk bulk(s.bulk, s.drive, s.interface, s.grid.dx);
+  core::Bulk bulk(s.bulk, s.drive, s.interface, s.grid.dx);
   const std::size_t n = bulk.nodes();
   AdaptiveSimulation sim(std::move(bulk), continuum::FrictionLaw(s.interface, n), tolerance(1e-6));
   for (std::size_t i = 0; i < n; ++i) {
@@ -247,7 +248,7 @@ TEST_CASE("adaptive: dense output, stop time and the step contract", "[adaptive]
   // The dense output reproduces the state at both ends of the last step (to 1e-15), its midpoint
   // value lies within the step's tolerance of a tight run, and a stop time is landed on exactly.
   const auto s = testing::fig1_scene();
-  continuum::Bulk bulk(s.bulk, s.drive, s.interface, s.grid.dx);
+  core::Bulk bulk(s.bulk, s.drive, s.interface, s.grid.dx);
   const std::size_t n = bulk.nodes();
   AdaptiveSimulation sim(std::move(bulk), continuum::FrictionLaw(s.interface, n), tolerance(1e-4));
   sim.set_stop_time(27.3);
@@ -281,11 +282,11 @@ TEST_CASE("adaptive: dense output, stop time and the step contract", "[adaptive]
 
 TEST_CASE("adaptive: a non-finite state ends in NumericalError, not in a hang", "[adaptive]") {
   const auto s = testing::fig1_scene();
-  continuum::Bulk bulk(s.bulk, s.drive, s.interface, s.grid.dx);
+  core::Bulk bulk(s.bulk, s.drive, s.interface, s.grid.dx);
   const std::size_t n = bulk.nodes();
   AdaptiveSimulation sim(std::move(bulk), continuum::FrictionLaw(s.interface, n), tolerance(1e-4));
   sim.set_initial(7, 0.0, std::numeric_limits<double>::quiet_NaN());
-  CHECK_THROWS_AS(sim.step(), continuum::NumericalError);
+  CHECK_THROWS_AS(sim.step(), core::NumericalError);
 }
 
 TEST_CASE("adaptive: fig1 events agree with the explicit reference scheme, at a fraction of the steps",

@@ -89,14 +89,14 @@ compare::SceneResult restarted(const compare::Scene& s, const std::string& state
 }
 
 // fig1 on L = 60, dx = 1 to t = 60 (through first yield and the slow front), both models.
-compare::Scene small(continuum::Integrator integ, const std::string& representation) {
+compare::Scene small(core::Integrator integ, const std::string& representation) {
   compare::Scene s = testing::fig1_scene();
   s.models = {"continuum", "discrete"};
   s.bulk.length = 60.0;
   s.grid.dx = 1.0;
   s.time.t_end = 60.0;
   s.time.integrator = integ;
-  if (integ == continuum::Integrator::implicit_trapezoidal) s.time.dt = 0.01;
+  if (integ == core::Integrator::implicit_trapezoidal) s.time.dt = 0.01;
   s.output.series_dt = 0.5;
   s.output.snapshot_dt = 5.0;
   s.output.compare_dt = 5.0;
@@ -113,11 +113,11 @@ compare::Scene small(continuum::Integrator integ, const std::string& representat
 
 TEST_CASE("checkpoint: a restarted run is the uninterrupted run bit for bit, every integrator and representation",
           "[checkpoint]") {
-  using continuum::Integrator;
+  using core::Integrator;
   for (const auto integ : {Integrator::central_difference, Integrator::implicit_trapezoidal, Integrator::adaptive_rosenbrock})
     for (const char* rep : {"count", "agent", "naive"}) {
       const compare::Scene s = small(integ, rep);
-      INFO(continuum::to_string(integ) << ", " << rep);
+      INFO(core::to_string(integ) << ", " << rep);
       const auto whole = compare::run_scene_alongside(s, {});
       if (std::string(rep) != "count") {
         // the state of docs/model.md §7 is in the run: both models' ages, the agent's classed statistics,
@@ -141,7 +141,7 @@ TEST_CASE("checkpoint: a restarted run is the uninterrupted run bit for bit, eve
 
 TEST_CASE("checkpoint: energy budgets, the spring block, a steady-front start and a stop request", "[checkpoint]") {
   std::vector<compare::Scene> scenes;
-  for (const auto integ : {continuum::Integrator::central_difference, continuum::Integrator::implicit_trapezoidal}) {
+  for (const auto integ : {core::Integrator::central_difference, core::Integrator::implicit_trapezoidal}) {
     compare::Scene b = testing::spring_block_scene(80.0);
     b.models = {"continuum", "discrete"};
     b.drive.K = 0.25;
@@ -149,7 +149,7 @@ TEST_CASE("checkpoint: energy budgets, the spring block, a steady-front start an
     b.output.energy = true;
     b.output.series_dt = 0.1;
     b.time.integrator = integ;
-    if (integ == continuum::Integrator::implicit_trapezoidal) b.time.dt = 0.01;
+    if (integ == core::Integrator::implicit_trapezoidal) b.time.dt = 0.01;
     scenes.push_back(b);
   }
   compare::Scene h = testing::homogeneous_scene(0.3, 0.0, 6.0);
@@ -164,7 +164,7 @@ TEST_CASE("checkpoint: energy budgets, the spring block, a steady-front start an
   scenes.push_back(h);
   for (auto& s : scenes) {
     s.validate();
-    INFO(s.name << ", " << continuum::to_string(s.time.integrator));
+    INFO(s.name << ", " << core::to_string(s.time.integrator));
     const auto whole = compare::run_scene_alongside(s, {});
     std::vector<Saved> saved;
     run_checkpointed(s, s.time.t_end / 4.0, saved);
@@ -172,7 +172,7 @@ TEST_CASE("checkpoint: energy budgets, the spring block, a steady-front start an
     require_identical(whole, restarted(s, saved[1].state));
   }
   // A stop request writes a last checkpoint; continued from it, the run completes as if never stopped.
-  const compare::Scene s = small(continuum::Integrator::central_difference, "count");
+  const compare::Scene s = small(core::Integrator::central_difference, "count");
   const auto whole = compare::run_scene_alongside(s, {});
   compare::RunControl ctl;
   std::vector<Saved> saved;

@@ -201,7 +201,7 @@ TEST_CASE("cli: SIGINT stops the run and writes a readable file with status inte
 
 TEST_CASE("cli: SIGINT during the set-up of a large ensemble is honoured within a bounded time", "[cli]") {
   // The agent representation with 2·10^5 contacts per site on 601 sites (1.2·10^8 contacts): setting them up
-  // takes about 1.5 s. SIGINT 0.3 s in stops it at the next site (continuum/interrupt.hpp): exit 130 within
+  // takes about 1.5 s. SIGINT 0.3 s in stops it at the next site (core/interrupt.hpp): exit 130 within
   // 0.5 s of the signal, a readable results file with status interrupted (issue 10: no minutes-long set-up
   // that ignores Ctrl-C).
   const TempDir dir("cli-sigint-setup");

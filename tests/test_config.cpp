@@ -17,7 +17,7 @@ using slipfront::app::parse_scene;
 using slipfront::app::same_scene;
 using slipfront::app::to_toml;
 using slipfront::compare::Scene;
-using slipfront::continuum::Loading;
+using slipfront::core::Loading;
 using slipfront::testing::TempDir;
 
 namespace {

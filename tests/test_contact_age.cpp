@@ -26,9 +26,9 @@
 #include <vector>
 
 #include "compare/alongside.hpp"
-#include "continuum/adaptive.hpp"
+#include "core/adaptive.hpp"
 #include "continuum/friction_law.hpp"
-#include "continuum/law.hpp"
+#include "core/law.hpp"
 #include "discrete/agent_law.hpp"
 #include "discrete_agent_helpers.hpp"
 #include "scenes.hpp"
@@ -41,7 +41,7 @@ namespace {
 struct Site0D {
   continuum::FrictionLaw law;
   double t = 0.0;
-  Site0D(const continuum::InterfaceParams& p, double area, double sigma_bar, double mean_age) : law(p, 1) {
+  Site0D(const core::InterfaceParams& p, double area, double sigma_bar, double mean_age) : law(p, 1) {
     law.track_ages(true);
     law.set_site(0, area, sigma_bar);
     law.set_site_age(0, mean_age);
@@ -77,7 +77,7 @@ struct StepClosedForm {
 };
 
 // Largest |ā − closed form| over t = 0.05, 0.1, ..., 2 after the step, with step dt.
-double step_error(const continuum::InterfaceParams& p, const StepClosedForm& cf, double dt) {
+double step_error(const core::InterfaceParams& p, const StepClosedForm& cf, double dt) {
   const continuum::SteadyState ss = continuum::steady_sliding(p, cf.v1);
   Site0D s(p, ss.area, ss.sigma_bar, 1.0 / (p.kappa * cf.v1));
   double err = 0.0;
@@ -187,7 +187,7 @@ TEST_CASE("contact age: the adaptive step's age integration is second order on i
   std::vector<double> err;
   for (const int n : {10, 20, 40, 80}) {
     double m = 0.3;
-    for (int k = 0; k < n; ++k) m = continuum::integrate_age_mass(m, T * k / n, T * (k + 1) / n, true, kappa, area, speed);
+    for (int k = 0; k < n; ++k) m = core::integrate_age_mass(m, T * k / n, T * (k + 1) / n, true, kappa, area, speed);
     err.push_back(std::abs(m - ref));
   }
   std::printf("adaptive age integration: errors %.2e %.2e %.2e %.2e, orders %.2f %.2f %.2f\n", err[0], err[1], err[2],
@@ -200,14 +200,14 @@ TEST_CASE("contact age: the adaptive step's age integration is second order on i
   // Θ = 0 and constant A: exact, M grows by A·T.
   auto flat = [](double) { return 0.7; };
   auto never = [](double) -> double { throw std::logic_error("slip rate read with Theta = 0"); };
-  CHECK(continuum::integrate_age_mass(1.0, 0.0, 2.0, false, 8.0, flat, never) == Approx(2.4).epsilon(1e-15));
+  CHECK(core::integrate_age_mass(1.0, 0.0, 2.0, false, 8.0, flat, never) == Approx(2.4).epsilon(1e-15));
 }
 
 TEST_CASE("contact age on fig1: the adaptive integrator's age map agrees with the explicit scheme's", "[age][adaptive]") {
   auto s = testing::fig1_scene();
   s.output.ages = true;
   const compare::ModelResult ex = testing::run_continuum(s);
-  s.time.integrator = continuum::Integrator::adaptive_rosenbrock;
+  s.time.integrator = core::Integrator::adaptive_rosenbrock;
   const compare::ModelResult ad = testing::run_continuum(s);
   REQUIRE(ex.snapshots.count("age"));
   REQUIRE(ad.snapshots.count("age"));
@@ -267,7 +267,7 @@ void run_history(Law& law, History& h) {
   }
 }
 
-continuum::InterfaceParams alpha2() {
+core::InterfaceParams alpha2() {
   auto p = testing::paper_interface();
   p.alpha = 2.0;
   return p;

@@ -46,7 +46,7 @@ double history_v(double t0) { return t0 < 9.9999 ? 0.5 : (t0 < 19.9999 ? 3.0 : 0
 // t = 9.9 and 34.9 (during the hold): no contact is attached at both (hazard 24 over [10, 20])
 bool snapshot_step(int n) { return n == 990 || n == 3490; }
 
-continuum::InterfaceParams alpha2() {
+core::InterfaceParams alpha2() {
   auto p = testing::paper_interface();
   p.alpha = 2.0;
   return p;
@@ -61,7 +61,7 @@ discrete::ContactTables predict_0d(double contacts, double hazard_scale) {
   pred.start(law.contact_area());
   for (int n = 1; n <= kSteps; ++n) {
     const double v = history_v((n - 1) * kDt), a0 = law.contact_area()[0], sb0 = law.sigma_bar()[0];
-    const double h[1] = {continuum::contact_stress(sb0 + p.eta * v, a0) > 1.0 ? p.kappa * std::abs(v) : 0.0};
+    const double h[1] = {core::contact_stress(sb0 + p.eta * v, a0) > 1.0 ? p.kappa * std::abs(v) : 0.0};
     const double vv[1] = {v}, aa[1] = {a0};
     law.advance(kDt, vv);
     pred.step(kDt, aa, h);
@@ -149,7 +149,7 @@ compare::Scene front_scene() {
   s.name = "contacts_small";
   s.bulk.length = 100.0;
   s.time.t_end = 70.0;
-  s.time.integrator = continuum::Integrator::implicit_trapezoidal;
+  s.time.integrator = core::Integrator::implicit_trapezoidal;
   s.time.dt = 0.02;
   s.output.snapshot_dt = 5.0;
   s.output.compare_dt = 0.0;
@@ -206,11 +206,11 @@ TEST_CASE("contact statistics on a front: the agent agrees with the continuum's 
   CHECK(c.scalars.at("contact_prediction_max_cohorts") <= bound);
 
   // A deliberately wrong prediction from the same fields: the hazard × 1.2.
-  const continuum::Bulk probe(s.bulk, s.drive, s.interface, s.grid.dx);
+  const core::Bulk probe(s.bulk, s.drive, s.interface, s.grid.dx);
   compare::ContactPredictionSetup wrong;
   wrong.mode = compare::ContactPredictionSetup::Mode::on;
   wrong.hazard_scale = 1.2;
-  compare::DynamicRun<continuum::FrictionLaw, continuum::ImplicitSimulation<continuum::FrictionLaw>> run(
+  compare::DynamicRun<continuum::FrictionLaw, core::ImplicitSimulation<continuum::FrictionLaw>> run(
       s, continuum::FrictionLaw(s.interface, probe.nodes()), "continuum", wrong);
   while (!run.done()) run.step();
   const auto cw = compare::compare_results(s, run.finish(), d);

@@ -19,7 +19,7 @@
 
 #include "compare/alongside.hpp"
 #include "compare/runner.hpp"
-#include "continuum/implicit.hpp"
+#include "core/implicit.hpp"
 #include "discrete/agent_law.hpp"
 #include "scenes.hpp"
 
@@ -30,7 +30,7 @@ namespace {
 compare::Scene contacts_scene() {
   auto s = testing::fig1_scene();
   s.name = "contacts";
-  s.time.integrator = continuum::Integrator::implicit_trapezoidal;
+  s.time.integrator = core::Integrator::implicit_trapezoidal;
   s.time.dt = 0.02;
   s.output.snapshot_dt = 0.5;
   s.output.contact_snapshot_dt = 5.0;
@@ -72,11 +72,11 @@ Summary summarise(const compare::Comparison& c, const char* label) {
 // The prediction from the agent's own fields, stored as the tables of a "continuum" result.
 compare::ModelResult self_prediction(const compare::Scene& s, compare::ModelResult& agent) {
   using Law = discrete::AgentLaw;
-  const continuum::Bulk probe(s.bulk, s.drive, s.interface, s.grid.dx);
+  const core::Bulk probe(s.bulk, s.drive, s.interface, s.grid.dx);
   compare::ContactPredictionSetup self;
   self.mode = compare::ContactPredictionSetup::Mode::on;
   self.prefix = "self_";
-  compare::DynamicRun<Law, continuum::ImplicitSimulation<Law>> run(s, Law(s.interface, s.discrete, probe.nodes()), "discrete",
+  compare::DynamicRun<Law, core::ImplicitSimulation<Law>> run(s, Law(s.interface, s.discrete, probe.nodes()), "discrete",
                                                                    self);
   while (!run.done()) run.step();
   agent = run.finish();
@@ -123,11 +123,11 @@ TEST_CASE("fig1 contact statistics against the continuum's prediction and the ag
   CHECK(self.tested >= 10);
   CHECK(self.worst_p > 1e-3 / self.tested);
 
-  const continuum::Bulk probe(s.bulk, s.drive, s.interface, s.grid.dx);
+  const core::Bulk probe(s.bulk, s.drive, s.interface, s.grid.dx);
   compare::ContactPredictionSetup wrong;
   wrong.mode = compare::ContactPredictionSetup::Mode::on;
   wrong.hazard_scale = 1.2;
-  compare::DynamicRun<continuum::FrictionLaw, continuum::ImplicitSimulation<continuum::FrictionLaw>> run(
+  compare::DynamicRun<continuum::FrictionLaw, core::ImplicitSimulation<continuum::FrictionLaw>> run(
       s, continuum::FrictionLaw(s.interface, probe.nodes()), "continuum", wrong);
   while (!run.done()) run.step();
   const Summary w = summarise(compare::compare_results(s, run.finish(), r.models[1]), "agent vs kappa x 1.2");

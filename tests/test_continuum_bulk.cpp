@@ -1,4 +1,4 @@
-// The elastic bulk + friction law (continuum/bulk, continuum/stepper) against closed forms and
+// The elastic bulk + friction law (core/bulk, core/stepper) against closed forms and
 // physical invariants (docs/model.md §1, §4): the quasi-static elastic stage of edge loading, the first-yield
 // time t*, the explicit stability limit, the stationary stuck state of homogeneous loading, the 0D
 // spring block (steady sliding vs stick-slip, decided by linear stability), the energy budget, and the
@@ -12,12 +12,13 @@
 #include <vector>
 
 #include "compare/runner.hpp"
-#include "continuum/bulk.hpp"
+#include "core/bulk.hpp"
 #include "continuum/friction_law.hpp"
-#include "continuum/stepper.hpp"
+#include "core/stepper.hpp"
 #include "scenes.hpp"
 
 namespace continuum = slipfront::continuum;
+namespace core = slipfront::core;
 namespace compare = slipfront::compare;
 namespace testing = slipfront::testing;
 using continuum::FrictionLaw;
@@ -143,18 +144,18 @@ TEST_CASE("continuum bulk: stability limit: stable_dt is the Gershgorin bound, a
   //    by far more than 1e3 (predicted ~1e7), still in stick; later NaN, reported as NumericalError.
   compare::Scene s = testing::homogeneous_scene(0.5, 0.0, 1.0);
   const double rho = s.bulk.rho, mu = s.bulk.mu, a = s.interface.alpha, dx = s.grid.dx;
-  const continuum::Bulk bulk(s.bulk, s.drive, s.interface, dx);
+  const core::Bulk bulk(s.bulk, s.drive, s.interface, dx);
   CHECK(rel_err(bulk.stable_dt(), 2.0 / std::sqrt(4.0 * mu / (rho * dx * dx) + a / rho)) < 1e-14);
   {
     const auto f = testing::fig1_scene();
-    const continuum::Bulk edge(f.bulk, f.drive, f.interface, f.grid.dx);
+    const core::Bulk edge(f.bulk, f.drive, f.interface, f.grid.dx);
     const double w2 = 4.0 * f.bulk.mu / (f.bulk.rho * f.grid.dx * f.grid.dx) + 2.0 * f.drive.K / (f.bulk.rho * f.grid.dx) +
                       f.interface.alpha / f.bulk.rho;
     CHECK(rel_err(edge.stable_dt(), 2.0 / std::sqrt(w2)) < 1e-14);
   }
   const double sd = s.drive.sigma_d, eps = 1e-12;
   auto make = [&](double factor) {
-    continuum::ExplicitSimulation<FrictionLaw> sim(bulk, FrictionLaw(s.interface, bulk.nodes()),
+    core::ExplicitSimulation<FrictionLaw> sim(bulk, FrictionLaw(s.interface, bulk.nodes()),
                                                    factor * bulk.stable_dt());
     for (std::size_t i = 0; i < bulk.nodes(); ++i) {
       const double zig = (i % 2 == 0 ? 1.0 : -1.0) * eps;
@@ -163,7 +164,7 @@ TEST_CASE("continuum bulk: stability limit: stable_dt is the Gershgorin bound, a
     }
     return sim;
   };
-  auto amplitude = [&](const continuum::ExplicitSimulation<FrictionLaw>& sim) {
+  auto amplitude = [&](const core::ExplicitSimulation<FrictionLaw>& sim) {
     double m = 0.0;
     for (double u : sim.slip()) m = std::max(m, std::abs(u - sd / a));
     return m;
@@ -186,7 +187,7 @@ TEST_CASE("continuum bulk: stability limit: stable_dt is the Gershgorin bound, a
     for (int n = 0; n < 60; ++n) sim.step();
     INFO("zig-zag at 1.01 stable_dt: amplitude after 60 steps " << amplitude(sim) / eps << " eps");
     CHECK(amplitude(sim) > 1e3 * eps);
-    CHECK_THROWS_AS([&] { for (int n = 0; n < 20000; ++n) sim.step(); }(), continuum::NumericalError);
+    CHECK_THROWS_AS([&] { for (int n = 0; n < 20000; ++n) sim.step(); }(), core::NumericalError);
   }
 }
 
@@ -197,12 +198,12 @@ TEST_CASE("continuum bulk: stability limit: fig1 above the limit is refused by v
   // not with garbage or a crash. dt = 1.05 stable_dt: growth ~1.4 per step of the highest mode.
   auto s = testing::fig1_scene();
   s.time.t_end = 20.0;
-  const continuum::Bulk bulk(s.bulk, s.drive, s.interface, s.grid.dx);
+  const core::Bulk bulk(s.bulk, s.drive, s.interface, s.grid.dx);
   s.time.dt = 1.05 * bulk.stable_dt();
   try {
     s.validate();
     FAIL("validate() accepted time.dt above the stability limit");
-  } catch (const continuum::ParamError& e) {
+  } catch (const core::ParamError& e) {
     CHECK(e.key == "time.dt");
   }
   const auto r = testing::run_continuum(s, /*validate=*/false);
@@ -253,7 +254,7 @@ namespace {
 // δσ̄ = α v_d δA/(λ + v_d) (at steady state ασ̄-terms cancel: α A_ss − σ̄_ss = 0), hence
 //   (ρλ² + ηλ + K)(λ + v_d)(λ + r) − α κ A_ss v_d λ = 0.
 // Returns the root with the largest real part (Durand–Kerner on the monic quartic).
-std::complex<double> leading_root(const continuum::InterfaceParams& p, double rho, double K, double vd) {
+std::complex<double> leading_root(const core::InterfaceParams& p, double rho, double K, double vd) {
   using C = std::complex<double>;
   const double r = 1.0 + p.kappa * vd, A = 1.0 / r, b1 = vd + r, b0 = vd * r;
   const double c[5] = {rho, rho * b1 + p.eta, rho * b0 + p.eta * b1 + K, p.eta * b0 + K * b1 - p.alpha * p.kappa * A * vd,
@@ -279,9 +280,9 @@ std::complex<double> leading_root(const continuum::InterfaceParams& p, double rh
 // ln|v − v_d| at its local maxima for t in [t_from, T].
 double measured_growth_rate(const compare::Scene& s, double T, double t_from, double du) {
   const auto& p = s.interface;
-  const continuum::Bulk bulk(s.bulk, s.drive, p, 1.0);
+  const core::Bulk bulk(s.bulk, s.drive, p, 1.0);
   const double dt = s.time.dt, vd = s.drive.v_d;
-  continuum::ExplicitSimulation<FrictionLaw> sim(bulk, FrictionLaw(p, 1), dt);
+  core::ExplicitSimulation<FrictionLaw> sim(bulk, FrictionLaw(p, 1), dt);
   const auto ss = continuum::steady_sliding(p, vd);
   sim.law().set_site(0, ss.area, ss.sigma_bar);
   sim.set_initial(0, -ss.sigma / s.drive.K + du, vd);  // K (v_d·0 − u) = σ_ss, plus δu

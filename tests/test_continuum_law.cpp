@@ -9,13 +9,14 @@
 #include <vector>
 
 #include "compare/runner.hpp"
-#include "continuum/exact_update.hpp"
+#include "core/exact_update.hpp"
 #include "continuum/friction_law.hpp"
 #include "scenes.hpp"
 
 using slipfront::continuum::FrictionLaw;
-using slipfront::continuum::InterfaceParams;
+using slipfront::core::InterfaceParams;
 namespace continuum = slipfront::continuum;
+namespace core = slipfront::core;
 namespace compare = slipfront::compare;
 namespace testing = slipfront::testing;
 
@@ -38,8 +39,8 @@ bool step(FrictionLaw& law, double dt, double v) {
 }  // namespace
 
 TEST_CASE("continuum law: exact update: relax and relax_weight equal the closed-form solution, incl. rate -> 0", "[law][exact]") {
-  using continuum::relax;
-  using continuum::relax_weight;
+  using core::relax;
+  using core::relax_weight;
   // Physics: dy/dt = s − r y with frozen s, r has y(t) = s/r + (y0 − s/r) e^{−rt} and, at r = 0, y0 + s t.
   // Tolerance: 1e-14 relative, times (1 + s/(r y)): the reference formula itself cancels s/r against
   // (y0 − s/r) e^{−rt} when s/r ≫ y (r = 1e-3: s/r = 300 for y ≈ 0.9).
@@ -69,8 +70,8 @@ TEST_CASE("continuum law: exact update: relax and relax_weight equal the closed-
 }
 
 TEST_CASE("continuum law: exact update: two-state transition probabilities and their mean equal the area update", "[law][exact]") {
-  using continuum::relax;
-  using continuum::two_state_transition;
+  using core::relax;
+  using core::two_state_transition;
   // Physics (docs/model.md §2): P(att→att) = (a + d e^{−r dt})/r, P(det→att) = a (1 − e^{−r dt})/r, r = a + d;
   // with a = 1 the mean A' = A P(att→att) + (1 − A) P(det→att) is the continuum update
   // A e^{−r dt} + (1 − e^{−r dt})/r (hierarchy item 1). Tolerance 1e-14.
@@ -126,7 +127,7 @@ TEST_CASE("continuum law: law, onset: Theta switches on at the first step whose 
   FrictionLaw law(p, 1);
   int first_yield = -1;
   for (int n = 0; n < 1000 && first_yield < 0; ++n) {
-    const double stress = continuum::contact_stress(law.sigma_bar()[0] + p.eta * v, law.contact_area()[0]);
+    const double stress = core::contact_stress(law.sigma_bar()[0] + p.eta * v, law.contact_area()[0]);
     const bool yielded = step(law, dt, v);
     CHECK(yielded == (stress > 1.0));  // the flag is Θ of the start-of-step state
     if (yielded) first_yield = n;
@@ -300,7 +301,7 @@ TEST_CASE("continuum law: the friction_law scene reports v_m and sigma_c^d from 
   // The sweep's own search (compare/runner.hpp) on the computed steady law: v_m = (sqrt(ακ/η) − 1)/κ
   // and σ_c^d = 2 sqrt(αη/κ) − η/κ to 1e-6 relative (the search stops at 1e-7 in log v; σ is flat there).
   compare::Scene s;
-  s.drive.loading = continuum::Loading::imposed_rate;
+  s.drive.loading = core::Loading::imposed_rate;
   s.drive.sweep_points = 21;
   s.output.snapshot_dt = 0;
   s.validate();

@@ -20,7 +20,7 @@
 
 #include "compare/runner.hpp"
 #include "compare/scene.hpp"
-#include "continuum/params.hpp"
+#include "core/params.hpp"
 #include "discrete/agent_law.hpp"
 #include "discrete/count_law.hpp"
 #include "discrete/naive_law.hpp"
@@ -61,11 +61,11 @@ void check_one_step(const discrete::DiscreteParams& dp, double area, double sigm
   law.set_site(0, area, sigma_bar);
   const double n = static_cast<double>(dp.contacts_per_site);
   const double n_att = std::round(area * n);
-  const double tau = continuum::contact_stress(sigma_bar + ip.eta * v, n_att / n);
+  const double tau = core::contact_stress(sigma_bar + ip.eta * v, n_att / n);
   const discrete::ThresholdDistribution g(dp.threshold, dp.width);
   const double over = g.degenerate() ? (tau > 1.0 ? 1.0 : 0.0) : g.cdf(tau);
-  const auto tr_over = continuum::two_state_transition(1.0, ip.kappa * std::abs(v), dt);
-  const auto tr_free = continuum::two_state_transition(1.0, 0.0, dt);
+  const auto tr_over = core::two_state_transition(1.0, ip.kappa * std::abs(v), dt);
+  const auto tr_free = core::two_state_transition(1.0, 0.0, dt);
   const double expected = n_att * (over * tr_over.stay_attached + (1.0 - over) * tr_free.stay_attached) +
                           (n - n_att) * (over * tr_over.become_attached + (1.0 - over) * tr_free.become_attached);
   const double v1[1] = {v};
@@ -293,8 +293,8 @@ TEST_CASE("agent: set_site", "[discrete][agent]") {
   CHECK_THROWS_AS(law.set_site(0, 1.5, 0.0), std::invalid_argument);
   auto dp = discrete_params(10, 1);
   dp.noise = false;
-  CHECK_THROWS_AS(discrete::AgentLaw(ip, dp, 1), continuum::ParamError);
-  CHECK_THROWS_AS(discrete::NaiveAgentLaw(ip, dp, 1), continuum::ParamError);
+  CHECK_THROWS_AS(discrete::AgentLaw(ip, dp, 1), core::ParamError);
+  CHECK_THROWS_AS(discrete::NaiveAgentLaw(ip, dp, 1), core::ParamError);
 }
 
 TEST_CASE("agent: contact statistics reach the run's result", "[discrete][agent]") {

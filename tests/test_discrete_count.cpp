@@ -15,7 +15,7 @@
 
 #include "compare/runner.hpp"
 #include "compare/scene.hpp"
-#include "continuum/exact_update.hpp"
+#include "core/exact_update.hpp"
 #include "continuum/friction_law.hpp"
 #include "discrete/count_law.hpp"
 #include "discrete/streams.hpp"
@@ -27,7 +27,7 @@ using discrete::DiscreteParams;
 
 namespace {
 
-const continuum::InterfaceParams paper = testing::paper_interface();
+const core::InterfaceParams paper = testing::paper_interface();
 
 DiscreteParams params(long n, const std::string& threshold = "delta", double w = 0.0, bool noise = true) {
   DiscreteParams p;
@@ -112,8 +112,8 @@ TEST_CASE("discrete count: one step, w = 0: attached counts follow the exact two
   const double alpha = 1e-3, v = 1.0, dt = 0.05, d = paper.kappa * v;
   const int trials = 20000;
   CountLaw law(paper, params(40), 1);
-  const auto over = continuum::two_state_transition(1.0, d, dt);
-  const auto free = continuum::two_state_transition(1.0, 0.0, dt);
+  const auto over = core::two_state_transition(1.0, d, dt);
+  const auto free = core::two_state_transition(1.0, 0.0, dt);
 
   SECTION("all attached, overloaded: pure detachment, n' ~ Bin(40, P(att→att))") {
     // σ̄ = 2, A = 1: τ = 2.1 > 1
@@ -125,7 +125,7 @@ TEST_CASE("discrete count: one step, w = 0: attached counts follow the exact two
   SECTION("half attached, not overloaded: pure attachment, n' − 20 ~ Bin(20, P(det→att), d = 0)") {
     // σ̄ = 0: τ = ηv/A = 0.2 < 1; longer step so that P(det→att) ≈ 0.39
     const double dt2 = 0.5;
-    const auto free2 = continuum::two_state_transition(1.0, 0.0, dt2);
+    const auto free2 = core::two_state_transition(1.0, 0.0, dt2);
     const auto h = one_step_histogram(law, 0.5, 0.0, v, dt2, -1, trials);
     std::vector<double> pmf(41, 0.0);
     const auto b = binomial_pmf(20, free2.become_attached);
@@ -162,8 +162,8 @@ TEST_CASE("discrete count: one step, w > 0: every bin's marginal law (fresh and 
   const double area = 0.5, sigma_bar = 1.0 * area - paper.eta * v;  // τ = (σ̄ + ηv)/A = 1
   law.set_site(0, area, sigma_bar);
   REQUIRE(law.overloaded_fraction(0, v) == 0.5);
-  const auto over = continuum::two_state_transition(1.0, d, dt);
-  const auto free = continuum::two_state_transition(1.0, 0.0, dt);
+  const auto over = core::two_state_transition(1.0, d, dt);
+  const auto free = core::two_state_transition(1.0, 0.0, dt);
   for (int b = 0; b < 4; ++b) {
     const auto& tr = b < 2 ? over : free;
     const auto h = one_step_histogram(law, area, sigma_bar, v, dt, b, trials);
@@ -180,7 +180,7 @@ TEST_CASE("discrete count: one step, w > 0: every bin's marginal law (fresh and 
 }
 
 TEST_CASE("discrete count: noise off: one step equals the closed forms", "[discrete][count]") {
-  // Exact (bitwise) against relax() of continuum/exact_update.hpp, which is how the expectation is
+  // Exact (bitwise) against relax() of core/exact_update.hpp, which is how the expectation is
   // evaluated; and to 1e-15 relative (a few ulps) against the two-state form
   // n P(att→att) + (T − n) P(det→att), algebraically the same number.
   const double dt = 0.03, v = 0.7, d = paper.kappa * v;
@@ -191,13 +191,13 @@ TEST_CASE("discrete count: noise off: one step equals the closed forms", "[discr
     const double vv[2] = {v, v};
     const auto info = law.advance(dt, vv);
     CHECK(info.any_yield);
-    const double a_over = continuum::relax(0.6, 1.0, 1.0 + d, dt);
-    const double a_free = continuum::relax(0.6, 1.0, 1.0, dt);
+    const double a_over = core::relax(0.6, 1.0, 1.0 + d, dt);
+    const double a_free = core::relax(0.6, 1.0, 1.0, dt);
     CHECK(law.contact_area()[0] == a_over);
     CHECK(law.contact_area()[1] == a_free);
-    const auto tr = continuum::two_state_transition(1.0, d, dt);
+    const auto tr = core::two_state_transition(1.0, d, dt);
     CHECK(law.contact_area()[0] == Approx(0.6 * tr.stay_attached + 0.4 * tr.become_attached).epsilon(1e-15));
-    CHECK(law.sigma_bar()[0] == continuum::relax(1.0, paper.alpha * 0.5 * (0.6 + a_over) * v, v, dt));
+    CHECK(law.sigma_bar()[0] == core::relax(1.0, paper.alpha * 0.5 * (0.6 + a_over) * v, v, dt));
     CHECK(law.sigma_bar()[1] == 0.3 + paper.alpha * 0.5 * (0.6 + a_free) * v * dt);
     // the continuum law from the same state gives the same numbers
     continuum::FrictionLaw c(paper, 2);
@@ -219,8 +219,8 @@ TEST_CASE("discrete count: noise off: one step equals the closed forms", "[discr
     CHECK(y == Approx(0.5).epsilon(1e-15));
     const double vv[1] = {v};
     law.advance(dt, vv);
-    const auto over = continuum::two_state_transition(1.0, d, dt);
-    const auto free = continuum::two_state_transition(1.0, 0.0, dt);
+    const auto over = core::two_state_transition(1.0, d, dt);
+    const auto free = core::two_state_transition(1.0, 0.0, dt);
     double total = 0.0;
     for (std::size_t b = 0; b < 4; ++b) {
       const auto& tr = b < 2 ? over : free;
@@ -231,7 +231,7 @@ TEST_CASE("discrete count: noise off: one step equals the closed forms", "[discr
     CHECK(law.contact_area()[0] == Approx(total).epsilon(1e-15));
     CHECK(law.detached(0)[0] == Approx(1.0 - total).epsilon(1e-15));
     CHECK(law.sigma_bar()[0] ==
-          continuum::relax(sb, paper.alpha * 0.5 * (a0 + law.contact_area()[0]) * v, y * v, dt));
+          core::relax(sb, paper.alpha * 0.5 * (a0 + law.contact_area()[0]) * v, y * v, dt));
   }
 }
 
@@ -331,7 +331,7 @@ TEST_CASE("discrete count: bad parameters are refused, naming the key", "[discre
   auto refused_key = [](const DiscreteParams& p) -> std::string {
     try {
       CountLaw law(paper, p, 1);
-    } catch (const continuum::ParamError& e) {
+    } catch (const core::ParamError& e) {
       return e.key;
     }
     return "accepted";
@@ -359,7 +359,7 @@ TEST_CASE("discrete count: bad parameters are refused, naming the key", "[discre
   try {
     s.validate();
     FAIL("accepted N < 1");
-  } catch (const continuum::ParamError& e) {
+  } catch (const core::ParamError& e) {
     CHECK(e.key == "discrete.contacts_per_site");
   }
   CountLaw law(paper, params(10), 1);

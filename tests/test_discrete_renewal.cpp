@@ -23,7 +23,7 @@
 #include <vector>
 
 #include "compare/measure.hpp"
-#include "continuum/params.hpp"
+#include "core/params.hpp"
 #include "discrete/agent_law.hpp"
 #include "discrete_agent_helpers.hpp"
 
@@ -40,7 +40,7 @@ struct RenewalRun {
 };
 
 RenewalRun run_steady(double kappa_v, std::uint64_t seed) {
-  continuum::InterfaceParams ip;
+  core::InterfaceParams ip;
   ip.alpha = 2.0;
   ip.kappa = 8.0;
   ip.eta = 0.1;

@@ -19,7 +19,7 @@ using discrete::ThresholdDistribution;
 
 namespace {
 
-const continuum::InterfaceParams paper = testing::paper_interface();
+const core::InterfaceParams paper = testing::paper_interface();
 
 // M thresholds drawn by inversion from one stream.
 std::vector<double> sample(const ThresholdDistribution& g, std::size_t m, std::uint64_t seed) {

@@ -10,7 +10,7 @@
 
 #include "compare/estimate.hpp"
 #include "compare/runner.hpp"
-#include "continuum/bulk.hpp"
+#include "core/bulk.hpp"
 #include "scenes.hpp"
 
 using namespace slipfront;
@@ -31,7 +31,7 @@ TEST_CASE("estimate: the explicit stability limit is Bulk::stable_dt() bit for b
   odd.bulk.rho = 0.037;
   scenes.push_back(odd);
   for (const auto& s : scenes) {
-    const continuum::Bulk b(s.bulk, s.drive, s.interface, s.grid.dx);
+    const core::Bulk b(s.bulk, s.drive, s.interface, s.grid.dx);
     CHECK(compare::explicit_stable_dt(s) == b.stable_dt());
   }
   // a 2e7-node grid is estimated without allocating it (well under a second)
@@ -50,7 +50,7 @@ TEST_CASE("estimate: fixed-step counts are the runner's exactly (explicit, impli
   edge.grid.dx = 2.0;
   edge.time.t_end = 3.0;
   Scene implicit = edge;
-  implicit.time.integrator = continuum::Integrator::implicit_trapezoidal;
+  implicit.time.integrator = core::Integrator::implicit_trapezoidal;
   implicit.time.dt = 0.013;  // t_end not a multiple: the runner shortens the step
   Scene spring = testing::spring_block_scene(7.0);
   Scene history = testing::imposed_rate_scene();
@@ -63,7 +63,7 @@ TEST_CASE("estimate: fixed-step counts are the runner's exactly (explicit, impli
     const auto e = compare::estimate(*s);
     const auto r = compare::run_scene(*s, compare::RunControl{});
     REQUIRE(r.size() == 1);
-    INFO(continuum::to_string(s->drive.loading) << " " << continuum::to_string(s->time.integrator));
+    INFO(core::to_string(s->drive.loading) << " " << core::to_string(s->time.integrator));
     CHECK(e.models.at(0).steps == steps_of(r[0]));
   }
 }
@@ -74,7 +74,7 @@ TEST_CASE("estimate: the adaptive step count is within a factor 3 of a real run"
   s.bulk.length = 60.0;
   s.grid.dx = 1.0;
   s.time.t_end = 60.0;
-  s.time.integrator = continuum::Integrator::adaptive_rosenbrock;
+  s.time.integrator = core::Integrator::adaptive_rosenbrock;
   s.output.snapshot_dt = 0.0;
   s.validate();
   const double estimated = compare::estimate(s).models.at(0).steps;
@@ -128,7 +128,7 @@ TEST_CASE("estimate: refusals name the limit, the estimate and what drives it; r
   try {
     s.validate();
     FAIL("accepted 7e11 steps");
-  } catch (const continuum::ParamError& e) {
+  } catch (const core::ParamError& e) {
     CHECK(e.key == "limits.max_steps");
     CHECK(e.reason.find("time.t_end / dt") != std::string::npos);
     CHECK(e.reason.find("6.94e+11") != std::string::npos);
@@ -137,7 +137,7 @@ TEST_CASE("estimate: refusals name the limit, the estimate and what drives it; r
   try {
     s.validate();
     FAIL("accepted ~weeks of run time");
-  } catch (const continuum::ParamError& e) {
+  } catch (const core::ParamError& e) {
     CHECK(e.key == "limits.max_hours");
     CHECK(e.reason.find("site-steps") != std::string::npos);
   }

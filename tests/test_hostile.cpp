@@ -1,5 +1,5 @@
 // Hostile input (issue 10): every key of the configuration schema gets bad values derived from its row
-// of the one domain table (continuum::key_domains, discrete::key_domains, compare::limit_key_domains)
+// of the one domain table (core::key_domains, discrete::key_domains, compare::limit_key_domains)
 // and each must be refused with the key named; a schema key without a row fails the test. Then the
 // reproducers of the issue, each refused with a reason (or shown to be correct), and a seeded random
 // pass over every key that must never crash.
@@ -25,8 +25,8 @@ using slipfront::app::ConfigError;
 using slipfront::app::parse_scene;
 using slipfront::app::schema_keys;
 using slipfront::app::uses_key;
-using slipfront::continuum::KeyDomain;
-using slipfront::continuum::KeyKind;
+using slipfront::core::KeyDomain;
+using slipfront::core::KeyKind;
 namespace compare = slipfront::compare;
 namespace discrete = slipfront::discrete;
 
@@ -178,9 +178,9 @@ TEST_CASE("hostile: the domain table's bounds are the ones validate() applies", 
     CHECK_FALSE(d.contains(std::nan("")));
     CHECK_FALSE(d.contains(std::numeric_limits<double>::infinity()));
     try {
-      slipfront::continuum::check_in_domain(d, std::nan(""));
+      slipfront::core::check_in_domain(d, std::nan(""));
       FAIL_CHECK("NaN accepted");
-    } catch (const slipfront::continuum::ParamError& e) {
+    } catch (const slipfront::core::ParamError& e) {
       CHECK(e.key == d.key);
       CHECK(e.reason.find("must be") != std::string::npos);
     }

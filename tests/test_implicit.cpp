@@ -1,4 +1,4 @@
-// The fixed-step implicit integrator (continuum/implicit.hpp, time.integrator = "implicit", issue 5):
+// The fixed-step implicit integrator (core/implicit.hpp, time.integrator = "implicit", issue 5):
 // its discrete energy budget closes to round-off, it is second order in Δt on the smooth elastic
 // stage and converges to the explicit reference's solution of the same discretisation, it stays
 // stable at 100× the explicit limit, it reproduces fig1's events within 1% at Δt = 0.01, and with
@@ -10,7 +10,7 @@
 
 #include "compare/alongside.hpp"
 #include "compare/runner.hpp"
-#include "continuum/implicit.hpp"
+#include "core/implicit.hpp"
 #include "scenes.hpp"
 
 using namespace slipfront;
@@ -18,10 +18,10 @@ using namespace slipfront;
 namespace {
 
 // `resolution_check` false: a test of stability or of the energy identity at steps the accuracy check
-// (continuum::implicit_resolution) would refuse on purpose.
+// (core::implicit_resolution) would refuse on purpose.
 compare::Scene implicit(compare::Scene s, double dt, bool resolution_check = true) {
   s.models = {"continuum"};
-  s.time.integrator = continuum::Integrator::implicit_trapezoidal;
+  s.time.integrator = core::Integrator::implicit_trapezoidal;
   s.time.dt = dt;
   s.time.implicit_resolution_check = resolution_check;
   s.validate();
@@ -97,9 +97,9 @@ TEST_CASE("implicit: second order in dt on stuck-interface waves, converging to 
       sim.set_initial(i, 0.5 / s.interface.alpha + 0.01 * std::cos(4.0 * pi * x[i] / L), 0.0);
     }
   };
-  auto bulk = [&] { return continuum::Bulk(s.bulk, s.drive, s.interface, s.grid.dx); };
+  auto bulk = [&] { return core::Bulk(s.bulk, s.drive, s.interface, s.grid.dx); };
   auto implicit_u = [&](double dt) {
-    continuum::ImplicitSimulation<continuum::FrictionLaw> sim(bulk(), continuum::FrictionLaw(s.interface, bulk().nodes()),
+    core::ImplicitSimulation<continuum::FrictionLaw> sim(bulk(), continuum::FrictionLaw(s.interface, bulk().nodes()),
                                                              dt);
     init(sim);
     const auto n = std::llround(s.time.t_end / dt);
@@ -111,7 +111,7 @@ TEST_CASE("implicit: second order in dt on stuck-interface waves, converging to 
   };
   auto explicit_u = [&](double cfl) {
     const double dt = s.time.t_end / std::ceil(s.time.t_end / (cfl * bulk().stable_dt()));
-    continuum::ExplicitSimulation<continuum::FrictionLaw> sim(bulk(), continuum::FrictionLaw(s.interface, bulk().nodes()),
+    core::ExplicitSimulation<continuum::FrictionLaw> sim(bulk(), continuum::FrictionLaw(s.interface, bulk().nodes()),
                                                               dt);
     init(sim);
     const auto n = std::llround(s.time.t_end / dt);
@@ -171,7 +171,7 @@ TEST_CASE("implicit: stable far beyond the explicit limit, also on the stiff cor
   // bound α plus at most one step of loading past the threshold (the yield test lags by one step, so
   // a large Δt overshoots the threshold by up to α A v Δt — a first-order error, not an instability).
   compare::Scene fig1 = testing::fig1_scene();
-  const continuum::Bulk b(fig1.bulk, fig1.drive, fig1.interface, fig1.grid.dx);
+  const core::Bulk b(fig1.bulk, fig1.drive, fig1.interface, fig1.grid.dx);
   compare::Scene stiff = testing::fig1_scene();
   stiff.interface.alpha = 50.0;
   stiff.interface.kappa = 1000.0;
@@ -229,12 +229,12 @@ TEST_CASE("implicit: noise off and w = 0, the count representation is the contin
 
 TEST_CASE("implicit: time.dt is required and may exceed the explicit limit", "[implicit][config]") {
   compare::Scene s = testing::fig1_scene();
-  s.time.integrator = continuum::Integrator::implicit_trapezoidal;
+  s.time.integrator = core::Integrator::implicit_trapezoidal;
   s.time.dt = 0.0;
   try {
     s.validate();
     FAIL("implicit without time.dt accepted");
-  } catch (const continuum::ParamError& e) {
+  } catch (const core::ParamError& e) {
     CHECK(e.key == "time.dt");
   }
   s.time.dt = 0.03;  // 20x the explicit limit, within the implicit step's resolution bounds
@@ -243,23 +243,23 @@ TEST_CASE("implicit: time.dt is required and may exceed the explicit limit", "[i
   try {
     s.validate();
     FAIL("implicit dt not resolving the drive spring accepted");
-  } catch (const continuum::ParamError& e) {
+  } catch (const core::ParamError& e) {
     CHECK(e.key == "time.dt");
     CHECK(e.reason.find("drive spring") != std::string::npos);
   }
   s.time.implicit_resolution_check = false;
   CHECK_NOTHROW(s.validate());
   s.time.implicit_resolution_check = true;
-  s.time.integrator = continuum::Integrator::central_difference;
+  s.time.integrator = core::Integrator::central_difference;
   try {
     s.validate();
     FAIL("explicit dt beyond the stability limit accepted");
-  } catch (const continuum::ParamError& e) {
+  } catch (const core::ParamError& e) {
     CHECK(e.key == "time.dt");
   }
-  s.drive.loading = continuum::Loading::imposed_rate;
-  s.time.integrator = continuum::Integrator::implicit_trapezoidal;
-  CHECK_THROWS_AS(s.time.validate(s.drive.loading), continuum::ParamError);
+  s.drive.loading = core::Loading::imposed_rate;
+  s.time.integrator = core::Integrator::implicit_trapezoidal;
+  CHECK_THROWS_AS(s.time.validate(s.drive.loading), core::ParamError);
 }
 
 TEST_CASE("implicit: noise on, N = 10^6, the discrete model follows the continuum on the same integrator",
@@ -300,7 +300,7 @@ TEST_CASE("implicit: the issue-10 corners at dt = 0.02 are refused with the reas
     s.interface.kappa = kappa;
     s.interface.eta = eta;
     s.drive.K = K;
-    s.time.integrator = continuum::Integrator::implicit_trapezoidal;
+    s.time.integrator = core::Integrator::implicit_trapezoidal;
     s.time.dt = 0.02;
     return s;
   };
@@ -308,7 +308,7 @@ TEST_CASE("implicit: the issue-10 corners at dt = 0.02 are refused with the reas
     try {
       s.validate();
       FAIL("accepted: " << what);
-    } catch (const continuum::ParamError& e) {
+    } catch (const core::ParamError& e) {
       CHECK(e.key == "time.dt");
       CHECK(e.reason.find(what) != std::string::npos);
       CHECK(e.reason.find("use time.dt <=") != std::string::npos);
@@ -318,7 +318,7 @@ TEST_CASE("implicit: the issue-10 corners at dt = 0.02 are refused with the reas
   ok.time.dt = 0.005;
   ok.validate();
   compare::Scene ref = ok;
-  ref.time.integrator = continuum::Integrator::central_difference;
+  ref.time.integrator = core::Integrator::central_difference;
   ref.time.dt = 0.0;
   ref.validate();
   const auto a = run_one(ok), b = run_one(ref);

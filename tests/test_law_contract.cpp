@@ -1,5 +1,5 @@
 // The interface-law contract and the bulk operator (issue 9): every law satisfies the concepts of
-// continuum/law.hpp; a new law written in one file (tests/laws/) runs through the runner on every
+// core/law.hpp; a new law written in one file (tests/laws/) runs through the runner on every
 // integrator it can; the bulk's operator, its matrix (Eigen) and the implicit step agree; the adaptive
 // integrator's energy budget closes.
 #include <catch2/catch.hpp>
@@ -11,7 +11,7 @@
 
 #include "compare/runner.hpp"
 #include "continuum/friction_law.hpp"
-#include "continuum/implicit.hpp"
+#include "core/implicit.hpp"
 #include "discrete/agent_law.hpp"
 #include "discrete/count_law.hpp"
 #include "discrete/naive_law.hpp"
@@ -20,8 +20,8 @@
 #include "scenes.hpp"
 
 using namespace slipfront;
-using continuum::InterfaceLaw;
-using continuum::SmoothLaw;
+using core::InterfaceLaw;
+using core::SmoothLaw;
 using testing::QuadraticDetachmentLaw;
 using testing::RedrawnThresholdLaw;
 
@@ -35,14 +35,14 @@ static_assert(InterfaceLaw<RedrawnThresholdLaw> && !SmoothLaw<RedrawnThresholdLa
 namespace {
 
 // fig1 (paper parameters) on a short coarse system: L = 100, dx = 1, to t_end.
-compare::Scene small_fig1(continuum::Integrator integrator, double t_end = 90.0) {
+compare::Scene small_fig1(core::Integrator integrator, double t_end = 90.0) {
   compare::Scene s = testing::fig1_scene();
   s.bulk.length = 100.0;
   s.grid.dx = 1.0;
   s.time.t_end = t_end;
   s.time.integrator = integrator;
-  if (integrator == continuum::Integrator::implicit_trapezoidal) s.time.dt = 0.005;
-  if (integrator == continuum::Integrator::adaptive_rosenbrock) s.time.rtol = 1e-5, s.time.atol = 1e-8;
+  if (integrator == core::Integrator::implicit_trapezoidal) s.time.dt = 0.005;
+  if (integrator == core::Integrator::adaptive_rosenbrock) s.time.rtol = 1e-5, s.time.atol = 1e-8;
   s.output.series_dt = 0.1;
   s.output.snapshot_dt = 10.0;
   s.validate();
@@ -64,13 +64,13 @@ TEST_CASE("law contract: a new deterministic law in one file runs on all three i
   // reference at cfl 0.5, implicit dt = 0.005, adaptive rtol 1e-5), and t^ differs from the paper law's
   // by more than 30% (the detachment rate matters). The steady law is its closed form
   // σ_ss = α/(1 + κv²) + ηv (to 1e-9).
-  using continuum::Integrator;
+  using core::Integrator;
   std::vector<compare::ModelResult> r;
   for (const auto integ : {Integrator::central_difference, Integrator::implicit_trapezoidal, Integrator::adaptive_rosenbrock}) {
     const auto s = small_fig1(integ, 200.0);
     r.push_back(run<QuadraticDetachmentLaw>(s, [&](std::size_t n) { return QuadraticDetachmentLaw(s.interface, n); }));
     REQUIRE(r.back().status == "complete");
-    CHECK(r.back().labels.at("integrator") == continuum::to_string(integ));
+    CHECK(r.back().labels.at("integrator") == core::to_string(integ));
   }
   const auto paper = run<continuum::FrictionLaw>(small_fig1(Integrator::central_difference, 200.0), [&](std::size_t n) {
     return continuum::FrictionLaw(testing::paper_interface(), n);
@@ -102,7 +102,7 @@ TEST_CASE("law contract: a stochastic law in one file runs on the fixed-step int
   // (a fresh draw every step, ~10^3 draws per time unit), so first yield comes at t* (1 − w) to 1% (the
   // edge stress grows linearly in the elastic stage); asked for the adaptive integrator, the runner steps
   // it explicitly (it has no rates).
-  using continuum::Integrator;
+  using core::Integrator;
   for (const auto integ : {Integrator::central_difference, Integrator::implicit_trapezoidal}) {
     const auto s = small_fig1(integ);
     const auto paper = run<continuum::FrictionLaw>(s, [&](std::size_t n) { return continuum::FrictionLaw(s.interface, n); });
@@ -113,7 +113,7 @@ TEST_CASE("law contract: a stochastic law in one file runs on the fixed-step int
     CHECK(same.snapshots.at("sigma_bar") == paper.snapshots.at("sigma_bar"));
     const auto noisy = run<RedrawnThresholdLaw>(s, [&](std::size_t n) { return RedrawnThresholdLaw(s.interface, 0.05, 1, n); });
     REQUIRE(noisy.status == "complete");
-    INFO("integrator " << continuum::to_string(integ) << ": t* " << noisy.events.t_star << " vs " << paper.events.t_star);
+    INFO("integrator " << core::to_string(integ) << ": t* " << noisy.events.t_star << " vs " << paper.events.t_star);
     CHECK(std::abs(noisy.events.t_star / (0.95 * paper.events.t_star) - 1.0) < 0.01);
   }
   const auto s = small_fig1(Integrator::adaptive_rosenbrock);
@@ -129,7 +129,7 @@ TEST_CASE("bulk operator: forces, the stiffness matrix (Eigen) and the implicit 
   compare::Scene s = testing::fig1_scene();
   s.bulk.length = 40.0;
   s.grid.dx = 2.0;
-  const continuum::Bulk bulk(s.bulk, s.drive, s.interface, s.grid.dx);
+  const core::Bulk bulk(s.bulk, s.drive, s.interface, s.grid.dx);
   const std::size_t n = bulk.nodes();
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> small(-1e-3, 1e-3);
@@ -149,14 +149,14 @@ TEST_CASE("bulk operator: forces, the stiffness matrix (Eigen) and the implicit 
   }
 
   const double dt = 0.01, rho = bulk.rho(), eta = s.interface.eta, alpha = s.interface.alpha;
-  continuum::ImplicitSimulation<continuum::FrictionLaw> sim(bulk, continuum::FrictionLaw(s.interface, n), dt);
+  core::ImplicitSimulation<continuum::FrictionLaw> sim(bulk, continuum::FrictionLaw(s.interface, n), dt);
   for (std::size_t i = 0; i < n; ++i) {
     sim.law().set_site(i, 1.0, alpha * u[static_cast<Eigen::Index>(i)]);
     sim.set_initial(i, u[static_cast<Eigen::Index>(i)], V[static_cast<Eigen::Index>(i)]);
   }
   // The system the step solves, assembled from the operator (W^{−1} of the previous step is V: Θ = 0
   // everywhere since |σ̄ + η v| ≪ A).
-  const double c1 = alpha * 0.5 * (1.0 + (std::exp(-dt) + continuum::relax_weight(1.0, dt))) * dt;
+  const double c1 = alpha * 0.5 * (1.0 + (std::exp(-dt) + core::relax_weight(1.0, dt))) * dt;
   Eigen::SparseMatrix<double> M = (0.5 * dt) * S;
   Eigen::VectorXd rhs(static_cast<Eigen::Index>(n));
   const double F_mid = bulk.spring_K() * (bulk.driver_velocity() * 0.5 * dt - u[0]);
@@ -185,7 +185,7 @@ TEST_CASE("adaptive integrator: the energy budget closes to the integration erro
   // front), at rtol 1e-3 and 1e-5, and smaller at the tighter tolerance.
   double last = 1.0;
   for (const double rtol : {1e-3, 1e-5}) {
-    compare::Scene s = small_fig1(continuum::Integrator::adaptive_rosenbrock);
+    compare::Scene s = small_fig1(core::Integrator::adaptive_rosenbrock);
     s.time.rtol = rtol;
     s.time.atol = 1e-2 * rtol;
     s.output.energy = true;

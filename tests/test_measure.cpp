@@ -9,10 +9,11 @@
 #include "compare/alongside.hpp"
 #include "compare/measure.hpp"
 #include "scenes.hpp"
-#include "continuum/params.hpp"
+#include "core/params.hpp"
 
 namespace compare = slipfront::compare;
 namespace continuum = slipfront::continuum;
+namespace core = slipfront::core;
 
 namespace {
 
@@ -84,7 +85,7 @@ TEST_CASE("measure: FrontTracker: recovers t*, t^, c_slow, c_transient, its peak
   // t^ = t_a + 0.4 (1e-9), c_slow = c1 (LS on an exact line, 1e-9), c_transient = c2 (middle half of
   // the run, all on the fast line, 1e-9), peak = c2 (1e-9), x_arrest = X(t_stop) (1e-9),
   // t_arrest within h of t_stop + 1. The A_tip_alt = 0.9 front is X + 0.4 w: same speeds.
-  continuum::MeasureParams mp;  // A_tip 0.5, A_tip_alt 0.9, v_event 0.5, sample_dt 0.01
+  core::MeasureParams mp;  // A_tip 0.5, A_tip_alt 0.9, v_event 0.5, sample_dt 0.01
   const auto x = grid(0.5, 300.0);
   const double w = 8.0, h = 0.004, t_y = 10.0, c1 = 0.8, t_a = 30.0, c2 = 20.0;
   const double t_hat = t_a + 0.4, t_stop = t_hat + 3.0, T = 40.0;
@@ -156,7 +157,7 @@ TEST_CASE("measure: FrontTracker: recovers t*, t^, c_slow, c_transient, its peak
 TEST_CASE("measure: FrontTracker: c_front of a front that crosses the system", "[measure]") {
   // Homogeneous mode: a front from x = 10 running at c = 25 up to the end x = 100 (more than half of
   // what lies ahead): c_front is the LS slope over the middle half of its run, exact to 1e-9.
-  continuum::MeasureParams mp;
+  core::MeasureParams mp;
   const auto x = grid(0.5, 100.0);
   const double w = 4.0, h = 0.004, c = 25.0;
   compare::FrontTracker tr(mp, x);
@@ -170,7 +171,7 @@ TEST_CASE("measure: FrontTracker: c_front of a front that crosses the system", "
 
 TEST_CASE("measure: FrontTracker: no yield, no instability -> every event NaN", "[measure]") {
   // A run that never yields (elastic stage only) has no event: NaN everywhere (docs/model.md §5).
-  continuum::MeasureParams mp;
+  core::MeasureParams mp;
   const auto x = grid(1.0, 50.0);
   compare::FrontTracker tr(mp, x);
   const std::vector<double> healed(x.size(), 1.0);
@@ -238,7 +239,7 @@ TEST_CASE("measure: events that do not apply are NaN with a reason, not values t
   //  (b) a tip that recedes (A healing behind a front that stopped) has a negative least-squares slope:
   //      c_transient NaN with a reason;
   //  (c) homogeneous loading: the patch slides from t = 0, t* and t^ are NaN with a reason, c_front kept.
-  continuum::MeasureParams mp;
+  core::MeasureParams mp;
   const auto x = grid(0.5, 100.0);
   const double h = 0.01;
   {  // (a)

@@ -8,18 +8,19 @@
 #include <vector>
 
 #include "bench/cvode_fig1.hpp"
-#include "continuum/adaptive.hpp"
+#include "core/adaptive.hpp"
 #include "scenes.hpp"
 
 namespace continuum = slipfront::continuum;
+namespace core = slipfront::core;
 namespace compare = slipfront::compare;
 namespace bench = slipfront::bench;
 namespace testing = slipfront::testing;
 
 namespace {
 
-continuum::AdaptiveOptions tolerance(double rtol) {
-  continuum::AdaptiveOptions o;
+core::AdaptiveOptions tolerance(double rtol) {
+  core::AdaptiveOptions o;
   o.rtol = rtol;
   o.atol = 1e-2 * rtol;
   return o;
@@ -52,7 +53,7 @@ TEST_CASE("adaptive (slow): fig1 against the time-converged reference, 1 % at rt
   const std::vector<double> snaps{60.0, 110.0, 130.0};
   const auto ref = bench::run_adaptive(s, tolerance(1e-8), snaps);
   REQUIRE(ref.status == "complete");
-  const continuum::Bulk bulk(s.bulk, s.drive, s.interface, s.grid.dx);
+  const core::Bulk bulk(s.bulk, s.drive, s.interface, s.grid.dx);
   {
     const auto e = bench::run_explicit(s, 0.125, snaps);
     WARN("explicit cfl 1/8: t^ " << e.events.t_hat << " vs " << ref.events.t_hat << ", c_transient " << e.events.c_transient

@@ -75,7 +75,7 @@ TEST_CASE("slow: renewal statistics pooled over seeds", "[discrete][agent][slow]
   for (const double kv : {2.0, 8.0}) {
     std::vector<double> life, det;
     for (std::uint64_t seed = 1; seed <= 10; ++seed) {
-      const continuum::InterfaceParams ip{2.0, 8.0, 0.1};
+      const core::InterfaceParams ip{2.0, 8.0, 0.1};
       auto dp = params(1000);
       dp.seed = seed;
       dp.contact_statistics = true;

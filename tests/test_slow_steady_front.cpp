@@ -9,13 +9,14 @@
 #include "continuum/steady_front.hpp"
 
 namespace continuum = slipfront::continuum;
+namespace core = slipfront::core;
 
 TEST_CASE("slow steady front: c_min does not depend on the mesh or the domain length", "[slow][front]") {
   // c_min is the limiting front at σ_c^d (v_b = v_m). Re-solved with 4× the intervals, and with the
   // domain cut at 10 and 30 instead of 20 e-folds of the slowest growing mode: agreement to 1e-9
   // relative (observed ~1e-12: 4th order on the default mesh, truncation error ~e^{−2·10}).
-  const continuum::InterfaceParams law;
-  const continuum::BulkParams bulk;
+  const core::InterfaceParams law;
+  const core::BulkParams bulk;
   const auto br = continuum::continue_steady_fronts(law, bulk);
   REQUIRE(br.end == continuum::BranchEnd::saddle_node);
   REQUIRE(br.last.saddle_node_limit);

@@ -110,7 +110,7 @@ TEST_CASE("slow studies: nucleated fronts lie on the solved branch and stop at t
   // sigma_ss(v_behind) = sigma_d to 1e-2 (the rear free edge of the nucleated scene pulls on it).
   const auto r = run("front_spectrum");
   const auto& t = r.tables.at("front_spectrum");
-  const continuum::InterfaceParams p{1.05, 8.0, 0.1};
+  const core::InterfaceParams p{1.05, 8.0, 0.1};
   for (std::size_t k = 0; k < t.at("sigma_d").size(); ++k) {
     const double sd = t.at("sigma_d")[k], cc = t.at("c_front_continuum")[k], cd = t.at("c_front_discrete")[k];
     INFO("sigma_d = " << sd << ": continuum " << cc << ", discrete " << cd << ", solved " << t.at("c_solved")[k]);

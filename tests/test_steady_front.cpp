@@ -10,14 +10,15 @@
 #include <vector>
 
 #include "compare/fit.hpp"
-#include "continuum/bulk.hpp"
+#include "core/bulk.hpp"
 #include "continuum/steady_front.hpp"
-#include "continuum/stepper.hpp"
+#include "core/stepper.hpp"
 
 namespace continuum = slipfront::continuum;
-using continuum::BulkParams;
+namespace core = slipfront::core;
+using core::BulkParams;
 using continuum::FrontStatus;
-using continuum::InterfaceParams;
+using core::InterfaceParams;
 using continuum::SteadyFront;
 
 namespace {
@@ -235,7 +236,7 @@ TEST_CASE("steady front: the sampler is continuous and reproduces the nodes", "[
 }
 
 TEST_CASE("steady front: a time-dependent run started from the solved front keeps its speed", "[front][dynamics]") {
-  // The explicit scheme of continuum/stepper.hpp (dx = 0.5 and 0.25, cfl 0.5) started from the sampled
+  // The explicit scheme of core/stepper.hpp (dx = 0.5 and 0.25, cfl 0.5) started from the sampled
   // front (tip at x = 800 on [0, 1000]) up to t = 4.5, before the free end's disturbance reaches the
   // tip (800/(c_s − c) > 5). Tip: largest x with A < 0.5. Its speed (least squares over the last two
   // thirds) agrees with the solver's c to 0.3% at dx = 0.5 (observed 0.09% at σ_d = 0.3) and the gap
@@ -248,13 +249,13 @@ TEST_CASE("steady front: a time-dependent run started from the solved front keep
     for (double dx : {0.5, 0.25}) {
       BulkParams bulk = paper_bulk;
       bulk.length = 1000.0;
-      continuum::DriveParams drive;
-      drive.loading = continuum::Loading::homogeneous;
+      core::DriveParams drive;
+      drive.loading = core::Loading::homogeneous;
       drive.sigma_d = sigma_d;
-      continuum::Bulk b(bulk, drive, paper, dx);
+      core::Bulk b(bulk, drive, paper, dx);
       const double dt = 0.5 * b.stable_dt();
       continuum::FrictionLaw law(paper, b.nodes());
-      continuum::ExplicitSimulation<continuum::FrictionLaw> sim(std::move(b), std::move(law), dt);
+      core::ExplicitSimulation<continuum::FrictionLaw> sim(std::move(b), std::move(law), dt);
       const auto& x = sim.bulk().x();
       const auto s = continuum::sample_steady_front(f, x, 800.0);
       for (std::size_t i = 0; i < x.size(); ++i) {

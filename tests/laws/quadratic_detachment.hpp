@@ -3,26 +3,26 @@
 // integrators"): the continuum law of docs/model.md §1 with a different detachment rate, κ v² instead of
 // κ|v| (steady sliding: A_ss = 1/(1 + κv²), σ_ss = α/(1 + κv²) + ηv):
 //   dA/dt = 1 − A − Θ κ v² A,   dσ̄/dt = α A v − Θ σ̄ |v|,   Θ = θ(|σ̄ + ηv|/A − 1).
-// It implements continuum::InterfaceLaw (advance, linearise) and continuum::SmoothLaw (fields, sliding,
+// It implements core::InterfaceLaw (advance, linearise) and core::SmoothLaw (fields, sliding,
 // load, rate, jacobian); nothing else in the code base knows about it.
 #include <cmath>
 #include <span>
 #include <vector>
 
-#include "continuum/exact_update.hpp"
-#include "continuum/law.hpp"
-#include "continuum/params.hpp"
+#include "core/exact_update.hpp"
+#include "core/law.hpp"
+#include "core/params.hpp"
 
 namespace slipfront::testing {
 
 class QuadraticDetachmentLaw {
  public:
-  QuadraticDetachmentLaw(const continuum::InterfaceParams& p, std::size_t sites)
+  QuadraticDetachmentLaw(const core::InterfaceParams& p, std::size_t sites)
       : p_(p), n_(sites), fields_(2 * sites, 0.0) {
     for (std::size_t i = 0; i < sites; ++i) fields_[i] = 1.0;
   }
   std::size_t size() const { return n_; }
-  const continuum::InterfaceParams& params() const { return p_; }
+  const core::InterfaceParams& params() const { return p_; }
   std::span<const double> contact_area() const { return {fields_.data(), n_}; }
   std::span<const double> sigma_bar() const { return {fields_.data() + n_, n_}; }
   std::span<double> fields() { return fields_; }
@@ -32,7 +32,7 @@ class QuadraticDetachmentLaw {
   }
 
   // The exact update with v, Θ frozen over the step (σ̄ with Ā = (A + A')/2, as the paper's law).
-  continuum::LawStepInfo advance(double dt, std::span<const double> v) {
+  core::LawStepInfo advance(double dt, std::span<const double> v) {
     bool any = false;
     for (std::size_t i = 0; i < n_; ++i) {
       double& a = fields_[i];
@@ -40,8 +40,8 @@ class QuadraticDetachmentLaw {
       const bool theta = sliding({v[i], a, s});
       any |= theta;
       const double detach = theta ? p_.kappa * v[i] * v[i] : 0.0, relax_rate = theta ? std::abs(v[i]) : 0.0;
-      const double a_new = continuum::relax(a, 1.0, 1.0 + detach, dt);
-      s = continuum::relax(s, p_.alpha * 0.5 * (a + a_new) * v[i], relax_rate, dt);
+      const double a_new = core::relax(a, 1.0, 1.0 + detach, dt);
+      s = core::relax(s, p_.alpha * 0.5 * (a + a_new) * v[i], relax_rate, dt);
       a = a_new;
     }
     return {any};
@@ -52,19 +52,19 @@ class QuadraticDetachmentLaw {
       const double a = fields_[i], s = fields_[n_ + i];
       const bool theta = w != 0.0 && sliding({w, a, s});
       const double lam = theta ? std::abs(w) : 0.0;
-      const double a_new = continuum::relax(a, 1.0, 1.0 + (theta ? p_.kappa * w * w : 0.0), dt);
+      const double a_new = core::relax(a, 1.0, 1.0 + (theta ? p_.kappa * w * w : 0.0), dt);
       c0 = s * std::exp(-lam * dt);
-      c1 = p_.alpha * 0.5 * (a + a_new) * continuum::relax_weight(lam, dt);
+      c1 = p_.alpha * 0.5 * (a + a_new) * core::relax_weight(lam, dt);
     };
   }
 
-  bool sliding(continuum::SiteState s) const { return continuum::contact_stress(s.sigma_bar + p_.eta * s.v, s.area) > 1.0; }
-  double load(continuum::SiteState s) const { return std::abs(s.sigma_bar + p_.eta * s.v); }
-  continuum::SiteRate rate(continuum::SiteState s, bool theta) const {
+  bool sliding(core::SiteState s) const { return core::contact_stress(s.sigma_bar + p_.eta * s.v, s.area) > 1.0; }
+  double load(core::SiteState s) const { return std::abs(s.sigma_bar + p_.eta * s.v); }
+  core::SiteRate rate(core::SiteState s, bool theta) const {
     const double d = theta ? p_.kappa * s.v * s.v : 0.0, r = theta ? std::abs(s.v) : 0.0;
     return {1.0 - s.area - d * s.area, p_.alpha * s.area * s.v - r * s.sigma_bar};
   }
-  continuum::SiteJacobian jacobian(continuum::SiteState s, bool theta) const {
+  core::SiteJacobian jacobian(core::SiteState s, bool theta) const {
     if (!theta) return {0.0, -1.0, p_.alpha * s.area, p_.alpha * s.v, 0.0};
     const double sg = s.v >= 0.0 ? 1.0 : -1.0;
     return {-2.0 * p_.kappa * s.v * s.area, -(1.0 + p_.kappa * s.v * s.v), p_.alpha * s.area - sg * s.sigma_bar,
@@ -72,7 +72,7 @@ class QuadraticDetachmentLaw {
   }
 
  private:
-  continuum::InterfaceParams p_;
+  core::InterfaceParams p_;
   std::size_t n_;
   std::vector<double> fields_;  // [A | σ̄]
 };

@@ -1,9 +1,9 @@
-#include "continuum/bulk.hpp"
+#include "core/bulk.hpp"
 
 #include <cmath>
 #include <stdexcept>
 
-namespace slipfront::continuum {
+namespace slipfront::core {
 
 Bulk::Bulk(const BulkParams& bulk, const DriveParams& drive, const InterfaceParams& law, double dx)
     : rho_(bulk.rho) {
@@ -58,4 +58,4 @@ Eigen::SparseMatrix<double> Bulk::stiffness_matrix() const {
   return s;
 }
 
-}  // namespace slipfront::continuum
+}  // namespace slipfront::core

@@ -1,8 +1,8 @@
-#include "continuum/adaptive.hpp"
+#include "core/adaptive.hpp"
 
 #include <string>
 
-namespace slipfront::continuum {
+namespace slipfront::core {
 
 void AdaptiveOptions::validate() const {
   auto bad = [](const char* key, const std::string& why) { throw ParamError(std::string("time.") + key, why); };
@@ -15,4 +15,4 @@ void AdaptiveOptions::validate() const {
   if (!(event_window >= 0.0)) bad("event_window", "must be >= 0, got " + format_number(event_window));
 }
 
-}  // namespace slipfront::continuum
+}  // namespace slipfront::core

@@ -14,10 +14,10 @@
 #include <cstddef>
 #include <span>
 
-#include "continuum/exact_update.hpp"
-#include "continuum/params.hpp"
+#include "core/exact_update.hpp"
+#include "core/params.hpp"
 
-namespace slipfront::continuum {
+namespace slipfront::core {
 
 struct LawStepInfo {
   bool any_yield = false;  ///< some site had Θ = 1 (or an overloaded contact) at the start of the step
@@ -148,4 +148,4 @@ inline void linearise_stress(double area, double sigma_bar, double y, double w_p
   c1 = k.alpha * 0.5 * (area + a_new) * relax_weight(lam, k.dt);
 }
 
-}  // namespace slipfront::continuum
+}  // namespace slipfront::core

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <limits>
 
-namespace slipfront::continuum {
+namespace slipfront::core {
 
 /// (1 − e^{−r dt}) / r, accurate for small r dt and equal to dt at r = 0.
 inline double relax_weight(double rate, double dt) {
@@ -42,4 +42,4 @@ inline TwoStateTransition two_state_transition(double attach, double detach, dou
   return {1.0 - detach * w, attach * w};
 }
 
-}  // namespace slipfront::continuum
+}  // namespace slipfront::core

@@ -18,7 +18,7 @@
 #include <utility>
 #include <vector>
 
-namespace slipfront::continuum {
+namespace slipfront::core {
 
 struct ArchiveError : std::runtime_error {
   using std::runtime_error::runtime_error;
@@ -120,4 +120,4 @@ class Archive {
   std::size_t pos_ = 0;
 };
 
-}  // namespace slipfront::continuum
+}  // namespace slipfront::core

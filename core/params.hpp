@@ -8,7 +8,7 @@
 #include <string_view>
 #include <vector>
 
-namespace slipfront::continuum {
+namespace slipfront::core {
 
 /// A number as people write it (%g: 1e-07, 0.5, 300) with `digits` significant digits: 10 in error
 /// messages (enough to tell values apart), fewer in summaries.
@@ -94,8 +94,8 @@ bool is_one_dimensional(Loading l);
 /// compare::with_stepper (compare/runner.hpp) maps it to the stepper class.
 enum class Integrator {
   central_difference,    ///< "explicit": the reference central-difference scheme, steps of cfl × the stability limit
-  implicit_trapezoidal,  ///< "implicit": fixed step time.dt chosen by accuracy, both models (continuum/implicit.hpp)
-  adaptive_rosenbrock,   ///< "adaptive": L-stable Rosenbrock with error control (continuum/adaptive.hpp)
+  implicit_trapezoidal,  ///< "implicit": fixed step time.dt chosen by accuracy, both models (core/implicit.hpp)
+  adaptive_rosenbrock,   ///< "adaptive": L-stable Rosenbrock with error control (core/adaptive.hpp)
 };
 const char* to_string(Integrator i);
 Integrator integrator_from_string(const std::string& s);  // throws ParamError("time.integrator", ...)
@@ -146,13 +146,13 @@ struct TimeParams {
   double rtol = 1e-2;    ///< adaptive: relative tolerance of the local error per step
   double atol = 1e-5;    ///< adaptive: absolute tolerance
   double dt_max = 1.0;   ///< adaptive: largest step
-  /// implicit: error control around switchings (continuum/implicit.hpp, docs/numerics.md §7): a step
+  /// implicit: error control around switchings (core/implicit.hpp, docs/numerics.md §7): a step
   /// whose linearisation defect exceeds implicit_tolerance (stress units) is halved, at most
   /// implicit_max_halvings times; 0 turns it off.
   double implicit_tolerance = 1e-3;
   int implicit_max_halvings = 10;
   /// implicit: refuse a step that does not resolve the drive spring or the contact turnover
-  /// (continuum::implicit_resolution); false runs it anyway, at the user's risk.
+  /// (core::implicit_resolution); false runs it anyway, at the user's risk.
   bool implicit_resolution_check = true;
   void validate(Loading l) const;
 };
@@ -195,4 +195,4 @@ struct OutputParams {
   void validate() const;
 };
 
-}  // namespace slipfront::continuum
+}  // namespace slipfront::core

@@ -1,7 +1,7 @@
 #pragma once
 // Time stepping of bulk + interface law (docs/model.md §1): the state and accessors every stepper
 // shares (StepperCore), and the explicit reference scheme (ExplicitSimulation). The fixed-step
-// implicit integrator (continuum/implicit.hpp) and the adaptive one (continuum/adaptive.hpp) derive
+// implicit integrator (core/implicit.hpp) and the adaptive one (core/adaptive.hpp) derive
 // from the same core, so the runner, the measurements and the tests read every stepper alike.
 //
 // One explicit step t^n → t^{n+1} (central differences, docs/numerics.md):
@@ -19,11 +19,11 @@
 #include <string>
 #include <vector>
 
-#include "continuum/archive.hpp"
-#include "continuum/bulk.hpp"
-#include "continuum/law.hpp"
+#include "core/archive.hpp"
+#include "core/bulk.hpp"
+#include "core/law.hpp"
 
-namespace slipfront::continuum {
+namespace slipfront::core {
 
 /// A NaN or infinity appeared: reported with the step, the time and the first bad site.
 struct NumericalError : std::runtime_error {
@@ -232,4 +232,4 @@ class ExplicitSimulation : public StepperCore<Law> {
   double f_start_ = 0.0, acc_drive_ = 0.0, acc_viscous_ = 0.0, acc_interfacial_ = 0.0;
 };
 
-}  // namespace slipfront::continuum
+}  // namespace slipfront::core

@@ -6,7 +6,7 @@
 #include <atomic>
 #include <stdexcept>
 
-namespace slipfront::continuum {
+namespace slipfront::core {
 
 inline std::atomic<bool>& stop_flag() {
   static std::atomic<bool> flag{false};
@@ -22,4 +22,4 @@ inline void poll_stop() {
   if (stop_flag().load(std::memory_order_relaxed)) throw Interrupted();
 }
 
-}  // namespace slipfront::continuum
+}  // namespace slipfront::core

@@ -1,10 +1,10 @@
-#include "continuum/params.hpp"
+#include "core/params.hpp"
 
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
 
-namespace slipfront::continuum {
+namespace slipfront::core {
 
 std::string format_number(double x, int digits) {
   char buf[48];
@@ -301,4 +301,4 @@ void OutputParams::validate() const {
   check_in_domain("output.contact_snapshot_dt", contact_snapshot_dt);
 }
 
-}  // namespace slipfront::continuum
+}  // namespace slipfront::core

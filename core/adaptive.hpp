@@ -1,9 +1,9 @@
 #pragma once
 // Adaptive, linearly implicit time stepping of bulk + a deterministic interface law given by its rates
-// (SmoothLaw, continuum/law.hpp: the continuum FrictionLaw, docs/model.md §1), for scenes where long
+// (SmoothLaw, core/law.hpp: the continuum FrictionLaw, docs/model.md §1), for scenes where long
 // quiet stretches (elastic loading, the slow front, healing) alternate with short fast ones (the
 // transient front). Same method-of-lines ODE as the fixed-step schemes: the bulk operator of
-// continuum/bulk.hpp (grid, lumped masses, half cells, edge spring, free ends) and the law's rates, per
+// core/bulk.hpp (grid, lumped masses, half cells, edge spring, free ends) and the law's rates, per
 // node
 //   u' = v
 //   ρ v' = F_i/w_i + σ_d − σ̄_i − η v_i                     (Bulk::forces_per_length)
@@ -34,12 +34,12 @@
 #include <utility>
 #include <vector>
 
-#include "continuum/bulk.hpp"
-#include "continuum/law.hpp"
-#include "continuum/params.hpp"
-#include "continuum/stepper.hpp"
+#include "core/bulk.hpp"
+#include "core/law.hpp"
+#include "core/params.hpp"
+#include "core/stepper.hpp"
 
-namespace slipfront::continuum {
+namespace slipfront::core {
 
 /// How the local error estimate is weighed, component j of field f (u, v, A or σ̄):
 ///   field: max_j |e_j| / (atol + rtol · max(|y_j|, max over the grid of |y_f|))   (default)
@@ -656,4 +656,4 @@ class AdaptiveSimulation : public StepperCore<Law> {
   AdaptiveStats stats_;
 };
 
-}  // namespace slipfront::continuum
+}  // namespace slipfront::core

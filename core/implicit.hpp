@@ -29,11 +29,11 @@
 #include <stdexcept>
 #include <vector>
 
-#include "continuum/bulk.hpp"
-#include "continuum/law.hpp"
-#include "continuum/stepper.hpp"
+#include "core/bulk.hpp"
+#include "core/law.hpp"
+#include "core/stepper.hpp"
 
-namespace slipfront::continuum {
+namespace slipfront::core {
 
 /// What a fixed implicit step must resolve (docs/numerics.md §7), checked before a run (Scene::validate):
 ///   drive     Δt · sqrt(K / (ρ w_0)) ≤ 1: the drive spring's oscillation of the edge node, which the
@@ -134,7 +134,7 @@ class ImplicitSimulation : public StepperCore<Law> {
   // step used (frozen at the previous rates). Zero where neither the yield state nor the relaxation
   // rate moved; large across a switching or a fast change of |v|.
   double linearisation_defect(double h) {
-    continuum::linearise(this->law_, h, trial_, c0e_, c1e_);
+    core::linearise(this->law_, h, trial_, c0e_, c1e_);
     double d = 0.0;
     for (std::size_t i = 0; i < this->n_; ++i) {
       const double w = trial_[i];
@@ -237,4 +237,4 @@ class ImplicitSimulation : public StepperCore<Law> {
   bool yielded_any_ = false;
 };
 
-}  // namespace slipfront::continuum
+}  // namespace slipfront::core

@@ -16,9 +16,9 @@
 
 #include <Eigen/SparseCore>
 
-#include "continuum/params.hpp"
+#include "core/params.hpp"
 
-namespace slipfront::continuum {
+namespace slipfront::core {
 
 class Bulk {
  public:
@@ -99,4 +99,4 @@ class Bulk {
   double sigma_d_ = 0.0, spring_K_ = 0.0, v_d_ = 0.0, rear_traction_ = 0.0, stable_dt_ = 0.0;
 };
 
-}  // namespace slipfront::continuum
+}  // namespace slipfront::core

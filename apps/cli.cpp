@@ -181,10 +181,10 @@ std::string format_reasons(const compare::Events& e) {
 }
 
 void print_summary(std::ostream& out, const compare::Scene& scene, const std::vector<compare::ModelResult>& results,
-                   const std::string& status, double wall, const fs::path& file) {
-  out << scene.name << ": " << status << " in " << format_seconds(wall) << " -> " << file.string() << "\n";
+                   compare::RunStatus status, double wall, const fs::path& file) {
+  out << scene.name << ": " << compare::to_string(status) << " in " << format_seconds(wall) << " -> " << file.string() << "\n";
   for (const auto& r : results) {
-    out << "  " << r.model << ": " << r.status << ", " << format_seconds(r.wall_seconds);
+    out << "  " << r.model << ": " << compare::to_string(r.status) << ", " << format_seconds(r.wall_seconds);
     if (const auto it = r.scalars.find("steps"); it != r.scalars.end())
       out << ", " << format_number(it->second) << " steps";
     out << "\n";
@@ -213,9 +213,9 @@ void print_summary(std::ostream& out, const compare::Scene& scene, const std::ve
   }
 }
 
-int exit_code_of(const std::string& status) {
-  if (status == "complete") return exit_code::ok;
-  if (status == "interrupted") return exit_code::interrupted;
+int exit_code_of(compare::RunStatus status) {
+  if (status == compare::RunStatus::complete) return exit_code::ok;
+  if (status == compare::RunStatus::interrupted) return exit_code::interrupted;
   return exit_code::failed;
 }
 
@@ -338,25 +338,25 @@ int run_command(const RunOptions& opts, std::ostream& out, std::ostream& err) {
       results = std::move(sr.models);
       comparison = std::move(sr.comparison);
     } catch (const core::Interrupted& e) {
-      meta.status = "interrupted";
+      meta.status = compare::RunStatus::interrupted;
       meta.message = e.what();
     } catch (const std::exception& e) {
-      meta.status = "failed";
+      meta.status = compare::RunStatus::failed;
       meta.message = std::string("the run stopped with an error: ") + e.what();
     }
     progress.clear();
-    if (StopSignals::requested() && meta.status == "complete" && overall_status(results) == "complete") {
+    if (StopSignals::requested() && meta.status == compare::RunStatus::complete && overall_status(results) == compare::RunStatus::complete) {
       // The signal came after the last poll: the results are complete; say so in the message only.
       meta.message = "a stop was requested after the run had finished";
     }
   }
-  if (meta.status == "failed") print_error(err, meta.message);
+  if (meta.status == compare::RunStatus::failed) print_error(err, meta.message);
   if (!checkpoint_error.empty()) print_error(err, "a checkpoint could not be written: " + checkpoint_error);
   if (!opts.restart.empty() && meta.message.empty()) meta.message = "continued from the checkpoint " + opts.restart.string();
 
   // (f) the file, whatever the status
   meta.wall_seconds = std::chrono::duration<double>(Clock::now() - wall0).count();
-  const std::string status = overall_status(results, meta.status);
+  const compare::RunStatus status = overall_status(results, meta.status);
   try {
     write_results(file, scene, resolved, results, meta, &comparison);
   } catch (const std::exception& e) {
@@ -365,17 +365,17 @@ int run_command(const RunOptions& opts, std::ostream& out, std::ostream& err) {
   }
 
   // (g) the summary; a complete run needs its checkpoint no more
-  if (status == "complete" && opts.checkpoint_every > 0.0) {
+  if (status == compare::RunStatus::complete && opts.checkpoint_every > 0.0) {
     std::error_code ec;
     fs::remove(checkpoint_file, ec);
   }
   print_summary(out, scene, results, status, meta.wall_seconds, file);
-  if (status != "complete" && opts.checkpoint_every > 0.0 && fs::exists(checkpoint_file))
+  if (status != compare::RunStatus::complete && opts.checkpoint_every > 0.0 && fs::exists(checkpoint_file))
     err << "slipfront: continue with: slipfront run " << shell_quote(opts.config.string()) << " --out "
         << shell_quote(dir.string()) << " --restart " << shell_quote(checkpoint_file.string()) << " --force\n";
-  if (status == "interrupted") err << "slipfront: interrupted; partial results written to " << file.string() << "\n";
+  if (status == compare::RunStatus::interrupted) err << "slipfront: interrupted; partial results written to " << file.string() << "\n";
   for (const auto& r : results)
-    if (r.status == "failed") print_error(err, r.model + " failed: " + r.message + " (results written to " + file.string() + ")");
+    if (r.status == compare::RunStatus::failed) print_error(err, r.model + " failed: " + r.message + " (results written to " + file.string() + ")");
   return exit_code_of(status);
 }
 
@@ -410,7 +410,7 @@ int fronts_command(const FrontsOptions& opts, std::ostream& out, std::ostream& e
   try {
     fr = compare::compute_fronts(scene, opts.scaling);
   } catch (const std::exception& e) {
-    meta.status = "failed";
+    meta.status = compare::RunStatus::failed;
     meta.message = e.what();
     print_error(err, std::string("fronts: ") + e.what());
   }
@@ -421,7 +421,7 @@ int fronts_command(const FrontsOptions& opts, std::ostream& out, std::ostream& e
     print_error(err, "cannot write " + file.string() + ": " + e.what());
     return exit_code::failed;
   }
-  if (meta.status != "complete") return exit_code::failed;
+  if (meta.status != compare::RunStatus::complete) return exit_code::failed;
   auto get = [&](const char* k) { return fr.scalars.count(k) ? fr.scalars.at(k) : std::nan(""); };
   out << scene.name << ": steady fronts in " << format_seconds(meta.wall_seconds) << " -> " << file.string() << "\n"
       << "  branch: " << fr.branch["sigma_d"].size() << " fronts, ends at sigma_d = "

@@ -79,6 +79,16 @@ std::string attr_string(hid_t obj, const std::string& name, const std::string& w
   return s;
 }
 
+// A `status` attribute (h5out's attr_status): one of the RunStatus names, else the file is refused.
+compare::RunStatus attr_status(hid_t obj, const std::string& where) {
+  const std::string text = attr_string(obj, "status", where);
+  try {
+    return compare::run_status(text);
+  } catch (const std::invalid_argument&) {
+    throw InputError(where + " status: '" + text + "' is none of complete, interrupted, failed");
+  }
+}
+
 std::string attr_string_or(hid_t obj, const std::string& name, const std::string& where, const std::string& fallback) {
   return H5Aexists(obj, name.c_str()) > 0 ? attr_string(obj, name, where) : fallback;
 }
@@ -138,7 +148,7 @@ compare::ModelResult read_model(hid_t file, const std::string& m, const ReadOpti
   // Attributes of /<model>: status, message, wall_seconds, then every other number is a scalar and
   // every other string a label (h5out's model()).
   for (const auto& name : attribute_names(g.get(), base)) {
-    if (name == "status") r.status = attr_string(g.get(), name, base);
+    if (name == "status") r.status = attr_status(g.get(), base);
     else if (name == "message") r.message = attr_string(g.get(), name, base);
     else if (name == "wall_seconds") r.wall_seconds = attr_double(g.get(), name, base);
     else if (attribute_class(g.get(), name, base) == H5T_STRING) r.labels[name] = attr_string(g.get(), name, base);
@@ -222,7 +232,7 @@ ResultsHeader read_header(hid_t file) {
     throw InputError("not a slipfront results file (no /meta or /config)");
   ResultsHeader h;
   Hid meta(H5Gopen2(file, "meta", H5P_DEFAULT), H5Gclose, "open group /meta");
-  h.status = attr_string(meta.get(), "status", "/meta");
+  h.status = attr_status(meta.get(), "/meta");
   h.message = attr_string_or(meta.get(), "message", "/meta", "");
   h.config_hash = attr_string_or(meta.get(), "config_hash", "/meta", "");
   h.git_commit = attr_string_or(meta.get(), "git_commit", "/meta", "");

@@ -20,7 +20,7 @@ struct InputError : std::runtime_error {
 
 /// What a results file says about itself (/meta and /config).
 struct ResultsHeader {
-  std::string status;         ///< /meta status: complete | interrupted | failed
+  compare::RunStatus status = compare::RunStatus::failed;  ///< /meta status
   std::string message;        ///< /meta message
   std::string config_hash;    ///< /meta config_hash ("" when absent: written before it existed)
   std::string resolved_toml;  ///< /config toml

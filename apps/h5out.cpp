@@ -59,6 +59,10 @@ void attr_string(hid_t obj, const std::string& name, const std::string& value) {
   check(H5Awrite(attr.get(), type.get(), &p), "write attribute " + name);
 }
 
+// The `status` attribute of /meta and of each /<model>: the one place a RunStatus is written (its name;
+// h5in reads it back with compare::run_status).
+void attr_status(hid_t obj, compare::RunStatus status) { attr_string(obj, "status", compare::to_string(status)); }
+
 void attr_double(hid_t obj, const std::string& name, double value) {
   delete_attribute_if_present(obj, name);
   Hid space(H5Screate(H5S_SCALAR), H5Sclose, "make a scalar dataspace");
@@ -238,7 +242,7 @@ void model(hid_t file, const compare::ModelResult& r) {
   Hid g = make_group(file, m, "/" + m);
   for (const auto& [name, value] : r.scalars) attr_double(g.get(), name, value);
   for (const auto& [name, value] : r.labels) attr_string(g.get(), name, value);
-  attr_string(g.get(), "status", r.status);
+  attr_status(g.get(), r.status);
   attr_string(g.get(), "message", r.message);
   attr_double(g.get(), "wall_seconds", r.wall_seconds);
 
@@ -279,11 +283,6 @@ void model(hid_t file, const compare::ModelResult& r) {
   }
 }
 
-int severity(const std::string& status) {
-  if (status == "complete") return 0;
-  if (status == "interrupted") return 1;
-  return 2;  // failed, or anything unexpected
-}
 
 std::string utc_now_iso8601() {
   const std::time_t now = std::time(nullptr);
@@ -295,7 +294,7 @@ std::string utc_now_iso8601() {
 }
 
 // /meta: provenance of the program and of this run (shared by results.h5 and study.h5).
-void write_meta(hid_t file, const RunMeta& meta, const std::string& status, const std::string& message,
+void write_meta(hid_t file, const RunMeta& meta, compare::RunStatus status, const std::string& message,
                 const std::string& scene, const std::string& models) {
   Hid g = make_group(file, "meta", "/meta");
   const LibraryVersions lv = library_versions();
@@ -310,7 +309,7 @@ void write_meta(hid_t file, const RunMeta& meta, const std::string& status, cons
   attr_string(g.get(), "eigen_version", lv.eigen);
   attr_string(g.get(), "created_utc", utc_now_iso8601());
   attr_double(g.get(), "wall_seconds", meta.wall_seconds);
-  attr_string(g.get(), "status", status);
+  attr_status(g.get(), status);
   attr_string(g.get(), "command_line", meta.command_line);
   attr_string(g.get(), "message", message);
   attr_string(g.get(), "scene", scene);
@@ -584,11 +583,9 @@ void write_atomically(const std::filesystem::path& path, Write&& write) {
 
 }  // namespace
 
-std::string overall_status(const std::vector<compare::ModelResult>& results, const std::string& floor) {
-  std::string worst = floor;
-  for (const auto& r : results)
-    if (severity(r.status) > severity(worst)) worst = r.status;
-  return severity(worst) == 2 ? "failed" : worst;
+compare::RunStatus overall_status(const std::vector<compare::ModelResult>& results, compare::RunStatus floor) {
+  for (const auto& r : results) floor = compare::worst(floor, r.status);
+  return floor;
 }
 
 std::string config_hash(const std::string& resolved_toml) {

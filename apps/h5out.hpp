@@ -21,7 +21,7 @@ struct RunMeta {
   std::string command_line;       ///< how the program was invoked
   std::string message;            ///< overall message (empty: the models' messages are joined)
   double wall_seconds = 0.0;      ///< wall time of the whole run
-  std::string status = "complete";  ///< floor of /meta status (e.g. "failed" when the run threw)
+  compare::RunStatus status = compare::RunStatus::complete;  ///< floor of /meta status (failed when the run threw)
 };
 
 struct OutputError : std::runtime_error {
@@ -29,7 +29,8 @@ struct OutputError : std::runtime_error {
 };
 
 /// Worst of `floor` and every model's status: failed > interrupted > complete.
-std::string overall_status(const std::vector<compare::ModelResult>& results, const std::string& floor = "complete");
+compare::RunStatus overall_status(const std::vector<compare::ModelResult>& results,
+                                  compare::RunStatus floor = compare::RunStatus::complete);
 
 /// Writes the results to `path` atomically: the file is built in memory, written to ".<name>.tmp.<pid>"
 /// in the same directory (created exclusively, never through a symbolic link; stale temporaries of

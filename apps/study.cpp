@@ -238,7 +238,7 @@ RunFileCheck check_run_file(const fs::path& file, const std::string& resolved, c
   if (h.resolved_toml != resolved || (!h.config_hash.empty() && h.config_hash != hash))
     return {RunFile::other_config, first_difference(h.resolved_toml, resolved)};
   if (h.config_hash.empty()) return {RunFile::unverified, "no /meta config_hash (written by an older slipfront)"};
-  if (h.status != "complete") return {RunFile::partial, h.status};
+  if (h.status != compare::RunStatus::complete) return {RunFile::partial, compare::to_string(h.status)};
   return {RunFile::complete, ""};
 }
 
@@ -471,14 +471,14 @@ int study_command(const StudyOptions& opts, std::ostream& out_all, std::ostream&
       r = std::move(sr.models);
       cmp = std::move(sr.comparison);
     } catch (const core::Interrupted& e) {
-      meta.status = "interrupted";
+      meta.status = compare::RunStatus::interrupted;
       meta.message = e.what();
     } catch (const std::exception& e) {
-      meta.status = "failed";
+      meta.status = compare::RunStatus::failed;
       meta.message = e.what();
     }
     meta.wall_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
-    const std::string status = overall_status(r, meta.status);
+    const compare::RunStatus status = overall_status(r, meta.status);
     bool written = true;
     try {
       write_results(run_file(i), scenes[i], resolved[i], r, meta, &cmp);
@@ -497,7 +497,7 @@ int study_command(const StudyOptions& opts, std::ostream& out_all, std::ostream&
     results[i] = std::move(r);
     std::lock_guard lock(io);
     in_memory[i] = 1;
-    ++counts[status == "complete" ? n_complete : status == "interrupted" ? n_interrupted : n_failed];
+    ++counts[status == compare::RunStatus::complete ? n_complete : status == compare::RunStatus::interrupted ? n_interrupted : n_failed];
     if (!written) ++counts[n_write_failures];
     std::size_t finished = ++done;
     if (mpi) finished = static_cast<std::size_t>(mpi->fetch_add(slipfront_mpi_finished, 1) + 1);
@@ -564,8 +564,8 @@ int study_command(const StudyOptions& opts, std::ostream& out_all, std::ostream&
       if (!skipped[i] && !started[i]) ++not_started;
       else if (lost[i]) ++n_lost;
       else {
-        const std::string s = results[i].empty() ? "failed" : overall_status(results[i]);
-        ++(s == "complete" ? complete : s == "interrupted" ? interrupted : failed);
+        const compare::RunStatus s = results[i].empty() ? compare::RunStatus::failed : overall_status(results[i]);
+        ++(s == compare::RunStatus::complete ? complete : s == compare::RunStatus::interrupted ? interrupted : failed);
       }
     }
     const long long computed = static_cast<long long>(handed_out);
@@ -574,7 +574,7 @@ int study_command(const StudyOptions& opts, std::ostream& out_all, std::ostream&
     if (stopped && complete == static_cast<long long>(n)) {
       meta.message = "a stop was requested after every run had finished";  // nothing was lost: complete
     } else if (stopped) {
-      meta.status = "interrupted";
+      meta.status = compare::RunStatus::interrupted;
       meta.message = "stopped: " + std::to_string(complete) + " of " + std::to_string(n) + " runs complete (" +
                      std::to_string(n_skipped) + " of them from an earlier invocation), " +
                      std::to_string(interrupted) + " interrupted, " + std::to_string(failed) + " failed, " +
@@ -586,7 +586,7 @@ int study_command(const StudyOptions& opts, std::ostream& out_all, std::ostream&
     try {
       report = compare::analyse_study(spec, runs, scenes, results);
     } catch (const std::exception& e) {
-      meta.status = "failed";
+      meta.status = compare::RunStatus::failed;
       meta.message = std::string("analysis: ") + e.what();
     }
     report.notes.insert(report.notes.end(), read_problems.begin(), read_problems.end());
@@ -599,7 +599,7 @@ int study_command(const StudyOptions& opts, std::ostream& out_all, std::ostream&
       code = exit_code::failed;
     }
     if (code == exit_code::ok) {
-      out << spec.name << " (" << spec.kind << "): " << meta.status << ", " << n << " runs in "
+      out << spec.name << " (" << spec.kind << "): " << compare::to_string(meta.status) << ", " << n << " runs in "
           << static_cast<int>(meta.wall_seconds * 10) / 10.0 << " s on " << where << " -> "
           << (dir / "study.h5").string() << "\n";
       out << "  runs: " << computed << " run now, " << n_skipped << " skipped (complete from an earlier invocation)";
@@ -616,9 +616,9 @@ int study_command(const StudyOptions& opts, std::ostream& out_all, std::ostream&
           out << "\n";
         }
       for (const auto& note : report.notes) out << "  note: " << note << "\n";
-      if (meta.status == "interrupted") err << "slipfront: " << meta.message << "\n";
-      if (meta.status == "interrupted") code = exit_code::interrupted;
-      else if (meta.status != "complete" || counts[n_write_failures] != 0 || !read_problems.empty())
+      if (meta.status == compare::RunStatus::interrupted) err << "slipfront: " << meta.message << "\n";
+      if (meta.status == compare::RunStatus::interrupted) code = exit_code::interrupted;
+      else if (meta.status != compare::RunStatus::complete || counts[n_write_failures] != 0 || !read_problems.empty())
         code = exit_code::failed;
     }
   }

@@ -67,7 +67,7 @@ compare::ModelResult run(compare::Scene s, const std::string& model, unsigned se
   s.models = {model};
   s.discrete.seed = seed;
   auto out = compare::run_scene(s, compare::RunControl{});
-  if (out.empty() || out.back().status != "complete") {
+  if (out.empty() || out.back().status != slipfront::compare::RunStatus::complete) {
     std::fprintf(stderr, "run failed: %s\n", out.empty() ? "no result" : out.back().message.c_str());
     std::exit(1);
   }

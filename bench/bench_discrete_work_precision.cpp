@@ -70,7 +70,7 @@ compare::ModelResult run(compare::Scene s, const std::string& model, const std::
   }
   s.validate();
   auto out = compare::run_scene(s, compare::RunControl{});
-  if (out.empty() || out.back().status != "complete") {
+  if (out.empty() || out.back().status != slipfront::compare::RunStatus::complete) {
     std::fprintf(stderr, "run %s/%s N=%ld failed: %s\n", model.c_str(), rep.c_str(), n,
                  out.empty() ? "no result" : out.back().message.c_str());
     std::exit(1);

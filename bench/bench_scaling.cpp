@@ -51,7 +51,7 @@ Timed run(compare::Scene s, const std::string& model, const std::string& rep = "
   const auto t0 = std::chrono::steady_clock::now();
   auto out = compare::run_scene(s, compare::RunControl{});
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  if (out.empty() || out.back().status != "complete") {
+  if (out.empty() || out.back().status != slipfront::compare::RunStatus::complete) {
     std::fprintf(stderr, "run %s/%s N=%ld failed: %s\n", model.c_str(), rep.c_str(), n,
                  out.empty() ? "no result" : out.back().message.c_str());
     std::exit(1);

@@ -212,7 +212,7 @@ inline RunRecord run_explicit(compare::Scene s, double cfl, const std::vector<do
     s.output.snapshot_dt = 10.0;
     auto make = [&](std::size_t n) { return continuum::FrictionLaw(s.interface, n); };
     const auto r = compare::run_model<continuum::FrictionLaw>(s, make, "continuum", compare::RunControl{});
-    rec.status = r.status;
+    rec.status = compare::to_string(r.status);
     rec.message = r.message;
     rec.events = r.events;
     rec.wall = r.wall_seconds;

@@ -1,12 +1,36 @@
 #pragma once
 // What one model's run produces, in memory, for the writer (apps/h5out) to lay out (docs/model.md §5).
 #include <map>
+#include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "compare/measure.hpp"
+#include "core/archive.hpp"
 
 namespace slipfront::compare {
+
+/// How a run ended (docs/output.md: /meta status and /<model> status), ordered by severity: a file's
+/// status is the worst of its parts.
+enum class RunStatus { complete, interrupted, failed };
+/// The name written to files and printed: "complete", "interrupted", "failed".
+constexpr const char* to_string(RunStatus s) {
+  switch (s) {
+    case RunStatus::interrupted: return "interrupted";
+    case RunStatus::failed: return "failed";
+    case RunStatus::complete: break;
+  }
+  return "complete";
+}
+/// The status named `name` (as to_string writes it); throws std::invalid_argument for any other text.
+inline RunStatus run_status(std::string_view name) {
+  for (const RunStatus s : {RunStatus::complete, RunStatus::interrupted, RunStatus::failed})
+    if (name == to_string(s)) return s;
+  throw std::invalid_argument("unknown run status '" + std::string(name) + "'");
+}
+/// The more severe of two statuses.
+constexpr RunStatus worst(RunStatus a, RunStatus b) { return a < b ? b : a; }
 
 using Columns = std::map<std::string, std::vector<double>>;
 
@@ -22,7 +46,7 @@ struct Table2D {
 
 struct ModelResult {
   std::string model;                ///< "continuum", "discrete"
-  std::string status = "complete";  ///< complete | interrupted | failed
+  RunStatus status = RunStatus::complete;
   std::string message;              ///< why, when not complete
   std::vector<double> x;            ///< node positions [nx] (0D: {0})
   Columns series;                   ///< each [nt]: t, drive_force, tip_x, tip_x_alt, max_v, ...
@@ -39,7 +63,17 @@ struct ModelResult {
   double wall_seconds = 0.0;
   template <class Ar>
   void serialize(Ar& ar) {
-    ar(model, status, message, x, series, snapshot_t, snapshots, events, events_alt, cycles, friction_law, scalars,
+    // the status as its name (checkpoints of earlier versions stored the string)
+    std::string status_name = to_string(status);
+    ar(model, status_name);
+    if (ar.loading()) {
+      try {
+        status = run_status(status_name);
+      } catch (const std::invalid_argument& e) {
+        throw core::ArchiveError(std::string("checkpoint: ") + e.what());
+      }
+    }
+    ar(message, x, series, snapshot_t, snapshots, events, events_alt, cycles, friction_law, scalars,
        labels, contacts, contacts_2d, wall_seconds);
   }
 };

@@ -77,17 +77,17 @@ std::vector<ModelResult> run_scene(const Scene& s, const RunControl& ctl) {
     } catch (const core::Interrupted& e) {  // a stop request during the set-up of its law
       ModelResult stopped;
       stopped.model = m;
-      stopped.status = "interrupted";
+      stopped.status = RunStatus::interrupted;
       stopped.message = e.what();
       out.push_back(std::move(stopped));
     } catch (const std::exception& e) {  // keep what the earlier models produced
       ModelResult failed;
       failed.model = m;
-      failed.status = "failed";
+      failed.status = RunStatus::failed;
       failed.message = e.what();
       out.push_back(std::move(failed));
     }
-    if (out.back().status != "complete") break;
+    if (out.back().status != RunStatus::complete) break;
   }
   return out;
 }

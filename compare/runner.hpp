@@ -322,7 +322,7 @@ class DynamicRun {
   }
 
   bool done() const {
-    if (r_.status != "complete") return true;
+    if (r_.status != RunStatus::complete) return true;
     if constexpr (DenseStepper<Stepper>) return sim_.time() >= s_.time.t_end * (1.0 - 1e-12);
     else return sim_.steps() >= nsteps_;
   }
@@ -351,7 +351,7 @@ class DynamicRun {
         recorder_.after_step(t0, t1, false, [&](double) { return now; }, tracker_, sim_.energy());
       }
     } catch (const core::NumericalError& e) {
-      r_.status = "failed";
+      r_.status = RunStatus::failed;
       r_.message = e.what();
     }
   }
@@ -373,7 +373,7 @@ class DynamicRun {
   }
 
   void interrupt() {
-    r_.status = "interrupted";
+    r_.status = RunStatus::interrupted;
     r_.message = "stopped at t = " + std::to_string(sim_.time());
   }
 
@@ -571,7 +571,7 @@ ModelResult run_imposed_rate(const Scene& s, MakeLaw make_law, const std::string
       detail::push(r.friction_law, "sigma_closed_form", continuum::steady_sliding(s.interface, p.v).sigma);
       ctl.progress(model, static_cast<double>(k + 1), static_cast<double>(rates.size()));
       if (ctl.stop()) {
-        r.status = "interrupted";
+        r.status = RunStatus::interrupted;
         r.message = "stopped during the sweep";
         break;
       }
@@ -613,7 +613,7 @@ ModelResult run_imposed_rate(const Scene& s, MakeLaw make_law, const std::string
     };
     record(vs[0]);
     std::int64_t steps = 0;
-    for (std::size_t k = 0; k < vs.size() && r.status == "complete"; ++k) {
+    for (std::size_t k = 0; k < vs.size() && r.status == RunStatus::complete; ++k) {
       const double t_seg_end = k + 1 < vs.size() ? std::min(ts[k + 1], s.time.t_end) : s.time.t_end;
       if (t_seg_end <= ts[k]) break;
       const double segment_steps = std::ceil((t_seg_end - ts[k]) / dt_target - 1e-9);
@@ -630,7 +630,7 @@ ModelResult run_imposed_rate(const Scene& s, MakeLaw make_law, const std::string
         record(v[0]);
         if ((++steps & 1023) == 0) ctl.progress(model, t, s.time.t_end);
         if (ctl.stop()) {
-          r.status = "interrupted";
+          r.status = RunStatus::interrupted;
           r.message = "stopped at t = " + std::to_string(t);
           break;
         }

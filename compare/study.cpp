@@ -533,7 +533,8 @@ StudyReport analyse_study(const StudySpec& spec, const std::vector<StudyRun>& ru
     throw std::invalid_argument("analyse_study: runs, scenes and results differ in length");
   for (std::size_t i = 0; i < results.size(); ++i)
     for (const auto& m : results[i])
-      if (m.status != "complete") rep.notes.push_back("run " + runs[i].id + " (" + m.model + "): " + m.status + " " + m.message);
+      if (m.status != RunStatus::complete)
+        rep.notes.push_back("run " + runs[i].id + " (" + m.model + "): " + to_string(m.status) + " " + m.message);
   if (spec.kind == "friction_law") friction_law_vs_N(rep, spec, runs, results);
   else if (spec.kind == "threshold_width") friction_law_vs_width(rep, runs, scenes, results);
   else if (spec.kind == "transient_friction") transient_vs_N(rep, spec, runs, scenes, results);

@@ -92,7 +92,7 @@ inline std::string run_status(const std::filesystem::path& file) {
   std::error_code ec;
   if (!std::filesystem::exists(file, ec)) return "";
   try {
-    return app::read_results_header(file).status;
+    return compare::to_string(app::read_results_header(file).status);
   } catch (const app::InputError&) {
     return "";
   }

@@ -299,7 +299,7 @@ TEST_CASE("adaptive: fig1 events agree with the explicit reference scheme, at a 
   // Work: ≥ 30× fewer steps (deterministic; wall-time ratios are printed, measured in the benchmark).
   const auto s = testing::fig1_scene();
   const auto explicit_run = testing::run_continuum(s);
-  REQUIRE(explicit_run.status == "complete");
+  REQUIRE(explicit_run.status == slipfront::compare::RunStatus::complete);
   const auto& e = explicit_run.events;
   const double dt = explicit_run.scalars.at("dt");
   for (double rtol : {1e-3, 1e-2}) {

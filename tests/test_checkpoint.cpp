@@ -181,7 +181,7 @@ TEST_CASE("checkpoint: energy budgets, the spring block, a steady-front start an
   ctl.checkpoint_every = 1000.0;  // none due: the only checkpoint is the stop's
   ctl.checkpoint = [&](const std::string& state, double t) { saved.push_back({t, state}); };
   const auto stopped = compare::run_scene_alongside(s, ctl);
-  CHECK(stopped.models[0].status == "interrupted");
+  CHECK(stopped.models[0].status == slipfront::compare::RunStatus::interrupted);
   REQUIRE(saved.size() == 1);
   require_identical(whole, restarted(s, saved[0].state));
 }

@@ -183,7 +183,7 @@ TEST_CASE("contact statistics on a front: the agent agrees with the continuum's 
   const auto& c = r.models[0];
   const auto& d = r.models[1];
   REQUIRE(c.model == "continuum");
-  REQUIRE(d.status == "complete");
+  REQUIRE(d.status == slipfront::compare::RunStatus::complete);
   const auto& cmp = r.comparison;
   REQUIRE(cmp.metrics.count("contacts_tested"));
   print_fit(cmp);

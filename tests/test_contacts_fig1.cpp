@@ -105,7 +105,7 @@ TEST_CASE("fig1 contact statistics against the continuum's prediction and the ag
           "[contacts][fig1]") {
   const auto s = contacts_scene();
   const auto r = compare::run_scene_alongside(s, compare::RunControl{});
-  REQUIRE(r.models[1].status == "complete");
+  REQUIRE(r.models[1].status == slipfront::compare::RunStatus::complete);
   std::printf("agent t^ = %.3f, t_arrest = %.3f; continuum t^ = %.3f, t_arrest = %.3f\n", r.models[1].events.t_hat,
               r.models[1].events.t_arrest, r.models[0].events.t_hat, r.models[0].events.t_arrest);
   const Summary cont = summarise(r.comparison, "agent vs the continuum's prediction");

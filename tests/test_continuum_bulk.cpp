@@ -67,7 +67,7 @@ TEST_CASE("continuum bulk: edge loading before first yield: u(x,t) is the quasi-
   s.time.t_end = 20.0;
   s.output.snapshot_dt = 20.0;
   const auto r = testing::run_continuum(s);
-  REQUIRE(r.status == "complete");
+  REQUIRE(r.status == slipfront::compare::RunStatus::complete);
   CHECK(std::isnan(r.events.t_star));  // still elastic everywhere
   const std::size_t k_last = r.snapshot_t.size() - 1;
   const double t = r.snapshot_t[k_last];
@@ -93,7 +93,7 @@ TEST_CASE("continuum bulk: fig1: the first yield t* is within 1% of (K + sqrt(al
   s.time.t_end = 30.0;
   s.output.snapshot_dt = 0.0;
   const auto r = testing::run_continuum(s);
-  REQUIRE(r.status == "complete");
+  REQUIRE(r.status == slipfront::compare::RunStatus::complete);
   const double ts = t_star_closed(s);
   CHECK(rel_err(ts, 25.71) < 1e-3);
   WARN("fig1 t* measured " << r.events.t_star << ", formula " << ts);
@@ -117,7 +117,7 @@ TEST_CASE("continuum bulk: stability: fig1 at cfl = 0.9 stays bounded, A within 
   s.time.cfl = 0.9;
   const auto r = testing::run_continuum(s);
   const auto r05 = testing::run_continuum(testing::fig1_scene());
-  REQUIRE(r.status == "complete");
+  REQUIRE(r.status == slipfront::compare::RunStatus::complete);
   for (const char* f : {"A", "sigma_bar", "v", "u"}) CHECK(all_finite(r.snapshots.at(f)));
   const auto& A = r.snapshots.at("A");
   CHECK(*std::min_element(A.begin(), A.end()) >= 0.0);
@@ -207,7 +207,7 @@ TEST_CASE("continuum bulk: stability limit: fig1 above the limit is refused by v
     CHECK(e.key == "time.dt");
   }
   const auto r = testing::run_continuum(s, /*validate=*/false);
-  CHECK(r.status == "failed");
+  CHECK(r.status == slipfront::compare::RunStatus::failed);
   CHECK(r.message.find("non-finite") != std::string::npos);
   CHECK(r.scalars.at("t_reached") < s.time.t_end);
 }
@@ -224,7 +224,7 @@ TEST_CASE("continuum bulk: homogeneous loading: the stuck state is stationary to
     const auto s = testing::homogeneous_scene(sd, 0.0, 20.0);
     const auto r = testing::run_continuum(s);
     INFO("sigma_d = " << sd);
-    REQUIRE(r.status == "complete");
+    REQUIRE(r.status == slipfront::compare::RunStatus::complete);
     REQUIRE(r.snapshot_t.size() >= 2);
     CHECK(std::isnan(r.events.t_star));
     const double u_eq = sd / s.interface.alpha;
@@ -312,7 +312,7 @@ TEST_CASE("continuum bulk: spring block, paper parameters (K = 2.5): no stick-sl
   // t = 200). Tolerance 1e-6 relative; no stick-slip cycle is detected.
   const auto s = testing::spring_block_scene(200.0);
   const auto r = testing::run_continuum(s);
-  REQUIRE(r.status == "complete");
+  REQUIRE(r.status == slipfront::compare::RunStatus::complete);
   CHECK(r.cycles.empty());
   const auto ss = continuum::steady_sliding(s.interface, s.drive.v_d);
   CHECK(rel_err(r.series.at("slip_rate").back(), s.drive.v_d) < 1e-6);
@@ -366,7 +366,7 @@ TEST_CASE("continuum bulk: spring block: stick-slip cycles below K_c, and subcri
     s.time.dt = 0.005;
     const auto r = testing::run_continuum(s);
     INFO("K = " << K);
-    REQUIRE(r.status == "complete");
+    REQUIRE(r.status == slipfront::compare::RunStatus::complete);
     REQUIRE(r.cycles.count("F_peak"));
     const auto& pk = r.cycles.at("F_peak");
     const auto& res = r.cycles.at("F_residual");
@@ -407,7 +407,7 @@ TEST_CASE("continuum bulk: energy budget: drive work = kinetic + elastic + visco
     s.output.energy = true;
     s.output.snapshot_dt = 0.0;
     const auto r = testing::run_continuum(s);
-    REQUIRE(r.status == "complete");
+    REQUIRE(r.status == slipfront::compare::RunStatus::complete);
     REQUIRE(r.series.at("energy_residual").size() == r.series.at("t").size());
     REQUIRE(std::isfinite(r.events.t_star));  // the run goes through yield
     for (const char* term : {"energy_drive_work", "energy_mechanical", "energy_viscous", "energy_interfacial"})
@@ -447,7 +447,7 @@ TEST_CASE("continuum bulk: fig1: slow front, fast transient that arrests inside,
   // units to either side. Convergence: halving dx and dt moves t^, c_transient, x_arrest by < 1%.
   const auto s = testing::fig1_scene();
   const auto r = testing::run_continuum(s);
-  REQUIRE(r.status == "complete");
+  REQUIRE(r.status == slipfront::compare::RunStatus::complete);
   const auto& ev = r.events;
   const auto& alt = r.events_alt;
   const double L = s.bulk.length, c_s = std::sqrt(s.bulk.mu / s.bulk.rho);
@@ -526,7 +526,7 @@ TEST_CASE("continuum bulk: fig1: slow front, fast transient that arrests inside,
   fine.grid.dx = 0.5 * s.grid.dx;
   fine.time.dt = 0.5 * compare::dynamic_time_step(s);
   const auto rf = testing::run_continuum(fine);
-  REQUIRE(rf.status == "complete");
+  REQUIRE(rf.status == slipfront::compare::RunStatus::complete);
   WARN("fig1 dx 0.25: t^ " << rf.events.t_hat << " (rel. change " << rel_err(ev.t_hat, rf.events.t_hat)
                            << "), c_transient " << rf.events.c_transient << " (rel. change "
                            << rel_err(ev.c_transient, rf.events.c_transient) << "), x_arrest " << rf.events.x_arrest

@@ -32,7 +32,7 @@ compare::ModelResult run_fig1_result(double dx, double dt, double T, double snap
   s.output.snapshot_dt = snapshot_dt;
   s.output.series_dt = T;
   const auto r = testing::run_continuum(s);
-  REQUIRE(r.status == "complete");
+  REQUIRE(r.status == slipfront::compare::RunStatus::complete);
   REQUIRE(r.snapshot_t.back() == Approx(T).epsilon(1e-9));
   return r;
 }

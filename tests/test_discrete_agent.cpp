@@ -126,7 +126,7 @@ Sample1D run_1d(const std::string& representation, std::uint64_t seed0, int seed
     const auto s = edge_short(representation, seed0 + static_cast<std::uint64_t>(k));
     s.validate();
     const auto r = compare::run_scene(s, {}).at(0);
-    REQUIRE(r.status == "complete");
+    REQUIRE(r.status == slipfront::compare::RunStatus::complete);
     out.t_hat.push_back(r.events.t_hat);
     out.force_end.push_back(r.series.at("drive_force").back());
     const std::size_t nx = r.x.size();
@@ -313,7 +313,7 @@ TEST_CASE("agent: contact statistics reach the run's result", "[discrete][agent]
   s.discrete.contact_statistics = true;
   s.validate();
   const auto r = compare::run_scene(s, {}).at(0);
-  REQUIRE(r.status == "complete");
+  REQUIRE(r.status == slipfront::compare::RunStatus::complete);
   for (const char* name : {"lifetime_hist_edges", "lifetime_hist_counts", "lifetimes", "detached_hist_counts",
                            "age_hist_edges", "threshold_hist_edges", "snapshot_t", "lifetime_total"})
     CHECK(r.contacts.count(name) == 1);
@@ -348,7 +348,7 @@ TEST_CASE("agent: contact statistics reach the run's result", "[discrete][agent]
   auto s1 = edge_short("agent", 5);
   s1.discrete.contact_statistics = true;
   const auto r1 = compare::run_scene(s1, {}).at(0);
-  REQUIRE(r1.status == "complete");
+  REQUIRE(r1.status == slipfront::compare::RunStatus::complete);
   CHECK(r1.contacts.at("snapshot_t") == r1.snapshot_t);
   const auto& det1 = r1.contacts_2d.at("detachments_per_site");
   CHECK(det1.cols == r1.x.size());

@@ -288,7 +288,7 @@ TEST_CASE("discrete count: reproducibility: seeds, thread counts, saved state", 
   const auto b = compare::run_scene(noisy_edge(11, 1), {}).at(0);
   const auto c = compare::run_scene(noisy_edge(12, 1), {}).at(0);
   const auto t2 = compare::run_scene(noisy_edge(11, 2), {}).at(0);
-  REQUIRE(a.status == "complete");
+  REQUIRE(a.status == slipfront::compare::RunStatus::complete);
   REQUIRE(std::isfinite(a.events.t_star));  // it yielded, so draws happened
   for (const char* f : {"A", "sigma_bar", "u", "v"}) {
     INFO(f);

@@ -82,8 +82,8 @@ TEST_CASE("discrete identity: fig1 through first yield, w = 0 and noise off", "[
   REQUIRE(r.size() == 2);
   const auto& c = r[0];
   const auto& d = r[1];
-  REQUIRE(c.status == "complete");
-  REQUIRE(d.status == "complete");
+  REQUIRE(c.status == slipfront::compare::RunStatus::complete);
+  REQUIRE(d.status == slipfront::compare::RunStatus::complete);
   REQUIRE(c.snapshot_t == d.snapshot_t);
   REQUIRE(c.snapshot_t.size() == 9);  // t = 0, 5, ..., 40
   const std::size_t nx = c.x.size();
@@ -121,7 +121,7 @@ TEST_CASE("discrete identity: 0D imposed slip-rate history with steps", "[discre
   s.validate();
   const auto r = compare::run_scene(s, {});
   REQUIRE(r.size() == 2);
-  REQUIRE(r[1].status == "complete");
+  REQUIRE(r[1].status == slipfront::compare::RunStatus::complete);
   REQUIRE(r[0].series.at("t").size() == r[1].series.at("t").size());
   const double worst = columns_diff(r[0].series, r[1].series);
   std::printf("identity velocity steps: max relative difference %.3g, t* = %.4f\n", worst, r[1].events.t_star);
@@ -156,7 +156,7 @@ TEST_CASE("discrete identity: 0D spring block", "[discrete][identity]") {
   s.validate();
   const auto r = compare::run_scene(s, {});
   REQUIRE(r.size() == 2);
-  REQUIRE(r[1].status == "complete");
+  REQUIRE(r[1].status == slipfront::compare::RunStatus::complete);
   double worst = columns_diff(r[0].series, r[1].series);
   const std::size_t cycles = r[0].cycles.count("t_start") ? r[0].cycles.at("t_start").size() : 0;
   if (cycles > 0) worst = std::max(worst, columns_diff(r[0].cycles, r[1].cycles));
@@ -182,7 +182,7 @@ TEST_CASE("discrete identity: homogeneous front from a nucleation patch", "[disc
   s.validate();
   const auto r = compare::run_scene(s, {});
   REQUIRE(r.size() == 2);
-  REQUIRE(r[1].status == "complete");
+  REQUIRE(r[1].status == slipfront::compare::RunStatus::complete);
   const std::size_t nx = r[0].x.size();
   double worst = 0.0;
   for (const char* field : {"A", "sigma_bar", "u", "v"})

@@ -99,7 +99,7 @@ void round_trip(const fs::path& dir, const std::string& toml, const std::vector<
   app::write_results(file, scene, resolved, sr.models, meta, &sr.comparison);
 
   const app::ResultsHeader h = app::read_results_header(file);
-  CHECK(h.status == "complete");
+  CHECK(h.status == slipfront::compare::RunStatus::complete);
   CHECK(h.resolved_toml == resolved);
   CHECK(h.config_hash == app::config_hash(resolved));
   CHECK(h.scene == scene.name);
@@ -184,7 +184,7 @@ TEST_CASE("h5in: statuses, messages, NaN events and labels survive and a bad fil
   const compare::Scene scene = app::parse_scene(testing::minimal_config(), "tiny.toml", {});
   compare::ModelResult a;
   a.model = "discrete";
-  a.status = "interrupted";
+  a.status = slipfront::compare::RunStatus::interrupted;
   a.message = "stopped at t = 1.5";
   a.x = {0.0, 1.0};
   a.series = {{"t", {0.0, 0.5}}, {"max_v", {std::numeric_limits<double>::quiet_NaN(), -0.0}}, {"empty", {}}};
@@ -195,7 +195,7 @@ TEST_CASE("h5in: statuses, messages, NaN events and labels survive and a bad fil
   a.wall_seconds = 0.25;
   compare::ModelResult b;
   b.model = "continuum";
-  b.status = "failed";
+  b.status = slipfront::compare::RunStatus::failed;
   b.message = "non-finite state at step 7, site 3";
   b.x = {0.0};
   b.friction_law = {{"v", {0.1, 1.0}}, {"sigma", {0.5, 0.25}}};
@@ -205,7 +205,7 @@ TEST_CASE("h5in: statuses, messages, NaN events and labels survive and a bad fil
   meta.message = "run-level message";
   app::write_results(file, scene, app::to_toml(scene), {a, b}, meta);
   const app::ResultsFile f = app::read_results(file);
-  CHECK(f.header.status == "failed");
+  CHECK(f.header.status == slipfront::compare::RunStatus::failed);
   CHECK(f.header.message == "run-level message");
   REQUIRE(f.models.size() == 2);
   check_model(a, f.models[0], true);  // order as written, not alphabetical

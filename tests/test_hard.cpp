@@ -25,7 +25,7 @@ TEST_CASE("hard scenes stay stable and bounded with both models", "[hard]") {
     REQUIRE(r.models.size() == 2);
     for (const auto& m : r.models) {
       INFO(m.model << ": " << m.message);
-      CHECK(m.status == "complete");
+      CHECK(m.status == slipfront::compare::RunStatus::complete);
       REQUIRE(!m.snapshot_t.empty());
       const double bound = s.interface.alpha * (1.0 + 1e-12);
       for (double a : m.snapshots.at("A")) {

@@ -32,7 +32,7 @@ compare::ModelResult run_one(const compare::Scene& s) {
   auto out = compare::run_scene(s, {});
   REQUIRE(out.size() == 1);
   INFO(out[0].message);
-  REQUIRE(out[0].status == "complete");
+  REQUIRE(out[0].status == slipfront::compare::RunStatus::complete);
   return std::move(out[0]);
 }
 
@@ -194,7 +194,7 @@ TEST_CASE("implicit: stable far beyond the explicit limit, also on the stiff cor
     REQUIRE(out.size() == 2);
     for (const auto& r : out) {
       INFO(r.model << ": " << r.message);
-      REQUIRE(r.status == "complete");
+      REQUIRE(r.status == slipfront::compare::RunStatus::complete);
       const auto& mv = r.series.at("max_v");
       for (double v : mv) REQUIRE((std::isfinite(v) && v < 1e3));
       const double vmax = *std::max_element(mv.begin(), mv.end());
@@ -219,7 +219,7 @@ TEST_CASE("implicit: noise off and w = 0, the count representation is the contin
   s.validate();
   const auto r = compare::run_scene_alongside(s, {});
   REQUIRE(r.models.size() == 2);
-  for (const auto& m : r.models) REQUIRE(m.status == "complete");
+  for (const auto& m : r.models) REQUIRE(m.status == slipfront::compare::RunStatus::complete);
   CHECK(r.models[1].labels.at("integrator") == "implicit");
   for (const char* f : {"A_distance", "sigma_bar_distance", "v_distance", "u_distance"})
     for (double d : r.comparison.fields.at(f)) REQUIRE(d == 0.0);
@@ -279,7 +279,7 @@ TEST_CASE("implicit: noise on, N = 10^6, the discrete model follows the continuu
     s.validate();
     const auto r = compare::run_scene_alongside(s, {});
     REQUIRE(r.models.size() == 2);
-    for (const auto& m : r.models) REQUIRE(m.status == "complete");
+    for (const auto& m : r.models) REQUIRE(m.status == slipfront::compare::RunStatus::complete);
     const auto& c = r.models[0].events;
     const auto& d = r.models[1].events;
     WARN("seed " << seed << ": t_hat " << d.t_hat << " vs " << c.t_hat << ", c_transient " << d.c_transient << " vs "

@@ -69,7 +69,7 @@ TEST_CASE("law contract: a new deterministic law in one file runs on all three i
   for (const auto integ : {Integrator::central_difference, Integrator::implicit_trapezoidal, Integrator::adaptive_rosenbrock}) {
     const auto s = small_fig1(integ, 200.0);
     r.push_back(run<QuadraticDetachmentLaw>(s, [&](std::size_t n) { return QuadraticDetachmentLaw(s.interface, n); }));
-    REQUIRE(r.back().status == "complete");
+    REQUIRE(r.back().status == slipfront::compare::RunStatus::complete);
     CHECK(r.back().labels.at("integrator") == core::to_string(integ));
   }
   const auto paper = run<continuum::FrictionLaw>(small_fig1(Integrator::central_difference, 200.0), [&](std::size_t n) {
@@ -107,12 +107,12 @@ TEST_CASE("law contract: a stochastic law in one file runs on the fixed-step int
     const auto s = small_fig1(integ);
     const auto paper = run<continuum::FrictionLaw>(s, [&](std::size_t n) { return continuum::FrictionLaw(s.interface, n); });
     const auto same = run<RedrawnThresholdLaw>(s, [&](std::size_t n) { return RedrawnThresholdLaw(s.interface, 0.0, 1, n); });
-    REQUIRE(same.status == "complete");
+    REQUIRE(same.status == slipfront::compare::RunStatus::complete);
     CHECK(same.series.at("drive_force") == paper.series.at("drive_force"));
     CHECK(same.snapshots.at("A") == paper.snapshots.at("A"));
     CHECK(same.snapshots.at("sigma_bar") == paper.snapshots.at("sigma_bar"));
     const auto noisy = run<RedrawnThresholdLaw>(s, [&](std::size_t n) { return RedrawnThresholdLaw(s.interface, 0.05, 1, n); });
-    REQUIRE(noisy.status == "complete");
+    REQUIRE(noisy.status == slipfront::compare::RunStatus::complete);
     INFO("integrator " << core::to_string(integ) << ": t* " << noisy.events.t_star << " vs " << paper.events.t_star);
     CHECK(std::abs(noisy.events.t_star / (0.95 * paper.events.t_star) - 1.0) < 0.01);
   }
@@ -190,7 +190,7 @@ TEST_CASE("adaptive integrator: the energy budget closes to the integration erro
     s.time.atol = 1e-2 * rtol;
     s.output.energy = true;
     const auto r = run<continuum::FrictionLaw>(s, [&](std::size_t n) { return continuum::FrictionLaw(s.interface, n); });
-    REQUIRE(r.status == "complete");
+    REQUIRE(r.status == slipfront::compare::RunStatus::complete);
     const auto& res = r.series.at("energy_residual");
     const auto& work = r.series.at("energy_drive_work");
     REQUIRE(work.back() > 0.0);

@@ -117,7 +117,7 @@ TEST_CASE("output: a tiny edge-loading run is written in the docs/model.md §5 l
   const Run run = run_tiny();
   REQUIRE(run.results.size() == 1);
   const compare::ModelResult& m = run.results[0];
-  REQUIRE(m.status == "complete");
+  REQUIRE(m.status == slipfront::compare::RunStatus::complete);
 
   const fs::path path = dir.path / "results.h5";
   app::RunMeta meta;
@@ -200,7 +200,7 @@ TEST_CASE("output: status is the worst of models and run and files are replaced 
     CHECK_FALSE(exists(file.id, "/continuum/snapshots"));  // snapshot_dt = 0: none
   }
 
-  run.results[0].status = "interrupted";
+  run.results[0].status = compare::RunStatus::interrupted;
   run.results[0].message = "stopped at t = 1";
   app::write_results(path, run.scene, run.toml, run.results, {});  // replaces the previous file
   {
@@ -212,7 +212,7 @@ TEST_CASE("output: status is the worst of models and run and files are replaced 
   }
 
   app::RunMeta failed;
-  failed.status = "failed";
+  failed.status = compare::RunStatus::failed;
   failed.message = "the run stopped with an error";
   app::write_results(path, run.scene, run.toml, {}, failed);  // nothing to show but the reason
   {
@@ -224,14 +224,14 @@ TEST_CASE("output: status is the worst of models and run and files are replaced 
   }
 
   std::vector<compare::ModelResult> two(2);
-  two[0].status = "failed";
-  two[1].status = "interrupted";
-  CHECK(app::overall_status(two) == "failed");
-  two[0].status = "complete";
-  CHECK(app::overall_status(two) == "interrupted");
-  two[1].status = "complete";
-  CHECK(app::overall_status(two) == "complete");
-  CHECK(app::overall_status(two, "failed") == "failed");
+  two[0].status = compare::RunStatus::failed;
+  two[1].status = compare::RunStatus::interrupted;
+  CHECK(app::overall_status(two) == compare::RunStatus::failed);
+  two[0].status = compare::RunStatus::complete;
+  CHECK(app::overall_status(two) == compare::RunStatus::interrupted);
+  two[1].status = compare::RunStatus::complete;
+  CHECK(app::overall_status(two) == compare::RunStatus::complete);
+  CHECK(app::overall_status(two, compare::RunStatus::failed) == compare::RunStatus::failed);
 
   // A directory that does not exist: OutputError, no temporary file left behind.
   const fs::path nowhere = dir.path / "missing" / "results.h5";

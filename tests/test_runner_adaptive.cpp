@@ -25,8 +25,8 @@ TEST_CASE("runner: the adaptive integrator reproduces fig1's events within 1% in
   // whose own distance to the converged solution is ~1e-4 (docs/performance.md).
   const auto ex = compare::run_scene(fig1({}), {});
   const auto ad = compare::run_scene(fig1({"time.integrator=adaptive", "time.rtol=1e-2"}), {});
-  REQUIRE(ex.at(0).status == "complete");
-  REQUIRE(ad.at(0).status == "complete");
+  REQUIRE(ex.at(0).status == slipfront::compare::RunStatus::complete);
+  REQUIRE(ad.at(0).status == slipfront::compare::RunStatus::complete);
   CHECK(ad[0].labels.at("integrator") == "adaptive");
   const auto& a = ad[0].events;
   const auto& e = ex[0].events;

@@ -123,7 +123,7 @@ TEST_CASE("slow: fig1 with N = 100, agent vs count over seeds", "[discrete][agen
   for (int k = 0; k < 2; ++k)
     for (std::uint64_t seed = 1; seed <= 12; ++seed) {
       const auto r = compare::run_scene(scene(reps[k], seed + 1000 * static_cast<std::uint64_t>(k)), {}).at(0);
-      REQUIRE(r.status == "complete");
+      REQUIRE(r.status == slipfront::compare::RunStatus::complete);
       t_hat[k].push_back(r.events.t_hat);
       c_tr[k].push_back(r.events.c_transient);
       x_arr[k].push_back(r.events.x_arrest);

@@ -25,7 +25,7 @@ compare::ModelResult run_fig1(double dx, double dt, double T, double snapshot_dt
   s.output.series_dt = snapshot_dt > 0 ? snapshot_dt : 0.05;
   s.output.energy = energy;
   const auto r = testing::run_continuum(s);
-  REQUIRE(r.status == "complete");
+  REQUIRE(r.status == slipfront::compare::RunStatus::complete);
   return r;
 }
 
@@ -169,7 +169,7 @@ TEST_CASE("continuum slow: halving v_d doubles t* and slows the slow front", "[s
   auto f = testing::fig1_scene();
   f.output.snapshot_dt = 0.0;
   const auto r0 = testing::run_continuum(f);
-  REQUIRE(r.status == "complete");
+  REQUIRE(r.status == slipfront::compare::RunStatus::complete);
   const double ts = (s.drive.K + std::sqrt(s.interface.alpha * s.bulk.mu)) / (s.interface.alpha * s.drive.K * s.drive.v_d);
   CHECK(rel_err(r.events.t_star, ts) < 0.01);
   REQUIRE(std::isfinite(r.events_alt.c_slow));

@@ -35,7 +35,7 @@ compare::ModelResult run_from_front(double sigma_d, double dx, double kick = 0.0
   s.validate();
   auto out = compare::run_scene(s, {});
   REQUIRE(out.size() == 1);
-  REQUIRE(out[0].status == "complete");
+  REQUIRE(out[0].status == slipfront::compare::RunStatus::complete);
   return out[0];
 }
 
@@ -81,7 +81,7 @@ TEST_CASE("steady front runs: no front to start from is refused naming sigma_d",
   s.validate();
   const auto out = compare::run_scene(s, {});
   REQUIRE(out.size() == 1);
-  CHECK(out[0].status == "failed");
+  CHECK(out[0].status == slipfront::compare::RunStatus::failed);
   CHECK(out[0].message.find("drive.sigma_d") != std::string::npos);
 }
 

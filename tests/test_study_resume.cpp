@@ -140,7 +140,7 @@ TEST_CASE("resume: partial runs are redone, other configurations refused without
     const auto runs = compare::expand(spec);
     const compare::Scene scene = app::load_scene(spec.scene_file, runs[2].overrides);
     app::RunMeta meta;
-    meta.status = "interrupted";
+    meta.status = compare::RunStatus::interrupted;
     app::write_results(files[2], scene, app::to_toml(scene), {}, meta);
     CHECK(run_status(files[2]) == "interrupted");
     stamps[2] = stamp(files[2]);

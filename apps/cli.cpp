@@ -21,7 +21,7 @@
 #include "apps/h5out.hpp"
 #include "apps/study.hpp"
 #include "compare/estimate.hpp"
-#include "compare/runner.hpp"
+#include "compare/alongside.hpp"
 
 namespace slipfront::app {
 namespace {

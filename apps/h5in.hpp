@@ -9,7 +9,6 @@
 #include <string>
 #include <vector>
 
-#include "compare/alongside.hpp"
 #include "compare/result.hpp"
 
 namespace slipfront::app {

@@ -5,7 +5,6 @@
 #include <string>
 #include <vector>
 
-#include "compare/alongside.hpp"
 #include "compare/fronts.hpp"
 #include "compare/result.hpp"
 #include "compare/scene.hpp"

@@ -30,7 +30,7 @@
 #include "apps/paths.hpp"
 #include "apps/study_mpi.hpp"
 #include "compare/pool.hpp"
-#include "compare/runner.hpp"
+#include "compare/alongside.hpp"
 
 extern char** environ;
 

@@ -7,6 +7,7 @@
 
 #include "compare/contacts.hpp"
 #include "compare/laws.hpp"
+#include "compare/runner.hpp"
 
 namespace slipfront::compare {
 namespace {

@@ -9,24 +9,10 @@
 #include <vector>
 
 #include "compare/result.hpp"
-#include "compare/runner.hpp"
+#include "compare/run_control.hpp"
 #include "compare/scene.hpp"
 
 namespace slipfront::compare {
-
-struct Comparison {
-  Columns fields;                                   ///< t, A_distance, sigma_bar_distance, v_distance, u_distance
-  Columns friction_law;                             ///< v, rel_diff (imposed-rate sweeps)
-  Columns contacts;                                 ///< goodness of fit of the contact statistics, one row per statistic and class
-  std::map<std::string, double> metrics;            ///< scalar metrics
-  std::map<std::string, std::string> definitions;   ///< metric or "fields/<col>" -> definition
-  bool empty() const { return fields.empty() && friction_law.empty() && contacts.empty() && metrics.empty(); }
-};
-
-struct SceneResult {
-  std::vector<ModelResult> models;
-  Comparison comparison;  ///< empty unless the scene runs both continuum and discrete
-};
 
 /// Run every model of the scene; with both continuum and discrete on a bulk scene, in lockstep.
 /// Each model's result is bit-identical to the one run_scene gives for it alone.

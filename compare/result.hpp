@@ -78,4 +78,19 @@ struct ModelResult {
   }
 };
 
+/// The comparison layer's metrics of one scene run (compare/alongside.hpp), each with its definition.
+struct Comparison {
+  Columns fields;                                   ///< t, A_distance, sigma_bar_distance, v_distance, u_distance
+  Columns friction_law;                             ///< v, rel_diff (imposed-rate sweeps)
+  Columns contacts;                                 ///< goodness of fit of the contact statistics, one row per statistic and class
+  std::map<std::string, double> metrics;            ///< scalar metrics
+  std::map<std::string, std::string> definitions;   ///< metric or "fields/<col>" -> definition
+  bool empty() const { return fields.empty() && friction_law.empty() && contacts.empty() && metrics.empty(); }
+};
+
+struct SceneResult {
+  std::vector<ModelResult> models;
+  Comparison comparison;  ///< empty unless the scene runs both continuum and discrete
+};
+
 }  // namespace slipfront::compare

@@ -18,6 +18,7 @@
 #include "compare/fit.hpp"
 #include "compare/measure.hpp"
 #include "compare/record.hpp"
+#include "compare/run_control.hpp"
 #include "compare/result.hpp"
 #include "compare/scene.hpp"
 #include "core/adaptive.hpp"
@@ -30,21 +31,6 @@
 #include "discrete/contact_stats.hpp"
 
 namespace slipfront::compare {
-
-/// Hooks of the caller (CLI): a stop request (Ctrl-C), polled after every step, progress, and
-/// checkpoints (issue 10): every `checkpoint_every` of simulated time (0: never), and once more when a
-/// stop is requested, `checkpoint(state, t)` receives the state of the whole scene run (both models, every
-/// law's state and random streams, the measurements and the records so far); a run given that state in
-/// `restart` continues from it bit for bit. Bulk scenes only (an imposed-rate scene has no checkpoints).
-struct RunControl {
-  std::function<bool()> stop = [] { return false; };
-  std::function<void(const std::string& model, double t, double t_end)> progress =
-      [](const std::string&, double, double) {};
-  double checkpoint_every = 0.0;
-  std::function<void(const std::string& state, double t)> checkpoint;
-  std::string restart;
-  bool checkpointing() const { return checkpoint_every > 0.0 && static_cast<bool>(checkpoint); }
-};
 
 /// When the next checkpoint is due: at the first step end at or after each multiple of every.
 class CheckpointClock {

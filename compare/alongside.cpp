@@ -32,7 +32,7 @@ class FieldComparison {
   }
 
  private:
-  detail::Cadence due_;
+  Cadence due_;
   Columns c_;
 };
 
@@ -48,7 +48,7 @@ SceneResult lockstep(const Scene& s, LawA a, LawB b, const RunControl& ctl) {
   } else {
     fields.observe(0.0, ra.sim(), rb.sim());
   }
-  CheckpointClock clock(ctl, ra.time());
+  Cadence clock = Cadence::after(ctl.checkpointing() ? ctl.checkpoint_every : -1.0, ra.time());
   for (std::int64_t n = 1; !ra.done() || !rb.done(); ++n) {
     if (!ra.done()) ra.step();
     if (!rb.done()) rb.step();
@@ -111,7 +111,7 @@ void compare_contacts(const ModelResult& c, const ModelResult& d, Comparison& cm
   // snapshots had contacts in it: near a fast event (the transient, the arrest) one snapshot of each
   // model compares different moments of it.
   const auto [age_measured, age_predicted] = matched_age_tables(d, c);
-  std::vector<double> age_snapshots(discrete::FrontClasses::count, 0.0);
+  std::vector<double> age_snapshots(core::FrontClasses::count, 0.0);
   if (!age_measured.data.empty()) {
     const auto& pm = d.contacts.at("contact_snapshot_phase");
     const auto& rows_m = d.contacts_2d.at("region_age_counts");
@@ -119,13 +119,13 @@ void compare_contacts(const ModelResult& c, const ModelResult& d, Comparison& cm
     const std::size_t nb = age_measured.cols;
     for (std::size_t k = 0; k < pm.size(); ++k) {
       if (pm[k] != c.contacts.at("contact_snapshot_phase")[k]) continue;
-      for (std::size_t r = 0; r < discrete::FrontClasses::regions; ++r) {
+      for (std::size_t r = 0; r < core::FrontClasses::regions; ++r) {
         double m = 0.0, p = 0.0;
         for (std::size_t j = 0; j < nb; ++j) {
           m += rows_m.data[k * rows_m.cols + r * nb + j];
           p += rows_p.data[k * rows_p.cols + r * nb + j];
         }
-        if (m > 0.0 && p > 0.0) age_snapshots[static_cast<std::size_t>(pm[k]) * discrete::FrontClasses::regions + r] += 1.0;
+        if (m > 0.0 && p > 0.0) age_snapshots[static_cast<std::size_t>(pm[k]) * core::FrontClasses::regions + r] += 1.0;
       }
     }
   }
@@ -136,7 +136,7 @@ void compare_contacts(const ModelResult& c, const ModelResult& d, Comparison& cm
     const Table2D& measured = age ? age_measured : d.contacts_2d.at(name);
     const Table2D& predicted = age ? age_predicted : c.contacts_2d.at(name);
     for (ContactFit f : contact_fit(stat, measured, predicted)) {
-      if (age && age_snapshots[f.phase * discrete::FrontClasses::regions + f.region] < 3.0) f.tested = false;
+      if (age && age_snapshots[f.phase * core::FrontClasses::regions + f.region] < 3.0) f.tested = false;
       auto& col = cmp.contacts;
       detail::push(col, "statistic", std::string(stat) == "lifetime" ? 0.0 : 1.0);
       detail::push(col, "phase", static_cast<double>(f.phase));

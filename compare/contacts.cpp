@@ -22,8 +22,8 @@ ContactPrediction::ContactPrediction(std::size_t sites, double contacts_per_site
                                      double cohort_width, double age_cap)
     : n_contacts_(contacts_per_site), scale_(hazard_scale), width_(cohort_width), age_cap_(age_cap),
       edges_(discrete::class_time_edges()), bins_(edges_.size() - 1), cohorts_(sites), compacted_size_(sites, 0),
-      lifetime_(discrete::FrontClasses::count * bins_, 0.0), age_(discrete::FrontClasses::count * bins_, 0.0),
-      detach_total_(sites, 0.0), attach_total_(sites, 0.0), snapshots_per_phase_(discrete::FrontClasses::phases, 0.0) {
+      lifetime_(core::FrontClasses::count * bins_, 0.0), age_(core::FrontClasses::count * bins_, 0.0),
+      detach_total_(sites, 0.0), attach_total_(sites, 0.0), snapshots_per_phase_(core::FrontClasses::phases, 0.0) {
   if (!(cohort_width > 0.0)) throw std::invalid_argument("ContactPrediction: cohort_width must be > 0");
 }
 
@@ -200,7 +200,7 @@ void ContactPrediction::snapshot() {
   snapshot_t_.push_back(t);
   snapshot_phase_.push_back(static_cast<double>(front_.phase));
   // this snapshot's ages by region: the class rows of the current phase, before and after
-  const std::size_t regions = discrete::FrontClasses::regions, first = regions * front_.phase * bins_;
+  const std::size_t regions = core::FrontClasses::regions, first = regions * front_.phase * bins_;
   std::vector<double> before(age_.begin() + static_cast<std::ptrdiff_t>(first),
                              age_.begin() + static_cast<std::ptrdiff_t>(first + regions * bins_));
   for (std::size_t i = 0; i < cohorts_.size(); ++i) {
@@ -226,8 +226,8 @@ double ContactPrediction::attached_mass(std::size_t i) const {
   return m;
 }
 
-discrete::ContactTables ContactPrediction::tables() const {
-  discrete::ContactTables out;
+core::ContactTables ContactPrediction::tables() const {
+  core::ContactTables out;
   auto& c = out.columns;
   c["class_time_edges"] = edges_;
   c["contact_snapshots_per_phase"] = snapshots_per_phase_;
@@ -238,7 +238,7 @@ discrete::ContactTables ContactPrediction::tables() const {
   c["lifetime_total"] = {total};
   out.tables["class_lifetime_counts"] = {bins_, lifetime_};
   out.tables["class_age_counts"] = {bins_, age_};
-  out.tables["region_age_counts"] = {discrete::FrontClasses::regions * bins_, region_age_rows_};
+  out.tables["region_age_counts"] = {core::FrontClasses::regions * bins_, region_age_rows_};
   c["snapshot_t"] = snapshot_t_;
   c["contact_snapshot_phase"] = snapshot_phase_;
   return out;
@@ -256,7 +256,7 @@ std::pair<Table2D, Table2D> matched_age_tables(const ModelResult& measured, cons
   const auto* pp = find_col(predicted, "contact_snapshot_phase");
   const auto am = measured.contacts_2d.find("region_age_counts"), ap = predicted.contacts_2d.find("region_age_counts");
   if (!tm || !tp || !pm || !pp || am == measured.contacts_2d.end() || ap == predicted.contacts_2d.end()) return out;
-  const std::size_t ns = tm->size(), cols = am->second.cols, regions = discrete::FrontClasses::regions;
+  const std::size_t ns = tm->size(), cols = am->second.cols, regions = core::FrontClasses::regions;
   if (tp->size() != ns || pm->size() != ns || pp->size() != ns || ap->second.cols != cols || cols % regions != 0 ||
       am->second.data.size() != ns * cols || ap->second.data.size() != ns * cols)
     return out;
@@ -265,7 +265,7 @@ std::pair<Table2D, Table2D> matched_age_tables(const ModelResult& measured, cons
   const std::size_t nb = cols / regions;
   for (Table2D* t : {&out.first, &out.second}) {
     t->cols = nb;
-    t->data.assign(discrete::FrontClasses::count * nb, 0.0);
+    t->data.assign(core::FrontClasses::count * nb, 0.0);
   }
   for (std::size_t k = 0; k < ns; ++k) {
     if ((*pm)[k] != (*pp)[k]) continue;  // the models are in different phases: different moments
@@ -288,8 +288,8 @@ std::vector<ContactFit> contact_fit(const std::string& statistic, const Table2D&
   for (std::size_t cls = 0; cls < rows; ++cls) {
     ContactFit f;
     f.statistic = statistic;
-    f.phase = cls / discrete::FrontClasses::regions;
-    f.region = cls % discrete::FrontClasses::regions;
+    f.phase = cls / core::FrontClasses::regions;
+    f.region = cls % core::FrontClasses::regions;
     const double* n = measured.data.data() + cls * nb;
     const double* mu = predicted.data.data() + cls * nb;
     for (std::size_t k = 0; k < nb; ++k) {

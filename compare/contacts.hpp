@@ -51,7 +51,7 @@ class ContactPrediction {
   /// The state at t = 0: every attached contact has age 0.
   void start(std::span<const double> areas);
   /// Where the sites are relative to the continuum's front, and its phase (docs/model.md §7.2).
-  void set_front(const discrete::FrontClasses& f) { front_ = f; }
+  void set_front(const core::FrontClasses& f) { front_ = f; }
   /// One step of length dt of the continuum run: A at its start and the hazard Θκ|v| frozen over it.
   /// Times are kept on the prediction's own clock Σ dt, accumulated as the agent accumulates its time
   /// (AgentLaw::time), so that ages that fall exactly on a bin edge (before first yield every age is t)
@@ -68,7 +68,7 @@ class ContactPrediction {
   /// class_age_counts, region_age_counts, snapshot_t, contact_snapshot_phase,
   /// contact_snapshots_per_phase, detachments_total_per_site, attachments_total_per_site,
   /// lifetime_total).
-  discrete::ContactTables tables() const;
+  core::ContactTables tables() const;
   std::size_t max_cohorts() const { return max_cohorts_; }  ///< the most cohorts any site held
   std::size_t cohorts(std::size_t i) const { return cohorts_[i].size(); }
 
@@ -105,7 +105,7 @@ class ContactPrediction {
 
   double n_contacts_, scale_, width_, age_cap_;
   double clock_ = 0.0;
-  discrete::FrontClasses front_;
+  core::FrontClasses front_;
   std::vector<double> edges_;  ///< class_time_edges
   std::size_t bins_;
   std::vector<std::vector<Cohort>> cohorts_;

@@ -32,7 +32,7 @@ double ls_slope(std::span<const double> t, std::span<const double> y) {
 }
 
 FrontTracker::FrontTracker(const core::MeasureParams& p, std::vector<double> x)
-    : p_(p), x_(std::move(x)) {}
+    : p_(p), x_(std::move(x)), samples_(p.sample_dt) {}
 
 void FrontTracker::observe_step(double t0, double t1, bool yielded, double max_v) {
   if (yielded && std::isnan(ev_.t_star)) ev_.t_star = t0;
@@ -58,7 +58,7 @@ double FrontTracker::record_tips(double t, double tip, double tip_alt) {
   ts_.push_back(t);
   tips_.push_back(tip);
   tips_alt_.push_back(last_tip_alt_);
-  next_sample_ = (std::floor(t / p_.sample_dt + 1e-9) + 1.0) * p_.sample_dt * (1.0 - 1e-12);  // multiples of sample_dt
+  samples_.passed(t);
   return tip;
 }
 

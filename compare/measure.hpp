@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "compare/cadence.hpp"
 #include "core/params.hpp"
 
 namespace slipfront::compare {
@@ -81,7 +82,7 @@ class FrontTracker {
   /// Every step [t0, t1]: whether some site yielded at t0, and max |v| over the step.
   void observe_step(double t0, double t1, bool yielded, double max_v);
   /// Whether a tip sample is due at time t: the first step at or after each multiple of measure.sample_dt.
-  bool sample_due(double t) const { return t >= next_sample_; }
+  bool sample_due(double t) const { return samples_.is_due(t); }
   /// Record the tip positions (both thresholds) at time t; returns the A_tip position. `area` may be
   /// a prefix of the nodes when every node beyond it is known to be above both thresholds.
   double sample_tip(double t, std::span<const double> area);
@@ -107,14 +108,15 @@ class FrontTracker {
   Events finish(bool homogeneous, bool alt = false) const;
   template <class Ar>
   void serialize(Ar& ar) {
-    ar(ts_, tips_, tips_alt_, next_sample_, last_tip_alt_, ev_, prev_max_v_, prev_t_mid_, in_transient_);
+    ar(ts_, tips_, tips_alt_, samples_, last_tip_alt_, ev_, prev_max_v_, prev_t_mid_, in_transient_);
   }
 
  private:
   core::MeasureParams p_;
   std::vector<double> x_;
   std::vector<double> ts_, tips_, tips_alt_;
-  double next_sample_ = 0.0, last_tip_alt_ = nan;
+  Cadence samples_;  ///< tip samples: multiples of measure.sample_dt
+  double last_tip_alt_ = nan;
   Events ev_;
   double prev_max_v_ = 0.0, prev_t_mid_ = 0.0;
   bool in_transient_ = false;

@@ -18,6 +18,7 @@
 #include <span>
 #include <vector>
 
+#include "compare/cadence.hpp"
 #include "compare/measure.hpp"
 #include "compare/result.hpp"
 #include "compare/scene.hpp"
@@ -28,52 +29,16 @@ namespace slipfront::compare {
 
 namespace detail {
 
-// Cadence of a fixed-step run: due(t) is true at the first step at or after each multiple of `every`
-// (every = 0: every step; every < 0: never).
-class Cadence {
- public:
-  explicit Cadence(double every) : every_(every) {}
-  template <class Ar>
-  void serialize(Ar& ar) {
-    ar(next_);
-  }
-  bool due(double t) {
-    if (every_ < 0) return false;
-    if (t + 1e-9 * every_ < next_) return false;
-    next_ = every_ > 0 ? (std::floor(t / every_ + 1e-9) + 1.0) * every_ : t;
-    return true;
-  }
-
- private:
-  double every_, next_ = 0.0;
-};
-
-/// Calls f(t) at every multiple t of `every` in (t0, t1] (the last one clamped to t1): the exact
-/// cadence times inside a step of a stepper with dense output.
-template <class F>
-void multiples_in(double t0, double t1, double every, F&& f) {
-  if (every <= 0) return;
-  for (auto k = static_cast<std::int64_t>(std::floor(t0 / every + 1e-9)) + 1;; ++k) {
-    if (static_cast<double>(k) * every > t1 * (1.0 + 1e-12)) break;
-    f(std::min(static_cast<double>(k) * every, t1));
-  }
-}
-
 inline void push(Columns& c, const char* name, double v) { c[name].push_back(v); }
 inline void append(Columns& c, const char* name, std::span<const double> v) {
   auto& col = c[name];
   col.insert(col.end(), v.begin(), v.end());
 }
-// Laws that carry the mean contact age (docs/model.md §7: FrictionLaw's age mass, AgentLaw's exact
-// ages) when asked (output.ages).
-template <class Law>
-concept CarriesAges = requires(const Law& l, std::span<double> out) {
-  { l.tracks_ages() } -> std::convertible_to<bool>;
-  l.mean_age(out);
-};
+// The mean contact age of laws that carry it (core::LawHooks::ages, docs/model.md §7: FrictionLaw's age
+// mass, AgentLaw's exact ages) when asked (output.ages); false otherwise.
 template <class Law>
 bool law_mean_age(const Law& law, std::span<double> out) {
-  if constexpr (CarriesAges<Law>) {
+  if constexpr (Law::hooks.ages) {
     if (law.tracks_ages()) {
       law.mean_age(out);
       return true;
@@ -116,7 +81,7 @@ class DenseState {
   /// ā at t: the law's age mass integrated from the step's start to t on the dense output, over A(t).
   bool mean_age(std::span<double> out) const {
     const auto& law = sim_.law();
-    if constexpr (requires { law.age_mass_at(std::size_t{0}, 0.0, sim_.dense_sampler()); }) {
+    if constexpr (std::remove_cvref_t<decltype(law)>::hooks.dense_ages) {
       if (!law.tracks_ages()) return false;
       const auto area = contact_area();
       const auto at = sim_.dense_sampler();
@@ -182,8 +147,8 @@ class Recorder {
       if (snap_due_.due(t1)) snapshot(state_at(t1));
       return;
     }
-    detail::multiples_in(t0, t1, series_every_, [&](double t) { series_row(state_at(t), tracker, energy); });
-    detail::multiples_in(t0, t1, snapshot_every_, [&](double t) { snapshot(state_at(t)); });
+    multiples_in(t0, t1, series_every_, [&](double t) { series_row(state_at(t), tracker, energy); });
+    multiples_in(t0, t1, snapshot_every_, [&](double t) { snapshot(state_at(t)); });
   }
 
   /// One series row (docs/output.md /series): t, drive_force, max_v; 1D: tip_x, tip_x_alt; one site:
@@ -241,7 +206,7 @@ class Recorder {
   double eta_;
   bool one_d_;
   double series_every_, snapshot_every_;
-  detail::Cadence series_due_, snap_due_;
+  Cadence series_due_, snap_due_;
   ModelResult& r_;
   std::vector<double> age_;  ///< scratch row of mean ages
 };

@@ -32,22 +32,6 @@
 
 namespace slipfront::compare {
 
-/// When the next checkpoint is due: at the first step end at or after each multiple of every.
-class CheckpointClock {
- public:
-  CheckpointClock(const RunControl& ctl, double t) : every_(ctl.checkpointing() ? ctl.checkpoint_every : 0.0) {
-    if (every_ > 0) next_ = (std::floor(t / every_ + 1e-9) + 1.0) * every_;
-  }
-  bool due(double t) {
-    if (!(every_ > 0) || t < next_ * (1.0 - 1e-12)) return false;
-    next_ = (std::floor(t / every_ + 1e-9) + 1.0) * every_;
-    return true;
-  }
-
- private:
-  double every_, next_ = 0.0;
-};
-
 /// What a checkpoint of a model run is written after: the state of the scene run around it (the models
 /// already finished), so that the whole run can be resumed.
 using CheckpointHeader = std::function<void(core::Archive&)>;
@@ -113,18 +97,6 @@ concept DenseStepper = requires(const S& sim, double t, std::span<double> out) {
 
 namespace detail {
 
-// Laws that record contact statistics (the agent representation, docs/model.md §5 /discrete/contacts):
-// the runner snapshots them at the snapshot cadence and stores their tables; other laws compile without
-// a trace of it.
-template <class Law>
-concept RecordsContacts = requires(Law& law, const Law& cl, double t) {
-  law.record_contacts(t);
-  cl.contact_tables();
-};
-// Laws that class their contact statistics by region and phase (docs/model.md §7.2): told at every
-// tip sample where the front is.
-template <class Law>
-concept ObservesFront = requires(Law& law, const discrete::FrontClasses& f) { law.observe_front(f); };
 template <class Law>
 void store_contacts(const Law& law, ModelResult& r) {
   auto tables = law.contact_tables();
@@ -169,7 +141,7 @@ void set_initial_conditions(const Scene& s, Stepper& sim, const std::optional<co
 // Before any set_site: ages start at 0.
 template <class Law>
 void configure_law(const Scene& s, Law& law) {
-  if constexpr (requires { law.track_ages(true); }) law.track_ages(s.output.ages);
+  if constexpr (Law::hooks.ages) law.track_ages(s.output.ages);
 }
 
 // docs/model.md §7.2: the continuum predicts the contact statistics the agent measures (fixed-step runs of
@@ -203,8 +175,8 @@ Stepper make_stepper(const Scene& s, Law law, const std::optional<continuum::Ste
 
 /// The regions of docs/model.md §7.2 on the nodes x: behind (x < front − band), tip band
 /// (|x − front| ≤ band), ahead (x > front + band); with no front (NaN) every node is ahead.
-inline discrete::FrontClasses front_classes(std::span<const double> x, double front, double band, std::size_t phase) {
-  discrete::FrontClasses f;
+inline core::FrontClasses front_classes(std::span<const double> x, double front, double band, std::size_t phase) {
+  core::FrontClasses f;
   f.phase = phase;
   if (std::isnan(front)) return f;
   f.behind_end = static_cast<std::size_t>(std::lower_bound(x.begin(), x.end(), front - band) - x.begin());
@@ -365,7 +337,7 @@ class DynamicRun {
 
   ModelResult finish() {
     using core::Loading;
-    if constexpr (detail::RecordsContacts<Law>) detail::store_contacts(sim_.law(), r_);
+    if constexpr (Law::hooks.contact_statistics) detail::store_contacts(sim_.law(), r_);
     if (predict_) {
       auto tables = predict_->tables();
       for (auto& [name, col] : tables.columns) r_.contacts[predict_prefix_ + name] = std::move(col);
@@ -400,17 +372,17 @@ class DynamicRun {
   // docs/model.md §7.2: where the sites are relative to the front (the A_tip_alt tip) and the phase, for
   // laws that class their contact statistics by them.
   void observe_front() {
-    if (!detail::ObservesFront<Law> && !predict_) return;
+    if (!Law::hooks.contact_statistics && !predict_) return;
     const auto f = front_classes(r_.x, tracker_.last_tip_alt(), s_.measure.tip_band, tracker_.phase());
-    if constexpr (detail::ObservesFront<Law>) sim_.law().observe_front(f);
+    if constexpr (Law::hooks.contact_statistics) sim_.law().observe_front(f);
     if (predict_) predict_->set_front(f);
   }
 
   // Contact snapshots: the law's (agent) and the continuum's predicted ones, at the same cadence.
   void record_contacts(double t) {
-    if (!detail::RecordsContacts<Law> && !predict_) return;
+    if (!Law::hooks.contact_statistics && !predict_) return;
     if (!contacts_due_.due(t)) return;
-    if constexpr (detail::RecordsContacts<Law>) sim_.law().record_contacts(t);
+    if constexpr (Law::hooks.contact_statistics) sim_.law().record_contacts(t);
     if (predict_) predict_->snapshot();
   }
 
@@ -466,7 +438,7 @@ class DynamicRun {
     if (!one_d_) return;
     // Per threshold, the nodes whose A can be below it during the step; beyond them A stays above.
     const std::size_t m_tip = tip_nodes(sim_, n, s_.measure.A_tip), m_alt = tip_nodes(sim_, n, s_.measure.A_tip_alt);
-    detail::multiples_in(t0, t1, s_.measure.sample_dt, [&](double t) {
+    multiples_in(t0, t1, s_.measure.sample_dt, [&](double t) {
       const double tip = sample_tips_dense(sim_, tracker_, r_.x, s_.measure, t, m_tip, m_alt);
       observe_front();
       if (s_.drive.loading == core::Loading::homogeneous) {
@@ -486,7 +458,7 @@ class DynamicRun {
   CycleDetector cycles_;
   BehindRate behind_;
   Recorder recorder_;
-  detail::Cadence contacts_due_;
+  Cadence contacts_due_;
   std::int64_t nsteps_ = 0;
   bool quiet_ = false;                  // dense stepper: the last step got one max|v| observation
   std::vector<double> buffers_[4];      // dense-output buffers, one per core::Field
@@ -502,7 +474,7 @@ ModelResult run_dynamic(const Scene& s, Law law, const std::string& model, const
                         const CheckpointHeader& header = {}, core::Archive* resume = nullptr) {
   DynamicRun<Law, Stepper> run(s, std::move(law), model);
   if (resume) (*resume)(run);
-  CheckpointClock clock(ctl, run.time());
+  Cadence clock = Cadence::after(ctl.checkpointing() ? ctl.checkpoint_every : -1.0, run.time());
   auto save = [&] {
     core::Archive ar = core::Archive::writer();
     if (header) header(ar);
@@ -588,11 +560,11 @@ ModelResult run_imposed_rate(const Scene& s, MakeLaw make_law, const std::string
     const double dt_target = s.time.dt > 0 ? s.time.dt : s.time.t_end / s.time.steps;
     FrontTracker tracker(s.measure, r.x);
     Recorder recorder(s, r);
-    [[maybe_unused]] detail::Cadence contacts_due(s.output.contact_every());
+    [[maybe_unused]] Cadence contacts_due(s.output.contact_every());
     double t = 0.0;
     const std::optional<core::EnergyBudget> no_energy;
     auto record = [&](double v) {
-      if constexpr (detail::RecordsContacts<Law>)
+      if constexpr (Law::hooks.contact_statistics)
         if (contacts_due.due(t)) law.record_contacts(t);
       const SiteState<Law> now{law, t, v};
       recorder.after_step(t, t, false, [&](double) { return now; }, tracker, no_energy);
@@ -622,7 +594,7 @@ ModelResult run_imposed_rate(const Scene& s, MakeLaw make_law, const std::string
         }
       }
     }
-    if constexpr (detail::RecordsContacts<Law>) detail::store_contacts(law, r);
+    if constexpr (Law::hooks.contact_statistics) detail::store_contacts(law, r);
     r.events = tracker.finish(false);
     r.scalars["steps"] = static_cast<double>(steps);
   }

@@ -22,6 +22,7 @@ namespace slipfront::continuum {
 
 class FrictionLaw {
  public:
+  static constexpr core::LawHooks hooks{.ages = true, .dense_ages = true, .contact_hazard = true, .checkpoints = true};
   FrictionLaw(const core::InterfaceParams& p, std::size_t sites) : p_(p), n_(sites), fields_(2 * sites, 0.0) {
     std::fill(fields_.begin(), fields_.begin() + static_cast<std::ptrdiff_t>(sites), 1.0);
   }
@@ -141,6 +142,9 @@ class FrictionLaw {
   // --- the rates (adaptive integrator), docs/model.md §1 ----------------------------------------
   /// Θ = θ(|σ̄ + η v|/A − 1).
   bool sliding(core::SiteState s) const { return core::slides(s.sigma_bar, s.v, s.area, p_.eta); }
+  /// The hazard Θκ|v| of an attached contact at the state s (docs/model.md §7.2: what the contact
+  /// prediction integrates along this law's fields).
+  double detachment_hazard(core::SiteState s) const { return sliding(s) ? p_.kappa * std::abs(s.v) : 0.0; }
   /// |σ̄ + η v|: Θ flips where the load crosses A (|σ|/A = 1).
   double load(core::SiteState s) const { return std::abs(s.sigma_bar + p_.eta * s.v); }
   /// dA/dt = 1 − A − Θ κ A |v|,  dσ̄/dt = α A v − Θ σ̄ |v|.

@@ -230,11 +230,10 @@ class AdaptiveSimulation : public StepperCore<Law> {
  private:
   // Optional hook of the law (docs/model.md §7, FrictionLaw::advance_age): quantities the law carries
   // beside its state [A | σ̄] are advanced over the accepted step from its dense output, with Θ as it
-  // was during the step (before step 5 flips it). Laws without the hook compile without a trace of it.
+  // was during the step (before step 5 flips it). Laws that do not declare the hook
+  // (core::LawHooks::dense_ages) compile without a trace of it.
   void advance_law_extras() {
-    if constexpr (requires(Law& l, std::span<const std::uint8_t> th) {
-                    l.advance_age(0.0, 0.0, th, dense_sampler());
-                  })
+    if constexpr (Law::hooks.dense_ages)
       this->law_.advance_age(t_prev_, this->t_, std::span<const std::uint8_t>(theta_), dense_sampler());
   }
 

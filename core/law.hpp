@@ -8,20 +8,114 @@
 //                  step with the slip rates frozen over it, and the linearisation an implicit step needs
 //   SmoothLaw      a deterministic law written as rates: the adaptive integrator advances its state
 //                  itself with the rates and their Jacobian (no stochastic step to freeze rates for)
+//   LawHooks       what a law provides beyond the contract, declared by the law (`hooks`) and checked
+//                  against its members at compile time: a declared hook that is missing or misspelt,
+//                  or a hook present but not declared, is a compile error (check_hooks)
 #include <algorithm>
 #include <cmath>
 #include <concepts>
 #include <cstddef>
+#include <cstdint>
 #include <span>
 
+#include "core/archive.hpp"
+#include "core/contacts.hpp"
 #include "core/exact_update.hpp"
 #include "core/params.hpp"
 
 namespace slipfront::core {
 
+/// Optional capabilities of an interface law; every law declares its own as
+///   static constexpr core::LawHooks hooks{.ages = true, ...};
+/// and the runner and the steppers use a hook only where it is declared (if constexpr on the flag).
+struct LawHooks {
+  /// Mean contact age (docs/model.md §7, output.ages): track_ages(bool), tracks_ages(), mean_age(out).
+  bool ages = false;
+  /// Ages on the adaptive integrator's dense output: advance_age(t0, t1, theta, sampler) after each
+  /// accepted step, age_mass_at(i, t, sampler) inside it (needs `ages`).
+  bool dense_ages = false;
+  /// Contact statistics (docs/model.md §7.2): record_contacts(t) at the contact snapshots,
+  /// observe_front(FrontClasses) at every tip sample, contact_tables() at the end.
+  bool contact_statistics = false;
+  /// The detachment hazard of an attached contact at a site state, detachment_hazard(SiteState): what
+  /// the contact prediction (compare/contacts.hpp) integrates along the law's own fields.
+  bool contact_hazard = false;
+  /// Checkpoints (core/archive.hpp): serialize(ar) names the whole state, random streams included.
+  bool checkpoints = false;
+};
+
 struct LawStepInfo {
   bool any_yield = false;  ///< some site had Θ = 1 (or an overloaded contact) at the start of the step
 };
+
+/// One site's state as the rates see it.
+struct SiteState {
+  double v, area, sigma_bar;
+};
+/// d/dt of (A, σ̄) at one site.
+struct SiteRate {
+  double area, sigma_bar;
+};
+/// ∂(dA/dt, dσ̄/dt)/∂(v, A, σ̄) at one site with the yield state fixed; ∂(dA/dt)/∂σ̄ = 0 by the
+/// structure of the contract (the area relaxes whatever the stress, once the yield state is known),
+/// which is what lets the adaptive integrator eliminate (v, A, σ̄) node by node.
+struct SiteJacobian {
+  double area_v, area_area;
+  double sigma_v, sigma_area, sigma_sigma;
+};
+
+/// A stand-in for the adaptive integrator's dense output (AdaptiveSimulation::DenseSampler), to check the
+/// dense-age hooks' signatures: A and v of site i at time t inside the last step.
+struct DenseSamplerArchetype {
+  double area(double t, std::size_t i) const;
+  double slip_rate(double t, std::size_t i) const;
+};
+
+// The members behind each hook of LawHooks.
+template <class L>
+concept HasAgeHooks = requires(L& law, const L& cl, std::span<double> out) {
+  law.track_ages(true);
+  { cl.tracks_ages() } -> std::same_as<bool>;
+  cl.mean_age(out);
+};
+template <class L>
+concept HasDenseAgeHooks = requires(L& law, const L& cl, std::span<const std::uint8_t> theta,
+                                    const DenseSamplerArchetype& at) {
+  law.advance_age(0.0, 0.0, theta, at);
+  { cl.age_mass_at(std::size_t{0}, 0.0, at) } -> std::convertible_to<double>;
+};
+template <class L>
+concept HasContactStatisticsHooks = requires(L& law, const L& cl, const FrontClasses& f) {
+  law.record_contacts(0.0);
+  law.observe_front(f);
+  { cl.contact_tables() } -> std::same_as<ContactTables>;
+};
+template <class L>
+concept HasContactHazard = requires(const L& cl, SiteState st) {
+  { cl.detachment_hazard(st) } -> std::same_as<double>;
+};
+
+/// The law's declared hooks against its members: each declared hook must be there with its signature,
+/// and each hook that is there must be declared (a hook the law has but does not declare would never be
+/// called). A law without `hooks` is not an interface law.
+template <class L>
+consteval bool check_hooks() {
+  constexpr LawHooks h = L::hooks;
+  static_assert(h.ages == HasAgeHooks<L>,
+                "LawHooks::ages must be declared exactly when the law has track_ages(bool), tracks_ages(), mean_age(span)");
+  static_assert(h.dense_ages == HasDenseAgeHooks<L>,
+                "LawHooks::dense_ages must be declared exactly when the law has advance_age(t0, t1, theta, sampler) and "
+                "age_mass_at(i, t, sampler)");
+  static_assert(!h.dense_ages || h.ages, "LawHooks::dense_ages needs LawHooks::ages");
+  static_assert(h.contact_statistics == HasContactStatisticsHooks<L>,
+                "LawHooks::contact_statistics must be declared exactly when the law has record_contacts(t), "
+                "observe_front(FrontClasses) and contact_tables()");
+  static_assert(h.contact_hazard == HasContactHazard<L>,
+                "LawHooks::contact_hazard must be declared exactly when the law has detachment_hazard(SiteState)");
+  static_assert(h.checkpoints == requires(L& law, Archive& ar) { law.serialize(ar); },
+                "LawHooks::checkpoints must be declared exactly when the law has serialize(ar)");
+  return true;
+}
 
 /// Every interface law.
 ///   size()                      number of sites
@@ -48,7 +142,8 @@ concept InterfaceLaw = requires(L& law, const L& cl, std::size_t i, double a, do
   law.set_site(i, a, s);
   { law.advance(dt, v) } -> std::same_as<LawStepInfo>;
   cl.linearisation(dt)(i, a, r, r);
-};
+  { L::hooks } -> std::convertible_to<LawHooks>;
+} && check_hooks<L>();
 
 /// Every site's linearisation (InterfaceLaw::linearisation) for a step dt at the rates w.
 template <class L>
@@ -56,22 +151,6 @@ void linearise(const L& law, double dt, std::span<const double> w, std::span<dou
   const auto lin = law.linearisation(dt);
   for (std::size_t i = 0; i < w.size(); ++i) lin(i, w[i], c0[i], c1[i]);
 }
-
-/// One site's state as the rates see it.
-struct SiteState {
-  double v, area, sigma_bar;
-};
-/// d/dt of (A, σ̄) at one site.
-struct SiteRate {
-  double area, sigma_bar;
-};
-/// ∂(dA/dt, dσ̄/dt)/∂(v, A, σ̄) at one site with the yield state fixed; ∂(dA/dt)/∂σ̄ = 0 by the
-/// structure of the contract (the area relaxes whatever the stress, once the yield state is known),
-/// which is what lets the adaptive integrator eliminate (v, A, σ̄) node by node.
-struct SiteJacobian {
-  double area_v, area_area;
-  double sigma_v, sigma_area, sigma_sigma;
-};
 
 /// A deterministic law given by its rates (the continuum law; a test law with another detachment
 /// rate): what the adaptive integrator needs besides InterfaceLaw.

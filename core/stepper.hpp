@@ -108,7 +108,7 @@ class StepperCore {
   template <class Ar>
   void serialize_core(Ar& ar) {
     ar(u_, v_, t_, max_v_, steps_, yielded_, energy_);
-    if constexpr (requires { law_.serialize(ar); }) law_.serialize(ar);
+    if constexpr (Law::hooks.checkpoints) law_.serialize(ar);
     else throw ArchiveError("this interface law cannot be checkpointed");
   }
 

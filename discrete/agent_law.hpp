@@ -107,6 +107,8 @@ struct DetachedContact {
 
 class AgentLaw {
  public:
+  static constexpr core::LawHooks hooks{
+      .ages = true, .contact_statistics = true, .contact_hazard = true, .checkpoints = true};
   /// Validates `dp` (ParamError naming the key). All sites start stuck: A = 1, σ̄ = 0.
   AgentLaw(const core::InterfaceParams& ip, const DiscreteParams& dp, std::size_t sites);
 
@@ -155,9 +157,18 @@ class AgentLaw {
   void record_contacts(double t);
   /// Where the sites are relative to the front and the phase of the run (the runner, at every tip
   /// sample): the class of each event and snapshot (docs/model.md §7.2).
-  void observe_front(const FrontClasses& f) { stats_.set_front(f); }
-  ContactTables contact_tables() const { return stats_.tables(); }
+  void observe_front(const core::FrontClasses& f) { stats_.set_front(f); }
+  core::ContactTables contact_tables() const { return stats_.tables(); }
   const ContactStats& contact_stats() const { return stats_; }
+  /// The hazard of an attached contact at the state s if its threshold were drawn afresh from g:
+  /// κ|v| P(threshold < τ), τ = |σ̄ + ηv|/A; with w = 0 the continuum law's Θκ|v| (docs/model.md §7.2:
+  /// the contact prediction from this law's own fields, exact for w = 0; with w > 0 it ignores the
+  /// selection of strong contacts by the front).
+  double detachment_hazard(core::SiteState s) const {
+    const double rate = ip_.kappa * std::abs(s.v);
+    if (degenerate_) return core::slides(s.sigma_bar, s.v, s.area, ip_.eta) ? rate : 0.0;
+    return rate * g_.cdf(core::contact_stress(s.sigma_bar + ip_.eta * s.v, s.area));
+  }
 
   /// Checkpoints (core::Archive): every contact in its order, the marks, the streams, the statistics.
   template <class Ar>

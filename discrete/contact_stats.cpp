@@ -84,13 +84,13 @@ ContactStats::ContactStats(std::size_t sites, double threshold_max)
     : enabled_(true), sites_(sites), lifetime_(log_time_edges()), detached_(log_time_edges()),
       age_(log_time_edges()), threshold_(linear_edges(threshold_max, 100)), drawn_(linear_edges(threshold_max, 100)),
       class_bin_(coarse_bin_map(log_time_edges(), class_time_edges())), class_edges_(class_time_edges()),
-      snapshots_per_phase_(FrontClasses::phases, 0.0), detach_total_(sites, 0), attach_total_(sites, 0),
+      snapshots_per_phase_(core::FrontClasses::phases, 0.0), detach_total_(sites, 0), attach_total_(sites, 0),
       detach_count_(sites, 0), attach_count_(sites, 0) {
   class_bins_ = class_edges_.size() - 1;
-  class_lifetime_.assign(FrontClasses::count * class_bins_, 0.0);
-  class_age_.assign(FrontClasses::count * class_bins_, 0.0);
-  class_threshold_.assign(FrontClasses::count * threshold_.bins(), 0.0);
-  region_age_row_.assign(FrontClasses::regions * class_bins_, 0.0);
+  class_lifetime_.assign(core::FrontClasses::count * class_bins_, 0.0);
+  class_age_.assign(core::FrontClasses::count * class_bins_, 0.0);
+  class_threshold_.assign(core::FrontClasses::count * threshold_.bins(), 0.0);
+  region_age_row_.assign(core::FrontClasses::regions * class_bins_, 0.0);
 }
 
 void ContactStats::begin_snapshot(double t) {
@@ -114,8 +114,8 @@ void ContactStats::end_snapshot() {
   std::fill(attach_count_.begin(), attach_count_.end(), 0);
 }
 
-ContactTables ContactStats::tables() const {
-  ContactTables out;
+core::ContactTables ContactStats::tables() const {
+  core::ContactTables out;
   if (!enabled_) return out;
   auto& c = out.columns;
   c["lifetime_hist_edges"] = lifetime_.edges();
@@ -144,7 +144,7 @@ ContactTables ContactStats::tables() const {
   c["threshold_drawn_counts"] = drawn_.counts();
   c["contact_snapshots_per_phase"] = snapshots_per_phase_;
   c["contact_snapshot_phase"] = snapshot_phase_;
-  out.tables["region_age_counts"] = {FrontClasses::regions * class_bins_, region_age_rows_};
+  out.tables["region_age_counts"] = {core::FrontClasses::regions * class_bins_, region_age_rows_};
   auto& dt = c["detachments_total_per_site"];
   auto& at = c["attachments_total_per_site"];
   for (std::size_t i = 0; i < sites_; ++i) {

@@ -45,37 +45,10 @@
 #include <string>
 #include <vector>
 
+#include "core/contacts.hpp"
+
 namespace slipfront::discrete {
 
-/// Where the sites are relative to the front, and the phase of the run (docs/model.md §7.2): sites
-/// [0, behind_end) are behind the front, [behind_end, tip_end) in the tip band, [tip_end, n) ahead (the
-/// default: no front); phase 0 before yield, 1 slow front, 2 transient, 3 after arrest.
-struct FrontClasses {
-  static constexpr std::size_t regions = 3, phases = 4, count = regions * phases;
-  std::size_t behind_end = 0, tip_end = 0;
-  std::size_t phase = 0;
-  std::size_t region_of(std::size_t site) const { return site < behind_end ? 0 : (site < tip_end ? 1 : 2); }
-  /// Row of the class tables: 3 · phase + region.
-  std::size_t class_of(std::size_t site) const { return regions * phase + region_of(site); }
-};
-inline const char* region_name(std::size_t r) {
-  static const char* names[] = {"behind", "tip", "ahead"};
-  return r < 3 ? names[r] : "?";
-}
-inline const char* phase_name(std::size_t p) {
-  static const char* names[] = {"before_yield", "slow_front", "transient", "after_arrest"};
-  return p < 4 ? names[p] : "?";
-}
-
-/// Plain tables for the writer: 1D columns and row-major 2D tables [data.size()/cols, cols].
-struct ContactTables {
-  struct Table {
-    std::size_t cols = 0;
-    std::vector<double> data;
-  };
-  std::map<std::string, std::vector<double>> columns;
-  std::map<std::string, Table> tables;
-};
 
 /// Histogram on fixed edges; values outside [edges.front(), edges.back()) are counted in the first /
 /// last bin (the default edges start at 0 and end at +∞, so nothing is clipped).
@@ -127,8 +100,8 @@ class ContactStats {
   bool enabled() const { return enabled_; }
 
   /// Where the sites are relative to the front (the runner, at every tip sample; docs/model.md §7.2).
-  void set_front(const FrontClasses& f) { front_ = f; }
-  const FrontClasses& front() const { return front_; }
+  void set_front(const core::FrontClasses& f) { front_ = f; }
+  const core::FrontClasses& front() const { return front_; }
   std::size_t class_of(std::size_t site) const { return front_.class_of(site); }
 
   /// A completed attachment of a contact of `site`: attached at `start`, lasted `lifetime`.
@@ -166,7 +139,7 @@ class ContactStats {
     const std::size_t b = age_.bin(age), cb = class_bin_[b];
     age_.add_to(b, count);
     class_age_[cls * class_bins_ + cb] += count;
-    region_age_row_[(cls % FrontClasses::regions) * class_bins_ + cb] += count;
+    region_age_row_[(cls % core::FrontClasses::regions) * class_bins_ + cb] += count;
   }
   void attached_threshold(std::size_t cls, double threshold, double count = 1.0) {
     const std::size_t b = threshold_.bin(threshold);
@@ -191,7 +164,7 @@ class ContactStats {
   std::span<const double> detached_durations() const { return raw_ok(n_detached_) ? detached_durations_ : std::span<const double>{}; }
   std::span<const double> detached_starts() const { return raw_ok(n_detached_) ? detached_start_ : std::span<const double>{}; }
 
-  ContactTables tables() const;
+  core::ContactTables tables() const;
 
   /// Checkpoints (core::Archive).
   template <class Ar>
@@ -210,7 +183,7 @@ class ContactStats {
   bool enabled_ = false;
   std::size_t sites_ = 0;
   Histogram lifetime_, detached_, age_, threshold_, drawn_;
-  FrontClasses front_;
+  core::FrontClasses front_;
   std::vector<std::size_t> class_bin_;  ///< log time bin → class time bin
   std::size_t class_bins_ = 0;
   std::vector<double> class_edges_, class_lifetime_, class_age_, class_threshold_;  ///< [12 × bins]

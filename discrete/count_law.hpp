@@ -51,6 +51,7 @@ struct PoolHandle {
 
 class CountLaw {
  public:
+  static constexpr core::LawHooks hooks{.checkpoints = true};
   /// Validates `dp` (ParamError naming the key). All sites start stuck: A = 1, σ̄ = 0, the N
   /// attached contacts spread over the bins by expectation rounding (a stratified sample of g).
   CountLaw(const core::InterfaceParams& ip, const DiscreteParams& dp, std::size_t sites);

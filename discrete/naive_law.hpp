@@ -31,6 +31,7 @@ namespace slipfront::discrete {
 
 class NaiveAgentLaw {
  public:
+  static constexpr core::LawHooks hooks{.contact_statistics = true, .checkpoints = true};
   NaiveAgentLaw(const core::InterfaceParams& ip, const DiscreteParams& dp, std::size_t sites)
       : ip_(ip), dp_(dp), g_((dp.validate(), ThresholdDistribution(dp.threshold, dp.width))) {
     if (sites == 0) throw std::invalid_argument("NaiveAgentLaw: no sites");
@@ -148,8 +149,8 @@ class NaiveAgentLaw {
     stats_.end_snapshot();
   }
   /// As AgentLaw::observe_front (docs/model.md §7.2).
-  void observe_front(const FrontClasses& f) { stats_.set_front(f); }
-  ContactTables contact_tables() const { return stats_.tables(); }
+  void observe_front(const core::FrontClasses& f) { stats_.set_front(f); }
+  core::ContactTables contact_tables() const { return stats_.tables(); }
   const ContactStats& contact_stats() const { return stats_; }
   /// Checkpoints (core::Archive).
   template <class Ar>

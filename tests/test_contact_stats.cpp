@@ -53,7 +53,7 @@ core::InterfaceParams alpha2() {
 }
 
 // The continuum's prediction of the pooled contacts of `seeds` runs of N contacts.
-discrete::ContactTables predict_0d(double contacts, double hazard_scale) {
+core::ContactTables predict_0d(double contacts, double hazard_scale) {
   const auto p = alpha2();
   continuum::FrictionLaw law(p, 1);
   law.track_ages(true);
@@ -75,7 +75,7 @@ discrete::ContactTables predict_0d(double contacts, double hazard_scale) {
   return pred.tables();
 }
 
-compare::Table2D table(const discrete::ContactTables& t, const char* name) {
+compare::Table2D table(const core::ContactTables& t, const char* name) {
   const auto& x = t.tables.at(name);
   return {x.cols, x.data};
 }
@@ -168,8 +168,8 @@ void print_fit(const compare::Comparison& c) {
     if (k.at("measured_total")[i] > 0)
       std::printf("  %s %-12s %-6s n = %9.0f predicted %11.1f KS %.4f X2 %7.1f dof %2.0f p %.3g%s\n",
                   k.at("statistic")[i] == 0 ? "lifetime" : "age     ",
-                  discrete::phase_name(static_cast<std::size_t>(k.at("phase")[i])),
-                  discrete::region_name(static_cast<std::size_t>(k.at("region")[i])), k.at("measured_total")[i],
+                  core::phase_name(static_cast<std::size_t>(k.at("phase")[i])),
+                  core::region_name(static_cast<std::size_t>(k.at("region")[i])), k.at("measured_total")[i],
                   k.at("predicted_total")[i], k.at("ks_distance")[i], k.at("chi2")[i], k.at("dof")[i],
                   k.at("p_value")[i], k.at("tested")[i] ? "" : "  (not tested)");
 }

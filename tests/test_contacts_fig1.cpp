@@ -57,8 +57,8 @@ Summary summarise(const compare::Comparison& c, const char* label) {
     const auto phase = static_cast<std::size_t>(k.at("phase")[i]);
     const bool tested = k.at("tested")[i] != 0;
     std::printf("  %s %-12s %-6s n = %10.0f predicted %12.1f KS %.4f X2 %8.1f dof %2.0f p %.3g%s\n",
-                k.at("statistic")[i] == 0 ? "lifetime" : "age     ", discrete::phase_name(phase),
-                discrete::region_name(static_cast<std::size_t>(k.at("region")[i])), k.at("measured_total")[i],
+                k.at("statistic")[i] == 0 ? "lifetime" : "age     ", core::phase_name(phase),
+                core::region_name(static_cast<std::size_t>(k.at("region")[i])), k.at("measured_total")[i],
                 k.at("predicted_total")[i], k.at("ks_distance")[i], k.at("chi2")[i], k.at("dof")[i], k.at("p_value")[i],
                 tested ? "" : "  (not tested)");
     if (!tested) continue;

@@ -17,6 +17,7 @@ namespace slipfront::testing {
 
 class QuadraticDetachmentLaw {
  public:
+  static constexpr core::LawHooks hooks{};  // the contract only
   QuadraticDetachmentLaw(const core::InterfaceParams& p, std::size_t sites)
       : p_(p), n_(sites), fields_(2 * sites, 0.0) {
     for (std::size_t i = 0; i < sites; ++i) fields_[i] = 1.0;

@@ -17,6 +17,7 @@ namespace slipfront::testing {
 
 class RedrawnThresholdLaw {
  public:
+  static constexpr core::LawHooks hooks{};  // the contract only
   RedrawnThresholdLaw(const core::InterfaceParams& p, double width, std::uint64_t seed, std::size_t sites)
       : p_(p), w_(width), area_(sites, 1.0), sigma_bar_(sites, 0.0), s_(sites, 1.0),
         engines_(discrete::site_engines(seed, sites)) {}

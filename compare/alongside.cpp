@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "compare/contacts.hpp"
+#include "compare/difference.hpp"
 #include "compare/laws.hpp"
 #include "compare/runner.hpp"
 
@@ -20,10 +21,10 @@ class FieldComparison {
   void observe(double t, const SimA& a, const SimB& b) {
     if (!due_.due(t)) return;
     detail::push(c_, "t", t);
-    detail::push(c_, "A_distance", relative_distance(a.law().contact_area(), b.law().contact_area()));
-    detail::push(c_, "sigma_bar_distance", relative_distance(a.law().sigma_bar(), b.law().sigma_bar()));
-    detail::push(c_, "v_distance", relative_distance(a.slip_rate(), b.slip_rate()));
-    detail::push(c_, "u_distance", relative_distance(a.slip(), b.slip()));
+    detail::push(c_, "A_distance", relative_rms_distance(a.law().contact_area(), b.law().contact_area()));
+    detail::push(c_, "sigma_bar_distance", relative_rms_distance(a.law().sigma_bar(), b.law().sigma_bar()));
+    detail::push(c_, "v_distance", relative_rms_distance(a.slip_rate(), b.slip_rate()));
+    detail::push(c_, "u_distance", relative_rms_distance(a.slip(), b.slip()));
   }
   Columns take() { return std::move(c_); }
   template <class Ar>
@@ -36,40 +37,59 @@ class FieldComparison {
   Columns c_;
 };
 
+// Two models on one scene in lockstep (a SteppedRun, compare/run_loop.hpp): each step advances both
+// (a model that has ended, failed or been interrupted stays where it is) and compares their fields when
+// both are at the same time.
+template <class RunA, class RunB>
+class Lockstep {
+ public:
+  static constexpr std::int64_t progress_every = 1024;
+  static constexpr bool checkpointable = true;
+  Lockstep(const Scene& s, RunA& a, RunB& b) : s_(s), a_(a), b_(b), fields_(s.output.compare_dt) {}
+  bool done() const { return a_.done() && b_.done(); }
+  double time() const { return a_.time(); }
+  double end() const { return s_.time.t_end; }
+  void start() { fields_.observe(0.0, a_.sim(), b_.sim()); }
+  void step() {
+    if (!a_.done()) a_.step();
+    if (!b_.done()) b_.step();
+    if (a_.time() == b_.time()) fields_.observe(a_.time(), a_.sim(), b_.sim());  // both advanced (none failed)
+  }
+  void interrupt() {
+    if (!a_.done()) a_.interrupt();
+    if (!b_.done()) b_.interrupt();
+  }
+  Columns take_fields() { return fields_.take(); }
+  template <class Ar>
+  void serialize(Ar& ar) {
+    ar.tag("lockstep");
+    ar(a_, b_, fields_);
+  }
+
+ private:
+  const Scene& s_;
+  RunA& a_;
+  RunB& b_;
+  FieldComparison fields_;
+};
+
 template <class Tag, class LawA, class LawB>
 SceneResult lockstep(const Scene& s, LawA a, LawB b, const RunControl& ctl) {
-  DynamicRun<LawA, typename Tag::template stepper<LawA>> ra(s, std::move(a), "continuum");
+  DynamicRun<LawA, typename Tag::template stepper<LawA>> ra(s, std::move(a), "continuum",
+                                                            contact_prediction_for(s, "continuum"));
   DynamicRun<LawB, typename Tag::template stepper<LawB>> rb(s, std::move(b), "discrete");
-  FieldComparison fields(s.output.compare_dt);
+  Lockstep both(s, ra, rb);
   if (!ctl.restart.empty()) {  // continue from a checkpoint (RunControl)
     core::Archive ar = core::Archive::reader(ctl.restart);
-    ar.tag("lockstep");
-    ar(ra, rb, fields);
+    ar(both);
   } else {
-    fields.observe(0.0, ra.sim(), rb.sim());
+    both.start();
   }
-  Cadence clock = Cadence::after(ctl.checkpointing() ? ctl.checkpoint_every : -1.0, ra.time());
-  for (std::int64_t n = 1; !ra.done() || !rb.done(); ++n) {
-    if (!ra.done()) ra.step();
-    if (!rb.done()) rb.step();
-    if (ra.time() == rb.time()) fields.observe(ra.time(), ra.sim(), rb.sim());  // both advanced (none failed)
-    if ((n & 1023) == 0) ctl.progress("continuum+discrete", ra.time(), s.time.t_end);
-    const bool stop = ctl.stop();
-    if (clock.due(ra.time()) || (stop && ctl.checkpointing() && !(ra.done() && rb.done()))) {
-      core::Archive ar = core::Archive::writer();
-      ar.tag("lockstep");
-      ar(ra, rb, fields);
-      ctl.checkpoint(ar.data(), ra.time());
-    }
-    if (stop) {
-      if (!ra.done()) ra.interrupt();
-      if (!rb.done()) rb.interrupt();
-    }
-  }
+  run_loop(both, ctl, "continuum+discrete");
   SceneResult out;
   ModelResult mc = ra.finish(), md = rb.finish();
   out.comparison = compare_results(s, mc, md);
-  out.comparison.fields = fields.take();
+  out.comparison.fields = both.take_fields();
   const char* defs[][2] = {
       {"fields/A_distance", "||A_discrete - A_continuum||_2 / ||A_continuum||_2 over the nodes at time t"},
       {"fields/sigma_bar_distance", "the same relative L2 distance for sigma_bar"},
@@ -82,24 +102,6 @@ SceneResult lockstep(const Scene& s, LawA a, LawB b, const RunControl& ctl) {
   out.models.push_back(std::move(md));
   if (s.models.front() == "discrete") std::swap(out.models[0], out.models[1]);
   return out;
-}
-
-// (b − a)/|a|; 0 when both vanish; NaN when only the reference a does (the absolute difference is
-// reported beside it).
-double relative_difference(double a, double b) {
-  if (a != 0.0) return (b - a) / std::abs(a);
-  return b == 0.0 ? 0.0 : nan;
-}
-
-double rel_rms_distance(const std::vector<double>& a, const std::vector<double>& b) {
-  double num = 0, den = 0;
-  const std::size_t n = std::min(a.size(), b.size());
-  for (std::size_t i = 0; i < n; ++i)
-    if (std::isfinite(a[i]) && std::isfinite(b[i])) {
-      num += (b[i] - a[i]) * (b[i] - a[i]);
-      den += a[i] * a[i];
-    }
-  return den > 0 ? std::sqrt(num / den) : (num > 0 ? nan : 0.0);
 }
 
 // docs/model.md §7.2: the agent's lifetime and age histograms by region and phase against the continuum's
@@ -185,16 +187,6 @@ void compare_contacts(const ModelResult& c, const ModelResult& d, Comparison& cm
 
 }  // namespace
 
-double relative_distance(std::span<const double> a, std::span<const double> b) {
-  double num = 0, den = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    num += (b[i] - a[i]) * (b[i] - a[i]);
-    den += a[i] * a[i];
-  }
-  if (den > 0) return std::sqrt(num / den);
-  return num > 0 ? nan : 0.0;  // the reference vanishes: no relative distance (NaN), unless both do
-}
-
 Comparison compare_results(const Scene& s, const ModelResult& c, const ModelResult& d) {
   Comparison cmp;
   for (const auto& [name, field] : event_fields)
@@ -212,7 +204,7 @@ Comparison compare_results(const Scene& s, const ModelResult& c, const ModelResu
   const bool zero_d = !core::is_one_dimensional(s.drive.loading);
   const char* col = zero_d && s.drive.loading == core::Loading::imposed_rate ? "sigma" : "drive_force";
   if (c.series.count(col) && d.series.count(col)) {
-    cmp.metrics[std::string(col) + "_history_distance"] = rel_rms_distance(c.series.at(col), d.series.at(col));
+    cmp.metrics[std::string(col) + "_history_distance"] = relative_rms_distance(c.series.at(col), d.series.at(col));
     cmp.definitions[std::string(col) + "_history_distance"] =
         std::string("relative RMS distance over the series times of ") + col +
         "(t): sqrt(sum (discrete - continuum)^2 / sum continuum^2)";

@@ -18,9 +18,6 @@ namespace slipfront::compare {
 /// Each model's result is bit-identical to the one run_scene gives for it alone.
 SceneResult run_scene_alongside(const Scene& s, const RunControl& ctl);
 
-/// Relative L2 distance ||b − a|| / ||a|| of two fields (0 if both vanish, NaN if only a does).
-double relative_distance(std::span<const double> a, std::span<const double> b);
-
 /// The end-of-run comparison of two models' results (events, series, friction law); fields are
 /// compared online by run_scene_alongside and merged in.
 Comparison compare_results(const Scene& s, const ModelResult& continuum, const ModelResult& discrete);

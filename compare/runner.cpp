@@ -1,5 +1,6 @@
 #include "compare/runner.hpp"
 
+#include <algorithm>
 #include <optional>
 #include <stdexcept>
 
@@ -8,37 +9,13 @@
 
 namespace slipfront::compare {
 
-double dynamic_time_step(const Scene& s) {
-  const core::Bulk bulk(s.bulk, s.drive, s.interface, s.grid.dx);
-  const double dt = s.time.dt > 0 ? s.time.dt : s.time.cfl * bulk.stable_dt();
-  const double n = std::max(1.0, std::ceil(s.time.t_end / dt - 1e-9));
-  return s.time.t_end / n;
-}
-
-std::optional<continuum::SteadyFront> front_start(const Scene& s) {
-  if (s.drive.loading != core::Loading::homogeneous || s.drive.start != "steady_front") return std::nullopt;
-  auto front = continuum::solve_steady_front(s.interface, s.bulk, s.drive.sigma_d);
-  if (front.status != continuum::FrontStatus::converged)
-    throw core::ParamError("drive.sigma_d", "no steady front at sigma_d = " + core::format_number(s.drive.sigma_d) +
-                                                     " to start from (" + continuum::to_string(front.status) + ": " +
-                                                     front.reason + ")");
-  return front;
-}
-
-std::int64_t fixed_step_count(const Scene& s) {
-  const double n = std::round(s.time.t_end / dynamic_time_step(s));
-  if (!(n < 9.0e18))
-    throw core::ParamError("time.t_end", "gives " + core::format_number(n) +
-                                                  " time steps, more than a 64-bit count holds (time.t_end / time.dt)");
-  return static_cast<std::int64_t>(n);
-}
-
-std::vector<double> sweep_rates(const core::DriveParams& d) {
-  std::vector<double> v(static_cast<std::size_t>(d.sweep_points));
-  const double a = std::log(d.v_min), b = std::log(d.v_max);
-  for (std::size_t k = 0; k < v.size(); ++k)
-    v[k] = std::exp(a + (b - a) * static_cast<double>(k) / static_cast<double>(v.size() - 1));
-  return v;
+ContactPredictionSetup contact_prediction_for(const Scene& s, std::string_view model) {
+  const bool discrete = std::find(s.models.begin(), s.models.end(), "discrete") != s.models.end();
+  const bool agent_statistics = discrete && s.discrete.contact_statistics && s.discrete.representation != "count";
+  ContactPredictionSetup setup;
+  if (model == "continuum" && agent_statistics && s.time.integrator != core::Integrator::adaptive_rosenbrock)
+    setup.mode = ContactPredictionSetup::Mode::on;
+  return setup;
 }
 
 std::vector<ModelResult> run_scene(const Scene& s, const RunControl& ctl) {

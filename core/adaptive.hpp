@@ -119,6 +119,7 @@ class AdaptiveSimulation : public StepperCore<Law> {
 
  public:
   static constexpr const char* integrator_name = "adaptive";
+  static constexpr bool error_control = false;  ///< set_error_control, substeps (implicit only)
   static constexpr double kGamma = detail::kGamma;
   static constexpr double kDenseScale = detail::kDenseScale;
 

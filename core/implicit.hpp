@@ -60,6 +60,7 @@ class ImplicitSimulation : public StepperCore<Law> {
 
  public:
   static constexpr const char* integrator_name = "implicit";
+  static constexpr bool error_control = true;  ///< set_error_control, substeps, max_defect
 
   ImplicitSimulation(Bulk bulk, Law law, double dt)
       : Core(std::move(bulk), std::move(law), "ImplicitSimulation"), dt_(dt), V_(this->n_, 0.0),

@@ -145,6 +145,7 @@ class ExplicitSimulation : public StepperCore<Law> {
 
  public:
   static constexpr const char* integrator_name = "explicit";
+  static constexpr bool error_control = false;  ///< set_error_control, substeps (implicit only)
   ExplicitSimulation(Bulk bulk, Law law, double dt)
       : Core(std::move(bulk), std::move(law), "ExplicitSimulation"), dt_(dt), v_prev_(this->n_, 0.0) {
     if (!(dt > 0.0)) throw std::invalid_argument("ExplicitSimulation: dt must be > 0");

@@ -3,11 +3,13 @@
 
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <string>
 #include <vector>
 
 #include "apps/config.hpp"
 #include "compare/alongside.hpp"
+#include "compare/difference.hpp"
 #include "compare/fit.hpp"
 #include "compare/pool.hpp"
 #include "compare/runner.hpp"
@@ -88,13 +90,27 @@ TEST_CASE("compare: noise off and w = 0 gives zero field distances and zero even
   CHECK(noisy.comparison.metrics.at("drive_force_history_distance") > 0.0);
 }
 
-TEST_CASE("compare: relative_distance", "[compare]") {
+TEST_CASE("compare: relative differences and their NaN rule (compare/difference.hpp)", "[compare]") {
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
   const std::vector<double> a{3, 4}, b{3, 4}, c{0, 0}, d{6, 8};
-  CHECK(compare::relative_distance(a, b) == 0.0);
-  CHECK(compare::relative_distance(a, d) == Approx(1.0).epsilon(1e-15));
-  CHECK(compare::relative_distance(c, c) == 0.0);
+  CHECK(compare::relative_rms_distance(a, b) == 0.0);
+  CHECK(compare::relative_rms_distance(a, d) == Approx(1.0).epsilon(1e-15));
+  CHECK(compare::relative_rms_distance(c, c) == 0.0);
   // a reference field that vanishes has no relative distance: NaN, not ±inf (issue 10)
-  CHECK(std::isnan(compare::relative_distance(c, a)));
+  CHECK(std::isnan(compare::relative_rms_distance(c, a)));
+  // pairs with a non-finite member are left out (a front that does not exist at some times); none left: NaN
+  const std::vector<double> tip_a{1, nan, 3}, tip_b{2, 5, nan};
+  CHECK(compare::relative_rms_distance(tip_a, tip_b) == Approx(1.0).epsilon(1e-15));  // only (1, 2)
+  const std::vector<double> none_a{nan, 1}, none_b{2, inf};
+  CHECK(std::isnan(compare::relative_rms_distance(none_a, none_b)));
+  // the common length only (a series cut short by a failed run)
+  CHECK(compare::relative_rms_distance(d, std::vector<double>{6}) == 0.0);
+  // scalars: (b - a)/|a|; 0/0 is 0; x/0 and anything non-finite is NaN
+  CHECK(compare::relative_difference(-2.0, -1.0) == Approx(0.5));
+  CHECK(compare::relative_difference(0.0, 0.0) == 0.0);
+  CHECK(std::isnan(compare::relative_difference(0.0, 1.0)));
+  CHECK(std::isnan(compare::relative_difference(nan, 1.0)));
+  CHECK(std::isnan(compare::relative_difference(1.0, inf)));
 }
 
 namespace {

@@ -1,0 +1,33 @@
+#include "compare/initial.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace slipfront::compare {
+
+double dynamic_time_step(const Scene& s) {
+  const core::Bulk bulk(s.bulk, s.drive, s.interface, s.grid.dx);
+  const double dt = s.time.dt > 0 ? s.time.dt : s.time.cfl * bulk.stable_dt();
+  const double n = std::max(1.0, std::ceil(s.time.t_end / dt - 1e-9));
+  return s.time.t_end / n;
+}
+
+std::int64_t fixed_step_count(const Scene& s) {
+  const double n = std::round(s.time.t_end / dynamic_time_step(s));
+  if (!(n < 9.0e18))
+    throw core::ParamError("time.t_end", "gives " + core::format_number(n) +
+                                             " time steps, more than a 64-bit count holds (time.t_end / time.dt)");
+  return static_cast<std::int64_t>(n);
+}
+
+std::optional<continuum::SteadyFront> front_start(const Scene& s) {
+  if (s.drive.loading != core::Loading::homogeneous || s.drive.start != "steady_front") return std::nullopt;
+  auto front = continuum::solve_steady_front(s.interface, s.bulk, s.drive.sigma_d);
+  if (front.status != continuum::FrontStatus::converged)
+    throw core::ParamError("drive.sigma_d", "no steady front at sigma_d = " + core::format_number(s.drive.sigma_d) +
+                                                " to start from (" + continuum::to_string(front.status) + ": " +
+                                                front.reason + ")");
+  return front;
+}
+
+}  // namespace slipfront::compare

@@ -1,0 +1,84 @@
+#pragma once
+// How a bulk scene starts (docs/model.md §1 loadings, §6 steady-front start): the time step of a
+// fixed-step scene, the solved steady front a scene may start from, the stepper built for the scene, and
+// the initial state of its sites.
+#include <cmath>
+#include <cstdint>
+#include <optional>
+
+#include "compare/dispatch.hpp"
+#include "compare/scene.hpp"
+#include "continuum/friction_law.hpp"
+#include "continuum/steady_front.hpp"
+#include "core/adaptive.hpp"
+#include "core/bulk.hpp"
+
+namespace slipfront::compare {
+
+/// The time step a fixed-step scene will use: time.dt, or time.cfl × the explicit limit, shortened so
+/// that t_end is a whole number of steps.
+double dynamic_time_step(const Scene& s);
+/// The number of fixed steps to t_end (dynamic_time_step); throws core::ParamError naming
+/// time.t_end when it would not fit a 64-bit count (the run could not even start).
+std::int64_t fixed_step_count(const Scene& s);
+
+/// Homogeneous loading with drive.start = "steady_front": the steady front at σ_d (docs/model.md §6),
+/// solved by continuum::solve_steady_front; nothing otherwise. Throws core::ParamError naming
+/// drive.sigma_d when there is no front there.
+std::optional<continuum::SteadyFront> front_start(const Scene& s);
+
+/// The stepper of a scene for `law` (asked first to carry what the scene records: the mean contact age
+/// of output.ages, for laws with core::LawHooks::ages); a steady-front start puts the front's far-field
+/// traction μ v_b/c on the rear edge (the strain u_x = −v_b/c it has far behind), so the interface
+/// behind slides steadily up to x = 0.
+template <class Stepper, class Law>
+Stepper make_stepper(const Scene& s, Law law, const std::optional<continuum::SteadyFront>& front) {
+  if constexpr (Law::hooks.ages) law.track_ages(s.output.ages);  // before any set_site: ages start at 0
+  core::DriveParams drive = s.drive;
+  if (front) drive.rear_traction = -s.bulk.mu * front->far_field_strain;
+  core::Bulk bulk(s.bulk, drive, s.interface, s.grid.dx);
+  if constexpr (DenseStepper<Stepper>) {
+    Stepper sim(std::move(bulk), std::move(law), core::AdaptiveOptions::from(s.time));
+    sim.set_stop_time(s.time.t_end);
+    return sim;
+  } else {
+    Stepper sim(std::move(bulk), std::move(law), dynamic_time_step(s));
+    if constexpr (Stepper::error_control)
+      sim.set_error_control(s.time.implicit_tolerance, s.time.implicit_max_halvings);
+    return sim;
+  }
+}
+
+/// docs/model.md §1 initial state: at rest and stuck (edge loading, spring block: u = v = 0, A = 1,
+/// σ̄ = 0), or, under homogeneous loading, the stuck state A = 1, σ̄ = σ_d, u = σ_d/α with a nucleation
+/// patch 0 ≤ x < ℓ_n in steady sliding at σ_d on the strengthening branch — or the solved steady front
+/// with its tip at drive.front_x (docs/model.md §6), plus the slip-rate kick drive.kick_dv behind it.
+template <class Stepper>
+void set_initial_conditions(const Scene& s, Stepper& sim, const std::optional<continuum::SteadyFront>& front) {
+  if (s.drive.loading != core::Loading::homogeneous) return;
+  const auto& x = sim.bulk().x();
+  if (front) {
+    const auto f = continuum::sample_steady_front(*front, x, s.drive.front_x);
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      const bool kicked = x[i] <= s.drive.front_x && x[i] >= s.drive.front_x - s.drive.kick_length;
+      sim.law().set_site(i, f.area[i], f.sigma_bar[i]);
+      sim.set_initial(i, f.slip[i], f.slip_rate[i] + (kicked ? s.drive.kick_dv : 0.0));
+    }
+    return;
+  }
+  const auto& ip = s.interface;
+  const double sd = s.drive.sigma_d;
+  const double vs = continuum::strengthening_branch_velocity(ip, sd);
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    if (std::isfinite(vs) && x[i] < s.drive.nucleation_length) {
+      const auto ss = continuum::steady_sliding(ip, vs);
+      sim.law().set_site(i, ss.area, ss.sigma_bar);
+      sim.set_initial(i, sd / ip.alpha, vs);
+    } else {
+      sim.law().set_site(i, 1.0, sd);
+      sim.set_initial(i, sd / ip.alpha, 0.0);
+    }
+  }
+}
+
+}  // namespace slipfront::compare

@@ -346,6 +346,202 @@ void fit_free_exponents(StudyReport& rep, const std::vector<FrictionPoint>& poin
 }
 
 
+// ---------------------------------------------------------------------------------------------
+// validity_fig1: the modes of fig1 runs against N and α, and the integrator's step (docs/validity.md §3–§4).
+
+using Fig1Key = std::tuple<double, double, double>;  // α, implicit dt (0: explicit), N
+
+// The runs of one (α, dt, N) point: per run the classifier's ratio and shift and the discrete events; the
+// continuum's transient speed and t^.
+struct Fig1Group {
+  std::vector<double> ratio, t_hat_rel, c, t_hat, x_arrest;
+  double c_cont = nan_v, t_cont = nan_v;
+};
+
+struct Fig1Runs {
+  std::map<Fig1Key, Fig1Group> groups;
+  Columns per_run;  // every run with its mode: the event distributions per mode
+};
+
+Fig1Runs gather_fig1_runs(const std::vector<StudyRun>& runs, const std::vector<Scene>& scenes,
+                          const std::vector<std::vector<ModelResult>>& res) {
+  Fig1Runs out;
+  Columns& per_run = out.per_run;
+  for_each_compared_run(runs, res, [&](std::size_t i, const ModelResult& c, const ModelResult& d) {
+    const double alpha = value_of(scenes[i], "alpha"), dt = value_of(scenes[i], "dt"), N = value_of(scenes[i], "N");
+    Fig1Group& g = out.groups[{alpha, dt, N}];
+    g.c_cont = c.events.c_transient;
+    g.t_cont = c.events.t_hat;
+    const double r = d.events.c_transient / c.events.c_transient, sh = d.events.t_hat / c.events.t_hat - 1.0;
+    g.ratio.push_back(r);
+    g.t_hat_rel.push_back(sh);
+    g.c.push_back(d.events.c_transient);
+    g.t_hat.push_back(d.events.t_hat);
+    g.x_arrest.push_back(d.events.x_arrest);
+    per_run["run"].push_back(static_cast<double>(i));
+    per_run["seed"].push_back(runs[i].seed);
+    per_run["alpha"].push_back(alpha);
+    per_run["dt"].push_back(dt);
+    per_run["N"].push_back(N);
+    per_run["continuum_like"].push_back(continuum_like(r, sh) ? 1.0 : 0.0);
+    per_run["c_ratio"].push_back(r);
+    per_run["t_hat_shift"].push_back(sh);
+    for (const auto& f : event_fields) per_run[f.name].push_back(d.events.*f.member);
+  });
+  return out;
+}
+
+void put_fig1_runs_table(StudyReport& rep, Columns per_run) {
+  rep.tables["validity_fig1_runs"] = std::move(per_run);
+  rep.definitions["validity_fig1_runs"] =
+      "one row per run: its mode (continuum_like 1/0), c_ratio = c_transient(discrete)/c_transient(continuum), "
+      "t_hat_shift = t^(discrete)/t^(continuum) - 1 and the discrete run's events (docs/model.md §3)";
+}
+
+// One (α, dt, N) point classified: the fraction of continuum-like runs, and each mode's events.
+struct Fig1Point {
+  double alpha = 0.0, dt = 0.0, n = 0.0;
+  ModeSplit split;
+  double c_continuum = nan_v, t_hat_continuum = nan_v;
+  std::map<std::string, std::vector<double>> by_mode;  // "<mode>/<event>" -> values
+};
+
+std::vector<Fig1Point> fig1_points(const std::map<Fig1Key, Fig1Group>& groups) {
+  std::vector<Fig1Point> points;
+  for (const auto& [key, g] : groups) {
+    Fig1Point p;
+    std::tie(p.alpha, p.dt, p.n) = key;
+    p.split = classify_modes(g.ratio, g.t_hat_rel);
+    p.c_continuum = g.c_cont;
+    p.t_hat_continuum = g.t_cont;
+    for (std::size_t k = 0; k < g.ratio.size(); ++k) {
+      const std::string mode = continuum_like(g.ratio[k], g.t_hat_rel[k]) ? "continuum_like" : "other";
+      p.by_mode[mode + "/c_transient"].push_back(g.c[k]);
+      p.by_mode[mode + "/t_hat_shift"].push_back(g.t_hat_rel[k]);
+      p.by_mode[mode + "/x_arrest"].push_back(g.x_arrest[k]);
+    }
+    points.push_back(std::move(p));
+  }
+  return points;
+}
+
+// The q-quantile (linear interpolation) of one mode's finite values; NaN when there are none.
+double quantile(std::vector<double> v, double q) {
+  std::erase_if(v, [](double y) { return !std::isfinite(y); });
+  if (v.empty()) return nan_v;
+  std::sort(v.begin(), v.end());
+  const double pos = q * static_cast<double>(v.size() - 1);
+  const auto k = static_cast<std::size_t>(pos);
+  return k + 1 < v.size() ? v[k] + (pos - static_cast<double>(k)) * (v[k + 1] - v[k]) : v[k];
+}
+
+// The table validity_fig1: one row per point, its continuum-like fraction and the 10/50/90% quantiles of
+// each mode's events, with its definitions.
+void put_fig1_point_table(StudyReport& rep, const std::vector<Fig1Point>& points) {
+  Columns t;
+  for (const auto& p : points) {
+    put_alpha(t, p.alpha);
+    t["dt"].push_back(p.dt);
+    t["N"].push_back(p.n);
+    t["runs"].push_back(p.split.runs);
+    t["continuum_like"].push_back(p.split.continuum_like);
+    t["fraction"].push_back(p.split.fraction);
+    t["fraction_low"].push_back(p.split.low);
+    t["fraction_high"].push_back(p.split.high);
+    t["c_continuum"].push_back(p.c_continuum);
+    t["t_hat_continuum"].push_back(p.t_hat_continuum);
+    for (const char* mode : {"continuum_like", "other"})
+      for (const char* ev : {"c_transient", "t_hat_shift", "x_arrest"})
+        for (const auto& [q, tag] : {std::pair{0.1, "q10"}, std::pair{0.5, "q50"}, std::pair{0.9, "q90"}}) {
+          const auto it = p.by_mode.find(std::string(mode) + "/" + ev);
+          t[std::string(ev) + "_" + mode + "_" + tag].push_back(it == p.by_mode.end() ? nan_v : quantile(it->second, q));
+        }
+  }
+  rep.tables["validity_fig1"] = t;
+  rep.definitions["validity_fig1/fraction"] =
+      "fraction of continuum-like runs: c_transient(discrete)/c_transient(continuum) < 1.2 (the gap between the "
+      "continuum-like mode near 1 and the others at 1.24 and above) and |t^(discrete)/t^(continuum) - 1| < 0.1; _low/_high: 95% Wilson interval";
+  rep.definitions["validity_fig1/c_transient_continuum_like_q50"] =
+      "the median of c_transient over the continuum-like runs of the point; q10/q90: the 10% and 90% quantiles; the "
+      "same for the other runs (_other_) and for t_hat_shift and x_arrest: the event distributions per mode";
+}
+
+// The study's step: the largest dt of the points (0 when there are none); finer settings check it.
+double reference_step(const std::vector<Fig1Point>& points) {
+  std::vector<double> dt;
+  for (const auto& p : points) dt.push_back(p.dt);
+  return dt.empty() ? 0.0 : *std::max_element(dt.begin(), dt.end());
+}
+
+// N*_fig1(α): where the continuum-like fraction reaches 0.5 and 0.9 (log N interpolation), reference dt
+// only; and the collapse of N* at 0.5 against α − 1.
+void fit_fig1_crossovers(StudyReport& rep, const std::vector<Fig1Point>& points, double dt_ref) {
+  std::map<double, std::pair<std::vector<double>, std::vector<double>>> byAlpha;
+  for (const auto& p : points)
+    if (p.dt == dt_ref) {
+      byAlpha[p.alpha].first.push_back(p.n);
+      byAlpha[p.alpha].second.push_back(1.0 - p.split.fraction);  // the re-stuck fraction falls with N
+    }
+  Columns x;
+  for (const auto& [alpha, ne] : byAlpha) {
+    put_alpha(x, alpha);
+    for (const auto& [level, tag] : {std::pair{0.5, "50"}, std::pair{0.1, "90"}})
+      put_crossover(x, tag, crossover_n(ne.first, ne.second, level));
+  }
+  rep.tables["validity_fig1_crossover"] = x;
+  rep.definitions["validity_fig1_crossover/N_star_50"] =
+      "N at which the continuum-like fraction of fig1 runs reaches 0.5 (log N interpolation; N_star_90: 0.9)";
+  put_collapse(rep, "validity_fig1_Nstar50_exponent", x["alpha_minus_1"], x["N_star_50"],
+               "exponent p of N* (half of the fig1 runs continuum-like) ~ (alpha - 1)^p (theory: -2)");
+}
+
+// Two-sided p-value of the two-proportion z test of fractions p1 of n1 runs and p2 of n2 runs.
+double two_proportion_pvalue(double p1, double n1, double p2, double n2) {
+  const double p = (p1 * n1 + p2 * n2) / (n1 + n2), se = std::sqrt(p * (1 - p) * (1 / n1 + 1 / n2));
+  const double z = se > 0 ? (p1 - p2) / se : 0.0;
+  const boost::math::normal unit;
+  return 2 * boost::math::cdf(boost::math::complement(unit, std::abs(z)));
+}
+
+// The step: where the same (α, N) ran at the study's step and at a finer one (or the explicit reference,
+// dt 0 here), the continuum-like fractions compared (two-proportion z test): the fixed-step implicit
+// integrator's step error against the statistical error of the fraction. One row per finer setting; the
+// scalars repeat the row of the finest implicit step.
+void put_fig1_step_table(StudyReport& rep, const std::vector<Fig1Point>& points, double dt_ref) {
+  Columns st;
+  for (const auto& a : points)
+    for (const auto& b : points)
+      if (a.alpha == b.alpha && a.n == b.n && a.dt == dt_ref && b.dt < dt_ref) {
+        const double n1 = a.split.runs, n2 = b.split.runs, p1 = a.split.fraction, p2 = b.split.fraction;
+        const double pv = two_proportion_pvalue(p1, n1, p2, n2);
+        st["alpha"].push_back(a.alpha);
+        st["N"].push_back(a.n);
+        st["dt"].push_back(dt_ref);
+        st["dt_fine"].push_back(b.dt);
+        st["runs"].push_back(n1);
+        st["runs_fine"].push_back(n2);
+        st["fraction"].push_back(p1);
+        st["fraction_fine"].push_back(p2);
+        st["difference"].push_back(p1 - p2);
+        st["pvalue"].push_back(pv);
+        st["c_continuum"].push_back(a.c_continuum);
+        st["c_continuum_fine"].push_back(b.c_continuum);
+        if (b.dt > 0 && !(rep.scalars.count("validity_fig1_dt_fine") && rep.scalars["validity_fig1_dt_fine"] < b.dt)) {
+          rep.scalars["validity_fig1_dt_fraction_difference"] = p1 - p2;
+          rep.scalars["validity_fig1_dt_pvalue"] = pv;
+          rep.scalars["validity_fig1_dt_ref"] = dt_ref;
+          rep.scalars["validity_fig1_dt_fine"] = b.dt;
+        }
+      }
+  if (st["alpha"].empty()) return;
+  rep.tables["validity_fig1_step"] = st;
+  rep.definitions["validity_fig1_step"] =
+      "the continuum-like fraction at the study's step against a finer setting at the same alpha and N (dt_fine 0: "
+      "the explicit reference integrator): difference and two-sided p-value of a two-proportion z test (large: the "
+      "step's error is below the fraction's statistical error); c_continuum: the continuum's transient speed at both";
+  rep.definitions["validity_fig1_dt_pvalue"] = "the validity_fig1_step row of the finest implicit step";
+}
+
 }  // namespace
 
 Crossover crossover_n(std::span<const double> n, std::span<const double> error, double level) {
@@ -414,149 +610,15 @@ void analyse_validity_friction(StudyReport& rep, const std::vector<StudyRun>& ru
 
 void analyse_validity_fig1(StudyReport& rep, const std::vector<StudyRun>& runs, const std::vector<Scene>& scenes,
                            const std::vector<std::vector<ModelResult>>& res) {
-  using Key = std::tuple<double, double, double>;  // α, implicit dt (0: explicit), N
-  struct Group {
-    std::vector<double> ratio, t_hat_rel, c, t_hat, x_arrest;
-    double c_cont = nan_v, t_cont = nan_v;
-  };
-  std::map<Key, Group> groups;
-  Columns per_run;  // every run with its mode: the event distributions per mode
-  for (std::size_t i = 0; i < runs.size(); ++i) {
-    const auto* c = find_model(res[i], "continuum");
-    const auto* d = find_model(res[i], "discrete");
-    if (!c || !d) continue;
-    const double alpha = value_of(scenes[i], "alpha"), dt = value_of(scenes[i], "dt"), N = value_of(scenes[i], "N");
-    Group& g = groups[{alpha, dt, N}];
-    g.c_cont = c->events.c_transient;
-    g.t_cont = c->events.t_hat;
-    const double r = d->events.c_transient / c->events.c_transient, sh = d->events.t_hat / c->events.t_hat - 1.0;
-    g.ratio.push_back(r);
-    g.t_hat_rel.push_back(sh);
-    g.c.push_back(d->events.c_transient);
-    g.t_hat.push_back(d->events.t_hat);
-    g.x_arrest.push_back(d->events.x_arrest);
-    per_run["run"].push_back(static_cast<double>(i));
-    per_run["seed"].push_back(runs[i].seed);
-    per_run["alpha"].push_back(alpha);
-    per_run["dt"].push_back(dt);
-    per_run["N"].push_back(N);
-    per_run["continuum_like"].push_back(continuum_like(r, sh) ? 1.0 : 0.0);
-    per_run["c_ratio"].push_back(r);
-    per_run["t_hat_shift"].push_back(sh);
-    for (const auto& f : event_fields) per_run[f.name].push_back(d->events.*f.member);
-  }
-  rep.tables["validity_fig1_runs"] = per_run;
-  rep.definitions["validity_fig1_runs"] =
-      "one row per run: its mode (continuum_like 1/0), c_ratio = c_transient(discrete)/c_transient(continuum), "
-      "t_hat_shift = t^(discrete)/t^(continuum) - 1 and the discrete run's events (docs/model.md §3)";
-  // the 10/50/90% quantiles (linear interpolation) of one mode's values; NaN when the mode is empty
-  auto quantile = [](std::vector<double> v, double q) {
-    std::erase_if(v, [](double y) { return !std::isfinite(y); });
-    if (v.empty()) return nan_v;
-    std::sort(v.begin(), v.end());
-    const double pos = q * static_cast<double>(v.size() - 1);
-    const auto k = static_cast<std::size_t>(pos);
-    return k + 1 < v.size() ? v[k] + (pos - static_cast<double>(k)) * (v[k + 1] - v[k]) : v[k];
-  };
-  Columns t;
-  for (const auto& [key, g] : groups) {
-    const auto [alpha, dt, N] = key;
-    const ModeSplit m = classify_modes(g.ratio, g.t_hat_rel);
-    std::map<std::string, std::vector<double>> by;  // "<mode>/<event>" -> values
-    for (std::size_t k = 0; k < g.ratio.size(); ++k) {
-      const std::string mode = continuum_like(g.ratio[k], g.t_hat_rel[k]) ? "continuum_like" : "other";
-      by[mode + "/c_transient"].push_back(g.c[k]);
-      by[mode + "/t_hat_shift"].push_back(g.t_hat_rel[k]);
-      by[mode + "/x_arrest"].push_back(g.x_arrest[k]);
-    }
-    t["alpha"].push_back(alpha);
-    t["alpha_minus_1"].push_back(alpha - 1.0);
-    t["dt"].push_back(dt);
-    t["N"].push_back(N);
-    t["runs"].push_back(m.runs);
-    t["continuum_like"].push_back(m.continuum_like);
-    t["fraction"].push_back(m.fraction);
-    t["fraction_low"].push_back(m.low);
-    t["fraction_high"].push_back(m.high);
-    t["c_continuum"].push_back(g.c_cont);
-    t["t_hat_continuum"].push_back(g.t_cont);
-    for (const char* mode : {"continuum_like", "other"})
-      for (const char* ev : {"c_transient", "t_hat_shift", "x_arrest"})
-        for (const auto& [q, tag] : {std::pair{0.1, "q10"}, std::pair{0.5, "q50"}, std::pair{0.9, "q90"}}) {
-          const auto it = by.find(std::string(mode) + "/" + ev);
-          t[std::string(ev) + "_" + mode + "_" + tag].push_back(it == by.end() ? nan_v : quantile(it->second, q));
-        }
-  }
-  rep.tables["validity_fig1"] = t;
-  rep.definitions["validity_fig1/fraction"] =
-      "fraction of continuum-like runs: c_transient(discrete)/c_transient(continuum) < 1.2 (the gap between the "
-      "continuum-like mode near 1 and the others at 1.24 and above) and |t^(discrete)/t^(continuum) - 1| < 0.1; _low/_high: 95% Wilson interval";
-  rep.definitions["validity_fig1/c_transient_continuum_like_q50"] =
-      "the median of c_transient over the continuum-like runs of the point; q10/q90: the 10% and 90% quantiles; the "
-      "same for the other runs (_other_) and for t_hat_shift and x_arrest: the event distributions per mode";
-  // N*_fig1(α): where the continuum-like fraction reaches 0.5 and 0.9 (log N interpolation), reference dt only.
-  const double dt_ref = t["dt"].empty() ? 0.0 : *std::max_element(t["dt"].begin(), t["dt"].end());
-  Columns x;
-  std::map<double, std::pair<std::vector<double>, std::vector<double>>> byAlpha;
-  for (std::size_t k = 0; k < t["alpha"].size(); ++k)
-    if (t["dt"][k] == dt_ref) {
-      byAlpha[t["alpha"][k]].first.push_back(t["N"][k]);
-      byAlpha[t["alpha"][k]].second.push_back(1.0 - t["fraction"][k]);  // the re-stuck fraction falls with N
-    }
-  for (const auto& [alpha, ne] : byAlpha) {
-    x["alpha"].push_back(alpha);
-    x["alpha_minus_1"].push_back(alpha - 1.0);
-    for (const auto& [level, tag] : {std::pair{0.5, "50"}, std::pair{0.1, "90"}}) {
-      const Crossover c = crossover_n(ne.first, ne.second, level);
-      x[std::string("N_star_") + tag].push_back(c.n_star);
-      x[std::string("N_star_") + tag + "_valid_everywhere"].push_back(c.below_at_start ? 1.0 : 0.0);
-    }
-  }
-  rep.tables["validity_fig1_crossover"] = x;
-  rep.definitions["validity_fig1_crossover/N_star_50"] =
-      "N at which the continuum-like fraction of fig1 runs reaches 0.5 (log N interpolation; N_star_90: 0.9)";
-  put_collapse(rep, "validity_fig1_Nstar50_exponent", x["alpha_minus_1"], x["N_star_50"],
-               "exponent p of N* (half of the fig1 runs continuum-like) ~ (alpha - 1)^p (theory: -2)");
-  // The step: where the same (α, N) ran at the study's step and at a finer one (or the explicit reference,
-  // dt 0 here), the continuum-like fractions compared (two-proportion z test): the fixed-step implicit
-  // integrator's step error against the statistical error of the fraction. One row per finer setting; the
-  // scalars repeat the row of the finest implicit step.
-  Columns st;
-  for (std::size_t a = 0; a < t["alpha"].size(); ++a)
-    for (std::size_t b = 0; b < t["alpha"].size(); ++b)
-      if (t["alpha"][a] == t["alpha"][b] && t["N"][a] == t["N"][b] && t["dt"][a] == dt_ref && t["dt"][b] < dt_ref) {
-        const double n1 = t["runs"][a], n2 = t["runs"][b], p1 = t["fraction"][a], p2 = t["fraction"][b];
-        const double p = (p1 * n1 + p2 * n2) / (n1 + n2), se = std::sqrt(p * (1 - p) * (1 / n1 + 1 / n2));
-        const double z = se > 0 ? (p1 - p2) / se : 0.0;
-        const boost::math::normal unit;
-        const double pv = 2 * boost::math::cdf(boost::math::complement(unit, std::abs(z)));
-        st["alpha"].push_back(t["alpha"][a]);
-        st["N"].push_back(t["N"][a]);
-        st["dt"].push_back(dt_ref);
-        st["dt_fine"].push_back(t["dt"][b]);
-        st["runs"].push_back(n1);
-        st["runs_fine"].push_back(n2);
-        st["fraction"].push_back(p1);
-        st["fraction_fine"].push_back(p2);
-        st["difference"].push_back(p1 - p2);
-        st["pvalue"].push_back(pv);
-        st["c_continuum"].push_back(t["c_continuum"][a]);
-        st["c_continuum_fine"].push_back(t["c_continuum"][b]);
-        if (t["dt"][b] > 0 && !(rep.scalars.count("validity_fig1_dt_fine") && rep.scalars["validity_fig1_dt_fine"] < t["dt"][b])) {
-          rep.scalars["validity_fig1_dt_fraction_difference"] = p1 - p2;
-          rep.scalars["validity_fig1_dt_pvalue"] = pv;
-          rep.scalars["validity_fig1_dt_ref"] = dt_ref;
-          rep.scalars["validity_fig1_dt_fine"] = t["dt"][b];
-        }
-      }
-  if (!st["alpha"].empty()) {
-    rep.tables["validity_fig1_step"] = st;
-    rep.definitions["validity_fig1_step"] =
-        "the continuum-like fraction at the study's step against a finer setting at the same alpha and N (dt_fine 0: "
-        "the explicit reference integrator): difference and two-sided p-value of a two-proportion z test (large: the "
-        "step's error is below the fraction's statistical error); c_continuum: the continuum's transient speed at both";
-    rep.definitions["validity_fig1_dt_pvalue"] = "the validity_fig1_step row of the finest implicit step";
-  }
+  // Per run its mode; per (α, dt, N) point the continuum-like fraction and each mode's events (docs/validity.md §3).
+  Fig1Runs gathered = gather_fig1_runs(runs, scenes, res);
+  put_fig1_runs_table(rep, std::move(gathered.per_run));
+  const std::vector<Fig1Point> points = fig1_points(gathered.groups);
+  put_fig1_point_table(rep, points);
+  // N* against α at the study's step, and the step against finer ones (docs/validity.md §4).
+  const double dt_ref = reference_step(points);
+  fit_fig1_crossovers(rep, points, dt_ref);
+  put_fig1_step_table(rep, points, dt_ref);
 }
 
 }  // namespace slipfront::compare

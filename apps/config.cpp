@@ -524,95 +524,137 @@ std::string apply_override(toml::table& root, const std::string& arg, const std:
 
 // ---------------------------------------------------------------------------------------------
 
-Scene scene_from_table(toml::table& root, const std::string& source, const std::vector<std::string>& overrides,
-                       std::vector<std::string>* notes) {
+// The document being read: its source name and the keys set by --set (named "--set <key>" in messages).
+struct Document {
+  const toml::table& root;
+  const std::string& source;
   std::set<std::string> overridden;
-  for (const auto& o : overrides) overridden.insert(apply_override(root, o, source));
-  auto shown = [&](const std::string& key) { return overridden.count(key) ? "--set " + key : key; };
 
-  // Unknown sections and keys.
-  const Section& top = *find_section("");
-  for (const auto& [k, node] : root) {
-    const std::string key(k.str());
-    if (find_field(top, key)) continue;
-    const Section* sec = find_section(key);
-    if (!sec) throw ConfigError(source, key, unknown_top_level_reason(key));
-    const auto* tbl = node.as_table();
-    if (!tbl) throw ConfigError(source, key, "expected a section [" + key + "], got " + describe(node));
-    for (const auto& [sk, snode] : *tbl) {
-      const std::string skey(sk.str());
-      if (!find_field(*sec, skey)) throw ConfigError(source, shown(key + "." + skey), unknown_key_reason(*sec, skey));
-    }
-  }
+  std::string shown(const std::string& key) const { return overridden.count(key) ? "--set " + key : key; }
 
-  auto lookup = [&](const Section& sec, const Field& f) -> const toml::node* {
+  // The value of a key in the document, or nullptr.
+  const toml::node* lookup(const Section& sec, const Field& f) const {
     if (sec.name[0] == '\0') return root.get(f.key);
     const auto* tbl = root.get_as<toml::table>(sec.name);
     return tbl ? tbl->get(f.key) : nullptr;
-  };
+  }
+};
 
-  // Values present in the file (drive.loading first: what is required depends on it).
+// Unknown sections and keys.
+void refuse_unknown_keys(const Document& doc) {
+  const Section& top = *find_section("");
+  for (const auto& [k, node] : doc.root) {
+    const std::string key(k.str());
+    if (find_field(top, key)) continue;
+    const Section* sec = find_section(key);
+    if (!sec) throw ConfigError(doc.source, key, unknown_top_level_reason(key));
+    const auto* tbl = node.as_table();
+    if (!tbl) throw ConfigError(doc.source, key, "expected a section [" + key + "], got " + describe(node));
+    for (const auto& [sk, snode] : *tbl) {
+      const std::string skey(sk.str());
+      if (!find_field(*sec, skey))
+        throw ConfigError(doc.source, doc.shown(key + "." + skey), unknown_key_reason(*sec, skey));
+    }
+  }
+}
+
+// Values present in the file (drive.loading first: what is required depends on it).
+Scene read_values(const Document& doc) {
   Scene s;
   const Section& drive = *find_section("drive");
-  const Field& loading = *find_field(drive, "loading");
-  const toml::node* loading_node = lookup(drive, loading);
-  if (!loading_node)
-    throw ConfigError(source, "drive.loading",
+  if (!doc.lookup(drive, *find_field(drive, "loading")))
+    throw ConfigError(doc.source, "drive.loading",
                       "required key is missing (one of edge, homogeneous, imposed_rate, spring_block)");
   for (const auto& sec : schema())
     for (const auto& f : sec.fields)
-      if (const toml::node* n = lookup(sec, f)) Reader{source, shown(dotted(sec, f))}.read(*n, f.target(s), f.scalar_ok);
+      if (const toml::node* n = doc.lookup(sec, f))
+        Reader{doc.source, doc.shown(dotted(sec, f))}.read(*n, f.target(s), f.scalar_ok);
+  return s;
+}
 
-  // Required keys, and the rules between keys.
+// Required keys, which depend on the values read.
+void refuse_missing_keys(const Document& doc, const Scene& s) {
   for (const auto& sec : schema())
     for (const auto& f : sec.fields)
-      if (f.required && f.required(s) && !lookup(sec, f)) {
+      if (f.required && f.required(s) && !doc.lookup(sec, f)) {
         std::string reason = "required key is missing";
         if (std::string_view(f.key) == "v")
           reason += " (with drive.loading = imposed_rate give drive.v, or a sweep: drive.points with drive.v_min, "
                     "drive.v_max)";
         else if (f.required != always)
           reason += std::string(" (required ") + f.used_when + ")";
-        throw ConfigError(source, dotted(sec, f), reason);
+        throw ConfigError(doc.source, dotted(sec, f), reason);
       }
-  if (imposed(s) && lookup(drive, *find_field(drive, "points")) && s.drive.sweep_points < 2)
-    throw ConfigError(source, shown("drive.points"),
+}
+
+// The rules between the keys of an imposed rate: a sweep of at least 2 points; a history of one rate
+// starts at 0 without drive.switch_times, of several needs them.
+void check_imposed_rate(const Document& doc, Scene& s) {
+  const Section& drive = *find_section("drive");
+  if (imposed(s) && doc.lookup(drive, *find_field(drive, "points")) && s.drive.sweep_points < 2)
+    throw ConfigError(doc.source, doc.shown("drive.points"),
                       "a sweep needs at least 2 points, got " + std::to_string(s.drive.sweep_points));
-  if (imposed_history(s) && !lookup(drive, *find_field(drive, "switch_times"))) {
+  if (imposed_history(s) && !doc.lookup(drive, *find_field(drive, "switch_times"))) {
     if (s.drive.v.size() > 1)
-      throw ConfigError(source, "drive.switch_times",
+      throw ConfigError(doc.source, "drive.switch_times",
                         "required key is missing (drive.v has " + std::to_string(s.drive.v.size()) +
                             " values: give the time at which each starts, the first 0)");
     s.drive.v_times = {0.0};
   }
-  if (s.name.empty()) throw ConfigError(source, shown("scene"), "must not be empty (it names the output directory)");
+}
+
+// The scene's name (it names the output directory out/<scene>) and its list of models.
+void check_names(const Document& doc, const Scene& s) {
+  if (s.name.empty())
+    throw ConfigError(doc.source, doc.shown("scene"), "must not be empty (it names the output directory)");
   if (s.name.front() == '/' || s.name.find("..") != std::string::npos)
-    throw ConfigError(source, shown("scene"), "must be a relative name without '..' (it names out/<scene>)");
+    throw ConfigError(doc.source, doc.shown("scene"), "must be a relative name without '..' (it names out/<scene>)");
   if (std::any_of(s.name.begin(), s.name.end(), [](char ch) { return static_cast<unsigned char>(ch) < 0x20 || ch == 0x7f; }))
-    throw ConfigError(source, shown("scene"), "must not contain control characters (it names the directory out/<scene>)");
+    throw ConfigError(doc.source, doc.shown("scene"),
+                      "must not contain control characters (it names the directory out/<scene>)");
   for (std::size_t i = 0; i < s.models.size(); ++i)
     for (std::size_t j = 0; j < i; ++j)
-      if (s.models[i] == s.models[j]) throw ConfigError(source, shown("models"), "lists '" + s.models[i] + "' twice");
+      if (s.models[i] == s.models[j])
+        throw ConfigError(doc.source, doc.shown("models"), "lists '" + s.models[i] + "' twice");
+}
 
-  // Keys this scene does not use: noted, and reset to their defaults (canonical form).
+// Keys this scene does not use: noted, and reset to their defaults (canonical form).
+void reset_unused_keys(const Document& doc, Scene& s, std::vector<std::string>* notes) {
   Scene defaults;
   std::vector<const Field*> unused;
   for (const auto& sec : schema())
     for (const auto& f : sec.fields)
       if (!f.used(s)) {
-        if (lookup(sec, f) && notes)
+        if (doc.lookup(sec, f) && notes)
           notes->push_back(dotted(sec, f) + " is ignored: it is used only " + f.used_when);
         unused.push_back(&f);
       }
   for (const Field* f : unused) copy_field(*f, s, defaults);
+}
 
+// Scene::validate(), its refusals as ConfigErrors naming the key as the document gave it.
+void validate_scene(const Document& doc, const Scene& s) {
   try {
     s.validate();
   } catch (const core::ParamError& e) {
-    throw ConfigError(source, shown(e.key), e.reason);
+    throw ConfigError(doc.source, doc.shown(e.key), e.reason);
   } catch (const std::exception& e) {  // a check outside the parameter structs (e.g. building the grid)
-    throw ConfigError(source, "", e.what());
+    throw ConfigError(doc.source, "", e.what());
   }
+}
+
+Scene scene_from_table(toml::table& root, const std::string& source, const std::vector<std::string>& overrides,
+                       std::vector<std::string>* notes) {
+  std::set<std::string> overridden;
+  for (const auto& o : overrides) overridden.insert(apply_override(root, o, source));
+  const Document doc{root, source, std::move(overridden)};
+  refuse_unknown_keys(doc);
+  Scene s = read_values(doc);
+  refuse_missing_keys(doc, s);
+  check_imposed_rate(doc, s);
+  check_names(doc, s);
+  reset_unused_keys(doc, s, notes);
+  validate_scene(doc, s);
   return s;
 }
 

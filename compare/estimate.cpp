@@ -175,6 +175,187 @@ double golden_points(const Scene& s) {
   return std::ceil(std::log(std::max(span, 1e-7) / 1e-7) / std::log(0.5 * (1.0 + std::sqrt(5.0)))) + 3.0;
 }
 
+// The grid: its nodes (0D: one site) and, in 1D, the elastic length sqrt(μ/α) in nodes.
+void put_grid(const Scene& s, Estimate& e) {
+  const bool one_d = core::is_one_dimensional(s.drive.loading);
+  e.sites = one_d ? std::round(s.bulk.length / s.grid.dx) + 1.0 : 1.0;
+  if (one_d) {
+    e.elastic_length = std::sqrt(s.bulk.mu / s.interface.alpha);
+    e.nodes_per_elastic_length = e.elastic_length / s.grid.dx;
+  }
+}
+
+// Whether the two models run in lockstep in one process (both listed, on a bulk scene with a common fixed
+// step: compare/alongside.cpp): then their states are held at once.
+bool lockstep(const Scene& s) {
+  return lists(s, "continuum") && lists(s, "discrete") && s.drive.loading != Loading::imposed_rate &&
+         s.time.integrator != Integrator::adaptive_rosenbrock;
+}
+
+// How a model steps: what the bulk costs per site-step (ns) and keeps per site (fields).
+struct Stepping {
+  double fields_per_site = 0.0;
+  double bulk_ns = 0.0;
+};
+
+// An imposed slip rate: the law alone in exact steps; a sweep steps every steady point (the continuum's
+// golden-section points included), a history its segments.
+Stepping imposed_stepping(const Scene& s, const std::string& model, ModelEstimate& m) {
+  m.integrator = "exact";
+  if (s.drive.sweep_points > 0) {
+    const double points = s.drive.sweep_points + (model == "continuum" ? golden_points(s) : 0.0);
+    m.steps = points * s.time.steps;
+    m.steps_basis = count(points) + " steady points x time.steps = " + count(s.time.steps);
+  } else {
+    m.steps = history_steps(s);
+    m.dt = s.time.dt > 0 ? s.time.dt : s.time.t_end / s.time.steps;
+    m.steps_basis = "the history's segments in steps of " + format_number(m.dt);
+  }
+  return {0.0, step_costs().law_step};
+}
+
+// A bulk scene: adaptive steps (the continuum only: the discrete model runs explicit), or fixed steps of
+// time.dt or time.cfl times the explicit stability limit.
+Stepping bulk_stepping(const Scene& s, const std::string& model, double sites, ModelEstimate& m) {
+  const StepCosts& c = step_costs();
+  const double t_end = s.time.t_end;
+  const double stable = explicit_stable_dt(s);
+  Integrator integ = s.time.integrator;
+  if (model == "discrete" && integ == Integrator::adaptive_rosenbrock) integ = Integrator::central_difference;
+  if (integ == Integrator::adaptive_rosenbrock) {
+    m.integrator = "adaptive";
+    m.steps = adaptive_steps(s, sites);
+    m.steps_basis = "adaptive: t_end/dt_max + nodes + 8 t_end (rtol/1e-3)^-0.77, an estimate";
+    return {66.0, c.adaptive_bulk};
+  }
+  const bool implicit = integ == Integrator::implicit_trapezoidal;
+  m.integrator = implicit ? "implicit" : "explicit";
+  const double dt0 = s.time.dt > 0 ? s.time.dt : s.time.cfl * stable;
+  m.steps = std::max(1.0, std::ceil(t_end / dt0 - 1e-9));
+  m.dt = t_end / m.steps;
+  m.steps_basis = "time.t_end / dt = " + format_number(t_end) + " / " + format_number(m.dt) +
+                  (s.time.dt > 0 ? " (time.dt)" : " (time.cfl x the stability limit " + format_number(stable) + ")");
+  return {implicit ? 10.0 : 8.0, implicit ? c.implicit_bulk : c.explicit_bulk};
+}
+
+// What the peak memory consists of ("snapshots (continuum)", bytes).
+using MemoryItems = std::vector<std::pair<std::string, double>>;
+
+// Run time and state of one model: the bulk's and the law's cost per site-step and, on a bulk scene, the
+// cost of each step; the fields, the law's state and the count law's worker threads.
+void put_cost(const Scene& s, const Stepping& st, double sites, ModelEstimate& m, MemoryItems& items) {
+  const LawCost law = law_cost(s, m.model, m.steps);
+  m.site_steps = m.steps * sites;
+  m.ns_per_site_step = st.bulk_ns + law.ns_per_site_step;
+  const bool imposed = s.drive.loading == Loading::imposed_rate;
+  m.seconds = m.site_steps * m.ns_per_site_step * 1e-9 + (imposed ? 0.0 : m.steps * step_costs().step * 1e-9);
+  const double threads = m.model == "discrete" && s.discrete.representation == "count" && s.discrete.threads > 1
+                             ? std::min<double>(s.discrete.threads, std::ceil(sites / 64.0))
+                             : 0.0;
+  m.state_bytes = sites * (st.fields_per_site * word + law.bytes_per_site) + threads * thread_bytes;
+  items.emplace_back(law.what + " and fields (" + m.model + ")", m.state_bytes);
+}
+
+// What one model keeps until the end (docs/model.md §5 records), each vector up to twice its size: the
+// friction law table of a sweep; series, snapshots, tip samples and contact statistics otherwise. Each
+// record is listed in `items`; returns their sum.
+double record_bytes(const Scene& s, const ModelEstimate& m, double sites, MemoryItems& items) {
+  const double t_end = s.time.t_end;
+  double rec = 0.0;
+  auto add = [&](const std::string& what, double bytes) {
+    if (bytes <= 0.0) return;
+    rec += bytes;
+    items.emplace_back(what + " (" + m.model + ")", bytes);
+  };
+  if (s.drive.loading == Loading::imposed_rate) {
+    if (s.drive.sweep_points > 0) {
+      add("friction law table", growth * 5.0 * word * s.drive.sweep_points + 4.0 * word * s.measure.batches);
+    } else {
+      add("series (output.series_dt)", growth * 7.0 * word * samples(t_end, s.output.series_dt, m.steps));
+      add("contact statistics", contact_stats_bytes(s, 1.0, m.steps));
+    }
+    return rec;
+  }
+  const bool one_d = core::is_one_dimensional(s.drive.loading);
+  const bool dense = m.integrator == "adaptive";  // records at exact times, not bounded by the steps
+  const double cap = dense ? std::max(m.steps, t_end / std::max(1e-300, std::min({s.output.series_dt > 0 ? s.output.series_dt : t_end,
+                                                                                   s.output.snapshot_dt > 0 ? s.output.snapshot_dt : t_end,
+                                                                                   s.measure.sample_dt}))) + 1.0
+                           : m.steps;
+  const double columns = (one_d ? 5.0 : 8.0) + (s.output.energy ? 6.0 : 0.0);
+  add("series (output.series_dt)", growth * columns * word * samples(t_end, s.output.series_dt, cap));
+  if (one_d) {
+    if (s.output.snapshot_dt > 0)
+      add("snapshots (output.snapshot_dt)", growth * word * (4.0 * sites + 1.0) * samples(t_end, s.output.snapshot_dt, cap));
+    add("tip samples (measure.sample_dt)", growth * 3.0 * word * samples(t_end, s.measure.sample_dt, cap));
+  }
+  if (m.model == "discrete") add("contact statistics", contact_stats_bytes(s, sites, m.steps));
+  return rec;
+}
+
+// One model's steps, run time, state and records.
+ModelEstimate model_estimate(const Scene& s, const std::string& model, double sites, MemoryItems& items) {
+  ModelEstimate m;
+  m.model = model;
+  const Stepping st = s.drive.loading == Loading::imposed_rate ? imposed_stepping(s, model, m)
+                                                               : bulk_stepping(s, model, sites, m);
+  put_cost(s, st, sites, m, items);
+  m.record_bytes = record_bytes(s, m, sites, items);
+  return m;
+}
+
+// Output and peak memory. Records kept: every model's and, in lockstep, the field comparison. Output:
+// the records as written (tip samples are not). While writing, the in-memory HDF5 image and its copy:
+// two copies of the file, whose snapshots are compressed (smooth fields: 2x or more), so counted as one
+// uncompressed copy. Peak: lockstep runs hold every model's state at once; sequential runs one state at a
+// time. The records of every model stay until the file is written.
+void put_memory(const Scene& s, Estimate& e, MemoryItems items) {
+  double state_max = 0.0, state_sum = 0.0, records = 0.0;
+  for (const auto& m : e.models) {
+    records += m.record_bytes;
+    state_max = std::max(state_max, m.state_bytes);
+    state_sum += m.state_bytes;
+  }
+  if (lockstep(s) && s.output.compare_dt > 0) {
+    const double bytes = growth * 5.0 * word * samples(s.time.t_end, s.output.compare_dt, e.steps);
+    records += bytes;
+    items.emplace_back("field comparison (output.compare_dt)", bytes);
+  }
+  for (const auto& [what, bytes] : items)
+    if (what.find("tip samples") == std::string::npos && what.find(" and fields ") == std::string::npos)
+      e.output_bytes += bytes / growth;
+  items.emplace_back("results file image while writing", e.output_bytes);
+  const double run_phase = (lockstep(s) ? state_sum : state_max) + records;
+  const double write_phase = records + e.output_bytes;
+  e.memory_bytes = base_bytes + std::max(run_phase, write_phase);
+  std::sort(items.begin(), items.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
+  e.memory_items = std::move(items);
+}
+
+// Warnings that do not refuse the run: a grid that resolves the elastic length barely, a bulk too short
+// for the fronts, ages asked of a representation that has none, more count-law threads than the machine.
+void put_notes(const Scene& s, Estimate& e) {
+  const bool one_d = core::is_one_dimensional(s.drive.loading);
+  if (one_d && e.nodes_per_elastic_length < 4.0 && e.nodes_per_elastic_length >= s.limits.min_nodes_per_elastic_length)
+    e.notes.push_back("grid.dx: " + format_number(e.nodes_per_elastic_length) + " nodes per elastic length sqrt(mu/alpha) = " +
+                      format_number(e.elastic_length) +
+                      ": event times and front speeds may be off by 1-3% (4 or more nodes: below 1%; docs/robustness.md)");
+  if (one_d && s.bulk.length < 2.0 * e.elastic_length)
+    e.notes.push_back("bulk.length = " + format_number(s.bulk.length) + " is shorter than 2 elastic lengths sqrt(mu/alpha) = " +
+                      format_number(2.0 * e.elastic_length) +
+                      ": fronts have no room to run and t* departs from the half-line formula of docs/model.md §1");
+  if (s.output.ages && lists(s, "discrete") && s.discrete.representation != "agent")
+    e.notes.push_back("output.ages: the " + s.discrete.representation +
+                      " representation carries no contact age: ages are written for the continuum model only "
+                      "(discrete.representation = \"agent\" carries them)");
+  if (lists(s, "discrete") && s.discrete.representation == "count" && s.discrete.threads > 1) {
+    const unsigned hw = std::thread::hardware_concurrency();
+    if (hw > 0 && static_cast<unsigned>(s.discrete.threads) > hw)
+      e.notes.push_back("discrete.threads = " + std::to_string(s.discrete.threads) + " is more than the " +
+                        std::to_string(hw) + " hardware threads of this machine (results do not depend on it)");
+  }
+}
+
 }  // namespace
 
 const StepCosts& step_costs() {
@@ -225,146 +406,16 @@ double explicit_stable_dt(const Scene& s) {
 }
 
 Estimate estimate(const Scene& s) {
-  const StepCosts& c = step_costs();
   Estimate e;
-  const bool one_d = core::is_one_dimensional(s.drive.loading);
-  const bool imposed = s.drive.loading == Loading::imposed_rate;
-  e.sites = one_d ? std::round(s.bulk.length / s.grid.dx) + 1.0 : 1.0;
-  if (one_d) {
-    e.elastic_length = std::sqrt(s.bulk.mu / s.interface.alpha);
-    e.nodes_per_elastic_length = e.elastic_length / s.grid.dx;
-  }
-  const double t_end = s.time.t_end;
-  const bool lockstep = lists(s, "continuum") && lists(s, "discrete") && !imposed &&
-                        s.time.integrator != Integrator::adaptive_rosenbrock;
-  double state_max = 0.0, state_sum = 0.0, records = 0.0;
-  std::vector<std::pair<std::string, double>> items;
-
-  for (const auto& model : s.models) {
-    ModelEstimate m;
-    m.model = model;
-    double fields_per_site = 0.0, bulk_ns = 0.0;
-    if (imposed) {
-      m.integrator = "exact";
-      if (s.drive.sweep_points > 0) {
-        const double points = s.drive.sweep_points + (model == "continuum" ? golden_points(s) : 0.0);
-        m.steps = points * s.time.steps;
-        m.steps_basis = count(points) + " steady points x time.steps = " + count(s.time.steps);
-      } else {
-        m.steps = history_steps(s);
-        m.dt = s.time.dt > 0 ? s.time.dt : t_end / s.time.steps;
-        m.steps_basis = "the history's segments in steps of " + format_number(m.dt);
-      }
-      bulk_ns = c.law_step;
-    } else {
-      const double stable = explicit_stable_dt(s);
-      Integrator integ = s.time.integrator;
-      if (model == "discrete" && integ == Integrator::adaptive_rosenbrock) integ = Integrator::central_difference;
-      if (integ == Integrator::adaptive_rosenbrock) {
-        m.integrator = "adaptive";
-        m.steps = adaptive_steps(s, e.sites);
-        m.steps_basis = "adaptive: t_end/dt_max + nodes + 8 t_end (rtol/1e-3)^-0.77, an estimate";
-        fields_per_site = 66.0;
-        bulk_ns = c.adaptive_bulk;
-      } else {
-        const bool implicit = integ == Integrator::implicit_trapezoidal;
-        m.integrator = implicit ? "implicit" : "explicit";
-        const double dt0 = s.time.dt > 0 ? s.time.dt : s.time.cfl * stable;
-        m.steps = std::max(1.0, std::ceil(t_end / dt0 - 1e-9));
-        m.dt = t_end / m.steps;
-        m.steps_basis = "time.t_end / dt = " + format_number(t_end) + " / " + format_number(m.dt) +
-                        (s.time.dt > 0 ? " (time.dt)" : " (time.cfl x the stability limit " + format_number(stable) + ")");
-        fields_per_site = implicit ? 10.0 : 8.0;
-        bulk_ns = implicit ? c.implicit_bulk : c.explicit_bulk;
-      }
-    }
-    const LawCost law = law_cost(s, model, m.steps);
-    m.site_steps = m.steps * e.sites;
-    m.ns_per_site_step = bulk_ns + law.ns_per_site_step;
-    m.seconds = m.site_steps * m.ns_per_site_step * 1e-9 + (imposed ? 0.0 : m.steps * c.step * 1e-9);
-    const double threads = model == "discrete" && s.discrete.representation == "count" && s.discrete.threads > 1
-                               ? std::min<double>(s.discrete.threads, std::ceil(e.sites / 64.0))
-                               : 0.0;
-    m.state_bytes = e.sites * (fields_per_site * word + law.bytes_per_site) + threads * thread_bytes;
-    items.emplace_back(law.what + " and fields (" + model + ")", m.state_bytes);
-
-    // What is kept until the end (docs/model.md §5 records), each vector up to twice its size.
-    double rec = 0.0;
-    auto add = [&](const std::string& what, double bytes) {
-      if (bytes <= 0.0) return;
-      rec += bytes;
-      items.emplace_back(what + " (" + model + ")", bytes);
-    };
-    if (imposed) {
-      if (s.drive.sweep_points > 0) {
-        add("friction law table", growth * 5.0 * word * s.drive.sweep_points + 4.0 * word * s.measure.batches);
-      } else {
-        add("series (output.series_dt)", growth * 7.0 * word * samples(t_end, s.output.series_dt, m.steps));
-        add("contact statistics", contact_stats_bytes(s, 1.0, m.steps));
-      }
-    } else {
-      const bool dense = m.integrator == "adaptive";  // records at exact times, not bounded by the steps
-      const double cap = dense ? std::max(m.steps, t_end / std::max(1e-300, std::min({s.output.series_dt > 0 ? s.output.series_dt : t_end,
-                                                                                       s.output.snapshot_dt > 0 ? s.output.snapshot_dt : t_end,
-                                                                                       s.measure.sample_dt}))) + 1.0
-                               : m.steps;
-      const double columns = (one_d ? 5.0 : 8.0) + (s.output.energy ? 6.0 : 0.0);
-      add("series (output.series_dt)", growth * columns * word * samples(t_end, s.output.series_dt, cap));
-      if (one_d) {
-        if (s.output.snapshot_dt > 0)
-          add("snapshots (output.snapshot_dt)",
-              growth * word * (4.0 * e.sites + 1.0) * samples(t_end, s.output.snapshot_dt, cap));
-        add("tip samples (measure.sample_dt)", growth * 3.0 * word * samples(t_end, s.measure.sample_dt, cap));
-      }
-      if (model == "discrete") add("contact statistics", contact_stats_bytes(s, e.sites, m.steps));
-    }
-    m.record_bytes = rec;
-    records += rec;
-    state_max = std::max(state_max, m.state_bytes);
-    state_sum += m.state_bytes;
+  put_grid(s, e);
+  MemoryItems items;  // what the peak consists of, in the order it is counted
+  for (const auto& model : s.models) e.models.push_back(model_estimate(s, model, e.sites, items));
+  for (const auto& m : e.models) {
     e.steps = std::max(e.steps, m.steps);
     e.seconds += m.seconds;
-    e.models.push_back(std::move(m));
   }
-  if (lockstep && s.output.compare_dt > 0) {
-    const double bytes = growth * 5.0 * word * samples(t_end, s.output.compare_dt, e.steps);
-    records += bytes;
-    items.emplace_back("field comparison (output.compare_dt)", bytes);
-  }
-  // Output: the records as written (tip samples are not). While writing, the in-memory HDF5 image and
-  // its copy: two copies of the file, whose snapshots are compressed (smooth fields: 2x or more), so
-  // counted as one uncompressed copy.
-  for (const auto& [what, bytes] : items)
-    if (what.find("tip samples") == std::string::npos && what.find(" and fields ") == std::string::npos)
-      e.output_bytes += bytes / growth;
-  items.emplace_back("results file image while writing", e.output_bytes);
-  // Peak: lockstep runs hold every model's state at once; sequential runs one state at a time. The
-  // records of every model stay until the file is written.
-  const double run_phase = (lockstep ? state_sum : state_max) + records;
-  const double write_phase = records + e.output_bytes;
-  e.memory_bytes = base_bytes + std::max(run_phase, write_phase);
-  std::sort(items.begin(), items.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
-  e.memory_items = std::move(items);
-
-  // Warnings that do not refuse the run.
-  if (one_d && e.nodes_per_elastic_length < 4.0 && e.nodes_per_elastic_length >= s.limits.min_nodes_per_elastic_length)
-    e.notes.push_back("grid.dx: " + format_number(e.nodes_per_elastic_length) + " nodes per elastic length sqrt(mu/alpha) = " +
-                      format_number(e.elastic_length) +
-                      ": event times and front speeds may be off by 1-3% (4 or more nodes: below 1%; docs/robustness.md)");
-  if (one_d && s.bulk.length < 2.0 * e.elastic_length)
-    e.notes.push_back("bulk.length = " + format_number(s.bulk.length) + " is shorter than 2 elastic lengths sqrt(mu/alpha) = " +
-                      format_number(2.0 * e.elastic_length) +
-                      ": fronts have no room to run and t* departs from the half-line formula of docs/model.md §1");
-  if (s.output.ages && lists(s, "discrete") && s.discrete.representation != "agent")
-    e.notes.push_back("output.ages: the " + s.discrete.representation +
-                      " representation carries no contact age: ages are written for the continuum model only "
-                      "(discrete.representation = \"agent\" carries them)");
-  if (lists(s, "discrete") && s.discrete.representation == "count" && s.discrete.threads > 1) {
-    const unsigned hw = std::thread::hardware_concurrency();
-    if (hw > 0 && static_cast<unsigned>(s.discrete.threads) > hw)
-      e.notes.push_back("discrete.threads = " + std::to_string(s.discrete.threads) + " is more than the " +
-                        std::to_string(hw) + " hardware threads of this machine (results do not depend on it)");
-  }
+  put_memory(s, e, std::move(items));
+  put_notes(s, e);
   return e;
 }
 

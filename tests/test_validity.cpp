@@ -1,7 +1,7 @@
 // The validity map's analysis (issue 13, compare/validity.hpp): the mode classifier on synthetic two-mode
 // samples, the crossover on data generated with a known law, the collapse exponent and the kappa, eta
-// exponents recovered from synthetic studies with a known N*(alpha, kappa, eta), and the fig1 analysis's
-// per-run modes and per-mode event quantiles.
+// exponents recovered from synthetic studies with a known N*(alpha, kappa, eta), the fig1 analysis's
+// per-run modes and per-mode event quantiles, its step check against a closed-form z test, and an empty study.
 #include <catch2/catch.hpp>
 
 #include <boost/random/mersenne_twister.hpp>
@@ -212,4 +212,81 @@ TEST_CASE("validity: the fig1 analysis splits runs by mode and gives each mode's
   CHECK(t.at("t_hat_shift_other_q50")[0] == Approx(0.08));
   CHECK(t.at("fraction")[1] == 1.0);
   CHECK(std::isnan(t.at("c_transient_other_q50")[1]));
+}
+
+TEST_CASE("validity: the fig1 step check compares the fraction at the study's step with each finer setting",
+          "[validity]") {
+  // One (alpha, N) point run at the study's implicit step dt = 0.02 (20 of 40 runs continuum-like), at dt = 0.005
+  // (10 of 40) and with the explicit reference integrator (dt 0 here; 20 of 40). The step table has one row per
+  // finer setting; the two-proportion z test gives p = 1 for equal fractions and, for 0.5 against 0.25 of 40 runs
+  // each, z = 0.25 / sqrt(0.375 · 0.625 · 2/40) = 2.309, two-sided p = 0.02092 (closed form; to 1e-4 relative).
+  // The scalars repeat the row of the finest implicit step; the crossover table uses the study's step only.
+  std::vector<compare::StudyRun> runs;
+  std::vector<compare::Scene> scenes;
+  std::vector<std::vector<compare::ModelResult>> res;
+  auto add = [&](double dt, int continuum_like, int total) {
+    for (int k = 0; k < total; ++k) {
+      compare::Scene s = testing::fig1_scene();
+      s.discrete.contacts_per_site = 1000;
+      if (dt > 0) {
+        s.time.integrator = core::Integrator::implicit_trapezoidal;
+        s.time.dt = dt;
+      }
+      compare::ModelResult c, d;
+      c.model = "continuum";
+      d.model = "discrete";
+      c.events.c_transient = 16.2;
+      c.events.t_hat = 100.0;
+      d.events.c_transient = k < continuum_like ? 16.0 : 27.0;
+      d.events.t_hat = 101.0;
+      runs.emplace_back();
+      scenes.push_back(s);
+      res.push_back({c, d});
+    }
+  };
+  add(0.02, 20, 40);
+  add(0.005, 10, 40);
+  add(0.0, 20, 40);
+  compare::StudyReport rep;
+  compare::analyse_validity_fig1(rep, runs, scenes, res);
+  const auto& st = rep.tables.at("validity_fig1_step");
+  REQUIRE(st.at("dt_fine").size() == 2);
+  for (std::size_t k = 0; k < 2; ++k) {
+    CHECK(st.at("dt")[k] == 0.02);
+    CHECK(st.at("runs")[k] == 40.0);
+    CHECK(st.at("fraction")[k] == 0.5);
+  }
+  CHECK(st.at("dt_fine")[0] == 0.0);  // the explicit reference: the same fraction
+  CHECK(st.at("difference")[0] == 0.0);
+  CHECK(st.at("pvalue")[0] == Approx(1.0).epsilon(1e-12));
+  CHECK(st.at("dt_fine")[1] == 0.005);
+  CHECK(st.at("difference")[1] == Approx(0.25).epsilon(1e-12));
+  CHECK(st.at("pvalue")[1] == Approx(0.020921).epsilon(1e-4));
+  CHECK(rep.scalars.at("validity_fig1_dt_ref") == 0.02);
+  CHECK(rep.scalars.at("validity_fig1_dt_fine") == 0.005);
+  CHECK(rep.scalars.at("validity_fig1_dt_pvalue") == Approx(0.020921).epsilon(1e-4));
+  CHECK(rep.tables.at("validity_fig1_crossover").at("alpha").size() == 1);
+}
+
+TEST_CASE("validity: an empty study gives the tables without rows and no fits", "[validity]") {
+  // No run has both models' results: every table is written, empty; nothing is fitted (no exponent scalars) and
+  // the fig1 collapse says why; there is no step table (no finer setting).
+  std::vector<compare::StudyRun> runs(2);
+  std::vector<compare::Scene> scenes{testing::imposed_rate_scene(), testing::fig1_scene()};
+  compare::ModelResult only;
+  only.model = "continuum";
+  std::vector<std::vector<compare::ModelResult>> res{{only}, {}};
+  compare::StudyReport friction, fig1;
+  compare::analyse_validity_friction(friction, runs, scenes, res);
+  compare::analyse_validity_fig1(fig1, runs, scenes, res);
+  CHECK(friction.tables.at("validity_friction").empty());
+  CHECK(friction.tables.at("validity_crossover").empty());
+  CHECK(friction.scalars.empty());
+  CHECK(friction.notes.empty());
+  CHECK(fig1.tables.at("validity_fig1_runs").empty());
+  CHECK(fig1.tables.at("validity_fig1").empty());
+  CHECK(fig1.tables.count("validity_fig1_step") == 0);
+  CHECK(fig1.scalars.empty());
+  REQUIRE(fig1.notes.size() == 1);
+  CHECK(fig1.notes[0].find("no exponent fitted") != std::string::npos);
 }

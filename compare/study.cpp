@@ -3,10 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <numeric>
-#include <set>
 #include <stdexcept>
 
+#include "compare/difference.hpp"
 #include "compare/fit.hpp"
 #include "compare/fronts.hpp"
 #include "compare/validity.hpp"
@@ -70,13 +69,6 @@ void put_fits(StudyReport& rep, const std::string& name, const std::vector<doubl
   if (fx.size() >= 3)
     put_fit(rep, name + "_from", fit_power_law(fx, fy), what + ", points with N >= " + core::format_number(from) +
                                                              " (study key fit_from: the mean-field regime)");
-}
-
-double rel_rms(const std::vector<double>& a, const std::vector<double>& b) {
-  const std::size_t n = std::min(a.size(), b.size());
-  double num = 0, den = 0;
-  for (std::size_t i = 0; i < n; ++i) { num += (a[i] - b[i]) * (a[i] - b[i]); den += b[i] * b[i]; }
-  return den > 0 ? std::sqrt(num / den) : nan;
 }
 
 const std::vector<double>& column(const Columns& c, const std::string& name) {
@@ -163,7 +155,7 @@ void friction_law_vs_width(StudyReport& rep, const std::vector<StudyRun>& runs, 
       t["sigma_min"].push_back(sd.empty() ? nan : *std::min_element(sd.begin(), sd.end()));
     } else {
       const char* col = scenes[idx[0]].drive.loading == core::Loading::imposed_rate ? "sigma" : "drive_force";
-      dist = rel_rms(column(d->series, col), column(c->series, col));
+      dist = relative_rms_distance(column(c->series, col), column(d->series, col));
       const auto& pk = column(d->cycles, "F_peak");
       const auto& pc = column(c->cycles, "F_peak");
       t["F_peak_first"].push_back(pk.empty() ? nan : pk.front());
@@ -217,7 +209,7 @@ void transient_vs_N(StudyReport& rep, const StudySpec& spec, const std::vector<S
       const auto* m = find_model(res[i], "discrete");
       if (!c || !m) continue;
       const char* col = scenes[i].drive.loading == core::Loading::imposed_rate ? "sigma" : "drive_force";
-      d.push_back(rel_rms(column(m->series, col), column(c->series, col)));
+      d.push_back(relative_rms_distance(column(c->series, col), column(m->series, col)));
     }
     t["N"].push_back(N);
     t["distance_mean"].push_back(mean_of(d));

@@ -112,11 +112,9 @@ compare::StudySpec load_study(const fs::path& file) {
   s.description = need_string("description", false);
   const std::string scene = need_string("scene", true);
   s.scene_file = (fs::path(scene).is_absolute() ? fs::path(scene) : file.parent_path() / scene).lexically_normal().string();
-  bool kind_ok = false;
-  for (const auto& [k, what] : compare::study_kinds()) kind_ok |= k == s.kind;
-  if (!kind_ok) {
+  if (!compare::find_study_kind(s.kind)) {
     std::string list;
-    for (const auto& [k, what] : compare::study_kinds()) list += (list.empty() ? "" : ", ") + k;
+    for (const compare::StudyKind& k : compare::study_kinds()) list += (list.empty() ? "" : ", ") + std::string(k.name);
     throw ConfigError(name, "kind", "unknown study kind '" + s.kind + "' (known: " + list + ")");
   }
   if (const auto* n = t.get("seeds")) {

@@ -80,18 +80,89 @@ std::vector<std::pair<std::string, std::vector<std::string>>> read_vary(const to
   return out;
 }
 
-}  // namespace
-
-compare::StudySpec load_study(const fs::path& file) {
+// The study file parsed (errors: ConfigError naming the file, and the line and column of a syntax error).
+toml::table parse_study_file(const fs::path& file) {
   const std::string name = file.string();
-  toml::table t;
   try {
-    t = toml::parse_file(name);
+    return toml::parse_file(name);
   } catch (const toml::parse_error& e) {
     const auto& b = e.source().begin;
     if (!fs::exists(file)) throw ConfigError(name, "", "cannot open the file: no such file");
     throw ConfigError(name, static_cast<long>(b.line), static_cast<long>(b.column), std::string(e.description()));
   }
+}
+
+// A string key of the study file ("" when absent and not required).
+std::string read_string(const toml::table& t, const std::string& file, const char* key, bool required) {
+  const auto* n = t.get(key);
+  if (!n) {
+    if (required) throw ConfigError(file, key, "required key is missing");
+    return "";
+  }
+  if (!n->is_string()) throw ConfigError(file, key, "expected a string");
+  return n->as_string()->get();
+}
+
+// The kind must be a row of compare::study_kinds(); the refusal lists them all.
+void check_kind(const std::string& file, const std::string& kind) {
+  if (compare::find_study_kind(kind)) return;
+  std::string list;
+  for (const compare::StudyKind& k : compare::study_kinds()) list += (list.empty() ? "" : ", ") + std::string(k.name);
+  throw ConfigError(file, "kind", "unknown study kind '" + kind + "' (known: " + list + ")");
+}
+
+// `set`: the overrides common to every run.
+std::vector<std::string> read_common(const toml::node& n, const std::string& file) {
+  const auto* a = n.as_array();
+  if (!a) throw ConfigError(file, "set", "must be an array of \"section.key=value\" strings");
+  std::vector<std::string> common;
+  for (const auto& e : *a) {
+    if (!e.is_string()) throw ConfigError(file, "set", "must be an array of \"section.key=value\" strings");
+    common.push_back(e.as_string()->get());
+  }
+  return common;
+}
+
+// One [[group]] (the k-th): its name (default "group<k>") and its [vary] table.
+compare::StudyGroup read_group(const toml::table& g, const std::string& file, std::size_t k) {
+  const std::string where = "group[" + std::to_string(k) + "]";
+  compare::StudyGroup grp;
+  for (const auto& [gk, gv] : g) {
+    const std::string key(gk.str());
+    if (key == "name") {
+      if (!gv.is_string()) throw ConfigError(file, where + ".name", "expected a string");
+      grp.name = gv.as_string()->get();
+    } else if (key == "vary") {
+      if (!gv.is_table()) throw ConfigError(file, where + ".vary", "must be a table of key = [values]");
+      grp.vary = read_vary(*gv.as_table(), file, where + ".vary");
+    } else {
+      throw ConfigError(file, where + "." + key, "unknown key (known: name, vary)");
+    }
+  }
+  if (grp.name.empty()) grp.name = "group" + std::to_string(k);
+  return grp;
+}
+
+// The varied keys: one unnamed group from [vary], then every [[group]].
+std::vector<compare::StudyGroup> read_groups(const toml::table& t, const std::string& file) {
+  std::vector<compare::StudyGroup> groups;
+  if (const auto* n = t.get("vary")) {
+    if (!n->is_table()) throw ConfigError(file, "vary", "must be a table of key = [values]");
+    groups.push_back({"", read_vary(*n->as_table(), file, "vary")});
+  }
+  if (const auto* n = t.get("group")) {
+    const auto* a = n->as_array();
+    if (!a || !a->is_array_of_tables()) throw ConfigError(file, "group", "must be an array of tables ([[group]])");
+    for (std::size_t k = 0; k < a->size(); ++k) groups.push_back(read_group(*a->get(k)->as_table(), file, k));
+  }
+  return groups;
+}
+
+}  // namespace
+
+compare::StudySpec load_study(const fs::path& file) {
+  const std::string name = file.string();
+  const toml::table t = parse_study_file(file);
   static const std::set<std::string> known{"study", "kind", "description", "scene", "set", "seeds", "vary", "group",
                                            "fit_from"};
   for (const auto& [k, v] : t)
@@ -99,25 +170,12 @@ compare::StudySpec load_study(const fs::path& file) {
       throw ConfigError(name, std::string(k.str()),
                         "unknown key (known: study, kind, description, scene, set, seeds, fit_from, vary, group)");
   compare::StudySpec s;
-  auto need_string = [&](const char* key, bool required) -> std::string {
-    const auto* n = t.get(key);
-    if (!n) {
-      if (required) throw ConfigError(name, key, "required key is missing");
-      return "";
-    }
-    if (!n->is_string()) throw ConfigError(name, key, "expected a string");
-    return n->as_string()->get();
-  };
-  s.name = need_string("study", true);
-  s.kind = need_string("kind", true);
-  s.description = need_string("description", false);
-  const std::string scene = need_string("scene", true);
+  s.name = read_string(t, name, "study", true);
+  s.kind = read_string(t, name, "kind", true);
+  s.description = read_string(t, name, "description", false);
+  const std::string scene = read_string(t, name, "scene", true);
   s.scene_file = (fs::path(scene).is_absolute() ? fs::path(scene) : file.parent_path() / scene).lexically_normal().string();
-  if (!compare::find_study_kind(s.kind)) {
-    std::string list;
-    for (const compare::StudyKind& k : compare::study_kinds()) list += (list.empty() ? "" : ", ") + std::string(k.name);
-    throw ConfigError(name, "kind", "unknown study kind '" + s.kind + "' (known: " + list + ")");
-  }
+  check_kind(name, s.kind);
   if (const auto* n = t.get("seeds")) {
     if (!n->is_integer() || n->as_integer()->get() < 1) throw ConfigError(name, "seeds", "must be an integer >= 1");
     s.seeds = static_cast<int>(n->as_integer()->get());
@@ -126,41 +184,8 @@ compare::StudySpec load_study(const fs::path& file) {
     if (!n->is_number() || n->value<double>().value_or(-1) < 0) throw ConfigError(name, "fit_from", "must be a number >= 0");
     s.fit_from = n->value<double>().value_or(0.0);
   }
-  if (const auto* n = t.get("set")) {
-    const auto* a = n->as_array();
-    if (!a) throw ConfigError(name, "set", "must be an array of \"section.key=value\" strings");
-    for (const auto& e : *a) {
-      if (!e.is_string()) throw ConfigError(name, "set", "must be an array of \"section.key=value\" strings");
-      s.common.push_back(e.as_string()->get());
-    }
-  }
-  if (const auto* n = t.get("vary")) {
-    if (!n->is_table()) throw ConfigError(name, "vary", "must be a table of key = [values]");
-    s.groups.push_back({"", read_vary(*n->as_table(), name, "vary")});
-  }
-  if (const auto* n = t.get("group")) {
-    const auto* a = n->as_array();
-    if (!a || !a->is_array_of_tables()) throw ConfigError(name, "group", "must be an array of tables ([[group]])");
-    for (std::size_t k = 0; k < a->size(); ++k) {
-      const auto& g = *a->get(k)->as_table();
-      const std::string where = "group[" + std::to_string(k) + "]";
-      compare::StudyGroup grp;
-      for (const auto& [gk, gv] : g) {
-        const std::string key(gk.str());
-        if (key == "name") {
-          if (!gv.is_string()) throw ConfigError(name, where + ".name", "expected a string");
-          grp.name = gv.as_string()->get();
-        } else if (key == "vary") {
-          if (!gv.is_table()) throw ConfigError(name, where + ".vary", "must be a table of key = [values]");
-          grp.vary = read_vary(*gv.as_table(), name, where + ".vary");
-        } else {
-          throw ConfigError(name, where + "." + key, "unknown key (known: name, vary)");
-        }
-      }
-      if (grp.name.empty()) grp.name = "group" + std::to_string(k);
-      s.groups.push_back(std::move(grp));
-    }
-  }
+  if (const auto* n = t.get("set")) s.common = read_common(*n, name);
+  s.groups = read_groups(t, name);
   return s;
 }
 

@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <cstring>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 #include "apps/build_info.hpp"
@@ -228,6 +229,132 @@ std::string shell_quote(const std::string& arg) {
   return q + "'";
 }
 
+// ---------------------------------------------------------------------------------------------
+// The stages of `slipfront run`, in order; run_command lists them.
+
+// What a run left: the models' results and their comparison, the run's status and message.
+struct RunOutcome {
+  std::vector<compare::ModelResult> results;
+  compare::Comparison comparison;
+  RunMeta meta;
+  std::string checkpoint_error;  ///< the first checkpoint that could not be written ("" if none)
+};
+
+// (a) The configuration, and on stderr its notes and the estimate of a long or large run. Nothing
+// (the reason printed) when it is invalid.
+std::optional<compare::Scene> load_run_scene(const RunOptions& opts, std::ostream& err) {
+  compare::Scene scene;
+  std::vector<std::string> notes;
+  try {
+    scene = load_scene(opts.config, opts.overrides, &notes);
+  } catch (const ConfigError& e) {
+    print_error(err, e.what());
+    return std::nullopt;
+  }
+  if (!opts.quiet) {
+    for (const auto& n : notes) err << "slipfront: note: " << n << "\n";
+    const compare::Estimate estimate = compare::estimate(scene);
+    for (const auto& n : estimate.notes) err << "slipfront: note: " << n << "\n";
+    if (estimate.seconds >= 10.0 || estimate.memory_bytes >= 1024.0 * 1024.0 * 1024.0)
+      for (const auto& line : compare::describe(estimate))
+        if (line.rfind("note: ", 0) != 0) err << "slipfront: estimate: " << line << "\n";
+  }
+  return scene;
+}
+
+// (b) The checkpoint options, validated before any work too, and the checkpoint to continue from
+// (its state; "" without --restart). Nothing (the reason printed) when they cannot be used.
+std::optional<std::string> read_restart(const RunOptions& opts, const compare::Scene& scene, const std::string& resolved,
+                                        std::ostream& err) {
+  if (!(opts.checkpoint_every >= 0.0) || !std::isfinite(opts.checkpoint_every)) {
+    print_error(err, "--checkpoint-every: must be a finite time >= 0, got " + format_number(opts.checkpoint_every));
+    return std::nullopt;
+  }
+  if ((opts.checkpoint_every > 0.0 || !opts.restart.empty()) && scene.drive.loading == core::Loading::imposed_rate) {
+    print_error(err, opts.config.string() + ": drive.loading: checkpoints are for bulk scenes (an imposed-rate scene "
+                                             "runs one site in seconds and has none)");
+    return std::nullopt;
+  }
+  if (opts.restart.empty()) return std::string();
+  Checkpoint restart;
+  try {
+    restart = read_checkpoint(opts.restart);
+  } catch (const CheckpointError& e) {
+    print_error(err, e.what());
+    return std::nullopt;
+  }
+  if (restart.resolved_toml != resolved) {
+    std::istringstream a(restart.resolved_toml), b(resolved);
+    std::string la, lb;
+    while (std::getline(a, la) && std::getline(b, lb) && la == lb) {}
+    print_error(err, opts.restart.string() + ": the checkpoint belongs to another configuration (the checkpoint has '" +
+                         la + "', this run '" + lb + "')");
+    return std::nullopt;
+  }
+  return std::move(restart.state);
+}
+
+// (c)–(d) The run, polling the stop requests, with a progress line on a terminal and a checkpoint
+// every --checkpoint-every (a checkpoint that cannot be written is reported, the run goes on).
+RunOutcome run_scene_stoppable(const RunOptions& opts, const compare::Scene& scene, const std::string& resolved,
+                               const fs::path& checkpoint_file, std::string restart_state, std::ostream& err) {
+  RunOutcome run;
+  run.meta.command_line = opts.command_line;
+  Progress progress(err, scene.name, !opts.quiet && ::isatty(STDERR_FILENO));
+  compare::RunControl control;
+  control.stop = [] { return StopSignals::requested(); };
+  control.progress = [&](const std::string& model, double t, double t_end) { progress.update(model, t, t_end); };
+  control.checkpoint_every = opts.checkpoint_every;
+  if (opts.checkpoint_every > 0.0)
+    control.checkpoint = [&](const std::string& state, double t) {
+      try {
+        write_checkpoint(checkpoint_file, {resolved, t, state});
+      } catch (const CheckpointError& e) {  // a failed checkpoint does not stop the run; it is reported
+        if (run.checkpoint_error.empty()) run.checkpoint_error = e.what();
+      }
+    };
+  control.restart = std::move(restart_state);
+  try {
+    compare::SceneResult sr = compare::run_scene_alongside(scene, control);
+    run.results = std::move(sr.models);
+    run.comparison = std::move(sr.comparison);
+  } catch (const core::Interrupted& e) {
+    run.meta.status = compare::RunStatus::interrupted;
+    run.meta.message = e.what();
+  } catch (const std::exception& e) {
+    run.meta.status = compare::RunStatus::failed;
+    run.meta.message = std::string("the run stopped with an error: ") + e.what();
+  }
+  progress.clear();
+  if (StopSignals::requested() && run.meta.status == compare::RunStatus::complete &&
+      overall_status(run.results) == compare::RunStatus::complete) {
+    // The signal came after the last poll: the results are complete; say so in the message only.
+    run.meta.message = "a stop was requested after the run had finished";
+  }
+  return run;
+}
+
+// (e) What went wrong on stderr (a run that threw, a checkpoint not written); a restarted run says
+// where it came from.
+void report_run_problems(const RunOptions& opts, RunOutcome& run, std::ostream& err) {
+  if (run.meta.status == compare::RunStatus::failed) print_error(err, run.meta.message);
+  if (!run.checkpoint_error.empty()) print_error(err, "a checkpoint could not be written: " + run.checkpoint_error);
+  if (!opts.restart.empty() && run.meta.message.empty())
+    run.meta.message = "continued from the checkpoint " + opts.restart.string();
+}
+
+// (g) The end on stderr: how to continue an unfinished run from its checkpoint, an interruption,
+// each failed model.
+void print_run_end(const RunOptions& opts, const RunOutcome& run, compare::RunStatus status, const fs::path& dir,
+                   const fs::path& file, const fs::path& checkpoint_file, std::ostream& err) {
+  if (status != compare::RunStatus::complete && opts.checkpoint_every > 0.0 && fs::exists(checkpoint_file))
+    err << "slipfront: continue with: slipfront run " << shell_quote(opts.config.string()) << " --out "
+        << shell_quote(dir.string()) << " --restart " << shell_quote(checkpoint_file.string()) << " --force\n";
+  if (status == compare::RunStatus::interrupted) err << "slipfront: interrupted; partial results written to " << file.string() << "\n";
+  for (const auto& r : run.results)
+    if (r.status == compare::RunStatus::failed) print_error(err, r.model + " failed: " + r.message + " (results written to " + file.string() + ")");
+}
+
 }  // namespace
 
 std::string version_string() {
@@ -253,112 +380,31 @@ int check_command(const fs::path& config, const std::vector<std::string>& overri
 
 int run_command(const RunOptions& opts, std::ostream& out, std::ostream& err) {
   const auto wall0 = Clock::now();
-  // (a) the configuration
-  compare::Scene scene;
-  std::vector<std::string> notes;
-  try {
-    scene = load_scene(opts.config, opts.overrides, &notes);
-  } catch (const ConfigError& e) {
-    print_error(err, e.what());
-    return exit_code::usage;
-  }
-  if (!opts.quiet) {
-    for (const auto& n : notes) err << "slipfront: note: " << n << "\n";
-    const compare::Estimate estimate = compare::estimate(scene);
-    for (const auto& n : estimate.notes) err << "slipfront: note: " << n << "\n";
-    if (estimate.seconds >= 10.0 || estimate.memory_bytes >= 1024.0 * 1024.0 * 1024.0)
-      for (const auto& line : compare::describe(estimate))
-        if (line.rfind("note: ", 0) != 0) err << "slipfront: estimate: " << line << "\n";
-  }
-  const std::string resolved = to_toml(scene);
+  const std::optional<compare::Scene> scene = load_run_scene(opts, err);
+  if (!scene) return exit_code::usage;
+  const std::string resolved = to_toml(*scene);
 
-  // (b) the output directory, before any work
-  const fs::path dir = opts.out.empty() ? fs::path("out") / scene.name : opts.out;
+  // (b) the output directory and the checkpoints, before any work
+  const fs::path dir = opts.out.empty() ? fs::path("out") / scene->name : opts.out;
   if (const std::string problem = prepare_output_dir(dir, opts.force); !problem.empty()) {
     print_error(err, problem);
     return exit_code::usage;
   }
-  const fs::path file = dir / "results.h5";
-
-  // checkpoints: validated before any work too
-  const bool imposed = scene.drive.loading == core::Loading::imposed_rate;
-  if (!(opts.checkpoint_every >= 0.0) || !std::isfinite(opts.checkpoint_every)) {
-    print_error(err, "--checkpoint-every: must be a finite time >= 0, got " + format_number(opts.checkpoint_every));
-    return exit_code::usage;
-  }
-  if ((opts.checkpoint_every > 0.0 || !opts.restart.empty()) && imposed) {
-    print_error(err, opts.config.string() + ": drive.loading: checkpoints are for bulk scenes (an imposed-rate scene "
-                                             "runs one site in seconds and has none)");
-    return exit_code::usage;
-  }
-  Checkpoint restart;
-  if (!opts.restart.empty()) {
-    try {
-      restart = read_checkpoint(opts.restart);
-    } catch (const CheckpointError& e) {
-      print_error(err, e.what());
-      return exit_code::usage;
-    }
-    if (restart.resolved_toml != resolved) {
-      std::istringstream a(restart.resolved_toml), b(resolved);
-      std::string la, lb;
-      while (std::getline(a, la) && std::getline(b, lb) && la == lb) {}
-      print_error(err, opts.restart.string() + ": the checkpoint belongs to another configuration (the checkpoint has '" +
-                           la + "', this run '" + lb + "')");
-      return exit_code::usage;
-    }
-  }
-  const fs::path checkpoint_file = dir / "checkpoint.bin";
+  const fs::path file = dir / "results.h5", checkpoint_file = dir / "checkpoint.bin";
+  std::optional<std::string> restart_state = read_restart(opts, *scene, resolved, err);
+  if (!restart_state) return exit_code::usage;
 
   // (c)–(e) the run, stoppable by SIGINT/SIGTERM (the handler stays until the file is written: a first
-  // signal while writing does not lose the results), with a progress line on a terminal
+  // signal while writing does not lose the results)
   const StopSignals signals;
-  RunMeta meta;
-  meta.command_line = opts.command_line;
-  std::vector<compare::ModelResult> results;
-  compare::Comparison comparison;
-  std::string checkpoint_error;
-  {
-    Progress progress(err, scene.name, !opts.quiet && ::isatty(STDERR_FILENO));
-    compare::RunControl control;
-    control.stop = [] { return StopSignals::requested(); };
-    control.progress = [&](const std::string& model, double t, double t_end) { progress.update(model, t, t_end); };
-    control.checkpoint_every = opts.checkpoint_every;
-    if (opts.checkpoint_every > 0.0)
-      control.checkpoint = [&](const std::string& state, double t) {
-        try {
-          write_checkpoint(checkpoint_file, {resolved, t, state});
-        } catch (const CheckpointError& e) {  // a failed checkpoint does not stop the run; it is reported
-          if (checkpoint_error.empty()) checkpoint_error = e.what();
-        }
-      };
-    control.restart = std::move(restart.state);
-    try {
-      compare::SceneResult sr = compare::run_scene_alongside(scene, control);
-      results = std::move(sr.models);
-      comparison = std::move(sr.comparison);
-    } catch (const core::Interrupted& e) {
-      meta.status = compare::RunStatus::interrupted;
-      meta.message = e.what();
-    } catch (const std::exception& e) {
-      meta.status = compare::RunStatus::failed;
-      meta.message = std::string("the run stopped with an error: ") + e.what();
-    }
-    progress.clear();
-    if (StopSignals::requested() && meta.status == compare::RunStatus::complete && overall_status(results) == compare::RunStatus::complete) {
-      // The signal came after the last poll: the results are complete; say so in the message only.
-      meta.message = "a stop was requested after the run had finished";
-    }
-  }
-  if (meta.status == compare::RunStatus::failed) print_error(err, meta.message);
-  if (!checkpoint_error.empty()) print_error(err, "a checkpoint could not be written: " + checkpoint_error);
-  if (!opts.restart.empty() && meta.message.empty()) meta.message = "continued from the checkpoint " + opts.restart.string();
+  RunOutcome run = run_scene_stoppable(opts, *scene, resolved, checkpoint_file, std::move(*restart_state), err);
+  report_run_problems(opts, run, err);
 
   // (f) the file, whatever the status
-  meta.wall_seconds = std::chrono::duration<double>(Clock::now() - wall0).count();
-  const compare::RunStatus status = overall_status(results, meta.status);
+  run.meta.wall_seconds = std::chrono::duration<double>(Clock::now() - wall0).count();
+  const compare::RunStatus status = overall_status(run.results, run.meta.status);
   try {
-    write_results(file, scene, resolved, results, meta, &comparison);
+    write_results(file, *scene, resolved, run.results, run.meta, &run.comparison);
   } catch (const std::exception& e) {
     print_error(err, "cannot write " + file.string() + ": " + e.what());
     return exit_code::failed;
@@ -369,13 +415,8 @@ int run_command(const RunOptions& opts, std::ostream& out, std::ostream& err) {
     std::error_code ec;
     fs::remove(checkpoint_file, ec);
   }
-  print_summary(out, scene, results, status, meta.wall_seconds, file);
-  if (status != compare::RunStatus::complete && opts.checkpoint_every > 0.0 && fs::exists(checkpoint_file))
-    err << "slipfront: continue with: slipfront run " << shell_quote(opts.config.string()) << " --out "
-        << shell_quote(dir.string()) << " --restart " << shell_quote(checkpoint_file.string()) << " --force\n";
-  if (status == compare::RunStatus::interrupted) err << "slipfront: interrupted; partial results written to " << file.string() << "\n";
-  for (const auto& r : results)
-    if (r.status == compare::RunStatus::failed) print_error(err, r.model + " failed: " + r.message + " (results written to " + file.string() + ")");
+  print_summary(out, *scene, run.results, status, run.meta.wall_seconds, file);
+  print_run_end(opts, run, status, dir, file, checkpoint_file, err);
   return exit_code_of(status);
 }
 

@@ -477,6 +477,121 @@ int fronts_command(const FrontsOptions& opts, std::ostream& out, std::ostream& e
   return exit_code::ok;
 }
 
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// The command line: each verb declared with its options, then main_cli parses and dispatches.
+
+// What the parser fills: every verb's options.
+struct Verbs {
+  RunOptions run;
+  fs::path check_config;
+  std::vector<std::string> check_overrides;
+  StudyOptions study;
+  FrontsOptions fronts;
+  fs::path report_dir;
+  std::string python = "/usr/bin/python3";
+};
+
+CLI::App* add_run_verb(CLI::App& app, RunOptions& opts) {
+  auto* run = app.add_subcommand("run", "Run one scene and write DIR/results.h5");
+  run->add_option("config", opts.config, "Scene configuration file (TOML)")->required();
+  run->add_option("-o,--out", opts.out, "Output directory DIR (default: out/<scene name>); created if missing");
+  run->add_option("-s,--set", opts.overrides,
+                  "Override one key before validation, e.g. --set bulk.mu=200, --set 'drive.v=[0.1,1.0]', "
+                  "--set discrete.threshold=uniform (the value is read as TOML, else as a bare string); "
+                  "repeatable")
+      ->allow_extra_args(false)
+      ->type_name("SECTION.KEY=VALUE");
+  run->add_flag("-f,--force", opts.force, "Overwrite an existing DIR/results.h5");
+  run->add_flag("-q,--quiet", opts.quiet, "No progress line and no notes on stderr (errors still shown)");
+  run->add_option("--checkpoint-every", opts.checkpoint_every,
+                  "Write DIR/checkpoint.bin (atomically) every T of simulated time and when stopped (bulk scenes); "
+                  "removed when the run completes")
+      ->type_name("T");
+  run->add_option("--restart", opts.restart,
+                  "Continue from a checkpoint written by --checkpoint-every (same configuration); the result is the "
+                  "uninterrupted run's, bit for bit")
+      ->type_name("FILE");
+  run->footer(
+      "The configuration is validated and DIR is created and checked (results.h5 absent unless --force,\n"
+      "writable) before any simulation work. Ctrl-C (SIGINT) or SIGTERM stops the run at the next check and\n"
+      "writes the partial results with /meta status = interrupted (exit code 130); a second signal aborts.\n"
+      "A failed model (non-finite state) still writes the file, with status = failed (exit code 1).\n"
+      "The results are written to a temporary file in DIR and renamed to results.h5 when complete.");
+  return run;
+}
+
+CLI::App* add_check_verb(CLI::App& app, fs::path& config, std::vector<std::string>& overrides) {
+  auto* check = app.add_subcommand("check", "Validate a scene and print its fully resolved configuration (TOML)");
+  check->add_option("config", config, "Scene configuration file (TOML)")->required();
+  check->add_option("-s,--set", overrides, "Override one key, as for run; repeatable")
+      ->allow_extra_args(false)
+      ->type_name("SECTION.KEY=VALUE");
+  return check;
+}
+
+CLI::App* add_study_verb(CLI::App& app, StudyOptions& opts) {
+  auto* study = app.add_subcommand("study", "Run a convergence study (many runs on threads or MPI ranks) and analyse it");
+  study->add_option("study", opts.study, "Study file (TOML; see docs/studies.md)")->required();
+  study->add_option("-o,--out", opts.out, "Output directory (default: out/studies/<study name>)");
+  study->add_option("-s,--set", opts.overrides, "Override one scene key in every run; repeatable")
+      ->allow_extra_args(false)
+      ->type_name("SECTION.KEY=VALUE");
+  study->add_option("-j,--threads", opts.threads,
+                    "Runs at once (default: all cores; under mpirun: per rank, default 1); results do not depend on it");
+  study->add_flag("-f,--force", opts.force,
+                  "Rerun every run, even those already complete in DIR, and replace study.h5 whatever it holds");
+  study->add_flag("-q,--quiet", opts.quiet, "No progress line and no start line");
+  study->footer(
+      "Every run is validated before any work. Each run writes DIR/runs/<id>/results.h5; the analysis\n"
+      "(tables, fitted rates with 95% intervals, each with its definition) goes to DIR/study.h5.\n"
+      "Resuming: the same command again skips the runs whose results file is complete and was made with\n"
+      "the same configuration (/meta config_hash and /config toml), reruns partial ones, and refuses (exit 2)\n"
+      "files made with another configuration unless --force. Ctrl-C stops every run (status interrupted).\n"
+      "MPI: `mpirun -n K slipfront study STUDY.toml` spreads the runs over K processes, rank 0 included;\n"
+      "the results are the same bit for bit (docs/studies.md).");
+  return study;
+}
+
+CLI::App* add_fronts_verb(CLI::App& app, FrontsOptions& opts) {
+  auto* fronts = app.add_subcommand("fronts", "Solve the steady fronts of a homogeneous scene and write DIR/fronts.h5");
+  fronts->add_option("config", opts.config, "Scene configuration file (TOML) with drive.loading = homogeneous")
+      ->required();
+  fronts->add_option("-o,--out", opts.out, "Output directory DIR (default: out/<scene name>)");
+  fronts->add_option("-s,--set", opts.overrides, "Override one key, as for run; repeatable")
+      ->allow_extra_args(false)
+      ->type_name("SECTION.KEY=VALUE");
+  fronts->add_flag("--scaling", opts.scaling,
+                   "Also the minimal-speed scaling study: c_min varying each of mu, alpha, eta, kappa (4 values each)");
+  fronts->add_flag("-f,--force", opts.force, "Overwrite an existing DIR/fronts.h5");
+  fronts->footer(
+      "The traveling waves of docs/model.md §6 solved directly (collocation + Newton, docs/fronts.md): the\n"
+      "branch c(sigma_d) continued down to where it ends (and why), c_min, profiles A, sigma_bar, v, u along it.\n"
+      "Layout of fronts.h5: docs/output.md. Takes seconds (the scaling study: 16 more continuations).");
+  return fronts;
+}
+
+CLI::App* add_report_verb(CLI::App& app, fs::path& dir, std::string& python) {
+  auto* report = app.add_subcommand("report", "Write DIR/report.md with plots from the results and studies under DIR");
+  report->add_option("dir", dir, "Directory holding results.h5 and study.h5 files (searched recursively)")->required();
+  report->add_option("--python", python,
+                     "Python with numpy, h5py and matplotlib (default /usr/bin/python3; a bare name is looked up on PATH)");
+  report->footer(
+      "report.py is looked for in $SLIPFRONT_DATA_DIR, then in <prefix>/share/slipfront beside an installed\n"
+      "<prefix>/bin/slipfront, then in the source tree's scripts/.");
+  return report;
+}
+
+// How the program was invoked, as a shell would read it back (recorded in /meta).
+std::string command_line_of(int argc, char** argv) {
+  std::string line;
+  for (int i = 0; i < argc; ++i) line += (i ? " " : "") + shell_quote(argv[i]);
+  return line;
+}
+
+}  // namespace
+
 int main_cli(int argc, char** argv) {
   CLI::App app{"slipfront: the onset of frictional sliding, continuum and discrete microcontact models.\n"
                "Runs one scene (a TOML file) and writes DIR/results.h5 (layout: docs/output.md).",
@@ -488,89 +603,12 @@ int main_cli(int argc, char** argv) {
       "            2 bad command line, configuration or output directory; 130 interrupted (partial results "
       "written).\n"
       "Configuration keys, types, defaults and ranges: docs/cli.md (`slipfront check CONFIG` prints them resolved).");
-
-  RunOptions run_opts;
-  auto* run = app.add_subcommand("run", "Run one scene and write DIR/results.h5");
-  run->add_option("config", run_opts.config, "Scene configuration file (TOML)")->required();
-  run->add_option("-o,--out", run_opts.out, "Output directory DIR (default: out/<scene name>); created if missing");
-  run->add_option("-s,--set", run_opts.overrides,
-                  "Override one key before validation, e.g. --set bulk.mu=200, --set 'drive.v=[0.1,1.0]', "
-                  "--set discrete.threshold=uniform (the value is read as TOML, else as a bare string); "
-                  "repeatable")
-      ->allow_extra_args(false)
-      ->type_name("SECTION.KEY=VALUE");
-  run->add_flag("-f,--force", run_opts.force, "Overwrite an existing DIR/results.h5");
-  run->add_flag("-q,--quiet", run_opts.quiet, "No progress line and no notes on stderr (errors still shown)");
-  run->add_option("--checkpoint-every", run_opts.checkpoint_every,
-                  "Write DIR/checkpoint.bin (atomically) every T of simulated time and when stopped (bulk scenes); "
-                  "removed when the run completes")
-      ->type_name("T");
-  run->add_option("--restart", run_opts.restart,
-                  "Continue from a checkpoint written by --checkpoint-every (same configuration); the result is the "
-                  "uninterrupted run's, bit for bit")
-      ->type_name("FILE");
-  run->footer(
-      "The configuration is validated and DIR is created and checked (results.h5 absent unless --force,\n"
-      "writable) before any simulation work. Ctrl-C (SIGINT) or SIGTERM stops the run at the next check and\n"
-      "writes the partial results with /meta status = interrupted (exit code 130); a second signal aborts.\n"
-      "A failed model (non-finite state) still writes the file, with status = failed (exit code 1).\n"
-      "The results are written to a temporary file in DIR and renamed to results.h5 when complete.");
-
-  std::filesystem::path check_config;
-  std::vector<std::string> check_overrides;
-  auto* check = app.add_subcommand("check", "Validate a scene and print its fully resolved configuration (TOML)");
-  check->add_option("config", check_config, "Scene configuration file (TOML)")->required();
-  check->add_option("-s,--set", check_overrides, "Override one key, as for run; repeatable")
-      ->allow_extra_args(false)
-      ->type_name("SECTION.KEY=VALUE");
-
-  StudyOptions study_opts;
-  auto* study = app.add_subcommand("study", "Run a convergence study (many runs on threads or MPI ranks) and analyse it");
-  study->add_option("study", study_opts.study, "Study file (TOML; see docs/studies.md)")->required();
-  study->add_option("-o,--out", study_opts.out, "Output directory (default: out/studies/<study name>)");
-  study->add_option("-s,--set", study_opts.overrides, "Override one scene key in every run; repeatable")
-      ->allow_extra_args(false)
-      ->type_name("SECTION.KEY=VALUE");
-  study->add_option("-j,--threads", study_opts.threads,
-                    "Runs at once (default: all cores; under mpirun: per rank, default 1); results do not depend on it");
-  study->add_flag("-f,--force", study_opts.force,
-                  "Rerun every run, even those already complete in DIR, and replace study.h5 whatever it holds");
-  study->add_flag("-q,--quiet", study_opts.quiet, "No progress line and no start line");
-  study->footer(
-      "Every run is validated before any work. Each run writes DIR/runs/<id>/results.h5; the analysis\n"
-      "(tables, fitted rates with 95% intervals, each with its definition) goes to DIR/study.h5.\n"
-      "Resuming: the same command again skips the runs whose results file is complete and was made with\n"
-      "the same configuration (/meta config_hash and /config toml), reruns partial ones, and refuses (exit 2)\n"
-      "files made with another configuration unless --force. Ctrl-C stops every run (status interrupted).\n"
-      "MPI: `mpirun -n K slipfront study STUDY.toml` spreads the runs over K processes, rank 0 included;\n"
-      "the results are the same bit for bit (docs/studies.md).");
-
-  FrontsOptions fronts_opts;
-  auto* fronts = app.add_subcommand("fronts", "Solve the steady fronts of a homogeneous scene and write DIR/fronts.h5");
-  fronts->add_option("config", fronts_opts.config, "Scene configuration file (TOML) with drive.loading = homogeneous")
-      ->required();
-  fronts->add_option("-o,--out", fronts_opts.out, "Output directory DIR (default: out/<scene name>)");
-  fronts->add_option("-s,--set", fronts_opts.overrides, "Override one key, as for run; repeatable")
-      ->allow_extra_args(false)
-      ->type_name("SECTION.KEY=VALUE");
-  fronts->add_flag("--scaling", fronts_opts.scaling,
-                   "Also the minimal-speed scaling study: c_min varying each of mu, alpha, eta, kappa (4 values each)");
-  fronts->add_flag("-f,--force", fronts_opts.force, "Overwrite an existing DIR/fronts.h5");
-  fronts->footer(
-      "The traveling waves of docs/model.md §6 solved directly (collocation + Newton, docs/fronts.md): the\n"
-      "branch c(sigma_d) continued down to where it ends (and why), c_min, profiles A, sigma_bar, v, u along it.\n"
-      "Layout of fronts.h5: docs/output.md. Takes seconds (the scaling study: 16 more continuations).");
-
-  std::filesystem::path report_dir;
-  std::string python = "/usr/bin/python3";
-  auto* report = app.add_subcommand("report", "Write DIR/report.md with plots from the results and studies under DIR");
-  report->add_option("dir", report_dir, "Directory holding results.h5 and study.h5 files (searched recursively)")
-      ->required();
-  report->add_option("--python", python,
-                     "Python with numpy, h5py and matplotlib (default /usr/bin/python3; a bare name is looked up on PATH)");
-  report->footer(
-      "report.py is looked for in $SLIPFRONT_DATA_DIR, then in <prefix>/share/slipfront beside an installed\n"
-      "<prefix>/bin/slipfront, then in the source tree's scripts/.");
+  Verbs v;
+  CLI::App* const run = add_run_verb(app, v.run);
+  add_check_verb(app, v.check_config, v.check_overrides);
+  CLI::App* const study = add_study_verb(app, v.study);
+  CLI::App* const fronts = add_fronts_verb(app, v.fronts);
+  CLI::App* const report = add_report_verb(app, v.report_dir, v.python);
 
   try {
     app.parse(argc, argv);
@@ -580,7 +618,7 @@ int main_cli(int argc, char** argv) {
     return exit_code::usage;
   }
   // An empty --out would silently mean the default directory: refuse it.
-  for (const auto& [sub, dir] : {std::pair{run, &run_opts.out}, std::pair{study, &study_opts.out}})
+  for (const auto& [sub, dir] : {std::pair{run, &v.run.out}, std::pair{study, &v.study.out}})
     if (*sub && sub->count("--out") > 0 && dir->empty()) {
       print_error(std::cerr, std::string(sub->get_name()) +
                                  ": --out: the output directory is empty; give a directory, or omit --out for the "
@@ -592,19 +630,19 @@ int main_cli(int argc, char** argv) {
   std::signal(SIGXFSZ, SIG_IGN);
 
   if (*run) {
-    for (int i = 0; i < argc; ++i) run_opts.command_line += (i ? " " : "") + shell_quote(argv[i]);
-    return run_command(run_opts, std::cout, std::cerr);
+    v.run.command_line = command_line_of(argc, argv);
+    return run_command(v.run, std::cout, std::cerr);
   }
   if (*study) {
-    for (int i = 0; i < argc; ++i) study_opts.command_line += (i ? " " : "") + shell_quote(argv[i]);
-    return study_command(study_opts, std::cout, std::cerr);
+    v.study.command_line = command_line_of(argc, argv);
+    return study_command(v.study, std::cout, std::cerr);
   }
-  if (*report) return report_command(report_dir, python, std::cerr);
+  if (*report) return report_command(v.report_dir, v.python, std::cerr);
   if (*fronts) {
-    for (int i = 0; i < argc; ++i) fronts_opts.command_line += (i ? " " : "") + shell_quote(argv[i]);
-    return fronts_command(fronts_opts, std::cout, std::cerr);
+    v.fronts.command_line = command_line_of(argc, argv);
+    return fronts_command(v.fronts, std::cout, std::cerr);
   }
-  return check_command(check_config, check_overrides, std::cout, std::cerr);
+  return check_command(v.check_config, v.check_overrides, std::cout, std::cerr);
 }
 
 }  // namespace slipfront::app

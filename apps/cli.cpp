@@ -6,6 +6,7 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <atomic>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -17,12 +18,13 @@
 
 #include "apps/build_info.hpp"
 #include "apps/checkpoint.hpp"
-#include "core/interrupt.hpp"
 #include "apps/config.hpp"
 #include "apps/h5out.hpp"
 #include "apps/study.hpp"
-#include "compare/estimate.hpp"
 #include "compare/alongside.hpp"
+#include "compare/estimate.hpp"
+#include "compare/fronts.hpp"
+#include "core/interrupt.hpp"
 
 namespace slipfront::app {
 namespace {

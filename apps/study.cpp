@@ -14,10 +14,10 @@
 #include <cstdint>
 #include <cstring>
 #include <fstream>
-#include <iostream>
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <ostream>
 #include <set>
 #include <sstream>
 #include <thread>
@@ -25,13 +25,13 @@
 #include "apps/build_info.hpp"
 #include "apps/cli.hpp"
 #include "apps/config.hpp"
-#include "core/interrupt.hpp"
 #include "apps/h5in.hpp"
 #include "apps/h5out.hpp"
 #include "apps/paths.hpp"
 #include "apps/study_mpi.hpp"
-#include "compare/pool.hpp"
 #include "compare/alongside.hpp"
+#include "compare/pool.hpp"
+#include "core/interrupt.hpp"
 
 extern char** environ;
 

@@ -382,6 +382,7 @@ int check_command(const fs::path& config, const std::vector<std::string>& overri
 
 int run_command(const RunOptions& opts, std::ostream& out, std::ostream& err) {
   const auto wall0 = Clock::now();
+  // (a) the configuration
   const std::optional<compare::Scene> scene = load_run_scene(opts, err);
   if (!scene) return exit_code::usage;
   const std::string resolved = to_toml(*scene);

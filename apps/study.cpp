@@ -786,12 +786,14 @@ int share_exit_code(MpiEngine& mpi, int code, bool root_stopped) {
 
 int study_command(const StudyOptions& opts, std::ostream& out_all, std::ostream& err_all) {
   const auto wall0 = Clock::now();
+  // (a) the engine
   Engine engine;
   if (!load_engine(opts.quiet, engine, err_all)) return exit_code::usage;
   std::ostream quiet_stream(nullptr);  // discards: only rank 0 speaks for the study
   std::ostream& out = engine.root ? out_all : quiet_stream;
   std::ostream& err = engine.root ? err_all : quiet_stream;
 
+  // (b)–(c) the study read, every run validated, the plan shared, before any work
   const std::optional<Study> study = read_study(opts, err);
   if (!study) return exit_code::usage;
   const Schedule schedule = share_plan(*study, opts.force, engine, err);
@@ -799,13 +801,15 @@ int study_command(const StudyOptions& opts, std::ostream& out_all, std::ostream&
   engine.threads = threads_per_process(opts.threads, engine.mpi.get(), err);
   if (!opts.quiet) print_start(err, *study, schedule, engine);
 
-  const StudySignals signals;  // until study.h5 is written
+  // (d)–(e) the runs, stoppable by SIGINT/SIGTERM (the handlers stay until study.h5 is written)
+  const StudySignals signals;
   StopRequests stop(engine.mpi.get());
   const StudyProgress progress{err, engine.root && !opts.quiet && ::isatty(STDERR_FILENO), study->spec.name,
                                schedule.todo.size(), wall0};
   RunsMade made = run_points(*study, schedule.todo, engine, stop, opts.command_line, progress, err_all);
   const RunsEnd end = end_runs(made, schedule.todo.size(), engine);
 
+  // (f)–(g) rank 0 analyses, writes study.h5 and prints; every rank exits with its code
   int code = exit_code::ok;
   if (engine.root) code = conclude(opts, *study, schedule, engine, made, end, wall0, out, err);
   if (engine.mpi) code = share_exit_code(*engine.mpi, code, engine.root && end.stopped);

@@ -821,14 +821,14 @@ int study_command(const StudyOptions& opts, std::ostream& out_all, std::ostream&
 int report_command(const fs::path& dir, const std::string& python, std::ostream& err) {
   if (!fs::is_directory(dir)) {
     err << "slipfront: error: '" << dir.string() << "' is not a directory\n";
-    return 2;
+    return exit_code::usage;
   }
   const fs::path script = find_data_file("report.py");
   if (script.empty()) {
     err << "slipfront: error: the report script report.py is missing; looked for:";
     for (const auto& c : data_file_candidates("report.py")) err << "\n  " << c.string();
     err << "\n(set SLIPFRONT_DATA_DIR to the directory that holds report.py and plot.py)\n";
-    return 1;
+    return exit_code::failed;
   }
   const std::vector<std::string> args = {python, script.string(), dir.string()};
   std::vector<char*> argv;
@@ -838,18 +838,18 @@ int report_command(const fs::path& dir, const std::string& python, std::ostream&
   // posix_spawnp: PYTHON may be a bare name looked up on PATH, or a path.
   if (const int rc = ::posix_spawnp(&pid, python.c_str(), nullptr, nullptr, argv.data(), environ); rc != 0) {
     err << "slipfront: error: cannot run '" << python << "': " << std::strerror(rc) << "\n";
-    return 1;
+    return exit_code::failed;
   }
   int status = 0;
   while (::waitpid(pid, &status, 0) < 0)
     if (errno != EINTR) {
       err << "slipfront: error: waiting for the report script: " << std::strerror(errno) << "\n";
-      return 1;
+      return exit_code::failed;
     }
-  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return 0;
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return exit_code::ok;
   if (WIFSIGNALED(status)) err << "slipfront: error: the report script was killed by signal " << WTERMSIG(status) << "\n";
   else err << "slipfront: error: the report script " << script.string() << " exited with " << WEXITSTATUS(status) << "\n";
-  return 1;
+  return exit_code::failed;
 }
 
 }  // namespace slipfront::app

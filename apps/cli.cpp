@@ -6,22 +6,25 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <atomic>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 #include "apps/build_info.hpp"
 #include "apps/checkpoint.hpp"
-#include "core/interrupt.hpp"
 #include "apps/config.hpp"
 #include "apps/h5out.hpp"
 #include "apps/study.hpp"
-#include "compare/estimate.hpp"
 #include "compare/alongside.hpp"
+#include "compare/estimate.hpp"
+#include "compare/fronts.hpp"
+#include "core/interrupt.hpp"
 
 namespace slipfront::app {
 namespace {
@@ -228,6 +231,132 @@ std::string shell_quote(const std::string& arg) {
   return q + "'";
 }
 
+// ---------------------------------------------------------------------------------------------
+// The stages of `slipfront run`, in order; run_command lists them.
+
+// What a run left: the models' results and their comparison, the run's status and message.
+struct RunOutcome {
+  std::vector<compare::ModelResult> results;
+  compare::Comparison comparison;
+  RunMeta meta;
+  std::string checkpoint_error;  ///< the first checkpoint that could not be written ("" if none)
+};
+
+// (a) The configuration, and on stderr its notes and the estimate of a long or large run. Nothing
+// (the reason printed) when it is invalid.
+std::optional<compare::Scene> load_run_scene(const RunOptions& opts, std::ostream& err) {
+  compare::Scene scene;
+  std::vector<std::string> notes;
+  try {
+    scene = load_scene(opts.config, opts.overrides, &notes);
+  } catch (const ConfigError& e) {
+    print_error(err, e.what());
+    return std::nullopt;
+  }
+  if (!opts.quiet) {
+    for (const auto& n : notes) err << "slipfront: note: " << n << "\n";
+    const compare::Estimate estimate = compare::estimate(scene);
+    for (const auto& n : estimate.notes) err << "slipfront: note: " << n << "\n";
+    if (estimate.seconds >= 10.0 || estimate.memory_bytes >= 1024.0 * 1024.0 * 1024.0)
+      for (const auto& line : compare::describe(estimate))
+        if (line.rfind("note: ", 0) != 0) err << "slipfront: estimate: " << line << "\n";
+  }
+  return scene;
+}
+
+// (b) The checkpoint options, validated before any work too, and the checkpoint to continue from
+// (its state; "" without --restart). Nothing (the reason printed) when they cannot be used.
+std::optional<std::string> read_restart(const RunOptions& opts, const compare::Scene& scene, const std::string& resolved,
+                                        std::ostream& err) {
+  if (!(opts.checkpoint_every >= 0.0) || !std::isfinite(opts.checkpoint_every)) {
+    print_error(err, "--checkpoint-every: must be a finite time >= 0, got " + format_number(opts.checkpoint_every));
+    return std::nullopt;
+  }
+  if ((opts.checkpoint_every > 0.0 || !opts.restart.empty()) && scene.drive.loading == core::Loading::imposed_rate) {
+    print_error(err, opts.config.string() + ": drive.loading: checkpoints are for bulk scenes (an imposed-rate scene "
+                                             "runs one site in seconds and has none)");
+    return std::nullopt;
+  }
+  if (opts.restart.empty()) return std::string();
+  Checkpoint restart;
+  try {
+    restart = read_checkpoint(opts.restart);
+  } catch (const CheckpointError& e) {
+    print_error(err, e.what());
+    return std::nullopt;
+  }
+  if (restart.resolved_toml != resolved) {
+    std::istringstream a(restart.resolved_toml), b(resolved);
+    std::string la, lb;
+    while (std::getline(a, la) && std::getline(b, lb) && la == lb) {}
+    print_error(err, opts.restart.string() + ": the checkpoint belongs to another configuration (the checkpoint has '" +
+                         la + "', this run '" + lb + "')");
+    return std::nullopt;
+  }
+  return std::move(restart.state);
+}
+
+// (c)–(d) The run, polling the stop requests, with a progress line on a terminal and a checkpoint
+// every --checkpoint-every (a checkpoint that cannot be written is reported, the run goes on).
+RunOutcome run_scene_stoppable(const RunOptions& opts, const compare::Scene& scene, const std::string& resolved,
+                               const fs::path& checkpoint_file, std::string restart_state, std::ostream& err) {
+  RunOutcome run;
+  run.meta.command_line = opts.command_line;
+  Progress progress(err, scene.name, !opts.quiet && ::isatty(STDERR_FILENO));
+  compare::RunControl control;
+  control.stop = [] { return StopSignals::requested(); };
+  control.progress = [&](const std::string& model, double t, double t_end) { progress.update(model, t, t_end); };
+  control.checkpoint_every = opts.checkpoint_every;
+  if (opts.checkpoint_every > 0.0)
+    control.checkpoint = [&](const std::string& state, double t) {
+      try {
+        write_checkpoint(checkpoint_file, {resolved, t, state});
+      } catch (const CheckpointError& e) {  // a failed checkpoint does not stop the run; it is reported
+        if (run.checkpoint_error.empty()) run.checkpoint_error = e.what();
+      }
+    };
+  control.restart = std::move(restart_state);
+  try {
+    compare::SceneResult sr = compare::run_scene_alongside(scene, control);
+    run.results = std::move(sr.models);
+    run.comparison = std::move(sr.comparison);
+  } catch (const core::Interrupted& e) {
+    run.meta.status = compare::RunStatus::interrupted;
+    run.meta.message = e.what();
+  } catch (const std::exception& e) {
+    run.meta.status = compare::RunStatus::failed;
+    run.meta.message = std::string("the run stopped with an error: ") + e.what();
+  }
+  progress.clear();
+  if (StopSignals::requested() && run.meta.status == compare::RunStatus::complete &&
+      overall_status(run.results) == compare::RunStatus::complete) {
+    // The signal came after the last poll: the results are complete; say so in the message only.
+    run.meta.message = "a stop was requested after the run had finished";
+  }
+  return run;
+}
+
+// (e) What went wrong on stderr (a run that threw, a checkpoint not written); a restarted run says
+// where it came from.
+void report_run_problems(const RunOptions& opts, RunOutcome& run, std::ostream& err) {
+  if (run.meta.status == compare::RunStatus::failed) print_error(err, run.meta.message);
+  if (!run.checkpoint_error.empty()) print_error(err, "a checkpoint could not be written: " + run.checkpoint_error);
+  if (!opts.restart.empty() && run.meta.message.empty())
+    run.meta.message = "continued from the checkpoint " + opts.restart.string();
+}
+
+// (g) The end on stderr: how to continue an unfinished run from its checkpoint, an interruption,
+// each failed model.
+void print_run_end(const RunOptions& opts, const RunOutcome& run, compare::RunStatus status, const fs::path& dir,
+                   const fs::path& file, const fs::path& checkpoint_file, std::ostream& err) {
+  if (status != compare::RunStatus::complete && opts.checkpoint_every > 0.0 && fs::exists(checkpoint_file))
+    err << "slipfront: continue with: slipfront run " << shell_quote(opts.config.string()) << " --out "
+        << shell_quote(dir.string()) << " --restart " << shell_quote(checkpoint_file.string()) << " --force\n";
+  if (status == compare::RunStatus::interrupted) err << "slipfront: interrupted; partial results written to " << file.string() << "\n";
+  for (const auto& r : run.results)
+    if (r.status == compare::RunStatus::failed) print_error(err, r.model + " failed: " + r.message + " (results written to " + file.string() + ")");
+}
+
 }  // namespace
 
 std::string version_string() {
@@ -254,111 +383,31 @@ int check_command(const fs::path& config, const std::vector<std::string>& overri
 int run_command(const RunOptions& opts, std::ostream& out, std::ostream& err) {
   const auto wall0 = Clock::now();
   // (a) the configuration
-  compare::Scene scene;
-  std::vector<std::string> notes;
-  try {
-    scene = load_scene(opts.config, opts.overrides, &notes);
-  } catch (const ConfigError& e) {
-    print_error(err, e.what());
-    return exit_code::usage;
-  }
-  if (!opts.quiet) {
-    for (const auto& n : notes) err << "slipfront: note: " << n << "\n";
-    const compare::Estimate estimate = compare::estimate(scene);
-    for (const auto& n : estimate.notes) err << "slipfront: note: " << n << "\n";
-    if (estimate.seconds >= 10.0 || estimate.memory_bytes >= 1024.0 * 1024.0 * 1024.0)
-      for (const auto& line : compare::describe(estimate))
-        if (line.rfind("note: ", 0) != 0) err << "slipfront: estimate: " << line << "\n";
-  }
-  const std::string resolved = to_toml(scene);
+  const std::optional<compare::Scene> scene = load_run_scene(opts, err);
+  if (!scene) return exit_code::usage;
+  const std::string resolved = to_toml(*scene);
 
-  // (b) the output directory, before any work
-  const fs::path dir = opts.out.empty() ? fs::path("out") / scene.name : opts.out;
+  // (b) the output directory and the checkpoints, before any work
+  const fs::path dir = opts.out.empty() ? fs::path("out") / scene->name : opts.out;
   if (const std::string problem = prepare_output_dir(dir, opts.force); !problem.empty()) {
     print_error(err, problem);
     return exit_code::usage;
   }
-  const fs::path file = dir / "results.h5";
-
-  // checkpoints: validated before any work too
-  const bool imposed = scene.drive.loading == core::Loading::imposed_rate;
-  if (!(opts.checkpoint_every >= 0.0) || !std::isfinite(opts.checkpoint_every)) {
-    print_error(err, "--checkpoint-every: must be a finite time >= 0, got " + format_number(opts.checkpoint_every));
-    return exit_code::usage;
-  }
-  if ((opts.checkpoint_every > 0.0 || !opts.restart.empty()) && imposed) {
-    print_error(err, opts.config.string() + ": drive.loading: checkpoints are for bulk scenes (an imposed-rate scene "
-                                             "runs one site in seconds and has none)");
-    return exit_code::usage;
-  }
-  Checkpoint restart;
-  if (!opts.restart.empty()) {
-    try {
-      restart = read_checkpoint(opts.restart);
-    } catch (const CheckpointError& e) {
-      print_error(err, e.what());
-      return exit_code::usage;
-    }
-    if (restart.resolved_toml != resolved) {
-      std::istringstream a(restart.resolved_toml), b(resolved);
-      std::string la, lb;
-      while (std::getline(a, la) && std::getline(b, lb) && la == lb) {}
-      print_error(err, opts.restart.string() + ": the checkpoint belongs to another configuration (the checkpoint has '" +
-                           la + "', this run '" + lb + "')");
-      return exit_code::usage;
-    }
-  }
-  const fs::path checkpoint_file = dir / "checkpoint.bin";
+  const fs::path file = dir / "results.h5", checkpoint_file = dir / "checkpoint.bin";
+  std::optional<std::string> restart_state = read_restart(opts, *scene, resolved, err);
+  if (!restart_state) return exit_code::usage;
 
   // (c)–(e) the run, stoppable by SIGINT/SIGTERM (the handler stays until the file is written: a first
-  // signal while writing does not lose the results), with a progress line on a terminal
+  // signal while writing does not lose the results)
   const StopSignals signals;
-  RunMeta meta;
-  meta.command_line = opts.command_line;
-  std::vector<compare::ModelResult> results;
-  compare::Comparison comparison;
-  std::string checkpoint_error;
-  {
-    Progress progress(err, scene.name, !opts.quiet && ::isatty(STDERR_FILENO));
-    compare::RunControl control;
-    control.stop = [] { return StopSignals::requested(); };
-    control.progress = [&](const std::string& model, double t, double t_end) { progress.update(model, t, t_end); };
-    control.checkpoint_every = opts.checkpoint_every;
-    if (opts.checkpoint_every > 0.0)
-      control.checkpoint = [&](const std::string& state, double t) {
-        try {
-          write_checkpoint(checkpoint_file, {resolved, t, state});
-        } catch (const CheckpointError& e) {  // a failed checkpoint does not stop the run; it is reported
-          if (checkpoint_error.empty()) checkpoint_error = e.what();
-        }
-      };
-    control.restart = std::move(restart.state);
-    try {
-      compare::SceneResult sr = compare::run_scene_alongside(scene, control);
-      results = std::move(sr.models);
-      comparison = std::move(sr.comparison);
-    } catch (const core::Interrupted& e) {
-      meta.status = compare::RunStatus::interrupted;
-      meta.message = e.what();
-    } catch (const std::exception& e) {
-      meta.status = compare::RunStatus::failed;
-      meta.message = std::string("the run stopped with an error: ") + e.what();
-    }
-    progress.clear();
-    if (StopSignals::requested() && meta.status == compare::RunStatus::complete && overall_status(results) == compare::RunStatus::complete) {
-      // The signal came after the last poll: the results are complete; say so in the message only.
-      meta.message = "a stop was requested after the run had finished";
-    }
-  }
-  if (meta.status == compare::RunStatus::failed) print_error(err, meta.message);
-  if (!checkpoint_error.empty()) print_error(err, "a checkpoint could not be written: " + checkpoint_error);
-  if (!opts.restart.empty() && meta.message.empty()) meta.message = "continued from the checkpoint " + opts.restart.string();
+  RunOutcome run = run_scene_stoppable(opts, *scene, resolved, checkpoint_file, std::move(*restart_state), err);
+  report_run_problems(opts, run, err);
 
   // (f) the file, whatever the status
-  meta.wall_seconds = std::chrono::duration<double>(Clock::now() - wall0).count();
-  const compare::RunStatus status = overall_status(results, meta.status);
+  run.meta.wall_seconds = std::chrono::duration<double>(Clock::now() - wall0).count();
+  const compare::RunStatus status = overall_status(run.results, run.meta.status);
   try {
-    write_results(file, scene, resolved, results, meta, &comparison);
+    write_results(file, *scene, resolved, run.results, run.meta, &run.comparison);
   } catch (const std::exception& e) {
     print_error(err, "cannot write " + file.string() + ": " + e.what());
     return exit_code::failed;
@@ -369,13 +418,8 @@ int run_command(const RunOptions& opts, std::ostream& out, std::ostream& err) {
     std::error_code ec;
     fs::remove(checkpoint_file, ec);
   }
-  print_summary(out, scene, results, status, meta.wall_seconds, file);
-  if (status != compare::RunStatus::complete && opts.checkpoint_every > 0.0 && fs::exists(checkpoint_file))
-    err << "slipfront: continue with: slipfront run " << shell_quote(opts.config.string()) << " --out "
-        << shell_quote(dir.string()) << " --restart " << shell_quote(checkpoint_file.string()) << " --force\n";
-  if (status == compare::RunStatus::interrupted) err << "slipfront: interrupted; partial results written to " << file.string() << "\n";
-  for (const auto& r : results)
-    if (r.status == compare::RunStatus::failed) print_error(err, r.model + " failed: " + r.message + " (results written to " + file.string() + ")");
+  print_summary(out, *scene, run.results, status, run.meta.wall_seconds, file);
+  print_run_end(opts, run, status, dir, file, checkpoint_file, err);
   return exit_code_of(status);
 }
 
@@ -436,6 +480,121 @@ int fronts_command(const FrontsOptions& opts, std::ostream& out, std::ostream& e
   return exit_code::ok;
 }
 
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// The command line: each verb declared with its options, then main_cli parses and dispatches.
+
+// What the parser fills: every verb's options.
+struct Verbs {
+  RunOptions run;
+  fs::path check_config;
+  std::vector<std::string> check_overrides;
+  StudyOptions study;
+  FrontsOptions fronts;
+  fs::path report_dir;
+  std::string python = "/usr/bin/python3";
+};
+
+CLI::App* add_run_verb(CLI::App& app, RunOptions& opts) {
+  auto* run = app.add_subcommand("run", "Run one scene and write DIR/results.h5");
+  run->add_option("config", opts.config, "Scene configuration file (TOML)")->required();
+  run->add_option("-o,--out", opts.out, "Output directory DIR (default: out/<scene name>); created if missing");
+  run->add_option("-s,--set", opts.overrides,
+                  "Override one key before validation, e.g. --set bulk.mu=200, --set 'drive.v=[0.1,1.0]', "
+                  "--set discrete.threshold=uniform (the value is read as TOML, else as a bare string); "
+                  "repeatable")
+      ->allow_extra_args(false)
+      ->type_name("SECTION.KEY=VALUE");
+  run->add_flag("-f,--force", opts.force, "Overwrite an existing DIR/results.h5");
+  run->add_flag("-q,--quiet", opts.quiet, "No progress line and no notes on stderr (errors still shown)");
+  run->add_option("--checkpoint-every", opts.checkpoint_every,
+                  "Write DIR/checkpoint.bin (atomically) every T of simulated time and when stopped (bulk scenes); "
+                  "removed when the run completes")
+      ->type_name("T");
+  run->add_option("--restart", opts.restart,
+                  "Continue from a checkpoint written by --checkpoint-every (same configuration); the result is the "
+                  "uninterrupted run's, bit for bit")
+      ->type_name("FILE");
+  run->footer(
+      "The configuration is validated and DIR is created and checked (results.h5 absent unless --force,\n"
+      "writable) before any simulation work. Ctrl-C (SIGINT) or SIGTERM stops the run at the next check and\n"
+      "writes the partial results with /meta status = interrupted (exit code 130); a second signal aborts.\n"
+      "A failed model (non-finite state) still writes the file, with status = failed (exit code 1).\n"
+      "The results are written to a temporary file in DIR and renamed to results.h5 when complete.");
+  return run;
+}
+
+CLI::App* add_check_verb(CLI::App& app, fs::path& config, std::vector<std::string>& overrides) {
+  auto* check = app.add_subcommand("check", "Validate a scene and print its fully resolved configuration (TOML)");
+  check->add_option("config", config, "Scene configuration file (TOML)")->required();
+  check->add_option("-s,--set", overrides, "Override one key, as for run; repeatable")
+      ->allow_extra_args(false)
+      ->type_name("SECTION.KEY=VALUE");
+  return check;
+}
+
+CLI::App* add_study_verb(CLI::App& app, StudyOptions& opts) {
+  auto* study = app.add_subcommand("study", "Run a convergence study (many runs on threads or MPI ranks) and analyse it");
+  study->add_option("study", opts.study, "Study file (TOML; see docs/studies.md)")->required();
+  study->add_option("-o,--out", opts.out, "Output directory (default: out/studies/<study name>)");
+  study->add_option("-s,--set", opts.overrides, "Override one scene key in every run; repeatable")
+      ->allow_extra_args(false)
+      ->type_name("SECTION.KEY=VALUE");
+  study->add_option("-j,--threads", opts.threads,
+                    "Runs at once (default: all cores; under mpirun: per rank, default 1); results do not depend on it");
+  study->add_flag("-f,--force", opts.force,
+                  "Rerun every run, even those already complete in DIR, and replace study.h5 whatever it holds");
+  study->add_flag("-q,--quiet", opts.quiet, "No progress line and no start line");
+  study->footer(
+      "Every run is validated before any work. Each run writes DIR/runs/<id>/results.h5; the analysis\n"
+      "(tables, fitted rates with 95% intervals, each with its definition) goes to DIR/study.h5.\n"
+      "Resuming: the same command again skips the runs whose results file is complete and was made with\n"
+      "the same configuration (/meta config_hash and /config toml), reruns partial ones, and refuses (exit 2)\n"
+      "files made with another configuration unless --force. Ctrl-C stops every run (status interrupted).\n"
+      "MPI: `mpirun -n K slipfront study STUDY.toml` spreads the runs over K processes, rank 0 included;\n"
+      "the results are the same bit for bit (docs/studies.md).");
+  return study;
+}
+
+CLI::App* add_fronts_verb(CLI::App& app, FrontsOptions& opts) {
+  auto* fronts = app.add_subcommand("fronts", "Solve the steady fronts of a homogeneous scene and write DIR/fronts.h5");
+  fronts->add_option("config", opts.config, "Scene configuration file (TOML) with drive.loading = homogeneous")
+      ->required();
+  fronts->add_option("-o,--out", opts.out, "Output directory DIR (default: out/<scene name>)");
+  fronts->add_option("-s,--set", opts.overrides, "Override one key, as for run; repeatable")
+      ->allow_extra_args(false)
+      ->type_name("SECTION.KEY=VALUE");
+  fronts->add_flag("--scaling", opts.scaling,
+                   "Also the minimal-speed scaling study: c_min varying each of mu, alpha, eta, kappa (4 values each)");
+  fronts->add_flag("-f,--force", opts.force, "Overwrite an existing DIR/fronts.h5");
+  fronts->footer(
+      "The traveling waves of docs/model.md §6 solved directly (collocation + Newton, docs/fronts.md): the\n"
+      "branch c(sigma_d) continued down to where it ends (and why), c_min, profiles A, sigma_bar, v, u along it.\n"
+      "Layout of fronts.h5: docs/output.md. Takes seconds (the scaling study: 16 more continuations).");
+  return fronts;
+}
+
+CLI::App* add_report_verb(CLI::App& app, fs::path& dir, std::string& python) {
+  auto* report = app.add_subcommand("report", "Write DIR/report.md with plots from the results and studies under DIR");
+  report->add_option("dir", dir, "Directory holding results.h5 and study.h5 files (searched recursively)")->required();
+  report->add_option("--python", python,
+                     "Python with numpy, h5py and matplotlib (default /usr/bin/python3; a bare name is looked up on PATH)");
+  report->footer(
+      "report.py is looked for in $SLIPFRONT_DATA_DIR, then in <prefix>/share/slipfront beside an installed\n"
+      "<prefix>/bin/slipfront, then in the source tree's scripts/.");
+  return report;
+}
+
+// How the program was invoked, as a shell would read it back (recorded in /meta).
+std::string command_line_of(int argc, char** argv) {
+  std::string line;
+  for (int i = 0; i < argc; ++i) line += (i ? " " : "") + shell_quote(argv[i]);
+  return line;
+}
+
+}  // namespace
+
 int main_cli(int argc, char** argv) {
   CLI::App app{"slipfront: the onset of frictional sliding, continuum and discrete microcontact models.\n"
                "Runs one scene (a TOML file) and writes DIR/results.h5 (layout: docs/output.md).",
@@ -447,89 +606,12 @@ int main_cli(int argc, char** argv) {
       "            2 bad command line, configuration or output directory; 130 interrupted (partial results "
       "written).\n"
       "Configuration keys, types, defaults and ranges: docs/cli.md (`slipfront check CONFIG` prints them resolved).");
-
-  RunOptions run_opts;
-  auto* run = app.add_subcommand("run", "Run one scene and write DIR/results.h5");
-  run->add_option("config", run_opts.config, "Scene configuration file (TOML)")->required();
-  run->add_option("-o,--out", run_opts.out, "Output directory DIR (default: out/<scene name>); created if missing");
-  run->add_option("-s,--set", run_opts.overrides,
-                  "Override one key before validation, e.g. --set bulk.mu=200, --set 'drive.v=[0.1,1.0]', "
-                  "--set discrete.threshold=uniform (the value is read as TOML, else as a bare string); "
-                  "repeatable")
-      ->allow_extra_args(false)
-      ->type_name("SECTION.KEY=VALUE");
-  run->add_flag("-f,--force", run_opts.force, "Overwrite an existing DIR/results.h5");
-  run->add_flag("-q,--quiet", run_opts.quiet, "No progress line and no notes on stderr (errors still shown)");
-  run->add_option("--checkpoint-every", run_opts.checkpoint_every,
-                  "Write DIR/checkpoint.bin (atomically) every T of simulated time and when stopped (bulk scenes); "
-                  "removed when the run completes")
-      ->type_name("T");
-  run->add_option("--restart", run_opts.restart,
-                  "Continue from a checkpoint written by --checkpoint-every (same configuration); the result is the "
-                  "uninterrupted run's, bit for bit")
-      ->type_name("FILE");
-  run->footer(
-      "The configuration is validated and DIR is created and checked (results.h5 absent unless --force,\n"
-      "writable) before any simulation work. Ctrl-C (SIGINT) or SIGTERM stops the run at the next check and\n"
-      "writes the partial results with /meta status = interrupted (exit code 130); a second signal aborts.\n"
-      "A failed model (non-finite state) still writes the file, with status = failed (exit code 1).\n"
-      "The results are written to a temporary file in DIR and renamed to results.h5 when complete.");
-
-  std::filesystem::path check_config;
-  std::vector<std::string> check_overrides;
-  auto* check = app.add_subcommand("check", "Validate a scene and print its fully resolved configuration (TOML)");
-  check->add_option("config", check_config, "Scene configuration file (TOML)")->required();
-  check->add_option("-s,--set", check_overrides, "Override one key, as for run; repeatable")
-      ->allow_extra_args(false)
-      ->type_name("SECTION.KEY=VALUE");
-
-  StudyOptions study_opts;
-  auto* study = app.add_subcommand("study", "Run a convergence study (many runs on threads or MPI ranks) and analyse it");
-  study->add_option("study", study_opts.study, "Study file (TOML; see docs/studies.md)")->required();
-  study->add_option("-o,--out", study_opts.out, "Output directory (default: out/studies/<study name>)");
-  study->add_option("-s,--set", study_opts.overrides, "Override one scene key in every run; repeatable")
-      ->allow_extra_args(false)
-      ->type_name("SECTION.KEY=VALUE");
-  study->add_option("-j,--threads", study_opts.threads,
-                    "Runs at once (default: all cores; under mpirun: per rank, default 1); results do not depend on it");
-  study->add_flag("-f,--force", study_opts.force,
-                  "Rerun every run, even those already complete in DIR, and replace study.h5 whatever it holds");
-  study->add_flag("-q,--quiet", study_opts.quiet, "No progress line and no start line");
-  study->footer(
-      "Every run is validated before any work. Each run writes DIR/runs/<id>/results.h5; the analysis\n"
-      "(tables, fitted rates with 95% intervals, each with its definition) goes to DIR/study.h5.\n"
-      "Resuming: the same command again skips the runs whose results file is complete and was made with\n"
-      "the same configuration (/meta config_hash and /config toml), reruns partial ones, and refuses (exit 2)\n"
-      "files made with another configuration unless --force. Ctrl-C stops every run (status interrupted).\n"
-      "MPI: `mpirun -n K slipfront study STUDY.toml` spreads the runs over K processes, rank 0 included;\n"
-      "the results are the same bit for bit (docs/studies.md).");
-
-  FrontsOptions fronts_opts;
-  auto* fronts = app.add_subcommand("fronts", "Solve the steady fronts of a homogeneous scene and write DIR/fronts.h5");
-  fronts->add_option("config", fronts_opts.config, "Scene configuration file (TOML) with drive.loading = homogeneous")
-      ->required();
-  fronts->add_option("-o,--out", fronts_opts.out, "Output directory DIR (default: out/<scene name>)");
-  fronts->add_option("-s,--set", fronts_opts.overrides, "Override one key, as for run; repeatable")
-      ->allow_extra_args(false)
-      ->type_name("SECTION.KEY=VALUE");
-  fronts->add_flag("--scaling", fronts_opts.scaling,
-                   "Also the minimal-speed scaling study: c_min varying each of mu, alpha, eta, kappa (4 values each)");
-  fronts->add_flag("-f,--force", fronts_opts.force, "Overwrite an existing DIR/fronts.h5");
-  fronts->footer(
-      "The traveling waves of docs/model.md §6 solved directly (collocation + Newton, docs/fronts.md): the\n"
-      "branch c(sigma_d) continued down to where it ends (and why), c_min, profiles A, sigma_bar, v, u along it.\n"
-      "Layout of fronts.h5: docs/output.md. Takes seconds (the scaling study: 16 more continuations).");
-
-  std::filesystem::path report_dir;
-  std::string python = "/usr/bin/python3";
-  auto* report = app.add_subcommand("report", "Write DIR/report.md with plots from the results and studies under DIR");
-  report->add_option("dir", report_dir, "Directory holding results.h5 and study.h5 files (searched recursively)")
-      ->required();
-  report->add_option("--python", python,
-                     "Python with numpy, h5py and matplotlib (default /usr/bin/python3; a bare name is looked up on PATH)");
-  report->footer(
-      "report.py is looked for in $SLIPFRONT_DATA_DIR, then in <prefix>/share/slipfront beside an installed\n"
-      "<prefix>/bin/slipfront, then in the source tree's scripts/.");
+  Verbs v;
+  CLI::App* const run = add_run_verb(app, v.run);
+  add_check_verb(app, v.check_config, v.check_overrides);
+  CLI::App* const study = add_study_verb(app, v.study);
+  CLI::App* const fronts = add_fronts_verb(app, v.fronts);
+  CLI::App* const report = add_report_verb(app, v.report_dir, v.python);
 
   try {
     app.parse(argc, argv);
@@ -539,7 +621,7 @@ int main_cli(int argc, char** argv) {
     return exit_code::usage;
   }
   // An empty --out would silently mean the default directory: refuse it.
-  for (const auto& [sub, dir] : {std::pair{run, &run_opts.out}, std::pair{study, &study_opts.out}})
+  for (const auto& [sub, dir] : {std::pair{run, &v.run.out}, std::pair{study, &v.study.out}})
     if (*sub && sub->count("--out") > 0 && dir->empty()) {
       print_error(std::cerr, std::string(sub->get_name()) +
                                  ": --out: the output directory is empty; give a directory, or omit --out for the "
@@ -551,19 +633,19 @@ int main_cli(int argc, char** argv) {
   std::signal(SIGXFSZ, SIG_IGN);
 
   if (*run) {
-    for (int i = 0; i < argc; ++i) run_opts.command_line += (i ? " " : "") + shell_quote(argv[i]);
-    return run_command(run_opts, std::cout, std::cerr);
+    v.run.command_line = command_line_of(argc, argv);
+    return run_command(v.run, std::cout, std::cerr);
   }
   if (*study) {
-    for (int i = 0; i < argc; ++i) study_opts.command_line += (i ? " " : "") + shell_quote(argv[i]);
-    return study_command(study_opts, std::cout, std::cerr);
+    v.study.command_line = command_line_of(argc, argv);
+    return study_command(v.study, std::cout, std::cerr);
   }
-  if (*report) return report_command(report_dir, python, std::cerr);
+  if (*report) return report_command(v.report_dir, v.python, std::cerr);
   if (*fronts) {
-    for (int i = 0; i < argc; ++i) fronts_opts.command_line += (i ? " " : "") + shell_quote(argv[i]);
-    return fronts_command(fronts_opts, std::cout, std::cerr);
+    v.fronts.command_line = command_line_of(argc, argv);
+    return fronts_command(v.fronts, std::cout, std::cerr);
   }
-  return check_command(check_config, check_overrides, std::cout, std::cerr);
+  return check_command(v.check_config, v.check_overrides, std::cout, std::cerr);
 }
 
 }  // namespace slipfront::app

@@ -14,9 +14,10 @@
 #include <cstdint>
 #include <cstring>
 #include <fstream>
-#include <iostream>
+#include <memory>
 #include <mutex>
 #include <optional>
+#include <ostream>
 #include <set>
 #include <sstream>
 #include <thread>
@@ -24,13 +25,13 @@
 #include "apps/build_info.hpp"
 #include "apps/cli.hpp"
 #include "apps/config.hpp"
-#include "core/interrupt.hpp"
 #include "apps/h5in.hpp"
 #include "apps/h5out.hpp"
 #include "apps/paths.hpp"
 #include "apps/study_mpi.hpp"
-#include "compare/pool.hpp"
 #include "compare/alongside.hpp"
+#include "compare/pool.hpp"
+#include "core/interrupt.hpp"
 
 extern char** environ;
 
@@ -79,18 +80,89 @@ std::vector<std::pair<std::string, std::vector<std::string>>> read_vary(const to
   return out;
 }
 
-}  // namespace
-
-compare::StudySpec load_study(const fs::path& file) {
+// The study file parsed (errors: ConfigError naming the file, and the line and column of a syntax error).
+toml::table parse_study_file(const fs::path& file) {
   const std::string name = file.string();
-  toml::table t;
   try {
-    t = toml::parse_file(name);
+    return toml::parse_file(name);
   } catch (const toml::parse_error& e) {
     const auto& b = e.source().begin;
     if (!fs::exists(file)) throw ConfigError(name, "", "cannot open the file: no such file");
     throw ConfigError(name, static_cast<long>(b.line), static_cast<long>(b.column), std::string(e.description()));
   }
+}
+
+// A string key of the study file ("" when absent and not required).
+std::string read_string(const toml::table& t, const std::string& file, const char* key, bool required) {
+  const auto* n = t.get(key);
+  if (!n) {
+    if (required) throw ConfigError(file, key, "required key is missing");
+    return "";
+  }
+  if (!n->is_string()) throw ConfigError(file, key, "expected a string");
+  return n->as_string()->get();
+}
+
+// The kind must be a row of compare::study_kinds(); the refusal lists them all.
+void check_kind(const std::string& file, const std::string& kind) {
+  if (compare::find_study_kind(kind)) return;
+  std::string list;
+  for (const compare::StudyKind& k : compare::study_kinds()) list += (list.empty() ? "" : ", ") + std::string(k.name);
+  throw ConfigError(file, "kind", "unknown study kind '" + kind + "' (known: " + list + ")");
+}
+
+// `set`: the overrides common to every run.
+std::vector<std::string> read_common(const toml::node& n, const std::string& file) {
+  const auto* a = n.as_array();
+  if (!a) throw ConfigError(file, "set", "must be an array of \"section.key=value\" strings");
+  std::vector<std::string> common;
+  for (const auto& e : *a) {
+    if (!e.is_string()) throw ConfigError(file, "set", "must be an array of \"section.key=value\" strings");
+    common.push_back(e.as_string()->get());
+  }
+  return common;
+}
+
+// One [[group]] (the k-th): its name (default "group<k>") and its [vary] table.
+compare::StudyGroup read_group(const toml::table& g, const std::string& file, std::size_t k) {
+  const std::string where = "group[" + std::to_string(k) + "]";
+  compare::StudyGroup grp;
+  for (const auto& [gk, gv] : g) {
+    const std::string key(gk.str());
+    if (key == "name") {
+      if (!gv.is_string()) throw ConfigError(file, where + ".name", "expected a string");
+      grp.name = gv.as_string()->get();
+    } else if (key == "vary") {
+      if (!gv.is_table()) throw ConfigError(file, where + ".vary", "must be a table of key = [values]");
+      grp.vary = read_vary(*gv.as_table(), file, where + ".vary");
+    } else {
+      throw ConfigError(file, where + "." + key, "unknown key (known: name, vary)");
+    }
+  }
+  if (grp.name.empty()) grp.name = "group" + std::to_string(k);
+  return grp;
+}
+
+// The varied keys: one unnamed group from [vary], then every [[group]].
+std::vector<compare::StudyGroup> read_groups(const toml::table& t, const std::string& file) {
+  std::vector<compare::StudyGroup> groups;
+  if (const auto* n = t.get("vary")) {
+    if (!n->is_table()) throw ConfigError(file, "vary", "must be a table of key = [values]");
+    groups.push_back({"", read_vary(*n->as_table(), file, "vary")});
+  }
+  if (const auto* n = t.get("group")) {
+    const auto* a = n->as_array();
+    if (!a || !a->is_array_of_tables()) throw ConfigError(file, "group", "must be an array of tables ([[group]])");
+    for (std::size_t k = 0; k < a->size(); ++k) groups.push_back(read_group(*a->get(k)->as_table(), file, k));
+  }
+  return groups;
+}
+
+}  // namespace
+
+compare::StudySpec load_study(const fs::path& file) {
+  const std::string name = file.string();
+  const toml::table t = parse_study_file(file);
   static const std::set<std::string> known{"study", "kind", "description", "scene", "set", "seeds", "vary", "group",
                                            "fit_from"};
   for (const auto& [k, v] : t)
@@ -98,27 +170,12 @@ compare::StudySpec load_study(const fs::path& file) {
       throw ConfigError(name, std::string(k.str()),
                         "unknown key (known: study, kind, description, scene, set, seeds, fit_from, vary, group)");
   compare::StudySpec s;
-  auto need_string = [&](const char* key, bool required) -> std::string {
-    const auto* n = t.get(key);
-    if (!n) {
-      if (required) throw ConfigError(name, key, "required key is missing");
-      return "";
-    }
-    if (!n->is_string()) throw ConfigError(name, key, "expected a string");
-    return n->as_string()->get();
-  };
-  s.name = need_string("study", true);
-  s.kind = need_string("kind", true);
-  s.description = need_string("description", false);
-  const std::string scene = need_string("scene", true);
+  s.name = read_string(t, name, "study", true);
+  s.kind = read_string(t, name, "kind", true);
+  s.description = read_string(t, name, "description", false);
+  const std::string scene = read_string(t, name, "scene", true);
   s.scene_file = (fs::path(scene).is_absolute() ? fs::path(scene) : file.parent_path() / scene).lexically_normal().string();
-  bool kind_ok = false;
-  for (const auto& [k, what] : compare::study_kinds()) kind_ok |= k == s.kind;
-  if (!kind_ok) {
-    std::string list;
-    for (const auto& [k, what] : compare::study_kinds()) list += (list.empty() ? "" : ", ") + k;
-    throw ConfigError(name, "kind", "unknown study kind '" + s.kind + "' (known: " + list + ")");
-  }
+  check_kind(name, s.kind);
   if (const auto* n = t.get("seeds")) {
     if (!n->is_integer() || n->as_integer()->get() < 1) throw ConfigError(name, "seeds", "must be an integer >= 1");
     s.seeds = static_cast<int>(n->as_integer()->get());
@@ -127,41 +184,8 @@ compare::StudySpec load_study(const fs::path& file) {
     if (!n->is_number() || n->value<double>().value_or(-1) < 0) throw ConfigError(name, "fit_from", "must be a number >= 0");
     s.fit_from = n->value<double>().value_or(0.0);
   }
-  if (const auto* n = t.get("set")) {
-    const auto* a = n->as_array();
-    if (!a) throw ConfigError(name, "set", "must be an array of \"section.key=value\" strings");
-    for (const auto& e : *a) {
-      if (!e.is_string()) throw ConfigError(name, "set", "must be an array of \"section.key=value\" strings");
-      s.common.push_back(e.as_string()->get());
-    }
-  }
-  if (const auto* n = t.get("vary")) {
-    if (!n->is_table()) throw ConfigError(name, "vary", "must be a table of key = [values]");
-    s.groups.push_back({"", read_vary(*n->as_table(), name, "vary")});
-  }
-  if (const auto* n = t.get("group")) {
-    const auto* a = n->as_array();
-    if (!a || !a->is_array_of_tables()) throw ConfigError(name, "group", "must be an array of tables ([[group]])");
-    for (std::size_t k = 0; k < a->size(); ++k) {
-      const auto& g = *a->get(k)->as_table();
-      const std::string where = "group[" + std::to_string(k) + "]";
-      compare::StudyGroup grp;
-      for (const auto& [gk, gv] : g) {
-        const std::string key(gk.str());
-        if (key == "name") {
-          if (!gv.is_string()) throw ConfigError(name, where + ".name", "expected a string");
-          grp.name = gv.as_string()->get();
-        } else if (key == "vary") {
-          if (!gv.is_table()) throw ConfigError(name, where + ".vary", "must be a table of key = [values]");
-          grp.vary = read_vary(*gv.as_table(), name, where + ".vary");
-        } else {
-          throw ConfigError(name, where + "." + key, "unknown key (known: name, vary)");
-        }
-      }
-      if (grp.name.empty()) grp.name = "group" + std::to_string(k);
-      s.groups.push_back(std::move(grp));
-    }
-  }
+  if (const auto* n = t.get("set")) s.common = read_common(*n, name);
+  s.groups = read_groups(t, name);
   return s;
 }
 
@@ -326,309 +350,469 @@ RunPlan plan_runs(const fs::path& dir, const compare::StudySpec& spec, const std
 // The counters every rank reports at the end (summed over the ranks under MPI).
 enum Count : std::size_t { n_complete, n_interrupted, n_failed, n_write_failures, n_stopped, n_counts };
 
-}  // namespace
+// ---------------------------------------------------------------------------------------------
+// The stages of `slipfront study`, in order; study_command lists them.
 
-int study_command(const StudyOptions& opts, std::ostream& out_all, std::ostream& err_all) {
-  const auto wall0 = Clock::now();
+// The study as read: its runs with their scenes and resolved configurations, and where it goes.
+struct Study {
+  compare::StudySpec spec;
+  std::string spec_toml;  ///< the study file's text (kept in study.h5)
+  std::vector<compare::StudyRun> runs;
+  std::vector<compare::Scene> scenes;  ///< per run
+  std::vector<std::string> resolved;   ///< per run: the scene's resolved TOML
+  fs::path dir;
+  fs::path run_file(std::size_t i) const { return dir / "runs" / runs[i].id / "results.h5"; }
+};
 
-  // (a) The engine: the thread pool, or MPI when mpirun started this process (then every rank runs
-  // this function; rank 0 prints, plans, analyses and writes study.h5).
-  std::unique_ptr<MpiEngine> mpi;
+// Where the runs go: the threads of this process, on one process or on every MPI rank.
+struct Engine {
+  std::unique_ptr<MpiEngine> mpi;  ///< null: the thread pool of one process
+  bool root = true;                ///< rank 0 (or no MPI): prints, plans, analyses and writes study.h5
+  unsigned threads = 1;            ///< runs at once in this process
+  std::string name() const { return mpi ? "mpi" : "threads"; }
+  int workers() const { return static_cast<int>(threads) * (mpi ? mpi->size() : 1); }
+  std::string where() const {
+    return mpi ? plural(mpi->size(), "MPI rank", "MPI ranks") + (threads > 1 ? " x " + plural(threads, "thread", "threads") : "")
+               : plural(threads, "thread", "threads");
+  }
+};
+
+// Which runs this invocation makes (the plan of rank 0, known to every rank).
+struct Schedule {
+  int code = 0;                   ///< 0: go on; else the exit code (rank 0 printed why)
+  std::vector<std::size_t> todo;  ///< the runs to make, in order
+  std::vector<int> skipped;       ///< per run: 1 if its results file is complete already
+  long long rerun = 0, fresh = 0; ///< rank 0 only: runs made again, runs with no file yet
+  long long n_skipped() const { return static_cast<long long>(skipped.size() - todo.size()); }
+};
+
+// What the runs of this process left.
+struct RunsMade {
+  explicit RunsMade(std::size_t n) : results(n), in_memory(n, 0) {}
+  std::vector<std::vector<compare::ModelResult>> results;  ///< per run, without the fields
+  std::vector<char> in_memory;                              ///< per run: 1 if made by this process
+  std::vector<long long> counts = std::vector<long long>(n_counts, 0);  ///< by Count (summed by end_runs)
+  std::size_t taken = 0;  ///< without MPI: the indices the workers took from the local counter
+};
+
+// How the runs ended, over every rank.
+struct RunsEnd {
+  bool all_reported = true;    ///< every MPI rank answered
+  std::size_t handed_out = 0;  ///< runs of the schedule started (all of them unless stopped)
+  bool stopped = false;        ///< a stop was requested here or on another rank
+};
+
+// What rank 0 knows of every run at the end.
+struct Tally {
+  long long complete = 0, interrupted = 0, failed = 0, lost = 0, not_started = 0;
+  std::vector<std::string> read_problems;  ///< runs started without a readable results file
+};
+
+// (a) The engine: the thread pool, or MPI when mpirun started this process (then every rank runs
+// study_command). False (the reason printed) when mpirun started several processes and no MPI.
+bool load_engine(bool quiet, Engine& engine, std::ostream& err) {
   if (const int launched = mpirun_size(); launched > 0) {
     std::string why;
-    mpi = MpiEngine::load(why);
-    if (!mpi && !build_info::mpi_engine_built) why = "this slipfront was built without MPI; " + why;
-    if (!mpi && launched > 1) {
-      err_all << "slipfront: error: started by mpirun as one of " << launched
-              << " processes, but the MPI engine could not be loaded (" << why
-              << "); without it every process would run the whole study. Run `slipfront study` without mpirun "
-                 "(it uses threads), or build slipfront where MPI is installed (docs/studies.md)\n";
-      return exit_code::usage;
+    engine.mpi = MpiEngine::load(why);
+    if (!engine.mpi && !build_info::mpi_engine_built) why = "this slipfront was built without MPI; " + why;
+    if (!engine.mpi && launched > 1) {
+      err << "slipfront: error: started by mpirun as one of " << launched
+          << " processes, but the MPI engine could not be loaded (" << why
+          << "); without it every process would run the whole study. Run `slipfront study` without mpirun "
+             "(it uses threads), or build slipfront where MPI is installed (docs/studies.md)\n";
+      return false;
     }
-    if (!mpi && !opts.quiet)
-      err_all << "slipfront: note: started by mpirun with one process and no MPI engine (" << why
-              << "): using threads\n";
+    if (!engine.mpi && !quiet)
+      err << "slipfront: note: started by mpirun with one process and no MPI engine (" << why << "): using threads\n";
   }
-  const bool root = !mpi || mpi->rank() == 0;
-  std::ostream quiet_stream(nullptr);  // discards: only rank 0 speaks for the study
-  std::ostream& out = root ? out_all : quiet_stream;
-  std::ostream& err = root ? err_all : quiet_stream;
+  engine.root = !engine.mpi || engine.mpi->rank() == 0;
+  return true;
+}
 
-  // (b) Everything is read and every run validated before any work (every rank does the same).
-  compare::StudySpec spec;
-  std::vector<compare::StudyRun> runs;
-  std::vector<compare::Scene> scenes;
-  std::vector<std::string> resolved;
+// (b) The study read and every run validated before any work (every rank does the same). Nothing
+// (the reason printed) on a configuration error.
+std::optional<Study> read_study(const StudyOptions& opts, std::ostream& err) {
+  Study study;
   try {
-    spec = load_study(opts.study);
-    runs = compare::expand(spec);
-    for (auto& r : runs) {
+    study.spec = load_study(opts.study);
+    study.runs = compare::expand(study.spec);
+    for (auto& r : study.runs) {
       r.overrides.insert(r.overrides.end(), opts.overrides.begin(), opts.overrides.end());
-      scenes.push_back(load_scene(spec.scene_file, r.overrides));
-      resolved.push_back(to_toml(scenes.back()));
+      study.scenes.push_back(load_scene(study.spec.scene_file, r.overrides));
+      study.resolved.push_back(to_toml(study.scenes.back()));
     }
   } catch (const ConfigError& e) {
     err << "slipfront: error: " << e.what() << "\n";
-    return exit_code::usage;
+    return std::nullopt;
   }
-  std::string spec_toml;
-  {
-    std::ifstream in(opts.study);
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    spec_toml = ss.str();
-  }
-  const fs::path dir = opts.out.empty() ? fs::path("out") / "studies" / spec.name : opts.out;
-  const std::size_t n = runs.size();
-  auto run_file = [&](std::size_t i) { return dir / "runs" / runs[i].id / "results.h5"; };
+  std::ifstream in(opts.study);
+  std::ostringstream text;
+  text << in.rdbuf();
+  study.spec_toml = text.str();
+  study.dir = opts.out.empty() ? fs::path("out") / "studies" / study.spec.name : opts.out;
+  return study;
+}
 
-  // (c) The plan (rank 0, then sent to every rank): which runs are complete already (resume).
+// (c) The plan (rank 0, then sent to every rank): which runs are complete already (resume).
+Schedule share_plan(const Study& study, bool force, const Engine& engine, std::ostream& err) {
+  const std::size_t n = study.runs.size();
   // plan[0]: 0 to go on, else the exit code; plan[1 + i]: 1 if run i is skipped.
   std::vector<char> plan(1 + n, 0);
-  RunPlan p;
-  if (root) {
-    p = plan_runs(dir, spec, runs, resolved, opts.force, err);
+  Schedule s;
+  if (engine.root) {
+    const RunPlan p = plan_runs(study.dir, study.spec, study.runs, study.resolved, force, err);
     plan[0] = static_cast<char>(p.code);
     std::copy(p.skip.begin(), p.skip.end(), plan.begin() + 1);
+    s.rerun = p.rerun;
+    s.fresh = p.fresh;
   }
-  if (mpi) mpi->broadcast(plan.data(), plan.size(), -1);
-  if (plan[0] != 0) return plan[0];
-  const long long n_rerun = p.rerun, n_new = p.fresh;
-  std::vector<std::size_t> todo;
-  std::vector<int> skipped(n, 0);
+  if (engine.mpi) engine.mpi->broadcast(plan.data(), plan.size(), -1);
+  s.code = plan[0];
+  if (s.code != 0) return s;
+  s.skipped.assign(n, 0);
   for (std::size_t i = 0; i < n; ++i) {
-    if (plan[1 + i]) skipped[i] = 1;
-    else todo.push_back(i);
+    if (plan[1 + i]) s.skipped[i] = 1;
+    else s.todo.push_back(i);
   }
-  const long long n_skipped = static_cast<long long>(n - todo.size());
+  return s;
+}
 
-  // (d) The runs: on `threads` threads, or on every MPI rank (each taking the next run from the
-  // counter at rank 0), `threads` per rank (default 1).
-  unsigned threads = opts.threads ? opts.threads : std::max(1u, std::thread::hardware_concurrency());
-  if (mpi) {
-    threads = opts.threads ? opts.threads : 1u;
-    if (threads > 1 && !mpi->serialized()) {
-      err << "slipfront: note: this MPI library gives no MPI_THREAD_SERIALIZED: one run at a time per rank\n";
-      threads = 1;
-    }
+// (d) Runs at once in this process: `threads` (default: every core), under MPI `threads` per rank
+// (default 1; 1 when the MPI library cannot serialise calls from several threads).
+unsigned threads_per_process(unsigned threads, const MpiEngine* mpi, std::ostream& err) {
+  if (!mpi) return threads ? threads : std::max(1u, std::thread::hardware_concurrency());
+  if (threads > 1 && !mpi->serialized()) {
+    err << "slipfront: note: this MPI library gives no MPI_THREAD_SERIALIZED: one run at a time per rank\n";
+    return 1;
   }
-  const std::string engine = mpi ? "mpi" : "threads";
-  const int workers = static_cast<int>(threads) * (mpi ? mpi->size() : 1);
-  const std::string where = mpi ? plural(mpi->size(), "MPI rank", "MPI ranks") +
-                                      (threads > 1 ? " x " + plural(threads, "thread", "threads") : "")
-                                : plural(threads, "thread", "threads");
-  if (!opts.quiet) {
-    err << "slipfront: study " << spec.name << " (" << spec.kind << "): " << plural(static_cast<long long>(n), "run", "runs");
-    if (n_skipped > 0 || n_rerun > 0)
-      err << ", " << n_skipped << " complete already (skipped), " << todo.size() << " to run (" << n_rerun
-          << " partial, failed or unverified, " << n_new << " new)";
-    err << " on " << where << " -> " << dir.string() << "\n";
-  }
+  return threads ? threads : 1u;
+}
 
-  const StudySignals signals;
-  std::atomic<bool> remote_stop{false}, stop_sent{false};
-  std::atomic<std::int64_t> last_remote_check{0};
-  // Under MPI a stop anywhere stops every rank: the rank that sees a signal raises the stop counter
-  // at rank 0, the others look at it every 50 ms.
-  auto stop_requested = [&]() -> bool {
+// The start line: the runs, those complete already and those made again, on what, to where.
+void print_start(std::ostream& err, const Study& study, const Schedule& s, const Engine& engine) {
+  err << "slipfront: study " << study.spec.name << " (" << study.spec.kind
+      << "): " << plural(static_cast<long long>(study.runs.size()), "run", "runs");
+  if (s.n_skipped() > 0 || s.rerun > 0)
+    err << ", " << s.n_skipped() << " complete already (skipped), " << s.todo.size() << " to run (" << s.rerun
+        << " partial, failed or unverified, " << s.fresh << " new)";
+  err << " on " << engine.where() << " -> " << study.dir.string() << "\n";
+}
+
+// Stop requests: a signal to this process, or under MPI a stop anywhere (the rank that sees a signal
+// raises the stop counter at rank 0, the others look at it every 50 ms). Called from every worker.
+class StopRequests {
+ public:
+  explicit StopRequests(MpiEngine* mpi) : mpi_(mpi) {}
+  bool operator()() {
     if (stop_signal.load(std::memory_order_relaxed)) {
-      if (mpi && !stop_sent.exchange(true)) {
+      if (mpi_ && !stop_sent_.exchange(true)) {
         try {
-          mpi->fetch_add(slipfront_mpi_stop, 1);
+          mpi_->fetch_add(slipfront_mpi_stop, 1);
         } catch (const std::exception&) {
         }
       }
       return true;
     }
-    if (!mpi || remote_stop.load(std::memory_order_relaxed)) return remote_stop.load();
+    if (!mpi_ || remote_stop_.load(std::memory_order_relaxed)) return remote_stop_.load();
     const auto now = std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now().time_since_epoch()).count();
-    auto last = last_remote_check.load();
-    if (now - last >= 50 && last_remote_check.compare_exchange_strong(last, now)) {
-      mpi->progress();
-      if (mpi->try_read(slipfront_mpi_stop) > 0) remote_stop = true;
+    auto last = last_remote_check_.load();
+    if (now - last >= 50 && last_remote_check_.compare_exchange_strong(last, now)) {
+      mpi_->progress();
+      if (mpi_->try_read(slipfront_mpi_stop) > 0) remote_stop_ = true;
     }
-    return remote_stop.load();
-  };
+    return remote_stop_.load();
+  }
 
-  std::vector<std::vector<compare::ModelResult>> results(n);
-  std::vector<char> in_memory(n, 0);
-  std::vector<long long> counts(n_counts, 0);
+ private:
+  MpiEngine* mpi_;
+  std::atomic<bool> remote_stop_{false}, stop_sent_{false};
+  std::atomic<std::int64_t> last_remote_check_{0};
+};
+
+// The progress line: on rank 0's terminal only, the runs finished of this invocation's, elapsed, eta.
+struct StudyProgress {
+  std::ostream& err;
+  bool on;
+  std::string name;
+  std::size_t total;
+  Clock::time_point start;
+
+  void update(std::size_t finished) const {
+    if (!on) return;
+    const double el = std::chrono::duration<double>(Clock::now() - start).count();
+    err << "\r[study " << name << "] " << finished << "/" << total << " runs, elapsed " << static_cast<int>(el)
+        << " s, eta "
+        << static_cast<int>(el * static_cast<double>(total - std::min(finished, total)) / static_cast<double>(finished))
+        << " s   " << std::flush;
+  }
+  void end() const {
+    if (on) err << "\n";
+  }
+};
+
+// One run made and written to its file (a write error is reported on `err_all`, under `io`); its
+// results come back without the fields: the analysis needs events, series and tables.
+struct MadeRun {
+  std::vector<compare::ModelResult> models;
+  compare::RunStatus status = compare::RunStatus::complete;
+  bool written = true;
+};
+
+MadeRun make_run(const Study& study, std::size_t i, StopRequests& stop, const std::string& command_line,
+                 const MpiEngine* mpi, std::mutex& io, std::ostream& err_all) {
+  const auto t0 = Clock::now();
+  compare::RunControl ctl;
+  ctl.stop = [&stop] { return stop(); };
+  MadeRun made;
+  compare::Comparison cmp;
+  RunMeta meta;
+  meta.command_line = command_line + "  [study run " + study.runs[i].id +
+                      (mpi ? ", MPI rank " + std::to_string(mpi->rank()) + " of " + std::to_string(mpi->size()) : "") +
+                      "]";
+  try {
+    compare::SceneResult sr = compare::run_scene_alongside(study.scenes[i], ctl);
+    made.models = std::move(sr.models);
+    cmp = std::move(sr.comparison);
+  } catch (const core::Interrupted& e) {
+    meta.status = compare::RunStatus::interrupted;
+    meta.message = e.what();
+  } catch (const std::exception& e) {
+    meta.status = compare::RunStatus::failed;
+    meta.message = e.what();
+  }
+  meta.wall_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  made.status = overall_status(made.models, meta.status);
+  try {
+    write_results(study.run_file(i), study.scenes[i], study.resolved[i], made.models, meta, &cmp);
+  } catch (const std::exception& e) {
+    made.written = false;
+    std::lock_guard lock(io);
+    err_all << "slipfront: error: run " << study.runs[i].id
+            << (mpi ? " (rank " + std::to_string(mpi->rank()) + ")" : "") << ": " << e.what() << "\n";
+  }
+  for (auto& m : made.models) {
+    m.snapshots.clear();
+    m.snapshot_t.clear();
+    m.contacts.clear();
+    m.contacts_2d.clear();
+  }
+  return made;
+}
+
+// (d) The runs: on the threads of this process, each taking the next run of the schedule (under MPI
+// from the counter at rank 0, so every rank shares one schedule).
+RunsMade run_points(const Study& study, const std::vector<std::size_t>& todo, const Engine& engine,
+                    StopRequests& stop, const std::string& command_line, const StudyProgress& progress,
+                    std::ostream& err_all) {
+  MpiEngine* const mpi = engine.mpi.get();
+  RunsMade made(study.runs.size());
   std::mutex io;
   std::size_t done = 0;
-  const bool tty = root && !opts.quiet && ::isatty(STDERR_FILENO);
   auto job = [&](std::size_t i) {
-    const auto t0 = Clock::now();
-    compare::RunControl ctl;
-    ctl.stop = stop_requested;
-    std::vector<compare::ModelResult> r;
-    compare::Comparison cmp;
-    RunMeta meta;
-    meta.command_line = opts.command_line + "  [study run " + runs[i].id +
-                        (mpi ? ", MPI rank " + std::to_string(mpi->rank()) + " of " + std::to_string(mpi->size()) : "") +
-                        "]";
-    try {
-      compare::SceneResult sr = compare::run_scene_alongside(scenes[i], ctl);
-      r = std::move(sr.models);
-      cmp = std::move(sr.comparison);
-    } catch (const core::Interrupted& e) {
-      meta.status = compare::RunStatus::interrupted;
-      meta.message = e.what();
-    } catch (const std::exception& e) {
-      meta.status = compare::RunStatus::failed;
-      meta.message = e.what();
-    }
-    meta.wall_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
-    const compare::RunStatus status = overall_status(r, meta.status);
-    bool written = true;
-    try {
-      write_results(run_file(i), scenes[i], resolved[i], r, meta, &cmp);
-    } catch (const std::exception& e) {
-      written = false;
-      std::lock_guard lock(io);
-      err_all << "slipfront: error: run " << runs[i].id << (mpi ? " (rank " + std::to_string(mpi->rank()) + ")" : "")
-              << ": " << e.what() << "\n";
-    }
-    for (auto& m : r) {  // the analysis needs events, series and tables, not the fields
-      m.snapshots.clear();
-      m.snapshot_t.clear();
-      m.contacts.clear();
-      m.contacts_2d.clear();
-    }
-    results[i] = std::move(r);
+    MadeRun run = make_run(study, i, stop, command_line, mpi, io, err_all);
+    made.results[i] = std::move(run.models);
     std::lock_guard lock(io);
-    in_memory[i] = 1;
-    ++counts[status == compare::RunStatus::complete ? n_complete : status == compare::RunStatus::interrupted ? n_interrupted : n_failed];
-    if (!written) ++counts[n_write_failures];
+    made.in_memory[i] = 1;
+    ++made.counts[run.status == compare::RunStatus::complete      ? n_complete
+                  : run.status == compare::RunStatus::interrupted ? n_interrupted
+                                                                  : n_failed];
+    if (!run.written) ++made.counts[n_write_failures];
     std::size_t finished = ++done;
     if (mpi) finished = static_cast<std::size_t>(mpi->fetch_add(slipfront_mpi_finished, 1) + 1);
-    const double el = std::chrono::duration<double>(Clock::now() - wall0).count();
-    if (tty)
-      err << "\r[study " << spec.name << "] " << finished << "/" << todo.size() << " runs, elapsed "
-          << static_cast<int>(el) << " s, eta "
-          << static_cast<int>(el * static_cast<double>(todo.size() - std::min(finished, todo.size())) /
-                              static_cast<double>(finished))
-          << " s   " << std::flush;
+    progress.update(finished);
   };
   std::atomic<std::size_t> next_local{0};
   compare::run_workers(
-      std::max(1u, std::min<unsigned>(threads, static_cast<unsigned>(std::max<std::size_t>(todo.size(), 1)))),
+      std::max(1u, std::min<unsigned>(engine.threads, static_cast<unsigned>(std::max<std::size_t>(todo.size(), 1)))),
       [&]() -> std::optional<std::size_t> {
-        if (stop_requested()) return std::nullopt;
+        if (stop()) return std::nullopt;
         const auto k = mpi ? static_cast<std::size_t>(mpi->fetch_add(slipfront_mpi_next, 1)) : next_local.fetch_add(1);
         if (k >= todo.size()) return std::nullopt;
         return todo[k];
       },
       job);
-  if (tty) err << "\n";
-  counts[n_stopped] = stop_requested() ? 1 : 0;
+  progress.end();
+  made.counts[n_stopped] = stop() ? 1 : 0;
+  made.taken = next_local.load();
+  return made;
+}
 
-  // (e) Every rank done: the counters summed (under MPI, also the sign that every run file is
-  // written; after a stop, ranks that do not answer within 0.5 s are not waited for).
-  bool all_reported = true;
-  std::size_t handed_out = todo.size();
-  if (mpi) {
+// (e) Every rank done: the counters summed (under MPI, also the sign that every run file is
+// written; after a stop, ranks that do not answer within 0.5 s are not waited for).
+RunsEnd end_runs(RunsMade& made, std::size_t scheduled, const Engine& engine) {
+  RunsEnd end;
+  end.handed_out = scheduled;
+  std::vector<long long>& counts = made.counts;
+  if (engine.mpi) {
     const bool stopped_here = counts[n_stopped] != 0;
-    all_reported = mpi->sum(counts, stopped_here ? 0.5 : -1.0);
-    if (root && (stopped_here || counts[n_stopped] != 0))
-      handed_out = std::min<std::size_t>(todo.size(), static_cast<std::size_t>(mpi->try_read(slipfront_mpi_next)));
+    end.all_reported = engine.mpi->sum(counts, stopped_here ? 0.5 : -1.0);
+    if (engine.root && (stopped_here || counts[n_stopped] != 0))
+      end.handed_out =
+          std::min<std::size_t>(scheduled, static_cast<std::size_t>(engine.mpi->try_read(slipfront_mpi_next)));
   } else if (counts[n_stopped]) {
-    handed_out = std::min(todo.size(), next_local.load());
+    end.handed_out = std::min(scheduled, made.taken);
   }
-  const bool stopped = counts[n_stopped] != 0 || stop_signal.load();
+  end.stopped = counts[n_stopped] != 0 || stop_signal.load();
+  return end;
+}
 
-  int code = exit_code::ok;
-  if (root) {
-    // (f) The analysis (rank 0): results in memory, or read back from the run files of skipped runs
-    // and of runs made by other ranks. Runs never started have no results.
-    std::vector<char> started(n, 0);
-    for (std::size_t k = 0; k < handed_out; ++k) started[todo[k]] = 1;
-    std::vector<std::string> read_problems;
-    std::vector<char> lost(n, 0);  // started, but no readable results file (its process died, or writing failed)
-    for (std::size_t i = 0; i < n; ++i) {
-      if (in_memory[i] || !(skipped[i] || started[i])) continue;
-      std::error_code ec;
-      if (!fs::exists(run_file(i), ec)) {
-        lost[i] = 1;
-        read_problems.push_back("run " + runs[i].id + ": no results file (its process stopped before writing it)");
-        continue;
-      }
-      try {
-        results[i] = read_results(run_file(i), {.fields = false}).models;
-      } catch (const InputError& e) {
-        lost[i] = 1;
-        read_problems.push_back("run " + runs[i].id + ": cannot read back its results: " + e.what());
-      }
+// (f) Rank 0: results in memory, or read back from the run files of skipped runs and of runs made
+// by other ranks (runs never started have none); every run counted by how it ended.
+Tally read_back(const Study& study, const Schedule& schedule, std::size_t handed_out, RunsMade& made) {
+  const std::size_t n = study.runs.size();
+  std::vector<char> started(n, 0);
+  for (std::size_t k = 0; k < handed_out; ++k) started[schedule.todo[k]] = 1;
+  Tally tally;
+  std::vector<char> lost(n, 0);  // started, but no readable results file (its process died, or writing failed)
+  for (std::size_t i = 0; i < n; ++i) {
+    if (made.in_memory[i] || !(schedule.skipped[i] || started[i])) continue;
+    std::error_code ec;
+    if (!fs::exists(study.run_file(i), ec)) {
+      lost[i] = 1;
+      tally.read_problems.push_back("run " + study.runs[i].id + ": no results file (its process stopped before writing it)");
+      continue;
     }
-    long long complete = 0, interrupted = 0, failed = 0, n_lost = 0, not_started = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-      if (!skipped[i] && !started[i]) ++not_started;
-      else if (lost[i]) ++n_lost;
-      else {
-        const compare::RunStatus s = results[i].empty() ? compare::RunStatus::failed : overall_status(results[i]);
-        ++(s == compare::RunStatus::complete ? complete : s == compare::RunStatus::interrupted ? interrupted : failed);
-      }
-    }
-    const long long computed = static_cast<long long>(handed_out);
-    RunMeta meta;
-    meta.command_line = opts.command_line;
-    if (stopped && complete == static_cast<long long>(n)) {
-      meta.message = "a stop was requested after every run had finished";  // nothing was lost: complete
-    } else if (stopped) {
-      meta.status = compare::RunStatus::interrupted;
-      meta.message = "stopped: " + std::to_string(complete) + " of " + std::to_string(n) + " runs complete (" +
-                     std::to_string(n_skipped) + " of them from an earlier invocation), " +
-                     std::to_string(interrupted) + " interrupted, " + std::to_string(failed) + " failed, " +
-                     (n_lost ? std::to_string(n_lost) + " without a results file, " : "") +
-                     std::to_string(not_started) + " not started; run the same command again to resume";
-      if (!all_reported) meta.message += " (some MPI ranks did not report after the stop)";
-    }
-    compare::StudyReport report;
     try {
-      report = compare::analyse_study(spec, runs, scenes, results);
-    } catch (const std::exception& e) {
-      meta.status = compare::RunStatus::failed;
-      meta.message = std::string("analysis: ") + e.what();
+      made.results[i] = read_results(study.run_file(i), {.fields = false}).models;
+    } catch (const InputError& e) {
+      lost[i] = 1;
+      tally.read_problems.push_back("run " + study.runs[i].id + ": cannot read back its results: " + e.what());
     }
-    report.notes.insert(report.notes.end(), read_problems.begin(), read_problems.end());
-    meta.wall_seconds = std::chrono::duration<double>(Clock::now() - wall0).count();
-    const StudyExecution exec{engine, workers, computed, skipped};
-    try {
-      write_study(dir / "study.h5", spec, spec_toml, runs, report, meta, exec);
-    } catch (const std::exception& e) {
-      err << "slipfront: error: cannot write " << (dir / "study.h5").string() << ": " << e.what() << "\n";
-      code = exit_code::failed;
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!schedule.skipped[i] && !started[i]) ++tally.not_started;
+    else if (lost[i]) ++tally.lost;
+    else {
+      const std::vector<compare::ModelResult>& r = made.results[i];
+      const compare::RunStatus s = r.empty() ? compare::RunStatus::failed : overall_status(r);
+      ++(s == compare::RunStatus::complete ? tally.complete
+         : s == compare::RunStatus::interrupted ? tally.interrupted
+                                                : tally.failed);
     }
-    if (code == exit_code::ok) {
-      out << spec.name << " (" << spec.kind << "): " << compare::to_string(meta.status) << ", " << n << " runs in "
-          << static_cast<int>(meta.wall_seconds * 10) / 10.0 << " s on " << where << " -> "
-          << (dir / "study.h5").string() << "\n";
-      out << "  runs: " << computed << " run now, " << n_skipped << " skipped (complete from an earlier invocation)";
-      if (interrupted || failed || n_lost || not_started)
-        out << "; " << complete << " complete, " << interrupted << " interrupted, " << failed << " failed, "
-            << (n_lost ? std::to_string(n_lost) + " without a results file, " : "") << not_started << " not started";
+  }
+  return tally;
+}
+
+// The status and message of the study as a whole: interrupted when a stop left runs undone.
+RunMeta study_meta(const std::string& command_line, const Tally& t, std::size_t n, long long n_skipped,
+                   const RunsEnd& end) {
+  RunMeta meta;
+  meta.command_line = command_line;
+  if (end.stopped && t.complete == static_cast<long long>(n)) {
+    meta.message = "a stop was requested after every run had finished";  // nothing was lost: complete
+  } else if (end.stopped) {
+    meta.status = compare::RunStatus::interrupted;
+    meta.message = "stopped: " + std::to_string(t.complete) + " of " + std::to_string(n) + " runs complete (" +
+                   std::to_string(n_skipped) + " of them from an earlier invocation), " +
+                   std::to_string(t.interrupted) + " interrupted, " + std::to_string(t.failed) + " failed, " +
+                   (t.lost ? std::to_string(t.lost) + " without a results file, " : "") +
+                   std::to_string(t.not_started) + " not started; run the same command again to resume";
+    if (!end.all_reported) meta.message += " (some MPI ranks did not report after the stop)";
+  }
+  return meta;
+}
+
+// The analysis of the study kind (a failed analysis fails the study); the runs that could not be
+// read back are notes.
+compare::StudyReport analyse(const Study& study, const RunsMade& made, const Tally& tally, RunMeta& meta) {
+  compare::StudyReport report;
+  try {
+    report = compare::analyse_study(study.spec, study.runs, study.scenes, made.results);
+  } catch (const std::exception& e) {
+    meta.status = compare::RunStatus::failed;
+    meta.message = std::string("analysis: ") + e.what();
+  }
+  report.notes.insert(report.notes.end(), tally.read_problems.begin(), tally.read_problems.end());
+  return report;
+}
+
+// The summary on stdout: the status, the runs, the scalars with their intervals, the notes.
+void print_summary(std::ostream& out, const Study& study, const RunMeta& meta, const Engine& engine, long long computed,
+                   long long n_skipped, const Tally& t, const compare::StudyReport& report) {
+  out << study.spec.name << " (" << study.spec.kind << "): " << compare::to_string(meta.status) << ", "
+      << study.runs.size() << " runs in " << static_cast<int>(meta.wall_seconds * 10) / 10.0 << " s on "
+      << engine.where() << " -> " << (study.dir / "study.h5").string() << "\n";
+  out << "  runs: " << computed << " run now, " << n_skipped << " skipped (complete from an earlier invocation)";
+  if (t.interrupted || t.failed || t.lost || t.not_started)
+    out << "; " << t.complete << " complete, " << t.interrupted << " interrupted, " << t.failed << " failed, "
+        << (t.lost ? std::to_string(t.lost) + " without a results file, " : "") << t.not_started << " not started";
+  out << "\n";
+  for (const auto& [k, v] : report.scalars)
+    if (k.find("_ci_") == std::string::npos && k.find("_points") == std::string::npos) {
+      out << "  " << k << " = " << v;
+      const auto lo = report.scalars.find(k + "_ci_low"), hi = report.scalars.find(k + "_ci_high");
+      if (lo != report.scalars.end() && hi != report.scalars.end())
+        out << "  (95% CI " << lo->second << " .. " << hi->second << ")";
       out << "\n";
-      for (const auto& [k, v] : report.scalars)
-        if (k.find("_ci_") == std::string::npos && k.find("_points") == std::string::npos) {
-          out << "  " << k << " = " << v;
-          const auto lo = report.scalars.find(k + "_ci_low"), hi = report.scalars.find(k + "_ci_high");
-          if (lo != report.scalars.end() && hi != report.scalars.end())
-            out << "  (95% CI " << lo->second << " .. " << hi->second << ")";
-          out << "\n";
-        }
-      for (const auto& note : report.notes) out << "  note: " << note << "\n";
-      if (meta.status == compare::RunStatus::interrupted) err << "slipfront: " << meta.message << "\n";
-      if (meta.status == compare::RunStatus::interrupted) code = exit_code::interrupted;
-      else if (meta.status != compare::RunStatus::complete || counts[n_write_failures] != 0 || !read_problems.empty())
-        code = exit_code::failed;
     }
+  for (const auto& note : report.notes) out << "  note: " << note << "\n";
+}
+
+// (f) Rank 0 concludes: reads back, analyses, writes study.h5, prints the summary; the exit code.
+int conclude(const StudyOptions& opts, const Study& study, const Schedule& schedule, const Engine& engine,
+             RunsMade& made, const RunsEnd& end, Clock::time_point wall0, std::ostream& out, std::ostream& err) {
+  const Tally tally = read_back(study, schedule, end.handed_out, made);
+  RunMeta meta = study_meta(opts.command_line, tally, study.runs.size(), schedule.n_skipped(), end);
+  const compare::StudyReport report = analyse(study, made, tally, meta);
+  meta.wall_seconds = std::chrono::duration<double>(Clock::now() - wall0).count();
+  const auto computed = static_cast<long long>(end.handed_out);
+  const StudyExecution exec{engine.name(), engine.workers(), computed, schedule.skipped};
+  try {
+    write_study(study.dir / "study.h5", study.spec, study.spec_toml, study.runs, report, meta, exec);
+  } catch (const std::exception& e) {
+    err << "slipfront: error: cannot write " << (study.dir / "study.h5").string() << ": " << e.what() << "\n";
+    return exit_code::failed;
   }
-  if (mpi) {
-    // Every rank exits with rank 0's code (mpirun reports the first non-zero one), and not before
-    // rank 0 is done: a rank ending early with a non-zero code makes mpirun abort the others.
-    int shared = code;
-    if (mpi->broadcast(&shared, sizeof shared, root && stopped ? 0.5 : -1.0)) code = shared;
-    mpi->finalize();
+  print_summary(out, study, meta, engine, computed, schedule.n_skipped(), tally, report);
+  if (meta.status == compare::RunStatus::interrupted) {
+    err << "slipfront: " << meta.message << "\n";
+    return exit_code::interrupted;
   }
+  if (meta.status != compare::RunStatus::complete || made.counts[n_write_failures] != 0 || !tally.read_problems.empty())
+    return exit_code::failed;
+  return exit_code::ok;
+}
+
+// (g) Under MPI every rank exits with rank 0's code (mpirun reports the first non-zero one), and not
+// before rank 0 is done: a rank ending early with a non-zero code makes mpirun abort the others.
+int share_exit_code(MpiEngine& mpi, int code, bool root_stopped) {
+  int shared = code;
+  if (mpi.broadcast(&shared, sizeof shared, root_stopped ? 0.5 : -1.0)) code = shared;
+  mpi.finalize();
+  return code;
+}
+
+}  // namespace
+
+int study_command(const StudyOptions& opts, std::ostream& out_all, std::ostream& err_all) {
+  const auto wall0 = Clock::now();
+  // (a) the engine
+  Engine engine;
+  if (!load_engine(opts.quiet, engine, err_all)) return exit_code::usage;
+  std::ostream quiet_stream(nullptr);  // discards: only rank 0 speaks for the study
+  std::ostream& out = engine.root ? out_all : quiet_stream;
+  std::ostream& err = engine.root ? err_all : quiet_stream;
+
+  // (b)–(c) the study read, every run validated, the plan shared, before any work
+  const std::optional<Study> study = read_study(opts, err);
+  if (!study) return exit_code::usage;
+  const Schedule schedule = share_plan(*study, opts.force, engine, err);
+  if (schedule.code != 0) return schedule.code;
+  engine.threads = threads_per_process(opts.threads, engine.mpi.get(), err);
+  if (!opts.quiet) print_start(err, *study, schedule, engine);
+
+  // (d)–(e) the runs, stoppable by SIGINT/SIGTERM (the handlers stay until study.h5 is written)
+  const StudySignals signals;
+  StopRequests stop(engine.mpi.get());
+  const StudyProgress progress{err, engine.root && !opts.quiet && ::isatty(STDERR_FILENO), study->spec.name,
+                               schedule.todo.size(), wall0};
+  RunsMade made = run_points(*study, schedule.todo, engine, stop, opts.command_line, progress, err_all);
+  const RunsEnd end = end_runs(made, schedule.todo.size(), engine);
+
+  // (f)–(g) rank 0 analyses, writes study.h5 and prints; every rank exits with its code
+  int code = exit_code::ok;
+  if (engine.root) code = conclude(opts, *study, schedule, engine, made, end, wall0, out, err);
+  if (engine.mpi) code = share_exit_code(*engine.mpi, code, engine.root && end.stopped);
   return code;
 }
 
@@ -637,14 +821,14 @@ int study_command(const StudyOptions& opts, std::ostream& out_all, std::ostream&
 int report_command(const fs::path& dir, const std::string& python, std::ostream& err) {
   if (!fs::is_directory(dir)) {
     err << "slipfront: error: '" << dir.string() << "' is not a directory\n";
-    return 2;
+    return exit_code::usage;
   }
   const fs::path script = find_data_file("report.py");
   if (script.empty()) {
     err << "slipfront: error: the report script report.py is missing; looked for:";
     for (const auto& c : data_file_candidates("report.py")) err << "\n  " << c.string();
     err << "\n(set SLIPFRONT_DATA_DIR to the directory that holds report.py and plot.py)\n";
-    return 1;
+    return exit_code::failed;
   }
   const std::vector<std::string> args = {python, script.string(), dir.string()};
   std::vector<char*> argv;
@@ -654,18 +838,18 @@ int report_command(const fs::path& dir, const std::string& python, std::ostream&
   // posix_spawnp: PYTHON may be a bare name looked up on PATH, or a path.
   if (const int rc = ::posix_spawnp(&pid, python.c_str(), nullptr, nullptr, argv.data(), environ); rc != 0) {
     err << "slipfront: error: cannot run '" << python << "': " << std::strerror(rc) << "\n";
-    return 1;
+    return exit_code::failed;
   }
   int status = 0;
   while (::waitpid(pid, &status, 0) < 0)
     if (errno != EINTR) {
       err << "slipfront: error: waiting for the report script: " << std::strerror(errno) << "\n";
-      return 1;
+      return exit_code::failed;
     }
-  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return 0;
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return exit_code::ok;
   if (WIFSIGNALED(status)) err << "slipfront: error: the report script was killed by signal " << WTERMSIG(status) << "\n";
   else err << "slipfront: error: the report script " << script.string() << " exited with " << WEXITSTATUS(status) << "\n";
-  return 1;
+  return exit_code::failed;
 }
 
 }  // namespace slipfront::app

@@ -3,10 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <numeric>
-#include <set>
 #include <stdexcept>
 
+#include "compare/difference.hpp"
 #include "compare/fit.hpp"
 #include "compare/fronts.hpp"
 #include "compare/validity.hpp"
@@ -72,13 +71,6 @@ void put_fits(StudyReport& rep, const std::string& name, const std::vector<doubl
                                                              " (study key fit_from: the mean-field regime)");
 }
 
-double rel_rms(const std::vector<double>& a, const std::vector<double>& b) {
-  const std::size_t n = std::min(a.size(), b.size());
-  double num = 0, den = 0;
-  for (std::size_t i = 0; i < n; ++i) { num += (a[i] - b[i]) * (a[i] - b[i]); den += b[i] * b[i]; }
-  return den > 0 ? std::sqrt(num / den) : nan;
-}
-
 const std::vector<double>& column(const Columns& c, const std::string& name) {
   static const std::vector<double> empty;
   const auto it = c.find(name);
@@ -88,7 +80,7 @@ const std::vector<double>& column(const Columns& c, const std::string& name) {
 // ---------------------------------------------------------------------------------------------
 // friction_law: discrete steady friction vs the continuum as N grows (noise on, w = 0).
 void friction_law_vs_N(StudyReport& rep, const StudySpec& spec, const std::vector<StudyRun>& runs,
-                       const std::vector<std::vector<ModelResult>>& res) {
+                       const std::vector<Scene>&, const std::vector<std::vector<ModelResult>>& res) {
   const std::string key = "discrete.contacts_per_site";
   Columns t;
   for (const auto& [N, idx] : by_value(runs, key)) {
@@ -141,8 +133,8 @@ void friction_law_vs_N(StudyReport& rep, const StudySpec& spec, const std::vecto
 
 // threshold_width: noise off, the distance of the discrete model to the continuum vs w: on the
 // steady law for an imposed-rate sweep, on the friction history (and the static peak) otherwise.
-void friction_law_vs_width(StudyReport& rep, const std::vector<StudyRun>& runs, const std::vector<Scene>& scenes,
-                           const std::vector<std::vector<ModelResult>>& res) {
+void friction_law_vs_width(StudyReport& rep, const StudySpec&, const std::vector<StudyRun>& runs,
+                           const std::vector<Scene>& scenes, const std::vector<std::vector<ModelResult>>& res) {
   Columns t;
   int identical = 0;
   for (const auto& [w, idx] : by_value(runs, "discrete.width")) {
@@ -163,7 +155,7 @@ void friction_law_vs_width(StudyReport& rep, const std::vector<StudyRun>& runs, 
       t["sigma_min"].push_back(sd.empty() ? nan : *std::min_element(sd.begin(), sd.end()));
     } else {
       const char* col = scenes[idx[0]].drive.loading == core::Loading::imposed_rate ? "sigma" : "drive_force";
-      dist = rel_rms(column(d->series, col), column(c->series, col));
+      dist = relative_rms_distance(column(c->series, col), column(d->series, col));
       const auto& pk = column(d->cycles, "F_peak");
       const auto& pc = column(c->cycles, "F_peak");
       t["F_peak_first"].push_back(pk.empty() ? nan : pk.front());
@@ -217,7 +209,7 @@ void transient_vs_N(StudyReport& rep, const StudySpec& spec, const std::vector<S
       const auto* m = find_model(res[i], "discrete");
       if (!c || !m) continue;
       const char* col = scenes[i].drive.loading == core::Loading::imposed_rate ? "sigma" : "drive_force";
-      d.push_back(rel_rms(column(m->series, col), column(c->series, col)));
+      d.push_back(relative_rms_distance(column(c->series, col), column(m->series, col)));
     }
     t["N"].push_back(N);
     t["distance_mean"].push_back(mean_of(d));
@@ -233,7 +225,7 @@ void transient_vs_N(StudyReport& rep, const StudySpec& spec, const std::vector<S
 }
 
 // front_speeds: fig1 event times and speeds of the discrete model over seeds vs N.
-void fronts_vs_N(StudyReport& rep, const StudySpec& spec, const std::vector<StudyRun>& runs,
+void fronts_vs_N(StudyReport& rep, const StudySpec& spec, const std::vector<StudyRun>& runs, const std::vector<Scene>&,
                  const std::vector<std::vector<ModelResult>>& res) {
   struct Obs { const char* name; double Events::*field; bool alt; };
   const Obs obs[] = {{"t_star", &Events::t_star, false},          {"t_hat", &Events::t_hat, false},
@@ -275,7 +267,7 @@ void fronts_vs_N(StudyReport& rep, const StudySpec& spec, const std::vector<Stud
 }
 
 // fig2: transient front speed against sqrt(mu alpha/(eta kappa)), one group per varied parameter.
-void fig2(StudyReport& rep, const std::vector<StudyRun>& runs, const std::vector<Scene>& scenes,
+void fig2(StudyReport& rep, const StudySpec&, const std::vector<StudyRun>& runs, const std::vector<Scene>& scenes,
           const std::vector<std::vector<ModelResult>>& res) {
   std::map<std::string, Columns> groups;
   Columns all;
@@ -324,7 +316,7 @@ void fig2(StudyReport& rep, const std::vector<StudyRun>& runs, const std::vector
 }
 
 // front_spectrum: nucleated fronts of homogeneous loading vs sigma_d, against the solved branch.
-void spectrum(StudyReport& rep, const std::vector<StudyRun>& runs, const std::vector<Scene>& scenes,
+void spectrum(StudyReport& rep, const StudySpec&, const std::vector<StudyRun>& runs, const std::vector<Scene>& scenes,
               const std::vector<std::vector<ModelResult>>& res) {
   Columns t;
   double limit_started = nan, limit_failed = nan;  // lowest σ_d with a front; highest without
@@ -469,21 +461,43 @@ void steady_fronts(StudyReport& rep, const StudySpec& spec, const std::vector<St
   }
 }
 
+// The validity map (compare/validity.hpp) under the signature of every analysis.
+void validity_friction(StudyReport& rep, const StudySpec&, const std::vector<StudyRun>& runs,
+                       const std::vector<Scene>& scenes, const std::vector<std::vector<ModelResult>>& res) {
+  analyse_validity_friction(rep, runs, scenes, res);
+}
+void validity_fig1(StudyReport& rep, const StudySpec&, const std::vector<StudyRun>& runs,
+                   const std::vector<Scene>& scenes, const std::vector<std::vector<ModelResult>>& res) {
+  analyse_validity_fig1(rep, runs, scenes, res);
+}
+
+// Every study kind, in the order they are listed: adding a kind is adding a row.
+constexpr StudyKind study_kind_table[] = {
+    {"friction_law", "steady friction of the discrete model vs the continuum as contacts_per_site grows",
+     friction_law_vs_N},
+    {"threshold_width", "noise off: distance of the discrete steady law to the continuum vs the threshold width",
+     friction_law_vs_width},
+    {"transient_friction", "velocity_step / spring_block friction histories, discrete vs continuum, vs N", transient_vs_N},
+    {"front_speeds", "fig1 event times and front speeds of the discrete model over seeds vs N", fronts_vs_N},
+    {"fig2", "transient front speed vs sqrt(mu alpha/(eta kappa)), one group per varied parameter", fig2},
+    {"front_spectrum", "nucleated fronts of homogeneous loading vs sigma_d, against the solved branch", spectrum},
+    {"validity_friction",
+     "the validity map of the mean-field limit on the steady law: bias vs N, alpha, w; N* and its collapse",
+     validity_friction},
+    {"validity_fig1", "the validity map on fig1: the fraction of continuum-like runs vs N and alpha; N* and its collapse",
+     validity_fig1},
+    {"steady_fronts", "runs started from the solved steady front (kicked or not), both models, vs sigma_d and N",
+     steady_fronts},
+    {"runs", "no analysis: just run every point", nullptr}};
+
 }  // namespace
 
-const std::vector<std::pair<std::string, std::string>>& study_kinds() {
-  static const std::vector<std::pair<std::string, std::string>> k{
-      {"friction_law", "steady friction of the discrete model vs the continuum as contacts_per_site grows"},
-      {"threshold_width", "noise off: distance of the discrete steady law to the continuum vs the threshold width"},
-      {"transient_friction", "velocity_step / spring_block friction histories, discrete vs continuum, vs N"},
-      {"front_speeds", "fig1 event times and front speeds of the discrete model over seeds vs N"},
-      {"fig2", "transient front speed vs sqrt(mu alpha/(eta kappa)), one group per varied parameter"},
-      {"front_spectrum", "nucleated fronts of homogeneous loading vs sigma_d, against the solved branch"},
-      {"validity_friction", "the validity map of the mean-field limit on the steady law: bias vs N, alpha, w; N* and its collapse"},
-      {"validity_fig1", "the validity map on fig1: the fraction of continuum-like runs vs N and alpha; N* and its collapse"},
-      {"steady_fronts", "runs started from the solved steady front (kicked or not), both models, vs sigma_d and N"},
-      {"runs", "no analysis: just run every point"}};
-  return k;
+std::span<const StudyKind> study_kinds() { return study_kind_table; }
+
+const StudyKind* find_study_kind(std::string_view name) {
+  for (const StudyKind& k : study_kind_table)
+    if (k.name == name) return &k;
+  return nullptr;
 }
 
 std::vector<StudyRun> expand(const StudySpec& spec) {
@@ -535,16 +549,9 @@ StudyReport analyse_study(const StudySpec& spec, const std::vector<StudyRun>& ru
     for (const auto& m : results[i])
       if (m.status != RunStatus::complete)
         rep.notes.push_back("run " + runs[i].id + " (" + m.model + "): " + to_string(m.status) + " " + m.message);
-  if (spec.kind == "friction_law") friction_law_vs_N(rep, spec, runs, results);
-  else if (spec.kind == "threshold_width") friction_law_vs_width(rep, runs, scenes, results);
-  else if (spec.kind == "transient_friction") transient_vs_N(rep, spec, runs, scenes, results);
-  else if (spec.kind == "front_speeds") fronts_vs_N(rep, spec, runs, results);
-  else if (spec.kind == "fig2") fig2(rep, runs, scenes, results);
-  else if (spec.kind == "front_spectrum") spectrum(rep, runs, scenes, results);
-  else if (spec.kind == "steady_fronts") steady_fronts(rep, spec, runs, scenes, results);
-  else if (spec.kind == "validity_friction") analyse_validity_friction(rep, runs, scenes, results);
-  else if (spec.kind == "validity_fig1") analyse_validity_fig1(rep, runs, scenes, results);
-  else if (spec.kind != "runs") throw std::invalid_argument("unknown study kind '" + spec.kind + "'");
+  const StudyKind* kind = find_study_kind(spec.kind);
+  if (!kind) throw std::invalid_argument("unknown study kind '" + spec.kind + "'");
+  if (kind->analyse) kind->analyse(rep, spec, runs, scenes, results);
   return rep;
 }
 

@@ -4,7 +4,9 @@
 // independent scene run; the analysis of a study kind turns the runs' results into tables and
 // fitted rates, each with its definition. Nothing here reads or writes files.
 #include <map>
+#include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "compare/result.hpp"
@@ -39,9 +41,6 @@ struct StudyRun {
 
 std::vector<StudyRun> expand(const StudySpec& spec);
 
-/// The known study kinds and what each analyses.
-const std::vector<std::pair<std::string, std::string>>& study_kinds();
-
 /// What a study produced: tables of columns, scalars (fitted rates), a definition for every
 /// table column and scalar, and notes (findings, points that could not be measured).
 struct StudyReport {
@@ -50,6 +49,25 @@ struct StudyReport {
   std::map<std::string, std::string> definitions;  ///< "table/column" or scalar name -> definition
   std::vector<std::string> notes;
 };
+
+/// The analysis of one study kind: adds its tables, scalars, definitions and notes to `rep`
+/// (scenes[i], results[i] belong to runs[i]).
+using StudyAnalysis = void (*)(StudyReport& rep, const StudySpec& spec, const std::vector<StudyRun>& runs,
+                               const std::vector<Scene>& scenes, const std::vector<std::vector<ModelResult>>& results);
+
+/// One study kind: the name a study file gives as `kind`, what it analyses, and its analysis
+/// (nullptr: none, the kind "runs").
+struct StudyKind {
+  std::string_view name;
+  std::string_view description;
+  StudyAnalysis analyse = nullptr;
+};
+
+/// The known study kinds, in the order they are listed; analyse_study dispatches on the same table.
+std::span<const StudyKind> study_kinds();
+
+/// The kind called `name` (nullptr if there is none).
+const StudyKind* find_study_kind(std::string_view name);
 
 /// Analyse the results of every run (scenes[i], results[i] belong to runs[i]; one result per model).
 StudyReport analyse_study(const StudySpec& spec, const std::vector<StudyRun>& runs, const std::vector<Scene>& scenes,

@@ -1,0 +1,107 @@
+// The table of study kinds (issue 17): one row per kind gives its name, what it analyses and its
+// analysis; a study file is validated against it and analyse_study dispatches on it.
+#include <catch2/catch.hpp>
+
+#include <fstream>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "apps/config.hpp"
+#include "apps/study.hpp"
+#include "compare/study.hpp"
+#include "scenes.hpp"
+
+namespace fs = std::filesystem;
+using namespace slipfront;
+
+namespace {
+
+// A study file of kind `kind` on the minimal scene, written into `dir`.
+fs::path write_study(const fs::path& dir, const std::string& kind) {
+  std::ofstream(dir / "tiny.toml") << testing::minimal_config();
+  const fs::path study = dir / "study.toml";
+  std::ofstream(study) << "study = \"kinds\"\nkind = \"" << kind << "\"\nscene = \"tiny.toml\"\n";
+  return study;
+}
+
+// Everything a report holds, as text, to tell two reports apart.
+std::string digest(const compare::StudyReport& r) {
+  std::string s;
+  for (const auto& [name, columns] : r.tables) {
+    s += "table " + name + ":";
+    for (const auto& [column, values] : columns) s += " " + column + "[" + std::to_string(values.size()) + "]";
+    s += "\n";
+  }
+  for (const auto& [name, value] : r.scalars) s += "scalar " + name + "\n";
+  for (const auto& [name, text] : r.definitions) s += "definition " + name + ": " + text + "\n";
+  for (const auto& note : r.notes) s += "note " + note + "\n";
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("study kinds: one row per kind, named once, described, and only `runs` without an analysis",
+          "[study][kinds]") {
+  const auto kinds = compare::study_kinds();
+  REQUIRE(kinds.size() >= 2);
+  std::set<std::string> names;
+  for (const compare::StudyKind& k : kinds) {
+    INFO(k.name);
+    CHECK(!k.name.empty());
+    CHECK(!k.description.empty());
+    CHECK(names.insert(std::string(k.name)).second);
+    CHECK((k.analyse == nullptr) == (k.name == "runs"));
+    REQUIRE(compare::find_study_kind(k.name) == &k);
+  }
+  CHECK(names.count("runs") == 1);
+  CHECK(compare::find_study_kind("nope") == nullptr);
+  CHECK(compare::find_study_kind("") == nullptr);
+}
+
+TEST_CASE("study kinds: analyse_study runs each kind's own analysis, none for `runs`, and refuses an unknown kind",
+          "[study][kinds]") {
+  // An empty study: every analysis takes it (tables without rows, notes), and what analyse_study
+  // reports for a kind is exactly what the kind's row computes.
+  const std::vector<compare::StudyRun> runs;
+  const std::vector<compare::Scene> scenes;
+  const std::vector<std::vector<compare::ModelResult>> results;
+  std::set<std::string> reports;
+  for (const compare::StudyKind& k : compare::study_kinds()) {
+    INFO(k.name);
+    compare::StudySpec spec;
+    spec.name = "empty";
+    spec.kind = std::string(k.name);
+    compare::StudyReport expected;
+    if (k.analyse) k.analyse(expected, spec, runs, scenes, results);
+    compare::StudyReport report;
+    REQUIRE_NOTHROW(report = compare::analyse_study(spec, runs, scenes, results));
+    CHECK(digest(report) == digest(expected));
+    if (!k.analyse) CHECK(digest(report).empty());
+    if (k.analyse) CHECK(reports.insert(digest(report)).second);  // each row its own analysis
+  }
+  compare::StudySpec spec;
+  spec.kind = "nope";
+  CHECK_THROWS_AS(compare::analyse_study(spec, runs, scenes, results), std::invalid_argument);
+}
+
+TEST_CASE("study kinds: a study file is accepted with every kind of the table and refused with any other, naming "
+          "them all in table order",
+          "[study][kinds]") {
+  const testing::TempDir dir("study-kinds");
+  for (const compare::StudyKind& k : compare::study_kinds()) {
+    INFO(k.name);
+    CHECK(app::load_study(write_study(dir.path, std::string(k.name))).kind == k.name);
+  }
+  std::string list;
+  for (const compare::StudyKind& k : compare::study_kinds()) list += (list.empty() ? "" : ", ") + std::string(k.name);
+  try {
+    app::load_study(write_study(dir.path, "nope"));
+    FAIL("an unknown study kind was accepted");
+  } catch (const app::ConfigError& e) {
+    const std::string what = e.what();
+    CHECK(what.find("kind") != std::string::npos);
+    CHECK(what.find("unknown study kind 'nope' (known: " + list + ")") != std::string::npos);
+  }
+}

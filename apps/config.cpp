@@ -77,13 +77,10 @@ bool implicit_integrator(const Scene& s) {
   return !imposed(s) && s.time.integrator == core::Integrator::implicit_trapezoidal;
 }
 bool adaptive(const Scene& s) { return !imposed(s) && s.time.integrator == core::Integrator::adaptive_rosenbrock; }
-bool discrete_listed(const Scene& s) {
-  return std::find(s.models.begin(), s.models.end(), "discrete") != s.models.end();
-}
+bool discrete_listed(const Scene& s) { return s.lists("discrete"); }
 bool contact_statistics(const Scene& s) { return discrete_listed(s) && s.discrete.contact_statistics; }
 bool both_models_bulk(const Scene& s) {
-  return discrete_listed(s) && std::find(s.models.begin(), s.models.end(), "continuum") != s.models.end() &&
-         s.drive.loading != Loading::imposed_rate;
+  return s.lists("discrete") && s.lists("continuum") && s.drive.loading != Loading::imposed_rate;
 }
 
 // Pointer to member `M` of section `S` of a Scene, as a Target.

@@ -242,7 +242,6 @@ Comparison compare_results(const Scene& s, const ModelResult& c, const ModelResu
 }
 
 SceneResult run_scene_alongside(const Scene& s, const RunControl& ctl) {
-  const bool both = s.models.size() == 2 && s.models[0] != s.models[1];
   auto separately = [&] {
     // One model, 0D imposed-rate scenes (no bulk to share), or the adaptive continuum integrator (no
     // common step): the models run one after the other and are compared at the end (no field distances).
@@ -254,11 +253,11 @@ SceneResult run_scene_alongside(const Scene& s, const RunControl& ctl) {
     if (c && d) out.comparison = compare_results(s, *c, *d);
     return out;
   };
-  if (!both || s.drive.loading == core::Loading::imposed_rate) return separately();
+  if (!runs_in_lockstep(s)) return separately();
   return with_integrator(s, [&](auto tag) {
     using Tag = decltype(tag);
     if constexpr (std::is_same_v<Tag, AdaptiveTag>) {
-      return separately();
+      return separately();  // not reached: runs_in_lockstep excludes the adaptive integrator
     } else {
       return with_discrete_law(s, [&](auto make_discrete) {
         const core::Bulk probe(s.bulk, s.drive, s.interface, s.grid.dx);

@@ -5,7 +5,6 @@
 #include <cstdio>
 #include <thread>
 
-#include "compare/runner.hpp"
 #include "continuum/friction_law.hpp"
 #include "discrete/streams.hpp"
 
@@ -32,7 +31,6 @@ double samples(double t_end, double every, double steps) {
   return std::min(steps + 1.0, std::floor(t_end / every + 1e-9) + 1.0);
 }
 
-bool lists(const Scene& s, const char* model) { return std::find(s.models.begin(), s.models.end(), model) != s.models.end(); }
 
 std::string gib(double bytes) {
   char buf[48];
@@ -185,13 +183,6 @@ void put_grid(const Scene& s, Estimate& e) {
   }
 }
 
-// Whether the two models run in lockstep in one process (both listed, on a bulk scene with a common fixed
-// step: compare/alongside.cpp): then their states are held at once.
-bool lockstep(const Scene& s) {
-  return lists(s, "continuum") && lists(s, "discrete") && s.drive.loading != Loading::imposed_rate &&
-         s.time.integrator != Integrator::adaptive_rosenbrock;
-}
-
 // How a model steps: what the bulk costs per site-step (ns) and keeps per site (fields).
 struct Stepping {
   double fields_per_site = 0.0;
@@ -316,7 +307,7 @@ void put_memory(const Scene& s, Estimate& e, MemoryItems items) {
     state_max = std::max(state_max, m.state_bytes);
     state_sum += m.state_bytes;
   }
-  if (lockstep(s) && s.output.compare_dt > 0) {
+  if (runs_in_lockstep(s) && s.output.compare_dt > 0) {
     const double bytes = growth * 5.0 * word * samples(s.time.t_end, s.output.compare_dt, e.steps);
     records += bytes;
     items.emplace_back("field comparison (output.compare_dt)", bytes);
@@ -325,7 +316,7 @@ void put_memory(const Scene& s, Estimate& e, MemoryItems items) {
     if (what.find("tip samples") == std::string::npos && what.find(" and fields ") == std::string::npos)
       e.output_bytes += bytes / growth;
   items.emplace_back("results file image while writing", e.output_bytes);
-  const double run_phase = (lockstep(s) ? state_sum : state_max) + records;
+  const double run_phase = (runs_in_lockstep(s) ? state_sum : state_max) + records;
   const double write_phase = records + e.output_bytes;
   e.memory_bytes = base_bytes + std::max(run_phase, write_phase);
   std::sort(items.begin(), items.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
@@ -344,11 +335,11 @@ void put_notes(const Scene& s, Estimate& e) {
     e.notes.push_back("bulk.length = " + format_number(s.bulk.length) + " is shorter than 2 elastic lengths sqrt(mu/alpha) = " +
                       format_number(2.0 * e.elastic_length) +
                       ": fronts have no room to run and t* departs from the half-line formula of docs/model.md §1");
-  if (s.output.ages && lists(s, "discrete") && s.discrete.representation != "agent")
+  if (s.output.ages && s.lists("discrete") && s.discrete.representation != "agent")
     e.notes.push_back("output.ages: the " + s.discrete.representation +
                       " representation carries no contact age: ages are written for the continuum model only "
                       "(discrete.representation = \"agent\" carries them)");
-  if (lists(s, "discrete") && s.discrete.representation == "count" && s.discrete.threads > 1) {
+  if (s.lists("discrete") && s.discrete.representation == "count" && s.discrete.threads > 1) {
     const unsigned hw = std::thread::hardware_concurrency();
     if (hw > 0 && static_cast<unsigned>(s.discrete.threads) > hw)
       e.notes.push_back("discrete.threads = " + std::to_string(s.discrete.threads) + " is more than the " +

@@ -27,9 +27,6 @@
 
 namespace slipfront::compare {
 
-/// Slip-rate grid of an imposed-rate sweep (log spaced, docs/model.md §4 friction_law).
-std::vector<double> sweep_rates(const core::DriveParams& d);
-
 /// Steady friction at imposed v (docs/model.md §3): run one site for t_end + slip_end/|v| in `steps`
 /// exact steps and average σ = σ̄ + ηv over the last (1 − average_from) of the run by batch means.
 struct SteadyPoint {

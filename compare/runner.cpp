@@ -10,8 +10,7 @@
 namespace slipfront::compare {
 
 ContactPredictionSetup contact_prediction_for(const Scene& s, std::string_view model) {
-  const bool discrete = std::find(s.models.begin(), s.models.end(), "discrete") != s.models.end();
-  const bool agent_statistics = discrete && s.discrete.contact_statistics && s.discrete.representation != "count";
+  const bool agent_statistics = s.lists("discrete") && s.discrete.contact_statistics && s.discrete.representation != "count";
   ContactPredictionSetup setup;
   if (model == "continuum" && agent_statistics && s.time.integrator != core::Integrator::adaptive_rosenbrock)
     setup.mode = ContactPredictionSetup::Mode::on;

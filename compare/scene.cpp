@@ -1,6 +1,7 @@
 #include "compare/scene.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "core/bulk.hpp"
 #include "core/implicit.hpp"
@@ -57,8 +58,8 @@ void Scene::validate() const {
   measure.validate();
   output.validate();
   limits.validate();
-  const bool continuum_runs = std::find(models.begin(), models.end(), "continuum") != models.end();
-  const bool discrete_runs = std::find(models.begin(), models.end(), "discrete") != models.end();
+  const bool continuum_runs = lists("continuum");
+  const bool discrete_runs = lists("discrete");
   if (discrete_runs) discrete.validate();
   // (scene rules, not DiscreteParams::validate, which every law's constructor runs on its own parameters)
   if (discrete_runs && discrete.contact_statistics && discrete.representation == "count")  // would record nothing
@@ -102,6 +103,21 @@ void Scene::validate() const {
                                       " of this grid (use time.cfl <= 1, a smaller dt, or time.integrator = \"implicit\")");
   }
   check_limits(*this, estimate(*this));
+}
+
+bool Scene::lists(std::string_view model) const { return std::find(models.begin(), models.end(), model) != models.end(); }
+
+bool runs_in_lockstep(const Scene& s) {
+  return s.lists("continuum") && s.lists("discrete") && s.drive.loading != core::Loading::imposed_rate &&
+         s.time.integrator != core::Integrator::adaptive_rosenbrock;
+}
+
+std::vector<double> sweep_rates(const core::DriveParams& d) {
+  std::vector<double> v(static_cast<std::size_t>(d.sweep_points));
+  const double a = std::log(d.v_min), b = std::log(d.v_max);
+  for (std::size_t k = 0; k < v.size(); ++k)
+    v[k] = std::exp(a + (b - a) * static_cast<double>(k) / static_cast<double>(v.size() - 1));
+  return v;
 }
 
 }  // namespace slipfront::compare

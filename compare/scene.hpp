@@ -45,10 +45,20 @@ struct Scene {
   core::OutputParams output;
   discrete::DiscreteParams discrete;
   LimitParams limits;
+  /// Whether `model` ("continuum", "discrete") is one of the models to run.
+  bool lists(std::string_view model) const;
   /// Validate everything (throws core::ParamError naming the key): every value in its domain,
   /// the rules between keys, then the cost estimate against the limits and the grid's resolution
   /// (compare::estimate, compare::check_limits).
   void validate() const;
 };
+
+/// Slip-rate grid of an imposed-rate sweep (log spaced, docs/model.md §4 friction_law).
+std::vector<double> sweep_rates(const core::DriveParams& d);
+
+/// Whether the scene's two models run in lockstep in one process (compare/alongside.hpp): both listed,
+/// on a bulk scene, with a common fixed step (not the adaptive integrator). Then their states are held
+/// at once (the estimate) and their fields compared as they go.
+bool runs_in_lockstep(const Scene& s);
 
 }  // namespace slipfront::compare

@@ -91,7 +91,7 @@ Loading loading_from_string(const std::string& s);  // throws ParamError("drive.
 bool is_one_dimensional(Loading l);
 
 /// The time integrator of a bulk scene (config key time.integrator), chosen in one place:
-/// compare::with_stepper (compare/runner.hpp) maps it to the stepper class.
+/// compare::with_integrator (compare/dispatch.hpp) maps it to the stepper class.
 enum class Integrator {
   central_difference,    ///< "explicit": the reference central-difference scheme, steps of cfl × the stability limit
   implicit_trapezoidal,  ///< "implicit": fixed step time.dt chosen by accuracy, both models (core/implicit.hpp)

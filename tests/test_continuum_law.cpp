@@ -298,7 +298,7 @@ TEST_CASE("continuum law: strengthening_branch_velocity: sigma_ss(v) = sigma_d w
 
 TEST_CASE("continuum law: the friction_law scene reports v_m and sigma_c^d from its golden-section search",
           "[continuum]") {
-  // The sweep's own search (compare/runner.hpp) on the computed steady law: v_m = (sqrt(ακ/η) − 1)/κ
+  // The sweep's own search (compare/imposed_rate.hpp) on the computed steady law: v_m = (sqrt(ακ/η) − 1)/κ
   // and σ_c^d = 2 sqrt(αη/κ) − η/κ to 1e-6 relative (the search stops at 1e-7 in log v; σ is flat there).
   compare::Scene s;
   s.drive.loading = core::Loading::imposed_rate;

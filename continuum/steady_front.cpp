@@ -388,8 +388,9 @@ double domain_length(const Model& m, const SteadyFrontOptions& o, double c, doub
   return o.tip_length * c / (1.0 + m.kappa * yb[0]) + o.decay_lengths / slowest;
 }
 
-// Post-processing of a converged iterate: fields, u, diagnostics, admissibility, tail modes.
-void finish(const Model& m, const Collocation& col, const Eigen::VectorXd& x, SteadyFront& f) {
+// The converged iterate x into f: speed, tip and far-behind states, the profiles (v, A, σ̄) on the
+// mesh. Returns the sliding state behind, y_b.
+Vec3 store_solution(const Model& m, const Collocation& col, const Eigen::VectorXd& x, SteadyFront& f) {
   const auto& xi = col.xi();
   const int n = col.nodes();
   const double c = col.c_of(x), sd = col.sigma_of(x);
@@ -416,27 +417,45 @@ void finish(const Model& m, const Collocation& col, const Eigen::VectorXd& x, St
     f.area[static_cast<std::size_t>(i)] = y[1];
     f.sigma_bar[static_cast<std::size_t>(i)] = y[2];
   }
-  // u: σ̄ = α u at the tip (stuck convention); U' = −v/c integrated exactly on the cubic Hermite
-  // interpolant of v (the collocation polynomial): ∫ v = h (v_i + v_{i+1})/2 + h² (v'_i − v'_{i+1})/12.
-  f.slip.back() = st.sigma_bar_tip / m.alpha;
-  for (int i = n - 1; i-- > 0;) {
+  return yb;
+}
+
+// u: σ̄ = α u at the tip (stuck convention); U' = −v/c integrated exactly on the cubic Hermite
+// interpolant of v (the collocation polynomial): ∫ v = h (v_i + v_{i+1})/2 + h² (v'_i − v'_{i+1})/12.
+void integrate_slip(const Model& m, const Collocation& col, const Eigen::VectorXd& x, SteadyFront& f) {
+  const auto& xi = col.xi();
+  const double c = col.c_of(x), sd = col.sigma_of(x);
+  f.slip.back() = f.sigma_bar_tip / m.alpha;
+  for (int i = col.nodes() - 1; i-- > 0;) {
     const auto a = static_cast<std::size_t>(i), b = a + 1;
     const double h = xi[b] - xi[a];
     const double da = rhs(m, col.y(x, i), c, sd).f[0], db = rhs(m, col.y(x, i + 1), c, sd).f[0];
     const double integral = h * 0.5 * (f.slip_rate[a] + f.slip_rate[b]) + h * h * (da - db) / 12.0;
     f.slip[a] = f.slip[b] + integral / c;
   }
-  // Admissibility: Θ = 1 behind the tip needs |σ|/A > 1 there. |σ|/A − 1 vanishes at the tip and
-  // grows behind it; what matters is its interior minima and its far value.
-  std::vector<double> g(xi.size());
-  for (std::size_t i = 0; i < xi.size(); ++i)
+}
+
+// Admissibility: Θ = 1 behind the tip needs |σ|/A > 1 there. |σ|/A − 1 vanishes at the tip and
+// grows behind it; what matters is its interior minima and its far value (returned: their minimum).
+double overstress_margin(const Model& m, const SteadyFront& f) {
+  const std::size_t n = f.xi.size();
+  std::vector<double> g(n);
+  for (std::size_t i = 0; i < n; ++i)
     g[i] = std::abs(f.sigma_bar[i] + m.eta * f.slip_rate[i]) / f.area[i] - 1.0;
   double margin = g.front();
-  for (std::size_t i = 1; i + 2 < xi.size(); ++i)
+  for (std::size_t i = 1; i + 2 < n; ++i)
     if (g[i] <= g[i - 1] && g[i] <= g[i + 1]) margin = std::min(margin, g[i]);
-  f.overstress_margin = margin;
-  f.min_slip_rate = *std::min_element(f.slip_rate.begin(), f.slip_rate.end());
+  return margin;
+}
 
+// The modes of the sliding state behind (forward ξ): its eigenvalues and decaying eigenvalue into f,
+// and, when it is a saddle (one decaying mode, the null mode at σ_c^d counted as one, and two growing),
+// the tail y(−L) − y_b = Σ d_k r_k over the eigenvectors (d_stable = 0 by the projection condition).
+struct ModeCount {
+  int decaying = 0, growing = 0;
+};
+ModeCount behind_modes(const Model& m, const Collocation& col, const Eigen::VectorXd& x, const Vec3& yb, SteadyFront& f) {
+  const double c = col.c_of(x), sd = col.sigma_of(x);
   const Mat3 Jb = behind_jacobian(m, yb, c, sd);
   const Eigen::EigenSolver<Mat3> es(Jb, true);
   int negative = 0, positive = 0, stable_index = -1;
@@ -451,7 +470,6 @@ void finish(const Model& m, const Collocation& col, const Eigen::VectorXd& x, St
     }
   }
   f.stable_eigenvalue = stable_mode(m, yb, c).lambda;
-  // Tail: y(−L) − y_b = Σ d_k r_k over the eigenvectors (d_stable = 0 by the projection condition).
   if (negative == 1 && positive == 2) {
     const Eigen::Matrix3cd R = es.eigenvectors();
     const Eigen::Vector3cd d = R.partialPivLu().solve((col.y(x, 0) - yb).cast<std::complex<double>>());
@@ -463,20 +481,36 @@ void finish(const Model& m, const Collocation& col, const Eigen::VectorXd& x, St
       ++j;
     }
   }
+  return {negative, positive};
+}
 
+// The status of a converged iterate: a front only if the sliding state behind is a saddle, v > 0 and
+// |σ|/A > 1 behind the tip (docs/fronts.md §4), with the first violated condition as the reason.
+void classify(const ModeCount& modes, SteadyFront& f) {
   f.status = FrontStatus::converged;
   f.reason.clear();
-  if (negative != 1 || positive != 2) {
+  if (modes.decaying != 1 || modes.growing != 2) {
     f.status = FrontStatus::not_a_saddle;
-    f.reason = "the sliding state behind has " + std::to_string(negative) + " decaying and " +
-               std::to_string(positive) + " growing modes (need 1 and 2)";
+    f.reason = "the sliding state behind has " + std::to_string(modes.decaying) + " decaying and " +
+               std::to_string(modes.growing) + " growing modes (need 1 and 2)";
   } else if (f.min_slip_rate <= 0.0) {
     f.status = FrontStatus::reverse_slip;
     f.reason = "v <= 0 behind the tip (min v = " + core::format_number(f.min_slip_rate) + ")";
-  } else if (margin <= 0.0) {
+  } else if (f.overstress_margin <= 0.0) {
     f.status = FrontStatus::resticks;
-    f.reason = "|sigma|/A - 1 <= 0 behind the tip (min " + core::format_number(margin) + "): Theta = 1 violated";
+    f.reason = "|sigma|/A - 1 <= 0 behind the tip (min " + core::format_number(f.overstress_margin) +
+               "): Theta = 1 violated";
   }
+}
+
+// Post-processing of a converged iterate: fields, u, diagnostics, admissibility, tail modes.
+void finish(const Model& m, const Collocation& col, const Eigen::VectorXd& x, SteadyFront& f) {
+  const Vec3 yb = store_solution(m, col, x, f);  // c, tip and far-behind states, profiles
+  integrate_slip(m, col, x, f);                  // u
+  f.overstress_margin = overstress_margin(m, f);
+  f.min_slip_rate = *std::min_element(f.slip_rate.begin(), f.slip_rate.end());
+  const ModeCount modes = behind_modes(m, col, x, yb, f);  // eigenvalues behind, tail beyond −L
+  classify(modes, f);                                      // converged, or why not a front
 }
 
 SteadyFront empty_front(const Model& m, double sigma_d) {

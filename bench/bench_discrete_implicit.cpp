@@ -123,25 +123,34 @@ struct Row {
   std::vector<double> t_hat, c_tr, walls;
 };
 
-}  // namespace
+// --- the stages of main ----------------------------------------------------------------------------
 
-int main(int argc, char** argv) {
-  std::string csv;
+struct Options {
+  std::string csv;              ///< --csv FILE (none when empty)
+  int seeds = 0;                ///< discrete seeds 1..seeds per integrator
+  std::vector<double> dts;      ///< the implicit steps
+};
+
+// The command line (--csv) and the environment (SLIPFRONT_BENCH_QUICK, _SEEDS, _DTS).
+Options parse_options(int argc, char** argv) {
+  Options o;
   for (int i = 1; i + 1 < argc; ++i)
-    if (std::strcmp(argv[i], "--csv") == 0) csv = argv[i + 1];
-  const int seeds = quick() ? 3 : (std::getenv("SLIPFRONT_BENCH_SEEDS") ? std::atoi(std::getenv("SLIPFRONT_BENCH_SEEDS")) : 12);
-  std::vector<double> dts{0.01, 0.02, 0.05};
+    if (std::strcmp(argv[i], "--csv") == 0) o.csv = argv[i + 1];
+  o.seeds = quick() ? 3 : (std::getenv("SLIPFRONT_BENCH_SEEDS") ? std::atoi(std::getenv("SLIPFRONT_BENCH_SEEDS")) : 12);
+  o.dts = {0.01, 0.02, 0.05};
   if (const char* e = std::getenv("SLIPFRONT_BENCH_DTS")) {  // e.g. "0.0014,0.005"
-    dts.clear();
+    o.dts.clear();
     for (const char* p = e; *p;) {
       char* end = nullptr;
-      dts.push_back(std::strtod(p, &end));
+      o.dts.push_back(std::strtod(p, &end));
       p = *end ? end + 1 : end;
     }
   }
-  std::vector<Row> rows;
+  return o;
+}
 
-  // Continuum rows: minimum wall over 3 repetitions.
+// Continuum rows (adaptive rtol 1e-2, explicit, implicit at each dt): minimum wall over 3 repetitions.
+void run_continuum(const Options& o, std::vector<Row>& rows) {
   auto continuum = [&](const std::string& integ, double dt) {
     Row r{"continuum", integ, dt, 1e30, {}, {}, {}};
     for (int k = 0; k < 3; ++k) {
@@ -158,12 +167,14 @@ int main(int argc, char** argv) {
   };
   continuum("adaptive", 0);
   continuum("explicit", 0);
-  for (double dt : dts) continuum("implicit", dt);
+  for (double dt : o.dts) continuum("implicit", dt);
+}
 
-  // Discrete rows: the same seeds 1..S for every integrator.
+// Discrete rows (count, explicit and implicit at each dt): the same seeds 1..S for every integrator.
+void run_count(const Options& o, std::vector<Row>& rows) {
   auto discrete = [&](const std::string& integ, double dt) {
     Row r{"count N=" + std::to_string(contacts()), integ, dt, 0, {}, {}, {}};
-    for (int k = 1; k <= seeds; ++k) {
+    for (int k = 1; k <= o.seeds; ++k) {
       const auto m = run(fig1(integ, dt), "discrete", static_cast<unsigned>(k));
       r.walls.push_back(m.wall_seconds);
       r.t_hat.push_back(m.events.t_hat);
@@ -175,19 +186,24 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "count %s dt %g: %.3f s per run\n", integ.c_str(), r.dt, r.wall);
   };
   discrete("explicit", 0);
-  for (double dt : dts) discrete("implicit", dt);
+  for (double dt : o.dts) discrete("implicit", dt);
+}
 
-  const Row& adaptive = rows[0];
-  const Row& explicit_c = rows[1];
-  const Row& explicit_d = rows[2 + dts.size()];
-  auto continuum_at = [&](const Row& d) -> const Row& {
-    for (const auto& r : rows)
-      if (r.model == "continuum" && r.integrator == d.integrator && (d.integrator != "implicit" || r.dt == d.dt)) return r;
-    return explicit_c;
-  };
+// The rows the others are measured against.
+struct Baselines {
+  const Row& adaptive;    ///< continuum, adaptive rtol 1e-2
+  const Row& explicit_c;  ///< continuum, explicit
+  const Row& explicit_d;  ///< count, explicit
+};
 
+// The table: per row its wall, t^ and c_transient statistics, the shift against the explicit runs,
+// and the wall against the continuum's adaptive one.
+void print_table(const std::vector<Row>& rows, const Baselines& base, const Options& o) {
+  const Row& adaptive = base.adaptive;
+  const Row& explicit_c = base.explicit_c;
+  const Row& explicit_d = base.explicit_d;
   std::printf("fig1 (t_end = %g), count representation N = %ld, w = 0, %d seeds; continuum walls: min of 3\n",
-              fig1("explicit", 0).time.t_end, contacts(), seeds);
+              fig1("explicit", 0).time.t_end, contacts(), o.seeds);
   std::printf("(discrete: mean +- standard error over seeds with a transient, median, runs with no transient before\n"
               " t_end; 'shift' = the continuum's error against the explicit reference, or for the discrete rows the\n"
               " Mann-Whitney z of the implicit runs against the explicit runs (|z| > 2.6: 1%% two-sided false alarm))\n");
@@ -210,22 +226,47 @@ int main(int argc, char** argv) {
   }
   std::printf("(* beyond the implicit accuracy guard, docs/robustness.md section 7: run with "
               "time.implicit_resolution_check = false)\n");
+}
+
+// The count representation's wall against the continuum: adaptive, the same integrator at the same
+// dt, explicit.
+void print_ratios(const std::vector<Row>& rows, const Baselines& base) {
+  auto continuum_at = [&](const Row& d) -> const Row& {
+    for (const auto& r : rows)
+      if (r.model == "continuum" && r.integrator == d.integrator && (d.integrator != "implicit" || r.dt == d.dt)) return r;
+    return base.explicit_c;
+  };
   std::printf("\nratios of the count representation (N = %ld) to the continuum, wall time:\n", contacts());
   for (const auto& r : rows) {
     if (r.model == "continuum") continue;
     const Row& same = continuum_at(r);
     std::printf("  count %-8s dt %-7.4g: %6.2fx continuum adaptive (rtol 1e-2), %6.2fx continuum %s at the same dt, "
                 "%6.2fx continuum explicit\n",
-                r.integrator.c_str(), r.dt, r.wall / adaptive.wall, r.wall / same.wall, same.integrator.c_str(),
-                r.wall / explicit_c.wall);
+                r.integrator.c_str(), r.dt, r.wall / base.adaptive.wall, r.wall / same.wall, same.integrator.c_str(),
+                r.wall / base.explicit_c.wall);
   }
-  if (!csv.empty()) {
-    std::ofstream out(csv);
-    out << "model,integrator,dt,seed,wall,t_hat,c_transient\n";
-    for (const auto& r : rows)
-      for (std::size_t k = 0; k < r.t_hat.size(); ++k)
-        out << r.model << ',' << r.integrator << ',' << r.dt << ',' << (r.model == "continuum" ? 0 : k + 1) << ','
-            << (r.walls.empty() ? r.wall : r.walls[k]) << ',' << r.t_hat[k] << ',' << r.c_tr[k] << '\n';
-  }
+}
+
+// The CSV: one line per run (continuum rows: the first repetition, seed 0).
+void write_csv(const std::string& csv, const std::vector<Row>& rows) {
+  std::ofstream out(csv);
+  out << "model,integrator,dt,seed,wall,t_hat,c_transient\n";
+  for (const auto& r : rows)
+    for (std::size_t k = 0; k < r.t_hat.size(); ++k)
+      out << r.model << ',' << r.integrator << ',' << r.dt << ',' << (r.model == "continuum" ? 0 : k + 1) << ','
+          << (r.walls.empty() ? r.wall : r.walls[k]) << ',' << r.t_hat[k] << ',' << r.c_tr[k] << '\n';
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const Options o = parse_options(argc, argv);
+  std::vector<Row> rows;
+  run_continuum(o, rows);  // rows[0] adaptive, rows[1] explicit, then implicit at each dt
+  run_count(o, rows);      // rows[2 + dts] explicit, then implicit at each dt
+  const Baselines base{rows[0], rows[1], rows[2 + o.dts.size()]};
+  print_table(rows, base, o);
+  print_ratios(rows, base);
+  if (!o.csv.empty()) write_csv(o.csv, rows);
   return 0;
 }

@@ -101,18 +101,21 @@ struct Row {
   std::vector<double> wall, err1, err2;  // per seed; friction_law: err1 = RMS rel. error, err2 unused
 };
 
-}  // namespace
+// --- the stages of main ----------------------------------------------------------------------------
 
-int main(int argc, char** argv) {
+// --csv FILE: where to write the per-seed CSV (none when absent).
+std::string csv_option(int argc, char** argv) {
   std::string csv;
   for (int i = 1; i + 1 < argc; ++i)
     if (std::strcmp(argv[i], "--csv") == 0) csv = argv[i + 1];
-  const int S = seeds();
-  std::vector<Row> rows;
+  return csv;
+}
 
-  // --- friction_law ---------------------------------------------------------------------------
+// friction_law: the continuum (the closed form to 1e-13), then each representation at each N over seeds
+// 1..S, error = RMS over the rates of (σ − σ_ss)/σ_ss. Appends its rows; returns the continuum run.
+compare::ModelResult run_friction_law(int S, std::vector<Row>& rows) {
   const compare::Scene fl = friction_law();
-  const auto fl_c = run(fl, "continuum");
+  auto fl_c = run(fl, "continuum");
   std::fprintf(stderr, "friction_law continuum: %.3f s\n", fl_c.wall_seconds);
   struct Case {
     const char* rep;
@@ -138,10 +141,14 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "friction_law %s N=%ld: %.3f s\n", c.rep, n, mean_se(r.wall).mean);
       rows.push_back(std::move(r));
     }
+  return fl_c;
+}
 
-  // --- fig1 -----------------------------------------------------------------------------------
+// fig1: the continuum on the explicit scheme, then each representation and integrator at each N over
+// its seeds, errors of t^ and c_transient against the continuum. Appends its rows; returns the continuum run.
+compare::ModelResult run_fig1(int S, std::vector<Row>& rows) {
   const compare::Scene f1 = fig1();
-  const auto f1_c = run(f1, "continuum");
+  auto f1_c = run(f1, "continuum");
   const double th = f1_c.events.t_hat, ct = f1_c.events.c_transient;
   std::fprintf(stderr, "fig1 continuum: %.3f s, t_hat %.4f, c_transient %.4f\n", f1_c.wall_seconds, th, ct);
   struct Case1 {
@@ -172,11 +179,14 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "fig1 %s %s N=%ld: %.3f s\n", c.rep, c.integrator, n, mean_se(r.wall).mean);
       rows.push_back(std::move(r));
     }
+  return f1_c;
+}
 
-  // --- table ----------------------------------------------------------------------------------
+// The table: per case the mean wall and errors with their standard errors, and the wall against the continuum's.
+void print_table(const std::vector<Row>& rows, int S, const compare::ModelResult& fl_c, const compare::ModelResult& f1_c) {
   std::printf("discrete work-precision, w = 0, noise on, seeds 1..%d per case (naive fig1 N = 1000: seed 1)\n", S);
   std::printf("continuum: friction_law %.3f s (closed form to 1e-13); fig1 explicit %.3f s, t_hat %.4f, c_transient %.4f\n\n",
-              fl_c.wall_seconds, f1_c.wall_seconds, th, ct);
+              fl_c.wall_seconds, f1_c.wall_seconds, f1_c.events.t_hat, f1_c.events.c_transient);
   std::printf("%-13s %-6s %-9s %7s %5s %9s %10s %9s %10s %9s %8s\n", "scene", "repr", "integ", "N", "seeds", "wall [s]",
               "err 1", "+-se", "err 2", "+-se", "/contin.");
   for (const auto& r : rows) {
@@ -194,20 +204,39 @@ int main(int argc, char** argv) {
   }
   std::printf("\nerr 1: friction_law RMS_v |sigma - sigma_ss|/sigma_ss; fig1 |t_hat - t_hat_c|/t_hat_c. err 2: fig1 "
               "|c_tr - c_tr_c|/c_tr_c (1 when no transient).\n");
-  // Representation ratios at equal N (same scene, same seeds): the agent's event-driven cost against
-  // the naive visit of every contact.
+}
+
+// Representation ratios at equal N (same scene, same seeds): the agent's event-driven cost against
+// the naive visit of every contact.
+void print_ratios(const std::vector<Row>& rows) {
   for (const auto& a : rows)
     for (const auto& b : rows)
       if (a.scene == b.scene && a.n == b.n && a.rep == "agent" && b.rep == "naive" && a.integrator == b.integrator)
         std::printf("%s N=%ld: naive / agent wall = %.1f\n", a.scene.c_str(), a.n, mean_se(b.wall).mean / mean_se(a.wall).mean);
-  if (!csv.empty()) {
-    std::ofstream out(csv);
-    out << "scene,representation,integrator,N,seed,wall,err1,err2,continuum_wall\n";
-    for (const auto& r : rows)
-      for (std::size_t k = 0; k < r.wall.size(); ++k)
-        out << r.scene << ',' << r.rep << ',' << r.integrator << ',' << r.n << ',' << k + 1 << ',' << r.wall[k] << ','
-            << r.err1[k] << ',' << (r.err2.empty() ? NAN : r.err2[k]) << ','
-            << (r.scene == "fig1" ? f1_c.wall_seconds : fl_c.wall_seconds) << '\n';
-  }
+}
+
+// The CSV for scripts/plot_discrete_work_precision.py: one line per run (case and seed).
+void write_csv(const std::string& csv, const std::vector<Row>& rows, const compare::ModelResult& fl_c,
+               const compare::ModelResult& f1_c) {
+  std::ofstream out(csv);
+  out << "scene,representation,integrator,N,seed,wall,err1,err2,continuum_wall\n";
+  for (const auto& r : rows)
+    for (std::size_t k = 0; k < r.wall.size(); ++k)
+      out << r.scene << ',' << r.rep << ',' << r.integrator << ',' << r.n << ',' << k + 1 << ',' << r.wall[k] << ','
+          << r.err1[k] << ',' << (r.err2.empty() ? NAN : r.err2[k]) << ','
+          << (r.scene == "fig1" ? f1_c.wall_seconds : fl_c.wall_seconds) << '\n';
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::string csv = csv_option(argc, argv);
+  const int S = seeds();
+  std::vector<Row> rows;
+  const auto fl_c = run_friction_law(S, rows);  // the continuum, then the cases
+  const auto f1_c = run_fig1(S, rows);
+  print_table(rows, S, fl_c, f1_c);
+  print_ratios(rows);
+  if (!csv.empty()) write_csv(csv, rows, fl_c, f1_c);
   return 0;
 }

@@ -81,27 +81,33 @@ Timed best(const compare::Scene& s, const std::string& model, const std::string&
 
 double rel(double d, double c) { return std::abs(d - c) / std::abs(c); }
 
-}  // namespace
+// --- the stages of main ----------------------------------------------------------------------------
 
-int main() {
+// The point sets: full, or shrunken with SLIPFRONT_BENCH_QUICK=1 (smoke test).
+struct Sets {
+  bool quick;
+  double t_scale;               ///< t_end of part 1
+  std::vector<double> lengths;  ///< part 1a
+  std::vector<long> ns_count, ns_agent, ns_naive;  ///< part 1b
+};
+Sets choose_sets() {
   const char* q = std::getenv("SLIPFRONT_BENCH_QUICK");
   const bool quick = q && std::string(q) == "1";
-  const double t_scale = quick ? 10.0 : 30.0;
-  const std::vector<double> lengths = quick ? std::vector<double>{75, 150, 300} : std::vector<double>{75, 150, 300, 600, 1200};
-  const std::vector<long> ns_count = quick ? std::vector<long>{100, 1000, 10000} : std::vector<long>{100, 1000, 10000, 100000};
-  const std::vector<long> ns_agent = quick ? std::vector<long>{100, 1000, 10000} : std::vector<long>{100, 1000, 10000};
-  const std::vector<long> ns_naive = quick ? std::vector<long>{100} : std::vector<long>{100, 1000};
+  return {quick,
+          quick ? 10.0 : 30.0,
+          quick ? std::vector<double>{75, 150, 300} : std::vector<double>{75, 150, 300, 600, 1200},
+          quick ? std::vector<long>{100, 1000, 10000} : std::vector<long>{100, 1000, 10000, 100000},
+          quick ? std::vector<long>{100, 1000, 10000} : std::vector<long>{100, 1000, 10000},
+          quick ? std::vector<long>{100} : std::vector<long>{100, 1000}};
+}
 
-  std::printf("bench_scaling%s: wall time (std::chrono::steady_clock), 1 thread;\n"
-              "part 1: best of up to 3 runs per point (repeated while a run takes < 2 s), part 2: one run\n\n",
-              quick ? " (SLIPFRONT_BENCH_QUICK=1)" : "");
-
-  // 1a. cost vs number of nodes.
-  std::printf("1a. fig1, t_end = %g, dx = 0.5: wall time vs number of nodes\n", t_scale);
+// 1a. cost vs number of nodes: the continuum (explicit) and the count representation (N = 1000).
+void scaling_with_nodes(const Sets& sets) {
+  std::printf("1a. fig1, t_end = %g, dx = 0.5: wall time vs number of nodes\n", sets.t_scale);
   std::printf("  %7s %6s %12s %12s\n", "L", "nodes", "continuum s", "count1000 s");
   std::vector<double> nn, wc, wd;
-  for (double L : lengths) {
-    const auto s = fig1(L, t_scale);
+  for (double L : sets.lengths) {
+    const auto s = fig1(L, sets.t_scale);
     const auto c = best(s, "continuum");
     const auto d = best(s, "discrete", "count", 1000);
     nn.push_back(static_cast<double>(nodes(s)));
@@ -112,14 +118,16 @@ int main() {
   }
   print_fit("continuum vs nodes", nn, wc);
   print_fit("discrete count N=1000 vs nodes", nn, wd);
+}
 
-  // 1b. cost vs N.
-  std::printf("\n1b. fig1, L = 300, t_end = %g: wall time vs contacts per site N\n", t_scale);
+// 1b. cost vs N (L = 300): the count, agent and naive representations.
+void scaling_with_contacts(const Sets& sets) {
+  std::printf("\n1b. fig1, L = 300, t_end = %g: wall time vs contacts per site N\n", sets.t_scale);
   std::printf("  %-8s %8s %10s\n", "repr", "N", "wall s");
-  const auto s1b = fig1(300, t_scale);
+  const auto s1b = fig1(300, sets.t_scale);
   struct Series { const char* rep; const std::vector<long>* ns; };
   std::vector<std::pair<std::string, std::pair<std::vector<double>, std::vector<double>>>> fits;
-  for (const Series& se : {Series{"count", &ns_count}, Series{"agent", &ns_agent}, Series{"naive", &ns_naive}}) {
+  for (const Series& se : {Series{"count", &sets.ns_count}, Series{"agent", &sets.ns_agent}, Series{"naive", &sets.ns_naive}}) {
     std::vector<double> x, y;
     for (long n : *se.ns) {
       const auto d = best(s1b, "discrete", se.rep, n);
@@ -131,8 +139,10 @@ int main() {
     fits.push_back({se.rep, {x, y}});
   }
   for (const auto& [rep, xy] : fits) print_fit((rep + " vs N").c_str(), xy.first, xy.second);
+}
 
-  // 2. discrete error vs wall time on the full fig1.
+// 2. discrete error vs wall time on the full fig1, against the continuum run made here.
+void error_vs_wall(const Sets& sets) {
   const double t_full = 140.0;
   std::printf("\n2. fig1, L = 300, t_end = %g, seed 1: discrete error vs wall time (reference: continuum, explicit)\n", t_full);
   const auto s2 = fig1(300, t_full);
@@ -143,14 +153,26 @@ int main() {
               "0 (ref)", "0 (ref)", th, ct);
   std::fflush(stdout);
   struct Case { const char* rep; long n; };
-  const std::vector<Case> cases = quick ? std::vector<Case>{{"count", 1000}, {"agent", 1000}}
-                                        : std::vector<Case>{{"count", 1000}, {"count", 10000}, {"count", 100000},
-                                                            {"agent", 1000}, {"agent", 10000}};
+  const std::vector<Case> cases = sets.quick ? std::vector<Case>{{"count", 1000}, {"agent", 1000}}
+                                             : std::vector<Case>{{"count", 1000}, {"count", 10000}, {"count", 100000},
+                                                                 {"agent", 1000}, {"agent", 10000}};
   for (const Case& c : cases) {
     const auto d = run(s2, "discrete", c.rep, c.n);
     std::printf("  %-10s %-6s %7ld %9.3f %14.3e %20.3e\n", "discrete", c.rep, c.n, d.wall, rel(d.r.events.t_hat, th),
                 rel(d.r.events.c_transient, ct));
     std::fflush(stdout);
   }
+}
+
+}  // namespace
+
+int main() {
+  const Sets sets = choose_sets();
+  std::printf("bench_scaling%s: wall time (std::chrono::steady_clock), 1 thread;\n"
+              "part 1: best of up to 3 runs per point (repeated while a run takes < 2 s), part 2: one run\n\n",
+              sets.quick ? " (SLIPFRONT_BENCH_QUICK=1)" : "");
+  scaling_with_nodes(sets);
+  scaling_with_contacts(sets);
+  error_vs_wall(sets);
   return 0;
 }

@@ -26,12 +26,14 @@
 #include <functional>
 #include <limits>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "bench/cvode_fig1.hpp"
 
 namespace bench = slipfront::bench;
+namespace compare = slipfront::compare;
 namespace continuum = slipfront::continuum;
 namespace core = slipfront::core;
 
@@ -124,111 +126,142 @@ const Row* cheapest(const std::vector<Row>& rows, const std::string& family, dou
   return best;
 }
 
-}  // namespace
+// --- the stages of main ----------------------------------------------------------------------------
 
-int main(int argc, char** argv) {
+struct Options {
   std::string scene_name = "fig1", csv = "work_precision.csv";
   bool quick = false, check_ref = false, maxord5 = false;
   double ref_rtol = 1e-9, event_window = 0.0;
+};
+
+// The command line; nothing (after saying why on stderr) for a usage error or an unknown scene.
+std::optional<Options> parse_options(int argc, char** argv) {
+  Options o;
   for (int k = 1; k < argc; ++k) {
     const std::string a = argv[k];
-    if (a == "--quick") quick = true;
-    else if (a == "--check-reference") check_ref = true;
-    else if (a == "--maxord5") maxord5 = true;
-    else if (a == "--scene" && k + 1 < argc) scene_name = argv[++k];
-    else if (a == "--csv" && k + 1 < argc) csv = argv[++k];
-    else if (a == "--ref-rtol" && k + 1 < argc) ref_rtol = std::atof(argv[++k]);
-    else if (a == "--event-window" && k + 1 < argc) event_window = std::atof(argv[++k]);
+    if (a == "--quick") o.quick = true;
+    else if (a == "--check-reference") o.check_ref = true;
+    else if (a == "--maxord5") o.maxord5 = true;
+    else if (a == "--scene" && k + 1 < argc) o.scene_name = argv[++k];
+    else if (a == "--csv" && k + 1 < argc) o.csv = argv[++k];
+    else if (a == "--ref-rtol" && k + 1 < argc) o.ref_rtol = std::atof(argv[++k]);
+    else if (a == "--event-window" && k + 1 < argc) o.event_window = std::atof(argv[++k]);
     else {
       std::fprintf(stderr, "usage: %s [--scene fig1|homogeneous_front] [--quick] [--csv FILE] [--ref-rtol X] "
                            "[--check-reference] [--maxord5] [--event-window T]\n", argv[0]);
-      return 2;
+      return std::nullopt;
     }
   }
-  const auto scene = scene_name == "fig1" ? bench::fig1_scene() : bench::homogeneous_front_scene();
-  if (scene_name != "fig1" && scene_name != "homogeneous_front") {
-    std::fprintf(stderr, "unknown scene %s\n", scene_name.c_str());
-    return 2;
+  if (o.scene_name != "fig1" && o.scene_name != "homogeneous_front") {
+    std::fprintf(stderr, "unknown scene %s\n", o.scene_name.c_str());
+    return std::nullopt;
   }
-  const bool fig1 = scene_name == "fig1";
-  g_homogeneous = !fig1;
-  const std::vector<double> snaps = fig1 ? std::vector<double>{60, 110, 130} : std::vector<double>{5, 10};
-  const core::Bulk bulk(scene.bulk, scene.drive, scene.interface, scene.grid.dx);
-  std::printf("# work-precision, scene %s: %zu nodes, dx = %g, t_end = %g, explicit stable dt = %.4g\n",
-              scene_name.c_str(), bulk.nodes(), scene.grid.dx, scene.time.t_end, bulk.stable_dt());
+  return o;
+}
 
-  auto adaptive = [&](double rtol, core::EventEnd end = core::EventEnd::interpolate, double window = -1.0) {
+// The scene of the study, its snapshot times and grid, and the runs of its variable-step integrators
+// (atol = rtol · atol_ratio; the adaptive one at rtol/100).
+struct Study {
+  Options opt;
+  bool fig1;
+  compare::Scene scene;
+  std::vector<double> snaps;
+  core::Bulk bulk;
+
+  explicit Study(const Options& o)
+      : opt(o), fig1(o.scene_name == "fig1"),
+        scene(fig1 ? bench::fig1_scene() : bench::homogeneous_front_scene()),
+        snaps(fig1 ? std::vector<double>{60, 110, 130} : std::vector<double>{5, 10}),
+        bulk(scene.bulk, scene.drive, scene.interface, scene.grid.dx) {}
+
+  bench::RunRecord adaptive(double rtol, core::EventEnd end = core::EventEnd::interpolate, double window = -1.0) const {
     core::AdaptiveOptions o;
-    o.event_window = window >= 0.0 ? window : event_window;
+    o.event_window = window >= 0.0 ? window : opt.event_window;
     o.rtol = rtol;
     o.atol = rtol * 1e-2;
     o.event_end = end;
     return bench::run_adaptive(scene, o, snaps);
-  };
-  auto cvode = [&](double rtol, double atol_ratio, bool roots, int max_order = 2) {
+  }
+  bench::RunRecord cvode(double rtol, double atol_ratio, bool roots, int max_order = 2) const {
     bench::CvodeOptions o;
     o.rtol = rtol;
     o.atol = rtol * atol_ratio;
     o.roots = roots;
     o.max_order = max_order;
     return bench::run_cvode(scene, o, snaps);
-  };
+  }
+};
 
-  // --- reference ---------------------------------------------------------------------------------
-  const auto ref = adaptive(ref_rtol, core::EventEnd::interpolate, 0.0);
-  const auto ref10 = adaptive(10.0 * ref_rtol, core::EventEnd::interpolate, 0.0);
+// The reference: the adaptive integrator at ref_rtol (exact event steps), its own error estimated from
+// the run at 10× that tolerance.
+bench::RunRecord run_reference(const Study& s) {
+  const double ref_rtol = s.opt.ref_rtol;
+  const auto ref = s.adaptive(ref_rtol, core::EventEnd::interpolate, 0.0);
+  const auto ref10 = s.adaptive(10.0 * ref_rtol, core::EventEnd::interpolate, 0.0);
   std::printf("# reference: adaptive rtol %g: t* = %.6f  t^ = %.6f  c_transient = %.5f  c_front = %.5f  x_arrest = %.3f  (%lld steps, %.1f s)\n",
               ref_rtol, ref.events.t_star, ref.events.t_hat, ref.events.c_transient, ref.events.c_front, ref.events.x_arrest,
               static_cast<long long>(ref.steps), ref.wall);
-  {
-    const Row w = evaluate(ref10, "adaptive", ref, bulk);
-    std::printf("# reference error estimate (adaptive at rtol %g vs %g): %s %.1e, c_transient %.1e, L2 A %.1e, L2 sb %.1e (at t = %g)\n",
-                10.0 * ref_rtol, ref_rtol, name_a(), w.err_t_hat, w.err_c, w.l2_A.empty() ? NAN : w.l2_A.back(),
-                w.l2_sb.empty() ? NAN : w.l2_sb.back(), snaps.back());
-  }
-  if (check_ref) {
-    for (auto rr : {cvode(ref_rtol, 1e-2, true), bench::run_explicit(scene, 1.0 / 32.0, snaps)}) {
-      const Row w = evaluate(rr, rr.integrator, ref, bulk);
+  const Row w = evaluate(ref10, "adaptive", ref, s.bulk);
+  std::printf("# reference error estimate (adaptive at rtol %g vs %g): %s %.1e, c_transient %.1e, L2 A %.1e, L2 sb %.1e (at t = %g)\n",
+              10.0 * ref_rtol, ref_rtol, name_a(), w.err_t_hat, w.err_c, w.l2_A.empty() ? NAN : w.l2_A.back(),
+              w.l2_sb.empty() ? NAN : w.l2_sb.back(), s.snaps.back());
+  return ref;
+}
+
+// With --check-reference, the reference against CVODE (roots, ref_rtol) and the explicit scheme at
+// cfl 1/32; always, the explicit scheme's own loop against compare::run_model.
+void cross_check_reference(const Study& s, const bench::RunRecord& ref) {
+  if (s.opt.check_ref) {
+    for (auto rr : {s.cvode(s.opt.ref_rtol, 1e-2, true), bench::run_explicit(s.scene, 1.0 / 32.0, s.snaps)}) {
+      const Row w = evaluate(rr, rr.integrator, ref, s.bulk);
       std::printf("# reference cross-check %s (%g): %s %.6f (rel %.1e), c_transient %.5f (rel %.1e), L2 A %.1e, L2 sb %.1e, %.1f s\n",
                   rr.integrator.c_str(), rr.setting, name_a(), metric_a(rr.events), w.err_t_hat, rr.events.c_transient, w.err_c,
                   w.l2_A.empty() ? NAN : w.l2_A.back(), w.l2_sb.empty() ? NAN : w.l2_sb.back(), rr.wall);
     }
   }
-  {  // the explicit through the runner itself: the same measurements as run_explicit
-    const auto a = bench::run_explicit(scene, 0.5, snaps), b = bench::run_explicit(scene, 0.5, snaps, true);
-    std::printf("# explicit cfl 0.5 own loop vs compare::run_model: t^ %.6f / %.6f, c_transient %.5f / %.5f, wall %.3f / %.3f s\n",
-                a.events.t_hat, b.events.t_hat, a.events.c_transient, b.events.c_transient, a.wall, b.wall);
-  }
+  // the explicit through the runner itself: the same measurements as run_explicit
+  const auto a = bench::run_explicit(s.scene, 0.5, s.snaps), b = bench::run_explicit(s.scene, 0.5, s.snaps, true);
+  std::printf("# explicit cfl 0.5 own loop vs compare::run_model: t^ %.6f / %.6f, c_transient %.5f / %.5f, wall %.3f / %.3f s\n",
+              a.events.t_hat, b.events.t_hat, a.events.c_transient, b.events.c_transient, a.wall, b.wall);
+}
 
-  // --- sweeps ------------------------------------------------------------------------------------
+// The sweeps: every family of integrators at its settings (fewer with --quick), one table row per run.
+std::vector<Row> run_sweeps(const Study& s, const bench::RunRecord& ref) {
+  const bool quick = s.opt.quick;
+  const auto& scene = s.scene;
+  const auto& snaps = s.snaps;
   std::vector<Row> rows;
   print_header(snaps);
   auto add = [&](const std::string& family, const std::function<bench::RunRecord()>& run) {
-    rows.push_back(evaluate(best_of(run), family, ref, bulk));
+    rows.push_back(evaluate(best_of(run), family, ref, s.bulk));
     print_row(rows.back());
   };
   const std::vector<double> cfls = quick ? std::vector<double>{1.0, 0.5} : std::vector<double>{1.0, 0.9, 0.5, 0.25, 0.125};
   for (double c : cfls) add("explicit", [&] { return bench::run_explicit(scene, c, snaps); });
   const std::vector<double> rtols = quick ? std::vector<double>{1e-1, 1e-2, 1e-3}
                                           : std::vector<double>{1e-1, 3e-2, 1e-2, 3e-3, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7};
-  for (double t : rtols) add("adaptive", [&] { return adaptive(t); });
+  for (double t : rtols) add("adaptive", [&] { return s.adaptive(t); });
   const std::vector<double> retake = quick ? std::vector<double>{1e-2} : std::vector<double>{1e-1, 1e-2, 1e-3, 1e-4, 1e-5};
-  for (double t : retake) add("adaptive_retake", [&] { return adaptive(t, core::EventEnd::retake); });
+  for (double t : retake) add("adaptive_retake", [&] { return s.adaptive(t, core::EventEnd::retake); });
   const std::vector<double> ctols = quick ? std::vector<double>{1e-3, 1e-4}
                                           : std::vector<double>{1e-2, 1e-3, 1e-4, 1e-5, 1e-6};
-  for (double t : ctols) add("cvode", [&] { return cvode(t, 1e-2, false); });
-  for (double t : ctols) add("cvode_atol=rtol", [&] { return cvode(t, 1.0, false); });
+  for (double t : ctols) add("cvode", [&] { return s.cvode(t, 1e-2, false); });
+  for (double t : ctols) add("cvode_atol=rtol", [&] { return s.cvode(t, 1.0, false); });
   // CVODE with roots restarts at every switching: expensive on the homogeneous front (1700 of them).
   std::vector<double> rtols_roots;
   for (double t : ctols)
-    if (fig1 || t >= 1e-4) rtols_roots.push_back(t);
-  for (double t : rtols_roots) add("cvode_roots", [&] { return cvode(t, 1e-2, true); });
-  if (!quick && fig1)
-    for (double t : rtols_roots) add("cvode_roots_atol=rtol", [&] { return cvode(t, 1.0, true); });
-  if (maxord5)
-    for (double t : {1e-3, 1e-5}) add("cvode_maxord5", [&] { return cvode(t, 1e-2, false, 5); });
+    if (s.fig1 || t >= 1e-4) rtols_roots.push_back(t);
+  for (double t : rtols_roots) add("cvode_roots", [&] { return s.cvode(t, 1e-2, true); });
+  if (!quick && s.fig1)
+    for (double t : rtols_roots) add("cvode_roots_atol=rtol", [&] { return s.cvode(t, 1.0, true); });
+  if (s.opt.maxord5)
+    for (double t : {1e-3, 1e-5}) add("cvode_maxord5", [&] { return s.cvode(t, 1e-2, false, 5); });
+  return rows;
+}
 
-  // --- matched error -----------------------------------------------------------------------------
+// Matched error (1 % and 0.1 % in both quantities): the cheapest run of each family, plain and robust,
+// and its wall-time ratio to the adaptive integrator's.
+void print_matched_error(const std::vector<Row>& rows) {
   std::vector<std::string> families;
   for (const auto& w : rows)
     if (std::find(families.begin(), families.end(), w.family) == families.end()) families.push_back(w.family);
@@ -252,18 +285,20 @@ int main(int argc, char** argv) {
       }
     }
   }
+}
 
-  // --- CSV ---------------------------------------------------------------------------------------
-  std::ofstream out(csv);
+// The CSV for scripts/plot_work_precision.py: one line per run of the sweeps.
+void write_csv(const Study& s, const std::vector<Row>& rows) {
+  std::ofstream out(s.opt.csv);
   out << "scene,family,integrator,setting,status,steps,rejected,rhs,switchings,wall,wall_integrator,t_star,t_hat,"
          "c_transient,c_front,x_arrest,err_t_star,err_" << name_a() << ",err_c_transient";
-  for (double t : snaps) out << ",l2_A_" << t;
-  for (double t : snaps) out << ",l2_sigma_bar_" << t;
+  for (double t : s.snaps) out << ",l2_A_" << t;
+  for (double t : s.snaps) out << ",l2_sigma_bar_" << t;
   out << "\n";
   out.precision(10);
   for (const auto& w : rows) {
     const auto& r = w.r;
-    out << scene_name << ',' << w.family << ',' << r.integrator << ',' << r.setting << ',' << r.status << ',' << r.steps
+    out << s.opt.scene_name << ',' << w.family << ',' << r.integrator << ',' << r.setting << ',' << r.status << ',' << r.steps
         << ',' << r.rejected << ',' << r.rhs << ',' << r.switchings << ',' << r.wall << ',' << r.integrator_wall()
         << ',' << r.events.t_star << ',' << r.events.t_hat << ',' << r.events.c_transient << ',' << r.events.c_front
         << ',' << r.events.x_arrest
@@ -272,6 +307,23 @@ int main(int argc, char** argv) {
     for (double x : w.l2_sb) out << ',' << x;
     out << "\n";
   }
-  std::printf("\n# wrote %s\n", csv.c_str());
+  std::printf("\n# wrote %s\n", s.opt.csv.c_str());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const auto options = parse_options(argc, argv);
+  if (!options) return 2;
+  const Study study(*options);
+  g_homogeneous = !study.fig1;  // which two measured quantities define matched error
+  std::printf("# work-precision, scene %s: %zu nodes, dx = %g, t_end = %g, explicit stable dt = %.4g\n",
+              options->scene_name.c_str(), study.bulk.nodes(), study.scene.grid.dx, study.scene.time.t_end,
+              study.bulk.stable_dt());
+  const auto ref = run_reference(study);
+  cross_check_reference(study, ref);
+  const std::vector<Row> rows = run_sweeps(study, ref);
+  print_matched_error(rows);
+  write_csv(study, rows);
   return 0;
 }

@@ -388,8 +388,9 @@ double domain_length(const Model& m, const SteadyFrontOptions& o, double c, doub
   return o.tip_length * c / (1.0 + m.kappa * yb[0]) + o.decay_lengths / slowest;
 }
 
-// Post-processing of a converged iterate: fields, u, diagnostics, admissibility, tail modes.
-void finish(const Model& m, const Collocation& col, const Eigen::VectorXd& x, SteadyFront& f) {
+// The converged iterate x into f: speed, tip and far-behind states, the profiles (v, A, σ̄) on the
+// mesh. Returns the sliding state behind, y_b.
+Vec3 store_solution(const Model& m, const Collocation& col, const Eigen::VectorXd& x, SteadyFront& f) {
   const auto& xi = col.xi();
   const int n = col.nodes();
   const double c = col.c_of(x), sd = col.sigma_of(x);
@@ -416,27 +417,45 @@ void finish(const Model& m, const Collocation& col, const Eigen::VectorXd& x, St
     f.area[static_cast<std::size_t>(i)] = y[1];
     f.sigma_bar[static_cast<std::size_t>(i)] = y[2];
   }
-  // u: σ̄ = α u at the tip (stuck convention); U' = −v/c integrated exactly on the cubic Hermite
-  // interpolant of v (the collocation polynomial): ∫ v = h (v_i + v_{i+1})/2 + h² (v'_i − v'_{i+1})/12.
-  f.slip.back() = st.sigma_bar_tip / m.alpha;
-  for (int i = n - 1; i-- > 0;) {
+  return yb;
+}
+
+// u: σ̄ = α u at the tip (stuck convention); U' = −v/c integrated exactly on the cubic Hermite
+// interpolant of v (the collocation polynomial): ∫ v = h (v_i + v_{i+1})/2 + h² (v'_i − v'_{i+1})/12.
+void integrate_slip(const Model& m, const Collocation& col, const Eigen::VectorXd& x, SteadyFront& f) {
+  const auto& xi = col.xi();
+  const double c = col.c_of(x), sd = col.sigma_of(x);
+  f.slip.back() = f.sigma_bar_tip / m.alpha;
+  for (int i = col.nodes() - 1; i-- > 0;) {
     const auto a = static_cast<std::size_t>(i), b = a + 1;
     const double h = xi[b] - xi[a];
     const double da = rhs(m, col.y(x, i), c, sd).f[0], db = rhs(m, col.y(x, i + 1), c, sd).f[0];
     const double integral = h * 0.5 * (f.slip_rate[a] + f.slip_rate[b]) + h * h * (da - db) / 12.0;
     f.slip[a] = f.slip[b] + integral / c;
   }
-  // Admissibility: Θ = 1 behind the tip needs |σ|/A > 1 there. |σ|/A − 1 vanishes at the tip and
-  // grows behind it; what matters is its interior minima and its far value.
-  std::vector<double> g(xi.size());
-  for (std::size_t i = 0; i < xi.size(); ++i)
+}
+
+// Admissibility: Θ = 1 behind the tip needs |σ|/A > 1 there. |σ|/A − 1 vanishes at the tip and
+// grows behind it; what matters is its interior minima and its far value (returned: their minimum).
+double overstress_margin(const Model& m, const SteadyFront& f) {
+  const std::size_t n = f.xi.size();
+  std::vector<double> g(n);
+  for (std::size_t i = 0; i < n; ++i)
     g[i] = std::abs(f.sigma_bar[i] + m.eta * f.slip_rate[i]) / f.area[i] - 1.0;
   double margin = g.front();
-  for (std::size_t i = 1; i + 2 < xi.size(); ++i)
+  for (std::size_t i = 1; i + 2 < n; ++i)
     if (g[i] <= g[i - 1] && g[i] <= g[i + 1]) margin = std::min(margin, g[i]);
-  f.overstress_margin = margin;
-  f.min_slip_rate = *std::min_element(f.slip_rate.begin(), f.slip_rate.end());
+  return margin;
+}
 
+// The modes of the sliding state behind (forward ξ): its eigenvalues and decaying eigenvalue into f,
+// and, when it is a saddle (one decaying mode, the null mode at σ_c^d counted as one, and two growing),
+// the tail y(−L) − y_b = Σ d_k r_k over the eigenvectors (d_stable = 0 by the projection condition).
+struct ModeCount {
+  int decaying = 0, growing = 0;
+};
+ModeCount behind_modes(const Model& m, const Collocation& col, const Eigen::VectorXd& x, const Vec3& yb, SteadyFront& f) {
+  const double c = col.c_of(x), sd = col.sigma_of(x);
   const Mat3 Jb = behind_jacobian(m, yb, c, sd);
   const Eigen::EigenSolver<Mat3> es(Jb, true);
   int negative = 0, positive = 0, stable_index = -1;
@@ -451,7 +470,6 @@ void finish(const Model& m, const Collocation& col, const Eigen::VectorXd& x, St
     }
   }
   f.stable_eigenvalue = stable_mode(m, yb, c).lambda;
-  // Tail: y(−L) − y_b = Σ d_k r_k over the eigenvectors (d_stable = 0 by the projection condition).
   if (negative == 1 && positive == 2) {
     const Eigen::Matrix3cd R = es.eigenvectors();
     const Eigen::Vector3cd d = R.partialPivLu().solve((col.y(x, 0) - yb).cast<std::complex<double>>());
@@ -463,20 +481,36 @@ void finish(const Model& m, const Collocation& col, const Eigen::VectorXd& x, St
       ++j;
     }
   }
+  return {negative, positive};
+}
 
+// The status of a converged iterate: a front only if the sliding state behind is a saddle, v > 0 and
+// |σ|/A > 1 behind the tip (docs/fronts.md §4), with the first violated condition as the reason.
+void classify(const ModeCount& modes, SteadyFront& f) {
   f.status = FrontStatus::converged;
   f.reason.clear();
-  if (negative != 1 || positive != 2) {
+  if (modes.decaying != 1 || modes.growing != 2) {
     f.status = FrontStatus::not_a_saddle;
-    f.reason = "the sliding state behind has " + std::to_string(negative) + " decaying and " +
-               std::to_string(positive) + " growing modes (need 1 and 2)";
+    f.reason = "the sliding state behind has " + std::to_string(modes.decaying) + " decaying and " +
+               std::to_string(modes.growing) + " growing modes (need 1 and 2)";
   } else if (f.min_slip_rate <= 0.0) {
     f.status = FrontStatus::reverse_slip;
     f.reason = "v <= 0 behind the tip (min v = " + core::format_number(f.min_slip_rate) + ")";
-  } else if (margin <= 0.0) {
+  } else if (f.overstress_margin <= 0.0) {
     f.status = FrontStatus::resticks;
-    f.reason = "|sigma|/A - 1 <= 0 behind the tip (min " + core::format_number(margin) + "): Theta = 1 violated";
+    f.reason = "|sigma|/A - 1 <= 0 behind the tip (min " + core::format_number(f.overstress_margin) +
+               "): Theta = 1 violated";
   }
+}
+
+// Post-processing of a converged iterate: fields, u, diagnostics, admissibility, tail modes.
+void finish(const Model& m, const Collocation& col, const Eigen::VectorXd& x, SteadyFront& f) {
+  const Vec3 yb = store_solution(m, col, x, f);  // c, tip and far-behind states, profiles
+  integrate_slip(m, col, x, f);                  // u
+  f.overstress_margin = overstress_margin(m, f);
+  f.min_slip_rate = *std::min_element(f.slip_rate.begin(), f.slip_rate.end());
+  const ModeCount modes = behind_modes(m, col, x, yb, f);  // eigenvalues behind, tail beyond −L
+  classify(modes, f);                                      // converged, or why not a front
 }
 
 SteadyFront empty_front(const Model& m, double sigma_d) {
@@ -627,133 +661,222 @@ SteadyFront solve_saddle_node_front(const core::InterfaceParams& law, const core
   return detail::solve_on_mesh(m, o, sigma_c, c0, nullptr, guess, std::nullopt);
 }
 
-FrontBranch continue_steady_fronts(const core::InterfaceParams& law, const core::BulkParams& bulk, const ContinuationOptions& o) {
-  const detail::Model m(law, bulk.rho, bulk.mu);
-  const double cs = m.sound_speed(), sigma_c = steady_minimum_stress(law);
-  FrontBranch br;
-  auto stop = [&](BranchEnd e, std::string why) {
-    br.end = e;
-    br.reason = std::move(why);
+namespace detail {
+
+// The continuation of the branch in σ_d (docs/fronts.md §4): the branch so far, the last two fronts
+// (their secant is the predictor direction) and the pseudo-arclength step. Each member is one stage.
+class BranchContinuation {
+ public:
+  BranchContinuation(const core::InterfaceParams& law, const core::BulkParams& bulk, const ContinuationOptions& o)
+      : law_(law), bulk_(bulk), o_(o), m_(law, bulk.rho, bulk.mu), cs_(m_.sound_speed()),
+        sigma_c_(steady_minimum_stress(law)) {}
+
+  bool start() { return first_front() && second_front(); }
+  void follow();
+  bool ended_at_saddle_node() const { return br_.end == BranchEnd::saddle_node; }
+  void solve_limiting_front();
+  void locate_minimal_speed();
+  FrontBranch take_branch() { return std::move(br_); }
+
+ private:
+  struct Secant {
+    double t_sigma, t_c;  ///< unit direction in (σ_d, c/c_s)
   };
+  bool first_front();
+  bool second_front();
+  Secant secant();
+  bool reached_end();
+  SteadyFront predict_and_correct(const Secant& t);
+  void control_step(int newton_iterations);
+  SteadyFront polish(SteadyFront next) const;
+  void accept(SteadyFront next);
+  void stop(BranchEnd e, std::string why) {
+    br_.end = e;
+    br_.reason = std::move(why);
+  }
 
-  // First front, cold; second by a natural step in σ_d (there is no secant yet).
-  // With no front at σ_start (its speed would reach c_s: the branch's upper end lies below), try
-  // σ_c^d + (σ_start − σ_c^d)·0.8^k, k = 1 … 20, and say so.
-  SteadyFront prev = solve_steady_front(law, bulk, o.sigma_start, o.front);
-  br.sigma_first = o.sigma_start;
-  for (int k = 1; k <= 20 && prev.status != FrontStatus::converged; ++k) {
-    br.sigma_first = sigma_c + (o.sigma_start - sigma_c) * std::pow(0.8, k);
-    prev = solve_steady_front(law, bulk, br.sigma_first, o.front);
+  const core::InterfaceParams& law_;
+  const core::BulkParams& bulk_;
+  const ContinuationOptions& o_;
+  const Model m_;
+  const double cs_, sigma_c_;
+  FrontBranch br_;
+  SteadyFront prev_, cur_;      ///< the last two fronts of the branch
+  double ds_ = 0.0;             ///< the step (natural in σ_d for the second front, then pseudo-arclength)
+  double t_sigma_before_ = -1.0;  ///< σ_d component of the previous secant (fold detection)
+};
+
+// §4 step 1: the first front, cold at σ_start. With no front there (its speed would reach c_s: the
+// branch's upper end lies below), try σ_c^d + (σ_start − σ_c^d)·0.8^k, k = 1 … 20, and say so.
+bool BranchContinuation::first_front() {
+  prev_ = solve_steady_front(law_, bulk_, o_.sigma_start, o_.front);
+  br_.sigma_first = o_.sigma_start;
+  for (int k = 1; k <= 20 && prev_.status != FrontStatus::converged; ++k) {
+    br_.sigma_first = sigma_c_ + (o_.sigma_start - sigma_c_) * std::pow(0.8, k);
+    prev_ = solve_steady_front(law_, bulk_, br_.sigma_first, o_.front);
   }
-  if (prev.status != FrontStatus::converged) {
-    stop(detail::end_of(prev.status), "no front at sigma_start = " + core::format_number(o.sigma_start) +
-                                          " nor below it: " + prev.reason);
-    br.last = prev;
-    return br;
+  if (prev_.status != FrontStatus::converged) {
+    stop(end_of(prev_.status), "no front at sigma_start = " + core::format_number(o_.sigma_start) +
+                                   " nor below it: " + prev_.reason);
+    br_.last = prev_;
+    return false;
   }
-  br.points.push_back(detail::branch_point(prev));
-  double ds = o.initial_step;
-  SteadyFront cur;
+  br_.points.push_back(branch_point(prev_));
+  return true;
+}
+
+// §4 step 2: the second front by a natural step in σ_d (there is no secant yet), halved on failure.
+bool BranchContinuation::second_front() {
+  ds_ = o_.initial_step;
   for (;;) {
-    const double target = std::max(br.sigma_first - ds, sigma_c + 0.5 * (br.sigma_first - sigma_c));
-    cur = solve_steady_front(law, bulk, target, o.front, &prev);
-    if (cur.status == FrontStatus::converged) break;
-    ds *= 0.5;
-    if (ds < o.min_step) {
-      stop(detail::end_of(cur.status), "no second front below sigma_start: " + cur.reason);
-      br.last = prev;
-      return br;
+    const double target = std::max(br_.sigma_first - ds_, sigma_c_ + 0.5 * (br_.sigma_first - sigma_c_));
+    cur_ = solve_steady_front(law_, bulk_, target, o_.front, &prev_);
+    if (cur_.status == FrontStatus::converged) break;
+    ds_ *= 0.5;
+    if (ds_ < o_.min_step) {
+      stop(end_of(cur_.status), "no second front below sigma_start: " + cur_.reason);
+      br_.last = prev_;
+      return false;
     }
   }
-  br.points.push_back(detail::branch_point(cur));
+  br_.points.push_back(branch_point(cur_));
+  return true;
+}
 
-  // Pseudo-arclength in (σ_d, c/c_s) with the secant as predictor direction.
-  double t_sigma_before = -1.0;
-  while (static_cast<int>(br.points.size()) < o.max_points) {
-    const double d_sigma = cur.sigma_d - prev.sigma_d, d_c = (cur.c - prev.c) / cs;
-    const double norm = std::hypot(d_sigma, d_c);
-    const double t_sigma = d_sigma / norm, t_c = d_c / norm;
-    if (t_sigma * t_sigma_before < 0.0) br.folds.push_back(cur.sigma_d);
-    t_sigma_before = t_sigma;
-    if (cur.sigma_d - sigma_c < o.end_gap * sigma_c) {
-      stop(BranchEnd::saddle_node, "");
-      break;
-    }
-    if (cur.sigma_d <= o.sigma_stop) {
-      stop(BranchEnd::sigma_stop, "reached sigma_stop = " + core::format_number(o.sigma_stop));
-      break;
-    }
-    ds = std::min(ds, o.max_step);
-    // Approach σ_c^d geometrically: the predictor keeps a quarter of the remaining gap.
-    if (t_sigma < 0.0) ds = std::min(ds, 0.75 * (cur.sigma_d - sigma_c) / -t_sigma);
-    SteadyFront next;
-    for (;;) {
-      const double sigma_p = cur.sigma_d + ds * t_sigma, c_p = cur.c + ds * t_c * cs;
-      const detail::Arclength arc{cur.sigma_d, cur.c, t_sigma, t_c, ds, cs};
-      next = detail::solve_on_mesh(m, o.front, sigma_p, c_p, nullptr, &cur, arc);
-      if (next.status == FrontStatus::converged) break;
-      ds *= 0.5;
-      if (ds < o.min_step) break;
-    }
+// §4 steps 3–7: pseudo-arclength in (σ_d, c/c_s) with the secant as predictor direction, until an end
+// of the branch (or max_points).
+void BranchContinuation::follow() {
+  while (static_cast<int>(br_.points.size()) < o_.max_points) {
+    const Secant t = secant();
+    if (reached_end()) break;
+    SteadyFront next = predict_and_correct(t);
     if (next.status != FrontStatus::converged) {
-      stop(detail::end_of(next.status), "continuation stalls at sigma_d = " + core::format_number(cur.sigma_d) +
-                                             " (step < min_step): " + std::string(to_string(next.status)) + ": " + next.reason);
+      stop(end_of(next.status), "continuation stalls at sigma_d = " + core::format_number(cur_.sigma_d) +
+                                    " (step < min_step): " + std::string(to_string(next.status)) + ": " + next.reason);
       break;
     }
-    if (next.newton_iterations < o.target_newton) ds *= 1.5;
-    else if (next.newton_iterations > o.target_newton) ds *= 0.6;
-    // Polish at fixed σ_d (exact Jacobian there; the arclength corrector's σ_d column is a difference
-    // quotient), so every branch point is the front solve_steady_front returns at its σ_d.
-    SteadyFront polished = solve_steady_front(law, bulk, next.sigma_d, o.front, &next);
-    if (polished.status == FrontStatus::converged) next = std::move(polished);
-    prev = std::move(cur);
-    cur = std::move(next);
-    br.points.push_back(detail::branch_point(cur));
+    control_step(next.newton_iterations);
+    accept(polish(std::move(next)));
   }
-  br.last = cur;
+  br_.last = cur_;
+}
 
-  // The end at σ_c^d: the limiting front (v_b = v_m, null mode behind), solved directly.
-  if (br.end == BranchEnd::saddle_node) {
-    const SteadyFront end = solve_saddle_node_front(law, bulk, o.front, &cur);
-    if (end.status == FrontStatus::converged) {
-      br.points.push_back(detail::branch_point(end));
-      br.last = end;
-      br.reason = "sigma_d -> sigma_c^d = " + core::format_number(sigma_c) +
-                  ": v_b -> v_m, the decaying eigenvalue of the sliding state behind -> 0 (saddle-node with the "
-                  "weakening branch); below sigma_c^d there is no steady sliding state behind a front. Limiting "
-                  "front at sigma_c^d solved directly: c = " + core::format_number(end.c);
-    } else {
-      br.reason = "sigma_d -> sigma_c^d (saddle-node of the sliding state behind); the limiting front did not "
-                  "converge: " + end.reason;
-    }
+// The unit secant of the last two fronts; a sign change of its σ_d component is a fold (§4 step 6).
+BranchContinuation::Secant BranchContinuation::secant() {
+  const double d_sigma = cur_.sigma_d - prev_.sigma_d, d_c = (cur_.c - prev_.c) / cs_;
+  const double norm = std::hypot(d_sigma, d_c);
+  const double t_sigma = d_sigma / norm, t_c = d_c / norm;
+  if (t_sigma * t_sigma_before_ < 0.0) br_.folds.push_back(cur_.sigma_d);
+  t_sigma_before_ = t_sigma;
+  return {t_sigma, t_c};
+}
+
+// End detection at the current front: the saddle-node (σ_d − σ_c^d < end_gap·σ_c^d), or σ_stop.
+bool BranchContinuation::reached_end() {
+  if (cur_.sigma_d - sigma_c_ < o_.end_gap * sigma_c_) {
+    stop(BranchEnd::saddle_node, "");
+    return true;
   }
-  if (br.points.empty()) return br;
+  if (cur_.sigma_d <= o_.sigma_stop) {
+    stop(BranchEnd::sigma_stop, "reached sigma_stop = " + core::format_number(o_.sigma_stop));
+    return true;
+  }
+  return false;
+}
 
-  // Minimal speed: the smallest c on the branch; an interior minimum is located by Brent's method on
-  // fixed-σ_d solves between its neighbours (so it does not depend on the continuation step).
+// Predictor along the secant, corrector with σ_d free (the arclength row), the step halved on failure
+// down to min_step; returns the last attempt. The step is capped first at max_step and, approaching
+// σ_c^d geometrically, so that the predictor keeps a quarter of the remaining gap (§4 step 7).
+SteadyFront BranchContinuation::predict_and_correct(const Secant& t) {
+  ds_ = std::min(ds_, o_.max_step);
+  if (t.t_sigma < 0.0) ds_ = std::min(ds_, 0.75 * (cur_.sigma_d - sigma_c_) / -t.t_sigma);
+  SteadyFront next;
+  for (;;) {
+    const double sigma_p = cur_.sigma_d + ds_ * t.t_sigma, c_p = cur_.c + ds_ * t.t_c * cs_;
+    const Arclength arc{cur_.sigma_d, cur_.c, t.t_sigma, t.t_c, ds_, cs_};
+    next = solve_on_mesh(m_, o_.front, sigma_p, c_p, nullptr, &cur_, arc);
+    if (next.status == FrontStatus::converged) break;
+    ds_ *= 0.5;
+    if (ds_ < o_.min_step) break;
+  }
+  return next;
+}
+
+// Step control (§4 step 4): grow when the corrector took fewer than target_newton iterations, shrink
+// when it took more.
+void BranchContinuation::control_step(int newton_iterations) {
+  if (newton_iterations < o_.target_newton) ds_ *= 1.5;
+  else if (newton_iterations > o_.target_newton) ds_ *= 0.6;
+}
+
+// Polish at fixed σ_d (exact Jacobian there; the arclength corrector's σ_d column is a difference
+// quotient), so every branch point is the front solve_steady_front returns at its σ_d (§4 step 5).
+SteadyFront BranchContinuation::polish(SteadyFront next) const {
+  SteadyFront polished = solve_steady_front(law_, bulk_, next.sigma_d, o_.front, &next);
+  if (polished.status == FrontStatus::converged) next = std::move(polished);
+  return next;
+}
+
+// The new front becomes the current one (the secant moves along) and a point of the branch.
+void BranchContinuation::accept(SteadyFront next) {
+  prev_ = std::move(cur_);
+  cur_ = std::move(next);
+  br_.points.push_back(branch_point(cur_));
+}
+
+// The end at σ_c^d: the limiting front (v_b = v_m, null mode behind), solved directly.
+void BranchContinuation::solve_limiting_front() {
+  const SteadyFront end = solve_saddle_node_front(law_, bulk_, o_.front, &cur_);
+  if (end.status == FrontStatus::converged) {
+    br_.points.push_back(branch_point(end));
+    br_.last = end;
+    br_.reason = "sigma_d -> sigma_c^d = " + core::format_number(sigma_c_) +
+                 ": v_b -> v_m, the decaying eigenvalue of the sliding state behind -> 0 (saddle-node with the "
+                 "weakening branch); below sigma_c^d there is no steady sliding state behind a front. Limiting "
+                 "front at sigma_c^d solved directly: c = " + core::format_number(end.c);
+  } else {
+    br_.reason = "sigma_d -> sigma_c^d (saddle-node of the sliding state behind); the limiting front did not "
+                 "converge: " + end.reason;
+  }
+}
+
+// Minimal speed: the smallest c on the branch; an interior minimum is located by Brent's method on
+// fixed-σ_d solves between its neighbours (so it does not depend on the continuation step).
+void BranchContinuation::locate_minimal_speed() {
+  if (br_.points.empty()) return;
   std::size_t k = 0;
-  for (std::size_t i = 1; i < br.points.size(); ++i)
-    if (br.points[i].c < br.points[k].c) k = i;
-  br.c_min = br.points[k].c;
-  br.sigma_d_at_c_min = br.points[k].sigma_d;
-  br.c_min_at_end = k + 1 == br.points.size();
-  if (!br.c_min_at_end && k > 0 && o.refine_minimum) {
-    SteadyFront seed = solve_steady_front(law, bulk, br.points[k].sigma_d, o.front, &br.last);
-    if (seed.status != FrontStatus::converged) seed = cur;
-    auto speed = [&](double sd) {
-      const SteadyFront f = solve_steady_front(law, bulk, sd, o.front, &seed);
-      return f.status == FrontStatus::converged ? f.c : std::numeric_limits<double>::infinity();
-    };
-    const double lo = std::min(br.points[k - 1].sigma_d, br.points[k + 1].sigma_d);
-    const double hi = std::max(br.points[k - 1].sigma_d, br.points[k + 1].sigma_d);
-    std::uintmax_t iters = 100;
-    const auto best = boost::math::tools::brent_find_minima(speed, lo, hi, 26, iters);
-    if (best.second < br.c_min) {
-      br.c_min = best.second;
-      br.sigma_d_at_c_min = best.first;
-    }
+  for (std::size_t i = 1; i < br_.points.size(); ++i)
+    if (br_.points[i].c < br_.points[k].c) k = i;
+  br_.c_min = br_.points[k].c;
+  br_.sigma_d_at_c_min = br_.points[k].sigma_d;
+  br_.c_min_at_end = k + 1 == br_.points.size();
+  if (br_.c_min_at_end || k == 0 || !o_.refine_minimum) return;
+  SteadyFront seed = solve_steady_front(law_, bulk_, br_.points[k].sigma_d, o_.front, &br_.last);
+  if (seed.status != FrontStatus::converged) seed = cur_;
+  auto speed = [&](double sd) {
+    const SteadyFront f = solve_steady_front(law_, bulk_, sd, o_.front, &seed);
+    return f.status == FrontStatus::converged ? f.c : std::numeric_limits<double>::infinity();
+  };
+  const double lo = std::min(br_.points[k - 1].sigma_d, br_.points[k + 1].sigma_d);
+  const double hi = std::max(br_.points[k - 1].sigma_d, br_.points[k + 1].sigma_d);
+  std::uintmax_t iters = 100;
+  const auto best = boost::math::tools::brent_find_minima(speed, lo, hi, 26, iters);
+  if (best.second < br_.c_min) {
+    br_.c_min = best.second;
+    br_.sigma_d_at_c_min = best.first;
   }
-  return br;
+}
+
+}  // namespace detail
+
+// Continuation of the steady-front branch in σ_d (docs/fronts.md §4).
+FrontBranch continue_steady_fronts(const core::InterfaceParams& law, const core::BulkParams& bulk, const ContinuationOptions& o) {
+  detail::BranchContinuation run(law, bulk, o);
+  if (!run.start()) return run.take_branch();  // first front cold, second by a natural step in σ_d
+  run.follow();                                // pseudo-arclength down to an end of the branch
+  if (run.ended_at_saddle_node()) run.solve_limiting_front();  // the front at σ_c^d itself
+  run.locate_minimal_speed();                  // c_min (Brent's method at an interior minimum)
+  return run.take_branch();
 }
 
 ScalingStudy minimal_speed_scaling(const core::InterfaceParams& law, const core::BulkParams& bulk, const ScalingOptions& o) {

@@ -174,7 +174,7 @@ class ImposedHistory {
   void record(double v) {
     if constexpr (Law::hooks.contact_statistics)
       if (contacts_due_.due(t_)) law_.record_contacts(t_);
-    const SiteState<Law> now{law_, t_, v};
+    const ImposedRateState<Law> now{law_, t_, v};
     recorder_.after_step(t_, t_, false, [&](double) { return now; }, tracker_, no_energy_);
   }
 

@@ -3,7 +3,7 @@
 // fields — filled from a view of a model's state at a time, whichever stepper (or, for an imposed slip
 // rate, the law alone) produced it. The runner decides when; the recorder decides what.
 //
-// A state view (StepEndState, DenseState, SiteState below) answers, at its time t():
+// A state view (StepEndState, DenseState, ImposedRateState below) answers, at its time t():
 //   contact_area(), sigma_bar(), slip_rate(), slip()   fields per node (slip(): empty where no bulk)
 //   drive_force()                                       F = K (v_d t − u_0) (imposed rate: the stress σ)
 //   max_slip_rate()                                     max |v|: over the last step (fixed-step
@@ -113,7 +113,7 @@ class DenseState {
 /// One site driven at an imposed slip rate v (0D, no bulk): the law's state; the drive force is the
 /// frictional stress σ = σ̄ + η v.
 template <class Law>
-struct SiteState {
+struct ImposedRateState {
   const Law& law;
   double time, v;
   double t() const { return time; }

@@ -511,6 +511,9 @@ void write_study_file(const std::filesystem::path& tmp, const compare::StudySpec
     attr_int(r.get(), "workers", exec.workers);
     attr_int(r.get(), "skipped", n_skipped);
     attr_int(r.get(), "computed", exec.computed);
+    std::string untrusted;
+    for (const auto& u : exec.untrusted) untrusted += u + "\n";
+    attr_string(r.get(), "untrusted", untrusted);
   }
   save_image(file, tmp);
 }

@@ -59,6 +59,7 @@ struct StudyExecution {
   int workers = 1;                 ///< threads, or MPI ranks x threads per rank
   long long computed = 0;          ///< runs run by this invocation (complete, interrupted or failed)
   std::vector<int> skipped;        ///< per run: 1 if its results file was complete already (not rerun)
+  std::vector<std::string> untrusted;  ///< run files made again because their checksum failed ("runs/<id>/results.h5: why")
 };
 
 /// Writes a study's analysis to `path` (study.h5) atomically, like write_results.

@@ -311,9 +311,15 @@ std::string block_field(std::string_view block, std::string_view label) {
 ChecksumCheck verify_checksum(const fs::path& path) {
   const MappedFile file(path);
   const std::string_view all = file.bytes();
-  if (all.substr(0, checksum_magic.size()) != checksum_magic)
-    return {Checksum::absent, "no checksum (the file does not begin with a slipfront checksum block: written before "
-                              "checksums, or not by slipfront)"};
+  if (all.substr(0, checksum_magic.size()) != checksum_magic) {
+    // Files written before checksums begin with HDF5's signature; anything else is a damaged block.
+    constexpr std::string_view hdf5_signature("\x89HDF\r\n\x1a\n", 8);
+    if (all.substr(0, hdf5_signature.size()) == hdf5_signature)
+      return {Checksum::absent, "no checksum (an HDF5 file without slipfront's checksum block: written before "
+                                "checksums, or not by slipfront)"};
+    return {Checksum::failed, "damaged: the file begins neither with slipfront's checksum block nor with HDF5's "
+                              "signature"};
+  }
   if (all.size() < checksum_block_bytes)
     return {Checksum::failed, "truncated: " + std::to_string(all.size()) + " bytes, shorter than its checksum block"};
   const std::string_view block = all.substr(0, checksum_block_bytes), payload = all.substr(checksum_block_bytes);

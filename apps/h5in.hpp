@@ -45,8 +45,8 @@ struct ReadOptions {
 /// What the checksum of a results file says (apps/h5out.hpp: checksum_block; docs/output.md).
 enum class Checksum {
   intact,  ///< the user block is exactly the checksum of every byte after it
-  absent,  ///< no checksum block: written by a slipfront before issue 18 (or not by slipfront)
-  failed,  ///< a block, but the file is not what it was written as (flipped bytes, truncated, appended)
+  absent,  ///< an HDF5 file without checksum block: written by a slipfront before issue 18 (or not by slipfront)
+  failed,  ///< not what was written: flipped bytes (in the block too), truncated, appended, or neither block nor HDF5
 };
 struct ChecksumCheck {
   Checksum state = Checksum::absent;

@@ -435,6 +435,7 @@ struct Study {
   std::vector<compare::StudyRun> runs;
   std::vector<compare::Scene> scenes;  ///< per run
   std::vector<std::string> resolved;   ///< per run: the scene's resolved TOML
+  compare::StudyEstimate estimate;     ///< what the study holds in its own process (checked against its [limits])
   fs::path dir;
   fs::path run_file(std::size_t i) const { return dir / "runs" / runs[i].id / "results.h5"; }
 };
@@ -517,8 +518,8 @@ std::string read_scene_text(const compare::StudySpec& spec, const std::string& s
 
 // The study's size (compare::estimate_study) against its [limits], before any run is expanded: the
 // count of runs first (from the file alone), then the memory, from one sample run per group.
-void check_study_size(const compare::StudySpec& spec, const std::string& study_file, const std::string& scene_text,
-                      const std::vector<std::string>& extra) {
+compare::StudyEstimate check_study_size(const compare::StudySpec& spec, const std::string& study_file,
+                                        const std::string& scene_text, const std::vector<std::string>& extra) {
   try {
     compare::StudyEstimate runs_only;
     runs_only.runs = compare::count_runs(spec);
@@ -531,7 +532,9 @@ void check_study_size(const compare::StudySpec& spec, const std::string& study_f
       scenes.push_back(parse_scene(scene_text, spec.scene_file, r.overrides));
       resolved.push_back(to_toml(scenes.back()).size());
     }
-    compare::check_study_limits(spec, compare::estimate_study(spec, samples, scenes, resolved));
+    const compare::StudyEstimate e = compare::estimate_study(spec, samples, scenes, resolved);
+    compare::check_study_limits(spec, e);
+    return e;
   } catch (const core::ParamError& e) {
     throw ConfigError(study_file, e.key, e.reason);
   }
@@ -560,7 +563,7 @@ std::optional<Study> read_study(const StudyOptions& opts, std::ostream& err) {
   try {
     study.spec = load_study(opts.study, &study.spec_toml);
     const std::string scene_text = read_scene_text(study.spec, file);
-    check_study_size(study.spec, file, scene_text, opts.overrides);
+    study.estimate = check_study_size(study.spec, file, scene_text, opts.overrides);
     study.runs = compare::expand(study.spec);
     for (auto& r : study.runs) {
       r.overrides.insert(r.overrides.end(), opts.overrides.begin(), opts.overrides.end());
@@ -617,7 +620,8 @@ unsigned threads_per_process(unsigned threads, const MpiEngine* mpi, std::ostrea
 // The start line: the runs, those complete already and those made again, on what, to where.
 void print_start(std::ostream& err, const Study& study, const Schedule& s, const Engine& engine) {
   err << "slipfront: study " << study.spec.name << " (" << study.spec.kind
-      << "): " << plural(static_cast<long long>(study.runs.size()), "run", "runs");
+      << "): " << plural(static_cast<long long>(study.runs.size()), "run", "runs") << " ("
+      << compare::describe(study.estimate) << ")";
   if (s.n_skipped() > 0 || s.rerun > 0)
     err << ", " << s.n_skipped() << " complete already (skipped), " << s.todo.size() << " to run (" << s.rerun
         << " partial, failed or unverified, " << s.fresh << " new)";

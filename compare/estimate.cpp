@@ -539,8 +539,7 @@ void check_study_limits(const StudySpec& spec, const StudyEstimate& e) {
 }
 
 std::string describe(const StudyEstimate& e) {
-  return count(e.runs) + (e.runs == 1.0 ? " run" : " runs") + ", ~" + gib(e.memory_bytes) + " for the plan and the results kept (" +
-         gib(e.plan_bytes) + " + " + gib(e.results_bytes) + ")";
+  return "~" + gib(e.memory_bytes) + " in memory: plan " + gib(e.plan_bytes) + ", results kept " + gib(e.results_bytes);
 }
 
 }  // namespace slipfront::compare

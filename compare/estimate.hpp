@@ -99,7 +99,8 @@ StudyEstimate estimate_study(const StudySpec& spec, const std::vector<StudyRun>&
 /// what drives it) when the study's estimate exceeds the study's [limits].
 void check_study_limits(const StudySpec& spec, const StudyEstimate& e);
 
-/// The study's estimate as one line ("runs: ..., directories: ..., memory: ..."), for the start line.
+/// The study's memory estimate in a few words ("~33 MiB in memory: plan 1.2 MiB, results kept 0.5 MiB"),
+/// for the start line of `slipfront study`.
 std::string describe(const StudyEstimate& e);
 
 /// The fraction of site-steps that are active (see StepCosts), by loading: edge 0.1 (the fronts creep

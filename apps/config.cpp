@@ -1,5 +1,9 @@
 #include "apps/config.hpp"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <toml++/toml.h>
 
 #include <algorithm>
@@ -16,6 +20,8 @@
 #include <sstream>
 #include <string_view>
 #include <variant>
+
+#include "apps/toml_integer.hpp"
 
 namespace slipfront::app {
 
@@ -328,27 +334,6 @@ struct Reader {
     fail("expected a number, got " + describe(n));
   }
 
-  template <class Int>
-  Int integer(const toml::node& n) const {
-    std::int64_t v = 0;
-    if (const auto* i = n.as_integer()) {
-      v = i->get();
-    } else if (const auto* f = n.as_floating_point(); f && std::isfinite(f->get()) &&
-                                                       f->get() == std::trunc(f->get()) &&
-                                                       std::abs(f->get()) < 9.0e18) {
-      v = static_cast<std::int64_t>(f->get());  // 1e3 is accepted where an integer is expected
-    } else {
-      fail("expected an integer, got " + describe(n));
-    }
-    if (std::is_unsigned_v<Int> && v < 0) fail("must be >= 0, got " + std::to_string(v));
-    if constexpr (!std::is_unsigned_v<Int>) {
-      if (v < static_cast<std::int64_t>(std::numeric_limits<Int>::min()) ||
-          v > static_cast<std::int64_t>(std::numeric_limits<Int>::max()))
-        fail("integer " + std::to_string(v) + " is out of range");
-    }
-    return static_cast<Int>(v);
-  }
-
   void read(const toml::node& n, Target t, bool scalar_ok) const {
     std::visit(
         [&](auto* p) {
@@ -357,7 +342,7 @@ struct Reader {
             *p = number(n);
           } else if constexpr (std::is_same_v<T, int> || std::is_same_v<T, long> ||
                                std::is_same_v<T, std::uint64_t>) {
-            *p = integer<T>(n);
+            *p = checked_integer<T>(n, source, key, IntegralFloats::accepted);  // "integer" takes 4e1 (docs/cli.md)
           } else if constexpr (std::is_same_v<T, bool>) {
             if (const auto* b = n.as_boolean()) *p = b->get();
             else fail("expected true or false, got " + describe(n));
@@ -602,13 +587,7 @@ void check_imposed_rate(const Document& doc, Scene& s) {
 
 // The scene's name (it names the output directory out/<scene>) and its list of models.
 void check_names(const Document& doc, const Scene& s) {
-  if (s.name.empty())
-    throw ConfigError(doc.source, doc.shown("scene"), "must not be empty (it names the output directory)");
-  if (s.name.front() == '/' || s.name.find("..") != std::string::npos)
-    throw ConfigError(doc.source, doc.shown("scene"), "must be a relative name without '..' (it names out/<scene>)");
-  if (std::any_of(s.name.begin(), s.name.end(), [](char ch) { return static_cast<unsigned char>(ch) < 0x20 || ch == 0x7f; }))
-    throw ConfigError(doc.source, doc.shown("scene"),
-                      "must not contain control characters (it names the directory out/<scene>)");
+  check_directory_name(s.name, doc.source, doc.shown("scene"), "out/<scene>");
   for (std::size_t i = 0; i < s.models.size(); ++i)
     for (std::size_t j = 0; j < i; ++j)
       if (s.models[i] == s.models[j])
@@ -741,14 +720,97 @@ Scene parse_scene(const std::string& toml_text, const std::string& source_name,
 
 Scene load_scene(const std::filesystem::path& file, const std::vector<std::string>& overrides,
                  std::vector<std::string>* notes) {
+  return parse_scene(read_config_file(file), file.string(), overrides, notes);
+}
+
+namespace {
+
+// What a file that is not a regular file is, for the refusal.
+std::string file_type_name(mode_t mode) {
+  if (S_ISDIR(mode)) return "a directory";
+  if (S_ISCHR(mode)) return "a character device";
+  if (S_ISBLK(mode)) return "a block device";
+  if (S_ISFIFO(mode)) return "a FIFO (named pipe)";
+  if (S_ISSOCK(mode)) return "a socket";
+  return "not a regular file";
+}
+
+// Closes a file descriptor on scope exit.
+struct Fd {
+  int fd;
+  ~Fd() {
+    if (fd >= 0) ::close(fd);
+  }
+};
+
+std::string size_text(std::uintmax_t bytes) {
+  return std::to_string(bytes) + " bytes";
+}
+
+}  // namespace
+
+std::string read_config_file(const std::filesystem::path& file, std::size_t limit) {
   const std::string source = file.string();
-  std::error_code ec;
-  if (std::filesystem::is_directory(file, ec)) throw ConfigError(source, "", "is a directory, not a TOML file");
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw ConfigError(source, "", std::string("cannot open the file: ") + std::strerror(errno));
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_scene(text.str(), source, overrides, notes);
+  const auto refuse_type = [&](mode_t mode) {
+    throw ConfigError(source, "", "is " + file_type_name(mode) + ", not a regular file (a configuration is read from a file)");
+  };
+  const auto refuse_size = [&](std::uintmax_t size, bool at_least) {
+    throw ConfigError(source, "", "is " + std::string(at_least ? "at least " : "") + size_text(size) +
+                                      ", more than the limit of " + size_text(limit) +
+                                      " for a configuration file (is it the right file?)");
+  };
+  // The type first (stat follows symbolic links, as open does), so that a FIFO is never opened; then
+  // the type again on the opened descriptor (the path may have changed in between): O_NONBLOCK makes
+  // opening a FIFO return at once instead of waiting for a writer.
+  struct stat st {};
+  if (::stat(file.c_str(), &st) != 0)
+    throw ConfigError(source, "", std::string("cannot open the file: ") + std::strerror(errno));
+  if (!S_ISREG(st.st_mode)) refuse_type(st.st_mode);
+  if (static_cast<std::uintmax_t>(st.st_size) > limit) refuse_size(static_cast<std::uintmax_t>(st.st_size), false);
+  const Fd in{::open(file.c_str(), O_RDONLY | O_NONBLOCK | O_NOCTTY | O_CLOEXEC)};
+  if (in.fd < 0) throw ConfigError(source, "", std::string("cannot open the file: ") + std::strerror(errno));
+  if (::fstat(in.fd, &st) != 0) throw ConfigError(source, "", std::string("cannot read the file: ") + std::strerror(errno));
+  if (!S_ISREG(st.st_mode)) refuse_type(st.st_mode);
+  // At most limit + 1 bytes, whatever the size said (a file may grow, /proc files say 0).
+  std::string text(limit + 1, '\0');
+  std::size_t got = 0;
+  while (got < text.size()) {
+    const ssize_t n = ::read(in.fd, text.data() + got, text.size() - got);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) throw ConfigError(source, "", std::string("cannot read the file: ") + std::strerror(errno));
+    if (n == 0) break;
+    got += static_cast<std::size_t>(n);
+  }
+  if (got > limit) refuse_size(got, true);
+  text.resize(got);
+  return text;
+}
+
+void check_directory_name(const std::string& name, const std::string& file, const std::string& key,
+                          const std::string& names) {
+  if (name.empty()) throw ConfigError(file, key, "must not be empty (it names the output directory " + names + ")");
+  if (name.front() == '/' || name.find("..") != std::string::npos)
+    throw ConfigError(file, key, "must be a relative name without '..' (it names " + names + ")");
+  if (std::any_of(name.begin(), name.end(), [](char ch) { return static_cast<unsigned char>(ch) < 0x20 || ch == 0x7f; }))
+    throw ConfigError(file, key, "must not contain control characters (it names the directory " + names + ")");
+}
+
+std::int64_t toml_integer(const toml::node& n, const std::string& file, const std::string& key, IntegralFloats floats) {
+  if (const auto* i = n.as_integer()) return i->get();
+  std::string got = describe(n);
+  if (const auto* f = n.as_floating_point()) {
+    const double x = f->get();
+    const bool integral = std::isfinite(x) && x == std::trunc(x) && std::abs(x) < 9.0e18;
+    if (integral && floats == IntegralFloats::accepted) return static_cast<std::int64_t>(x);
+    got += " (" + format_double(x) + ")";
+    if (integral) got += "; write it as the integer " + std::to_string(static_cast<std::int64_t>(x));
+  }
+  throw ConfigError(file, key, "expected an integer, got " + got);
+}
+
+void refuse_integer_range(const std::string& file, const std::string& key, std::int64_t v, const std::string& lo,
+                          const std::string& hi) {
+  throw ConfigError(file, key, "the integer " + std::to_string(v) + " is out of range (" + lo + " .. " + hi + ")");
 }
 
 std::vector<std::string> schema_keys() {

@@ -2,6 +2,7 @@
 // Scene configuration files (TOML) <-> compare::Scene (docs/model.md §5; the schema is in docs/cli.md).
 // Every key of the schema is one row of a table in config.cpp; reading, --set overrides, defaults,
 // "unknown key" messages and to_toml() all follow that table.
+#include <cstddef>
 #include <filesystem>
 #include <stdexcept>
 #include <string>
@@ -21,6 +22,23 @@ struct ConfigError : std::runtime_error {
   ConfigError(std::string file, std::string key, std::string reason);
   ConfigError(std::string file, long line, long column, std::string reason);  ///< syntax error
 };
+
+/// The largest configuration file read (a scene, a study, a study's scene): 1 MiB, ten times the
+/// largest file in configs/. Anything larger is not a configuration written by hand.
+inline constexpr std::size_t max_config_bytes = std::size_t{1} << 20;
+
+/// The text of a configuration file: the one reader of scene files, study files and the scene of a
+/// study. Refuses anything but a regular file (a directory, a device such as /dev/zero, a FIFO, a
+/// socket: named in the reason; the type is looked at before opening and a FIFO is never waited on)
+/// and a file of more than `limit` bytes (its size and the limit in the reason), reading at most
+/// `limit` + 1 bytes whatever the file claims. Throws ConfigError(file, "", reason).
+std::string read_config_file(const std::filesystem::path& file, std::size_t limit = max_config_bytes);
+
+/// The rule for names that name an output directory (a scene's `scene`, a study's `study`): not
+/// empty, relative, no '..', no control characters. `key` is the key as shown in messages, `names`
+/// the directory it names ("out/<scene>"). Throws ConfigError(file, key, reason).
+void check_directory_name(const std::string& name, const std::string& file, const std::string& key,
+                          const std::string& names);
 
 /// Read, override, complete with defaults and validate a scene.
 ///  - `overrides`: "section.key=value" (top-level keys: "key=value"); the value is parsed as a TOML

@@ -1,11 +1,20 @@
 #include "apps/h5in.hpp"
 
+#include <fcntl.h>
 #include <hdf5.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
+#include <cerrno>
+#include <cstring>
 #include <map>
+#include <string_view>
 #include <utility>
 
+#include "apps/h5out.hpp"
 #include "apps/hdf5_handle.hpp"
+#include "core/checksum.hpp"
 
 namespace slipfront::app {
 namespace {
@@ -254,7 +263,76 @@ auto with_file(const fs::path& path, Read&& read) {
   }
 }
 
+// A regular file mapped read-only (empty files: no mapping).
+class MappedFile {
+ public:
+  explicit MappedFile(const fs::path& path) {
+    const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_NOCTTY | O_CLOEXEC);
+    if (fd < 0) throw InputError(path.string() + ": cannot open: " + std::strerror(errno));
+    struct stat st {};
+    if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+      ::close(fd);
+      throw InputError(path.string() + ": not a regular file");
+    }
+    size_ = static_cast<std::size_t>(st.st_size);
+    if (size_ > 0) {
+      void* p = ::mmap(nullptr, size_, PROT_READ, MAP_PRIVATE, fd, 0);
+      if (p == MAP_FAILED) {
+        const int e = errno;
+        ::close(fd);
+        throw InputError(path.string() + ": cannot map: " + std::strerror(e));
+      }
+      data_ = static_cast<const char*>(p);
+    }
+    ::close(fd);
+  }
+  ~MappedFile() {
+    if (data_) ::munmap(const_cast<char*>(data_), size_);
+  }
+  MappedFile(const MappedFile&) = delete;
+  MappedFile& operator=(const MappedFile&) = delete;
+  std::string_view bytes() const { return {data_, size_}; }
+
+ private:
+  const char* data_ = nullptr;
+  std::size_t size_ = 0;
+};
+
+// The value after `label` on its line in the block ("" if absent).
+std::string block_field(std::string_view block, std::string_view label) {
+  const std::size_t at = block.find(label);
+  if (at == std::string_view::npos) return "";
+  const std::size_t from = at + label.size(), end = block.find('\n', from);
+  return std::string(block.substr(from, std::min(end, block.size()) - from));
+}
+
 }  // namespace
+
+ChecksumCheck verify_checksum(const fs::path& path) {
+  const MappedFile file(path);
+  const std::string_view all = file.bytes();
+  if (all.substr(0, checksum_magic.size()) != checksum_magic) {
+    // Files written before checksums begin with HDF5's signature; anything else is a damaged block.
+    constexpr std::string_view hdf5_signature("\x89HDF\r\n\x1a\n", 8);
+    if (all.substr(0, hdf5_signature.size()) == hdf5_signature)
+      return {Checksum::absent, "no checksum (an HDF5 file without slipfront's checksum block: written before "
+                                "checksums, or not by slipfront)"};
+    return {Checksum::failed, "damaged: the file begins neither with slipfront's checksum block nor with HDF5's "
+                              "signature"};
+  }
+  if (all.size() < checksum_block_bytes)
+    return {Checksum::failed, "truncated: " + std::to_string(all.size()) + " bytes, shorter than its checksum block"};
+  const std::string_view block = all.substr(0, checksum_block_bytes), payload = all.substr(checksum_block_bytes);
+  const std::string expected = checksum_block(payload);
+  if (block == expected) return {Checksum::intact, ""};
+  const std::string stored = block_field(block, "xxh3-64 "), stored_size = block_field(block, "\nbytes ");
+  const std::string now = core::content_hash_hex(payload);
+  if (stored != now)
+    return {Checksum::failed, "checksum fails: stored xxh3-64 " + (stored.empty() ? "(unreadable)" : stored) +
+                                  ", the " + std::to_string(payload.size()) + " bytes after the block hash to " + now +
+                                  (stored_size == std::to_string(payload.size()) ? "" : " (stored size " + stored_size + ")")};
+  return {Checksum::failed, "checksum block altered (its hash matches the content, its other bytes do not)"};
+}
 
 ResultsHeader read_results_header(const fs::path& path) {
   return with_file(path, [](hid_t file) { return read_header(file); });
@@ -269,6 +347,10 @@ std::string read_study_name(const fs::path& path) {
 }
 
 ResultsFile read_results(const fs::path& path, const ReadOptions& options) {
+  if (options.verified) {
+    const ChecksumCheck c = verify_checksum(path);
+    if (c.state != Checksum::intact) throw InputError(path.string() + ": " + c.detail);
+  }
   return with_file(path, [&](hid_t file) {
     ResultsFile f;
     f.header = read_header(file);

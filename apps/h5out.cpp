@@ -21,6 +21,7 @@
 
 #include "apps/build_info.hpp"
 #include "apps/hdf5_handle.hpp"
+#include "core/checksum.hpp"
 
 namespace slipfront::app {
 namespace {
@@ -353,12 +354,24 @@ void comparison_group(hid_t file, const compare::Comparison& c) {
 // (a failed H5Fclose on a real file would leave the library with an open file it cannot flush, which
 // crashed at exit), and the temporary file is created exclusively without following symbolic links.
 
-Hid create_in_memory(const std::filesystem::path& tmp) {
+// `checksummed`: the file declares a user block of checksum_block_bytes (HDF5 then starts at that
+// offset), which save_image fills with the checksum of the rest (docs/output.md, "Checksum").
+Hid create_in_memory(const std::filesystem::path& tmp, bool checksummed = false) {
   Hid fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "make a file access property list");
   // Grown 1 MiB at a time: the driver zeroes every increment it allocates, and a 16 MiB one cost a
   // memset with 4096 page faults (~8 ms) for a 160 kB file.
   check(H5Pset_fapl_core(fapl.get(), 1 << 20, 0), "select the in-memory driver");
-  return Hid(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()), H5Fclose, "create " + tmp.string());
+  Hid fcpl(H5Pcreate(H5P_FILE_CREATE), H5Pclose, "make a file creation property list");
+  if (checksummed) check(H5Pset_userblock(fcpl.get(), checksum_block_bytes), "declare the user block");
+  return Hid(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, fcpl.get(), fapl.get()), H5Fclose, "create " + tmp.string());
+}
+
+// The user block the file declares (0: none).
+hsize_t user_block_of(hid_t file, const std::filesystem::path& tmp) {
+  Hid fcpl(H5Fget_create_plist(file), H5Pclose, "read the creation properties of " + tmp.string());
+  hsize_t size = 0;
+  check(H5Pget_userblock(fcpl.get(), &size), "read the user block size of " + tmp.string());
+  return size;
 }
 
 std::string errno_text(int e) { return std::strerror(e); }
@@ -389,21 +402,30 @@ void write_image_file(const std::filesystem::path& tmp, const std::vector<char>&
   if (::close(fd) != 0) throw OutputError("cannot close " + tmp.string() + ": " + errno_text(errno));
 }
 
+// The image HDF5 holds (which starts at its superblock, after any user block) written to `tmp`; a file
+// created checksummed gets its user block in front: the checksum of the image (checksum_block).
 void save_image(Hid& file, const std::filesystem::path& tmp) {
   check(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), "flush the file image of " + tmp.string());
+  const auto block = static_cast<std::size_t>(user_block_of(file.get(), tmp));
+  if (block != 0 && block != checksum_block_bytes)
+    throw OutputError("HDF5: unexpected user block of " + std::to_string(block) + " bytes in " + tmp.string());
   const ssize_t size = H5Fget_file_image(file.get(), nullptr, 0);
   if (size < 0) throw OutputError("HDF5: cannot get the file image of " + tmp.string());
-  std::vector<char> image(static_cast<std::size_t>(size));
-  if (H5Fget_file_image(file.get(), image.data(), image.size()) != size)
+  std::vector<char> image(block + static_cast<std::size_t>(size));
+  if (H5Fget_file_image(file.get(), image.data() + block, static_cast<std::size_t>(size)) != size)
     throw OutputError("HDF5: cannot copy the file image of " + tmp.string());
   file.close("close the in-memory file " + tmp.string());
+  if (block != 0) {
+    const std::string b = checksum_block({image.data() + block, static_cast<std::size_t>(size)});
+    std::copy(b.begin(), b.end(), image.begin());
+  }
   write_image_file(tmp, image);
 }
 
 void write_file(const std::filesystem::path& tmp, const compare::Scene& scene, const std::string& resolved_toml,
                 const std::vector<compare::ModelResult>& results, const RunMeta& meta,
                 const compare::Comparison* comparison) {
-  Hid file = create_in_memory(tmp);
+  Hid file = create_in_memory(tmp, /*checksummed=*/true);
   std::string message = meta.message;
   if (message.empty())
     for (const auto& r : results)
@@ -489,6 +511,9 @@ void write_study_file(const std::filesystem::path& tmp, const compare::StudySpec
     attr_int(r.get(), "workers", exec.workers);
     attr_int(r.get(), "skipped", n_skipped);
     attr_int(r.get(), "computed", exec.computed);
+    std::string untrusted;
+    for (const auto& u : exec.untrusted) untrusted += u + "\n";
+    attr_string(r.get(), "untrusted", untrusted);
   }
   save_image(file, tmp);
 }
@@ -596,6 +621,15 @@ std::string config_hash(const std::string& resolved_toml) {
   char buf[40];
   std::snprintf(buf, sizeof buf, "crc64-xz:%016llx", static_cast<unsigned long long>(crc.checksum()));
   return buf;
+}
+
+std::string checksum_block(std::string_view payload) {
+  // Text a person can read with `head -c 512`, then zeros: every byte of the block is what this function
+  // writes for the payload, so a reader compares the whole block (apps/h5in.hpp: verify_checksum).
+  std::string block = std::string(checksum_magic) + "xxh3-64 " + core::content_hash_hex(payload) + "\nbytes " +
+                      std::to_string(payload.size()) + "\n";
+  block.resize(checksum_block_bytes, '\0');
+  return block;
 }
 
 std::size_t remove_stale_temporaries(const std::filesystem::path& dir, const std::string& prefix) {

@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "compare/fronts.hpp"
@@ -31,11 +32,22 @@ struct OutputError : std::runtime_error {
 compare::RunStatus overall_status(const std::vector<compare::ModelResult>& results,
                                   compare::RunStatus floor = compare::RunStatus::complete);
 
+/// Every results file written by write_results begins with an HDF5 user block of this size (HDF5 and
+/// h5py skip it) holding the checksum of every byte after it: checksum_block (docs/output.md, "Checksum").
+inline constexpr std::size_t checksum_block_bytes = 512;
+/// How the block begins: a file without it has no checksum (written before issue 18).
+inline constexpr std::string_view checksum_magic = "slipfront results checksum\n";
+
+/// The user block of a file whose bytes after the block are `payload`: checksum_magic, "xxh3-64 <16 hex
+/// digits>\n" (core::content_hash_hex of the payload), "bytes <payload size>\n", then zeros up to
+/// checksum_block_bytes. A file is intact when its block is exactly checksum_block(rest of the file).
+std::string checksum_block(std::string_view payload);
+
 /// Writes the results to `path` atomically: the file is built in memory, written to ".<name>.tmp.<pid>"
 /// in the same directory (created exclusively, never through a symbolic link; stale temporaries of
 /// dead processes removed first), flushed and renamed onto `path` (replacing it) once complete.
 /// Throws OutputError with the reason (a full disk: "No space left on device"); the temporary file
-/// is removed then.
+/// is removed then. The file begins with its checksum (checksum_block).
 /// `comparison` (may be null or empty): the /compare group of alongside runs.
 void write_results(const std::filesystem::path& path, const compare::Scene& scene, const std::string& resolved_toml,
                    const std::vector<compare::ModelResult>& results, const RunMeta& meta,
@@ -47,6 +59,7 @@ struct StudyExecution {
   int workers = 1;                 ///< threads, or MPI ranks x threads per rank
   long long computed = 0;          ///< runs run by this invocation (complete, interrupted or failed)
   std::vector<int> skipped;        ///< per run: 1 if its results file was complete already (not rerun)
+  std::vector<std::string> untrusted;  ///< run files made again because their checksum failed ("runs/<id>/results.h5: why")
 };
 
 /// Writes a study's analysis to `path` (study.h5) atomically, like write_results.

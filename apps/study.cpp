@@ -10,10 +10,12 @@
 #include <cerrno>
 #include <charconv>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -29,7 +31,9 @@
 #include "apps/h5out.hpp"
 #include "apps/paths.hpp"
 #include "apps/study_mpi.hpp"
+#include "apps/toml_integer.hpp"
 #include "compare/alongside.hpp"
+#include "compare/estimate.hpp"
 #include "compare/pool.hpp"
 #include "core/interrupt.hpp"
 
@@ -61,8 +65,22 @@ std::string value_text(const toml::node& n) {
   return "";  // dates and tables: refused by read_vary
 }
 
+// What makes two values of a varied key the same point: their TOML text, with numbers compared by value
+// (100, 100.0 and 1e2 are one point; integers beyond 2^53 stay exact).
+std::string point_identity(const toml::node& n) {
+  if (const auto* f = n.as_floating_point()) {
+    const double x = f->get();
+    if (std::isfinite(x) && x == std::trunc(x) && std::abs(x) < 9007199254740992.0)
+      return std::to_string(static_cast<std::int64_t>(x));
+  }
+  return value_text(n);
+}
+
+// One [vary] table: key -> its values. A value repeated in a list is one point, not two (they would be
+// pooled as extra seeds): it is kept once, with a note.
 std::vector<std::pair<std::string, std::vector<std::string>>> read_vary(const toml::table& t, const std::string& file,
-                                                                        const std::string& where) {
+                                                                        const std::string& where,
+                                                                        std::vector<std::string>& notes) {
   std::vector<std::pair<std::string, std::vector<std::string>>> out;
   for (const auto& [k, v] : t) {
     const std::string key(k.str());
@@ -70,24 +88,34 @@ std::vector<std::pair<std::string, std::vector<std::string>>> read_vary(const to
     if (!arr || arr->empty())
       throw ConfigError(file, where + "." + key, "must be a non-empty array of values for the key '" + key + "'");
     std::vector<std::string> values;
+    std::map<std::string, std::string> seen;  // identity -> the text kept
     for (const auto& e : *arr) {
       if (!(e.is_number() || e.is_boolean() || e.is_string() || e.is_array()))
         throw ConfigError(file, where + "." + key, "values must be numbers, booleans, strings or arrays");
-      values.push_back(value_text(e));
+      const std::string text = value_text(e);
+      const auto [it, fresh] = seen.emplace(point_identity(e), text);
+      if (fresh) {
+        values.push_back(text);
+      } else {
+        notes.push_back(file + ": " + where + "." + key + ": the value " + text +
+                        (text == it->second ? "" : " (the same point as " + it->second + ")") +
+                        " is repeated: it is run once (a repeated value is one point, not extra seeds)");
+      }
     }
     out.emplace_back(key, values);
   }
   return out;
 }
 
-// The study file parsed (errors: ConfigError naming the file, and the line and column of a syntax error).
-toml::table parse_study_file(const fs::path& file) {
+// The study file parsed, and its text (errors: ConfigError naming the file, and the line and column of
+// a syntax error). Read by read_config_file: a regular file of at most max_config_bytes.
+toml::table parse_study_file(const fs::path& file, std::string& text) {
   const std::string name = file.string();
+  text = read_config_file(file);
   try {
-    return toml::parse_file(name);
+    return toml::parse(text, name);
   } catch (const toml::parse_error& e) {
     const auto& b = e.source().begin;
-    if (!fs::exists(file)) throw ConfigError(name, "", "cannot open the file: no such file");
     throw ConfigError(name, static_cast<long>(b.line), static_cast<long>(b.column), std::string(e.description()));
   }
 }
@@ -124,7 +152,8 @@ std::vector<std::string> read_common(const toml::node& n, const std::string& fil
 }
 
 // One [[group]] (the k-th): its name (default "group<k>") and its [vary] table.
-compare::StudyGroup read_group(const toml::table& g, const std::string& file, std::size_t k) {
+compare::StudyGroup read_group(const toml::table& g, const std::string& file, std::size_t k,
+                               std::vector<std::string>& notes) {
   const std::string where = "group[" + std::to_string(k) + "]";
   compare::StudyGroup grp;
   for (const auto& [gk, gv] : g) {
@@ -134,7 +163,7 @@ compare::StudyGroup read_group(const toml::table& g, const std::string& file, st
       grp.name = gv.as_string()->get();
     } else if (key == "vary") {
       if (!gv.is_table()) throw ConfigError(file, where + ".vary", "must be a table of key = [values]");
-      grp.vary = read_vary(*gv.as_table(), file, where + ".vary");
+      grp.vary = read_vary(*gv.as_table(), file, where + ".vary", notes);
     } else {
       throw ConfigError(file, where + "." + key, "unknown key (known: name, vary)");
     }
@@ -144,48 +173,86 @@ compare::StudyGroup read_group(const toml::table& g, const std::string& file, st
 }
 
 // The varied keys: one unnamed group from [vary], then every [[group]].
-std::vector<compare::StudyGroup> read_groups(const toml::table& t, const std::string& file) {
+std::vector<compare::StudyGroup> read_groups(const toml::table& t, const std::string& file,
+                                             std::vector<std::string>& notes) {
   std::vector<compare::StudyGroup> groups;
   if (const auto* n = t.get("vary")) {
     if (!n->is_table()) throw ConfigError(file, "vary", "must be a table of key = [values]");
-    groups.push_back({"", read_vary(*n->as_table(), file, "vary")});
+    groups.push_back({"", read_vary(*n->as_table(), file, "vary", notes)});
   }
   if (const auto* n = t.get("group")) {
     const auto* a = n->as_array();
     if (!a || !a->is_array_of_tables()) throw ConfigError(file, "group", "must be an array of tables ([[group]])");
-    for (std::size_t k = 0; k < a->size(); ++k) groups.push_back(read_group(*a->get(k)->as_table(), file, k));
+    for (std::size_t k = 0; k < a->size(); ++k) groups.push_back(read_group(*a->get(k)->as_table(), file, k, notes));
   }
   return groups;
 }
 
+// A number of the study file, checked against its row of compare::study_key_domains().
+double in_study_domain(const std::string& file, const std::string& key, double value) {
+  try {
+    core::check_in_domain(*core::find_key_domain(compare::study_key_domains(), key), value);
+  } catch (const core::ParamError& e) {
+    throw ConfigError(file, key, e.reason);
+  }
+  return value;
+}
+
+// A number key of the study file (integers accepted), checked against its domain.
+double read_number(const toml::node& n, const std::string& file, const std::string& key) {
+  if (!n.is_number()) throw ConfigError(file, key, "expected a number, got " + value_text(n));
+  return in_study_domain(file, key, n.value<double>().value_or(0.0));
+}
+
+// An integer key of the study file: a TOML integer (not a float, not even 1e9), in the range of T, in
+// its domain.
+template <class T>
+T read_integer(const toml::node& n, const std::string& file, const std::string& key) {
+  in_study_domain(file, key, static_cast<double>(checked_integer<std::int64_t>(n, file, key, IntegralFloats::refused)));
+  return checked_integer<T>(n, file, key, IntegralFloats::refused);  // (within the domain: fits T; checked all the same)
+}
+
+// [limits]: what the study may cost in its own process (docs/studies.md).
+compare::StudyLimits read_limits(const toml::node& n, const std::string& file) {
+  const auto* t = n.as_table();
+  if (!t) throw ConfigError(file, "limits", "must be a table [limits] (keys: max_runs, max_memory_gib)");
+  compare::StudyLimits lim;
+  for (const auto& [k, v] : *t) {
+    const std::string key = "limits." + std::string(k.str());
+    if (k.str() == "max_runs") lim.max_runs = static_cast<double>(read_integer<std::int64_t>(v, file, key));
+    else if (k.str() == "max_memory_gib") lim.max_memory_gib = read_number(v, file, key);
+    else throw ConfigError(file, key, "unknown key (known keys of [limits]: max_runs, max_memory_gib)");
+  }
+  return lim;
+}
+
 }  // namespace
 
-compare::StudySpec load_study(const fs::path& file) {
+compare::StudySpec load_study(const fs::path& file, std::string* text) {
   const std::string name = file.string();
-  const toml::table t = parse_study_file(file);
-  static const std::set<std::string> known{"study", "kind", "description", "scene", "set", "seeds", "vary", "group",
-                                           "fit_from"};
+  std::string file_text;
+  const toml::table t = parse_study_file(file, file_text);
+  if (text) *text = std::move(file_text);
+  static const std::set<std::string> known{"study", "kind",  "description", "scene",    "set",
+                                           "seeds", "vary",  "group",       "fit_from", "limits"};
   for (const auto& [k, v] : t)
     if (!known.count(std::string(k.str())))
       throw ConfigError(name, std::string(k.str()),
-                        "unknown key (known: study, kind, description, scene, set, seeds, fit_from, vary, group)");
+                        "unknown key (known: study, kind, description, scene, set, seeds, fit_from, vary, group, "
+                        "limits)");
   compare::StudySpec s;
   s.name = read_string(t, name, "study", true);
+  check_directory_name(s.name, name, "study", "out/studies/<study>");
   s.kind = read_string(t, name, "kind", true);
   s.description = read_string(t, name, "description", false);
   const std::string scene = read_string(t, name, "scene", true);
   s.scene_file = (fs::path(scene).is_absolute() ? fs::path(scene) : file.parent_path() / scene).lexically_normal().string();
   check_kind(name, s.kind);
-  if (const auto* n = t.get("seeds")) {
-    if (!n->is_integer() || n->as_integer()->get() < 1) throw ConfigError(name, "seeds", "must be an integer >= 1");
-    s.seeds = static_cast<int>(n->as_integer()->get());
-  }
-  if (const auto* n = t.get("fit_from")) {
-    if (!n->is_number() || n->value<double>().value_or(-1) < 0) throw ConfigError(name, "fit_from", "must be a number >= 0");
-    s.fit_from = n->value<double>().value_or(0.0);
-  }
+  if (const auto* n = t.get("seeds")) s.seeds = read_integer<int>(*n, name, "seeds");
+  if (const auto* n = t.get("fit_from")) s.fit_from = read_number(*n, name, "fit_from");
+  if (const auto* n = t.get("limits")) s.limits = read_limits(*n, name);
   if (const auto* n = t.get("set")) s.common = read_common(*n, name);
-  s.groups = read_groups(t, name);
+  s.groups = read_groups(t, name, s.notes);
   return s;
 }
 
@@ -230,11 +297,11 @@ class StudySignals {
 // ---------------------------------------------------------------------------------------------
 // Resume: what an existing run file holds, compared with the run about to be made.
 
-enum class RunFile { missing, complete, partial, unreadable, unverified, other_config };
+enum class RunFile { missing, complete, partial, unreadable, unverified, corrupt, other_config };
 
 struct RunFileCheck {
   RunFile state = RunFile::missing;
-  std::string detail;  ///< status of a partial file, the error of an unreadable one, the first difference
+  std::string detail;  ///< status of a partial file, the error of an unreadable one, why a checksum fails, the first difference
 };
 
 // "line 12: `mu = 300.0` in the file, `mu = 200.0` now" (or the lengths, if one is a prefix).
@@ -250,11 +317,17 @@ std::string first_difference(const std::string& stored, const std::string& now) 
   }
 }
 
+// What a run file is worth, its checksum first: a file that is not what was written is made again,
+// whatever its content says (a flipped byte in /config would otherwise read as another configuration,
+// one in a dataset as a complete run).
 RunFileCheck check_run_file(const fs::path& file, const std::string& resolved, const std::string& hash) {
   std::error_code ec;
   if (!fs::exists(fs::symlink_status(file, ec))) return {RunFile::missing, ""};
+  ChecksumCheck sum;
   ResultsHeader h;
   try {
+    sum = verify_checksum(file);
+    if (sum.state == Checksum::failed) return {RunFile::corrupt, sum.detail};
     h = read_results_header(file);
   } catch (const InputError& e) {
     return {RunFile::unreadable, e.what()};
@@ -262,6 +335,7 @@ RunFileCheck check_run_file(const fs::path& file, const std::string& resolved, c
   if (h.resolved_toml != resolved || (!h.config_hash.empty() && h.config_hash != hash))
     return {RunFile::other_config, first_difference(h.resolved_toml, resolved)};
   if (h.config_hash.empty()) return {RunFile::unverified, "no /meta config_hash (written by an older slipfront)"};
+  if (sum.state == Checksum::absent) return {RunFile::unverified, sum.detail};
   if (h.status != compare::RunStatus::complete) return {RunFile::partial, compare::to_string(h.status)};
   return {RunFile::complete, ""};
 }
@@ -280,12 +354,14 @@ std::string plural(long long n, const std::string& one, const std::string& many)
 struct RunPlan {
   int code = 0;            ///< 0: go on; else the exit code (the reason was printed)
   std::vector<char> skip;  ///< per run: 1 if its results file is complete for the same configuration
-  long long rerun = 0;     ///< runs with a partial, failed, unreadable or unverified file: made again
+  long long rerun = 0;     ///< runs with a partial, failed, unreadable, unverified or corrupt file: made again
   long long fresh = 0;     ///< runs with no file yet (every run with --force)
+  std::vector<std::string> untrusted;  ///< run files made again because their checksum fails, and why
 };
 
-// Creates DIR/runs/<id>/, checks the files already there (the table in docs/studies.md, "Resuming")
-// and removes the temporaries of killed writers. Nothing is touched when it refuses.
+// Creates DIR/runs/ (each run's directory is created when the run starts: make_run), checks the files
+// already there (the table in docs/studies.md, "Resuming") and removes the temporaries of killed
+// writers. Nothing is touched when it refuses.
 RunPlan plan_runs(const fs::path& dir, const compare::StudySpec& spec, const std::vector<compare::StudyRun>& runs,
                   const std::vector<std::string>& resolved, bool force, std::ostream& err) {
   RunPlan p;
@@ -318,11 +394,6 @@ RunPlan plan_runs(const fs::path& dir, const compare::StudySpec& spec, const std
   std::vector<std::string> other_config;
   for (std::size_t i = 0; i < runs.size(); ++i) {
     const fs::path run_dir = dir / "runs" / runs[i].id;
-    fs::create_directories(run_dir, ec);
-    if (ec) {
-      err << "slipfront: error: cannot create '" << run_dir.string() << "': " << ec.message() << "\n";
-      return refuse();
-    }
     if (force) {
       ++p.fresh;
       continue;
@@ -332,6 +403,10 @@ RunPlan plan_runs(const fs::path& dir, const compare::StudySpec& spec, const std
       case RunFile::complete: p.skip[i] = 1; break;
       case RunFile::missing: ++p.fresh; break;
       case RunFile::other_config: other_config.push_back("runs/" + runs[i].id + "/results.h5: " + c.detail); break;
+      case RunFile::corrupt:
+        p.untrusted.push_back("runs/" + runs[i].id + "/results.h5: " + c.detail);
+        ++p.rerun;
+        break;
       default: ++p.rerun; break;  // partial, unreadable or unverified: made again
     }
   }
@@ -360,6 +435,7 @@ struct Study {
   std::vector<compare::StudyRun> runs;
   std::vector<compare::Scene> scenes;  ///< per run
   std::vector<std::string> resolved;   ///< per run: the scene's resolved TOML
+  compare::StudyEstimate estimate;     ///< what the study holds in its own process (checked against its [limits])
   fs::path dir;
   fs::path run_file(std::size_t i) const { return dir / "runs" / runs[i].id / "results.h5"; }
 };
@@ -383,6 +459,7 @@ struct Schedule {
   std::vector<std::size_t> todo;  ///< the runs to make, in order
   std::vector<int> skipped;       ///< per run: 1 if its results file is complete already
   long long rerun = 0, fresh = 0; ///< rank 0 only: runs made again, runs with no file yet
+  std::vector<std::string> untrusted; ///< rank 0 only: run files made again because their checksum fails
   long long n_skipped() const { return static_cast<long long>(skipped.size() - todo.size()); }
 };
 
@@ -429,26 +506,77 @@ bool load_engine(bool quiet, Engine& engine, std::ostream& err) {
   return true;
 }
 
-// (b) The study read and every run validated before any work (every rank does the same). Nothing
-// (the reason printed) on a configuration error.
+// The base scene's text, read once for every run. A `scene` that is not a readable configuration file
+// is refused naming the study's key.
+std::string read_scene_text(const compare::StudySpec& spec, const std::string& study_file) {
+  try {
+    return read_config_file(spec.scene_file);
+  } catch (const ConfigError& e) {
+    throw ConfigError(study_file, "scene", spec.scene_file + ": " + e.reason);
+  }
+}
+
+// The study's size (compare::estimate_study) against its [limits], before any run is expanded: the
+// count of runs first (from the file alone), then the memory, from one sample run per group.
+compare::StudyEstimate check_study_size(const compare::StudySpec& spec, const std::string& study_file,
+                                        const std::string& scene_text, const std::vector<std::string>& extra) {
+  try {
+    compare::StudyEstimate runs_only;
+    runs_only.runs = compare::count_runs(spec);
+    compare::check_study_limits(spec, runs_only);
+    std::vector<compare::StudyRun> samples = compare::sample_runs(spec);
+    std::vector<compare::Scene> scenes;
+    std::vector<std::size_t> resolved;
+    for (auto& r : samples) {
+      r.overrides.insert(r.overrides.end(), extra.begin(), extra.end());
+      scenes.push_back(parse_scene(scene_text, spec.scene_file, r.overrides));
+      resolved.push_back(to_toml(scenes.back()).size());
+    }
+    const compare::StudyEstimate e = compare::estimate_study(spec, samples, scenes, resolved);
+    compare::check_study_limits(spec, e);
+    return e;
+  } catch (const core::ParamError& e) {
+    throw ConfigError(study_file, e.key, e.reason);
+  }
+}
+
+// The kind's analysis needs its models in every run (compare::StudyKind::needs).
+void check_models(const compare::StudySpec& spec, const std::string& study_file, const compare::StudyRun& run,
+                  const compare::Scene& scene) {
+  const compare::StudyKind& kind = *compare::find_study_kind(spec.kind);
+  const std::string missing = compare::missing_models(kind, scene);
+  if (missing.empty()) return;
+  std::string listed;
+  for (const auto& m : scene.models) listed += (listed.empty() ? "\"" : ", \"") + m + "\"";
+  throw ConfigError(study_file, "kind",
+                    "the analysis of kind '" + spec.kind + "' needs " + compare::describe(kind.needs) + ", but run " +
+                        run.id + " has models = [" + listed + "] (no " + missing +
+                        "): list the models it needs in the scene, or in the study's `set` (for example 'models=[\"continuum\",\"discrete\"]')");
+}
+
+// (b) The study read and every run validated before any work (every rank does the same): its size
+// within the study's [limits] before any run is expanded, then every run's scene and the models its
+// kind needs. Nothing (the reason printed) on a configuration error.
 std::optional<Study> read_study(const StudyOptions& opts, std::ostream& err) {
   Study study;
+  const std::string file = opts.study.string();
   try {
-    study.spec = load_study(opts.study);
+    study.spec = load_study(opts.study, &study.spec_toml);
+    const std::string scene_text = read_scene_text(study.spec, file);
+    study.estimate = check_study_size(study.spec, file, scene_text, opts.overrides);
     study.runs = compare::expand(study.spec);
     for (auto& r : study.runs) {
       r.overrides.insert(r.overrides.end(), opts.overrides.begin(), opts.overrides.end());
-      study.scenes.push_back(load_scene(study.spec.scene_file, r.overrides));
+      study.scenes.push_back(parse_scene(scene_text, study.spec.scene_file, r.overrides));
+      check_models(study.spec, file, r, study.scenes.back());
       study.resolved.push_back(to_toml(study.scenes.back()));
     }
   } catch (const ConfigError& e) {
     err << "slipfront: error: " << e.what() << "\n";
     return std::nullopt;
   }
-  std::ifstream in(opts.study);
-  std::ostringstream text;
-  text << in.rdbuf();
-  study.spec_toml = text.str();
+  if (!opts.quiet)
+    for (const auto& note : study.spec.notes) err << "slipfront: note: " << note << "\n";
   study.dir = opts.out.empty() ? fs::path("out") / "studies" / study.spec.name : opts.out;
   return study;
 }
@@ -465,6 +593,7 @@ Schedule share_plan(const Study& study, bool force, const Engine& engine, std::o
     std::copy(p.skip.begin(), p.skip.end(), plan.begin() + 1);
     s.rerun = p.rerun;
     s.fresh = p.fresh;
+    s.untrusted = p.untrusted;
   }
   if (engine.mpi) engine.mpi->broadcast(plan.data(), plan.size(), -1);
   s.code = plan[0];
@@ -491,11 +620,17 @@ unsigned threads_per_process(unsigned threads, const MpiEngine* mpi, std::ostrea
 // The start line: the runs, those complete already and those made again, on what, to where.
 void print_start(std::ostream& err, const Study& study, const Schedule& s, const Engine& engine) {
   err << "slipfront: study " << study.spec.name << " (" << study.spec.kind
-      << "): " << plural(static_cast<long long>(study.runs.size()), "run", "runs");
+      << "): " << plural(static_cast<long long>(study.runs.size()), "run", "runs") << " ("
+      << compare::describe(study.estimate) << ")";
   if (s.n_skipped() > 0 || s.rerun > 0)
     err << ", " << s.n_skipped() << " complete already (skipped), " << s.todo.size() << " to run (" << s.rerun
         << " partial, failed or unverified, " << s.fresh << " new)";
   err << " on " << engine.where() << " -> " << study.dir.string() << "\n";
+  if (!s.untrusted.empty())
+    err << "slipfront: note: " << plural(static_cast<long long>(s.untrusted.size()), "run file is", "run files are")
+        << " not trusted (the checksum fails: not what was written) and made again:\n";
+  for (std::size_t k = 0; k < s.untrusted.size() && k < 5; ++k) err << "  " << s.untrusted[k] << "\n";
+  if (s.untrusted.size() > 5) err << "  ... and " << s.untrusted.size() - 5 << " more (all in study.h5, /study/runs@untrusted)\n";
 }
 
 // Stop requests: a signal to this process, or under MPI a stop anywhere (the rank that sees a signal
@@ -583,6 +718,10 @@ MadeRun make_run(const Study& study, std::size_t i, StopRequests& stop, const st
   meta.wall_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   made.status = overall_status(made.models, meta.status);
   try {
+    std::error_code ec;
+    fs::create_directories(study.run_file(i).parent_path(), ec);  // (created when the run is made: a
+    if (ec)                                                        // stopped study leaves no empty ones)
+      throw OutputError("cannot create '" + study.run_file(i).parent_path().string() + "': " + ec.message());
     write_results(study.run_file(i), study.scenes[i], study.resolved[i], made.models, meta, &cmp);
   } catch (const std::exception& e) {
     made.written = false;
@@ -673,7 +812,7 @@ Tally read_back(const Study& study, const Schedule& schedule, std::size_t handed
       continue;
     }
     try {
-      made.results[i] = read_results(study.run_file(i), {.fields = false}).models;
+      made.results[i] = read_results(study.run_file(i), {.fields = false, .verified = true}).models;
     } catch (const InputError& e) {
       lost[i] = 1;
       tally.read_problems.push_back("run " + study.runs[i].id + ": cannot read back its results: " + e.what());
@@ -721,6 +860,7 @@ compare::StudyReport analyse(const Study& study, const RunsMade& made, const Tal
   } catch (const std::exception& e) {
     meta.status = compare::RunStatus::failed;
     meta.message = std::string("analysis: ") + e.what();
+    report.notes = study.spec.notes;
   }
   report.notes.insert(report.notes.end(), tally.read_problems.begin(), tally.read_problems.end());
   return report;
@@ -728,11 +868,12 @@ compare::StudyReport analyse(const Study& study, const RunsMade& made, const Tal
 
 // The summary on stdout: the status, the runs, the scalars with their intervals, the notes.
 void print_summary(std::ostream& out, const Study& study, const RunMeta& meta, const Engine& engine, long long computed,
-                   long long n_skipped, const Tally& t, const compare::StudyReport& report) {
+                   long long n_skipped, std::size_t n_untrusted, const Tally& t, const compare::StudyReport& report) {
   out << study.spec.name << " (" << study.spec.kind << "): " << compare::to_string(meta.status) << ", "
       << study.runs.size() << " runs in " << static_cast<int>(meta.wall_seconds * 10) / 10.0 << " s on "
       << engine.where() << " -> " << (study.dir / "study.h5").string() << "\n";
   out << "  runs: " << computed << " run now, " << n_skipped << " skipped (complete from an earlier invocation)";
+  if (n_untrusted > 0) out << ", " << n_untrusted << " made again because their file failed its checksum";
   if (t.interrupted || t.failed || t.lost || t.not_started)
     out << "; " << t.complete << " complete, " << t.interrupted << " interrupted, " << t.failed << " failed, "
         << (t.lost ? std::to_string(t.lost) + " without a results file, " : "") << t.not_started << " not started";
@@ -756,14 +897,14 @@ int conclude(const StudyOptions& opts, const Study& study, const Schedule& sched
   const compare::StudyReport report = analyse(study, made, tally, meta);
   meta.wall_seconds = std::chrono::duration<double>(Clock::now() - wall0).count();
   const auto computed = static_cast<long long>(end.handed_out);
-  const StudyExecution exec{engine.name(), engine.workers(), computed, schedule.skipped};
+  const StudyExecution exec{engine.name(), engine.workers(), computed, schedule.skipped, schedule.untrusted};
   try {
     write_study(study.dir / "study.h5", study.spec, study.spec_toml, study.runs, report, meta, exec);
   } catch (const std::exception& e) {
     err << "slipfront: error: cannot write " << (study.dir / "study.h5").string() << ": " << e.what() << "\n";
     return exit_code::failed;
   }
-  print_summary(out, study, meta, engine, computed, schedule.n_skipped(), tally, report);
+  print_summary(out, study, meta, engine, computed, schedule.n_skipped(), schedule.untrusted.size(), tally, report);
   if (meta.status == compare::RunStatus::interrupted) {
     err << "slipfront: " << meta.message << "\n";
     return exit_code::interrupted;

@@ -14,9 +14,10 @@
 
 namespace slipfront::app {
 
-/// Read a study file (errors: ConfigError naming file, key and reason). The scene path in the
-/// returned spec is resolved relative to the study file.
-compare::StudySpec load_study(const std::filesystem::path& file);
+/// Read a study file (errors: ConfigError naming file, key and reason), through read_config_file (a
+/// regular file of at most 1 MiB). The scene path in the returned spec is resolved relative to the
+/// study file; repeated vary values are kept once, with a note in spec.notes. `text`: the file's text.
+compare::StudySpec load_study(const std::filesystem::path& file, std::string* text = nullptr);
 
 struct StudyOptions {
   std::filesystem::path study;

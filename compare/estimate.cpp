@@ -464,3 +464,82 @@ std::vector<std::string> describe(const Estimate& e) {
 }
 
 }  // namespace slipfront::compare
+
+// ---------------------------------------------------------------------------------------------
+// Studies (issue 18): what the study's own process holds, before any run is expanded.
+
+namespace slipfront::compare {
+namespace {
+
+// What a run's results keep in memory until the analysis (compare::ModelResult without the fields, which
+// a study's runs drop once written): the records the scene's estimate lists as series and friction-law
+// tables, and the node positions, per model.
+double kept_result_bytes(const Estimate& e) {
+  double bytes = 0.0;
+  for (const auto& [what, b] : e.memory_items)
+    if (what.rfind("series (", 0) == 0 || what.rfind("friction law table (", 0) == 0) bytes += b;
+  for (std::size_t k = 0; k < e.models.size(); ++k) bytes += static_cast<double>(sizeof(ModelResult)) + e.sites * word;
+  return bytes;
+}
+
+// The plan's bytes for one run: the StudyRun (its overrides and point, twice: strings and map nodes),
+// the Scene, its resolved TOML, and the per-run entries of the schedule and of the results.
+double plan_bytes_per_run(const StudySpec& spec, const StudyRun& run, std::size_t resolved_bytes) {
+  constexpr double string_bytes = sizeof(std::string), map_node = 64.0;
+  double text = 0.0;
+  for (const auto& o : run.overrides) text += string_bytes + static_cast<double>(o.size());
+  for (const auto& [k, v] : run.point) text += map_node + 2.0 * string_bytes + static_cast<double>(k.size() + v.size());
+  if (spec.seeds > 1) text += string_bytes + 24.0;  // "discrete.seed=<n>" (the samples have seed 1 only)
+  return static_cast<double>(sizeof(StudyRun) + sizeof(Scene)) + text + string_bytes +
+         static_cast<double>(resolved_bytes) + static_cast<double>(sizeof(std::vector<ModelResult>)) + 16.0;
+}
+
+}  // namespace
+
+StudyEstimate estimate_study(const StudySpec& spec, const std::vector<StudyRun>& samples,
+                             const std::vector<Scene>& sample_scenes, const std::vector<std::size_t>& resolved_bytes) {
+  StudyEstimate e;
+  e.runs = count_runs(spec);
+  e.directories = e.runs + 2.0;
+  // Each sample stands for the runs of its group: its points x seeds.
+  for (std::size_t k = 0; k < samples.size() && k < sample_scenes.size() && k < resolved_bytes.size(); ++k) {
+    double runs_of_group = std::max(1, spec.seeds);
+    if (k < spec.groups.size())
+      for (const auto& [key, values] : spec.groups[k].vary) runs_of_group *= static_cast<double>(values.size());
+    e.plan_bytes += runs_of_group * plan_bytes_per_run(spec, samples[k], resolved_bytes[k]);
+    e.results_bytes += runs_of_group * kept_result_bytes(estimate(sample_scenes[k]));
+  }
+  e.memory_bytes = base_bytes + e.plan_bytes + e.results_bytes;
+  return e;
+}
+
+void check_study_limits(const StudySpec& spec, const StudyEstimate& e) {
+  const StudyLimits& lim = spec.limits;
+  if (!(e.runs <= lim.max_runs)) {
+    std::string points;
+    for (const StudyGroup& g : spec.groups) {
+      double product = 1.0;
+      for (const auto& [key, values] : g.vary) product *= static_cast<double>(values.size());
+      points += (points.empty() ? "" : " + ") + count(product);
+    }
+    throw ParamError("limits.max_runs",
+                     "the study would make " + count(e.runs) + " runs ((" + (points.empty() ? "1" : points) +
+                         ") points x " + std::to_string(std::max(1, spec.seeds)) +
+                         " seeds, each a directory runs/<id>/ with its results file), more than limits.max_runs = " +
+                         count(lim.max_runs) +
+                         "; vary fewer values, take fewer seeds, or raise limits.max_runs in the study file's [limits]");
+  }
+  if (!(e.memory_bytes <= lim.max_memory_gib * GiB))
+    throw ParamError("limits.max_memory_gib",
+                     "the study would hold about " + gib(e.memory_bytes) + " in memory (the plan of " + count(e.runs) +
+                         " runs " + gib(e.plan_bytes) + ", their results kept for the analysis " + gib(e.results_bytes) +
+                         "), more than limits.max_memory_gib = " + format_number(lim.max_memory_gib) +
+                         "; make fewer runs, record less per run (output.series_dt), or raise limits.max_memory_gib in "
+                         "the study file's [limits]");
+}
+
+std::string describe(const StudyEstimate& e) {
+  return "~" + gib(e.memory_bytes) + " in memory: plan " + gib(e.plan_bytes) + ", results kept " + gib(e.results_bytes);
+}
+
+}  // namespace slipfront::compare

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "compare/scene.hpp"
+#include "compare/study.hpp"
 
 namespace slipfront::compare {
 
@@ -75,6 +76,32 @@ struct StepCosts {
   double step;            ///< bulk scenes: per step, whatever the grid (measurements, records, lockstep)
 };
 const StepCosts& step_costs();
+
+/// What a study costs in its own process (issue 18), from the study file and one sample run per group
+/// (compare::sample_runs), before any run is expanded or any directory created: its runs, their
+/// directories, and the memory of the plan (per run: its overrides, scene, resolved TOML, bookkeeping)
+/// and of the results kept in memory for the analysis (per run: series, tables and x, not the fields).
+/// Each run's own cost is the scene estimate above, checked against the scene's [limits].
+struct StudyEstimate {
+  double runs = 0.0;           ///< points x seeds (compare::count_runs)
+  double directories = 0.0;    ///< runs/<id>/ for every run, plus runs/ and the study directory
+  double plan_bytes = 0.0;     ///< the plan
+  double results_bytes = 0.0;  ///< the results kept for the analysis
+  double memory_bytes = 0.0;   ///< the program, the plan and the results
+};
+
+/// The estimate of a study. `samples` are compare::sample_runs(spec) with their scenes and the
+/// lengths of their resolved TOML (every sample stands for the runs of its group).
+StudyEstimate estimate_study(const StudySpec& spec, const std::vector<StudyRun>& samples,
+                             const std::vector<Scene>& sample_scenes, const std::vector<std::size_t>& resolved_bytes);
+
+/// Throws core::ParamError("limits.max_runs" or "limits.max_memory_gib", reason naming the estimate and
+/// what drives it) when the study's estimate exceeds the study's [limits].
+void check_study_limits(const StudySpec& spec, const StudyEstimate& e);
+
+/// The study's memory estimate in a few words ("~33 MiB in memory: plan 1.2 MiB, results kept 0.5 MiB"),
+/// for the start line of `slipfront study`.
+std::string describe(const StudyEstimate& e);
 
 /// The fraction of site-steps that are active (see StepCosts), by loading: edge 0.1 (the fronts creep
 /// from the loaded edge; fitted on fig1), homogeneous 0.6 (the front sweeps the system; fitted on

@@ -471,28 +471,82 @@ void validity_fig1(StudyReport& rep, const StudySpec&, const std::vector<StudyRu
   analyse_validity_fig1(rep, runs, scenes, res);
 }
 
-// Every study kind, in the order they are listed: adding a kind is adding a row.
+// Every study kind, in the order they are listed: adding a kind is adding a row. The third column: the
+// models the analysis needs in every run (a study whose runs do not list them is refused at load).
+constexpr ModelsNeeded both{.continuum = true, .discrete = true};
+constexpr ModelsNeeded continuum_model{.continuum = true};
+constexpr ModelsNeeded any_model{};
 constexpr StudyKind study_kind_table[] = {
-    {"friction_law", "steady friction of the discrete model vs the continuum as contacts_per_site grows",
+    {"friction_law", "steady friction of the discrete model vs the continuum as contacts_per_site grows", both,
      friction_law_vs_N},
-    {"threshold_width", "noise off: distance of the discrete steady law to the continuum vs the threshold width",
+    {"threshold_width", "noise off: distance of the discrete steady law to the continuum vs the threshold width", both,
      friction_law_vs_width},
-    {"transient_friction", "velocity_step / spring_block friction histories, discrete vs continuum, vs N", transient_vs_N},
-    {"front_speeds", "fig1 event times and front speeds of the discrete model over seeds vs N", fronts_vs_N},
-    {"fig2", "transient front speed vs sqrt(mu alpha/(eta kappa)), one group per varied parameter", fig2},
-    {"front_spectrum", "nucleated fronts of homogeneous loading vs sigma_d, against the solved branch", spectrum},
+    {"transient_friction", "velocity_step / spring_block friction histories, discrete vs continuum, vs N", both,
+     transient_vs_N},
+    {"front_speeds", "fig1 event times and front speeds of the discrete model over seeds vs N, against the continuum",
+     both, fronts_vs_N},
+    {"fig2", "transient front speed vs sqrt(mu alpha/(eta kappa)), one group per varied parameter (the discrete "
+     "model's too when it runs)", continuum_model, fig2},
+    {"front_spectrum", "nucleated fronts of homogeneous loading vs sigma_d, against the solved branch (the discrete "
+     "model's too when it runs)", continuum_model, spectrum},
     {"validity_friction",
-     "the validity map of the mean-field limit on the steady law: bias vs N, alpha, w; N* and its collapse",
+     "the validity map of the mean-field limit on the steady law: bias vs N, alpha, w; N* and its collapse", both,
      validity_friction},
     {"validity_fig1", "the validity map on fig1: the fraction of continuum-like runs vs N and alpha; N* and its collapse",
-     validity_fig1},
-    {"steady_fronts", "runs started from the solved steady front (kicked or not), both models, vs sigma_d and N",
-     steady_fronts},
-    {"runs", "no analysis: just run every point", nullptr}};
+     both, validity_fig1},
+    {"steady_fronts", "runs started from the solved steady front (kicked or not), either model or both, vs sigma_d and N",
+     any_model, steady_fronts},
+    {"runs", "no analysis: just run every point", any_model, nullptr}};
+
+// The domains of the study file's numeric keys (docs/studies.md, "Study files").
+using core::KeyDomain;
+using K = core::KeyKind;
+constexpr KeyDomain study_domains[] = {
+    {"seeds", K::integer, 1.0, 2147483647.0, false, false, false, "",
+     "(runs per point; the study's runs are bounded by limits.max_runs)"},
+    {"fit_from", K::number, 0.0, core::parameter_cap},
+    {"limits.max_runs", K::integer, 1.0, 1e9, false, false, false, "", "(runs of the study: points x seeds)"},
+    {"limits.max_memory_gib", K::number, 0.0, 1e6, true},
+};
 
 }  // namespace
 
 std::span<const StudyKind> study_kinds() { return study_kind_table; }
+
+std::string describe(ModelsNeeded needs) {
+  if (needs.continuum && needs.discrete) return "the continuum and the discrete model";
+  if (needs.continuum) return "the continuum model";
+  if (needs.discrete) return "the discrete model";
+  return "any model";
+}
+
+std::string missing_models(const StudyKind& kind, const Scene& scene) {
+  std::string missing;
+  if (kind.needs.continuum && !scene.lists("continuum")) missing = "continuum";
+  if (kind.needs.discrete && !scene.lists("discrete")) missing += (missing.empty() ? "" : " and ") + std::string("discrete");
+  return missing;
+}
+
+std::span<const core::KeyDomain> study_key_domains() { return study_domains; }
+
+double count_runs(const StudySpec& spec) {
+  if (spec.groups.empty()) return std::max(1, spec.seeds);
+  double points = 0.0;
+  for (const StudyGroup& g : spec.groups) {
+    double product = 1.0;
+    for (const auto& [key, values] : g.vary) product *= static_cast<double>(values.size());
+    points += product;
+  }
+  return points * std::max(1, spec.seeds);
+}
+
+std::vector<StudyRun> sample_runs(const StudySpec& spec) {
+  StudySpec first = spec;
+  first.seeds = 1;
+  for (StudyGroup& g : first.groups)
+    for (auto& [key, values] : g.vary) values.resize(std::min<std::size_t>(values.size(), 1));
+  return expand(first);
+}
 
 const StudyKind* find_study_kind(std::string_view name) {
   for (const StudyKind& k : study_kind_table)
@@ -543,6 +597,7 @@ const ModelResult* find_model(const std::vector<ModelResult>& r, const std::stri
 StudyReport analyse_study(const StudySpec& spec, const std::vector<StudyRun>& runs, const std::vector<Scene>& scenes,
                           const std::vector<std::vector<ModelResult>>& results) {
   StudyReport rep;
+  rep.notes = spec.notes;  // what loading the study file changed
   if (runs.size() != results.size() || runs.size() != scenes.size())
     throw std::invalid_argument("analyse_study: runs, scenes and results differ in length");
   for (std::size_t i = 0; i < results.size(); ++i)

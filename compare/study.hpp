@@ -19,6 +19,14 @@ struct StudyGroup {
   std::vector<std::pair<std::string, std::vector<std::string>>> vary;  ///< key -> values (TOML text)
 };
 
+/// What a study may cost in its own process, study file section [limits] (docs/studies.md): checked
+/// against compare::estimate_study before any run is expanded or any directory created. (Each run's
+/// own cost is checked against its scene's [limits].)
+struct StudyLimits {
+  double max_runs = 1e5;         ///< runs of the study: points x seeds over every group
+  double max_memory_gib = 16.0;  ///< the plan and the results kept for the analysis
+};
+
 struct StudySpec {
   std::string name, kind, description;
   std::string scene_file;            ///< base scene (path as given, resolved by the caller)
@@ -28,6 +36,8 @@ struct StudySpec {
   /// N-convergence fits: besides the fit over every N, a second fit (suffix _from) over N >= fit_from,
   /// the mean-field regime (below it small N re-sticks: a bias, not the N^(-1/2) random error).
   double fit_from = 0.0;
+  StudyLimits limits;
+  std::vector<std::string> notes;    ///< what loading the file changed (repeated vary values collapsed)
 };
 
 /// One run of a study: its overrides and the values of the varied keys.
@@ -40,6 +50,17 @@ struct StudyRun {
 };
 
 std::vector<StudyRun> expand(const StudySpec& spec);
+
+/// The domains of the study file's numeric keys (seeds, fit_from, limits.*), as core::KeyDomain rows.
+std::span<const core::KeyDomain> study_key_domains();
+
+/// Runs of the study: points (the cartesian product of each group's lists, summed over the groups)
+/// times seeds, counted without expanding them (a double: never overflows).
+double count_runs(const StudySpec& spec);
+
+/// One run per group, at the group's first point and seed 1: what the study's estimate measures
+/// (compare::estimate_study) before every run is expanded.
+std::vector<StudyRun> sample_runs(const StudySpec& spec);
 
 /// What a study produced: tables of columns, scalars (fitted rates), a definition for every
 /// table column and scalar, and notes (findings, points that could not be measured).
@@ -55,13 +76,26 @@ struct StudyReport {
 using StudyAnalysis = void (*)(StudyReport& rep, const StudySpec& spec, const std::vector<StudyRun>& runs,
                                const std::vector<Scene>& scenes, const std::vector<std::vector<ModelResult>>& results);
 
-/// One study kind: the name a study file gives as `kind`, what it analyses, and its analysis
-/// (nullptr: none, the kind "runs").
+/// The models whose results an analysis measures or compares: each model marked must be listed in
+/// the `models` of every run (neither: any model will do).
+struct ModelsNeeded {
+  bool continuum = false;
+  bool discrete = false;
+};
+/// "the continuum and the discrete model", "the continuum model", ..., "any model".
+std::string describe(ModelsNeeded needs);
+
+/// One study kind: the name a study file gives as `kind`, what it analyses, the models its analysis
+/// needs, and its analysis (nullptr: none, the kind "runs").
 struct StudyKind {
   std::string_view name;
   std::string_view description;
+  ModelsNeeded needs;
   StudyAnalysis analyse = nullptr;
 };
+
+/// The models `kind` needs that `scene` does not list ("" when it lists them all), e.g. "continuum".
+std::string missing_models(const StudyKind& kind, const Scene& scene);
 
 /// The known study kinds, in the order they are listed; analyse_study dispatches on the same table.
 std::span<const StudyKind> study_kinds();

@@ -126,11 +126,13 @@ inline std::vector<std::string> run_file_differences(const std::filesystem::path
 }
 
 /// Two study.h5 files: the analysis (/study: tables, scalars, definitions, notes, the runs), not the
-/// provenance (/meta) nor how the runs were obtained (/study/runs engine, workers, skipped, computed).
+/// provenance (/meta) nor how the runs were obtained (/study/runs engine, workers, skipped, computed,
+/// untrusted).
 inline std::vector<std::string> study_differences(const std::filesystem::path& a, const std::filesystem::path& b) {
   return differences(read_h5(a), read_h5(b), [](const std::string& k) {
     return k.rfind("/meta", 0) == 0 || k == "/study/runs/skipped" || k == "/study/runs@engine" ||
-           k == "/study/runs@workers" || k == "/study/runs@skipped" || k == "/study/runs@computed";
+           k == "/study/runs@workers" || k == "/study/runs@skipped" || k == "/study/runs@computed" ||
+           k == "/study/runs@untrusted";  // how this invocation got the runs, not what they are
   });
 }
 

@@ -117,7 +117,7 @@ class Archive {
     const std::size_t before = data_.size();
     (*this)(e);
     if (!loading_ && data_.size() == before)
-      throw ArchiveError("checkpoint: an element of a container was archived as no bytes (its count could not be checked)");
+      throw std::logic_error("checkpoint: an element of a container was archived as no bytes (its count could not be checked)");
   }
   template <class T>
   void container(std::vector<T>& v) {
@@ -147,7 +147,7 @@ class Archive {
         K key = k;
         const std::size_t before = data_.size();
         (*this)(key, v);
-        if (data_.size() == before) throw ArchiveError("checkpoint: an element of a map was archived as no bytes");
+        if (data_.size() == before) throw std::logic_error("checkpoint: an element of a map was archived as no bytes");
       }
     }
   }

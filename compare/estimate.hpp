@@ -52,7 +52,7 @@ void check_limits(const Scene& s, const Estimate& e);
 /// `slipfront check` (as TOML comments) and `slipfront run`.
 std::vector<std::string> describe(const Estimate& e);
 
-/// What `slipfront run --checkpoint-every T` adds to a bulk scene's cost (docs/robustness.md §3):
+/// What `slipfront run --checkpoint-every T` adds to a bulk scene's cost (docs/cli.md, "Checkpoints"):
 /// checkpoints are due at the first step at or after each multiple of T, once per run loop (models in
 /// lockstep share one loop, models run one after the other have one each) and at most once a step;
 /// each holds every model's state and the records so far, so the last is the largest and on average a

@@ -1,6 +1,8 @@
 #include "apps/cli.hpp"
 
 #include <fcntl.h>
+#include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -24,6 +26,7 @@
 #include "compare/alongside.hpp"
 #include "compare/estimate.hpp"
 #include "compare/fronts.hpp"
+#include "core/archive.hpp"
 #include "core/interrupt.hpp"
 
 namespace slipfront::app {
@@ -127,20 +130,89 @@ class Progress {
 
 void print_error(std::ostream& err, const std::string& message) { err << "slipfront: error: " << message << "\n"; }
 
-// The output directory: created, free of results.h5 (unless --force) and writable, before any work.
-// Returns an error message, or "" if the directory is usable.
-std::string prepare_output_dir(const fs::path& dir, bool force) {
+// One run at a time in an output directory (issue 18): an advisory lock (flock) on DIR/.slipfront.lock,
+// taken before anything in DIR is looked at and held until the results are renamed into place. The file
+// holds the holder's pid (named when a second run is refused); its holder removes it on release. A run
+// killed with SIGKILL leaves the file but not the lock (the kernel drops it): the next run takes it.
+// Taking the lock checks that the file locked is still the one at the path (its holder may have removed
+// it in between), so that two runs never hold two different files.
+class OutputLock {
+ public:
+  OutputLock() = default;
+  ~OutputLock() { release(); }
+  OutputLock(const OutputLock&) = delete;
+  OutputLock& operator=(const OutputLock&) = delete;
+
+  /// Takes the lock of `dir` (an existing directory): "" when held, else why not.
+  std::string acquire(const fs::path& dir) {
+    path_ = dir / ".slipfront.lock";
+    for (int attempt = 0; attempt < 16; ++attempt) {
+      const int fd = ::open(path_.c_str(), O_RDWR | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0644);
+      if (fd < 0) return "cannot lock the output directory '" + dir.string() + "' (" + path_.string() + "): " + std::strerror(errno);
+      if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+        const int e = errno;
+        const std::string holder = holder_of(fd);
+        ::close(fd);
+        if (e == EWOULDBLOCK)
+          return "the output directory '" + dir.string() + "' is in use by another slipfront run (" + holder +
+                 ", holding " + path_.string() + "); wait for it to end, or choose another --out";
+        return "cannot lock the output directory '" + dir.string() + "' (" + path_.string() + "): " + std::strerror(e);
+      }
+      struct stat held {}, now {};
+      if (::fstat(fd, &held) == 0 && ::lstat(path_.c_str(), &now) == 0 && held.st_dev == now.st_dev &&
+          held.st_ino == now.st_ino) {
+        const std::string pid = std::to_string(::getpid()) + "\n";
+        if (::ftruncate(fd, 0) != 0 || ::pwrite(fd, pid.data(), pid.size(), 0) != static_cast<ssize_t>(pid.size())) {
+          const std::string why = std::strerror(errno);
+          ::close(fd);
+          return "cannot lock the output directory '" + dir.string() + "' (" + path_.string() + "): " + why;
+        }
+        fd_ = fd;
+        return "";
+      }
+      ::close(fd);  // removed or replaced by its previous holder: lock the file now at the path
+    }
+    return "cannot lock the output directory '" + dir.string() + "': " + path_.string() + " keeps being replaced";
+  }
+
+  /// Removes the file and drops the lock (removed first, while still held: see acquire).
+  void release() {
+    if (fd_ < 0) return;
+    ::unlink(path_.c_str());
+    ::close(fd_);
+    fd_ = -1;
+  }
+
+ private:
+  // "pid N" from the lock file of another run (it writes its pid right after taking the lock).
+  static std::string holder_of(int fd) {
+    char buf[24] = {};
+    const ssize_t n = ::pread(fd, buf, sizeof buf - 1, 0);
+    std::string pid(buf, n > 0 ? static_cast<std::size_t>(n) : 0);
+    pid = pid.substr(0, pid.find('\n'));
+    if (pid.empty() || pid.size() > 10 || pid.find_first_not_of("0123456789") != std::string::npos) return "pid unknown";
+    return "pid " + pid;
+  }
+  fs::path path_;
+  int fd_ = -1;
+};
+
+// (c) The output directory: created and locked, free of results.h5 (unless --force) and writable, before any
+// work; the temporaries of killed runs removed (results, checkpoints, probes). Returns an error message,
+// or "" if the directory is usable (and `lock` holds it).
+std::string prepare_output_dir(const fs::path& dir, bool force, OutputLock& lock) {
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec) return "cannot create the output directory '" + dir.string() + "': " + ec.message();
   if (!fs::is_directory(dir, ec)) return "the output path '" + dir.string() + "' is not a directory";
+  if (std::string problem = lock.acquire(dir); !problem.empty()) return problem;
   const fs::path file = dir / "results.h5";
   if (fs::exists(fs::symlink_status(file, ec))) {
     if (!force) return "'" + file.string() + "' already exists (use --force to overwrite it)";
     if (fs::is_directory(file, ec)) return "'" + file.string() + "' is a directory";
   }
-  remove_stale_temporaries(dir, ".slipfront-probe.");
-  remove_stale_temporaries(dir, ".results.h5.tmp.");
+  for (const char* prefix : {".slipfront-probe.", ".results.h5.tmp.", ".checkpoint.bin.tmp."})
+    remove_stale_temporaries(dir, prefix);
   const fs::path probe = dir / (".slipfront-probe." + std::to_string(::getpid()));
   const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0644);
   if (fd < 0) return "the output directory '" + dir.string() + "' is not writable: " + std::strerror(errno);
@@ -240,6 +312,7 @@ struct RunOutcome {
   compare::Comparison comparison;
   RunMeta meta;
   std::string checkpoint_error;  ///< the first checkpoint that could not be written ("" if none)
+  std::string restart_error;     ///< the checkpoint's state does not fit this run ("" if it does; nothing ran)
 };
 
 // (a) The configuration, and on stderr its notes and the estimate of a long or large run. Nothing
@@ -264,40 +337,96 @@ std::optional<compare::Scene> load_run_scene(const RunOptions& opts, std::ostrea
   return scene;
 }
 
-// (b) The checkpoint options, validated before any work too, and the checkpoint to continue from
-// (its state; "" without --restart). Nothing (the reason printed) when they cannot be used.
-std::optional<std::string> read_restart(const RunOptions& opts, const compare::Scene& scene, const std::string& resolved,
-                                        std::ostream& err) {
+// (b) The checkpoint options, before any work: a finite cadence >= 0, bulk scenes only, and what the
+// checkpoints cost (compare::estimate_checkpoints) within [limits]. False (the reason printed) when
+// they cannot be used.
+bool check_checkpoint_options(const RunOptions& opts, const compare::Scene& scene, std::ostream& err) {
   if (!(opts.checkpoint_every >= 0.0) || !std::isfinite(opts.checkpoint_every)) {
     print_error(err, "--checkpoint-every: must be a finite time >= 0, got " + format_number(opts.checkpoint_every));
-    return std::nullopt;
+    return false;
   }
   if ((opts.checkpoint_every > 0.0 || !opts.restart.empty()) && scene.drive.loading == core::Loading::imposed_rate) {
     print_error(err, opts.config.string() + ": drive.loading: checkpoints are for bulk scenes (an imposed-rate scene "
                                              "runs one site in seconds and has none)");
-    return std::nullopt;
+    return false;
   }
+  if (opts.checkpoint_every == 0.0) return true;
+  const compare::Estimate estimate = compare::estimate(scene);
+  const compare::CheckpointEstimate checkpoints = compare::estimate_checkpoints(scene, estimate, opts.checkpoint_every);
+  try {
+    compare::check_checkpoint_limits(scene, estimate, checkpoints);
+  } catch (const core::ParamError& e) {
+    print_error(err, opts.config.string() + ": " + e.what());
+    return false;
+  }
+  if (!opts.quiet && (estimate.seconds + checkpoints.seconds >= 10.0 || checkpoints.bytes >= 1024.0 * 1024.0 * 1024.0))
+    err << "slipfront: estimate: " << compare::describe(checkpoints) << "\n";
+  return true;
+}
+
+// The first key whose value differs between two resolved configurations (app::to_toml: "[section]"
+// headers, "key = value" lines), as "section.key: the checkpoint has V, this run W".
+std::string first_differing_key(const std::string& checkpoint, const std::string& run) {
+  using Keys = std::vector<std::pair<std::string, std::string>>;
+  auto keys_of = [](const std::string& text) {
+    Keys keys;
+    std::istringstream in(text);
+    std::string line, section;
+    while (std::getline(in, line)) {
+      if (line.empty() || line[0] == '#') continue;
+      if (line.front() == '[' && line.back() == ']') {
+        section = line.substr(1, line.size() - 2) + ".";
+        continue;
+      }
+      const std::size_t eq = line.find(" = ");
+      if (eq == std::string::npos) keys.emplace_back(section + line, "");
+      else keys.emplace_back(section + line.substr(0, eq), line.substr(eq + 3));
+    }
+    return keys;
+  };
+  const Keys a = keys_of(checkpoint), b = keys_of(run);
+  auto find = [](const Keys& keys, const std::string& key) {
+    return std::find_if(keys.begin(), keys.end(), [&](const auto& kv) { return kv.first == key; });
+  };
+  for (const auto& [key, value] : a) {
+    const auto it = find(b, key);
+    if (it == b.end()) return key + ": the checkpoint has " + value + ", this run none (the key is not used)";
+    if (it->second != value) return key + ": the checkpoint has " + value + ", this run " + it->second;
+  }
+  for (const auto& [key, value] : b)
+    if (find(a, key) == a.end()) return key + ": the checkpoint has none (the key is not used), this run " + value;
+  return "the configuration texts differ outside their keys";
+}
+
+// (d) The checkpoint to continue from (its state; "" without --restart), verified (apps/checkpoint.hpp:
+// a regular file within limits.max_memory_gib, checksum, this build's commit, sizes) and of this very
+// configuration: a checkpoint of another one is refused, naming the first key that differs, so the run
+// computes and records the configuration the checkpoint was made with. Nothing (the reason printed)
+// when it cannot be used.
+std::optional<std::string> read_restart(const RunOptions& opts, const compare::Scene& scene, const std::string& resolved,
+                                        std::ostream& err) {
   if (opts.restart.empty()) return std::string();
+  // (a checkpoint is read whole: one larger than the run's memory limit, at most 1e6 GiB, is not this run's)
+  const auto max_bytes = static_cast<std::uint64_t>(scene.limits.max_memory_gib * 1024.0 * 1024.0 * 1024.0);
   Checkpoint restart;
   try {
-    restart = read_checkpoint(opts.restart);
+    restart = read_checkpoint(opts.restart, max_bytes);
   } catch (const CheckpointError& e) {
     print_error(err, e.what());
     return std::nullopt;
   }
   if (restart.resolved_toml != resolved) {
-    std::istringstream a(restart.resolved_toml), b(resolved);
-    std::string la, lb;
-    while (std::getline(a, la) && std::getline(b, lb) && la == lb) {}
-    print_error(err, opts.restart.string() + ": the checkpoint belongs to another configuration (the checkpoint has '" +
-                         la + "', this run '" + lb + "')");
+    print_error(err, opts.restart.string() + ": the checkpoint belongs to another configuration: " +
+                         first_differing_key(restart.resolved_toml, resolved) +
+                         " (restart with the configuration and --set options it was made with)");
     return std::nullopt;
   }
   return std::move(restart.state);
 }
 
-// (c)–(d) The run, polling the stop requests, with a progress line on a terminal and a checkpoint
-// every --checkpoint-every (a checkpoint that cannot be written is reported, the run goes on).
+// (e) The run, polling the stop requests, with a progress line on a terminal and a checkpoint every
+// --checkpoint-every (a checkpoint that cannot be written is reported, the run goes on; the exit code
+// says it). A restart state that does not fit the run is reported before anything ran.
 RunOutcome run_scene_stoppable(const RunOptions& opts, const compare::Scene& scene, const std::string& resolved,
                                const fs::path& checkpoint_file, std::string restart_state, std::ostream& err) {
   RunOutcome run;
@@ -310,16 +439,24 @@ RunOutcome run_scene_stoppable(const RunOptions& opts, const compare::Scene& sce
   if (opts.checkpoint_every > 0.0)
     control.checkpoint = [&](const std::string& state, double t) {
       try {
-        write_checkpoint(checkpoint_file, {resolved, t, state});
+        write_checkpoint(checkpoint_file, resolved, t, state);
       } catch (const CheckpointError& e) {  // a failed checkpoint does not stop the run; it is reported
         if (run.checkpoint_error.empty()) run.checkpoint_error = e.what();
       }
     };
+  const bool restarting = !restart_state.empty();
   control.restart = std::move(restart_state);
   try {
     compare::SceneResult sr = compare::run_scene_alongside(scene, control);
     run.results = std::move(sr.models);
     run.comparison = std::move(sr.comparison);
+  } catch (const core::ArchiveError& e) {
+    if (restarting) {  // a state is read back at the start only: the checkpoint, not the run, is at fault
+      run.restart_error = e.what();
+    } else {
+      run.meta.status = compare::RunStatus::failed;
+      run.meta.message = std::string("the run stopped with an error: ") + e.what();
+    }
   } catch (const core::Interrupted& e) {
     run.meta.status = compare::RunStatus::interrupted;
     run.meta.message = e.what();
@@ -336,16 +473,20 @@ RunOutcome run_scene_stoppable(const RunOptions& opts, const compare::Scene& sce
   return run;
 }
 
-// (e) What went wrong on stderr (a run that threw, a checkpoint not written); a restarted run says
-// where it came from.
+// (f) What went wrong on stderr (a run that threw, a checkpoint not written: also in /meta message); a
+// restarted run says where it came from.
 void report_run_problems(const RunOptions& opts, RunOutcome& run, std::ostream& err) {
   if (run.meta.status == compare::RunStatus::failed) print_error(err, run.meta.message);
-  if (!run.checkpoint_error.empty()) print_error(err, "a checkpoint could not be written: " + run.checkpoint_error);
   if (!opts.restart.empty() && run.meta.message.empty())
     run.meta.message = "continued from the checkpoint " + opts.restart.string();
+  if (!run.checkpoint_error.empty()) {
+    const std::string problem = "a checkpoint could not be written: " + run.checkpoint_error;
+    print_error(err, problem);
+    run.meta.message += (run.meta.message.empty() ? "" : "; ") + problem;
+  }
 }
 
-// (g) The end on stderr: how to continue an unfinished run from its checkpoint, an interruption,
+// (h) The end on stderr: how to continue an unfinished run from its checkpoint, an interruption,
 // each failed model.
 void print_run_end(const RunOptions& opts, const RunOutcome& run, compare::RunStatus status, const fs::path& dir,
                    const fs::path& file, const fs::path& checkpoint_file, std::ostream& err) {
@@ -387,9 +528,12 @@ int run_command(const RunOptions& opts, std::ostream& out, std::ostream& err) {
   if (!scene) return exit_code::usage;
   const std::string resolved = to_toml(*scene);
 
-  // (b) the output directory and the checkpoints, before any work
+  // (b) the checkpoint options, (c) the output directory, held by this run until the results are in
+  // place, (d) the checkpoint to continue from: all before any work
+  if (!check_checkpoint_options(opts, *scene, err)) return exit_code::usage;
   const fs::path dir = opts.out.empty() ? fs::path("out") / scene->name : opts.out;
-  if (const std::string problem = prepare_output_dir(dir, opts.force); !problem.empty()) {
+  OutputLock lock;
+  if (const std::string problem = prepare_output_dir(dir, opts.force, lock); !problem.empty()) {
     print_error(err, problem);
     return exit_code::usage;
   }
@@ -397,13 +541,17 @@ int run_command(const RunOptions& opts, std::ostream& out, std::ostream& err) {
   std::optional<std::string> restart_state = read_restart(opts, *scene, resolved, err);
   if (!restart_state) return exit_code::usage;
 
-  // (c)–(e) the run, stoppable by SIGINT/SIGTERM (the handler stays until the file is written: a first
+  // (e) the run, stoppable by SIGINT/SIGTERM (the handler stays until the file is written: a first
   // signal while writing does not lose the results)
   const StopSignals signals;
   RunOutcome run = run_scene_stoppable(opts, *scene, resolved, checkpoint_file, std::move(*restart_state), err);
+  if (!run.restart_error.empty()) {
+    print_error(err, opts.restart.string() + ": the checkpoint's state does not fit this run (" + run.restart_error + ")");
+    return exit_code::usage;
+  }
   report_run_problems(opts, run, err);
 
-  // (f) the file, whatever the status
+  // (g) the file, whatever the status
   run.meta.wall_seconds = std::chrono::duration<double>(Clock::now() - wall0).count();
   const compare::RunStatus status = overall_status(run.results, run.meta.status);
   try {
@@ -413,14 +561,15 @@ int run_command(const RunOptions& opts, std::ostream& out, std::ostream& err) {
     return exit_code::failed;
   }
 
-  // (g) the summary; a complete run needs its checkpoint no more
+  // (h) the summary; a complete run needs its checkpoint no more; a checkpoint that could not be
+  // written fails the run (exit code 1: it could not have been continued), its results written
   if (status == compare::RunStatus::complete && opts.checkpoint_every > 0.0) {
     std::error_code ec;
     fs::remove(checkpoint_file, ec);
   }
   print_summary(out, *scene, run.results, status, run.meta.wall_seconds, file);
   print_run_end(opts, run, status, dir, file, checkpoint_file, err);
-  return exit_code_of(status);
+  return run.checkpoint_error.empty() ? exit_code_of(status) : exit_code::failed;
 }
 
 int fronts_command(const FrontsOptions& opts, std::ostream& out, std::ostream& err) {
@@ -513,15 +662,17 @@ CLI::App* add_run_verb(CLI::App& app, RunOptions& opts) {
                   "removed when the run completes")
       ->type_name("T");
   run->add_option("--restart", opts.restart,
-                  "Continue from a checkpoint written by --checkpoint-every (same configuration); the result is the "
-                  "uninterrupted run's, bit for bit")
+                  "Continue from a checkpoint written by --checkpoint-every of this build (same configuration; verified: "
+                  "checksum, commit, sizes); the result is the uninterrupted run's, bit for bit")
       ->type_name("FILE");
   run->footer(
       "The configuration is validated and DIR is created and checked (results.h5 absent unless --force,\n"
       "writable) before any simulation work. Ctrl-C (SIGINT) or SIGTERM stops the run at the next check and\n"
       "writes the partial results with /meta status = interrupted (exit code 130); a second signal aborts.\n"
       "A failed model (non-finite state) still writes the file, with status = failed (exit code 1).\n"
-      "The results are written to a temporary file in DIR and renamed to results.h5 when complete.");
+      "The results are written to a temporary file in DIR and renamed to results.h5 when complete.\n"
+      "DIR is held by one run at a time (DIR/.slipfront.lock): a second run into it is refused (exit code 2).\n"
+      "A checkpoint that cannot be written is reported and the run goes on; its exit code is then 1.");
   return run;
 }
 

@@ -221,6 +221,8 @@ const std::vector<Section>& schema() {
            {"max_steps", at<&Scene::limits, &compare::LimitParams::max_steps>, always, "always"},
            {"max_memory_gib", at<&Scene::limits, &compare::LimitParams::max_memory_gib>, always, "always"},
            {"max_hours", at<&Scene::limits, &compare::LimitParams::max_hours>, always, "always"},
+           {"max_checkpoint_gib", at<&Scene::limits, &compare::LimitParams::max_checkpoint_gib>, bulk_scene,
+            "with drive.loading = edge, homogeneous or spring_block"},
            {"min_nodes_per_elastic_length", at<&Scene::limits, &compare::LimitParams::min_nodes_per_elastic_length>,
             one_d, "with drive.loading = edge or homogeneous"},
        }},

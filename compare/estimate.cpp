@@ -21,6 +21,7 @@ constexpr double word = 8.0;                   // a double
 constexpr double growth = 2.0;                 // a vector grown by push_back holds up to twice its size
 constexpr double base_bytes = 32.0 * MiB;      // the program, its libraries and HDF5 (measured: 31.5 MiB for a 0D sweep)
 constexpr double engine_bytes = static_cast<double>(sizeof(discrete::Engine));  // one stream per site: 2.5 kB
+constexpr double engine_text_bytes = 6.4 * KiB;  // one stream in a checkpoint: its state as text (312 numbers)
 constexpr double thread_bytes = 256.0 * KiB;   // resident part of a worker thread (stack pages touched, TLS)
 constexpr double contact_stats_raw_bytes = 4.0 * 100000.0 * word;  // ContactStats::raw_cap values, 4 arrays
 constexpr double contact_hist_bins = 122.0 + 101.0;  // age (log time edges) + threshold histogram bins
@@ -367,6 +368,8 @@ const StepCosts& step_costs() {
       .naive_contact = 1.0,
       .law_step = 250.0,
       .step = 250.0,
+      .checkpoint = 7e6,
+      .checkpoint_byte = 2.0,
   };
   return costs;
 }
@@ -447,6 +450,60 @@ void check_limits(const Scene& s, const Estimate& e) {
                          ": " + count(slowest->site_steps) + " site-steps at ~" + format_number(slowest->ns_per_site_step) +
                          " ns each), more than limits.max_hours = " + format_number(lim.max_hours) +
                          "; shorten time.t_end, coarsen the grid or the step, or raise limits.max_hours");
+}
+
+CheckpointEstimate estimate_checkpoints(const Scene& s, const Estimate& e, double every) {
+  CheckpointEstimate c;
+  c.every = every;
+  if (s.drive.loading == Loading::imposed_rate || !(every > 0.0)) return c;
+  const double multiples = std::floor(s.time.t_end / every + 1e-9);  // inf for a tiny T: bounded by the steps
+  double state = 0.0, records = 0.0;
+  for (const auto& m : e.models) {
+    state += m.state_bytes + (m.model == "discrete" ? e.sites * (engine_text_bytes - engine_bytes) : 0.0);
+    records += m.record_bytes / growth;  // as written: without the vectors' spare capacity
+    if (!runs_in_lockstep(s)) c.writes += std::min(m.steps, multiples);
+  }
+  if (runs_in_lockstep(s)) c.writes = std::min(e.steps, multiples);
+  c.largest_bytes = state + records;
+  c.bytes = c.writes * (state + 0.5 * records);
+  const StepCosts& cost = step_costs();
+  c.seconds = (c.writes * cost.checkpoint + c.bytes * cost.checkpoint_byte) * 1e-9;
+  c.memory_bytes = e.memory_bytes + 2.0 * c.largest_bytes;
+  return c;
+}
+
+void check_checkpoint_limits(const Scene& s, const Estimate& e, const CheckpointEstimate& c) {
+  const auto& lim = s.limits;
+  const bool every_step = std::floor(s.time.t_end / c.every + 1e-9) >= e.steps;
+  const std::string what = "every " + format_number(c.every) + ": " + count(c.writes) +
+                           (c.writes == 1.0 ? " checkpoint" : " checkpoints") + " of up to " + gib(c.largest_bytes) +
+                           (every_step ? " (one every step)" : "");
+  if (!(c.bytes <= lim.max_checkpoint_gib * GiB)) {
+    // the cadence at which they would write the limit (each checkpoint as large on average)
+    const double allowed = lim.max_checkpoint_gib * GiB / (c.bytes / c.writes);
+    const double loops = runs_in_lockstep(s) ? 1.0 : static_cast<double>(e.models.size());
+    const std::string instead = allowed >= loops ? "checkpoint less often (T >= " +
+                                                       format_number(1.01 * s.time.t_end * loops / allowed, 3) + ")"
+                                                 : "a checkpoint alone is that large";
+    throw ParamError("--checkpoint-every", what + ", about " + gib(c.bytes) + " in all, more than limits.max_checkpoint_gib = " +
+                                               format_number(lim.max_checkpoint_gib) + "; " + instead +
+                                               ", or raise limits.max_checkpoint_gib");
+  }
+  if (!(e.seconds + c.seconds <= lim.max_hours * 3600.0))
+    throw ParamError("--checkpoint-every", what + ", taking about " + duration(c.seconds) + " on top of the run's " +
+                                               duration(e.seconds) + ", more than limits.max_hours = " +
+                                               format_number(lim.max_hours) +
+                                               "; checkpoint less often, or raise limits.max_hours");
+  if (!(c.memory_bytes <= lim.max_memory_gib * GiB))
+    throw ParamError("--checkpoint-every", what + ": the run would need about " + gib(c.memory_bytes) +
+                                               " of memory while one is written (two copies of it on top of the run's " +
+                                               gib(e.memory_bytes) + "), more than limits.max_memory_gib = " +
+                                               format_number(lim.max_memory_gib) + "; raise limits.max_memory_gib");
+}
+
+std::string describe(const CheckpointEstimate& c) {
+  return "checkpoints (--checkpoint-every " + format_number(c.every) + "): " + count(c.writes) + " of up to " +
+         gib(c.largest_bytes) + ", ~" + gib(c.bytes) + " in all, ~" + duration(c.seconds) + " to write";
 }
 
 std::vector<std::string> describe(const Estimate& e) {

@@ -53,6 +53,33 @@ void check_limits(const Scene& s, const Estimate& e);
 /// `slipfront check` (as TOML comments) and `slipfront run`.
 std::vector<std::string> describe(const Estimate& e);
 
+/// What `slipfront run --checkpoint-every T` adds to a bulk scene's cost (docs/cli.md, "Checkpoints"):
+/// checkpoints are due at the first step at or after each multiple of T, once per run loop (models in
+/// lockstep share one loop, models run one after the other have one each) and at most once a step;
+/// each holds every model's state and the records so far, so the last is the largest and on average a
+/// checkpoint holds the state and half the records. Writing one costs a fixed part (create, sync,
+/// rename) and a part per byte (archive, checksum, write); while it is written the run holds two
+/// copies of it (the archive and the file's bytes).
+struct CheckpointEstimate {
+  double every = 0.0;          ///< T
+  double writes = 0.0;         ///< checkpoints written
+  double largest_bytes = 0.0;  ///< the last one
+  double bytes = 0.0;          ///< all of them together
+  double seconds = 0.0;        ///< writing them
+  double memory_bytes = 0.0;   ///< peak memory of the run with a checkpoint being written
+};
+
+/// The checkpoints of `s` at cadence `every` > 0, given the scene's estimate `e`.
+CheckpointEstimate estimate_checkpoints(const Scene& s, const Estimate& e, double every);
+
+/// Throws core::ParamError (key "--checkpoint-every", the reason naming the limit to raise) when the
+/// checkpoints exceed limits.max_checkpoint_gib, or with them the run exceeds limits.max_hours or
+/// limits.max_memory_gib.
+void check_checkpoint_limits(const Scene& s, const Estimate& e, const CheckpointEstimate& c);
+
+/// "checkpoints: N of up to X, Y in all, ~Z".
+std::string describe(const CheckpointEstimate& c);
+
 /// The explicit scheme's stability limit of the scene's grid, 2/ω_max with the Gershgorin bound of
 /// core::Bulk::stable_dt() (core/bulk.hpp), computed without building the grid.
 double explicit_stable_dt(const Scene& s);
@@ -74,6 +101,8 @@ struct StepCosts {
   double naive_contact;   ///< naive agent loop, per contact of a site-step
   double law_step;        ///< imposed slip rate: one exact step of the continuum law with its measurements
   double step;            ///< bulk scenes: per step, whatever the grid (measurements, records, lockstep)
+  double checkpoint;      ///< one checkpoint: create, sync and rename the file
+  double checkpoint_byte; ///< per byte of a checkpoint: archive the state, checksum and write it
 };
 const StepCosts& step_costs();
 

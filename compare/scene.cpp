@@ -17,6 +17,8 @@ const KeyDomain limit_domains[] = {
      "(time steps of any model; step counts stay exact in doubles and int64)"},
     {"limits.max_memory_gib", K::number, 0.0, 1e6, true},
     {"limits.max_hours", K::number, 0.0, 1e6, true},
+    {"limits.max_checkpoint_gib", K::number, 0.0, 1e6, true, false, false, "",
+     "(the data all checkpoints of a run write together: --checkpoint-every)"},
     {"limits.min_nodes_per_elastic_length", K::number, 0.0, 1e6, false, false, false, "", "(0: no resolution check)"},
 };
 }  // namespace
@@ -38,7 +40,7 @@ const KeyDomain* find_key_domain(std::string_view key) {
 
 void LimitParams::validate() const {
   for (const auto& [key, value] : {std::pair{"limits.max_steps", max_steps}, {"limits.max_memory_gib", max_memory_gib},
-                                   {"limits.max_hours", max_hours},
+                                   {"limits.max_hours", max_hours}, {"limits.max_checkpoint_gib", max_checkpoint_gib},
                                    {"limits.min_nodes_per_elastic_length", min_nodes_per_elastic_length}})
     core::check_in_domain(*core::find_key_domain(limit_key_domains(), key), value);
 }

@@ -17,6 +17,9 @@ struct LimitParams {
   double max_steps = 1e10;      ///< time steps of any model (sweeps: all points together)
   double max_memory_gib = 16.0; ///< peak memory of the run, writing the results included
   double max_hours = 24.0;      ///< run time
+  /// Bulk scenes run with `--checkpoint-every T`: the data every checkpoint of the run writes together
+  /// (compare::estimate_checkpoints: writes x size), in GiB.
+  double max_checkpoint_gib = 100.0;
   /// 1D scenes: nodes per elastic length sqrt(μ/α) (the process zone of the fronts); below it the
   /// event times and front speeds are wrong by more than ~3% (docs/robustness.md §4). 0: no check.
   double min_nodes_per_elastic_length = 2.0;

@@ -4,8 +4,12 @@
 // same function writes and reads it. Values are stored as their bytes (doubles bit for bit), containers
 // with their sizes. A checkpoint is read back by the same build on the same machine kind (it is not a
 // portable exchange format; the results file is). Written by hand rather than pulling in
-// Boost.Serialization: the archive itself is these sixty lines, the work is in the serialize functions,
+// Boost.Serialization: the archive itself is these hundred lines, the work is in the serialize functions,
 // which any library would need too.
+//
+// Reading trusts no stored size (issue 18): a count of n elements is refused before anything is
+// allocated when n times the least number of bytes one element takes (archived_min_bytes) exceeds the
+// bytes left. An element of a container therefore takes at least one byte; the writer checks it.
 #include <array>
 #include <concepts>
 #include <cstdint>
@@ -24,6 +28,29 @@ struct ArchiveError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+template <class T>
+struct is_archived_container : std::false_type {};
+template <class T, class A>
+struct is_archived_container<std::vector<T, A>> : std::true_type {};
+template <class K, class V, class C, class A>
+struct is_archived_container<std::map<K, V, C, A>> : std::true_type {};
+
+class Archive;
+
+/// The least number of bytes one value of T takes in an archive, in the order Archive::operator()
+/// dispatches: numbers and plain structs their size, a string or a container its 8-byte count, an
+/// optional its flag, a pair both; a class with serialize() at least 1 (checked when written).
+template <class T>
+constexpr std::uint64_t archived_min_bytes() {
+  if constexpr (std::is_arithmetic_v<T> || std::is_enum_v<T>) return sizeof(T);
+  else if constexpr (std::is_same_v<T, std::string> || is_archived_container<T>::value) return sizeof(std::uint64_t);
+  else if constexpr (requires(T& x, Archive& ar) { x.serialize(ar); }) return 1;
+  else if constexpr (std::is_trivially_copyable_v<T> && std::is_standard_layout_v<T>) return sizeof(T);
+  else if constexpr (requires { typename T::first_type; typename T::second_type; })
+    return archived_min_bytes<std::remove_const_t<typename T::first_type>>() + archived_min_bytes<typename T::second_type>();
+  else return sizeof(bool);  // std::optional
+}
+
 class Archive {
  public:
   static Archive writer() { return Archive(false, {}); }
@@ -39,7 +66,7 @@ class Archive {
     } else if constexpr (std::is_same_v<T, std::string>) {
       std::uint64_t n = x.size();
       (*this)(n);
-      if (loading_) x.assign(take(n), n);
+      if (loading_) x.assign(take(bounded(n, 1, "string")), n);
       else data_.append(x);
     } else if constexpr (requires { x.serialize(*this); }) {
       x.serialize(*this);
@@ -74,15 +101,33 @@ class Archive {
     pos_ += n;
     return p;
   }
+  /// A stored count of n elements of at least `each` bytes, checked against the bytes left before
+  /// anything of its size is allocated.
+  std::uint64_t bounded(std::uint64_t n, std::uint64_t each, const char* what) const {
+    const std::uint64_t left = data_.size() - pos_;
+    if (n > left / each)
+      throw ArchiveError("checkpoint: " + std::string(what) + " size " + std::to_string(n) + " exceeds the " +
+                         std::to_string(left) + " bytes left" +
+                         (each > 1 ? " (at least " + std::to_string(each) + " bytes each)" : std::string()));
+    return n;
+  }
+  /// Writes one element of a container: it must take at least a byte (what bounded() assumes).
+  template <class T>
+  void element(T& e) {
+    const std::size_t before = data_.size();
+    (*this)(e);
+    if (!loading_ && data_.size() == before)
+      throw std::logic_error("checkpoint: an element of a container was archived as no bytes (its count could not be checked)");
+  }
   template <class T>
   void container(std::vector<T>& v) {
     std::uint64_t n = v.size();
     (*this)(n);
-    if (loading_) v.resize(n);
+    if (loading_) v.resize(bounded(n, archived_min_bytes<T>(), "vector"));
     if constexpr (std::is_arithmetic_v<T>) {
       if (n) bytes(v.data(), n * sizeof(T));
     } else {
-      for (auto& e : v) (*this)(e);
+      for (auto& e : v) element(e);
     }
   }
   template <class K, class V>
@@ -90,6 +135,7 @@ class Archive {
     std::uint64_t n = m.size();
     (*this)(n);
     if (loading_) {
+      bounded(n, archived_min_bytes<K>() + archived_min_bytes<V>(), "map");
       m.clear();
       for (std::uint64_t k = 0; k < n; ++k) {
         std::pair<K, V> e;
@@ -99,7 +145,9 @@ class Archive {
     } else {
       for (auto& [k, v] : m) {
         K key = k;
+        const std::size_t before = data_.size();
         (*this)(key, v);
+        if (data_.size() == before) throw std::logic_error("checkpoint: an element of a map was archived as no bytes");
       }
     }
   }

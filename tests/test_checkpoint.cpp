@@ -2,7 +2,7 @@
 // results bit for bit — every integrator (explicit, implicit, adaptive with the discrete model after it),
 // every representation (count, agent with contact statistics, naive), lockstep and sequential runs,
 // energy budgets, a steady-front start, a stop request; and through the program, a run killed with
-// SIGKILL resumes from its last checkpoint file.
+// SIGKILL resumes from its last checkpoint file (verified: tests/test_checkpoint_hostile.cpp).
 #include <catch2/catch.hpp>
 #include <hdf5.h>
 #include <signal.h>
@@ -217,6 +217,8 @@ TEST_CASE("checkpoint: a run killed with SIGKILL resumes from its checkpoint fil
   REQUIRE(std::system((bin + " run " + cfg + " --out " + b.string() + " --quiet --checkpoint-every 5 --restart " + ck.string() +
                        " > /dev/null").c_str()) == 0);
   CHECK_FALSE(fs::exists(ck));  // removed once the run is complete
+  for (const auto& e : fs::directory_iterator(b))  // no lock file, no temporary of the killed run left
+    CHECK(e.path().filename() == "results.h5");
   auto read = [](const fs::path& f, const char* path) {
     const hid_t file = H5Fopen(f.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
     const hid_t d = H5Dopen2(file, path, H5P_DEFAULT);

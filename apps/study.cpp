@@ -341,12 +341,6 @@ RunFileCheck check_run_file(const fs::path& file, const std::string& resolved, c
 }
 
 // Temporaries left by a killed writer (h5out's ".results.h5.tmp.<pid>").
-void remove_stale_temporaries(const fs::path& run_dir) {
-  std::error_code ec;
-  for (const auto& e : fs::directory_iterator(run_dir, ec))
-    if (e.path().filename().string().rfind(".results.h5.tmp.", 0) == 0) fs::remove(e.path(), ec);
-}
-
 std::string plural(long long n, const std::string& one, const std::string& many) {
   return std::to_string(n) + " " + (n == 1 ? one : many);
 }
@@ -418,7 +412,8 @@ RunPlan plan_runs(const fs::path& dir, const compare::StudySpec& spec, const std
     err << "slipfront: nothing was run; use --force to rerun every run, or --out for another directory\n";
     return refuse();
   }
-  for (const auto& r : runs) remove_stale_temporaries(dir / "runs" / r.id);
+  // temporaries of dead writers only (apps/h5out.hpp): a run file being written by a live process stays
+  for (const auto& r : runs) remove_stale_temporaries(dir / "runs" / r.id, ".results.h5.tmp.");
   return p;
 }
 

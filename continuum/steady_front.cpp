@@ -565,11 +565,15 @@ double slowest_cold_speed(const Model& m) {
   return 1e-3 * (scale < cs ? scale : cs);
 }
 
-// Cold-start speed (docs/fronts.md §3): a sign change of the shooting mismatch, then TOMS 748. The scan runs
-// first upward over c = 0.02k c_s, k = 1 … 49 (where fronts are when inertia matters; unchanged, so every
-// front found before is found bit for bit as before), then, for a front slower than 0.02 c_s (c_s large
-// against the speed scale), downward from 0.02 c_s by a factor 0.8 a step to slowest_cold_speed.
-std::optional<double> bracket_speed(const Model& m, const SteadyFrontOptions& o, double sigma_d) {
+// The two parts of the cold-start scan: upward over c = 0.02k c_s, k = 1 … 49 (where fronts are when inertia
+// matters; unchanged, so every front found before is found bit for bit as before), and, for a front slower
+// than 0.02 c_s (c_s large against the speed scale), downward from 0.02 c_s by a factor 0.8 a step to
+// slowest_cold_speed.
+enum class ColdScan { grid, below };
+
+// Cold-start speed (docs/fronts.md §3): the first sign change of the shooting mismatch in that part of the
+// scan, then TOMS 748.
+std::optional<double> bracket_speed(const Model& m, const SteadyFrontOptions& o, double sigma_d, ColdScan part) {
   const double cs = m.sound_speed();
   auto mismatch = [&](double c) {
     const double L = std::min(domain_length(m, o, c, sigma_d), 400.0);
@@ -583,12 +587,15 @@ std::optional<double> bracket_speed(const Model& m, const SteadyFrontOptions& o,
     return 0.5 * (br.first + br.second);
   };
   const double first_c = 0.02 * cs, first = mismatch(first_c);
-  double prev_c = first_c, prev = first;
-  for (int k = 2; k <= 49; ++k) {  // upward over 0.02k c_s
-    const double cc = 0.02 * k * cs, mm = mismatch(cc);
-    if (changes_sign(prev, mm)) return refine(prev_c, cc, prev, mm);
-    prev_c = cc;
-    prev = mm;
+  if (part == ColdScan::grid) {
+    double prev_c = first_c, prev = first;
+    for (int k = 2; k <= 49; ++k) {  // upward over 0.02k c_s
+      const double cc = 0.02 * k * cs, mm = mismatch(cc);
+      if (changes_sign(prev, mm)) return refine(prev_c, cc, prev, mm);
+      prev_c = cc;
+      prev = mm;
+    }
+    return std::nullopt;
   }
   double upper_c = first_c, upper = first;
   for (double cc = 0.8 * first_c; cc >= slowest_cold_speed(m); cc *= 0.8) {  // downward below 0.02 c_s
@@ -659,6 +666,27 @@ BranchEnd end_of(FrontStatus s) {
   }
 }
 
+// A cold start: Newton from the speed bracketed on the grid 0.02k c_s, as ever; when that gives no front
+// (no sign change there, or a spurious one: a front far below 0.02 c_s), from the speed bracketed below it.
+// A failure reports the first attempt's status and reason.
+SteadyFront solve_cold(const Model& m, const SteadyFrontOptions& o, double sigma_d, const SteadyFront* guess) {
+  std::optional<SteadyFront> first;
+  for (const ColdScan part : {ColdScan::grid, ColdScan::below}) {
+    const auto c0 = bracket_speed(m, o, sigma_d, part);
+    if (!c0) continue;
+    SteadyFront f = solve_on_mesh(m, o, sigma_d, *c0, nullptr, guess, std::nullopt);
+    if (f.status == FrontStatus::converged) return f;
+    if (!first) first = std::move(f);
+  }
+  if (first) return std::move(*first);
+  SteadyFront f = empty_front(m, sigma_d);
+  f.status = FrontStatus::newton_failed;
+  f.reason = "no sign change of the shooting mismatch for c in [" + core::format_number(slowest_cold_speed(m)) + ", " +
+             core::format_number(0.98 * m.sound_speed()) + "] (c_s = " + core::format_number(m.sound_speed()) +
+             "): no starting speed";
+  return f;
+}
+
 }  // namespace detail
 
 SteadyFront solve_steady_front(const core::InterfaceParams& law, const core::BulkParams& bulk, double sigma_d,
@@ -672,19 +700,8 @@ SteadyFront solve_steady_front(const core::InterfaceParams& law, const core::Bul
                ", 1): no sliding state on the strengthening branch behind, or no stuck state ahead";
     return f;
   }
-  double c0 = guess ? guess->c : o.c_guess;
-  if (!(c0 > 0.0)) {
-    const auto b = detail::bracket_speed(m, o, sigma_d);
-    if (!b) {
-      SteadyFront f = detail::empty_front(m, sigma_d);
-      f.status = FrontStatus::newton_failed;
-      f.reason = "no sign change of the shooting mismatch for c in [" + core::format_number(detail::slowest_cold_speed(m)) +
-                 ", " + core::format_number(0.98 * m.sound_speed()) + "] (c_s = " +
-                 core::format_number(m.sound_speed()) + "): no starting speed";
-      return f;
-    }
-    c0 = *b;
-  }
+  const double c0 = guess ? guess->c : o.c_guess;
+  if (!(c0 > 0.0)) return detail::solve_cold(m, o, sigma_d, guess);
   return detail::solve_on_mesh(m, o, sigma_d, c0, nullptr, guess, std::nullopt);
 }
 

@@ -7,9 +7,12 @@ each with its fitted slope and 95% interval; report.md collects the figures and 
 (observable, continuum value, discrete value at the largest N, relative difference, fitted rate).
 """
 import argparse
+import hashlib
 import math
 import os
+import re
 import sys
+import tempfile
 
 import h5py
 import matplotlib
@@ -88,6 +91,39 @@ def loglog_fit(ax, x, y, study, fit_name, label, color="C3", marker="o"):
         c = np.mean(ly - p * lx)
         xs = np.linspace(lx.min(), lx.max(), 50)
         ax.loglog(np.exp(xs), np.exp(c + p * xs), "-", color=color, alpha=0.6, label=study.fit_label(fit_name))
+
+
+def figure_dir(figdir, root, path):
+    """The figures of one file (results.h5, study.h5, fronts.h5) go to their own directory, named after the
+    file's path relative to DIR and a hash of that path: two runs of one scene, or two studies of one name,
+    never share figure files. ASCII only (the name is a link in report.md)."""
+    rel = os.path.splitext(os.path.relpath(os.path.abspath(path), root))[0]
+    slug = re.sub(r"[^A-Za-z0-9._-]+", "_", rel.replace(os.sep, "__")).strip("._") or "top"
+    digest = hashlib.sha1(rel.encode("utf-8", "surrogateescape")).hexdigest()[:8]
+    out = os.path.join(figdir, f"{slug[:80]}-{digest}")
+    os.makedirs(out, exist_ok=True)
+    return out
+
+
+def write_report(path, text):
+    """report.md written to a temporary file beside it and renamed onto it: a failure (a full disk, an error)
+    leaves the previous report as it was. Text that is not UTF-8 (paths or metadata read with surrogate
+    escapes) is written with U+FFFD."""
+    text = text.encode("utf-8", "surrogateescape").decode("utf-8", "replace")
+    fd, tmp = tempfile.mkstemp(prefix=".report.md.", suffix=".tmp", dir=os.path.dirname(path))
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as f:
+            f.write(text)
+            f.flush()
+            os.fsync(f.fileno())
+        os.chmod(tmp, 0o644)
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        raise
 
 
 def save(fig, outdir, name, figures):
@@ -381,17 +417,26 @@ def steady_fronts_study(st, outdir):
 
 def fronts_file(path, root, figdir, studies):
     """fronts.h5 (slipfront fronts): the branch with the time-dependent points of the studies, profiles, and
-    the c_min collapse."""
+    the c_min collapse. A failed or interrupted file (no branch point, c_min NaN) is reported with its reason."""
     figs, rows, lines = [], [], []
+    outdir = figure_dir(figdir, root, path)
     with h5py.File(path, "r") as f:
         b = f["branch"]
         ba = attrs(b)
-        scene = plot.as_str(f["meta"].attrs.get("scene", "fronts"))
+        meta = f["meta"].attrs
+        scene = plot.as_str(meta.get("scene", "fronts"))
+        status, message = plot.as_str(meta.get("status", "unknown")), plot.as_str(meta.get("message", ""))
+        c_min, sd_min = ba.get("c_min", math.nan), ba.get("sigma_d_at_c_min", math.nan)
         fig, axs = plt.subplots(1, 2, figsize=(12, 4.5))
         ax = axs[0]
-        ax.plot(b["sigma_d"][()], b["c"][()], "k-", lw=1.3, label="solved steady fronts")
-        ax.plot([ba["sigma_d_at_c_min"]], [ba["c_min"]], "k*", ms=12, label=f"c_min = {ba['c_min']:.4g}")
-        ax.axvline(ba["sigma_c_d"], color="gray", ls=":", label="sigma_c^d")
+        if "sigma_d" in b and "c" in b:
+            ax.plot(b["sigma_d"][()], b["c"][()], "k-", lw=1.3, label="solved steady fronts")
+        else:
+            plot.no_data(ax, f"no steady front ({status})")
+        if math.isfinite(c_min):
+            ax.plot([sd_min], [c_min], "k*", ms=12, label=f"c_min = {c_min:.4g}")
+        if math.isfinite(ba.get("sigma_c_d", math.nan)):
+            ax.axvline(ba["sigma_c_d"], color="gray", ls=":", label="sigma_c^d")
         for st in studies:
             if st.kind == "front_spectrum" and "front_spectrum" in st.tables:
                 t = st.tables["front_spectrum"]
@@ -407,9 +452,10 @@ def fronts_file(path, root, figdir, studies):
                 ax.plot(t["sigma_d"][sel], t["c_discrete"][sel], "+", color="C3", ms=10, label="started from solved, discrete")
         ax.set_xlabel("applied stress sigma_d")
         ax.set_ylabel("steady front speed c")
-        ax.legend(fontsize=7)
+        if ax.get_legend_handles_labels()[0]:
+            ax.legend(fontsize=7)
         ax = axs[1]
-        for k in sorted(f["profiles"], key=int):
+        for k in sorted(f["profiles"] if "profiles" in f else [], key=int):
             g = f["profiles"][k]
             a = attrs(g)
             ax.plot(g["xi"][()], g["v"][()] / a["v_behind"], lw=1,
@@ -417,12 +463,13 @@ def fronts_file(path, root, figdir, studies):
         ax.set_xlim(-200, 20)
         ax.set_xlabel("xi = x - c t (tip at 0)")
         ax.set_ylabel("v / v_behind")
-        ax.legend(fontsize=7)
-        fig.suptitle(f"{scene}: steady fronts, the branch and its profiles (docs/fronts.md)", fontsize=9)
-        save(fig, figdir, f"{scene}_fronts_branch.png", figs)
-        rows.append((f"{scene}: minimal steady front speed c_min (solved)", f"{ba['c_min']:.5g}", "", "",
-                     f"at sigma_d = {ba['sigma_d_at_c_min']:.5g}; branch end: {ba.get('end', '')}"))
-        if "scaling" in f:
+        if ax.get_legend_handles_labels()[0]:
+            ax.legend(fontsize=7)
+        fig.suptitle(f"{scene}: steady fronts, the branch and its profiles (docs/fronts.md)   [{status}]", fontsize=9)
+        save(fig, outdir, f"{scene}_fronts_branch.png", figs)
+        rows.append((f"{scene}: minimal steady front speed c_min (solved)", f"{c_min:.5g}", "", "",
+                     f"at sigma_d = {sd_min:.5g}; branch end: {ba.get('end', '')}; status {status}"))
+        if "scaling" in f and "points" in f["scaling"] and "c_min" in f["scaling"]["points"]:
             sc = f["scaling"]
             names = plot.as_str(sc.attrs["parameters"]).split(",")
             pts = {k: sc["points"][k][()] for k in sc["points"]}
@@ -433,17 +480,25 @@ def fronts_file(path, root, figdir, studies):
                 ax.plot(pts["scale"][sel], pts["c_min"][sel], "osD^v"[i % 5], color=f"C{i}", label=f"vary {name}")
             allfit = fits["parameter_index"] == -1
             a, spread = float(fits["prefactor"][allfit][0]), float(fits["spread"][allfit][0])
-            xs = np.linspace(0, pts["scale"].max() * 1.05, 10)
-            ax.plot(xs, a * xs, "k--", lw=1, label=f"c_min = {a:.3f} sqrt(mu alpha/(eta kappa)), max dev {100 * spread:.1f}%")
+            fitted = int(fits["points"][allfit][0])
+            tried = int(fits["tried"][allfit][0]) if "tried" in fits else len(pts["c_min"])
+            if math.isfinite(a) and len(pts["scale"]):
+                xs = np.linspace(0, np.nanmax(pts["scale"]) * 1.05, 10)
+                ax.plot(xs, a * xs, "k--", lw=1, label=f"c_min = {a:.3f} sqrt(mu alpha/(eta kappa)), "
+                                                       f"max dev {100 * spread:.1f}% over {fitted} of {tried} points")
             ax.set_xlabel("sqrt(mu alpha / (eta kappa))")
             ax.set_ylabel("minimal steady front speed c_min")
             ax.set_title(f"{scene}: c_min collapse (the paper's Fig. 2 right, for the minimal speed)", fontsize=8)
             ax.legend(fontsize=7)
-            save(fig, figdir, f"{scene}_cmin_collapse.png", figs)
-            rows.append((f"{scene}: c_min / sqrt(mu alpha/(eta kappa)) (16 branches)", f"{a:.3g}", "", "",
-                         f"largest deviation {100 * spread:.1f}%"))
-        lines += [f"## Steady fronts `{scene}`", "", f"File: `{os.path.relpath(path, root)}`: the branch ends at "
-                  f"sigma_d = {ba['sigma_d_at_c_min']:.6g} ({plot.as_str(ba.get('reason', ''))}).", ""]
+            save(fig, outdir, f"{scene}_cmin_collapse.png", figs)
+            refused = [ln for ln in plot.as_str(sc["fits"].attrs.get("refused", "")).split("\n") if ln.startswith("all: ")]
+            why = refused[0][len("all: "):] if refused and refused[0] != "all: fitted" else ""
+            rows.append((f"{scene}: c_min / sqrt(mu alpha/(eta kappa)) ({fitted} of {tried} branches with a c_min)",
+                         f"{a:.3g}", "", "", f"no fit: {why}" if why else
+                         f"largest deviation {100 * spread:.1f}% over the {fitted} fitted points"))
+        end = f"the branch ends at sigma_d = {sd_min:.6g} ({plot.as_str(ba.get('reason', ''))})" if math.isfinite(c_min) \
+            else f"no c_min: {message or plot.as_str(ba.get('reason', ''))}"
+        lines += [f"## Steady fronts `{scene}`", "", f"File: `{os.path.relpath(path, root)}`, status {status}: {end}.", ""]
     for w in figs:
         lines += [f"![{os.path.basename(w)}]({os.path.relpath(w, root)})", ""]
     return lines, rows
@@ -869,16 +924,15 @@ def main(argv=None):
             continue
         written = []
         with res.f:
+            scene_dir = figure_dir(figdir, root, path) if res.models else None
             if res.models:
-                scene_dir = os.path.join(figdir, res.scene)
-                os.makedirs(scene_dir, exist_ok=True)
                 plot.PLOTTERS[res.kind()](res, scene_dir, written, 110)
             summary += scene_rows(res)
             lines += [f"## Scene `{res.scene}`", "", f"{res.description}", "",
                       f"File: `{os.path.relpath(path, root)}`, status {res.status}, models {', '.join(res.models)}.", ""]
             cfigs = []
             if res.models:
-                cfigs, crows = contacts_section(res, os.path.join(figdir, res.scene))
+                cfigs, crows = contacts_section(res, scene_dir)
                 summary += crows
         for w in written:
             lines.append(f"![{os.path.basename(w)}]({os.path.relpath(w, root)})")
@@ -903,7 +957,7 @@ def main(argv=None):
         st.f.close()
     for path in sorted(studies):
         st = Study(path)
-        figs, rows = STUDY_PLOTS.get(st.kind, lambda s, o: ([], []))(st, figdir)
+        figs, rows = STUDY_PLOTS.get(st.kind, lambda s, o: ([], []))(st, figure_dir(figdir, root, path))
         summary += rows
         lines += [f"## Study `{st.name}` ({st.kind})", "", st.description, "",
                   f"{len(st.runs)} runs, {st.wall:.1f} s wall, status {st.status}.", ""]
@@ -925,8 +979,7 @@ def main(argv=None):
     for m in missing:
         lines.append(f"- could not read {m}")
     out = os.path.join(root, "report.md")
-    with open(out, "w") as f:
-        f.write("\n".join(lines) + "\n")
+    write_report(out, "\n".join(lines) + "\n")
     print(out)
     return 0
 

@@ -123,7 +123,7 @@ TEST_CASE("report: two runs of one scene in different directories never share fi
   CHECK(md.find("File: `b/fl/results.h5`") < md.find(images[1]));
 }
 
-TEST_CASE("report: non-UTF-8 metadata gives a report with replacement characters; a failed write keeps the previous one",
+TEST_CASE("report: non-UTF-8 metadata gives a report with replacement characters, a failed write keeps the previous one",
           "[report]") {
   // A results file whose /meta scene and git_commit and /config toml (the description) hold bytes that are not
   // UTF-8 (h5py hands them over with surrogate escapes): report.md was a 0-byte file (UnicodeEncodeError after

@@ -572,61 +572,125 @@ int run_command(const RunOptions& opts, std::ostream& out, std::ostream& err) {
   return run.checkpoint_error.empty() ? exit_code_of(status) : exit_code::failed;
 }
 
-int fronts_command(const FrontsOptions& opts, std::ostream& out, std::ostream& err) {
-  const auto wall0 = Clock::now();
-  compare::Scene scene;
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// The stages of `slipfront fronts`, in order; fronts_command lists them.
+
+// (a) The scene, which must be under homogeneous loading. Nothing (the reason printed) when it is invalid.
+std::optional<compare::Scene> load_fronts_scene(const FrontsOptions& opts, std::ostream& err) {
   try {
-    scene = load_scene(opts.config, opts.overrides);
+    compare::Scene scene = load_scene(opts.config, opts.overrides);
     if (scene.drive.loading != core::Loading::homogeneous)
       throw ConfigError(opts.config.string(), "drive.loading",
                         "steady fronts are solved for homogeneous loading (docs/model.md §6), got " +
                             std::string(core::to_string(scene.drive.loading)));
+    return scene;
   } catch (const ConfigError& e) {
     print_error(err, e.what());
-    return exit_code::usage;
+    return std::nullopt;
   }
-  const fs::path dir = opts.out.empty() ? fs::path("out") / scene.name : opts.out;
+}
+
+// (b) DIR/fronts.h5: the directory created, an existing file refused unless --force. "" when usable.
+std::string prepare_fronts_file(const fs::path& dir, const fs::path& file, bool force) {
   std::error_code ec;
   fs::create_directories(dir, ec);
-  if (ec) {
-    print_error(err, "cannot create the output directory '" + dir.string() + "': " + ec.message());
-    return exit_code::usage;
-  }
+  if (ec) return "cannot create the output directory '" + dir.string() + "': " + ec.message();
+  if (fs::exists(fs::symlink_status(file, ec)) && !force)
+    return "'" + file.string() + "' already exists (use --force to overwrite it)";
+  return "";
+}
+
+// The scaling study's line: the pooled prefactor with the points it fitted, those without a c_min by name
+// and value, and the largest deviation over the fitted points only; or why no fit was made.
+std::string scaling_line(const compare::FrontsResult& fr) {
+  const auto& fits = fr.scaling_fits;
+  if (!fits.count("parameter_index") || fits.at("parameter_index").empty()) return "  scaling: not run\n";
+  const std::size_t all = fits.at("parameter_index").size() - 1;  // the pooled fit comes last
+  const int fitted = static_cast<int>(fits.at("points")[all]), tried = static_cast<int>(fits.at("tried")[all]);
+  std::string without;
+  const auto& pts = fr.scaling_points;
+  for (std::size_t k = 0; k < pts.at("c_min").size(); ++k)
+    if (!(pts.at("c_min")[k] > 0.0))
+      without += (without.empty() ? "" : ", ") + fr.scaling_parameters[static_cast<std::size_t>(pts.at("parameter_index")[k])] +
+                 " = " + format_number(pts.at("value")[k]);
+  if (!fr.scaling_refused[all].empty()) return "  scaling: no fit: " + fr.scaling_refused[all] + "\n";
+  return "  scaling: c_min = " + format_number(fits.at("prefactor")[all]) + " sqrt(mu alpha/(eta kappa)), fitted to " +
+         std::to_string(fitted) + " of " + std::to_string(tried) + " points" +
+         (without.empty() ? std::string() : " (no c_min for " + without + ")") + "; largest deviation " +
+         core::format_number(100.0 * fits.at("spread")[all], 3) + " % over those " + std::to_string(fitted) + " points\n";
+}
+
+// (e) The summary on stdout, whatever the status: the branch, c_min (nan: not computed), the front at the
+// scene's σ_d and, with --scaling, the fit.
+void print_fronts_summary(std::ostream& out, const compare::Scene& scene, const compare::FrontsResult& fr,
+                          const RunMeta& meta, bool scaling, const fs::path& file) {
+  auto get = [&](const char* k) { return fr.scalars.count(k) ? fr.scalars.at(k) : std::nan(""); };
+  auto label = [&](const char* k) { return fr.labels.count(k) ? fr.labels.at(k) : std::string(); };
+  const auto sd = fr.branch.find("sigma_d");
+  const std::size_t n = sd == fr.branch.end() ? 0 : sd->second.size();
+  out << scene.name << ": steady fronts " << compare::to_string(meta.status) << " in " << format_seconds(meta.wall_seconds)
+      << " -> " << file.string() << "\n"
+      << "  branch: " << n << " fronts, ends at sigma_d = " << format_number(n ? sd->second.back() : std::nan("")) << " ("
+      << label("end") << ": " << label("reason") << ")\n"
+      << "  c_min = " << format_number(get("c_min")) << " at sigma_d = " << format_number(get("sigma_d_at_c_min"))
+      << " (sigma_c^d = " << format_number(get("sigma_c_d")) << "); c_min / sqrt(mu alpha/(eta kappa)) = "
+      << format_number(get("c_min_over_scale")) << "\n"
+      << "  at the scene's sigma_d = " << format_number(get("scene_sigma_d")) << ": "
+      << (std::isfinite(get("c_at_scene_sigma_d")) ? "c = " + format_number(get("c_at_scene_sigma_d")) + " (profile 0)"
+                                                    : "no steady front (" + label("scene_front") + ")")
+      << "\n";
+  if (scaling) out << scaling_line(fr);
+}
+
+}  // namespace
+
+int fronts_command(const FrontsOptions& opts, std::ostream& out, std::ostream& err) {
+  const auto wall0 = Clock::now();
+  // (a) the scene
+  const std::optional<compare::Scene> scene = load_fronts_scene(opts, err);
+  if (!scene) return exit_code::usage;
+
+  // (b) the output file, before any work
+  const fs::path dir = opts.out.empty() ? fs::path("out") / scene->name : opts.out;
   const fs::path file = dir / "fronts.h5";
-  if (fs::exists(fs::symlink_status(file, ec)) && !opts.force) {
-    print_error(err, "'" + file.string() + "' already exists (use --force to overwrite it)");
+  if (const std::string problem = prepare_fronts_file(dir, file, opts.force); !problem.empty()) {
+    print_error(err, problem);
     return exit_code::usage;
   }
+
+  // (c) the branch (and the scaling study), stoppable by SIGINT/SIGTERM as `run` is (the handler stays until
+  // the file is written); failed when no front is found, the solver fails or the fit is refused
+  const StopSignals signals;
   RunMeta meta;
   meta.command_line = opts.command_line;
   compare::FrontsResult fr;
   try {
-    fr = compare::compute_fronts(scene, opts.scaling);
+    fr = compare::compute_fronts(*scene, opts.scaling, [] { return StopSignals::requested(); });
+    meta.status = fr.status;
+    meta.message = fr.message;
   } catch (const std::exception& e) {
     meta.status = compare::RunStatus::failed;
-    meta.message = e.what();
-    print_error(err, std::string("fronts: ") + e.what());
+    meta.message = std::string("the solver stopped with an error: ") + e.what();
   }
+
+  // (d) the file, whatever the status
   meta.wall_seconds = std::chrono::duration<double>(Clock::now() - wall0).count();
   try {
-    write_fronts(file, scene, to_toml(scene), fr, meta);
+    write_fronts(file, *scene, to_toml(*scene), fr, meta);
   } catch (const std::exception& e) {
     print_error(err, "cannot write " + file.string() + ": " + e.what());
     return exit_code::failed;
   }
-  if (meta.status != compare::RunStatus::complete) return exit_code::failed;
-  auto get = [&](const char* k) { return fr.scalars.count(k) ? fr.scalars.at(k) : std::nan(""); };
-  out << scene.name << ": steady fronts in " << format_seconds(meta.wall_seconds) << " -> " << file.string() << "\n"
-      << "  branch: " << fr.branch["sigma_d"].size() << " fronts, ends at sigma_d = "
-      << format_number(fr.branch["sigma_d"].empty() ? std::nan("") : fr.branch["sigma_d"].back()) << " ("
-      << fr.labels["end"] << ": " << fr.labels["reason"] << ")\n"
-      << "  c_min = " << format_number(get("c_min")) << " at sigma_d = " << format_number(get("sigma_d_at_c_min"))
-      << " (sigma_c^d = " << format_number(get("sigma_c_d")) << "); c_min / sqrt(mu alpha/(eta kappa)) = "
-      << format_number(get("c_min_over_scale")) << "\n";
-  if (opts.scaling)
-    out << "  scaling: c_min = " << format_number(get("scaling_prefactor")) << " sqrt(mu alpha/(eta kappa)), largest deviation "
-        << core::format_number(100.0 * get("scaling_spread"), 3) << " %\n";
-  return exit_code::ok;
+
+  // (e) the summary, and on stderr why it is not complete
+  print_fronts_summary(out, *scene, fr, meta, opts.scaling, file);
+  if (meta.status == compare::RunStatus::failed)
+    print_error(err, "fronts failed: " + meta.message + " (results written to " + file.string() + ")");
+  else if (meta.status == compare::RunStatus::interrupted)
+    err << "slipfront: interrupted (" << meta.message << "); partial results written to " << file.string() << "\n";
+  return exit_code_of(meta.status);
 }
 
 namespace {

@@ -577,8 +577,16 @@ void write_fronts_file(const std::filesystem::path& tmp, const compare::Scene& s
     for (const auto& [name, v] : fr.scaling_points) dataset_1d(pts.get(), name, v, "scaling point " + name, "/scaling/points/" + name);
     Hid fits = make_group(g.get(), "fits", "/scaling/fits");
     attr_string(fits.get(), "description",
-                "c_min = prefactor * sqrt(mu alpha/(eta kappa)), least squares through the origin; parameter_index -1: all points; "
-                "spread: max relative deviation of a point from the line");
+                "c_min = prefactor * sqrt(mu alpha/(eta kappa)), least squares through the origin over the points with a "
+                "c_min; parameter_index -1: all points; points: fitted, tried: in the fit's sweep (fitted or not); "
+                "spread: max relative deviation of a fitted point from the line; NaN: the fit was refused (see refused)");
+    std::string refused;  // one line per fit, in the order of the rows: "<parameter>: <why>" or "<parameter>: fitted"
+    for (std::size_t k = 0; k < fr.scaling_refused.size(); ++k) {
+      const double index = fr.scaling_fits.at("parameter_index")[k];
+      const std::string name = index < 0 ? "all" : fr.scaling_parameters[static_cast<std::size_t>(index)];
+      refused += name + ": " + (fr.scaling_refused[k].empty() ? std::string("fitted") : fr.scaling_refused[k]) + "\n";
+    }
+    attr_string(fits.get(), "refused", refused);
     for (const auto& [name, v] : fr.scaling_fits) dataset_1d(fits.get(), name, v, "scaling fit " + name, "/scaling/fits/" + name);
   }
   save_image(file, tmp);

@@ -3,6 +3,7 @@
 // c(σ_d) by continuation to its end, a few solved profiles along it, and optionally the minimal-speed
 // scaling study (continuum/steady_front.hpp does the numerics). `slipfront fronts` writes it to
 // fronts.h5 (apps/h5out, docs/output.md). Nothing here reads or writes files.
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -20,21 +21,29 @@ struct FrontProfile {
 };
 
 struct FrontsResult {
+  /// complete: the branch followed to its end (and, with scaling, the pooled fit made); failed: no front,
+  /// a solver failure or a refused fit, with the reason in `message`; interrupted: stopped on request.
+  RunStatus status = RunStatus::complete;
+  std::string message;
   Columns branch;                              ///< one entry per continuation point (see docs/output.md)
-  std::map<std::string, double> scalars;       ///< c_min, sigma_d_at_c_min, sigma_c_d, scale, ...
-  std::map<std::string, std::string> labels;   ///< end, reason
+  /// c_min, sigma_d_at_c_min, sigma_c_d, scale, ...; NaN for what was not computed (c_min of a failed branch),
+  /// scene_sigma_d and c_at_scene_sigma_d (the front at the scene's σ_d; NaN if none).
+  std::map<std::string, double> scalars;
+  std::map<std::string, std::string> labels;   ///< end, reason, scene_front (the scene's σ_d: status and reason)
   std::vector<FrontProfile> profiles;
   /// The minimal-speed scaling study (empty unless asked for): one entry per point, and per fit.
   Columns scaling_points;                      ///< value, c_min, sigma_d_at_c_min, scale, parameter_index
   std::vector<std::string> scaling_parameters; ///< names indexed by parameter_index
-  Columns scaling_fits;                        ///< prefactor, spread, rms_relative, points, parameter_index (-1: all)
+  Columns scaling_fits;                        ///< prefactor, spread, rms_relative, points, tried, parameter_index (-1: all)
+  std::vector<std::string> scaling_refused;    ///< per fit (as scaling_fits): why it was refused ("" if made)
   double wall_seconds = 0.0;
 };
 
-/// The branch of the scene's interface and bulk parameters (the scene's σ_d only chooses one of the
-/// profiles), with `scaling` the minimal-speed scaling study too. Throws core::ParamError when the
-/// scene is not under homogeneous loading.
-FrontsResult compute_fronts(const Scene& s, bool scaling);
+/// The branch of the scene's interface and bulk parameters, continued from σ_d = 0.8 whatever the scene's
+/// σ_d; the front at the scene's σ_d is solved and reported on its own (profile 0 when there is one). With
+/// `scaling` the minimal-speed scaling study too. `stop` (polled between solves) ends the work early with
+/// status interrupted. Throws core::ParamError when the scene is not under homogeneous loading.
+FrontsResult compute_fronts(const Scene& s, bool scaling, const std::function<bool()>& stop = {});
 
 /// c of the solved steady front at σ_d (NaN where there is none).
 double solved_front_speed(const Scene& s, double sigma_d);

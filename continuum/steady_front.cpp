@@ -36,8 +36,25 @@ const char* to_string(BranchEnd e) {
     case BranchEnd::newton_failure: return "newton_failure";
     case BranchEnd::sigma_stop: return "sigma_stop";
     case BranchEnd::max_points: return "max_points";
+    case BranchEnd::no_branch: return "no_branch";
+    case BranchEnd::stopped: return "stopped";
   }
   return "?";
+}
+
+bool followed_to_end(BranchEnd e) {
+  switch (e) {
+    case BranchEnd::saddle_node:
+    case BranchEnd::resticking:
+    case BranchEnd::sonic:
+    case BranchEnd::reverse_slip:
+    case BranchEnd::sigma_stop: return true;
+    case BranchEnd::newton_failure:
+    case BranchEnd::max_points:
+    case BranchEnd::no_branch:
+    case BranchEnd::stopped: return false;
+  }
+  return false;
 }
 
 namespace detail {
@@ -538,24 +555,54 @@ std::vector<Vec3> resample(const SteadyFront& g, const std::vector<double>& xi) 
   return p;
 }
 
-// Cold-start speed: scan c/c_s ∈ (0, 1) for a sign change of the shooting mismatch, then TOMS 748.
-std::optional<double> bracket_speed(const Model& m, const SteadyFrontOptions& o, double sigma_d) {
+// The speed scale of the fronts, sqrt(μα/(ηκ)) (docs/fronts.md §6: c_min ≈ 0.58 of it in the paper's regime).
+double speed_scale(const Model& m) { return std::sqrt(m.mu * m.alpha / (m.eta * m.kappa)); }
+
+// The slowest speed the cold start tries: 1e-3 of the speed scale (or of c_s, if smaller). On every branch
+// computed c_min/scale ≥ 0.19 (docs/fronts.md §9), so this is far below any front.
+double slowest_cold_speed(const Model& m) {
+  const double scale = speed_scale(m), cs = m.sound_speed();
+  return 1e-3 * (scale < cs ? scale : cs);
+}
+
+// The two parts of the cold-start scan: upward over c = 0.02k c_s, k = 1 … 49 (where fronts are when inertia
+// matters; unchanged, so every front found before is found bit for bit as before), and, for a front slower
+// than 0.02 c_s (c_s large against the speed scale), downward from 0.02 c_s by a factor 0.8 a step to
+// slowest_cold_speed.
+enum class ColdScan { grid, below };
+
+// Cold-start speed (docs/fronts.md §3): the first sign change of the shooting mismatch in that part of the
+// scan, then TOMS 748.
+std::optional<double> bracket_speed(const Model& m, const SteadyFrontOptions& o, double sigma_d, ColdScan part) {
   const double cs = m.sound_speed();
   auto mismatch = [&](double c) {
     const double L = std::min(domain_length(m, o, c, sigma_d), 400.0);
     return shoot(m, make_mesh(L, 400, 0.05), c, sigma_d).mismatch;
   };
-  double prev_c = 0.02 * cs, prev = mismatch(prev_c);
-  for (int k = 2; k <= 49; ++k) {
-    const double cc = 0.02 * k * cs, mm = mismatch(cc);
-    if (std::isfinite(prev) && std::isfinite(mm) && prev * mm < 0.0) {
-      std::uintmax_t iters = 60;
-      const auto br = boost::math::tools::toms748_solve(mismatch, prev_c, cc, prev, mm,
-                                                        boost::math::tools::eps_tolerance<double>(30), iters);
-      return 0.5 * (br.first + br.second);
+  auto changes_sign = [](double a, double b) { return std::isfinite(a) && std::isfinite(b) && a * b < 0.0; };
+  auto refine = [&](double lo, double hi, double f_lo, double f_hi) {
+    std::uintmax_t iters = 60;
+    const auto br = boost::math::tools::toms748_solve(mismatch, lo, hi, f_lo, f_hi,
+                                                      boost::math::tools::eps_tolerance<double>(30), iters);
+    return 0.5 * (br.first + br.second);
+  };
+  const double first_c = 0.02 * cs, first = mismatch(first_c);
+  if (part == ColdScan::grid) {
+    double prev_c = first_c, prev = first;
+    for (int k = 2; k <= 49; ++k) {  // upward over 0.02k c_s
+      const double cc = 0.02 * k * cs, mm = mismatch(cc);
+      if (changes_sign(prev, mm)) return refine(prev_c, cc, prev, mm);
+      prev_c = cc;
+      prev = mm;
     }
-    prev_c = cc;
-    prev = mm;
+    return std::nullopt;
+  }
+  double upper_c = first_c, upper = first;
+  for (double cc = 0.8 * first_c; cc >= slowest_cold_speed(m); cc *= 0.8) {  // downward below 0.02 c_s
+    const double mm = mismatch(cc);
+    if (changes_sign(mm, upper)) return refine(cc, upper_c, mm, upper);
+    upper_c = cc;
+    upper = mm;
   }
   return std::nullopt;
 }
@@ -619,6 +666,27 @@ BranchEnd end_of(FrontStatus s) {
   }
 }
 
+// A cold start: Newton from the speed bracketed on the grid 0.02k c_s, as ever; when that gives no front
+// (no sign change there, or a spurious one: a front far below 0.02 c_s), from the speed bracketed below it.
+// A failure reports the first attempt's status and reason.
+SteadyFront solve_cold(const Model& m, const SteadyFrontOptions& o, double sigma_d, const SteadyFront* guess) {
+  std::optional<SteadyFront> first;
+  for (const ColdScan part : {ColdScan::grid, ColdScan::below}) {
+    const auto c0 = bracket_speed(m, o, sigma_d, part);
+    if (!c0) continue;
+    SteadyFront f = solve_on_mesh(m, o, sigma_d, *c0, nullptr, guess, std::nullopt);
+    if (f.status == FrontStatus::converged) return f;
+    if (!first) first = std::move(f);
+  }
+  if (first) return std::move(*first);
+  SteadyFront f = empty_front(m, sigma_d);
+  f.status = FrontStatus::newton_failed;
+  f.reason = "no sign change of the shooting mismatch for c in [" + core::format_number(slowest_cold_speed(m)) + ", " +
+             core::format_number(0.98 * m.sound_speed()) + "] (c_s = " + core::format_number(m.sound_speed()) +
+             "): no starting speed";
+  return f;
+}
+
 }  // namespace detail
 
 SteadyFront solve_steady_front(const core::InterfaceParams& law, const core::BulkParams& bulk, double sigma_d,
@@ -632,17 +700,8 @@ SteadyFront solve_steady_front(const core::InterfaceParams& law, const core::Bul
                ", 1): no sliding state on the strengthening branch behind, or no stuck state ahead";
     return f;
   }
-  double c0 = guess ? guess->c : o.c_guess;
-  if (!(c0 > 0.0)) {
-    const auto b = detail::bracket_speed(m, o, sigma_d);
-    if (!b) {
-      SteadyFront f = detail::empty_front(m, sigma_d);
-      f.status = FrontStatus::newton_failed;
-      f.reason = "no sign change of the shooting mismatch for c in (0, c_s): no starting speed";
-      return f;
-    }
-    c0 = *b;
-  }
+  const double c0 = guess ? guess->c : o.c_guess;
+  if (!(c0 > 0.0)) return detail::solve_cold(m, o, sigma_d, guess);
   return detail::solve_on_mesh(m, o, sigma_d, c0, nullptr, guess, std::nullopt);
 }
 
@@ -671,7 +730,7 @@ class BranchContinuation {
       : law_(law), bulk_(bulk), o_(o), m_(law, bulk.rho, bulk.mu), cs_(m_.sound_speed()),
         sigma_c_(steady_minimum_stress(law)) {}
 
-  bool start() { return first_front() && second_front(); }
+  bool start() { return admissible_parameters() && first_front() && second_front(); }
   void follow();
   bool ended_at_saddle_node() const { return br_.end == BranchEnd::saddle_node; }
   void solve_limiting_front();
@@ -682,6 +741,8 @@ class BranchContinuation {
   struct Secant {
     double t_sigma, t_c;  ///< unit direction in (σ_d, c/c_s)
   };
+  bool admissible_parameters();
+  bool stop_requested();
   bool first_front();
   bool second_front();
   Secant secant();
@@ -706,18 +767,65 @@ class BranchContinuation {
   double t_sigma_before_ = -1.0;  ///< σ_d component of the previous secant (fold detection)
 };
 
+// Before anything is solved: a branch needs the steady law's minimum (v_m, σ_c^d) at a finite v > 0,
+// where it ends (§4), and σ_c^d < 1: steady sliding behind needs σ_d > σ_c^d, the stuck state ahead σ_d < 1.
+bool BranchContinuation::admissible_parameters() {
+  const double v_m = steady_minimum_velocity(law_);
+  const std::string law = "alpha = " + core::format_number(law_.alpha) + ", kappa = " + core::format_number(law_.kappa) +
+                          ", eta = " + core::format_number(law_.eta);
+  if (!std::isfinite(v_m) || !(v_m > 0.0) || !std::isfinite(sigma_c_)) {
+    stop(BranchEnd::no_branch, "the steady friction law sigma_ss(v) = alpha/(1 + kappa v) + eta v has no minimum at a "
+                               "finite v > 0 (" + law + ": v_m = " + core::format_number(v_m) + ", sigma_c^d = " +
+                               core::format_number(sigma_c_) + "): there is no saddle-node sigma_c^d for a branch "
+                               "of fronts to end at (docs/fronts.md §4); nothing solved");
+    return false;
+  }
+  if (!(sigma_c_ < 1.0)) {
+    stop(BranchEnd::no_branch, "sigma_c^d = " + core::format_number(sigma_c_) + " >= 1 (" + law +
+                               "): steady sliding behind a front needs sigma_d > sigma_c^d and the stuck state "
+                               "ahead sigma_d < 1, so no sigma_d has a front; nothing solved");
+    return false;
+  }
+  return true;
+}
+
+// A stop request (options.stop) ends the branch where it is, with the fronts found so far.
+bool BranchContinuation::stop_requested() {
+  if (!o_.stop || !o_.stop()) return false;
+  stop(BranchEnd::stopped, "stopped on request after " + std::to_string(br_.points.size()) + " fronts" +
+                               (br_.points.empty() ? std::string()
+                                                   : ", at sigma_d = " + core::format_number(br_.points.back().sigma_d)) +
+                               ": the branch is partial, c_min not computed");
+  return true;
+}
+
+// Why a cold start found nothing, in the physics' terms when the numbers say so: c_s far below the speed
+// scale (c_min/scale was 0.19–0.68 on every branch computed, docs/fronts.md §9).
+std::string supersonic_hint(const Model& m) {
+  const double scale = speed_scale(m), cs = m.sound_speed();
+  if (!(cs < 0.19 * scale)) return "";
+  return "; c_s = " + core::format_number(cs) + " is " + core::format_number(cs / scale) +
+         " times the speed scale sqrt(mu alpha/(eta kappa)) = " + core::format_number(scale) +
+         ", and c_min was 0.19-0.68 times it on every branch computed (docs/fronts.md §9): the fronts would be "
+         "faster than sound";
+}
+
 // §4 step 1: the first front, cold at σ_start. With no front there (its speed would reach c_s: the
 // branch's upper end lies below), try σ_c^d + (σ_start − σ_c^d)·0.8^k, k = 1 … 20, and say so.
 bool BranchContinuation::first_front() {
+  if (stop_requested()) return false;
   prev_ = solve_steady_front(law_, bulk_, o_.sigma_start, o_.front);
   br_.sigma_first = o_.sigma_start;
   for (int k = 1; k <= 20 && prev_.status != FrontStatus::converged; ++k) {
+    if (stop_requested()) return false;
     br_.sigma_first = sigma_c_ + (o_.sigma_start - sigma_c_) * std::pow(0.8, k);
     prev_ = solve_steady_front(law_, bulk_, br_.sigma_first, o_.front);
   }
   if (prev_.status != FrontStatus::converged) {
     stop(end_of(prev_.status), "no front at sigma_start = " + core::format_number(o_.sigma_start) +
-                                   " nor below it: " + prev_.reason);
+                                   " nor below it (down to sigma_d = " + core::format_number(br_.sigma_first) +
+                                   "): " + prev_.reason + supersonic_hint(m_));
+    br_.sigma_first = detail::nan_value;
     br_.last = prev_;
     return false;
   }
@@ -729,6 +837,7 @@ bool BranchContinuation::first_front() {
 bool BranchContinuation::second_front() {
   ds_ = o_.initial_step;
   for (;;) {
+    if (stop_requested()) return false;
     const double target = std::max(br_.sigma_first - ds_, sigma_c_ + 0.5 * (br_.sigma_first - sigma_c_));
     cur_ = solve_steady_front(law_, bulk_, target, o_.front, &prev_);
     if (cur_.status == FrontStatus::converged) break;
@@ -748,7 +857,7 @@ bool BranchContinuation::second_front() {
 void BranchContinuation::follow() {
   while (static_cast<int>(br_.points.size()) < o_.max_points) {
     const Secant t = secant();
-    if (reached_end()) break;
+    if (reached_end() || stop_requested()) break;
     SteadyFront next = predict_and_correct(t);
     if (next.status != FrontStatus::converged) {
       stop(end_of(next.status), "continuation stalls at sigma_d = " + core::format_number(cur_.sigma_d) +
@@ -843,7 +952,7 @@ void BranchContinuation::solve_limiting_front() {
 // Minimal speed: the smallest c on the branch; an interior minimum is located by Brent's method on
 // fixed-σ_d solves between its neighbours (so it does not depend on the continuation step).
 void BranchContinuation::locate_minimal_speed() {
-  if (br_.points.empty()) return;
+  if (br_.points.empty() || !followed_to_end(br_.end)) return;  // not computed: NaN
   std::size_t k = 0;
   for (std::size_t i = 1; i < br_.points.size(); ++i)
     if (br_.points[i].c < br_.points[k].c) k = i;
@@ -879,47 +988,96 @@ FrontBranch continue_steady_fronts(const core::InterfaceParams& law, const core:
   return run.take_branch();
 }
 
+namespace detail {
+
+// One fit of c_min = a · scale by least squares through the origin over the points of `parameter` ("all":
+// every point) that have a c_min; refused (NaN) below min_scaling_fit_points, and for "all" unless every
+// parameter varied (asked for two values or more, `asked`) has that many.
+ScalingFit fit_scaling(const std::vector<ScalingPoint>& points, const std::string& parameter,
+                       const std::vector<std::pair<std::string, std::size_t>>& asked) {
+  const bool all = parameter == "all";
+  auto in_fit = [&](const ScalingPoint& q) { return all || q.parameter == parameter; };
+  auto has_c_min = [](const ScalingPoint& q) { return std::isfinite(q.c_min) && q.c_min > 0.0; };
+  ScalingFit f{parameter, nan_value, nan_value, nan_value, 0, 0, ""};
+  double cs = 0.0, ss = 0.0;
+  std::string without;  // the points with no c_min, by name and value
+  for (const auto& q : points) {
+    if (!in_fit(q)) continue;
+    ++f.tried;
+    if (!has_c_min(q)) {
+      without += (without.empty() ? "" : ", ") + q.parameter + " = " + core::format_number(q.value) + " (" +
+                 to_string(q.end) + ")";
+      continue;
+    }
+    cs += q.c_min * q.scale;
+    ss += q.scale * q.scale;
+    ++f.points;
+  }
+  const std::string counted = std::to_string(f.points) + " of " + std::to_string(f.tried) + " points have a c_min" +
+                              (without.empty() ? std::string() : " (none for " + without + ")");
+  const std::string need = "a fit needs at least " + std::to_string(min_scaling_fit_points) +
+                           " (the line through the origin passes exactly through one point: a deviation of 0 tests "
+                           "nothing)";
+  if (f.points < min_scaling_fit_points) {
+    f.refused = "only " + counted + "; " + need;
+    return f;
+  }
+  if (all) {
+    for (const auto& [name, values] : asked) {
+      if (values < 2) continue;
+      int n = 0;
+      for (const auto& q : points) n += q.parameter == name && has_c_min(q) ? 1 : 0;
+      if (n < min_scaling_fit_points) {
+        f.refused = counted + ", but only " + std::to_string(n) + " with " + name + " varied; " + need +
+                    " in every parameter varied, so that each exponent of mu alpha/(eta kappa) is tested";
+        return f;
+      }
+    }
+  }
+  f.prefactor = cs / ss;
+  f.spread = 0.0;
+  double sum2 = 0.0;
+  for (const auto& q : points)
+    if (in_fit(q) && has_c_min(q)) {
+      const double r = (q.c_min - f.prefactor * q.scale) / (f.prefactor * q.scale);
+      f.spread = std::max(f.spread, std::abs(r));
+      sum2 += r * r;
+    }
+  f.rms_relative = std::sqrt(sum2 / f.points);
+  return f;
+}
+
+}  // namespace detail
+
 ScalingStudy minimal_speed_scaling(const core::InterfaceParams& law, const core::BulkParams& bulk, const ScalingOptions& o) {
   ScalingStudy study;
   const std::pair<const char*, const std::vector<double>*> sweeps[] = {
       {"mu", &o.mu}, {"alpha", &o.alpha}, {"eta", &o.eta}, {"kappa", &o.kappa}};
+  std::vector<std::pair<std::string, std::size_t>> asked;
+  for (const auto& [name, values] : sweeps) asked.emplace_back(name, values->size());
+  auto one_point = [&](const std::string& p, double value) {
+    core::InterfaceParams l = law;
+    core::BulkParams b = bulk;
+    if (p == "mu") b.mu = value;
+    else if (p == "alpha") l.alpha = value;
+    else if (p == "eta") l.eta = value;
+    else l.kappa = value;
+    ContinuationOptions co = o.continuation;
+    const FrontBranch br = continue_steady_fronts(l, b, co);
+    if (br.end == BranchEnd::stopped) return false;
+    const double scale = std::sqrt(b.mu * l.alpha / (l.eta * l.kappa));
+    study.points.push_back({p, value, br.c_min, br.sigma_d_at_c_min, scale, br.end,
+                            std::isfinite(br.c_min) ? std::string() : br.reason});
+    return true;
+  };
   for (const auto& [name, values] : sweeps) {
     for (double value : *values) {
-      core::InterfaceParams l = law;
-      core::BulkParams b = bulk;
-      const std::string p = name;
-      if (p == "mu") b.mu = value;
-      else if (p == "alpha") l.alpha = value;
-      else if (p == "eta") l.eta = value;
-      else l.kappa = value;
-      ContinuationOptions co = o.continuation;
-      const FrontBranch br = continue_steady_fronts(l, b, co);
-      const double scale = std::sqrt(b.mu * l.alpha / (l.eta * l.kappa));
-      study.points.push_back({p, value, br.c_min, br.sigma_d_at_c_min, scale, br.end});
+      study.stopped = (o.continuation.stop && o.continuation.stop()) || !one_point(name, value);
+      if (study.stopped) break;
     }
+    if (study.stopped) break;
   }
-  // Least squares through the origin, c_min ≈ a · scale: a = Σ c s / Σ s².
-  auto fit = [&](const std::string& p) {
-    double cs = 0.0, ss = 0.0;
-    int n = 0;
-    for (const auto& q : study.points)
-      if ((p == "all" || q.parameter == p) && std::isfinite(q.c_min) && q.c_min > 0.0) {
-        cs += q.c_min * q.scale;
-        ss += q.scale * q.scale;
-        ++n;
-      }
-    ScalingFit f{p, n > 0 ? cs / ss : detail::nan_value, 0.0, 0.0, n};
-    double sum2 = 0.0;
-    for (const auto& q : study.points)
-      if ((p == "all" || q.parameter == p) && std::isfinite(q.c_min) && q.c_min > 0.0) {
-        const double r = (q.c_min - f.prefactor * q.scale) / (f.prefactor * q.scale);
-        f.spread = std::max(f.spread, std::abs(r));
-        sum2 += r * r;
-      }
-    f.rms_relative = n > 0 ? std::sqrt(sum2 / n) : detail::nan_value;
-    return f;
-  };
-  for (const char* p : {"mu", "alpha", "eta", "kappa", "all"}) study.fits.push_back(fit(p));
+  for (const char* p : {"mu", "alpha", "eta", "kappa", "all"}) study.fits.push_back(detail::fit_scaling(study.points, p, asked));
   return study;
 }
 

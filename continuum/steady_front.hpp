@@ -14,6 +14,7 @@
 // Plain structs in and out; nothing here does I/O.
 #include <array>
 #include <complex>
+#include <functional>
 #include <limits>
 #include <span>
 #include <string>
@@ -35,7 +36,8 @@ struct SteadyFrontOptions {
   double tolerance = 1e-11;     ///< Newton: stop when the scaled update is below this
   int max_newton = 40;          ///< Newton iterations before giving up
   bool estimate_error = true;   ///< also solve on every other node: speed_error = |c_2h − c_h|/15
-  /// Speed guess for a cold start (no previous front): 0 = bracket it by shooting (docs/fronts.md §3).
+  /// Speed guess for a cold start (no previous front): 0 = bracket it by shooting (docs/fronts.md §3):
+  /// on c = 0.02k c_s, then geometrically below 0.02 c_s down to 1e-3 min(sqrt(μα/(ηκ)), c_s).
   double c_guess = 0.0;
 };
 
@@ -123,6 +125,9 @@ struct ContinuationOptions {
   int max_points = 4000;
   bool refine_minimum = true;   ///< locate an interior minimum of c(σ_d) by Brent's method on fixed-σ_d solves
   SteadyFrontOptions front;     ///< settings of every solve
+  /// Polled before every solve of the continuation (a cold start takes up to a second): true ends the
+  /// branch where it is, with end `stopped` (a program's Ctrl-C). Empty: never.
+  std::function<bool()> stop;
 };
 
 /// Why the branch ends (docs/fronts.md §4).
@@ -134,8 +139,13 @@ enum class BranchEnd {
   newton_failure,     ///< corrections fail at the minimum step (reported, not explained)
   sigma_stop,         ///< reached options.sigma_stop
   max_points,
+  no_branch,          ///< the parameters admit no branch (σ_c^d not finite, or ≥ 1): nothing solved
+  stopped,            ///< options.stop asked to stop (the branch is partial)
 };
 const char* to_string(BranchEnd e);
+/// Whether a branch that ended with `e` was followed to one of its ends (saddle_node, resticking, sonic,
+/// reverse_slip) or to options.sigma_stop: only then is its c_min the minimal speed (NaN otherwise).
+bool followed_to_end(BranchEnd e);
 
 struct BranchPoint {
   double sigma_d, c, v_tip, v_behind, area_behind, overstress_margin, min_slip_rate, stable_eigenvalue;
@@ -144,13 +154,15 @@ struct BranchPoint {
 };
 
 struct FrontBranch {
-  double sigma_first = 0.0;         ///< σ_d of the first front (σ_start, or below it if there was no front there)
+  double sigma_first = std::numeric_limits<double>::quiet_NaN();  ///< σ_d of the first front (σ_start, or below it if there was no front there; NaN: none)
   std::vector<BranchPoint> points;  ///< in continuation order (σ_d decreasing unless there is a fold)
   BranchEnd end = BranchEnd::max_points;
   std::string reason;               ///< the end in the equations' terms
   std::vector<double> folds;        ///< σ_d where dσ_d/ds changed sign (turning points), if any
-  double c_min = 0.0;               ///< minimal front speed on the branch
-  double sigma_d_at_c_min = 0.0;
+  /// Minimal front speed on the branch; NaN (with σ_d at it) unless the branch was followed to an end
+  /// (followed_to_end): no front found, a solver failure or a stop leave it not computed.
+  double c_min = std::numeric_limits<double>::quiet_NaN();
+  double sigma_d_at_c_min = std::numeric_limits<double>::quiet_NaN();
   bool c_min_at_end = false;        ///< c_min is the end point (c monotone along the branch)
   SteadyFront last;                 ///< the last converged front (for a time-dependent start, or diagnosis)
 };
@@ -164,22 +176,31 @@ FrontBranch continue_steady_fronts(const core::InterfaceParams& law, const core:
 struct ScalingPoint {
   std::string parameter;   ///< "mu", "alpha", "eta" or "kappa": the one varied
   double value;
-  double c_min, sigma_d_at_c_min;
+  double c_min, sigma_d_at_c_min;  ///< NaN where the branch was not followed to an end (no front found, ...)
   double scale;            ///< sqrt(μ α/(η κ))
   BranchEnd end;
+  std::string reason;      ///< the branch's reason (why there is no c_min, when there is none)
 };
+/// A fit needs at least this many points with a c_min: through one point the line c = a·scale passes
+/// exactly (deviation 0), which tests nothing. The pooled fit also needs this many in every parameter
+/// that was varied (asked for two values or more), so that each exponent of μα/(ηκ) is tested.
+inline constexpr int min_scaling_fit_points = 2;
 struct ScalingFit {
   std::string parameter;   ///< "all" for the pooled fit
-  double prefactor;        ///< least squares through the origin: c_min ≈ prefactor · scale
-  double spread;           ///< max |c_min/scale − prefactor| / prefactor over the points of the fit
-  double rms_relative;     ///< RMS of (c_min − prefactor·scale)/(prefactor·scale)
-  int points;
+  double prefactor;        ///< least squares through the origin: c_min ≈ prefactor · scale (NaN: refused)
+  double spread;           ///< max |c_min/scale − prefactor| / prefactor over the fitted points (NaN: refused)
+  double rms_relative;     ///< RMS of (c_min − prefactor·scale)/(prefactor·scale) over them (NaN: refused)
+  int points;              ///< points fitted: those with a c_min
+  int tried;               ///< points of the study in this fit (fitted or not)
+  std::string refused;     ///< why no fit was made (fewer than min_scaling_fit_points); empty when made
 };
 struct ScalingStudy {
   std::vector<ScalingPoint> points;
   std::vector<ScalingFit> fits;  ///< one per parameter, then "all"
+  bool stopped = false;          ///< continuation.stop asked to stop: the study is partial
 };
-/// Vary each of μ, α, η, κ over `values[p]` (others at `law`/`bulk`) and find c_min by continuation.
+/// Vary each of μ, α, η, κ over `values[p]` (others at `law`/`bulk`) and find c_min by continuation;
+/// every point is kept, those without a c_min with their branch's end and reason.
 struct ScalingOptions {
   std::vector<double> mu{150.0, 300.0, 600.0, 1200.0};
   std::vector<double> alpha{1.05, 1.5, 2.0, 3.0};

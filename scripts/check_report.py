@@ -1,5 +1,6 @@
 #!/usr/bin/python3
-"""Check that every image a report.md names exists and is a non-empty PNG; exit 1 otherwise."""
+"""Check that a report.md is non-empty UTF-8 and that every image it names exists and is a non-empty PNG;
+exit 1 otherwise."""
 import os
 import re
 import sys
@@ -11,8 +12,17 @@ def main(argv):
         return 2
     report = argv[1]
     root = os.path.dirname(os.path.abspath(report))
-    with open(report) as f:
-        images = re.findall(r"!\[[^\]]*\]\(([^)]+)\)", f.read())
+    with open(report, "rb") as f:
+        raw = f.read()
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as e:
+        print(f"check_report: {report} is not UTF-8: {e}", file=sys.stderr)
+        return 1
+    if not text.strip():
+        print(f"check_report: {report} is empty", file=sys.stderr)
+        return 1
+    images = re.findall(r"!\[[^\]]*\]\(([^)]+)\)", text)
     bad = []
     for rel in images:
         path = os.path.join(root, rel)

@@ -49,8 +49,13 @@ V_LOG_DECADES = 4  # |v| maps: log colour scale over this many decades below the
 
 
 def as_str(value) -> str:
+    """A string read from a file as text that can be written anywhere: bytes that are not UTF-8 become U+FFFD.
+    h5py hands them over as bytes, or (variable-length UTF-8 strings) as str with surrogate escapes, which no
+    UTF-8 file or figure can take."""
     if isinstance(value, bytes):
         return value.decode("utf-8", "replace")
+    if isinstance(value, str):
+        return value.encode("utf-8", "surrogateescape").decode("utf-8", "replace")
     if isinstance(value, np.ndarray) and value.shape == ():
         return as_str(value[()])
     return str(value)

@@ -7,9 +7,12 @@ each with its fitted slope and 95% interval; report.md collects the figures and 
 (observable, continuum value, discrete value at the largest N, relative difference, fitted rate).
 """
 import argparse
+import hashlib
 import math
 import os
+import re
 import sys
+import tempfile
 
 import h5py
 import matplotlib
@@ -33,6 +36,7 @@ class Study:
         self.f = h5py.File(path, "r")
         s = self.f["study"]
         self.name = plot.as_str(s.attrs["name"])
+        self.stem = self.name  # the start of its figures' names (main: with the file's figure_key)
         self.kind = plot.as_str(s.attrs["kind"])
         self.description = plot.as_str(s.attrs.get("description", ""))
         self.notes = [n for n in plot.as_str(s.attrs.get("notes", "")).split("\n") if n]
@@ -90,6 +94,44 @@ def loglog_fit(ax, x, y, study, fit_name, label, color="C3", marker="o"):
         ax.loglog(np.exp(xs), np.exp(c + p * xs), "-", color=color, alpha=0.6, label=study.fit_label(fit_name))
 
 
+def figure_key(root, path):
+    """The name of one file's figures (results.h5, study.h5, fronts.h5): the file's path relative to DIR and
+    a hash of that path, so two runs of one scene, or two studies of one name, never share figure files.
+    ASCII only (it is a link in report.md)."""
+    rel = os.path.splitext(os.path.relpath(os.path.abspath(path), root))[0]
+    slug = re.sub(r"[^A-Za-z0-9._-]+", "_", rel.replace(os.sep, "__")).strip("._") or "top"
+    digest = hashlib.sha1(rel.encode("utf-8", "surrogateescape")).hexdigest()[:8]
+    return f"{slug[:80]}-{digest}"
+
+
+def figure_dir(figdir, root, path):
+    """A scene's figures: the directory figures/<figure_key>/ (created)."""
+    out = os.path.join(figdir, figure_key(root, path))
+    os.makedirs(out, exist_ok=True)
+    return out
+
+
+def write_report(path, text):
+    """report.md written to a temporary file beside it and renamed onto it: a failure (a full disk, an error)
+    leaves the previous report as it was. Text that is not UTF-8 (paths or metadata read with surrogate
+    escapes) is written with U+FFFD."""
+    text = text.encode("utf-8", "surrogateescape").decode("utf-8", "replace")
+    fd, tmp = tempfile.mkstemp(prefix=".report.md.", suffix=".tmp", dir=os.path.dirname(path))
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as f:
+            f.write(text)
+            f.flush()
+            os.fsync(f.fileno())
+        os.chmod(tmp, 0o644)
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        raise
+
+
 def save(fig, outdir, name, figures):
     path = os.path.join(outdir, name)
     fig.savefig(path, dpi=110)
@@ -115,7 +157,7 @@ def friction_law_study(st, outdir):
         ax.set_ylabel("relative error of steady friction (RMS over v)")
         ax.set_title(st.title("friction law, discrete vs continuum"), fontsize=8)
         ax.legend(fontsize=7)
-        save(fig, outdir, f"{st.name}_error_vs_N.png", figs)
+        save(fig, outdir, f"{st.stem}_error_vs_N.png", figs)
     # Fig. 2 (left): the steady law of both models at each N (seed 1) and the closed form.
     fig, ax = plt.subplots(figsize=(6.5, 4.5))
     drawn_cont = False
@@ -140,7 +182,7 @@ def friction_law_study(st, outdir):
     ax.set_ylabel("steady friction sigma")
     ax.set_title(st.title("Fig. 2 (left): steady friction law"), fontsize=8)
     ax.legend(fontsize=7)
-    save(fig, outdir, f"{st.name}_fig2_left.png", figs)
+    save(fig, outdir, f"{st.stem}_fig2_left.png", figs)
     if t:
         rows.append((f"{st.name}: steady friction, random error at N = {t['N'][-1]:.0f}", "0",
                      f"{t['random'][-1]:.3g}", "", st.fit_labels("friction_law_random_exponent")))
@@ -159,7 +201,7 @@ def threshold_width_study(st, outdir):
     ax.set_ylabel("RMS relative distance of steady friction")
     ax.set_title(st.title("threshold disorder, noise off"), fontsize=8)
     ax.legend(fontsize=7)
-    save(fig, outdir, f"{st.name}_distance_vs_w.png", figs)
+    save(fig, outdir, f"{st.stem}_distance_vs_w.png", figs)
     fig, ax = plt.subplots(figsize=(6.5, 4.5))
     cont = False
     steady = "sigma_at_vmin" in t
@@ -191,7 +233,7 @@ def threshold_width_study(st, outdir):
         ax.set_ylabel("drive force F")
         ax.set_title(st.title("static peak and slip vs threshold width w (noise off)"), fontsize=8)
     ax.legend(fontsize=7)
-    save(fig, outdir, f"{st.name}_{'laws' if steady else 'histories'}_vs_w.png", figs)
+    save(fig, outdir, f"{st.stem}_{'laws' if steady else 'histories'}_vs_w.png", figs)
     rows.append((f"{st.name}: distance to the continuum at w = {t['width'][0]:.3g}", "0", f"{t['distance'][0]:.3g}", "",
                  st.fit_label("threshold_width_exponent")))
     if "threshold_width_peak_exponent" in st.scalars:
@@ -229,7 +271,7 @@ def transient_study(st, outdir):
     axs[1].set_ylabel("friction")
     axs[1].legend(fontsize=7)
     fig.suptitle(st.title("transient friction, discrete vs continuum"), fontsize=8)
-    save(fig, outdir, f"{st.name}_transient.png", figs)
+    save(fig, outdir, f"{st.stem}_transient.png", figs)
     rows.append((f"{st.name}: friction history distance at N = {t['N'][-1]:.0f}", "0", f"{t['distance_mean'][-1]:.3g}",
                  "", st.fit_labels("transient_distance_exponent")))
     return figs, rows
@@ -270,7 +312,7 @@ def front_speeds_study(st, outdir):
         ax2.legend(fontsize=6)
     fig.suptitle(st.title("fig1 events and front speeds vs N (discrete over seeds)"), fontsize=9)
     fig.tight_layout()
-    save(fig, outdir, f"{st.name}_fronts_vs_N.png", figs)
+    save(fig, outdir, f"{st.stem}_fronts_vs_N.png", figs)
     for o in obs:
         rows.append((f"{st.name}: {o}, mean ± sd over seeds at N = {N[-1]:.0f}", f"{t[o + '_continuum'][-1]:.4g}",
                      f"{t[o + '_mean'][-1]:.4g} ± {t[o + '_sd'][-1]:.2g}", f"{t[o + '_rel_diff'][-1]:+.2%}",
@@ -301,7 +343,7 @@ def fig2_study(st, outdir):
         ax.set_title(m, fontsize=9)
         ax.legend(fontsize=7)
     fig.suptitle(st.title("Fig. 2 (right): transient front speed collapse"), fontsize=9)
-    save(fig, outdir, f"{st.name}_fig2_right.png", figs)
+    save(fig, outdir, f"{st.stem}_fig2_right.png", figs)
     for m in ("continuum", "discrete"):
         rows.append((f"Fig. 2 right slope ({m})", "", f"{st.scalars.get('fig2_slope_all_' + m, math.nan):.3g}", "", ""))
     return figs, rows
@@ -330,7 +372,7 @@ def spectrum_study(st, outdir):
     axs[0].set_ylabel("steady front speed")
     axs[1].set_ylabel("slip rate behind the front")
     fig.suptitle(st.title("front spectrum, homogeneous loading"), fontsize=9)
-    save(fig, outdir, f"{st.name}_spectrum.png", figs)
+    save(fig, outdir, f"{st.stem}_spectrum.png", figs)
     rows.append(("slowest nucleated front (continuum)", f"{st.scalars.get('spectrum_slowest_front', math.nan):.3g}",
                  "", "", f"at sigma_d = {st.scalars.get('spectrum_slowest_front_sigma_d', math.nan):.3g}; "
                          f"nucleation limit sigma_d = {lim:.3g} (a property of the start)"))
@@ -354,7 +396,7 @@ def steady_fronts_study(st, outdir):
         ax.set_ylabel("relative front speed error")
         ax.set_title(st.title("steady front: discrete speed vs N"), fontsize=8)
         ax.legend(fontsize=7)
-        save(fig, outdir, f"{st.name}_speed_vs_N.png", figs)
+        save(fig, outdir, f"{st.stem}_speed_vs_N.png", figs)
         rows.append((f"{st.name}: discrete front speed vs continuum at N = {n['N'][-1]:.0f}", "0",
                      f"{n['rms_discrete_vs_continuum'][-1]:.3g}", "", st.fit_labels("steady_front_speed_exponent")))
     elif t:
@@ -370,7 +412,7 @@ def steady_fronts_study(st, outdir):
         ax.set_ylabel("c_front / c_solved - 1  [%]")
         ax.set_title(st.title("fronts started from the solved branch (kicked or not)"), fontsize=8)
         ax.legend(fontsize=7)
-        save(fig, outdir, f"{st.name}_speed_vs_solved.png", figs)
+        save(fig, outdir, f"{st.stem}_speed_vs_solved.png", figs)
         k = st.scalars.get("kick_max_speed_change", math.nan)
         worst = np.nanmax(np.abs(t["rel_continuum"])) if len(t["rel_continuum"]) else math.nan
         rows.append((f"{st.name}: front started from the solved one, max abs(c/c_solved - 1)", f"{worst:.2g}",
@@ -381,17 +423,26 @@ def steady_fronts_study(st, outdir):
 
 def fronts_file(path, root, figdir, studies):
     """fronts.h5 (slipfront fronts): the branch with the time-dependent points of the studies, profiles, and
-    the c_min collapse."""
+    the c_min collapse. A failed or interrupted file (no branch point, c_min NaN) is reported with its reason."""
     figs, rows, lines = [], [], []
+    outdir, stem = figdir, figure_key(root, path)
     with h5py.File(path, "r") as f:
         b = f["branch"]
         ba = attrs(b)
-        scene = plot.as_str(f["meta"].attrs.get("scene", "fronts"))
+        meta = f["meta"].attrs
+        scene = plot.as_str(meta.get("scene", "fronts"))
+        status, message = plot.as_str(meta.get("status", "unknown")), plot.as_str(meta.get("message", ""))
+        c_min, sd_min = ba.get("c_min", math.nan), ba.get("sigma_d_at_c_min", math.nan)
         fig, axs = plt.subplots(1, 2, figsize=(12, 4.5))
         ax = axs[0]
-        ax.plot(b["sigma_d"][()], b["c"][()], "k-", lw=1.3, label="solved steady fronts")
-        ax.plot([ba["sigma_d_at_c_min"]], [ba["c_min"]], "k*", ms=12, label=f"c_min = {ba['c_min']:.4g}")
-        ax.axvline(ba["sigma_c_d"], color="gray", ls=":", label="sigma_c^d")
+        if "sigma_d" in b and "c" in b:
+            ax.plot(b["sigma_d"][()], b["c"][()], "k-", lw=1.3, label="solved steady fronts")
+        else:
+            plot.no_data(ax, f"no steady front ({status})")
+        if math.isfinite(c_min):
+            ax.plot([sd_min], [c_min], "k*", ms=12, label=f"c_min = {c_min:.4g}")
+        if math.isfinite(ba.get("sigma_c_d", math.nan)):
+            ax.axvline(ba["sigma_c_d"], color="gray", ls=":", label="sigma_c^d")
         for st in studies:
             if st.kind == "front_spectrum" and "front_spectrum" in st.tables:
                 t = st.tables["front_spectrum"]
@@ -407,9 +458,10 @@ def fronts_file(path, root, figdir, studies):
                 ax.plot(t["sigma_d"][sel], t["c_discrete"][sel], "+", color="C3", ms=10, label="started from solved, discrete")
         ax.set_xlabel("applied stress sigma_d")
         ax.set_ylabel("steady front speed c")
-        ax.legend(fontsize=7)
+        if ax.get_legend_handles_labels()[0]:
+            ax.legend(fontsize=7)
         ax = axs[1]
-        for k in sorted(f["profiles"], key=int):
+        for k in sorted(f["profiles"] if "profiles" in f else [], key=int):
             g = f["profiles"][k]
             a = attrs(g)
             ax.plot(g["xi"][()], g["v"][()] / a["v_behind"], lw=1,
@@ -417,12 +469,13 @@ def fronts_file(path, root, figdir, studies):
         ax.set_xlim(-200, 20)
         ax.set_xlabel("xi = x - c t (tip at 0)")
         ax.set_ylabel("v / v_behind")
-        ax.legend(fontsize=7)
-        fig.suptitle(f"{scene}: steady fronts, the branch and its profiles (docs/fronts.md)", fontsize=9)
-        save(fig, figdir, f"{scene}_fronts_branch.png", figs)
-        rows.append((f"{scene}: minimal steady front speed c_min (solved)", f"{ba['c_min']:.5g}", "", "",
-                     f"at sigma_d = {ba['sigma_d_at_c_min']:.5g}; branch end: {ba.get('end', '')}"))
-        if "scaling" in f:
+        if ax.get_legend_handles_labels()[0]:
+            ax.legend(fontsize=7)
+        fig.suptitle(f"{scene}: steady fronts, the branch and its profiles (docs/fronts.md)   [{status}]", fontsize=9)
+        save(fig, outdir, f"{stem}_{scene}_fronts_branch.png", figs)
+        rows.append((f"{scene}: minimal steady front speed c_min (solved)", f"{c_min:.5g}", "", "",
+                     f"at sigma_d = {sd_min:.5g}; branch end: {ba.get('end', '')}; status {status}"))
+        if "scaling" in f and "points" in f["scaling"] and "c_min" in f["scaling"]["points"]:
             sc = f["scaling"]
             names = plot.as_str(sc.attrs["parameters"]).split(",")
             pts = {k: sc["points"][k][()] for k in sc["points"]}
@@ -433,17 +486,25 @@ def fronts_file(path, root, figdir, studies):
                 ax.plot(pts["scale"][sel], pts["c_min"][sel], "osD^v"[i % 5], color=f"C{i}", label=f"vary {name}")
             allfit = fits["parameter_index"] == -1
             a, spread = float(fits["prefactor"][allfit][0]), float(fits["spread"][allfit][0])
-            xs = np.linspace(0, pts["scale"].max() * 1.05, 10)
-            ax.plot(xs, a * xs, "k--", lw=1, label=f"c_min = {a:.3f} sqrt(mu alpha/(eta kappa)), max dev {100 * spread:.1f}%")
+            fitted = int(fits["points"][allfit][0])
+            tried = int(fits["tried"][allfit][0]) if "tried" in fits else len(pts["c_min"])
+            if math.isfinite(a) and len(pts["scale"]):
+                xs = np.linspace(0, np.nanmax(pts["scale"]) * 1.05, 10)
+                ax.plot(xs, a * xs, "k--", lw=1, label=f"c_min = {a:.3f} sqrt(mu alpha/(eta kappa)), "
+                                                       f"max dev {100 * spread:.1f}% over {fitted} of {tried} points")
             ax.set_xlabel("sqrt(mu alpha / (eta kappa))")
             ax.set_ylabel("minimal steady front speed c_min")
             ax.set_title(f"{scene}: c_min collapse (the paper's Fig. 2 right, for the minimal speed)", fontsize=8)
             ax.legend(fontsize=7)
-            save(fig, figdir, f"{scene}_cmin_collapse.png", figs)
-            rows.append((f"{scene}: c_min / sqrt(mu alpha/(eta kappa)) (16 branches)", f"{a:.3g}", "", "",
-                         f"largest deviation {100 * spread:.1f}%"))
-        lines += [f"## Steady fronts `{scene}`", "", f"File: `{os.path.relpath(path, root)}`: the branch ends at "
-                  f"sigma_d = {ba['sigma_d_at_c_min']:.6g} ({plot.as_str(ba.get('reason', ''))}).", ""]
+            save(fig, outdir, f"{stem}_{scene}_cmin_collapse.png", figs)
+            refused = [ln for ln in plot.as_str(sc["fits"].attrs.get("refused", "")).split("\n") if ln.startswith("all: ")]
+            why = refused[0][len("all: "):] if refused and refused[0] != "all: fitted" else ""
+            rows.append((f"{scene}: c_min / sqrt(mu alpha/(eta kappa)) ({fitted} of {tried} branches with a c_min)",
+                         f"{a:.3g}", "", "", f"no fit: {why}" if why else
+                         f"largest deviation {100 * spread:.1f}% over the {fitted} fitted points"))
+        end = f"the branch ends at sigma_d = {sd_min:.6g} ({plot.as_str(ba.get('reason', ''))})" if math.isfinite(c_min) \
+            else f"no c_min: {message or plot.as_str(ba.get('reason', ''))}"
+        lines += [f"## Steady fronts `{scene}`", "", f"File: `{os.path.relpath(path, root)}`, status {status}: {end}.", ""]
     for w in figs:
         lines += [f"![{os.path.basename(w)}]({os.path.relpath(w, root)})", ""]
     return lines, rows
@@ -473,7 +534,7 @@ def validity_friction_study(st, outdir):
         ax.set_title(f"w = {w:g}", fontsize=9)
         ax.legend(fontsize=6)
     fig.suptitle(st.title(f"validity map, steady law: systematic error vs N (kappa = {kref:g}, eta = {eref:g})"), fontsize=9)
-    save(fig, outdir, f"{st.name}_bias_vs_N.png", figs)
+    save(fig, outdir, f"{st.stem}_bias_vs_N.png", figs)
     # the map (w = 0): where the continuum holds to 1% and 5%
     m0 = (t["width"] == 0) & tref
     if m0.any():
@@ -501,7 +562,7 @@ def validity_friction_study(st, outdir):
         ax.set_xlabel("log10 N")
         ax.set_ylabel("log10 (alpha - 1)")
         ax.set_title(st.title("where the continuum law holds (w = 0): bias of the steady friction"), fontsize=8)
-        save(fig, outdir, f"{st.name}_map.png", figs)
+        save(fig, outdir, f"{st.stem}_map.png", figs)
         # the collapse: bias against N (alpha - 1)^{-p}, fitted p and the naive p = -2
         p = st.scalars.get("validity_friction_Nstar1_exponent", -1.5)
         fig, axs = plt.subplots(1, 2, figsize=(11, 4.2))
@@ -514,7 +575,7 @@ def validity_friction_study(st, outdir):
             ax.set_ylabel("bias")
             ax.legend(fontsize=6)
         fig.suptitle(st.title("collapse of the steady-law bias"), fontsize=9)
-        save(fig, outdir, f"{st.name}_collapse.png", figs)
+        save(fig, outdir, f"{st.stem}_collapse.png", figs)
     # kappa and eta: N* of every w = 0 point against alpha - 1, raw and scaled by the free fit's kappa^q eta^r
     pa, pk, pe = (st.scalars.get(f"validity_friction_free_fit_{n}_exponent", math.nan) for n in ("alpha_minus_1", "kappa", "eta"))
     if x and "kappa" in x and math.isfinite(pk):
@@ -548,7 +609,7 @@ def validity_friction_study(st, outdir):
             ax.set_xlabel("alpha - 1")
             ax.legend(fontsize=6)
         fig.suptitle(st.title("N* against kappa and eta: the (kappa/eta)^(1/2) of the argument and the free fit"), fontsize=9)
-        save(fig, outdir, f"{st.name}_kappa_eta.png", figs)
+        save(fig, outdir, f"{st.stem}_kappa_eta.png", figs)
         rows.append((f"{st.name}: N* ~ (alpha - 1)^p kappa^q eta^r, free fit (w = 0)", "", f"{pa:.2f}, {pk:.2f}, {pe:.2f}", "",
                      "argument: -3/2, +1/2, -1/2; " + ", ".join(st.fit_label(f"validity_friction_free_fit_{n}_exponent")
                                                               for n in ("alpha_minus_1", "kappa", "eta"))))
@@ -588,7 +649,7 @@ def validity_fig1_study(st, outdir):
     axs[0].set_xlabel("contacts per site N")
     axs[1].set_xlabel("N (alpha - 1)^2")
     fig.suptitle(st.title(f"validity map, fig1 (implicit dt = {dt_ref:g}, Wilson 95% intervals)"), fontsize=9)
-    save(fig, outdir, f"{st.name}_fraction.png", figs)
+    save(fig, outdir, f"{st.stem}_fraction.png", figs)
     # the modes, run by run: c_ratio against the t^ shift, the classification box, per alpha, coloured by N
     r = st.tables.get("validity_fig1_runs", {})
     if r:
@@ -605,7 +666,7 @@ def validity_fig1_study(st, outdir):
         axs[0][0].set_ylabel("c_transient(discrete) / c_transient(continuum)")
         axs[0][0].legend(fontsize=6)
         fig.suptitle(st.title("fig1 runs by mode (dashed box: continuum-like)"), fontsize=9)
-        save(fig, outdir, f"{st.name}_modes.png", figs)
+        save(fig, outdir, f"{st.stem}_modes.png", figs)
     if math.isfinite(st.scalars.get("validity_fig1_Nstar50_exponent", math.nan)):
         rows.append((f"{st.name}: N* (half of fig1 runs continuum-like) ~ (alpha - 1)^p", "", "", "",
                      st.fit_label("validity_fig1_Nstar50_exponent") + "; theory -2"))
@@ -869,16 +930,15 @@ def main(argv=None):
             continue
         written = []
         with res.f:
+            scene_dir = figure_dir(figdir, root, path) if res.models else None
             if res.models:
-                scene_dir = os.path.join(figdir, res.scene)
-                os.makedirs(scene_dir, exist_ok=True)
                 plot.PLOTTERS[res.kind()](res, scene_dir, written, 110)
             summary += scene_rows(res)
             lines += [f"## Scene `{res.scene}`", "", f"{res.description}", "",
                       f"File: `{os.path.relpath(path, root)}`, status {res.status}, models {', '.join(res.models)}.", ""]
             cfigs = []
             if res.models:
-                cfigs, crows = contacts_section(res, os.path.join(figdir, res.scene))
+                cfigs, crows = contacts_section(res, scene_dir)
                 summary += crows
         for w in written:
             lines.append(f"![{os.path.basename(w)}]({os.path.relpath(w, root)})")
@@ -903,6 +963,7 @@ def main(argv=None):
         st.f.close()
     for path in sorted(studies):
         st = Study(path)
+        st.stem = f"{figure_key(root, path)}_{st.name}"
         figs, rows = STUDY_PLOTS.get(st.kind, lambda s, o: ([], []))(st, figdir)
         summary += rows
         lines += [f"## Study `{st.name}` ({st.kind})", "", st.description, "",
@@ -925,8 +986,7 @@ def main(argv=None):
     for m in missing:
         lines.append(f"- could not read {m}")
     out = os.path.join(root, "report.md")
-    with open(out, "w") as f:
-        f.write("\n".join(lines) + "\n")
+    write_report(out, "\n".join(lines) + "\n")
     print(out)
     return 0
 

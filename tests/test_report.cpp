@@ -8,10 +8,14 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <regex>
+#include <set>
 #include <sstream>
 #include <string>
+#include <vector>
 
+#include "process.hpp"
 #include "scenes.hpp"
 
 namespace fs = std::filesystem;
@@ -21,6 +25,29 @@ int sh(const std::string& cmd) {
   const int rc = std::system(cmd.c_str());
   return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
 }
+
+// The images report.md links, by the heading ("## ...") they appear under.
+std::map<std::string, std::vector<std::string>> images_by_heading(const std::string& md) {
+  std::map<std::string, std::vector<std::string>> out;
+  std::istringstream in(md);
+  std::string line, heading;
+  const std::regex image(R"(!\[[^\]]*\]\(([^)]+)\))");
+  std::smatch m;
+  while (std::getline(in, line)) {
+    if (line.rfind("## ", 0) == 0) heading = line;
+    if (std::regex_search(line, m, image)) out[heading].push_back(m[1].str());
+  }
+  return out;
+}
+
+// A friction-law run (0.01 s) into dir, `points` steady-friction points.
+void run_friction_law(const fs::path& dir, int points) {
+  const std::string src = SLIPFRONT_SOURCE_DIR;
+  REQUIRE(sh(std::string(SLIPFRONT_BINARY) + " run " + src + "/configs/friction_law.toml --out " + dir.string() +
+             " -q --force --set drive.points=" + std::to_string(points) + " > /dev/null") == 0);
+}
+
+const std::string report_script = std::string(SLIPFRONT_SOURCE_DIR) + "/scripts/report.py";
 }  // namespace
 
 TEST_CASE("report: every plot named in report.md exists and is a non-empty PNG", "[report]") {
@@ -63,4 +90,85 @@ TEST_CASE("report: every plot named in report.md exists and is a non-empty PNG",
   CHECK(n >= 5);  // fig1 fronts + tip, the friction law, the study's error and Fig. 2 left
   // the checker the main job uses agrees
   CHECK(sh("/usr/bin/python3 " + src + "/scripts/check_report.py " + (dir / "report.md").string() + " > /dev/null") == 0);
+}
+
+TEST_CASE("report: two runs of one scene in different directories never share figure files", "[report]") {
+  // The same scene (friction_law) run twice, into a/fl and b/fl, with 9 and 7 points: before, both wrote
+  // figures/friction_law/*.png, so one run's plots appeared under the other's heading. Figures are now in a
+  // directory named after each file's path (and a hash of it): two headings, two distinct files, and each
+  // heading's figure is its own run's (the two PNGs differ).
+  const slipfront::testing::TempDir scratch("report-two");
+  const fs::path& dir = scratch.path;
+  run_friction_law(dir / "a" / "fl", 9);
+  run_friction_law(dir / "b" / "fl", 7);
+  REQUIRE(sh(std::string(SLIPFRONT_BINARY) + " report " + dir.string() + " > /dev/null") == 0);
+  const std::string md = slipfront::testing::slurp(dir / "report.md");
+  const auto by_heading = images_by_heading(md);
+  std::vector<std::string> scenes;
+  for (const auto& [heading, images] : by_heading)
+    if (heading.rfind("## Scene", 0) == 0) scenes.push_back(heading);
+  REQUIRE(scenes.size() == 1);  // both headings read "## Scene `friction_law`": one map key, both runs' images
+  const auto& images = by_heading.at(scenes[0]);
+  REQUIRE(images.size() == 2);
+  CHECK(images[0] != images[1]);
+  for (const auto& rel : images) {
+    INFO(rel);
+    CHECK(fs::is_regular_file(dir / rel));
+  }
+  CHECK(images[0].find("a__fl__results-") != std::string::npos);
+  CHECK(images[1].find("b__fl__results-") != std::string::npos);
+  CHECK(slipfront::testing::slurp(dir / images[0]) != slipfront::testing::slurp(dir / images[1]));
+  CHECK(md.find("File: `a/fl/results.h5`") < md.find(images[0]));
+  CHECK(md.find(images[0]) < md.find("File: `b/fl/results.h5`"));
+  CHECK(md.find("File: `b/fl/results.h5`") < md.find(images[1]));
+}
+
+TEST_CASE("report: non-UTF-8 metadata gives a report with replacement characters, a failed write keeps the previous one",
+          "[report]") {
+  // A results file whose /meta scene and git_commit and /config toml (the description) hold bytes that are not
+  // UTF-8 (h5py hands them over with surrogate escapes): report.md was a 0-byte file (UnicodeEncodeError after
+  // opening it). Now the report is written, UTF-8, with U+FFFD for the bad bytes, and check_report.py passes.
+  // Then a write that fails (fsync: ENOSPC, as on a full disk) leaves that report.md byte for byte, and no
+  // temporary file.
+  const slipfront::testing::TempDir scratch("report-utf8");
+  const fs::path& dir = scratch.path;
+  run_friction_law(dir / "fl", 9);
+  const fs::path corrupt = dir / "corrupt.py";
+  slipfront::testing::write_text(corrupt, R"(import sys
+import h5py
+import numpy as np
+
+def put(obj, name, raw):
+    if name in obj.attrs:
+        del obj.attrs[name]
+    obj.attrs.create(name, np.array(raw, dtype=h5py.string_dtype("utf-8")))
+
+with h5py.File(sys.argv[1], "r+") as f:
+    put(f["meta"], "git_commit", b"fe0f37b-\xff\xfe")
+    put(f["meta"], "scene", b"friction_\xe9law")
+    toml = f["config"].attrs["toml"]
+    toml = toml.encode("utf-8", "surrogateescape") if isinstance(toml, str) else toml
+    put(f["config"], "toml", toml.replace(b'description = "', b'description = "caf\xe9 \xff '))
+)");
+  REQUIRE(sh("/usr/bin/python3 " + corrupt.string() + " " + (dir / "fl" / "results.h5").string()) == 0);
+  REQUIRE(sh(std::string(SLIPFRONT_BINARY) + " report " + dir.string() + " > /dev/null 2>&1") == 0);
+  const std::string md = slipfront::testing::slurp(dir / "report.md");
+  CHECK(md.size() > 200);
+  CHECK(md.find("caf\xEF\xBF\xBD \xEF\xBF\xBD Steady friction law") != std::string::npos);  // U+FFFD
+  CHECK(sh("/usr/bin/python3 " + std::string(SLIPFRONT_SOURCE_DIR) + "/scripts/check_report.py " +
+           (dir / "report.md").string() + " > /dev/null") == 0);
+
+  const std::string inject = "import errno, os, sys\n"
+                             "sys.path.insert(0, os.path.dirname(sys.argv[1]))\n"
+                             "import report\n"
+                             "def full(fd):\n"
+                             "    raise OSError(errno.ENOSPC, 'No space left on device')\n"
+                             "os.fsync = full\n"
+                             "sys.exit(report.main([sys.argv[2]]))\n";
+  const auto failed = slipfront::testing::run({"/usr/bin/python3", "-c", inject, report_script, dir.string()}, dir);
+  INFO(failed.err);
+  CHECK(failed.code != 0);
+  CHECK(failed.err.find("No space left on device") != std::string::npos);
+  CHECK(slipfront::testing::slurp(dir / "report.md") == md);
+  for (const auto& e : fs::directory_iterator(dir)) CHECK(e.path().filename().string().rfind(".report.md.", 0) != 0);
 }

@@ -4,9 +4,13 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <filesystem>
 #include <string>
 
 #include "continuum/steady_front.hpp"
+#include "h5content.hpp"
+#include "process.hpp"
+#include "scenes.hpp"
 
 namespace continuum = slipfront::continuum;
 namespace core = slipfront::core;
@@ -59,6 +63,8 @@ TEST_CASE("slow steady front: minimal speed scales with sqrt(mu alpha/(eta kappa
   for (const auto& f : study.fits) {
     WARN("fit " << f.parameter << ": prefactor " << f.prefactor << ", max deviation " << f.spread << ", rms "
                 << f.rms_relative << " (" << f.points << " points)");
+    CHECK(f.refused.empty());
+    CHECK(f.points == f.tried);  // every point has a c_min
     if (f.parameter == "all") {
       CHECK(f.points == 16);
       CHECK(f.prefactor > 0.54);
@@ -69,4 +75,27 @@ TEST_CASE("slow steady front: minimal speed scales with sqrt(mu alpha/(eta kappa
       CHECK(f.prefactor < 0.62);
     }
   }
+}
+
+TEST_CASE("slow steady front: fronts --scaling states the points it fitted, rho = 1e-5 has all 16", "[slow][front][scaling]") {
+  // At rho = 1e-5 (c_s = 5477) three of the 16 branches (alpha = 3, eta = 0.2, 0.4) found no front before (the
+  // cold start began above their speeds), were silently dropped and the fit made from 13. Now all 16 have a
+  // c_min; the summary says "fitted to 16 of 16 points" and that the largest deviation is over those 16; the
+  // file has tried = points = 16 for the pooled fit and every fit "fitted" in /scaling/fits@refused. The
+  // pooled prefactor is within 0.5% of rho = 0.01's 0.5756 (inertia is weak at the minimal speed).
+  const slipfront::testing::TempDir dir("fronts-scaling");
+  const auto o = slipfront::testing::run({SLIPFRONT_BINARY, "fronts", std::string(SLIPFRONT_SOURCE_DIR) + "/configs/homogeneous_front.toml",
+                                          "--scaling", "--set", "bulk.rho=1e-5", "--out", (dir.path / "out").string()},
+                                         dir.path);
+  INFO(o.out << o.err);
+  CHECK(o.code == 0);
+  CHECK(o.out.find("fitted to 16 of 16 points; largest deviation ") != std::string::npos);
+  CHECK(o.out.find("% over those 16 points") != std::string::npos);
+  const auto f = slipfront::testing::read_h5(dir.path / "out" / "fronts.h5");
+  CHECK(f.strings.at("/meta@status") == "complete");
+  CHECK(f.numbers.at("/branch@scaling_points") == 16.0);
+  CHECK(f.numbers.at("/branch@scaling_tried") == 16.0);
+  CHECK(f.numbers.at("/branch@scaling_prefactor") == Approx(0.5756).epsilon(5e-3));
+  CHECK(f.strings.at("/scaling/fits@refused") == "mu: fitted\nalpha: fitted\neta: fitted\nkappa: fitted\nall: fitted\n");
+  for (double c : f.datasets.at("/scaling/points/c_min")) CHECK(c > 0.0);
 }

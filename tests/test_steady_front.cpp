@@ -370,3 +370,119 @@ TEST_CASE("steady front: the branch meets the nucleated time-dependent fronts", 
     CHECK(f.c / c_run > 0.99);
   }
 }
+
+TEST_CASE("steady front: the cold start finds the front for any c_s, and what it found before bit for bit", "[front][cold]") {
+  // The cold start scans c = 0.02k c_s first (as before: the paper's front at 0.8, found there, is the same
+  // to the bit, 0x1.b0a17520a57bap+6 = 108.15767336855), then below 0.02 c_s. With rho = 1e-6 and 1e-10
+  // (c_s = 1.7e4 and 1.7e6; at 1e-10 the grid's only sign change is a spurious one near c_s) the front at 0.8
+  // runs at 138.47, far below 0.02 c_s, and is found. Inertia slows it at first order: c(1e-6)/c(1e-10) - 1 =
+  // -0.49 rho c^2/mu (checked within [-0.7, -0.3]).
+  CHECK(continuum::solve_steady_front(paper, paper_bulk, 0.8).c == 0x1.b0a17520a57bap+6);
+  BulkParams light = paper_bulk, lightest = paper_bulk;
+  light.rho = 1e-6;
+  lightest.rho = 1e-10;
+  const auto a = continuum::solve_steady_front(paper, light, 0.8), b = continuum::solve_steady_front(paper, lightest, 0.8);
+  INFO(a.reason << " / " << b.reason);
+  REQUIRE(a.status == FrontStatus::converged);
+  REQUIRE(b.status == FrontStatus::converged);
+  CHECK(a.c < 0.02 * std::sqrt(light.mu / light.rho));
+  const double inertia = light.rho * a.c * a.c / light.mu;
+  CHECK((a.c / b.c - 1.0) / inertia > -0.7);
+  CHECK((a.c / b.c - 1.0) / inertia < -0.3);
+}
+
+TEST_CASE("steady front: parameters without a branch are refused before any solve, with the reason", "[front][continuation]") {
+  // No minimum of the steady law at a finite v > 0 (eta = 0: v_m infinite; kappa = 0: no weakening) or
+  // sigma_c^d >= 1 (alpha = 1e6): end no_branch, no point, c_min NaN, a reason naming the cause.
+  struct Case {
+    InterfaceParams law;
+    const char* reason;
+  };
+  const Case cases[] = {{{1.05, 8.0, 0.0}, "no minimum at a finite v > 0"},
+                        {{1.05, 0.0, 0.1}, "no minimum at a finite v > 0"},
+                        {{1e6, 8.0, 0.1}, ">= 1"}};
+  for (const auto& c : cases) {
+    const auto br = continuum::continue_steady_fronts(c.law, paper_bulk);
+    INFO(br.reason);
+    CHECK(br.end == continuum::BranchEnd::no_branch);
+    CHECK(br.points.empty());
+    CHECK(std::isnan(br.c_min));
+    CHECK(std::isnan(br.sigma_d_at_c_min));
+    CHECK(br.reason.find(c.reason) != std::string::npos);
+  }
+}
+
+TEST_CASE("steady front: a stop request ends the branch where it is, c_min not computed", "[front][continuation]") {
+  // options.stop polled before every solve: true on the 6th poll ends the branch with end stopped, the fronts
+  // found so far kept (the first from the cold start, then one per step), c_min NaN.
+  continuum::ContinuationOptions o;
+  int polls = 0;
+  o.stop = [&] { return ++polls >= 6; };
+  const auto br = continuum::continue_steady_fronts(paper, paper_bulk, o);
+  CHECK(br.end == continuum::BranchEnd::stopped);
+  CHECK(!br.points.empty());
+  CHECK(br.points.size() < 6);
+  CHECK(std::isnan(br.c_min));
+  CHECK(br.reason.find("stopped on request after " + std::to_string(br.points.size()) + " fronts") != std::string::npos);
+}
+
+TEST_CASE("steady front: the scaling fits count their points and refuse fewer than they need", "[front][scaling]") {
+  // Small sweeps (coarse continuation steps: c_min is the same to 1e-12, docs/fronts.md §4). Points whose
+  // branch has no c_min (eta = 1e-6: supersonic; kappa = 0: no branch) are kept with their end and reason,
+  // counted as tried, not fitted. A fit needs 2 points with a c_min (one fixes the line: deviation 0); the
+  // pooled one needs 2 in every parameter varied.
+  continuum::ScalingOptions o;
+  o.continuation.initial_step = 0.05;
+  o.continuation.max_step = 0.2;
+  o.mu = {300.0, 600.0};
+  o.alpha = {1.05};
+  o.eta = {0.1, 0.2, 1e-6};
+  o.kappa = {8.0, 0.0};
+  const auto study = continuum::minimal_speed_scaling(paper, paper_bulk, o);
+  REQUIRE(study.points.size() == 8);
+  REQUIRE(study.fits.size() == 5);
+  for (const auto& p : study.points) {
+    INFO(p.parameter << " = " << p.value << ": " << p.reason);
+    const bool none = (p.parameter == "eta" && p.value == 1e-6) || (p.parameter == "kappa" && p.value == 0.0);
+    CHECK(std::isnan(p.c_min) == none);
+    CHECK(p.reason.empty() == !none);
+  }
+  auto fit = [&](const char* name) {
+    for (const auto& f : study.fits)
+      if (f.parameter == name) return f;
+    FAIL(name);
+    return study.fits.front();
+  };
+  CHECK(fit("mu").refused.empty());
+  CHECK(fit("mu").points == 2);
+  CHECK(fit("alpha").points == 1);
+  CHECK(fit("alpha").refused.find("only 1 of 1 points have a c_min; a fit needs at least 2") != std::string::npos);
+  CHECK(std::isnan(fit("alpha").prefactor));
+  CHECK(fit("eta").refused.empty());
+  CHECK(fit("eta").points == 2);
+  CHECK(fit("eta").tried == 3);
+  CHECK(fit("kappa").refused.find("only 1 of 2 points have a c_min (none for kappa = 0 (no_branch))") != std::string::npos);
+  const auto all = fit("all");
+  CHECK(all.points == 6);
+  CHECK(all.tried == 8);
+  CHECK(all.refused.find("6 of 8 points have a c_min") != std::string::npos);
+  CHECK(all.refused.find("but only 1 with kappa varied") != std::string::npos);
+  CHECK(std::isnan(all.prefactor));
+  CHECK(std::isnan(all.spread));
+
+  // Vary eta alone: the pooled fit is made from the 5 points with a c_min of 6, and its largest deviation is
+  // over those 5 only (recomputed here).
+  o.mu = {300.0};
+  o.kappa = {8.0};
+  const auto eta_only = continuum::minimal_speed_scaling(paper, paper_bulk, o);
+  const auto pooled = eta_only.fits.back();
+  REQUIRE(pooled.parameter == "all");
+  CHECK(pooled.refused.empty());
+  CHECK(pooled.points == 5);
+  CHECK(pooled.tried == 6);
+  double spread = 0.0;
+  for (const auto& p : eta_only.points)
+    if (std::isfinite(p.c_min)) spread = std::max(spread, std::abs(p.c_min / (pooled.prefactor * p.scale) - 1.0));
+  CHECK(pooled.spread == Approx(spread).epsilon(1e-12));
+  CHECK(std::isfinite(pooled.prefactor));
+}

@@ -449,7 +449,7 @@ void write_file(const std::filesystem::path& tmp, const compare::Scene& scene, c
 void write_study_file(const std::filesystem::path& tmp, const compare::StudySpec& spec, const std::string& spec_toml,
                       const std::vector<compare::StudyRun>& runs, const compare::StudyReport& report,
                       const RunMeta& meta, const StudyExecution& exec) {
-  Hid file = create_in_memory(tmp);
+  Hid file = create_in_memory(tmp, /*checksummed=*/true);
   write_meta(file.get(), meta, meta.status, meta.message, spec.name, "");
   Hid g = make_group(file.get(), "study", "/study");
   attr_string(g.get(), "name", spec.name);
@@ -520,7 +520,7 @@ void write_study_file(const std::filesystem::path& tmp, const compare::StudySpec
 
 void write_fronts_file(const std::filesystem::path& tmp, const compare::Scene& scene, const std::string& resolved_toml,
                        const compare::FrontsResult& fr, const RunMeta& meta) {
-  Hid file = create_in_memory(tmp);
+  Hid file = create_in_memory(tmp, /*checksummed=*/true);
   write_meta(file.get(), meta, meta.status, meta.message, scene.name, "continuum");
   {
     Hid g(H5Gopen2(file.get(), "meta", H5P_DEFAULT), H5Gclose, "open /meta");

@@ -12,6 +12,7 @@
 #include <string_view>
 
 #include "apps/build_info.hpp"
+#include "apps/read_file.hpp"
 #include "apps/h5out.hpp"
 #include "core/checksum.hpp"
 
@@ -39,61 +40,25 @@ void write_all(int fd, const char* p, std::size_t n, const std::filesystem::path
   }
 }
 
-class Fd {
- public:
-  explicit Fd(int fd) : fd_(fd) {}
-  ~Fd() {
-    if (fd_ >= 0) ::close(fd_);
-  }
-  Fd(const Fd&) = delete;
-  Fd& operator=(const Fd&) = delete;
-  int get() const { return fd_; }
-
- private:
-  int fd_;
-};
-
-const char* file_kind(mode_t mode) {
-  if (S_ISDIR(mode)) return "a directory";
-  if (S_ISFIFO(mode)) return "a FIFO";
-  if (S_ISCHR(mode)) return "a character device";
-  if (S_ISBLK(mode)) return "a block device";
-  if (S_ISSOCK(mode)) return "a socket";
-  return "not a regular file";
-}
-
 // The whole file, refused before anything is read unless it is a regular file of at most max_bytes
-// (stat, then fstat of what was opened: it may have been replaced in between).
+// (apps/read_file.hpp).
 std::string read_whole(const std::filesystem::path& path, std::uint64_t max_bytes) {
-  auto refuse = [&](const std::string& why) { return CheckpointError(path.string() + ": not a usable checkpoint: " + why); };
-  auto check = [&](const struct stat& st) {
-    if (!S_ISREG(st.st_mode))
-      throw refuse(std::string("it is ") + file_kind(st.st_mode) + ", not a regular file (a checkpoint is the file "
-                                                                   "DIR/checkpoint.bin written by --checkpoint-every)");
-    if (static_cast<std::uint64_t>(st.st_size) > max_bytes)
-      throw refuse("it has " + std::to_string(st.st_size) + " bytes, more than the " + std::to_string(max_bytes) +
-                   " a checkpoint of this run may have (it is read whole into memory: limits.max_memory_gib)");
-  };
-  struct stat st {};
-  if (::stat(path.c_str(), &st) != 0)
-    throw CheckpointError(path.string() + ": cannot open the checkpoint: " + std::strerror(errno));
-  check(st);
-  const Fd fd(::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_NOCTTY | O_CLOEXEC));
-  if (fd.get() < 0) throw CheckpointError(path.string() + ": cannot open the checkpoint: " + std::strerror(errno));
-  if (::fstat(fd.get(), &st) != 0) throw CheckpointError(path.string() + ": cannot read the checkpoint: " + std::strerror(errno));
-  check(st);
-  std::string data(static_cast<std::size_t>(st.st_size) + 1, '\0');  // one more: a file that grew is seen
-  std::size_t got = 0;
-  while (got < data.size()) {
-    const ssize_t r = ::read(fd.get(), data.data() + got, data.size() - got);
-    if (r < 0 && errno == EINTR) continue;
-    if (r < 0) throw CheckpointError(path.string() + ": cannot read the checkpoint: " + std::strerror(errno));
-    if (r == 0) break;
-    got += static_cast<std::size_t>(r);
+  try {
+    return read_regular_file(path, max_bytes);
+  } catch (const UnreadableFile& e) {
+    switch (e.why) {
+      case UnreadableFile::Why::not_regular:
+        throw CheckpointError(path.string() + ": not a usable checkpoint: it is " + e.kind +
+                              ", not a regular file (a checkpoint is the file DIR/checkpoint.bin written by "
+                              "--checkpoint-every)");
+      case UnreadableFile::Why::too_large:
+        throw CheckpointError(path.string() + ": not a usable checkpoint: it has " + (e.at_least ? "at least " : "") +
+                              std::to_string(e.size) + " bytes, more than the " + std::to_string(e.limit) +
+                              " a checkpoint of this run may have (it is read whole into memory: limits.max_memory_gib)");
+      case UnreadableFile::Why::system: break;
+    }
+    throw CheckpointError(path.string() + ": " + e.what());
   }
-  if (got != static_cast<std::size_t>(st.st_size)) throw refuse("it changed while being read");
-  data.resize(got);
-  return data;
 }
 
 // A cursor over the bytes of a checkpoint: lines and sized blocks, every size checked against what is

@@ -1,8 +1,5 @@
 #include "apps/config.hpp"
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
 #include <toml++/toml.h>
 
@@ -21,6 +18,7 @@
 #include <string_view>
 #include <variant>
 
+#include "apps/read_file.hpp"
 #include "apps/toml_integer.hpp"
 
 namespace slipfront::app {
@@ -725,67 +723,15 @@ Scene load_scene(const std::filesystem::path& file, const std::vector<std::strin
   return parse_scene(read_config_file(file), file.string(), overrides, notes);
 }
 
-namespace {
-
-// What a file that is not a regular file is, for the refusal.
-std::string file_type_name(mode_t mode) {
-  if (S_ISDIR(mode)) return "a directory";
-  if (S_ISCHR(mode)) return "a character device";
-  if (S_ISBLK(mode)) return "a block device";
-  if (S_ISFIFO(mode)) return "a FIFO (named pipe)";
-  if (S_ISSOCK(mode)) return "a socket";
-  return "not a regular file";
-}
-
-// Closes a file descriptor on scope exit.
-struct Fd {
-  int fd;
-  ~Fd() {
-    if (fd >= 0) ::close(fd);
-  }
-};
-
-std::string size_text(std::uintmax_t bytes) {
-  return std::to_string(bytes) + " bytes";
-}
-
-}  // namespace
-
 std::string read_config_file(const std::filesystem::path& file, std::size_t limit) {
-  const std::string source = file.string();
-  const auto refuse_type = [&](mode_t mode) {
-    throw ConfigError(source, "", "is " + file_type_name(mode) + ", not a regular file (a configuration is read from a file)");
-  };
-  const auto refuse_size = [&](std::uintmax_t size, bool at_least) {
-    throw ConfigError(source, "", "is " + std::string(at_least ? "at least " : "") + size_text(size) +
-                                      ", more than the limit of " + size_text(limit) +
-                                      " for a configuration file (is it the right file?)");
-  };
-  // The type first (stat follows symbolic links, as open does), so that a FIFO is never opened; then
-  // the type again on the opened descriptor (the path may have changed in between): O_NONBLOCK makes
-  // opening a FIFO return at once instead of waiting for a writer.
-  struct stat st {};
-  if (::stat(file.c_str(), &st) != 0)
-    throw ConfigError(source, "", std::string("cannot open the file: ") + std::strerror(errno));
-  if (!S_ISREG(st.st_mode)) refuse_type(st.st_mode);
-  if (static_cast<std::uintmax_t>(st.st_size) > limit) refuse_size(static_cast<std::uintmax_t>(st.st_size), false);
-  const Fd in{::open(file.c_str(), O_RDONLY | O_NONBLOCK | O_NOCTTY | O_CLOEXEC)};
-  if (in.fd < 0) throw ConfigError(source, "", std::string("cannot open the file: ") + std::strerror(errno));
-  if (::fstat(in.fd, &st) != 0) throw ConfigError(source, "", std::string("cannot read the file: ") + std::strerror(errno));
-  if (!S_ISREG(st.st_mode)) refuse_type(st.st_mode);
-  // At most limit + 1 bytes, whatever the size said (a file may grow, /proc files say 0).
-  std::string text(limit + 1, '\0');
-  std::size_t got = 0;
-  while (got < text.size()) {
-    const ssize_t n = ::read(in.fd, text.data() + got, text.size() - got);
-    if (n < 0 && errno == EINTR) continue;
-    if (n < 0) throw ConfigError(source, "", std::string("cannot read the file: ") + std::strerror(errno));
-    if (n == 0) break;
-    got += static_cast<std::size_t>(n);
+  try {
+    return read_regular_file(file, limit);
+  } catch (const UnreadableFile& e) {
+    std::string why = e.what();
+    if (e.why == UnreadableFile::Why::not_regular) why += " (a configuration is read from a file)";
+    if (e.why == UnreadableFile::Why::too_large) why += " for a configuration file (is it the right file?)";
+    throw ConfigError(file.string(), "", why);
   }
-  if (got > limit) refuse_size(got, true);
-  text.resize(got);
-  return text;
 }
 
 void check_directory_name(const std::string& name, const std::string& file, const std::string& key,

@@ -200,10 +200,10 @@ TEST_CASE("checkpoint hostile: non-regular and oversized files are refused befor
   };
   const std::vector<Case> cases = {
       {"/dev/zero", {}, "it is a character device, not a regular file"},
-      {fifo, {}, "it is a FIFO, not a regular file"},
+      {fifo, {}, "it is a FIFO (named pipe), not a regular file"},
       {s.dir.path, {}, "it is a directory, not a regular file"},
       {sparse, {"limits.max_memory_gib=1"}, "it has 2147483648 bytes, more than the 1073741824 a checkpoint of this run may have"},
-      {s.dir.path / "missing.bin", {}, "cannot open the checkpoint: No such file or directory"},
+      {s.dir.path / "missing.bin", {}, "cannot open the file: No such file or directory"},
   };
   for (const auto& c : cases) {
     INFO(c.file);

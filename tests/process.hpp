@@ -23,6 +23,9 @@ extern char** environ;
 
 namespace slipfront::testing {
 
+/// Whether `part` occurs in `s` (messages checked by their reason).
+inline bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+
 inline std::string slurp(const std::filesystem::path& p) {
   std::ifstream in(p, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};

@@ -39,7 +39,7 @@ using testing::TempDir;
 
 namespace {
 
-bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+using slipfront::testing::contains;
 
 // A small scene (11 nodes, 349 steps, continuum) and a checkpoint of it at t ~ 1, as `run` writes it.
 struct Small {

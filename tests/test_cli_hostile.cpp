@@ -34,7 +34,7 @@ Result run_slipfront(const fs::path& dir, const std::string& args, const std::st
   return slipfront::testing::run_in_shell(dir, SLIPFRONT_BINARY, args, prefix);
 }
 
-bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+using slipfront::testing::contains;
 
 }  // namespace
 

@@ -20,6 +20,7 @@
 #include "discrete/count_law.hpp"
 #include "discrete/thresholds.hpp"
 #include "scenes.hpp"
+#include "process.hpp"
 
 using slipfront::app::ConfigError;
 using slipfront::app::parse_scene;
@@ -296,7 +297,7 @@ std::string refusal(const std::vector<std::string>& overrides, const std::string
   }
   return "";
 }
-bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+using slipfront::testing::contains;
 }  // namespace
 
 TEST_CASE("hostile reproducers: step-count overflows are refused before any work", "[hostile]") {

@@ -30,7 +30,7 @@ using testing::TempDir;
 
 namespace {
 
-bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+using slipfront::testing::contains;
 
 // The ConfigError of f(), or a failed check.
 template <class F>

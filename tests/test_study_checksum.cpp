@@ -28,7 +28,6 @@ namespace {
 
 const std::string bin = SLIPFRONT_BINARY;
 
-bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 
 std::string read_bytes(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);

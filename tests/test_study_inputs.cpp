@@ -25,7 +25,6 @@ namespace {
 
 const std::string bin = SLIPFRONT_BINARY;
 
-bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 
 // Every path under `dir` (to show that a refusal created nothing).
 std::vector<std::string> tree(const fs::path& dir) {

@@ -77,6 +77,7 @@ struct BulkParams {
   double rho = 0.01;     ///< inertia
   double mu = 300.0;     ///< shear stiffness (unused in 0D scenes)
   double length = 300.0; ///< L (unused in 0D scenes)
+  double height = 0.0;   ///< H of the antiplane strip (docs/model.md §9); 0: the 1D chain (key absent)
   void validate(bool one_dimensional) const;
 };
 
@@ -130,6 +131,7 @@ struct DriveParams {
 
 struct GridParams {
   double dx = 0.5;
+  double dy = 0.0;  ///< the strip's row spacing (docs/model.md §9); 0: dx (key absent)
   void validate(const BulkParams& bulk, bool one_dimensional) const;
 };
 

@@ -77,6 +77,9 @@ bool imposed_sweep(const Scene& s) { return imposed(s) && s.drive.sweep_points !
 bool dt_given(const Scene& s) { return s.time.dt != 0.0; }
 bool cfl_used(const Scene& s) { return !imposed(s) && s.time.dt == 0.0; }
 bool bulk_scene(const Scene& s) { return !imposed(s); }
+bool strip_given(const Scene& s) { return s.bulk.height != 0.0; }
+// grid.dy given to a chain is refused (GridParams::validate): it would otherwise be dropped in silence
+bool strip_grid(const Scene& s) { return one_d(s) && (s.bulk.height != 0.0 || s.grid.dy != 0.0); }
 bool implicit_integrator(const Scene& s) {
   return !imposed(s) && s.time.integrator == core::Integrator::implicit_trapezoidal;
 }
@@ -115,6 +118,9 @@ const std::vector<Section>& schema() {
            {"mu", at<&Scene::bulk, &BulkParams::mu>, one_d, "with drive.loading = edge or homogeneous", one_d},
            {"length", at<&Scene::bulk, &BulkParams::length>, one_d, "with drive.loading = edge or homogeneous",
             one_d},
+           // used when given: a height given to a 0D scene is refused (BulkParams::validate), not ignored,
+           // and the resolved configuration of a chain does not gain the key
+           {"height", at<&Scene::bulk, &BulkParams::height>, strip_given, "when given (the strip)"},
        }},
       {"drive",
        {
@@ -148,6 +154,7 @@ const std::vector<Section>& schema() {
       {"grid",
        {
            {"dx", at<&Scene::grid, &GridParams::dx>, one_d, "with drive.loading = edge or homogeneous", one_d},
+           {"dy", at<&Scene::grid, &GridParams::dy>, strip_grid, "with bulk.height (the strip)"},
        }},
       {"time",
        {
@@ -631,6 +638,7 @@ Scene scene_from_table(toml::table& root, const std::string& source, const std::
   check_names(doc, s);
   reset_unused_keys(doc, s, notes);
   validate_scene(doc, s);
+  if (s.bulk.height != 0.0 && s.grid.dy == 0.0) s.grid.dy = s.grid.dx;  // the effective value, resolved
   return s;
 }
 

@@ -10,12 +10,15 @@
 //
 // As a matrix: the force on the nodes is −S u + K v_d t e_0 with S symmetric tridiagonal,
 // S_ii = k·(neighbours of i) + K δ_i0, S_{i,i±1} = −k (elastic_diagonal, spring_K, stiffness).
+//
+// The chain is one model of the Body concept (core/body.hpp): every node is an interface site.
 #include <cstddef>
 #include <span>
 #include <vector>
 
 #include <Eigen/SparseCore>
 
+#include "core/body.hpp"
 #include "core/params.hpp"
 
 namespace slipfront::core {
@@ -26,6 +29,10 @@ class Bulk {
   Bulk(const BulkParams& bulk, const DriveParams& drive, const InterfaceParams& law, double dx);
 
   std::size_t nodes() const { return x_.size(); }
+  std::size_t sites() const { return x_.size(); }  ///< Body: every node is an interface site
+  std::size_t dofs() const { return x_.size(); }
+  double interface_weight(std::size_t i) const { return node_weight(i); }
+  double edge_mass() const { return rho_ * node_weight(0); }  ///< the inertia the drive spring pulls
   double dx() const { return dx_; }
   const std::vector<double>& x() const { return x_; }
   double rho() const { return rho_; }
@@ -40,6 +47,8 @@ class Bulk {
   /// spring block, and the rear traction F_r of a steady-front start (0 otherwise).
   double drive_force(double t, double u0) const { return spring_K_ * (v_d_ * t - u0) + rear_traction_; }
   double rear_traction() const { return rear_traction_; }
+  double edge_slip(std::span<const double> u) const { return u[0]; }
+  double drive_force(double t, std::span<const double> u) const { return drive_force(t, u[0]); }
 
   /// Calls f(i, F_i) for every node, F_i = the elastic force of its neighbours plus `edge` on node 0
   /// (the drive force; force units, as the implicit step assembles its rows).
@@ -88,6 +97,67 @@ class Bulk {
     const double stretch = v_d_ * t - u0;
     return spring_K_ > 0.0 ? 0.5 * spring_K_ * stretch * stretch : 0.0;
   }
+  double spring_energy(double t, std::span<const double> u) const { return spring_energy(t, u[0]); }
+  /// Kinetic energy Σ ρ w_i V_i²/2 of node velocities V.
+  double kinetic_energy(std::span<const double> V) const {
+    double e = 0.0;
+    for (std::size_t i = 0; i < V.size(); ++i) e += 0.5 * rho_ * node_weight(i) * V[i] * V[i];
+    return e;
+  }
+  /// Power Σ w_i σ_d v_i of the uniform stress (homogeneous loading; 0 otherwise).
+  double uniform_power(std::span<const double> v) const {
+    double p = 0.0;
+    for (std::size_t i = 0; i < v.size(); ++i) p += node_weight(i) * sigma_d_ * v[i];
+    return p;
+  }
+
+  /// The explicit scheme's kick (core/stepper.hpp), node by node:
+  ///   v^{n+1/2} (ρ + η Δt/2) = v^{n−1/2} (ρ − η Δt/2) + Δt (F_i / w_i + σ_d − σ̄_i)
+  /// with `edge` the drive force F at t^n.
+  void kick(double dt, double eta, double edge, std::span<const double> u, std::span<const double> sigma_bar,
+            std::span<const double> v_old, std::span<double> v_new) const {
+    const double damp = rho_ - 0.5 * eta * dt, inv = 1.0 / (rho_ + 0.5 * eta * dt), sd = sigma_d_;
+    const double* sb = sigma_bar.data();
+    const double* vo = v_old.data();
+    double* vn = v_new.data();
+    forces_per_length(u, edge, [&](std::size_t i, double f) { vn[i] = (vo[i] * damp + dt * (f + sd - sb[i])) * inv; });
+  }
+
+  /// The implicit step's system for the slip rates W frozen over [t, t + Δt] (core/implicit.hpp), multiplied
+  /// through by the node weights: symmetric tridiagonal,
+  ///   [w_i (2ρ/Δt + η + c1_i/2) + Δt S_ii/2] W_i − (Δt k/2)(W_{i−1} + W_{i+1})
+  ///       = w_i (2ρ V_i/Δt + σ_d − (σ̄_i + c0_i)/2) + F_i(u)        (F with the drive at t + Δt/2),
+  /// each site's linearisation lin(i, w_prev_i, c0_i, c1_i) computed inside the elimination loop (Thomas),
+  /// then back substitution into W. The forces go into the work array first: as a callback of forces()
+  /// the elimination was not inlined (a call per node, 15% of the fig1 run at dt = 0.02); with the
+  /// linearisation in a pass of its own, its cost added to the latency of the elimination's chain of
+  /// divisions instead of hiding behind it (15% again).
+  template <class Lin>
+  void implicit_solve(const Lin& lin, std::span<const double> w_prev, std::span<double> c0, std::span<double> c1,
+                      double t, double dt, double eta, std::span<const double> u, std::span<const double> V,
+                      std::span<const double> sigma_bar, std::span<double> W) {
+    const std::size_t n = nodes();
+    rhs_.resize(n);
+    cp_.resize(n);
+    const double m = 2.0 * rho_ / dt + eta, off = -0.5 * dt * k_, mass = 2.0 * rho_ / dt, sd = sigma_d_;
+    const double drive = spring_K_ * (v_d_ * (t + 0.5 * dt) - u[0]) + rear_traction_;  // F at t + Δt/2
+    const double half_dt = 0.5 * dt, spring = half_dt * spring_K_;
+    double* r = rhs_.data();
+    forces(u, drive, [r](std::size_t i, double force) { r[i] = force; });
+    double* cp = cp_.data();
+    const double* sb = sigma_bar.data();
+    for (std::size_t i = 0; i < n; ++i) {
+      lin(i, w_prev[i], c0[i], c1[i]);
+      const double w = node_weight(i);
+      const double diag = w * (m + 0.5 * c1[i]) + (half_dt * elastic_diagonal(i) + (i == 0 ? spring : 0.0));
+      const double rhs = w * (mass * V[i] + sd - 0.5 * (sb[i] + c0[i])) + r[i];
+      const double inv = 1.0 / (i == 0 ? diag : diag - off * cp[i - 1]);
+      cp[i] = off * inv;
+      r[i] = (i == 0 ? rhs : rhs - off * r[i - 1]) * inv;
+    }
+    W[n - 1] = r[n - 1];
+    for (std::size_t i = n - 1; i-- > 0;) W[i] = r[i] - cp[i] * W[i + 1];
+  }
 
   /// Largest stable step of the explicit scheme: 2/ω_max with the Gershgorin bound
   /// ω_max² = 4μ/(ρ dx²) + 2K/(ρ dx) + α/ρ   (1D; 0D: (K + α)/ρ).
@@ -97,6 +167,9 @@ class Bulk {
   std::vector<double> x_;
   double dx_ = 1.0, rho_ = 1.0, k_ = 0.0, w_in_ = 1.0, w_end_ = 1.0;
   double sigma_d_ = 0.0, spring_K_ = 0.0, v_d_ = 0.0, rear_traction_ = 0.0, stable_dt_ = 0.0;
+  std::vector<double> rhs_, cp_;  ///< implicit_solve's work arrays
 };
+
+static_assert(Body<Bulk>);
 
 }  // namespace slipfront::core

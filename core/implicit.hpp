@@ -22,6 +22,7 @@
 // Energy (when tracked): the trapezoidal rule closes the discrete budget exactly — drive work =
 // kinetic + elastic + spring + viscous + interfacial work to round-off, with the interfacial work
 // that of the stress the bulk felt, (σ̄^n + c0 + c1 W)/2; every term holds at time().
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <limits>
@@ -29,6 +30,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "core/body.hpp"
 #include "core/bulk.hpp"
 #include "core/law.hpp"
 #include "core/stepper.hpp"
@@ -47,24 +49,25 @@ struct ImplicitResolution {
   static constexpr double drive_bound = 1.0, detach_bound = 0.3;
   bool ok() const { return drive <= drive_bound && detach <= detach_bound; }
 };
-inline ImplicitResolution implicit_resolution(const Bulk& bulk, const InterfaceParams& law, double v_event, double dt) {
+template <Body B>
+ImplicitResolution implicit_resolution(const B& bulk, const InterfaceParams& law, double v_event, double dt) {
   ImplicitResolution r;
-  r.drive = dt * std::sqrt(bulk.spring_K() / (bulk.rho() * bulk.node_weight(0)));
+  r.drive = dt * std::sqrt(bulk.spring_K() / bulk.edge_mass());
   r.detach = dt * (1.0 + law.kappa * v_event);
   return r;
 }
 
-template <InterfaceLaw Law>
-class ImplicitSimulation : public StepperCore<Law> {
-  using Core = StepperCore<Law>;
+template <InterfaceLaw Law, Body B = Bulk>
+class ImplicitSimulation : public StepperCore<Law, B> {
+  using Core = StepperCore<Law, B>;
 
  public:
   static constexpr const char* integrator_name = "implicit";
   static constexpr bool error_control = true;  ///< set_error_control, substeps, max_defect
 
-  ImplicitSimulation(Bulk bulk, Law law, double dt)
+  ImplicitSimulation(B bulk, Law law, double dt)
       : Core(std::move(bulk), std::move(law), "ImplicitSimulation"), dt_(dt), V_(this->n_, 0.0),
-        c0_(this->n_), c1_(this->n_), rhs_(this->n_), cp_(this->n_), trial_(this->n_), c0e_(this->n_), c1e_(this->n_) {
+        c0_(this->sites_), c1_(this->sites_), trial_(this->n_), c0e_(this->sites_), c1e_(this->sites_) {
     if (!(dt > 0.0)) throw std::invalid_argument("ImplicitSimulation: dt must be > 0");
   }
   /// Error control around switchings (docs/numerics.md §7): a step whose linearisation, re-evaluated at
@@ -85,7 +88,7 @@ class ImplicitSimulation : public StepperCore<Law> {
     ar(V_, max_defect_, substeps_);
   }
   double dt() const { return dt_; }
-  /// Initial slip and slip rate (node velocity V = W = v) of node i.
+  /// Initial displacement and velocity (node velocity V = W = v) of degree of freedom i.
   void set_initial(std::size_t i, double u, double v) {
     Core::set_initial(i, u, v);
     V_[i] = v;
@@ -106,13 +109,12 @@ class ImplicitSimulation : public StepperCore<Law> {
   }
 
  private:
-  // One (sub)step [t, t + h]: 1. the law's linearisation, 2. the tridiagonal system for W, 3. with error
-  // control, the defect of the linearisation at W (a half step pair instead when too large), 4. u, V
-  // from W and the law's own update with W.
+  // One (sub)step [t, t + h]: 1. the law's linearisation, 2. the body's linear system for W, 3. with
+  // error control, the defect of the linearisation at W (a half step pair instead when too large), 4. u,
+  // V from W and the law's own update with W.
   void substep(double t, double t_next, int depth) {
     const double h = depth == 0 ? dt_ : t_next - t;
-    forward_sweep(t, h);                                   // 1. interface σ̄' ≈ c0 + c1 W, 2. bulk ...
-    solve_trial();                                         //    ... W into trial_
+    solve_trial(t, h);                                     // 1. interface σ̄' ≈ c0 + c1 W, 2. W into trial_
     if (tol_ > 0.0) {
       const double defect = linearisation_defect(h);       // 3.
       if (defect > tol_ && depth < max_halvings_) {
@@ -124,7 +126,7 @@ class ImplicitSimulation : public StepperCore<Law> {
       max_defect_ = std::max(max_defect_, defect);
     }
     ++substeps_;
-    const double u0 = this->u_[0];
+    const double u0 = this->bulk_.edge_slip(this->displacement());
     commit(h);  // 4.
     if (this->energy_) work_over_step(t, h, u0);
     yielded_any_ |= this->law_.advance(h, this->slip_rate()).any_yield;
@@ -137,58 +139,36 @@ class ImplicitSimulation : public StepperCore<Law> {
   double linearisation_defect(double h) {
     core::linearise(this->law_, h, trial_, c0e_, c1e_);
     double d = 0.0;
-    for (std::size_t i = 0; i < this->n_; ++i) {
+    for (std::size_t i = 0; i < this->sites_; ++i) {
       const double w = trial_[i];
       d = std::max(d, std::abs((c0e_[i] + c1e_[i] * w) - (c0_[i] + c1_[i] * w)));
     }
     return std::isfinite(d) ? d : std::numeric_limits<double>::infinity();
   }
 
-  // Assemble the tridiagonal system for W (multiplied through by the node weight w_i) and eliminate
-  // (Thomas, constant off-diagonal −Δt k/2) in one pass over the sites.
-  void forward_sweep(double t, double dt) {
-    const Bulk& b = this->bulk_;
-    const double rho = b.rho(), sd = b.uniform_stress(), eta = this->law_.params().eta;
-    const double m = 2.0 * rho / dt + eta, off = -0.5 * dt * b.stiffness(), mass = 2.0 * rho / dt;
-    const std::span<const double> sb = this->law_.sigma_bar();
-    const double* u = this->u_.data();
-    const double drive = b.spring_K() * (b.driver_velocity() * (t + 0.5 * dt) - u[0]) + b.rear_traction();  // F at t^{n+1/2}
-    const double half_dt = 0.5 * dt, spring = half_dt * b.spring_K();
-    // The forces first (into rhs_), then one loop: each site's linearisation (1.) and its row of the
-    // elimination. As a callback of forces() the elimination was not inlined (a call per node, 15% of
-    // the fig1 run at dt = 0.02); with the linearisation in a pass of its own, its cost added to the
-    // latency of the elimination's chain of divisions instead of hiding behind it (15% again).
-    double* r = rhs_.data();
-    b.forces(this->slip(), drive, [r](std::size_t i, double force) { r[i] = force; });
-    double* cp = cp_.data();
-    const auto lin = this->law_.linearisation(dt);
-    const double* w_prev = this->v_.data();
-    for (std::size_t i = 0; i < this->n_; ++i) {
-      lin(i, w_prev[i], c0_[i], c1_[i]);
-      const double w = b.node_weight(i);
-      const double diag = w * (m + 0.5 * c1_[i]) + (half_dt * b.elastic_diagonal(i) + (i == 0 ? spring : 0.0));
-      const double rhs = w * (mass * V_[i] + sd - 0.5 * (sb[i] + c0_[i])) + r[i];
-      const double inv = 1.0 / (i == 0 ? diag : diag - off * cp[i - 1]);
-      cp[i] = off * inv;
-      r[i] = (i == 0 ? rhs : rhs - off * r[i - 1]) * inv;
-    }
-  }
-
-  // W from the eliminated system (back substitution).
-  void solve_trial() {
-    const std::size_t n = this->n_;
-    double* W = trial_.data();
-    W[n - 1] = rhs_[n - 1];
-    for (std::size_t i = n - 1; i-- > 0;) W[i] = rhs_[i] - cp_[i] * W[i + 1];
+  // The body's system for W with the law's linearisation on the interface (Bulk::implicit_solve: one
+  // tridiagonal elimination with the linearisation inside its loop; Strip::implicit_solve: preconditioned
+  // conjugate gradients), started from the previous step's W.
+  void solve_trial(double t, double dt) {
+    std::copy(this->v_.begin(), this->v_.end(), trial_.begin());  // an iterative solve's first guess
+    this->bulk_.implicit_solve(this->law_.linearisation(dt), this->slip_rate(), c0_, c1_, t, dt, this->law_.params().eta,
+                               this->displacement(), V_, this->law_.sigma_bar(), trial_);
   }
 
   // The step is taken: W, then u^{n+1} = u^n + Δt W and V^{n+1} = 2W − V^n.
+  // The slip rates' maximum and finiteness are the interface's (the first sites_ degrees of freedom).
   void commit(double h) {
     const std::size_t n = this->n_;
     double* W = this->v_.data();
     double* u = this->u_.data();
+    for (std::size_t i = n; i-- > this->sites_;) {
+      const double w = trial_[i];
+      W[i] = w;
+      u[i] += h * w;
+      V_[i] = 2.0 * w - V_[i];
+    }
     double vmax = 0.0, check = 0.0;
-    for (std::size_t i = n; i-- > 0;) {
+    for (std::size_t i = this->sites_; i-- > 0;) {
       const double w = trial_[i];
       W[i] = w;
       u[i] += h * w;
@@ -203,34 +183,35 @@ class ImplicitSimulation : public StepperCore<Law> {
     EnergyBudget& e = *this->energy_;
     e.time = t;
     e.kinetic = this->kinetic_energy(V_);
-    e.elastic = this->bulk_.elastic_energy(this->slip());
-    e.spring = this->bulk_.spring_energy(t, this->u_[0]);
+    e.elastic = this->bulk_.elastic_energy(this->displacement());
+    e.spring = this->bulk_.spring_energy(t, this->displacement());
   }
   void mechanical_now() { mechanical_now(this->t_); }
 
-  // Work over the step with the forces the bulk felt (before the law overwrites σ̄); u0 = u_0^n.
+  // Work over the step with the forces the bulk felt (before the law overwrites σ̄); u0 = the edge slip
+  // the spring saw at t^n (Body::edge_slip).
   void work_over_step(double t, double dt, double u0) {
     EnergyBudget& e = *this->energy_;
-    const Bulk& b = this->bulk_;
+    const B& b = this->bulk_;
     const std::span<const double> sb = this->law_.sigma_bar(), W = this->slip_rate();
     const double eta = this->law_.params().eta;
-    double visc = 0.0, inter = 0.0, uniform = 0.0;
-    for (std::size_t i = 0; i < this->n_; ++i) {
-      const double w = b.node_weight(i), wi = W[i];
+    double visc = 0.0, inter = 0.0;
+    for (std::size_t i = 0; i < this->sites_; ++i) {
+      const double w = b.interface_weight(i), wi = W[i];
       visc += w * eta * wi * wi;
       inter += w * 0.5 * (sb[i] + c0_[i] + c1_[i] * wi) * wi;
-      uniform += w * b.uniform_stress() * wi;
     }
+    const double uniform = b.uniform_power(this->velocity()), w0 = b.edge_slip(this->velocity());
     const double th = t + 0.5 * dt;
-    const double f_mean = b.spring_K() * (b.driver_velocity() * th - u0 - 0.5 * dt * W[0]);
+    const double f_mean = b.spring_K() * (b.driver_velocity() * th - u0 - 0.5 * dt * w0);
     e.viscous += dt * visc;
     e.interfacial += dt * inter;
-    e.drive_work += dt * (uniform + b.driver_velocity() * f_mean + b.rear_traction() * W[0]);
+    e.drive_work += dt * (uniform + b.driver_velocity() * f_mean + b.rear_traction() * w0);
   }
 
   double dt_;
   std::vector<double> V_;                   ///< node velocities V^n (trapezoidal rule)
-  std::vector<double> c0_, c1_, rhs_, cp_;  ///< per-step work arrays
+  std::vector<double> c0_, c1_;             ///< the step's linearisation per site
   std::vector<double> trial_, c0e_, c1e_;   ///< the step's W before it is taken; the linearisation at it
   double tol_ = 0.0, max_defect_ = 0.0, vmax_step_ = 0.0;
   int max_halvings_ = 0;

@@ -33,6 +33,7 @@ const KeyDomain continuum_domains[] = {
     {"bulk.rho", K::number, 0.0, cap, true},
     {"bulk.mu", K::number, 0.0, cap, true},
     {"bulk.length", K::number, 0.0, cap, true},
+    {"bulk.height", K::number, 1e-9, cap, false, false, true, "", "(the antiplane strip's height H; 0 or absent: the 1D chain)"},
     {"drive.loading", K::choice, 0, 0, false, false, false, "edge|homogeneous|imposed_rate|spring_block"},
     {"drive.K", K::number, 0.0, cap, true},
     {"drive.v_d", K::number, 0.0, cap},
@@ -48,6 +49,7 @@ const KeyDomain continuum_domains[] = {
     {"drive.v_max", K::number, 0.0, cap, true},
     {"drive.points", K::integer, 2.0, 1e6, false, false, false, "", "(points of a sweep)"},
     {"grid.dx", K::number, 0.0, cap, true},
+    {"grid.dy", K::number, 1e-9, cap, false, false, true, "", "(the strip's row spacing; 0 or absent: grid.dx)"},
     {"time.t_end", K::number, 0.0, cap, true},
     {"time.dt", K::number, 0.0, cap, false, false, false, "", "(0: use time.cfl)"},
     {"time.cfl", K::number, 0.0, 1.0, true, false, false, "", "(fraction of the explicit stability limit)"},
@@ -162,6 +164,10 @@ void BulkParams::validate(bool one_dimensional) const {
   if (one_dimensional) {
     check_in_domain("bulk.mu", mu);
     check_in_domain("bulk.length", length);
+    if (height != 0.0) check_in_domain("bulk.height", height);
+  } else {
+    require(height == 0.0, "bulk.height",
+            "a 0D scene (drive.loading = spring_block or imposed_rate) has no body to give a height to");
   }
 }
 
@@ -245,10 +251,26 @@ void GridParams::validate(const BulkParams& bulk, bool one_dimensional) const {
   require(bulk.length >= dx, "bulk.length",
           "must be >= grid.dx (" + format_number(dx) + "), got " + format_number(bulk.length));
   const double n = bulk.length / dx;
-  require(n <= 5e7, "grid.dx",
-          "gives " + format_number(n + 1) + " nodes; more than 5e7 nodes would not fit in memory (24 GiB)");
   require(std::abs(n - std::round(n)) < 1e-9 * std::max(1.0, n), "grid.dx",
           "bulk.length / grid.dx must be a whole number of cells, got " + format_number(n));
+  if (bulk.height == 0.0) {
+    require(dy == 0.0, "grid.dy", "is the row spacing of the strip: give bulk.height too (or drop grid.dy)");
+    require(n <= 5e7, "grid.dx",
+            "gives " + format_number(n + 1) + " nodes; more than 5e7 nodes would not fit in memory (24 GiB)");
+    return;
+  }
+  // The strip (docs/model.md §9): rows of spacing dy = grid.dy (absent: grid.dx) must tile the height.
+  if (dy != 0.0) check_in_domain("grid.dy", dy);
+  const double h = row_spacing(), rows = bulk.height / h;
+  require(rows >= 1.0 - 1e-9, "grid.dy",
+          "must be <= bulk.height (" + format_number(bulk.height) + "): the strip needs at least one row of cells, got " +
+              format_number(h) + (dy == 0.0 ? " (grid.dx, as grid.dy is absent)" : ""));
+  require(std::abs(rows - std::round(rows)) < 1e-9 * std::max(1.0, rows), "grid.dy",
+          "bulk.height / grid.dy must be a whole number of rows, got " + format_number(rows) +
+              (dy == 0.0 ? " (grid.dy absent: grid.dx is used)" : ""));
+  const double nodes = (n + 1) * (std::round(rows) + 1);
+  require(nodes <= 5e7, dy == 0.0 ? "grid.dx" : "grid.dy",
+          "gives " + format_number(nodes) + " strip nodes; more than 5e7 nodes would not fit in memory (24 GiB)");
 }
 
 void TimeParams::validate(Loading l) const {

@@ -132,6 +132,7 @@ struct DriveParams {
 struct GridParams {
   double dx = 0.5;
   double dy = 0.0;  ///< the strip's row spacing (docs/model.md §9); 0: dx (key absent)
+  double row_spacing() const { return dy > 0.0 ? dy : dx; }  ///< the strip's dy
   void validate(const BulkParams& bulk, bool one_dimensional) const;
 };
 

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "core/archive.hpp"
+#include "core/body.hpp"
 #include "core/bulk.hpp"
 #include "core/law.hpp"
 
@@ -76,29 +77,35 @@ struct EnergyBudget {
   }
 };
 
-/// What every stepper holds and shows: the bulk, the law (which alone holds A and σ̄), slip and slip
-/// rate per node, time, step count, and the energy budget when tracked. Only a stepper's step()
-/// advances them.
-template <InterfaceLaw Law>
+/// What every stepper holds and shows: the body (core/body.hpp: the 1D chain by default), the law (which
+/// alone holds A and σ̄), displacement and velocity of every degree of freedom of the body, time, step
+/// count, and the energy budget when tracked. Only a stepper's step() advances them. Slip and slip rate
+/// are the interface's: the first sites() degrees of freedom.
+template <InterfaceLaw Law, Body B = Bulk>
 class StepperCore {
  public:
+  using body_type = B;
   double time() const { return t_; }
   std::int64_t steps() const { return steps_; }
-  const Bulk& bulk() const { return bulk_; }
+  const B& bulk() const { return bulk_; }
   const Law& law() const { return law_; }
   Law& law() { return law_; }
-  std::span<const double> slip() const { return u_; }
+  std::span<const double> slip() const { return std::span<const double>(u_).first(sites_); }
   /// The slip rate each stepper reports: the rate of its last step (explicit v^{n−1/2}, implicit W)
   /// or the rate at time() (adaptive); before the first step, the initial rate.
-  std::span<const double> slip_rate() const { return v_; }
-  double drive_force() const { return bulk_.drive_force(t_, u_[0]); }
+  std::span<const double> slip_rate() const { return std::span<const double>(v_).first(sites_); }
+  /// Displacement and velocity of every degree of freedom of the body (the strip's interior too).
+  std::span<const double> displacement() const { return u_; }
+  std::span<const double> velocity() const { return v_; }
+  double drive_force() const { return bulk_.drive_force(t_, std::span<const double>(u_)); }
   double max_slip_rate() const { return max_v_; }  ///< max_i |v_i| over the last step
   bool yielded() const { return yielded_; }        ///< some site yielded during the last step
-  /// Initial slip and slip rate of node i (the law's set_site sets A and σ̄), before the first step.
+  /// Initial displacement and velocity of degree of freedom i (the law's set_site sets A and σ̄ of the
+  /// sites), before the first step.
   void set_initial(std::size_t i, double u, double v) {
     u_[i] = u;
     v_[i] = v;
-    max_v_ = std::max(max_v_, std::abs(v));
+    if (i < sites_) max_v_ = std::max(max_v_, std::abs(v));
   }
   void track_energy(bool on) { energy_ = on ? std::optional<EnergyBudget>(EnergyBudget{}) : std::nullopt; }
   const std::optional<EnergyBudget>& energy() const { return energy_; }
@@ -112,41 +119,37 @@ class StepperCore {
     else throw ArchiveError("this interface law cannot be checkpointed");
   }
 
-  StepperCore(Bulk bulk, Law law, const char* who)
-      : bulk_(std::move(bulk)), law_(std::move(law)), n_(bulk_.nodes()), u_(n_, 0.0), v_(n_, 0.0) {
-    if (law_.size() != n_) throw std::invalid_argument(std::string(who) + ": law and bulk sizes differ");
+  StepperCore(B bulk, Law law, const char* who)
+      : bulk_(std::move(bulk)), law_(std::move(law)), n_(bulk_.dofs()), sites_(bulk_.sites()), u_(n_, 0.0), v_(n_, 0.0) {
+    if (law_.size() != sites_) throw std::invalid_argument(std::string(who) + ": law and body sizes differ");
   }
   [[noreturn]] void report_non_finite() const {
     for (std::size_t i = 0; i < n_; ++i)
       if (!std::isfinite(u_[i]) || !std::isfinite(v_[i])) throw NumericalError(steps_, t_, i, "slip rate");
     throw NumericalError(steps_, t_, 0, "slip rate");
   }
-  /// Kinetic energy Σ ρ w_i V_i²/2 of node velocities V.
-  double kinetic_energy(std::span<const double> V) const {
-    double e = 0.0;
-    for (std::size_t i = 0; i < n_; ++i) e += 0.5 * bulk_.rho() * bulk_.node_weight(i) * V[i] * V[i];
-    return e;
-  }
+  /// Kinetic energy of node velocities V (all degrees of freedom).
+  double kinetic_energy(std::span<const double> V) const { return bulk_.kinetic_energy(V); }
 
-  Bulk bulk_;
+  B bulk_;
   Law law_;
-  std::size_t n_;
-  std::vector<double> u_, v_;  ///< slip and slip rate per node
+  std::size_t n_, sites_;      ///< degrees of freedom, interface sites (equal on the chain)
+  std::vector<double> u_, v_;  ///< displacement and velocity per degree of freedom
   double t_ = 0.0, max_v_ = 0.0;
   std::int64_t steps_ = 0;
   bool yielded_ = false;
   std::optional<EnergyBudget> energy_;
 };
 
-/// The explicit reference scheme (central differences, the wave stability limit Bulk::stable_dt).
-template <InterfaceLaw Law>
-class ExplicitSimulation : public StepperCore<Law> {
-  using Core = StepperCore<Law>;
+/// The explicit reference scheme (central differences, the wave stability limit of the body's stable_dt).
+template <InterfaceLaw Law, Body B = Bulk>
+class ExplicitSimulation : public StepperCore<Law, B> {
+  using Core = StepperCore<Law, B>;
 
  public:
   static constexpr const char* integrator_name = "explicit";
   static constexpr bool error_control = false;  ///< set_error_control, substeps (implicit only)
-  ExplicitSimulation(Bulk bulk, Law law, double dt)
+  ExplicitSimulation(B bulk, Law law, double dt)
       : Core(std::move(bulk), std::move(law), "ExplicitSimulation"), dt_(dt), v_prev_(this->n_, 0.0) {
     if (!(dt > 0.0)) throw std::invalid_argument("ExplicitSimulation: dt must be > 0");
   }
@@ -170,19 +173,15 @@ class ExplicitSimulation : public StepperCore<Law> {
   }
 
  private:
-  // v^{n+1/2} (ρ + η Δt/2) = v^{n−1/2} (ρ − η Δt/2) + Δt (F_i / w_i + σ_d − σ̄_i)
+  // v^{n−1/2} → v^{n+1/2} from the forces at t^n (the body's kick: chain, core/bulk.hpp; strip, core/strip.hpp)
   void kick() {
-    const double dt = dt_, eta = this->law_.params().eta, rho = this->bulk_.rho(), sd = this->bulk_.uniform_stress();
-    const double damp = rho - 0.5 * eta * dt, inv = 1.0 / (rho + 0.5 * eta * dt);
-    const std::span<const double> sb = this->law_.sigma_bar();
-    const double* vo = v_prev_.data();
-    double* vn = this->v_.data();
-    this->bulk_.forces_per_length(this->slip(), this->drive_force(), [&](std::size_t i, double f) {
-      vn[i] = (vo[i] * damp + dt * (f + sd - sb[i])) * inv;
-    });
-    // max|v| in a second pass over v: accumulators captured by the callback above would live in memory
+    this->bulk_.kick(dt_, this->law_.params().eta, this->drive_force(), this->u_, this->law_.sigma_bar(), v_prev_,
+                     this->v_);
+    // max|v| in a second pass over v: accumulators captured by the kick's callback would live in memory
     // (a store through vn might alias them), one store-reload per node: the fig1 run was 25% slower.
-    this->max_v_ = max_abs_or_inf(this->v_);
+    // The interface's slip rates only (the strip's interior is not a slip rate); a non-finite value
+    // inside the strip reaches the interface within steps.
+    this->max_v_ = max_abs_or_inf(this->slip_rate());
   }
 
   void drift() {
@@ -194,13 +193,13 @@ class ExplicitSimulation : public StepperCore<Law> {
   // Mechanical energy at t^n with v^n = (v^{n−1/2} + v^{n+1/2})/2; remembers σ̄^n and F^n for the work.
   void energy_at_start() {
     EnergyBudget& e = *this->energy_;
-    const auto v = this->slip_rate();
+    const auto v = this->velocity();
     mid_.resize(this->n_);
     for (std::size_t i = 0; i < this->n_; ++i) mid_[i] = 0.5 * (v_prev_[i] + v[i]);
     e.time = this->t_;
     e.kinetic = this->kinetic_energy(mid_);
-    e.elastic = this->bulk_.elastic_energy(this->slip());
-    e.spring = this->bulk_.spring_energy(this->t_, this->slip()[0]);
+    e.elastic = this->bulk_.elastic_energy(this->displacement());
+    e.spring = this->bulk_.spring_energy(this->t_, this->displacement());
     e.drive_work = acc_drive_;
     e.viscous = acc_viscous_;
     e.interfacial = acc_interfacial_;
@@ -213,18 +212,18 @@ class ExplicitSimulation : public StepperCore<Law> {
   // Work and dissipation over [t^n, t^{n+1}] by the midpoint rule on v^{n+1/2}.
   void energy_over_step() {
     const std::span<const double> sb = this->law_.sigma_bar(), v = this->slip_rate();
-    const double eta = this->law_.params().eta, sd = this->bulk_.uniform_stress();
-    double visc = 0.0, inter = 0.0, uniform = 0.0;
-    for (std::size_t i = 0; i < this->n_; ++i) {
-      const double w = this->bulk_.node_weight(i), vi = v[i];
+    const double eta = this->law_.params().eta;
+    double visc = 0.0, inter = 0.0;
+    for (std::size_t i = 0; i < this->sites_; ++i) {
+      const double w = this->bulk_.interface_weight(i), vi = v[i];
       visc += w * eta * vi * vi;
       inter += w * 0.5 * (sb_start_[i] + sb[i]) * vi;
-      uniform += w * sd * vi;
     }
+    const double uniform = this->bulk_.uniform_power(this->velocity());
     acc_viscous_ += dt_ * visc;
     acc_interfacial_ += dt_ * inter;
     acc_drive_ += dt_ * (uniform + this->bulk_.driver_velocity() * 0.5 * (f_start_ + this->drive_force()) +
-                         this->bulk_.rear_traction() * v[0]);
+                         this->bulk_.rear_traction() * this->bulk_.edge_slip(this->velocity()));
   }
 
   double dt_;

@@ -46,6 +46,7 @@ const std::vector<Base>& bases() {
       {"edge, dt given", {"time.dt=0.001"}},
       {"edge, adaptive", {"time.integrator=adaptive"}},
       {"edge, implicit", {"time.integrator=implicit", "time.dt=0.001"}},
+      {"edge, strip", {"bulk.height=4", "grid.dy=1"}},
       {"edge, agent with contact statistics", {"discrete.representation=agent", "discrete.contact_statistics=true"}},
       {"homogeneous, steady-front start",
        {"drive.loading=homogeneous", "drive.sigma_d=0.5", "drive.start=steady_front", "drive.front_x=5"}},

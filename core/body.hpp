@@ -1,0 +1,59 @@
+#pragma once
+// The body seam (docs/model.md §1.2, §9): what a stepper sees of the elastic body under the interface.
+// Two models: the 1D chain (core::Bulk, core/bulk.hpp) and the antiplane strip of height H
+// (core::Strip, core/strip.hpp). Each holds its grid, its loading and its elastic operator; the steppers
+// (core/stepper.hpp, core/implicit.hpp) hold the state and call the body for every term that depends
+// on its geometry, so the interface laws (core/law.hpp) run on either body unchanged.
+//
+// Degrees of freedom: dofs() bulk displacements, of which the first sites() are the interface (the
+// law's sites, in order; the chain's every node is one). Slip and slip rate are the interface's.
+#include <concepts>
+#include <cstddef>
+#include <span>
+#include <vector>
+
+namespace slipfront::core {
+
+/// A stand-in for an interface law's linearisation in the Body concept (core/law.hpp).
+struct NoLinearisation {
+  void operator()(std::size_t, double, double&, double&) const {}
+};
+
+/// What a stepper needs of a body:
+///   sites(), dofs(), x()              interface sites (x() their positions), all degrees of freedom
+///   rho(), dx(), interface_weight(i)  the scene's inertia, the grid spacing, the interface length of site i
+///   edge_mass()                       the inertia the drive spring pulls (implicit_resolution)
+///   stable_dt()                       the explicit scheme's stability limit
+///   uniform_stress(), spring_K(), driver_velocity(), rear_traction(), has_drive_spring()   the loading
+///   edge_slip(u)                      the slip the drive spring sees (chain: u_0; strip: the edge mean ū₀)
+///   drive_force(t, u)                 F = K (v_d t − edge_slip(u)) + F_r
+///   kinetic_energy(V), elastic_energy(u), spring_energy(t, u)   energies of the whole body
+///   uniform_power(v)                  the power of the uniform stress σ_d (on the loaded face)
+///   kick(dt, η, F, u, σ̄, v_old, v_new)   the explicit scheme's kick v^{n−1/2} → v^{n+1/2}, all dofs
+///   implicit_solve(lin, …, W)         the implicit step's linear system for W (core/implicit.hpp)
+template <class B>
+concept Body = requires(const B& b, B& mb, std::size_t i, double d, std::span<const double> c, std::span<double> m) {
+  { b.sites() } -> std::convertible_to<std::size_t>;
+  { b.dofs() } -> std::convertible_to<std::size_t>;
+  { b.x() } -> std::convertible_to<const std::vector<double>&>;
+  { b.rho() } -> std::convertible_to<double>;
+  { b.dx() } -> std::convertible_to<double>;
+  { b.interface_weight(i) } -> std::convertible_to<double>;
+  { b.edge_mass() } -> std::convertible_to<double>;
+  { b.stable_dt() } -> std::convertible_to<double>;
+  { b.uniform_stress() } -> std::convertible_to<double>;
+  { b.spring_K() } -> std::convertible_to<double>;
+  { b.driver_velocity() } -> std::convertible_to<double>;
+  { b.rear_traction() } -> std::convertible_to<double>;
+  { b.has_drive_spring() } -> std::convertible_to<bool>;
+  { b.edge_slip(c) } -> std::convertible_to<double>;
+  { b.drive_force(d, c) } -> std::convertible_to<double>;
+  { b.kinetic_energy(c) } -> std::convertible_to<double>;
+  { b.elastic_energy(c) } -> std::convertible_to<double>;
+  { b.spring_energy(d, c) } -> std::convertible_to<double>;
+  { b.uniform_power(c) } -> std::convertible_to<double>;
+  b.kick(d, d, d, c, c, c, m);
+  mb.implicit_solve(NoLinearisation{}, c, m, m, d, d, d, c, c, c, m);
+};
+
+}  // namespace slipfront::core

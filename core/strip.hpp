@@ -1,5 +1,5 @@
 #pragma once
-// The antiplane strip of docs/model.md §9 (/work/shared/MODEL.md §6): a body of height H over the
+// The antiplane strip of docs/model.md §9: a body of height H over the
 // interface, discretised on a uniform vertex-centred grid of nx columns (x_i = i dx, the chain's rule) and
 // rows = ny + 1 rows (y_j = j dy, H = ny dy), lumped mass, half cells on every face. One scalar unknown per
 // node (the antiplane displacement), dof index j·nx + i, row j = 0 the interface (the first nx dofs are the

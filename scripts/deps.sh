@@ -10,6 +10,7 @@ SLIPFRONT_DEPS=(
   libeigen3-dev libboost-random-dev          # numerics, reproducible random streams
   libhdf5-dev libtomlplusplus-dev libcli11-dev  # results file, configs, command line
   libxxhash-dev pkg-config                   # checksums of checkpoints and run files
+  libfftw3-dev                               # the strip's cosine transform
   catch2 libbenchmark-dev                    # tests, benchmarks
   libsundials-dev                            # reference ODE integrator
   libopenmpi-dev openmpi-bin                 # optional at run time: studies on MPI (mpirun -n K slipfront study)

@@ -1,0 +1,446 @@
+#include "core/strip.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <mutex>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+#include <fftw3.h>
+
+#include <Eigen/Core>
+#include <Eigen/IterativeLinearSolvers>
+
+namespace slipfront::core {
+namespace {
+
+// FFTW's planner (and fftw_destroy_plan) is not thread-safe; fftw_execute is. Every plan of the process
+// is made and destroyed under this mutex.
+std::mutex& fftw_planner_mutex() {
+  static std::mutex m;
+  return m;
+}
+
+// The step system as an Eigen operator (Eigen docs, "Matrix-free solvers").
+class StripSystem;
+
+}  // namespace
+}  // namespace slipfront::core
+
+namespace Eigen::internal {
+template <>
+struct traits<slipfront::core::StripSystem> : public traits<Eigen::SparseMatrix<double>> {};
+}  // namespace Eigen::internal
+
+namespace slipfront::core {
+namespace {
+
+class StripSystem : public Eigen::EigenBase<StripSystem> {
+ public:
+  using Scalar = double;
+  using RealScalar = double;
+  using StorageIndex = int;
+  enum { ColsAtCompileTime = Eigen::Dynamic, MaxColsAtCompileTime = Eigen::Dynamic, IsRowMajor = false };
+
+  explicit StripSystem(const Strip& s) : s_(&s) {}
+  Eigen::Index rows() const { return static_cast<Eigen::Index>(s_->dofs()); }
+  Eigen::Index cols() const { return rows(); }
+  template <class Rhs>
+  Eigen::Product<StripSystem, Rhs, Eigen::AliasFreeProduct> operator*(const Eigen::MatrixBase<Rhs>& x) const {
+    return Eigen::Product<StripSystem, Rhs, Eigen::AliasFreeProduct>(*this, x.derived());
+  }
+  const Strip& strip() const { return *s_; }
+
+ private:
+  const Strip* s_;
+};
+
+// z = P⁻¹ r, P the separable part of the system (Strip::apply_preconditioner).
+class StripPreconditioner {
+ public:
+  StripPreconditioner() = default;
+  template <class M>
+  explicit StripPreconditioner(const M& m) { compute(m); }
+  StripPreconditioner& analyzePattern(const StripSystem&) { return *this; }
+  StripPreconditioner& factorize(const StripSystem& m) { return compute(m); }
+  StripPreconditioner& compute(const StripSystem& m) {
+    s_ = &m.strip();
+    return *this;
+  }
+  template <class Rhs>
+  Eigen::Map<const Eigen::VectorXd> solve(const Eigen::MatrixBase<Rhs>& r) const {
+    const Eigen::Ref<const Eigen::VectorXd> rr(r.derived());
+    return Eigen::Map<const Eigen::VectorXd>(s_->apply_preconditioner(rr.data()), rr.size());
+  }
+  Eigen::ComputationInfo info() const { return Eigen::Success; }
+
+ private:
+  const Strip* s_ = nullptr;
+};
+
+}  // namespace
+}  // namespace slipfront::core
+
+namespace Eigen::internal {
+template <class Rhs>
+struct generic_product_impl<slipfront::core::StripSystem, Rhs, SparseShape, DenseShape, GemvProduct>
+    : generic_product_impl_base<slipfront::core::StripSystem, Rhs,
+                                generic_product_impl<slipfront::core::StripSystem, Rhs>> {
+  using Scalar = typename Product<slipfront::core::StripSystem, Rhs>::Scalar;
+  // Eigen's CG asks for tmp = A p and for rhs − A x (into a temporary): both evalTo, written directly.
+  template <class Dest>
+  static void evalTo(Dest& dst, const slipfront::core::StripSystem& lhs, const Rhs& rhs) {
+    const Eigen::Ref<const Eigen::VectorXd> x(rhs);
+    Eigen::Ref<Eigen::VectorXd> y(dst);
+    lhs.strip().apply_system(x.data(), y.data());
+  }
+  template <class Dest>
+  static void scaleAndAddTo(Dest& dst, const slipfront::core::StripSystem& lhs, const Rhs& rhs, const Scalar& alpha) {
+    Eigen::VectorXd tmp(dst.size());
+    evalTo(tmp, lhs, rhs);
+    dst += alpha * tmp;
+  }
+};
+}  // namespace Eigen::internal
+
+namespace slipfront::core {
+
+Strip::Strip(const BulkParams& bulk, const DriveParams& drive, const InterfaceParams& law, double dx, double dy)
+    : dx_(dx), dy_(dy), H_(bulk.height), rho_(bulk.rho), mu_(bulk.mu) {
+  if (drive.loading != Loading::edge && drive.loading != Loading::homogeneous)
+    throw std::invalid_argument("Strip: only edge and homogeneous loading have a strip");
+  if (!(H_ > 0.0)) throw std::invalid_argument("Strip: bulk.height must be > 0");
+  if (!(dx > 0.0)) throw std::invalid_argument("Strip: dx must be > 0");
+  if (!(dy > 0.0)) throw std::invalid_argument("Strip: dy must be > 0");
+  const auto cells = static_cast<std::size_t>(std::llround(bulk.length / dx));
+  if (cells < 1) throw std::invalid_argument("Strip: bulk.length must hold at least one cell");
+  const long long ny = std::llround(H_ / dy);
+  if (ny < 1) throw std::invalid_argument("Strip: bulk.height must hold at least one row interval");
+  if (std::abs(static_cast<double>(ny) * dy - H_) > 1e-9 * H_)
+    throw std::invalid_argument("Strip: dy must divide bulk.height");
+  nx_ = cells + 1;
+  ny_ = static_cast<std::size_t>(ny);
+  x_.resize(nx_);
+  for (std::size_t i = 0; i < nx_; ++i) x_[i] = static_cast<double>(i) * dx;
+  rho_p_ = rho_ / H_;
+  mu_p_ = mu_ / H_;
+  if (drive.loading == Loading::edge) {
+    spring_K_ = drive.K;
+    v_d_ = drive.v_d;
+  } else {
+    sigma_d_ = drive.sigma_d;
+    rear_traction_ = drive.rear_traction;
+  }
+  const double c2 = mu_ / rho_;
+  const double omega2 = c2 * (4.0 / (dx * dx) + 4.0 / (dy * dy)) + 2.0 * spring_K_ / (rho_ * dx) +
+                        2.0 * law.alpha * H_ / (rho_ * dy);
+  stable_dt_ = 2.0 / std::sqrt(omega2);
+
+  inv_.assign(dofs(), 0.0);
+  rhs_.assign(dofs(), 0.0);
+  inv_wx_.resize(nx_);
+  for (std::size_t i = 0; i < nx_; ++i)
+    inv_wx_[i] = 1.0 / (interface_weight(i) * 2.0 * static_cast<double>(nx_ - 1));
+  make_plans();
+}
+
+void Strip::make_plans() {
+  const std::size_t n = dofs();
+  buf_ = static_cast<double*>(fftw_malloc(n * sizeof(double)));
+  if (buf_ == nullptr) throw std::bad_alloc();
+  std::fill(buf_, buf_ + n, 0.0);
+  const int len = static_cast<int>(nx_);
+  const fftw_r2r_kind kind = FFTW_REDFT00;
+  {
+    const std::lock_guard<std::mutex> lock(fftw_planner_mutex());
+    // Rows contiguous (stride 1, distance nx), in place. FFTW_ESTIMATE: no timing, so the same sizes and
+    // alignment always give the same plan (bit-reproducible runs and restarts).
+    plan_ = fftw_plan_many_r2r(1, &len, static_cast<int>(rows()), buf_, nullptr, 1, len, buf_, nullptr, 1, len,
+                               &kind, FFTW_ESTIMATE);
+  }
+  if (plan_ == nullptr) {
+    fftw_free(buf_);
+    buf_ = nullptr;
+    throw std::runtime_error("Strip: FFTW could not plan the cosine transform");
+  }
+}
+
+void Strip::free_plans() noexcept {
+  if (plan_ != nullptr) {
+    const std::lock_guard<std::mutex> lock(fftw_planner_mutex());
+    fftw_destroy_plan(plan_);
+  }
+  plan_ = nullptr;
+  if (buf_ != nullptr) fftw_free(buf_);
+  buf_ = nullptr;
+}
+
+Strip::Strip(const Strip& o)
+    : x_(o.x_), nx_(o.nx_), ny_(o.ny_), dx_(o.dx_), dy_(o.dy_), H_(o.H_), rho_(o.rho_), mu_(o.mu_),
+      rho_p_(o.rho_p_), mu_p_(o.mu_p_), sigma_d_(o.sigma_d_), spring_K_(o.spring_K_), v_d_(o.v_d_),
+      rear_traction_(o.rear_traction_), stable_dt_(o.stable_dt_), shift_(o.shift_), inv_(o.inv_), rhs_(o.rhs_),
+      inv_wx_(o.inv_wx_), fact_dt_(o.fact_dt_), fact_dbar_(o.fact_dbar_), last_iterations_(o.last_iterations_),
+      last_residual_(o.last_residual_) {
+  make_plans();
+}
+
+Strip::Strip(Strip&& o) noexcept
+    : x_(std::move(o.x_)), nx_(o.nx_), ny_(o.ny_), dx_(o.dx_), dy_(o.dy_), H_(o.H_), rho_(o.rho_), mu_(o.mu_),
+      rho_p_(o.rho_p_), mu_p_(o.mu_p_), sigma_d_(o.sigma_d_), spring_K_(o.spring_K_), v_d_(o.v_d_),
+      rear_traction_(o.rear_traction_), stable_dt_(o.stable_dt_), shift_(o.shift_), buf_(std::exchange(o.buf_, nullptr)),
+      plan_(std::exchange(o.plan_, nullptr)), inv_(std::move(o.inv_)), rhs_(std::move(o.rhs_)),
+      inv_wx_(std::move(o.inv_wx_)), fact_dt_(o.fact_dt_), fact_dbar_(o.fact_dbar_),
+      last_iterations_(o.last_iterations_), last_residual_(o.last_residual_) {}
+
+Strip& Strip::operator=(const Strip& o) {
+  if (this != &o) {
+    Strip copy(o);
+    *this = std::move(copy);
+  }
+  return *this;
+}
+
+Strip& Strip::operator=(Strip&& o) noexcept {
+  if (this != &o) {
+    free_plans();
+    x_ = std::move(o.x_);
+    nx_ = o.nx_;
+    ny_ = o.ny_;
+    dx_ = o.dx_;
+    dy_ = o.dy_;
+    H_ = o.H_;
+    rho_ = o.rho_;
+    mu_ = o.mu_;
+    rho_p_ = o.rho_p_;
+    mu_p_ = o.mu_p_;
+    sigma_d_ = o.sigma_d_;
+    spring_K_ = o.spring_K_;
+    v_d_ = o.v_d_;
+    rear_traction_ = o.rear_traction_;
+    stable_dt_ = o.stable_dt_;
+    shift_ = o.shift_;
+    buf_ = std::exchange(o.buf_, nullptr);
+    plan_ = std::exchange(o.plan_, nullptr);
+    inv_ = std::move(o.inv_);
+    rhs_ = std::move(o.rhs_);
+    inv_wx_ = std::move(o.inv_wx_);
+    fact_dt_ = o.fact_dt_;
+    fact_dbar_ = o.fact_dbar_;
+    last_iterations_ = o.last_iterations_;
+    last_residual_ = o.last_residual_;
+  }
+  return *this;
+}
+
+Strip::~Strip() { free_plans(); }
+
+std::size_t Strip::workspace_bytes() const {
+  return (dofs() * 3 + nx_) * sizeof(double);  // buf_, inv_, rhs_, inv_wx_
+}
+
+double Strip::edge_slip(std::span<const double> u) const {
+  double s = 0.0;
+  for (std::size_t j = 0; j <= ny_; ++j) s += row_weight(j) * u[j * nx_];
+  return s / H_;
+}
+
+double Strip::kinetic_energy(std::span<const double> V) const {
+  double e = 0.0;
+  for (std::size_t j = 0; j <= ny_; ++j)
+    for (std::size_t i = 0; i < nx_; ++i) e += node_mass(i, j) * V[j * nx_ + i] * V[j * nx_ + i];
+  return 0.5 * e;
+}
+
+double Strip::elastic_energy(std::span<const double> u) const {
+  double ex = 0.0, ey = 0.0;
+  for (std::size_t j = 0; j <= ny_; ++j) {
+    const double* r = u.data() + j * nx_;
+    double s = 0.0;
+    for (std::size_t i = 0; i + 1 < nx_; ++i) s += (r[i + 1] - r[i]) * (r[i + 1] - r[i]);
+    ex += row_weight(j) * s;
+    if (j < ny_) {
+      const double* up = r + nx_;
+      for (std::size_t i = 0; i < nx_; ++i) ey += interface_weight(i) * (up[i] - r[i]) * (up[i] - r[i]);
+    }
+  }
+  return 0.5 * mu_p_ * (ex / dx_ + ey / dy_);
+}
+
+double Strip::spring_energy(double t, std::span<const double> u) const {
+  if (!(spring_K_ > 0.0)) return 0.0;
+  const double stretch = v_d_ * t - edge_slip(u);
+  return 0.5 * spring_K_ * stretch * stretch;
+}
+
+double Strip::uniform_power(std::span<const double> v) const {
+  if (sigma_d_ == 0.0) return 0.0;
+  const double* top = v.data() + ny_ * nx_;
+  double p = 0.0;
+  for (std::size_t i = 0; i < nx_; ++i) p += interface_weight(i) * top[i];
+  return sigma_d_ * p;
+}
+
+Eigen::SparseMatrix<double> Strip::stiffness_matrix() const {
+  const auto n = static_cast<Eigen::Index>(dofs());
+  std::vector<Eigen::Triplet<double>> t;
+  t.reserve(5 * dofs());
+  const auto id = [this](std::size_t i, std::size_t j) { return static_cast<Eigen::Index>(j * nx_ + i); };
+  const auto bond = [&t](Eigen::Index a, Eigen::Index b, double k) {
+    t.emplace_back(a, a, k);
+    t.emplace_back(b, b, k);
+    t.emplace_back(a, b, -k);
+    t.emplace_back(b, a, -k);
+  };
+  for (std::size_t j = 0; j <= ny_; ++j)
+    for (std::size_t i = 0; i < nx_; ++i) {
+      if (i + 1 < nx_) bond(id(i, j), id(i + 1, j), mu_p_ * row_weight(j) / dx_);
+      if (j < ny_) bond(id(i, j), id(i, j + 1), mu_p_ * interface_weight(i) / dy_);
+    }
+  Eigen::SparseMatrix<double> s(n, n);
+  s.setFromTriplets(t.begin(), t.end());
+  return s;
+}
+
+void Strip::kick(double dt, double eta, double edge_force, std::span<const double> u,
+                 std::span<const double> sigma_bar, std::span<const double> v_old, std::span<double> v_new) const {
+  const std::size_t nx = nx_, ny = ny_;
+  const double half_eta_dt = 0.5 * eta * dt, edge_per_height = edge_force / H_, sd = sigma_d_;
+  const double* vo = v_old.data();
+  double* vn = v_new.data();
+  const double* sb = sigma_bar.data();
+  elastic_forces(u, [&, this](std::size_t j, std::size_t i, double f) {
+    const std::size_t k = j * nx + i;
+    const double wx = interface_weight(i), m = rho_p_ * wx * row_weight(j);
+    if (i == 0) f += edge_per_height * row_weight(j);
+    if (j == ny) f += wx * sd;
+    if (j == 0) {
+      const double damp = wx * half_eta_dt;
+      vn[k] = (vo[k] * (m - damp) + dt * (f - wx * sb[i])) / (m + damp);
+    } else {
+      vn[k] = vo[k] + dt * f / m;
+    }
+  });
+}
+
+// The Thomas factors (1/pivot) of T_k = (2ρ'/dt + (dt/2)μ'λ_k) Wy + (dt/2)μ' Dy + d̄ e0 e0ᵀ for every
+// mode k, λ_k = (2/dx²)(1 − cos(πk/(nx−1))); the off-diagonal is the constant o = −(dt/2)μ'/dy.
+void Strip::factorise(double dt, double dbar) const {
+  if (dt == fact_dt_ && dbar == fact_dbar_) return;
+  const std::size_t nx = nx_, ny = ny_;
+  const double mass = 2.0 * rho_p_ / dt, half = 0.5 * dt * mu_p_, ky = half / dy_, o = -ky;
+  const double pi_n = std::numbers::pi / static_cast<double>(nx - 1), two_dx2 = 2.0 / (dx_ * dx_);
+  double* inv = inv_.data();
+  // Row j = 0 first (k inner), then each row from the one below.
+  for (std::size_t k = 0; k < nx; ++k) {
+    const double lam = two_dx2 * (1.0 - std::cos(pi_n * static_cast<double>(k)));
+    inv[k] = 1.0 / ((mass + half * lam) * 0.5 * dy_ + ky + dbar);
+  }
+  for (std::size_t j = 1; j <= ny; ++j) {
+    const double wy = row_weight(j), nb = j == ny ? ky : 2.0 * ky;
+    double* r = inv + j * nx;
+    const double* p = r - nx;
+    for (std::size_t k = 0; k < nx; ++k) {
+      const double lam = two_dx2 * (1.0 - std::cos(pi_n * static_cast<double>(k)));
+      r[k] = 1.0 / ((mass + half * lam) * wy + nb - o * o * p[k]);
+    }
+  }
+  fact_dt_ = dt;
+  fact_dbar_ = dbar;
+}
+
+const double* Strip::apply_preconditioner(const double* r) const {
+  const std::size_t nx = nx_, ny = ny_;
+  double* b = buf_;
+  const double* iw = inv_wx_.data();
+  for (std::size_t j = 0; j <= ny; ++j)
+    for (std::size_t i = 0; i < nx; ++i) b[j * nx + i] = r[j * nx + i] * iw[i];
+  fftw_execute(plan_);  // the modes of every row (times 2(nx−1), taken out above)
+  const double o = -0.5 * dt_ * mu_p_ / dy_;
+  const double* inv = inv_.data();
+  for (std::size_t k = 0; k < nx; ++k) b[k] *= inv[k];
+  for (std::size_t j = 1; j <= ny; ++j) {
+    double* z = b + j * nx;
+    const double* zp = z - nx;
+    const double* iv = inv + j * nx;
+    for (std::size_t k = 0; k < nx; ++k) z[k] = (z[k] - o * zp[k]) * iv[k];
+  }
+  for (std::size_t j = ny; j-- > 0;) {
+    double* z = b + j * nx;
+    const double* zn = z + nx;
+    const double* iv = inv + j * nx;
+    for (std::size_t k = 0; k < nx; ++k) z[k] -= o * iv[k] * zn[k];
+  }
+  fftw_execute(plan_);  // back to the nodes
+  return b;
+}
+
+void Strip::apply_system(const double* x, double* y) const {
+  ++applications_;
+  const std::size_t nx = nx_;
+  const double dt = dt_, mass = 2.0 * rho_p_ / dt, half = 0.5 * dt, eta = eta_;
+  const double* c1 = c1_;
+  elastic_forces(std::span<const double>(x, dofs()), [&, this](std::size_t j, std::size_t i, double f) {
+    const std::size_t k = j * nx + i;
+    const double wx = interface_weight(i);
+    double a = mass * wx * row_weight(j) * x[k] - half * f;
+    if (j == 0) a += wx * (eta + 0.5 * c1[i]) * x[k];
+    y[k] = a;
+  });
+  if (spring_K_ > 0.0) {
+    const double s = half * spring_K_ * edge_slip(std::span<const double>(x, dofs())) / H_;
+    for (std::size_t j = 0; j <= ny_; ++j) y[j * nx] += s * row_weight(j);
+  }
+}
+
+void Strip::solve_step(std::span<const double> c0, std::span<const double> c1, double t, double dt, double eta,
+                       std::span<const double> u, std::span<const double> V, std::span<const double> sigma_bar,
+                       std::span<double> W) {
+  const std::size_t nx = nx_, ny = ny_, n = dofs();
+  // The right-hand side.
+  const double mass = 2.0 * rho_p_ / dt, sd = sigma_d_;
+  const double edge = (spring_K_ * (v_d_ * (t + 0.5 * dt) - edge_slip(u)) + rear_traction_) / H_;
+  double* rhs = rhs_.data();
+  const double* Vp = V.data();
+  elastic_forces(u, [&, this](std::size_t j, std::size_t i, double f) {
+    const std::size_t k = j * nx + i;
+    const double wx = interface_weight(i);
+    double r = mass * wx * row_weight(j) * Vp[k] + f;
+    if (i == 0) r += edge * row_weight(j);
+    if (j == 0) r -= wx * 0.5 * (sigma_bar[i] + c0[i]);
+    if (j == ny) r += wx * sd;
+    rhs[k] = r;
+  });
+  // The preconditioner's shift and factors.
+  double dbar = eta;
+  if (shift_ == Shift::mean_c1) {
+    double s = 0.0;
+    for (std::size_t i = 0; i < nx; ++i) s += c1[i];
+    dbar += 0.5 * s / static_cast<double>(nx);
+  }
+  factorise(dt, dbar);
+  dt_ = dt;
+  eta_ = eta;
+  c1_ = c1.data();
+
+  const StripSystem A(*this);
+  Eigen::ConjugateGradient<StripSystem, Eigen::Lower | Eigen::Upper, StripPreconditioner> cg;
+  cg.setTolerance(1e-12);
+  cg.setMaxIterations(200);
+  cg.compute(A);
+  const Eigen::Map<const Eigen::VectorXd> b(rhs, static_cast<Eigen::Index>(n));
+  Eigen::Map<Eigen::VectorXd> w(W.data(), static_cast<Eigen::Index>(n));
+  applications_ = 0;
+  w = cg.solveWithGuess(b, w);
+  // Operator applications: one for the initial residual, one per CG iteration.
+  last_iterations_ = std::max(0, applications_ - 1);
+  last_residual_ = cg.error();
+  c1_ = nullptr;
+  if (cg.info() != Eigen::Success || !std::isfinite(last_residual_))
+    throw std::runtime_error("Strip: the implicit step's conjugate gradient did not converge: " +
+                             std::to_string(last_iterations_) + " iterations, relative residual " +
+                             format_number(last_residual_));
+}
+
+}  // namespace slipfront::core

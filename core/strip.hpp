@@ -1,0 +1,178 @@
+#pragma once
+// The antiplane strip of docs/model.md §9: a body of height H over the
+// interface, discretised on a uniform vertex-centred grid of nx columns (x_i = i dx, the chain's rule) and
+// rows = ny + 1 rows (y_j = j dy, H = ny dy), lumped mass, half cells on every face. One scalar unknown per
+// node (the antiplane displacement), dof index j·nx + i, row j = 0 the interface (the first nx dofs are the
+// interface sites, in order).
+//
+// Per unit height μ' = μ/H, ρ' = ρ/H (μ, ρ: the scene's thickness-integrated values, so the shear wave
+// speed is the chain's and H → 0 is the chain). Weights wx(i) = dx inside, dx/2 at i = 0, nx−1;
+// wy(j) = dy inside, dy/2 at j = 0, ny. Node mass M_ij = ρ' wx(i) wy(j).
+//   E(u) = (μ'/2) [ Σ_j wy(j) Σ_{i<nx−1} (u_{i+1,j} − u_ij)²/dx + Σ_i wx(i) Σ_{j<ny} (u_{i,j+1} − u_ij)²/dy ]
+// and Fel = −∇E = −S u (5-point, free faces: missing neighbours drop out). External forces on node (i, j):
+// interface row −wx(i)(σ̄_i + η v_i0); top row +wx(i) σ_d (homogeneous loading); edge column
+// +F(t) wy(j)/H, F = K (v_d t − ū0) + F_r, ū0 = Σ_j wy(j) u_0j / H (K, v_d: edge loading; F_r, σ_d:
+// homogeneous loading, as core::Bulk sets them). Summing a column over j gives the chain's equation.
+//
+// The implicit step's system (trapezoidal rule, like core/implicit.hpp) is solved by Eigen's conjugate
+// gradient, matrix-free, preconditioned by the exact inverse of its separable part (a cosine transform
+// along x, FFTW REDFT00, and one tridiagonal solve per mode along y): O(n log n) per iteration and an
+// iteration count that does not grow with the grid (docs/performance.md §12).
+//
+// Thread safety: a Strip holds mutable workspace, so one object serves one thread at a time; copies are
+// independent (own buffers and FFTW plans) and may run concurrently. Results are bit-reproducible
+// (FFTW_ESTIMATE plans on aligned buffers of the same sizes; fixed operation order).
+#include <cstddef>
+#include <span>
+#include <vector>
+
+#include <Eigen/SparseCore>
+
+#include "core/params.hpp"
+
+struct fftw_plan_s;  // FFTW's plan (fftw3.h stays out of this header)
+
+namespace slipfront::core {
+
+class Strip {
+ public:
+  /// How the preconditioner's interface shift d̄ is chosen (docs/performance.md §12).
+  enum class Shift {
+    mean_c1,  ///< d̄ = η + mean(c1)/2 of the step: the mode factors are recomputed when it changes (default)
+    eta,      ///< d̄ = η: factors recomputed only when dt or η change
+  };
+
+  /// Edge or homogeneous loading (throws std::invalid_argument for the others, for height ≤ 0, dy ≤ 0,
+  /// dy not dividing H, fewer than one cell in x or y).
+  Strip(const BulkParams& bulk, const DriveParams& drive, const InterfaceParams& law, double dx, double dy);
+  Strip(const Strip& o);
+  Strip(Strip&& o) noexcept;
+  Strip& operator=(const Strip& o);
+  Strip& operator=(Strip&& o) noexcept;
+  ~Strip();
+
+  std::size_t sites() const { return nx_; }
+  std::size_t rows() const { return ny_ + 1; }
+  std::size_t dofs() const { return nx_ * (ny_ + 1); }
+  double dx() const { return dx_; }
+  double dy() const { return dy_; }
+  double height() const { return H_; }
+  const std::vector<double>& x() const { return x_; }
+  double rho() const { return rho_; }
+  double interface_weight(std::size_t i) const { return (i == 0 || i + 1 == nx_) ? 0.5 * dx_ : dx_; }
+  double row_weight(std::size_t j) const { return (j == 0 || j == ny_) ? 0.5 * dy_ : dy_; }
+  double node_mass(std::size_t i, std::size_t j) const { return rho_p_ * interface_weight(i) * row_weight(j); }
+  /// Mass of the loaded edge column, Σ_j M_0j = ρ' wx(0) H = ρ dx/2.
+  double edge_mass() const { return rho_ * interface_weight(0); }
+  /// 2/ω, ω² = c_s²(4/dx² + 4/dy²) + 2K/(ρ dx) + 2αH/(ρ dy): Gershgorin bound of M⁻¹(S + interface α + spring).
+  double stable_dt() const { return stable_dt_; }
+  double uniform_stress() const { return sigma_d_; }
+  bool has_drive_spring() const { return spring_K_ > 0.0; }
+  double spring_K() const { return spring_K_; }
+  double driver_velocity() const { return v_d_; }
+  double rear_traction() const { return rear_traction_; }
+
+  /// ū0 = Σ_j wy(j) u_0j / H (u: all dofs).
+  double edge_slip(std::span<const double> u) const;
+  /// F(t) = K (v_d t − ū0) + F_r.
+  double drive_force(double t, std::span<const double> u) const {
+    return spring_K_ * (v_d_ * t - edge_slip(u)) + rear_traction_;
+  }
+  double kinetic_energy(std::span<const double> V) const;
+  double elastic_energy(std::span<const double> u) const;
+  /// K (v_d t − ū0)²/2 (0 without a spring).
+  double spring_energy(double t, std::span<const double> u) const;
+  /// σ_d Σ_i wx(i) v_{i,ny}: the power of the uniform stress on the top face (0 for edge loading).
+  double uniform_power(std::span<const double> v) const;
+  /// S (elastic only), dofs × dofs.
+  Eigen::SparseMatrix<double> stiffness_matrix() const;
+
+  /// Calls f(j, i, F) for every node with F = (−S u)_ij, rows in order, i inner.
+  template <class F>
+  void elastic_forces(std::span<const double> u, F&& f) const;
+
+  /// Explicit central-difference kick v^{n−1/2} → v^{n+1/2} of every dof, forces at u^n, η v centred on
+  /// the interface row; edge_force = F(t^n). Allocation-free, O(dofs).
+  void kick(double dt, double eta, double edge_force, std::span<const double> u, std::span<const double> sigma_bar,
+            std::span<const double> v_old, std::span<double> v_new) const;
+
+  /// One implicit (trapezoidal) step's system for W (all dofs), t → t + dt:
+  ///   [2M/dt + (dt/2)(S + K b bᵀ) + E diag(wx (η + c1/2)) Eᵀ] W
+  ///       = 2M V/dt + Fel(u) + b (K (v_d (t + dt/2) − ū0(u)) + F_r) + E wx (−(σ̄ + c0)/2) + top wx σ_d,
+  /// b the edge column's spread vector (b_0j = wy(j)/H), E the interface row. First calls
+  /// lin(i, w_prev[i], c0[i], c1[i]) for every site (c1 ≥ 0), then solves; W on entry is the initial guess.
+  /// Relative residual ≤ 1e-12 within 200 iterations, else std::runtime_error.
+  template <class Lin>
+  void implicit_solve(const Lin& lin, std::span<const double> w_prev, std::span<double> c0, std::span<double> c1,
+                      double t, double dt, double eta, std::span<const double> u, std::span<const double> V,
+                      std::span<const double> sigma_bar, std::span<double> W) {
+    for (std::size_t i = 0; i < nx_; ++i) lin(i, w_prev[i], c0[i], c1[i]);
+    solve_step(c0, c1, t, dt, eta, u, V, sigma_bar, W);
+  }
+  /// The solve of implicit_solve with c0, c1 given.
+  void solve_step(std::span<const double> c0, std::span<const double> c1, double t, double dt, double eta,
+                  std::span<const double> u, std::span<const double> V, std::span<const double> sigma_bar,
+                  std::span<double> W);
+  /// CG iterations of the last solve (0: the guess already met the tolerance).
+  int last_iterations() const { return last_iterations_; }
+  /// Relative residual the last solve reached.
+  double last_residual() const { return last_residual_; }
+
+  void set_shift(Shift s) { shift_ = s; }
+  Shift shift() const { return shift_; }
+  /// Bytes of workspace the object holds (FFT buffer, mode factors, right-hand side), and the bytes Eigen's
+  /// CG allocates per solve (four vectors, the product temporary, the guess copy).
+  std::size_t workspace_bytes() const;
+  std::size_t solver_temporary_bytes() const { return 6 * dofs() * sizeof(double); }
+
+  // Internal to the CG (strip.cpp): y = A x of the step system, z = P⁻¹ r, both on the current step's
+  // coefficients.
+  void apply_system(const double* x, double* y) const;
+  const double* apply_preconditioner(const double* r) const;
+
+ private:
+  void make_plans();
+  void free_plans() noexcept;
+  void factorise(double dt, double dbar) const;
+
+  std::vector<double> x_;
+  std::size_t nx_ = 0, ny_ = 0;
+  double dx_ = 1.0, dy_ = 1.0, H_ = 1.0, rho_ = 1.0, mu_ = 1.0, rho_p_ = 1.0, mu_p_ = 1.0;
+  double sigma_d_ = 0.0, spring_K_ = 0.0, v_d_ = 0.0, rear_traction_ = 0.0, stable_dt_ = 0.0;
+  Shift shift_ = Shift::mean_c1;
+
+  // Workspace (mutable: the solve is logically const on the body).
+  double* buf_ = nullptr;        // fftw_malloc'd, dofs(): the transform buffer (the preconditioner's result)
+  fftw_plan_s* plan_ = nullptr;  // REDFT00 of every row of buf_, in place
+  mutable std::vector<double> inv_;   // Thomas factors of the modes: 1/pivot, [j·nx + k]
+  mutable std::vector<double> rhs_;   // the step's right-hand side
+  mutable std::vector<double> inv_wx_;  // 1/(wx(i) · 2(nx−1)): the row scaling and the DCT's normalisation
+  mutable double fact_dt_ = -1.0, fact_dbar_ = -1.0;  // what inv_ was computed for
+  // The current step's coefficients (apply_system).
+  mutable const double* c1_ = nullptr;
+  mutable double dt_ = 0.0, eta_ = 0.0;
+  mutable int applications_ = 0;
+  int last_iterations_ = 0;
+  double last_residual_ = 0.0;
+};
+
+template <class F>
+void Strip::elastic_forces(std::span<const double> u, F&& f) const {
+  const std::size_t nx = nx_, ny = ny_;
+  const double cx_in = mu_p_ * dy_ / dx_, cy_in = mu_p_ * dx_ / dy_;
+  for (std::size_t j = 0; j <= ny; ++j) {
+    const double* r = u.data() + j * nx;
+    // A missing neighbour row is the row itself: its difference is exactly 0.
+    const double* dn = j == 0 ? r : r - nx;
+    const double* up = j == ny ? r : r + nx;
+    const double cx = (j == 0 || j == ny) ? 0.5 * cx_in : cx_in;
+    const double cy_end = 0.5 * cy_in;
+    f(j, std::size_t{0}, cx * (r[1] - r[0]) + cy_end * ((dn[0] - r[0]) + (up[0] - r[0])));
+    for (std::size_t i = 1; i + 1 < nx; ++i)
+      f(j, i, cx * ((r[i - 1] - r[i]) + (r[i + 1] - r[i])) + cy_in * ((dn[i] - r[i]) + (up[i] - r[i])));
+    const std::size_t e = nx - 1;
+    f(j, e, cx * (r[e - 1] - r[e]) + cy_end * ((dn[e] - r[e]) + (up[e] - r[e])));
+  }
+}
+
+}  // namespace slipfront::core

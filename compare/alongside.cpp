@@ -256,7 +256,7 @@ SceneResult run_scene_alongside(const Scene& s, const RunControl& ctl) {
   if (!runs_in_lockstep(s)) return separately();
   return with_integrator(s, [&](auto tag) {
     using Tag = decltype(tag);
-    if constexpr (std::is_same_v<Tag, AdaptiveTag>) {
+    if constexpr (is_adaptive<Tag>) {
       return separately();  // not reached: runs_in_lockstep excludes the adaptive integrator
     } else {
       return with_discrete_law(s, [&](auto make_discrete) {

@@ -1,26 +1,35 @@
 #pragma once
-// The integrator, chosen in one place (docs/numerics.md): time.integrator names a stepper class for
-// every law, and with_integrator is the only switch on it.
+// The integrator and the body, chosen in one place (docs/numerics.md, docs/model.md §9): time.integrator
+// names a stepper class for every law, bulk.height the body it steps (absent: the 1D chain, core::Bulk;
+// given: the antiplane strip, core::Strip), and with_integrator is the only switch on either.
 #include <span>
+#include <type_traits>
 
 #include "compare/scene.hpp"
 #include "core/adaptive.hpp"
+#include "core/bulk.hpp"
 #include "core/implicit.hpp"
 #include "core/law.hpp"
 #include "core/stepper.hpp"
+#include "core/strip.hpp"
 
 namespace slipfront::compare {
 
-/// Tags of time.integrator: Tag::stepper<Law> is the stepper class for a law. The adaptive integrator
-/// advances deterministic rate laws (core::SmoothLaw); a stochastic law runs on the explicit
-/// scheme then (it has no rates to integrate), alongside on the same scene.
+/// Tags of time.integrator on a body: Tag::stepper<Law> is the stepper class for a law. The adaptive
+/// integrator advances deterministic rate laws (core::SmoothLaw) on the chain; a stochastic law runs on
+/// the explicit scheme then (it has no rates to integrate), alongside on the same scene. The strip has
+/// no adaptive integrator (Scene::validate refuses it).
+template <core::Body B>
 struct ExplicitTag {
+  using body = B;
   template <class Law>
-  using stepper = core::ExplicitSimulation<Law>;
+  using stepper = core::ExplicitSimulation<Law, B>;
 };
+template <core::Body B>
 struct ImplicitTag {
+  using body = B;
   template <class Law>
-  using stepper = core::ImplicitSimulation<Law>;
+  using stepper = core::ImplicitSimulation<Law, B>;
 };
 namespace detail {
 template <class Law, bool Smooth = core::SmoothLaw<Law>>
@@ -33,19 +42,33 @@ struct AdaptiveStepper<Law, true> {
 };
 }  // namespace detail
 struct AdaptiveTag {
+  using body = core::Bulk;
   template <class Law>
   using stepper = typename detail::AdaptiveStepper<Law>::type;
 };
+template <class Tag>
+inline constexpr bool is_adaptive = std::is_same_v<Tag, AdaptiveTag>;
 
-/// Calls f(Tag{}) for the scene's time.integrator.
+/// Calls f(Tag{}) for the scene's time.integrator on the scene's body.
 template <class F>
 decltype(auto) with_integrator(const Scene& s, F&& f) {
+  const bool strip = s.bulk.height != 0.0;
   switch (s.time.integrator) {
-    case core::Integrator::implicit_trapezoidal: return f(ImplicitTag{});
-    case core::Integrator::adaptive_rosenbrock: return f(AdaptiveTag{});
+    case core::Integrator::implicit_trapezoidal:
+      return strip ? f(ImplicitTag<core::Strip>{}) : f(ImplicitTag<core::Bulk>{});
+    case core::Integrator::adaptive_rosenbrock:
+      if (strip) throw core::ParamError("time.integrator", "\"adaptive\" integrates the 1D chain only");  // Scene::validate
+      return f(AdaptiveTag{});
     case core::Integrator::central_difference: break;
   }
-  return f(ExplicitTag{});
+  return strip ? f(ExplicitTag<core::Strip>{}) : f(ExplicitTag<core::Bulk>{});
+}
+
+/// The body of a scene: the 1D chain or the strip (Scene::validate has checked the keys).
+template <core::Body B>
+B make_body(const Scene& s, const core::DriveParams& drive) {
+  if constexpr (std::is_same_v<B, core::Strip>) return B(s.bulk, drive, s.interface, s.grid.dx, s.grid.row_spacing());
+  else return B(s.bulk, drive, s.interface, s.grid.dx);
 }
 
 /// Steppers with dense output (the adaptive integrator): measurements and records at exact times.

@@ -36,7 +36,7 @@ Stepper make_stepper(const Scene& s, Law law, const std::optional<continuum::Ste
   if constexpr (Law::hooks.ages) law.track_ages(s.output.ages);  // before any set_site: ages start at 0
   core::DriveParams drive = s.drive;
   if (front) drive.rear_traction = -s.bulk.mu * front->far_field_strain;
-  core::Bulk bulk(s.bulk, drive, s.interface, s.grid.dx);
+  auto bulk = make_body<typename Stepper::body_type>(s, drive);
   if constexpr (DenseStepper<Stepper>) {
     Stepper sim(std::move(bulk), std::move(law), core::AdaptiveOptions::from(s.time));
     sim.set_stop_time(s.time.t_end);
@@ -53,6 +53,8 @@ Stepper make_stepper(const Scene& s, Law law, const std::optional<continuum::Ste
 /// σ̄ = 0), or, under homogeneous loading, the stuck state A = 1, σ̄ = σ_d, u = σ_d/α with a nucleation
 /// patch 0 ≤ x < ℓ_n in steady sliding at σ_d on the strengthening branch — or the solved steady front
 /// with its tip at drive.front_x (docs/model.md §6), plus the slip-rate kick drive.kick_dv behind it.
+/// On the strip (docs/model.md §9.4) every row above the interface carries the uniform shear σ_d:
+/// u(x, y) = u(x, 0) + σ_d y/μ', moving with the interface's slip rate (the chain has one row, y = 0).
 template <class Stepper>
 void set_initial_conditions(const Scene& s, Stepper& sim, const std::optional<continuum::SteadyFront>& front) {
   if (s.drive.loading != core::Loading::homogeneous) return;
@@ -69,14 +71,19 @@ void set_initial_conditions(const Scene& s, Stepper& sim, const std::optional<co
   const auto& ip = s.interface;
   const double sd = s.drive.sigma_d;
   const double vs = continuum::strengthening_branch_velocity(ip, sd);
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    if (std::isfinite(vs) && x[i] < s.drive.nucleation_length) {
+  const auto& body = sim.bulk();
+  const std::size_t n = x.size(), rows = body.rows();
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool patch = std::isfinite(vs) && x[i] < s.drive.nucleation_length;
+    if (patch) {
       const auto ss = continuum::steady_sliding(ip, vs);
       sim.law().set_site(i, ss.area, ss.sigma_bar);
-      sim.set_initial(i, sd / ip.alpha, vs);
     } else {
       sim.law().set_site(i, 1.0, sd);
-      sim.set_initial(i, sd / ip.alpha, 0.0);
+    }
+    for (std::size_t j = 0; j < rows; ++j) {
+      const double strain = j == 0 ? 0.0 : sd * body.row_height(j) / (s.bulk.mu / body.height());  // σ_d y/μ'
+      sim.set_initial(j * n + i, sd / ip.alpha + strain, patch ? vs : 0.0);
     }
   }
 }

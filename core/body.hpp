@@ -21,6 +21,7 @@ struct NoLinearisation {
 
 /// What a stepper needs of a body:
 ///   sites(), dofs(), x()              interface sites (x() their positions), all degrees of freedom
+///   rows(), height(), row_height(j)   rows of sites.size() dofs each, row j at y = row_height(j) (chain: one, y = 0)
 ///   rho(), dx(), interface_weight(i)  the scene's inertia, the grid spacing, the interface length of site i
 ///   edge_mass()                       the inertia the drive spring pulls (implicit_resolution)
 ///   stable_dt()                       the explicit scheme's stability limit
@@ -35,6 +36,9 @@ template <class B>
 concept Body = requires(const B& b, B& mb, std::size_t i, double d, std::span<const double> c, std::span<double> m) {
   { b.sites() } -> std::convertible_to<std::size_t>;
   { b.dofs() } -> std::convertible_to<std::size_t>;
+  { b.rows() } -> std::convertible_to<std::size_t>;
+  { b.height() } -> std::convertible_to<double>;
+  { b.row_height(i) } -> std::convertible_to<double>;
   { b.x() } -> std::convertible_to<const std::vector<double>&>;
   { b.rho() } -> std::convertible_to<double>;
   { b.dx() } -> std::convertible_to<double>;

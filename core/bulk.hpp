@@ -31,6 +31,9 @@ class Bulk {
   std::size_t nodes() const { return x_.size(); }
   std::size_t sites() const { return x_.size(); }  ///< Body: every node is an interface site
   std::size_t dofs() const { return x_.size(); }
+  std::size_t rows() const { return 1; }                 ///< one row: the interface
+  double height() const { return 0.0; }                  ///< the thin limit of docs/model.md §9
+  double row_height(std::size_t) const { return 0.0; }   ///< y of a row
   double interface_weight(std::size_t i) const { return node_weight(i); }
   double edge_mass() const { return rho_ * node_weight(0); }  ///< the inertia the drive spring pulls
   double dx() const { return dx_; }

@@ -137,7 +137,7 @@ class ImplicitSimulation : public StepperCore<Law, B> {
   // step used (frozen at the previous rates). Zero where neither the yield state nor the relaxation
   // rate moved; large across a switching or a fast change of |v|.
   double linearisation_defect(double h) {
-    core::linearise(this->law_, h, trial_, c0e_, c1e_);
+    core::linearise(this->law_, h, std::span<const double>(trial_).first(this->sites_), c0e_, c1e_);
     double d = 0.0;
     for (std::size_t i = 0; i < this->sites_; ++i) {
       const double w = trial_[i];

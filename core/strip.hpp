@@ -28,6 +28,7 @@
 
 #include <Eigen/SparseCore>
 
+#include "core/body.hpp"
 #include "core/params.hpp"
 
 struct fftw_plan_s;  // FFTW's plan (fftw3.h stays out of this header)
@@ -57,6 +58,7 @@ class Strip {
   double dx() const { return dx_; }
   double dy() const { return dy_; }
   double height() const { return H_; }
+  double row_height(std::size_t j) const { return static_cast<double>(j) * dy_; }  ///< y_j
   const std::vector<double>& x() const { return x_; }
   double rho() const { return rho_; }
   double interface_weight(std::size_t i) const { return (i == 0 || i + 1 == nx_) ? 0.5 * dx_ : dx_; }
@@ -174,5 +176,7 @@ void Strip::elastic_forces(std::span<const double> u, F&& f) const {
     f(j, e, cx * (r[e - 1] - r[e]) + cy_end * ((dn[e] - r[e]) + (up[e] - r[e])));
   }
 }
+
+static_assert(Body<Strip>);
 
 }  // namespace slipfront::core

@@ -178,16 +178,22 @@ double golden_points(const Scene& s) {
 void put_grid(const Scene& s, Estimate& e) {
   const bool one_d = core::is_one_dimensional(s.drive.loading);
   e.sites = one_d ? std::round(s.bulk.length / s.grid.dx) + 1.0 : 1.0;
+  e.rows = one_d && s.bulk.height != 0.0 ? std::round(s.bulk.height / s.grid.row_spacing()) + 1.0 : 1.0;
+  e.bulk_nodes = e.sites * e.rows;
   if (one_d) {
     e.elastic_length = std::sqrt(s.bulk.mu / s.interface.alpha);
     e.nodes_per_elastic_length = e.elastic_length / s.grid.dx;
   }
 }
 
-// How a model steps: what the bulk costs per site-step (ns) and keeps per site (fields).
+// How a model steps: what the bulk costs per site-step (ns) and keeps per site (fields); on the strip, what
+// its bulk costs per node-step and keeps per node besides (docs/performance.md §12: u, v, V, the solve's
+// workspace and Eigen's CG vectors).
 struct Stepping {
   double fields_per_site = 0.0;
   double bulk_ns = 0.0;
+  double strip_node_ns = 0.0;
+  double fields_per_node = 0.0;
 };
 
 // An imposed slip rate: the law alone in exact steps; a sweep steps every steady point (the continuum's
@@ -227,6 +233,8 @@ Stepping bulk_stepping(const Scene& s, const std::string& model, double sites, M
   m.dt = t_end / m.steps;
   m.steps_basis = "time.t_end / dt = " + format_number(t_end) + " / " + format_number(m.dt) +
                   (s.time.dt > 0 ? " (time.dt)" : " (time.cfl x the stability limit " + format_number(stable) + ")");
+  if (s.bulk.height != 0.0)  // the strip: the law per site, the bulk per node (u, v; implicit: V + 3 + 6 solve vectors)
+    return {6.0, c.explicit_bulk, implicit ? c.strip_implicit : c.strip_explicit, implicit ? 12.0 : 3.0};
   return {implicit ? 10.0 : 8.0, implicit ? c.implicit_bulk : c.explicit_bulk};
 }
 
@@ -240,11 +248,15 @@ void put_cost(const Scene& s, const Stepping& st, double sites, ModelEstimate& m
   m.site_steps = m.steps * sites;
   m.ns_per_site_step = st.bulk_ns + law.ns_per_site_step;
   const bool imposed = s.drive.loading == Loading::imposed_rate;
-  m.seconds = m.site_steps * m.ns_per_site_step * 1e-9 + (imposed ? 0.0 : m.steps * step_costs().step * 1e-9);
+  const double nodes = st.strip_node_ns > 0.0 ? sites * (s.bulk.height != 0.0 ? std::round(s.bulk.height / s.grid.row_spacing()) + 1.0 : 1.0) : 0.0;
+  m.node_steps = m.steps * nodes;
+  m.seconds = m.site_steps * m.ns_per_site_step * 1e-9 + m.node_steps * st.strip_node_ns * 1e-9 +
+              (imposed ? 0.0 : m.steps * step_costs().step * 1e-9);
   const double threads = m.model == "discrete" && s.discrete.representation == "count" && s.discrete.threads > 1
                              ? std::min<double>(s.discrete.threads, std::ceil(sites / 64.0))
                              : 0.0;
-  m.state_bytes = sites * (st.fields_per_site * word + law.bytes_per_site) + threads * thread_bytes;
+  m.state_bytes = sites * (st.fields_per_site * word + law.bytes_per_site) + nodes * st.fields_per_node * word +
+                  threads * thread_bytes;
   items.emplace_back(law.what + " and fields (" + m.model + ")", m.state_bytes);
 }
 
@@ -368,6 +380,8 @@ const StepCosts& step_costs() {
       .naive_contact = 1.0,
       .law_step = 250.0,
       .step = 250.0,
+      .strip_explicit = 2.0,
+      .strip_implicit = 50.0,
       .checkpoint = 7e6,
       .checkpoint_byte = 2.0,
   };
@@ -383,6 +397,15 @@ double active_fraction(Loading loading) {
 }
 
 double explicit_stable_dt(const Scene& s) {
+  if (s.bulk.height != 0.0 && core::is_one_dimensional(s.drive.loading)) {
+    // the strip (core::Strip, the same order of operations: the same bits): ω² = c_s²(4/dx² + 4/dy²) +
+    // 2K/(ρ dx) + 2αH/(ρ dy)
+    const double dx = s.grid.dx, dy = s.grid.row_spacing(), K = s.drive.loading == Loading::edge ? s.drive.K : 0.0;
+    const double c2 = s.bulk.mu / s.bulk.rho;
+    const double omega2 = c2 * (4.0 / (dx * dx) + 4.0 / (dy * dy)) + 2.0 * K / (s.bulk.rho * dx) +
+                          2.0 * s.interface.alpha * s.bulk.height / (s.bulk.rho * dy);
+    return 2.0 / std::sqrt(omega2);
+  }
   // ω_max² = 4μ/(ρ dx²) + 2K/(ρ dx) + α/ρ (1D edge: the drive spring on the half cell of node 0;
   // homogeneous: no spring), (K + α)/ρ for the 0D spring block: core/bulk.hpp.
   const double rho = s.bulk.rho, alpha = s.interface.alpha;
@@ -510,7 +533,9 @@ std::vector<std::string> describe(const Estimate& e) {
   std::vector<std::string> out;
   for (const auto& m : e.models)
     out.push_back(m.model + ": " + count(m.steps) + " steps (" + m.integrator + "; " + m.steps_basis + ") x " +
-                  count(e.sites) + (e.sites == 1.0 ? " site" : " sites") + ", ~" + duration(m.seconds));
+                  count(e.sites) + (e.sites == 1.0 ? " site" : " sites") +
+                  (e.rows > 1.0 ? " (strip: " + count(e.rows) + " rows, " + count(e.bulk_nodes) + " bulk nodes)" : "") +
+                  ", ~" + duration(m.seconds));
   std::string mem = "memory: ~" + gib(e.memory_bytes) + " peak (";
   for (std::size_t k = 0; k < e.memory_items.size() && k < 3; ++k)
     mem += (k ? ", " : "") + e.memory_items[k].first + " " + gib(e.memory_items[k].second);

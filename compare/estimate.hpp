@@ -20,6 +20,7 @@ struct ModelEstimate {
   double steps = 0.0;       ///< time steps (a sweep: all points together)
   std::string steps_basis;  ///< how `steps` was obtained
   double site_steps = 0.0;  ///< steps × sites
+  double node_steps = 0.0;  ///< the strip: steps × bulk nodes (its bulk's cost; 0 on the chain)
   double ns_per_site_step = 0.0;  ///< the calibrated cost used
   double seconds = 0.0;     ///< run time
   double state_bytes = 0.0; ///< integrator and interface-law state
@@ -27,7 +28,9 @@ struct ModelEstimate {
 };
 
 struct Estimate {
-  double sites = 1.0;                ///< nodes of the grid (0D: 1)
+  double sites = 1.0;                ///< interface sites of the grid (0D: 1)
+  double rows = 1.0;                 ///< rows of the body: the strip's height / grid.dy + 1 (chain, 0D: 1)
+  double bulk_nodes = 1.0;           ///< sites × rows: the body's nodes
   std::vector<ModelEstimate> models; ///< in the order of Scene::models
   double steps = 0.0;                ///< largest over the models
   double memory_bytes = 0.0;         ///< peak resident memory, writing the results included
@@ -101,6 +104,8 @@ struct StepCosts {
   double naive_contact;   ///< naive agent loop, per contact of a site-step
   double law_step;        ///< imposed slip rate: one exact step of the continuum law with its measurements
   double step;            ///< bulk scenes: per step, whatever the grid (measurements, records, lockstep)
+  double strip_explicit;  ///< the strip (docs/model.md §9): per node-step of its bulk, explicit kick and drift
+  double strip_implicit;  ///< the strip: per node-step of its bulk, the implicit step's preconditioned CG solve
   double checkpoint;      ///< one checkpoint: create, sync and rename the file
   double checkpoint_byte; ///< per byte of a checkpoint: archive the state, checksum and write it
 };

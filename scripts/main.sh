@@ -11,7 +11,7 @@ set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 bash scripts/build.sh slipfront
 
-scenes=(fig1 friction_law velocity_step spring_block homogeneous_front steady_front contacts contacts_disorder)
+scenes=(fig1 friction_law velocity_step spring_block homogeneous_front steady_front contacts contacts_disorder fig1_strip homogeneous_strip)
 slipfront=build/apps/slipfront
 python=/usr/bin/python3 # Debian's python3, where python3-h5py/-matplotlib/-numpy are installed
 failed=()

@@ -6,6 +6,7 @@
 #include <thread>
 
 #include "continuum/friction_law.hpp"
+#include "core/strip.hpp"
 #include "discrete/streams.hpp"
 
 namespace slipfront::compare {
@@ -243,12 +244,12 @@ using MemoryItems = std::vector<std::pair<std::string, double>>;
 
 // Run time and state of one model: the bulk's and the law's cost per site-step and, on a bulk scene, the
 // cost of each step; the fields, the law's state and the count law's worker threads.
-void put_cost(const Scene& s, const Stepping& st, double sites, ModelEstimate& m, MemoryItems& items) {
+void put_cost(const Scene& s, const Stepping& st, double sites, double bulk_nodes, ModelEstimate& m, MemoryItems& items) {
   const LawCost law = law_cost(s, m.model, m.steps);
   m.site_steps = m.steps * sites;
   m.ns_per_site_step = st.bulk_ns + law.ns_per_site_step;
   const bool imposed = s.drive.loading == Loading::imposed_rate;
-  const double nodes = st.strip_node_ns > 0.0 ? sites * (s.bulk.height != 0.0 ? std::round(s.bulk.height / s.grid.row_spacing()) + 1.0 : 1.0) : 0.0;
+  const double nodes = st.strip_node_ns > 0.0 ? bulk_nodes : 0.0;  // the strip's bulk, costed per node
   m.node_steps = m.steps * nodes;
   m.seconds = m.site_steps * m.ns_per_site_step * 1e-9 + m.node_steps * st.strip_node_ns * 1e-9 +
               (imposed ? 0.0 : m.steps * step_costs().step * 1e-9);
@@ -298,12 +299,13 @@ double record_bytes(const Scene& s, const ModelEstimate& m, double sites, Memory
 }
 
 // One model's steps, run time, state and records.
-ModelEstimate model_estimate(const Scene& s, const std::string& model, double sites, MemoryItems& items) {
+ModelEstimate model_estimate(const Scene& s, const std::string& model, double sites, double bulk_nodes,
+                             MemoryItems& items) {
   ModelEstimate m;
   m.model = model;
   const Stepping st = s.drive.loading == Loading::imposed_rate ? imposed_stepping(s, model, m)
                                                                : bulk_stepping(s, model, sites, m);
-  put_cost(s, st, sites, m, items);
+  put_cost(s, st, sites, bulk_nodes, m, items);
   m.record_bytes = record_bytes(s, m, sites, items);
   return m;
 }
@@ -397,15 +399,8 @@ double active_fraction(Loading loading) {
 }
 
 double explicit_stable_dt(const Scene& s) {
-  if (s.bulk.height != 0.0 && core::is_one_dimensional(s.drive.loading)) {
-    // the strip (core::Strip, the same order of operations: the same bits): ω² = c_s²(4/dx² + 4/dy²) +
-    // 2K/(ρ dx) + 2αH/(ρ dy)
-    const double dx = s.grid.dx, dy = s.grid.row_spacing(), K = s.drive.loading == Loading::edge ? s.drive.K : 0.0;
-    const double c2 = s.bulk.mu / s.bulk.rho;
-    const double omega2 = c2 * (4.0 / (dx * dx) + 4.0 / (dy * dy)) + 2.0 * K / (s.bulk.rho * dx) +
-                          2.0 * s.interface.alpha * s.bulk.height / (s.bulk.rho * dy);
-    return 2.0 / std::sqrt(omega2);
-  }
+  if (s.bulk.height != 0.0 && core::is_one_dimensional(s.drive.loading))  // the strip's own bound
+    return core::Strip::stable_time_step(s.bulk, s.drive, s.interface, s.grid.dx, s.grid.row_spacing());
   // ω_max² = 4μ/(ρ dx²) + 2K/(ρ dx) + α/ρ (1D edge: the drive spring on the half cell of node 0;
   // homogeneous: no spring), (K + α)/ρ for the 0D spring block: core/bulk.hpp.
   const double rho = s.bulk.rho, alpha = s.interface.alpha;
@@ -426,7 +421,7 @@ Estimate estimate(const Scene& s) {
   Estimate e;
   put_grid(s, e);
   MemoryItems items;  // what the peak consists of, in the order it is counted
-  for (const auto& model : s.models) e.models.push_back(model_estimate(s, model, e.sites, items));
+  for (const auto& model : s.models) e.models.push_back(model_estimate(s, model, e.sites, e.bulk_nodes, items));
   for (const auto& m : e.models) {
     e.steps = std::max(e.steps, m.steps);
     e.seconds += m.seconds;

@@ -107,6 +107,14 @@ struct generic_product_impl<slipfront::core::StripSystem, Rhs, SparseShape, Dens
 
 namespace slipfront::core {
 
+double Strip::stable_time_step(const BulkParams& bulk, const DriveParams& drive, const InterfaceParams& law, double dx,
+                               double dy) {
+  const double K = drive.loading == Loading::edge ? drive.K : 0.0;
+  const double omega2 = bulk.mu / bulk.rho * (4.0 / (dx * dx) + 4.0 / (dy * dy)) + 2.0 * K / (bulk.rho * dx) +
+                        2.0 * law.alpha * bulk.height / (bulk.rho * dy);
+  return 2.0 / std::sqrt(omega2);
+}
+
 Strip::Strip(const BulkParams& bulk, const DriveParams& drive, const InterfaceParams& law, double dx, double dy)
     : dx_(dx), dy_(dy), H_(bulk.height), rho_(bulk.rho), mu_(bulk.mu) {
   if (drive.loading != Loading::edge && drive.loading != Loading::homogeneous)
@@ -133,10 +141,7 @@ Strip::Strip(const BulkParams& bulk, const DriveParams& drive, const InterfacePa
     sigma_d_ = drive.sigma_d;
     rear_traction_ = drive.rear_traction;
   }
-  const double c2 = mu_ / rho_;
-  const double omega2 = c2 * (4.0 / (dx * dx) + 4.0 / (dy * dy)) + 2.0 * spring_K_ / (rho_ * dx) +
-                        2.0 * law.alpha * H_ / (rho_ * dy);
-  stable_dt_ = 2.0 / std::sqrt(omega2);
+  stable_dt_ = stable_time_step(bulk, drive, law, dx, dy);
 
   inv_.assign(dofs(), 0.0);
   rhs_.assign(dofs(), 0.0);

@@ -68,6 +68,9 @@ class Strip {
   double edge_mass() const { return rho_ * interface_weight(0); }
   /// 2/ω, ω² = c_s²(4/dx² + 4/dy²) + 2K/(ρ dx) + 2αH/(ρ dy): Gershgorin bound of M⁻¹(S + interface α + spring).
   double stable_dt() const { return stable_dt_; }
+  /// The same bound from the scene's parameters, without building the grid (compare::estimate).
+  static double stable_time_step(const BulkParams& bulk, const DriveParams& drive, const InterfaceParams& law, double dx,
+                                 double dy);
   double uniform_stress() const { return sigma_d_; }
   bool has_drive_spring() const { return spring_K_ > 0.0; }
   double spring_K() const { return spring_K_; }

@@ -4,6 +4,7 @@
 // scratch directory and the minimal TOML configuration of the apps/ tests. bench/scenes.hpp uses it too.
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <filesystem>
@@ -169,6 +170,43 @@ inline double max_diff_shared(std::span<const double> xa, std::span<const double
   }
   if (matched != xa.size()) throw std::invalid_argument("max_diff_shared: coarse nodes missing in the fine grid");
   return err;
+}
+
+/// Bit-for-bit equality, NaN equal to NaN (restart and identity tests).
+inline bool same(double a, double b) { return a == b || (std::isnan(a) && std::isnan(b)); }
+inline bool same(const std::vector<double>& a, const std::vector<double>& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    if (!same(a[i], b[i])) return false;
+  return true;
+}
+inline bool same(const compare::Columns& a, const compare::Columns& b) {
+  if (a.size() != b.size()) return false;
+  for (const auto& [k, v] : a)
+    if (!b.count(k) || !same(v, b.at(k))) return false;
+  return true;
+}
+
+/// Largest |a_i − b_i| relative to the largest |a_i|, |b_i| (0 when both fields vanish).
+inline double max_relative_difference(std::span<const double> a, std::span<const double> b) {
+  if (a.size() != b.size()) throw std::invalid_argument("max_relative_difference: sizes differ");
+  double scale = 0.0, diff = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    scale = std::max({scale, std::abs(a[i]), std::abs(b[i])});
+    diff = std::max(diff, std::abs(a[i] - b[i]));
+  }
+  return scale > 0.0 ? diff / scale : diff;
+}
+
+/// max_k |energy residual| / max_k drive work of a run with output.energy (throws without drive work).
+inline double worst_energy_residual(const compare::ModelResult& r) {
+  const auto& res = r.series.at("energy_residual");
+  const auto& work = r.series.at("energy_drive_work");
+  const double scale = *std::max_element(work.begin(), work.end());
+  if (!(scale > 0.0)) throw std::invalid_argument("worst_energy_residual: no drive work");
+  double worst = 0.0;
+  for (double x : res) worst = std::max(worst, std::abs(x));
+  return worst / scale;
 }
 
 /// Observed order of convergence from two errors at refinement ratio `ratio`.

@@ -25,19 +25,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-bool same(double a, double b) { return a == b || (std::isnan(a) && std::isnan(b)); }
-bool same(const std::vector<double>& a, const std::vector<double>& b) {
-  if (a.size() != b.size()) return false;
-  for (std::size_t i = 0; i < a.size(); ++i)
-    if (!same(a[i], b[i])) return false;
-  return true;
-}
-bool same(const compare::Columns& a, const compare::Columns& b) {
-  if (a.size() != b.size()) return false;
-  for (const auto& [k, v] : a)
-    if (!b.count(k) || !same(v, b.at(k))) return false;
-  return true;
-}
+using testing::same;
 
 // Every field of two results, exactly (the wall time aside).
 void require_identical(const compare::SceneResult& x, const compare::SceneResult& y) {

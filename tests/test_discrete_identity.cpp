@@ -41,23 +41,12 @@ compare::Scene fig1_short() {
   return noise_off(s);
 }
 
-// Largest |a − b| relative to the largest |a|, |b| (0 when both fields vanish).
-double rel_diff(std::span<const double> a, std::span<const double> b) {
-  REQUIRE(a.size() == b.size());
-  double scale = 0.0, diff = 0.0;
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    scale = std::max({scale, std::abs(a[i]), std::abs(b[i])});
-    diff = std::max(diff, std::abs(a[i] - b[i]));
-  }
-  return scale > 0.0 ? diff / scale : diff;
-}
 
-bool same_event(double a, double b) { return (std::isnan(a) && std::isnan(b)) || a == b; }
 
 void require_same_events(const compare::Events& c, const compare::Events& d) {
-  CHECK(same_event(c.t_star, d.t_star));
-  CHECK(same_event(c.t_hat, d.t_hat));
-  CHECK(same_event(c.t_arrest, d.t_arrest));
+  CHECK(testing::same(c.t_star, d.t_star));
+  CHECK(testing::same(c.t_hat, d.t_hat));
+  CHECK(testing::same(c.t_arrest, d.t_arrest));
 }
 
 // Every column of `c` compared with the same column of `d`; returns the largest relative difference.
@@ -66,7 +55,7 @@ double columns_diff(const compare::Columns& c, const compare::Columns& d) {
   for (const auto& [name, col] : c) {
     INFO("column " << name);
     REQUIRE(d.count(name) == 1);
-    const double e = rel_diff(col, d.at(name));
+    const double e = testing::max_relative_difference(col, d.at(name));
     CHECK(e <= tolerance);
     worst = std::max(worst, e);
   }
@@ -93,7 +82,7 @@ TEST_CASE("discrete identity: fig1 through first yield, w = 0 and noise off", "[
       INFO(field << " at t = " << c.snapshot_t[k]);
       const auto a = std::span<const double>(c.snapshots.at(field)).subspan(k * nx, nx);
       const auto b = std::span<const double>(d.snapshots.at(field)).subspan(k * nx, nx);
-      const double e = rel_diff(a, b);
+      const double e = testing::max_relative_difference(a, b);
       CHECK(e <= tolerance);
       worst = std::max(worst, e);
     }
@@ -188,7 +177,7 @@ TEST_CASE("discrete identity: homogeneous front from a nucleation patch", "[disc
   for (const char* field : {"A", "sigma_bar", "u", "v"})
     for (std::size_t k = 0; k < r[0].snapshot_t.size(); ++k) {
       INFO(field << " at t = " << r[0].snapshot_t[k]);
-      const double e = rel_diff(std::span<const double>(r[0].snapshots.at(field)).subspan(k * nx, nx),
+      const double e = testing::max_relative_difference(std::span<const double>(r[0].snapshots.at(field)).subspan(k * nx, nx),
                                 std::span<const double>(r[1].snapshots.at(field)).subspan(k * nx, nx));
       CHECK(e <= tolerance);
       worst = std::max(worst, e);

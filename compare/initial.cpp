@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <cmath>
 
+#include "compare/estimate.hpp"
+
 namespace slipfront::compare {
 
 double dynamic_time_step(const Scene& s) {
-  const core::Bulk bulk(s.bulk, s.drive, s.interface, s.grid.dx);
-  const double dt = s.time.dt > 0 ? s.time.dt : s.time.cfl * bulk.stable_dt();
+  // the explicit limit of the scene's body (the chain's or the strip's): compare::explicit_stable_dt
+  const double dt = s.time.dt > 0 ? s.time.dt : s.time.cfl * explicit_stable_dt(s);
   const double n = std::max(1.0, std::ceil(s.time.t_end / dt - 1e-9));
   return s.time.t_end / n;
 }

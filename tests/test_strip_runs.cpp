@@ -17,6 +17,7 @@
 #include "compare/fit.hpp"
 #include "compare/runner.hpp"
 #include "compare/scene.hpp"
+#include "core/strip.hpp"
 #include "scenes.hpp"
 
 using namespace slipfront;
@@ -552,4 +553,19 @@ TEST_CASE("strip runs: the strip's keys are refused where they do not apply, nam
       require_refused(text, "bulk.height");
     }
   }
+}
+
+TEST_CASE("strip runs: time.cfl is a fraction of the strip's own stability limit", "[strip]") {
+  // The fixed step of a scene is time.cfl × the explicit limit of its body: on the strip the limit includes
+  // the rows (4c_s²/dy²), which the chain's does not — with the chain's limit cfl = 0.5 was 0.71 of the strip's.
+  compare::Scene s = fig1_strip(17.0, 0.5);
+  s.time.integrator = core::Integrator::central_difference;
+  s.time.dt = 0.0;
+  s.time.cfl = 0.5;
+  s.time.t_end = 0.5;
+  const auto r = run_one(s);
+  const double stable = r.scalars.at("stable_dt");
+  CHECK(stable == core::Strip::stable_time_step(s.bulk, s.drive, s.interface, s.grid.dx, s.grid.row_spacing()));
+  CHECK(r.scalars.at("dt") <= 0.5 * stable);
+  CHECK(r.scalars.at("dt") > 0.5 * stable * (1.0 - 1.0 / 200.0));  // shortened only to a whole number of steps
 }

@@ -78,6 +78,7 @@ bool dt_given(const Scene& s) { return s.time.dt != 0.0; }
 bool cfl_used(const Scene& s) { return !imposed(s) && s.time.dt == 0.0; }
 bool bulk_scene(const Scene& s) { return !imposed(s); }
 bool strip_given(const Scene& s) { return s.bulk.height != 0.0; }
+bool bulk_snapshots(const Scene& s) { return strip_given(s) && s.bulk_output.dt > 0.0; }
 // grid.dy given to a chain is refused (GridParams::validate): it would otherwise be dropped in silence
 bool strip_grid(const Scene& s) { return one_d(s) && (s.bulk.height != 0.0 || s.grid.dy != 0.0); }
 bool implicit_integrator(const Scene& s) {
@@ -204,6 +205,11 @@ const std::vector<Section>& schema() {
             "when models lists continuum and discrete on a bulk scene"},
            {"contact_snapshot_dt", at<&Scene::output, &OutputParams::contact_snapshot_dt>, contact_statistics,
             "with discrete.contact_statistics = true"},
+           // the strip's body snapshots (/<model>/bulk/, docs/output.md): a chain has no body to snapshot
+           {"bulk_dt", at<&Scene::bulk_output, &compare::BulkOutputParams::dt>, strip_given,
+            "with bulk.height (the strip)"},
+           {"bulk_stride", at<&Scene::bulk_output, &compare::BulkOutputParams::stride>, bulk_snapshots,
+            "with bulk.height (the strip) and output.bulk_dt > 0"},
        }},
       {"discrete",
        {

@@ -185,6 +185,17 @@ compare::ModelResult read_model(hid_t file, const std::string& m, const ReadOpti
       else r.snapshots[name] = read_dataset(s.get(), name, where + "/" + name);
     }
   }
+  if (has_link(g.get(), "bulk")) {
+    const std::string where = base + "/bulk";
+    Hid b(H5Gopen2(g.get(), "bulk", H5P_DEFAULT), H5Gclose, "open group " + where);
+    for (const auto& name : link_names(b.get(), where)) {
+      std::vector<double> v = read_dataset(b.get(), name, where + "/" + name);
+      if (name == "t") r.bulk_t = std::move(v);
+      else if (name == "x") r.bulk_x = std::move(v);
+      else if (name == "y") r.bulk_y = std::move(v);
+      else r.bulk[name] = std::move(v);
+    }
+  }
   if (has_link(g.get(), "contacts")) {
     const std::string where = base + "/contacts";
     Hid c(H5Gopen2(g.get(), "contacts", H5P_DEFAULT), H5Gclose, "open group " + where);

@@ -80,8 +80,9 @@ void attr_int(hid_t obj, const std::string& name, long long value) {
   check(H5Awrite(attr.get(), H5T_NATIVE_LLONG, &value), "write attribute " + name);
 }
 
-// A float64 dataset of shape dims (rank 1 or 2) with a `description` attribute. Snapshots
-// (`compress`) are chunked by whole rows and gzip-compressed when the filter is available.
+// A float64 dataset of shape dims (rank 1, 2 or 3) with a `description` attribute. Snapshots
+// (`compress`, rank 2 or 3) are chunked by whole rows (whole [nyk, nxk] planes) and gzip-compressed when
+// the filter is available.
 void dataset(hid_t parent, const std::string& name, const double* data, std::vector<hsize_t> dims,
              const std::string& description, const std::string& where, bool compress = false) {
   const auto rank = static_cast<int>(dims.size());
@@ -89,11 +90,12 @@ void dataset(hid_t parent, const std::string& name, const double* data, std::vec
   Hid dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, "make a property list");
   hsize_t total = 1;
   for (const auto d : dims) total *= d;
-  if (compress && rank == 2 && total > 0 && H5Zfilter_avail(H5Z_FILTER_DEFLATE) > 0) {
-    const hsize_t cols = dims[1];
+  if (compress && rank >= 2 && total > 0 && H5Zfilter_avail(H5Z_FILTER_DEFLATE) > 0) {
+    const hsize_t cols = total / dims[0];  // values per row (rank 3: per plane)
     const hsize_t rows = std::clamp<hsize_t>(16384 / std::max<hsize_t>(cols, 1), 1, dims[0]);  // ≤ 128 KiB
-    const hsize_t chunk[2] = {rows, cols};
-    check(H5Pset_chunk(dcpl.get(), 2, chunk), "chunk " + where);
+    std::vector<hsize_t> chunk = dims;
+    chunk[0] = rows;
+    check(H5Pset_chunk(dcpl.get(), rank, chunk.data()), "chunk " + where);
     check(H5Pset_shuffle(dcpl.get()), "set the shuffle filter on " + where);
     check(H5Pset_deflate(dcpl.get(), 4), "set the gzip filter on " + where);
   }
@@ -189,6 +191,18 @@ std::string description_of(const std::string& group, const std::string& name) {
        "mean contact age a(x, t) of the attached contacts [ns, nx] (output.ages; continuum: M/A of its age mass, "
        "docs/model.md §7.1; agent: exact; NaN where no contact is attached)"},
       {"series/age", "mean contact age of the attached contacts of the single site (0D, output.ages)"},
+      {"bulk/t", "time of each bulk snapshot (cadence output.bulk_dt: the first step end at or after each multiple) [nb]"},
+      {"bulk/x", "x of the kept columns of the strip (every output.bulk_stride-th node, and the last) [nxk]"},
+      {"bulk/y",
+       "y of the kept rows of the strip (every output.bulk_stride-th row, and the top): 0 the interface, "
+       "bulk.height the top [nyk]"},
+      {"bulk/u", "antiplane displacement u(x, y, t) at the kept nodes [nb, nyk, nxk]"},
+      {"bulk/tau_xz",
+       "shear stress tau_xz = mu' du/dx (mu' = bulk.mu / bulk.height) at the kept nodes, second-order differences "
+       "on the full grid (central inside, one-sided on the faces) [nb, nyk, nxk]"},
+      {"bulk/tau_yz",
+       "shear stress tau_yz = mu' du/dy (mu' = bulk.mu / bulk.height) at the kept nodes, second-order differences "
+       "on the full grid (central inside, one-sided on the faces) [nb, nyk, nxk]"},
       {"cycles/t_start", "spring block stick-slip cycles: time the slip event started (v > measure.v_event)"},
       {"cycles/F_peak", "spring block stick-slip cycles: largest drive force since the previous event (peak friction)"},
       {"cycles/F_residual", "spring block stick-slip cycles: smallest drive force during the event (residual friction)"},
@@ -208,6 +222,8 @@ std::string group_description(const std::string& group) {
   static const std::map<std::string, std::string> known = {
       {"series", "time series, one sample every output.series_dt"},
       {"snapshots", "fields along the interface, one row every output.snapshot_dt"},
+      {"bulk", "the strip's body (bulk.height) on a decimated grid (output.bulk_stride), one snapshot every "
+               "output.bulk_dt: displacement u and the shear stresses tau_xz, tau_yz"},
       {"events", "event times and front speeds (docs/model.md §3) as attributes; NaN where the run had no such event; "
                  "the _alt names are measured on the measure.A_tip_alt front"},
       {"cycles", "stick-slip cycles of the spring block, one entry per cycle"},
@@ -261,6 +277,24 @@ void model(hid_t file, const compare::ModelResult& r) {
         throw OutputError("snapshot column " + name + " of " + m + " has " + std::to_string(v.size()) +
                           " values, expected ns * nx = " + std::to_string(ns) + " * " + std::to_string(nx));
       dataset(s.get(), name, v.data(), {ns, nx}, description_of("snapshots", name), where, true);
+    }
+  }
+
+  if (!r.bulk_t.empty()) {
+    const std::string base = "/" + m + "/bulk";
+    Hid b = make_group(g.get(), "bulk", base);
+    attr_string(b.get(), "description", group_description("bulk"));
+    dataset_1d(b.get(), "t", r.bulk_t, description_of("bulk", "t"), base + "/t");
+    dataset_1d(b.get(), "x", r.bulk_x, description_of("bulk", "x"), base + "/x");
+    dataset_1d(b.get(), "y", r.bulk_y, description_of("bulk", "y"), base + "/y");
+    const hsize_t nb = r.bulk_t.size(), nyk = r.bulk_y.size(), nxk = r.bulk_x.size();
+    for (const auto& [name, v] : r.bulk) {
+      const std::string where = base + "/" + name;
+      if (v.size() != nb * nyk * nxk)
+        throw OutputError("bulk snapshot field " + name + " of " + m + " has " + std::to_string(v.size()) +
+                          " values, expected nb * nyk * nxk = " + std::to_string(nb) + " * " + std::to_string(nyk) +
+                          " * " + std::to_string(nxk));
+      dataset(b.get(), name, v.data(), {nb, nyk, nxk}, description_of("bulk", name), where, true);
     }
   }
 

@@ -293,6 +293,14 @@ double record_bytes(const Scene& s, const ModelEstimate& m, double sites, Memory
     if (s.output.snapshot_dt > 0)
       add("snapshots (output.snapshot_dt)", growth * word * (4.0 * sites + 1.0) * samples(t_end, s.output.snapshot_dt, cap));
     add("tip samples (measure.sample_dt)", growth * 3.0 * word * samples(t_end, s.measure.sample_dt, cap));
+    if (s.bulk.height != 0.0 && s.bulk_output.dt > 0) {  // the strip's body snapshots: u, tau_xz, tau_yz
+      const double dy = s.grid.dy > 0 ? s.grid.dy : s.grid.dx;
+      const auto stride = static_cast<double>(std::max(1, s.bulk_output.stride));
+      // kept_indices: ceil(n / stride) nodes, plus the last one when the stride skips it
+      const auto kept = [&](double n) { return std::min(n, std::ceil(n / stride) + 1.0); };
+      const double nodes = kept(sites) * kept(std::round(s.bulk.height / dy) + 1.0);
+      add("bulk snapshots (output.bulk_dt)", growth * word * (3.0 * nodes + 1.0) * samples(t_end, s.bulk_output.dt, cap));
+    }
   }
   if (m.model == "discrete") add("contact statistics", contact_stats_bytes(s, sites, m.steps));
   return rec;
@@ -459,7 +467,7 @@ void check_limits(const Scene& s, const Estimate& e) {
     throw ParamError("limits.max_memory_gib",
                      "the run would need about " + gib(e.memory_bytes) + " of memory (" + what +
                          "), more than limits.max_memory_gib = " + format_number(lim.max_memory_gib) +
-                         "; reduce what is kept (output.snapshot_dt, output.series_dt, measure.sample_dt), the grid, "
+                         "; reduce what is kept (output.snapshot_dt, output.bulk_dt, output.series_dt, measure.sample_dt), the grid, "
                          "discrete.contacts_per_site or discrete.bins, or raise limits.max_memory_gib");
   }
   if (slowest && !(e.seconds <= lim.max_hours * 3600.0))

@@ -12,6 +12,7 @@
 //                                                       into out; false when the law carries none
 #include <algorithm>
 #include <cmath>
+#include <concepts>
 #include <cstdint>
 #include <limits>
 #include <optional>
@@ -61,6 +62,19 @@ struct StepEndState {
   double drive_force() const { return sim.drive_force(); }
   double max_slip_rate() const { return sim.max_slip_rate(); }
   bool mean_age(std::span<double> out) const { return detail::law_mean_age(sim.law(), out); }
+  /// The body (core::Bulk or core::Strip) and the displacement of all its dofs (the bulk snapshots).
+  const auto& body() const { return sim.bulk(); }
+  std::span<const double> displacement() const { return sim.displacement(); }
+};
+
+/// A state view of a body with shear stresses (the strip, core::Strip::shear_stresses): what the bulk
+/// snapshots read.
+template <class State>
+concept StripState = requires(const State& st, std::size_t i, double& a) {
+  { st.displacement() } -> std::convertible_to<std::span<const double>>;
+  st.body().shear_stresses(st.displacement(), i, i, a, a);
+  { st.body().row_height(i) } -> std::convertible_to<double>;
+  { st.body().rows() } -> std::convertible_to<std::size_t>;
 };
 
 /// A stepper with dense output (AdaptiveSimulation): its state at any t in the last step, each field
@@ -128,13 +142,17 @@ struct ImposedRateState {
 
 /// What a run stores, and when: series rows every output.series_dt, snapshots every
 /// output.snapshot_dt (1D scenes), each at the first step end at or after each multiple (fixed-step
-/// runs, exact = false) or at the exact multiples (dense output, exact = true).
+/// runs, exact = false) or at the exact multiples (dense output, exact = true); on the strip
+/// (bulk.height), bulk snapshots every output.bulk_dt at the first step end at or after each multiple
+/// (the strip runs fixed-step integrators only).
 class Recorder {
  public:
   Recorder(const Scene& s, ModelResult& r)
       : eta_(s.interface.eta), one_d_(core::is_one_dimensional(s.drive.loading)),
         series_every_(s.output.series_dt), snapshot_every_(one_d_ && s.output.snapshot_dt > 0 ? s.output.snapshot_dt : -1),
-        series_due_(series_every_), snap_due_(snapshot_every_), r_(r) {}
+        bulk_every_(one_d_ && s.bulk.height != 0.0 && s.bulk_output.dt > 0 ? s.bulk_output.dt : -1),
+        bulk_stride_(static_cast<std::size_t>(std::max(1, s.bulk_output.stride))), series_due_(series_every_),
+        snap_due_(snapshot_every_), bulk_due_(bulk_every_), r_(r) {}
 
   /// After a step [t0, t1] (or at the start, t0 = t1 = 0 with exact = false): every row due in it.
   /// state_at(t) gives the state view at t (any t in [t0, t1] when exact; t1 otherwise); tracker gives
@@ -145,6 +163,7 @@ class Recorder {
     if (!exact) {
       if (series_due_.due(t1)) series_row(state_at(t1), tracker, energy);
       if (snap_due_.due(t1)) snapshot(state_at(t1));
+      if (bulk_due_.due(t1)) bulk_snapshot(state_at(t1));
       return;
     }
     multiples_in(t0, t1, series_every_, [&](double t) { series_row(state_at(t), tracker, energy); });
@@ -186,7 +205,7 @@ class Recorder {
 
   template <class Ar>
   void serialize(Ar& ar) {
-    ar(series_due_, snap_due_);
+    ar(series_due_, snap_due_, bulk_due_);
   }
 
   /// One snapshot row (docs/output.md /snapshots): A, sigma_bar, v, u over the nodes; age (the mean
@@ -202,11 +221,44 @@ class Recorder {
     if (st.mean_age(age_)) detail::append(r_.snapshots, "age", age_);
   }
 
+  /// One bulk snapshot (docs/output.md /<model>/bulk/): u, tau_xz, tau_yz at the kept nodes
+  /// (kept_indices in x and y: every bulk_stride-th, the last column and the top row always), rows in
+  /// order, columns inner; the kept positions with the first one. Nothing where the body has no shear
+  /// stresses (the chain, whose bulk cadence is never due).
+  template <class State>
+  void bulk_snapshot(const State& st) {
+    if constexpr (StripState<State>) {
+      const auto& body = st.body();
+      const auto u = st.displacement();
+      const auto cols = kept_indices(body.sites(), bulk_stride_), rows = kept_indices(body.rows(), bulk_stride_);
+      if (r_.bulk_t.empty()) {
+        r_.bulk_x.clear();
+        r_.bulk_y.clear();
+        for (const auto i : cols) r_.bulk_x.push_back(body.x()[i]);
+        for (const auto j : rows) r_.bulk_y.push_back(body.row_height(j));
+      }
+      r_.bulk_t.push_back(st.t());
+      auto& cu = r_.bulk["u"];
+      auto& cxz = r_.bulk["tau_xz"];
+      auto& cyz = r_.bulk["tau_yz"];
+      const std::size_t nx = body.sites();
+      for (const auto j : rows)
+        for (const auto i : cols) {
+          double txz = 0.0, tyz = 0.0;
+          body.shear_stresses(u, i, j, txz, tyz);
+          cu.push_back(u[j * nx + i]);
+          cxz.push_back(txz);
+          cyz.push_back(tyz);
+        }
+    }
+  }
+
  private:
   double eta_;
   bool one_d_;
-  double series_every_, snapshot_every_;
-  Cadence series_due_, snap_due_;
+  double series_every_, snapshot_every_, bulk_every_;
+  std::size_t bulk_stride_;
+  Cadence series_due_, snap_due_, bulk_due_;
   ModelResult& r_;
   std::vector<double> age_;  ///< scratch row of mean ages
 };

@@ -52,6 +52,12 @@ struct ModelResult {
   Columns series;                   ///< each [nt]: t, drive_force, tip_x, tip_x_alt, max_v, ...
   std::vector<double> snapshot_t;   ///< [ns]
   Columns snapshots;                ///< each flat [ns * nx] row-major: A, sigma_bar, v, u
+  /// The strip's body snapshots (docs/output.md /<model>/bulk/, output.bulk_dt): the kept nodes' positions
+  /// and, per snapshot, u, tau_xz, tau_yz each flat [nb * nyk * nxk] (snapshot, row, column; row-major).
+  std::vector<double> bulk_t;       ///< [nb]
+  std::vector<double> bulk_x;       ///< [nxk] x of the kept columns
+  std::vector<double> bulk_y;       ///< [nyk] y of the kept rows (0: the interface; the last: the top, H)
+  Columns bulk;                     ///< u, tau_xz, tau_yz
   Events events;                    ///< measured on the A_tip front (docs/model.md §3 default 0.5)
   Events events_alt;                ///< the same measured on the A_tip_alt front (0.9)
   Columns cycles;                   ///< spring block stick–slip cycles: t_start, F_peak, F_residual
@@ -73,8 +79,8 @@ struct ModelResult {
         throw core::ArchiveError(std::string("checkpoint: ") + e.what());
       }
     }
-    ar(message, x, series, snapshot_t, snapshots, events, events_alt, cycles, friction_law, scalars,
-       labels, contacts, contacts_2d, wall_seconds);
+    ar(message, x, series, snapshot_t, snapshots, bulk_t, bulk_x, bulk_y, bulk, events, events_alt, cycles,
+       friction_law, scalars, labels, contacts, contacts_2d, wall_seconds);
   }
 };
 

@@ -21,19 +21,40 @@ const KeyDomain limit_domains[] = {
      "(the data all checkpoints of a run write together: --checkpoint-every)"},
     {"limits.min_nodes_per_elastic_length", K::number, 0.0, 1e6, false, false, false, "", "(0: no resolution check)"},
 };
+const KeyDomain bulk_output_domains[] = {
+    {"output.bulk_dt", K::number, 0.0, core::parameter_cap, false, false, false, "",
+     "(0: no bulk snapshots; used on the strip, bulk.height)"},
+    {"output.bulk_stride", K::integer, 1.0, 1e9, false, false, false, "",
+     "(keep every k-th node in x and y; the last column and the top row always)"},
+};
 }  // namespace
 
 std::span<const KeyDomain> limit_key_domains() { return limit_domains; }
+std::span<const KeyDomain> bulk_output_key_domains() { return bulk_output_domains; }
+
+void BulkOutputParams::validate() const {
+  core::check_in_domain(*core::find_key_domain(bulk_output_key_domains(), "output.bulk_dt"), dt);
+  core::check_in_domain(*core::find_key_domain(bulk_output_key_domains(), "output.bulk_stride"), stride);
+}
+
+std::vector<std::size_t> kept_indices(std::size_t n, std::size_t stride) {
+  std::vector<std::size_t> out;
+  if (n == 0) return out;
+  stride = std::max<std::size_t>(stride, 1);
+  for (std::size_t k = 0; k < n; k += stride) out.push_back(k);
+  if (out.back() != n - 1) out.push_back(n - 1);
+  return out;
+}
 
 std::vector<KeyDomain> all_key_domains() {
   std::vector<KeyDomain> out;
-  for (const auto table : {core::key_domains(), discrete::key_domains(), limit_key_domains()})
+  for (const auto table : {core::key_domains(), discrete::key_domains(), bulk_output_key_domains(), limit_key_domains()})
     out.insert(out.end(), table.begin(), table.end());
   return out;
 }
 
 const KeyDomain* find_key_domain(std::string_view key) {
-  for (const auto table : {core::key_domains(), discrete::key_domains(), limit_key_domains()})
+  for (const auto table : {core::key_domains(), discrete::key_domains(), bulk_output_key_domains(), limit_key_domains()})
     if (const KeyDomain* d = core::find_key_domain(table, key)) return d;
   return nullptr;
 }
@@ -59,6 +80,7 @@ void Scene::validate() const {
   time.validate(drive.loading);
   measure.validate();
   output.validate();
+  bulk_output.validate();
   limits.validate();
   const bool continuum_runs = lists("continuum");
   const bool discrete_runs = lists("discrete");

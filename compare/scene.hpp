@@ -29,8 +29,25 @@ struct LimitParams {
 /// The domains of the [limits] keys (core::KeyDomain).
 std::span<const core::KeyDomain> limit_key_domains();
 
+/// Snapshots of the strip's body (docs/model.md §9, docs/output.md `/<model>/bulk/`): the displacement u and
+/// the two shear stresses on a decimated grid, keys output.bulk_dt and output.bulk_stride. Used on the strip
+/// only (bulk.height); a chain's configuration that gives them is noted and they are ignored.
+struct BulkOutputParams {
+  double dt = 0.0;  ///< cadence (0: none, the default)
+  int stride = 4;   ///< keep every stride-th node in x and in y, and always the last column and the top row
+  void validate() const;
+};
+
+/// The domains of output.bulk_dt and output.bulk_stride (core::KeyDomain).
+std::span<const core::KeyDomain> bulk_output_key_domains();
+
+/// The indices 0, stride, 2 stride, ... below n, and n − 1 (the last node is always kept); n ≥ 1,
+/// stride ≥ 1. The decimation of the bulk snapshots in x (n = sites) and y (n = rows: row 0 is the
+/// interface, row n − 1 the top).
+std::vector<std::size_t> kept_indices(std::size_t n, std::size_t stride);
+
 /// Every key domain of the schema: core::key_domains(), discrete::key_domains(),
-/// limit_key_domains(), in that order.
+/// bulk_output_key_domains(), limit_key_domains(), in that order.
 std::vector<core::KeyDomain> all_key_domains();
 /// The row of a dotted key in all_key_domains() (nullptr if none).
 const core::KeyDomain* find_key_domain(std::string_view key);
@@ -46,6 +63,7 @@ struct Scene {
   core::TimeParams time;
   core::MeasureParams measure;
   core::OutputParams output;
+  BulkOutputParams bulk_output;  ///< output.bulk_dt, output.bulk_stride (the strip)
   discrete::DiscreteParams discrete;
   LimitParams limits;
   /// Whether `model` ("continuum", "discrete") is one of the models to run.

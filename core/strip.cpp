@@ -448,4 +448,21 @@ void Strip::solve_step(std::span<const double> c0, std::span<const double> c1, d
                              format_number(last_residual_));
 }
 
+namespace {
+// d/ds of the samples f(k) = p[k * step], k = 0 .. n − 1, spacing h, at k: second order (central inside,
+// one-sided on the ends; two samples: their difference quotient).
+double derivative(const double* p, std::size_t step, std::size_t n, std::size_t k, double h) {
+  if (n < 2) return 0.0;
+  if (n == 2) return (p[step] - p[0]) / h;
+  if (k == 0) return (-3.0 * p[0] + 4.0 * p[step] - p[2 * step]) / (2.0 * h);
+  if (k + 1 == n) return (3.0 * p[k * step] - 4.0 * p[(k - 1) * step] + p[(k - 2) * step]) / (2.0 * h);
+  return (p[(k + 1) * step] - p[(k - 1) * step]) / (2.0 * h);
+}
+}  // namespace
+
+void Strip::shear_stresses(std::span<const double> u, std::size_t i, std::size_t j, double& txz, double& tyz) const {
+  txz = mu_p_ * derivative(u.data() + j * nx_, 1, nx_, i, dx_);
+  tyz = mu_p_ * derivative(u.data() + i, nx_, ny_ + 1, j, dy_);
+}
+
 }  // namespace slipfront::core

@@ -89,6 +89,11 @@ class Strip {
   double spring_energy(double t, std::span<const double> u) const;
   /// σ_d Σ_i wx(i) v_{i,ny}: the power of the uniform stress on the top face (0 for edge loading).
   double uniform_power(std::span<const double> v) const;
+  /// The two shear stresses at node (i, j) (u: all dofs): τ_xz = μ' ∂u/∂x, τ_yz = μ' ∂u/∂y by second-order
+  /// differences, central inside and one-sided (−3u₀ + 4u₁ − u₂)/(2h) on the faces (first order when a
+  /// direction has only two nodes). Exact for u quadratic in x and y (the homogeneous stuck state,
+  /// docs/model.md §9.4: τ_yz = σ_d, τ_xz = 0).
+  void shear_stresses(std::span<const double> u, std::size_t i, std::size_t j, double& txz, double& tyz) const;
   /// S (elastic only), dofs × dofs.
   Eigen::SparseMatrix<double> stiffness_matrix() const;
 

@@ -38,6 +38,8 @@ void require_identical(const compare::SceneResult& x, const compare::SceneResult
     CHECK(same(a.series, b.series));
     CHECK(same(a.snapshot_t, b.snapshot_t));
     CHECK(same(a.snapshots, b.snapshots));
+    CHECK(same(a.bulk_t, b.bulk_t));  // the strip's bulk snapshots (tests/test_strip_output.cpp)
+    CHECK(same(a.bulk, b.bulk));
     CHECK(same(a.cycles, b.cycles));
     CHECK(same(a.contacts, b.contacts));
     CHECK(a.contacts_2d.size() == b.contacts_2d.size());

@@ -1,5 +1,6 @@
 // Hostile input (issue 10): every key of the configuration schema gets bad values derived from its row
-// of the one domain table (core::key_domains, discrete::key_domains, compare::limit_key_domains)
+// of the one domain table (core::key_domains, discrete::key_domains, compare::bulk_output_key_domains,
+// compare::limit_key_domains)
 // and each must be refused with the key named; a schema key without a row fails the test. Then the
 // reproducers of the issue, each refused with a reason (or shown to be correct), and a seeded random
 // pass over every key that must never crash.
@@ -47,6 +48,7 @@ const std::vector<Base>& bases() {
       {"edge, adaptive", {"time.integrator=adaptive"}},
       {"edge, implicit", {"time.integrator=implicit", "time.dt=0.001"}},
       {"edge, strip", {"bulk.height=4", "grid.dy=1"}},
+      {"edge, strip with bulk snapshots", {"bulk.height=4", "grid.dy=1", "output.bulk_dt=0.5"}},
       {"edge, agent with contact statistics", {"discrete.representation=agent", "discrete.contact_statistics=true"}},
       {"homogeneous, steady-front start",
        {"drive.loading=homogeneous", "drive.sigma_d=0.5", "drive.start=steady_front", "drive.front_x=5"}},

@@ -119,7 +119,7 @@ TEST_CASE("estimate: memory grows with what the run keeps until the end", "[esti
   CHECK(item(compare::estimate(threads), "count law") - item(base, "count law") == Approx(8.0 * 256 * 1024).epsilon(1e-9));
 }
 
-TEST_CASE("estimate: refusals name the limit, the estimate and what drives it; raising the limit accepts", "[estimate]") {
+TEST_CASE("estimate: refusals name the limit, the estimate and what drives it, and raising the limit accepts", "[estimate]") {
   Scene s = testing::fig1_scene();
   s.time.t_end = 1e9;
   s.output.snapshot_dt = 0.0;

@@ -61,7 +61,7 @@ struct BoundSocket {
 
 }  // namespace
 
-TEST_CASE("inputs: configuration files are regular files of at most 1 MiB; anything else is refused with its type",
+TEST_CASE("inputs: configuration files are regular files of at most 1 MiB: anything else is refused with its type",
           "[inputs][config]") {
   const TempDir dir("inputs-files");
   const fs::path fifo = dir.path / "fifo.toml";
@@ -224,7 +224,7 @@ TEST_CASE("inputs: study files are refused key by key where the issue found them
   CHECK(compare::count_runs(ok) == 2147483647.0);  // counted, not expanded
 }
 
-TEST_CASE("inputs: repeated vary values are one point, with a note; the rest keep their order", "[inputs][study]") {
+TEST_CASE("inputs: repeated vary values are one point, with a note, and the rest keep their order", "[inputs][study]") {
   const TempDir dir("inputs-vary");
   const fs::path f = dir.path / "study.toml";
   testing::write_text(f, R"(study = "dup"

@@ -161,7 +161,7 @@ TEST_CASE("strip output: /<model>/bulk/ of a homogeneous strip in its stuck stat
   CHECK(h.datasets.count("/continuum/snapshots/t") == 0);
 }
 
-TEST_CASE("strip output: the default stride keeps the interface and top rows; bulk_dt = 0 writes no group",
+TEST_CASE("strip output: the default stride keeps the interface and top rows, and bulk_dt = 0 writes no group",
           "[strip][output][cli]") {
   {
     const TempDir dir("strip-output-stride");

@@ -366,7 +366,7 @@ void require_identical(const compare::SceneResult& x, const compare::SceneResult
 }
 }  // namespace
 
-TEST_CASE("strip runs: a restarted strip run is the uninterrupted run bit for bit (explicit, implicit; both models)",
+TEST_CASE("strip runs: a restarted strip run is the uninterrupted run bit for bit (explicit and implicit, both models)",
           "[strip][checkpoint]") {
   // As tests/test_checkpoint.cpp on the chain: the checkpoint holds every row of the body (the energy budget,
   // recorded here, reads all dofs: a row not restored would change it), the law's state and the records.

@@ -238,3 +238,94 @@ TEST_CASE("strip accuracy: second order in time at a fixed grid, explicit and im
     }
   }
 }
+
+// ---------------------------------------------------------------------------------------------
+// The agent representation on the strip: checkpoint and restart bit for bit
+// ---------------------------------------------------------------------------------------------
+
+namespace {
+
+/// fig1 (testing::fig1_scene) on L = 60, dx = 1, H = 4, dy = 1 (61 × 5 nodes) to t = 60: first yield and the
+/// slow front; both models, the discrete one the agent representation with N = 50 contacts per site.
+compare::Scene small_agent_strip(core::Integrator integ) {
+  compare::Scene s = testing::fig1_scene();
+  s.name = "small_agent_strip";
+  s.bulk.length = 60.0;
+  s.bulk.height = 4.0;
+  s.grid.dx = 1.0;
+  s.grid.dy = 1.0;
+  s.time.t_end = 60.0;
+  s.time.integrator = integ;
+  if (integ == core::Integrator::implicit_trapezoidal) s.time.dt = 0.01;
+  s.output.series_dt = 0.5;
+  s.output.snapshot_dt = 5.0;
+  s.output.compare_dt = 5.0;
+  s.output.energy = true;  // reads every dof: a row not restored would change it
+  s.models = {"continuum", "discrete"};
+  s.discrete.representation = "agent";
+  s.discrete.contacts_per_site = 50;
+  s.discrete.seed = 11;
+  return s;
+}
+
+void require_identical(const compare::SceneResult& x, const compare::SceneResult& y) {
+  using testing::same;
+  REQUIRE(x.models.size() == y.models.size());
+  for (std::size_t m = 0; m < x.models.size(); ++m) {
+    const auto &a = x.models[m], &b = y.models[m];
+    INFO("model " << a.model);
+    CHECK(a.status == b.status);
+    CHECK(same(a.series, b.series));
+    CHECK(same(a.snapshot_t, b.snapshot_t));
+    CHECK(same(a.snapshots, b.snapshots));
+    for (const auto& [name, field] : compare::event_fields) {
+      CHECK(same(a.events.*field, b.events.*field));
+      CHECK(same(a.events_alt.*field, b.events_alt.*field));
+    }
+    REQUIRE(a.scalars.size() == b.scalars.size());
+    for (const auto& [k, v] : a.scalars) CHECK(same(v, b.scalars.at(k)));
+  }
+  CHECK(same(x.comparison.fields, y.comparison.fields));
+  REQUIRE(x.comparison.metrics.size() == y.comparison.metrics.size());
+  for (const auto& [k, v] : x.comparison.metrics) CHECK(same(v, y.comparison.metrics.at(k)));
+}
+
+}  // namespace
+
+TEST_CASE("strip accuracy: the agent representation on the strip restarts bit for bit (explicit, implicit)",
+          "[strip][checkpoint][agent]") {
+  // As tests/test_strip_runs.cpp does for the continuum and count laws: the checkpoint holds every row of the
+  // strip, the agents (their thresholds, ages and random streams) and the records; a run restarted from the
+  // first, middle and last checkpoint is the uninterrupted run bit for bit.
+  for (const auto integ : {core::Integrator::central_difference, core::Integrator::implicit_trapezoidal}) {
+    const compare::Scene s = small_agent_strip(integ);
+    s.validate();
+    INFO(core::to_string(integ));
+    const auto whole = compare::run_scene_alongside(s, {});
+    REQUIRE(whole.models.size() == 2);
+    REQUIRE(whole.models[1].model == "discrete");
+    REQUIRE(whole.models[1].labels.at("representation") == "agent");
+    REQUIRE(std::isfinite(whole.models[1].events.t_star));  // the agents yield: their state is not trivial
+    struct Saved {
+      double t;
+      std::string state;
+    };
+    std::vector<Saved> saved;
+    compare::RunControl ctl;
+    ctl.checkpoint_every = 12.0;
+    ctl.checkpoint = [&](const std::string& state, double t) { saved.push_back({t, state}); };
+    const auto with = compare::run_scene_alongside(s, ctl);
+    require_identical(whole, with);
+    REQUIRE(saved.size() >= 4);
+    for (const std::size_t k : {std::size_t{0}, saved.size() / 2, saved.size() - 1}) {
+      INFO("restarted from the checkpoint at t = " << saved[k].t);
+      compare::RunControl rc;
+      rc.restart = saved[k].state;
+      require_identical(whole, compare::run_scene_alongside(s, rc));
+    }
+    // and a different seed gives a different run (the restart is not trivially equal)
+    compare::Scene other = s;
+    other.discrete.seed = 12;
+    CHECK_FALSE(testing::same(whole.models[1].series, compare::run_scene_alongside(other, {}).models[1].series));
+  }
+}

@@ -21,7 +21,8 @@ struct LimitParams {
   /// (compare::estimate_checkpoints: writes x size), in GiB.
   double max_checkpoint_gib = 100.0;
   /// 1D scenes: nodes per elastic length sqrt(μ/α) (the process zone of the fronts); below it the
-  /// event times and front speeds are wrong by more than ~3% (docs/robustness.md §4). 0: no check.
+  /// event times and front speeds are wrong by more than ~3% (docs/robustness.md §4). 0: no check (and, on
+  /// the strip, no row rule either: strip_max_row_spacing).
   double min_nodes_per_elastic_length = 2.0;
   void validate() const;
 };

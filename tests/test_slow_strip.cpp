@@ -83,7 +83,7 @@ TEST_CASE("strip slow: fig1_strip events converge under dx = dy refinement (1, 0
   // event is made of switchings (Θ flips inside a step: first order, docs/numerics.md §2), and the events are
   // read off sampled, interpolated tips (resolutions below). Asserted: a difference above its event's resolution shrinks
   // (|d2| < |d1|); where both are above it, the observed order is in [1, 3] — except x_arrest, measured at
-  // 0.64 (differences −0.087, −0.056: below first order; a finding, docs/numerics.md §8.3); where d1 is
+  // 0.65 (differences −0.087, −0.056: below first order; a finding, docs/numerics.md §8.3); where d1 is
   // already below it, the event is converged at dx = 1; and at dx = 0.5 (the shipped grid) every event is
   // within 0.5% of the Richardson value.
   // Resolutions (relative): t* one time step (dt ≈ 1e-3 at dx = 0.5: 3e-5 of t*), t^ ~3e-5 and c_transient

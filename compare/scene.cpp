@@ -105,6 +105,25 @@ void Scene::validate() const {
     if (drive.loading == core::Loading::homogeneous && drive.start == "steady_front")
       throw ParamError("drive.start", "the steady-front start is the 1D chain's front (docs/model.md §6); on the strip "
                                       "(bulk.height) start from a nucleation patch (drive.start = \"nucleation\")");
+    // Too few rows (docs/numerics.md §8.2): the y profile under the interface is not resolved; lifted with the
+    // grid's other resolution check (limits.min_nodes_per_elastic_length = 0).
+    if (limits.min_nodes_per_elastic_length > 0.0) {
+      const double dy = grid.row_spacing(), H = bulk.height, dy_max = strip_max_row_spacing(bulk.mu, interface.alpha, H);
+      if (dy > dy_max * (1.0 + 1e-12)) {
+        const double le = std::sqrt(bulk.mu / interface.alpha);
+        const auto rows = static_cast<long long>(std::llround(H / dy));
+        const auto need = static_cast<long long>(std::ceil(H / dy_max * (1.0 - 1e-12)));
+        throw ParamError(
+            "grid.dy",
+            core::format_number(dy) + (grid.dy == 0.0 ? " (grid.dy absent: grid.dx)" : "") + " gives " +
+                std::to_string(rows) + " row interval" + (rows == 1 ? "" : "s") + " over bulk.height = " +
+                core::format_number(H) + ": too few rows to resolve the strip for the measurements; (dy/l_e)^2 (H/l_e) = " +
+                core::format_number((dy / le) * (dy / le) * (H / le), 3) + " > 1/30 (l_e = sqrt(bulk.mu/interface.alpha) = " +
+                core::format_number(le, 4) + "), where fig1's event times and front speeds are off by more than ~1% "
+                "(docs/numerics.md §8.2); use grid.dy <= " + core::format_number(dy_max, 4) + " (bulk.height/grid.dy >= " +
+                std::to_string(need) + " rows), or set limits.min_nodes_per_elastic_length = 0 to run it anyway");
+      }
+    }
   }
   if (drive.loading == core::Loading::imposed_rate && drive.sweep_points == 0 && drive.v_times.back() >= time.t_end)
     throw ParamError("drive.switch_times", "every switch time must be before time.t_end (" +
@@ -135,6 +154,11 @@ void Scene::validate() const {
                                       " of this grid (use time.cfl <= 1, a smaller dt, or time.integrator = \"implicit\")");
   }
   check_limits(*this, estimate(*this));
+}
+
+double strip_max_row_spacing(double mu, double alpha, double height) {
+  const double le = std::sqrt(mu / alpha);
+  return le * std::sqrt(strip_row_rule_bound * le / height);
 }
 
 bool Scene::lists(std::string_view model) const { return std::find(models.begin(), models.end(), model) != models.end(); }

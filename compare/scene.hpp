@@ -21,7 +21,8 @@ struct LimitParams {
   /// (compare::estimate_checkpoints: writes x size), in GiB.
   double max_checkpoint_gib = 100.0;
   /// 1D scenes: nodes per elastic length sqrt(μ/α) (the process zone of the fronts); below it the
-  /// event times and front speeds are wrong by more than ~3% (docs/robustness.md §4). 0: no check.
+  /// event times and front speeds are wrong by more than ~3% (docs/robustness.md §4). 0: no check (and, on
+  /// the strip, no row rule either: strip_max_row_spacing).
   double min_nodes_per_elastic_length = 2.0;
   void validate() const;
 };
@@ -73,6 +74,14 @@ struct Scene {
   /// (compare::estimate, compare::check_limits).
   void validate() const;
 };
+
+/// The strip's "too few rows" rule (docs/numerics.md §8.2): the largest row spacing dy that keeps fig1's
+/// events (t*, t^, c_slow, c_transient, x_arrest) within ~1% of the converged strip's. Measured: the worst
+/// event's error is ≈ 0.3 (dy/ℓ_e)² (H/ℓ_e), ℓ_e = sqrt(μ/α), for 0.3 ≤ H/ℓ_e ≤ 4; the rule keeps that
+/// product ≤ 1/30:  dy ≤ ℓ_e sqrt(ℓ_e / (30 H)) = sqrt(ℓ_e ℓ_R / 30), ℓ_R = μ/(αH) = μ'/α the length of the
+/// interface's Robin condition. One row interval (dy = H) passes for H ≤ ℓ_e / 30^{1/3} = 0.32 ℓ_e.
+inline constexpr double strip_row_rule_bound = 1.0 / 30.0;
+double strip_max_row_spacing(double mu, double alpha, double height);
 
 /// Slip-rate grid of an imposed-rate sweep (log spaced, docs/model.md §4 friction_law).
 std::vector<double> sweep_rates(const core::DriveParams& d);

@@ -403,6 +403,53 @@ TEST_CASE("hostile reproducers: grids that do not resolve the elastic length are
   CHECK(refusal({"grid.dx=100", "limits.min_nodes_per_elastic_length=0"}).empty());
 }
 
+TEST_CASE("hostile reproducers: a strip with too few rows is refused naming grid.dy, with the override", "[hostile][strip]") {
+  // docs/numerics.md §8.2: fig1's events on the strip are off by ≈ 0.3 (dy/l_e)² (H/l_e) (the worst of them,
+  // measured); refused above 1/30 of it. l_e = sqrt(300/1.05) = 16.9. Measured errors (worst event) beside.
+  struct Case {
+    const char *height, *dy;
+    bool refused;
+  };
+  for (const Case c : {Case{"34", "4.25", true},     // 8 rows: t* −1.4%, c_transient +1.4%
+                       Case{"34", "2.125", false},   // 16 rows: 0.66%
+                       Case{"17", "4.25", true},     // 4 rows: t* −0.86% (the rule keeps a margin here)
+                       Case{"17", "2.125", false},   // 8 rows: 0.29%
+                       Case{"68", "2.125", true},    // 32 rows: c_transient +1.8%
+                       Case{"68", "1.0625", false},  // 64 rows: 0.42%
+                       Case{"5", "5", false},        // one row interval (the chain's limit): 0.49%
+                       Case{"6", "6", true},         // one row passes up to H = l_e / 30^(1/3) = 5.44
+                       Case{"17", "17", true}}) {    // one row: t* −5.5%
+    INFO("bulk.height = " << c.height << ", grid.dy = " << c.dy);
+    const std::vector<std::string> sets = {std::string("bulk.height=") + c.height, std::string("grid.dy=") + c.dy};
+    const std::string r = refusal(sets);
+    INFO(r);
+    if (!c.refused) {
+      CHECK(r.empty());
+      continue;
+    }
+    CHECK(contains(r, "grid.dy: " + std::string(c.dy) + " gives"));
+    CHECK(contains(r, "too few rows to resolve the strip"));
+    CHECK(contains(r, "docs/numerics.md"));
+    CHECK(contains(r, "limits.min_nodes_per_elastic_length = 0"));
+    // the override lifts it, as it lifts the grid's other resolution check
+    auto lifted = sets;
+    lifted.push_back("limits.min_nodes_per_elastic_length=0");
+    CHECK(refusal(lifted).empty());
+  }
+  // the advice it gives is right: the bound it names passes, and so does the row count it names
+  const std::string r = refusal({"bulk.height=34", "grid.dy=4.25"});
+  CHECK(contains(r, "use grid.dy <= 2.176"));
+  CHECK(contains(r, ">= 16 rows"));
+  CHECK(refusal({"bulk.height=34", "grid.dy=" + fmt(34.0 / 16)}).empty());
+  CHECK(compare::strip_max_row_spacing(300.0, 1.05, 34.0) == Approx(2.17595).epsilon(1e-5));
+  // grid.dy absent: the rows are grid.dx apart, and the message says so
+  const std::string absent = refusal({"bulk.height=60", "grid.dx=3"});
+  CHECK(contains(absent, "grid.dy: 3 (grid.dy absent: grid.dx) gives 20 row intervals"));
+  CHECK(refusal({"bulk.height=60", "grid.dx=1.5"}).empty());  // 40 rows (≥ 37)
+  // the shipped strip scenes pass (H = 17, dy = 0.5)
+  CHECK(refusal({"bulk.height=17", "grid.dy=0.5"}).empty());
+}
+
 TEST_CASE("hostile: asking for records a representation does not carry is refused, not an empty 'complete'", "[hostile]") {
   // the count representation keeps counts, not contacts: contact statistics would record nothing
   CHECK(contains(refusal({"discrete.contact_statistics=true"}), "discrete.contact_statistics: the count representation"));

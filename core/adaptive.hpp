@@ -118,7 +118,7 @@ inline constexpr double kSafety = 0.9, kBeta1 = 0.7 / 3.0, kBeta2 = 0.4 / 3.0, k
 // On a body (core/body.hpp): the 1D chain (core::Bulk, every node a site, the u system tridiagonal and solved by
 // Thomas, as above) or the antiplane strip (core::Strip, docs/model.md §9): u and v over all its dofs, A and σ̄
 // on the interface sites; the W solve eliminates (v, A, σ̄) the same way and leaves the strip's step matrix
-// M/c + c(S + K b bᵀ) + E diag(wx (η + q_σ)) Eᵀ for u, solved by Strip::solve_system (docs/numerics.md §8.6).
+// M/c + c(S + K b bᵀ) + E diag(wx (η + q_σ)) Eᵀ for u, solved by Strip::solve_system (docs/numerics.md §8.1).
 // The stage vectors are [u | v | A | σ̄] with blocks of dofs, dofs, sites, sites (on the chain: four of n).
 template <SmoothLaw Law, Body B = Bulk>
 class AdaptiveSimulation : public StepperCore<Law, B> {

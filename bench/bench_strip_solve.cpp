@@ -7,6 +7,11 @@
 //                 (c1 changes every step; the symbolic analysis is done once, outside the timing)
 //   cg_jacobi     Eigen CG on the assembled matrix with its default diagonal preconditioner
 //   cg_ichol      Eigen CG on the assembled matrix with IncompleteCholesky (factorised per step)
+//   direct        Strip::solve_step by Strip::solve_system (StepSolver::direct): the capacitance method, a
+//                 cosine-space direct solve of the separable part and CG on the interface row only; c1
+//                 changes every step, so each step also makes the spring's ψ (one more solve)
+//   direct_stage  Strip::solve_system with another right-hand side on the same (c, d): what a Rosenbrock
+//                 stage costs (docs/performance.md §13); the "iterations" column: interface CG iterations
 // Each solve starts from W = 0 with random u, V, σ̄, c0 and c1 ∈ [0, 2] (η = 0.1, dt = 0.02, dx = dy = 0.5,
 // fig1's ρ = 0.01, μ = 300, edge loading K = 2.5): a cold start with high-frequency data, the hardest case
 // (a time step warm-starts from the previous W).
@@ -162,6 +167,37 @@ void bm_cg_dct(benchmark::State& state, core::Strip::Shift shift, const char* na
        static_cast<double>(p.strip.workspace_bytes() + p.strip.solver_temporary_bytes()) / static_cast<double>(n), n};
 }
 
+// The direct solve: `stage` = false, a trapezoidal step with new c1 (ψ remade); true, another right-hand
+// side on the same coefficients.
+void bm_direct(benchmark::State& state, bool stage, const char* name) {
+  Problem p(sizes()[static_cast<std::size_t>(state.range(0))]);
+  p.strip.set_step_solver(core::Strip::StepSolver::direct);
+  const std::size_t n = p.strip.dofs(), nx = p.strip.sites();
+  std::vector<double> W(n), c0(nx), c1(nx), d(nx), rhs(n);
+  for (std::size_t i = 0; i < nx; ++i) d[i] = eta + 0.5 * p.c1[i];
+  for (std::size_t k = 0; k < n; ++k) rhs[k] = p.u[k];
+  if (stage) p.strip.solve_system(0.5 * dt, d, rhs, W);  // factors and ψ made outside the timing
+  double total = 0.0, its = 0.0;
+  std::int64_t count = 0;
+  for (auto _ : state) {
+    p.c1[0] += 1e-12;
+    const auto t0 = Clock::now();
+    if (stage) p.strip.solve_system(0.5 * dt, d, rhs, W);
+    else p.strip.implicit_solve(p.lin(), p.w_prev, c0, c1, 0.0, dt, eta, p.u, p.V, p.sb, W);
+    total += std::chrono::duration<double>(Clock::now() - t0).count();
+    its += p.strip.last_interface_iterations();
+    ++count;
+    benchmark::DoNotOptimize(W.data());
+  }
+  state.counters["iterations"] = its / static_cast<double>(count);
+  state.counters["nodes"] = static_cast<double>(n);
+  Record& r = records()[std::string(name) + "/" + sizes()[static_cast<std::size_t>(state.range(0))].series][n];
+  r = {total / static_cast<double>(count), its / static_cast<double>(count),
+       static_cast<double>(p.strip.workspace_bytes() + 3 * n * sizeof(double)) / static_cast<double>(n), n};
+}
+void bm_direct_step(benchmark::State& s) { bm_direct(s, false, "direct"); }
+void bm_direct_stage(benchmark::State& s) { bm_direct(s, true, "direct_stage"); }
+
 template <class Solve>
 void bm_assembled(benchmark::State& state, const char* name, Solve&& solve_once) {
   Problem p(sizes()[static_cast<std::size_t>(state.range(0))]);
@@ -245,6 +281,8 @@ void register_all() {
   add("ldlt", bm_ldlt);
   add("cg_jacobi", bm_cg_jacobi);
   add("cg_ichol", bm_cg_ichol);
+  add("direct", bm_direct_step);
+  add("direct_stage", bm_direct_stage);
 }
 
 // Least-squares slope of log t against log n.
@@ -292,8 +330,11 @@ void summary() {
       std::printf("\n");
     }
   }
-  const double e = exponent(records()["cg_dct_mean/long"]);
-  std::printf("\ncg_dct_mean exponent (one body made longer) %.3f (%s 1.1)\n", e, e <= 1.1 ? "<=" : "ABOVE");
+  for (const char* name : {"cg_dct_mean/long", "direct/long", "direct_stage/long"}) {
+    const double e = exponent(records()[name]);
+    std::printf("\n%s exponent (one body made longer) %.3f (%s 1.1)", name, e, e <= 1.1 ? "<=" : "ABOVE");
+  }
+  std::printf("\n");
 }
 
 }  // namespace

@@ -16,9 +16,8 @@
 namespace slipfront::compare {
 
 /// Tags of time.integrator on a body: Tag::stepper<Law> is the stepper class for a law. The adaptive
-/// integrator advances deterministic rate laws (core::SmoothLaw) on the chain; a stochastic law runs on
-/// the explicit scheme then (it has no rates to integrate), alongside on the same scene. The strip has
-/// no adaptive integrator (Scene::validate refuses it).
+/// integrator advances deterministic rate laws (core::SmoothLaw) on either body (the chain, the strip); a
+/// stochastic law runs on the explicit scheme then (it has no rates to integrate), alongside on the same scene.
 template <core::Body B>
 struct ExplicitTag {
   using body = B;
@@ -32,22 +31,29 @@ struct ImplicitTag {
   using stepper = core::ImplicitSimulation<Law, B>;
 };
 namespace detail {
-template <class Law, bool Smooth = core::SmoothLaw<Law>>
+template <class Law, class B, bool Smooth = core::SmoothLaw<Law>>
 struct AdaptiveStepper {
-  using type = core::ExplicitSimulation<Law>;
+  using type = core::ExplicitSimulation<Law, B>;
 };
-template <class Law>
-struct AdaptiveStepper<Law, true> {
-  using type = core::AdaptiveSimulation<Law>;
-};
-}  // namespace detail
-struct AdaptiveTag {
-  using body = core::Bulk;
-  template <class Law>
-  using stepper = typename detail::AdaptiveStepper<Law>::type;
+template <class Law, class B>
+struct AdaptiveStepper<Law, B, true> {
+  using type = core::AdaptiveSimulation<Law, B>;
 };
 template <class Tag>
-inline constexpr bool is_adaptive = std::is_same_v<Tag, AdaptiveTag>;
+struct IsAdaptive : std::false_type {};
+}  // namespace detail
+template <core::Body B>
+struct AdaptiveTag {
+  using body = B;
+  template <class Law>
+  using stepper = typename detail::AdaptiveStepper<Law, B>::type;
+};
+namespace detail {
+template <class B>
+struct IsAdaptive<AdaptiveTag<B>> : std::true_type {};
+}  // namespace detail
+template <class Tag>
+inline constexpr bool is_adaptive = detail::IsAdaptive<Tag>::value;
 
 /// Calls f(Tag{}) for the scene's time.integrator on the scene's body.
 template <class F>
@@ -57,8 +63,7 @@ decltype(auto) with_integrator(const Scene& s, F&& f) {
     case core::Integrator::implicit_trapezoidal:
       return strip ? f(ImplicitTag<core::Strip>{}) : f(ImplicitTag<core::Bulk>{});
     case core::Integrator::adaptive_rosenbrock:
-      if (strip) throw core::ParamError("time.integrator", "\"adaptive\" integrates the 1D chain only");  // Scene::validate
-      return f(AdaptiveTag{});
+      return strip ? f(AdaptiveTag<core::Strip>{}) : f(AdaptiveTag<core::Bulk>{});
     case core::Integrator::central_difference: break;
   }
   return strip ? f(ExplicitTag<core::Strip>{}) : f(ExplicitTag<core::Bulk>{});

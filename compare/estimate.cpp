@@ -225,6 +225,9 @@ Stepping bulk_stepping(const Scene& s, const std::string& model, double sites, M
     m.integrator = "adaptive";
     m.steps = adaptive_steps(s, sites);
     m.steps_basis = "adaptive: t_end/dt_max + nodes + 8 t_end (rtol/1e-3)^-0.77, an estimate";
+    // the strip: the law and the interface's elimination per site, the bulk per node (u, v, their ten stage
+    // vectors, the masses and the u system's rhs, Strip::solve_system's workspace: docs/performance.md §13)
+    if (s.bulk.height != 0.0) return {10.0, c.explicit_bulk, c.strip_adaptive, 31.0};
     return {66.0, c.adaptive_bulk};
   }
   const bool implicit = integ == Integrator::implicit_trapezoidal;
@@ -392,6 +395,7 @@ const StepCosts& step_costs() {
       .step = 250.0,
       .strip_explicit = 2.0,
       .strip_implicit = 50.0,
+      .strip_adaptive = 80.0,
       .checkpoint = 7e6,
       .checkpoint_byte = 2.0,
   };

@@ -106,6 +106,7 @@ struct StepCosts {
   double step;            ///< bulk scenes: per step, whatever the grid (measurements, records, lockstep)
   double strip_explicit;  ///< the strip (docs/model.md §9): per node-step of its bulk, explicit kick and drift
   double strip_implicit;  ///< the strip: per node-step of its bulk, the implicit step's preconditioned CG solve
+  double strip_adaptive;  ///< the strip: per node-step of its bulk, the adaptive step (rhs, four direct solves)
   double checkpoint;      ///< one checkpoint: create, sync and rename the file
   double checkpoint_byte; ///< per byte of a checkpoint: archive the state, checksum and write it
 };

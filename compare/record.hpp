@@ -88,8 +88,25 @@ class DenseState {
   std::span<const double> sigma_bar() const { return field(core::Field::sigma_bar); }
   std::span<const double> slip_rate() const { return field(core::Field::slip_rate); }
   std::span<const double> slip() const { return field(core::Field::slip); }
+  /// The drive force at t from the edge slip on the dense output (the chain: u_0; the strip: the edge column's
+  /// mean ū₀ = Σ_j wy(j) u_0j / H, docs/model.md §9).
   double drive_force() const {
-    return sim_.bulk().drive_force(t_, sim_.dense_value(t_, core::Field::slip, 0));
+    const auto& b = sim_.bulk();
+    if constexpr (requires { b.row_weight(std::size_t{0}); }) {
+      double ubar = 0.0;
+      for (std::size_t j = 0; j < b.rows(); ++j)
+        ubar += b.row_weight(j) * sim_.dense_value(t_, core::Field::slip, j * b.sites());
+      return b.spring_K() * (b.driver_velocity() * t_ - ubar / b.height()) + b.rear_traction();
+    } else {
+      return b.drive_force(t_, sim_.dense_value(t_, core::Field::slip, 0));
+    }
+  }
+  /// The body and the displacement of all its dofs at t (the strip's bulk snapshots).
+  const auto& body() const { return sim_.bulk(); }
+  std::span<const double> displacement() const {
+    all_u_.resize(sim_.bulk().dofs());
+    sim_.dense_state(t_, core::Field::slip, all_u_);
+    return all_u_;
   }
   double max_slip_rate() const { return core::max_abs_or_inf(slip_rate()); }
   /// ā at t: the law's age mass integrated from the step's start to t on the dense output, over A(t).
@@ -112,7 +129,7 @@ class DenseState {
     const auto k = static_cast<std::size_t>(f);
     auto& b = buf_[k];
     if (!(loaded_ & (1u << k))) {
-      b.resize(sim_.bulk().nodes());
+      b.resize(sim_.bulk().sites());
       sim_.dense_state(t_, f, b);
       loaded_ |= 1u << k;
     }
@@ -122,6 +139,7 @@ class DenseState {
   double t_;
   std::vector<double> (&buf_)[4];
   mutable unsigned loaded_ = 0;
+  mutable std::vector<double> all_u_;
 };
 
 /// One site driven at an imposed slip rate v (0D, no bulk): the law's state; the drive force is the
@@ -143,8 +161,8 @@ struct ImposedRateState {
 /// What a run stores, and when: series rows every output.series_dt, snapshots every
 /// output.snapshot_dt (1D scenes), each at the first step end at or after each multiple (fixed-step
 /// runs, exact = false) or at the exact multiples (dense output, exact = true); on the strip
-/// (bulk.height), bulk snapshots every output.bulk_dt at the first step end at or after each multiple
-/// (the strip runs fixed-step integrators only).
+/// (bulk.height), bulk snapshots every output.bulk_dt likewise (at the exact multiples on the adaptive
+/// integrator's dense output).
 class Recorder {
  public:
   Recorder(const Scene& s, ModelResult& r)
@@ -168,6 +186,7 @@ class Recorder {
     }
     multiples_in(t0, t1, series_every_, [&](double t) { series_row(state_at(t), tracker, energy); });
     multiples_in(t0, t1, snapshot_every_, [&](double t) { snapshot(state_at(t)); });
+    multiples_in(t0, t1, bulk_every_, [&](double t) { bulk_snapshot(state_at(t)); });
   }
 
   /// One series row (docs/output.md /series): t, drive_force, max_v; 1D: tip_x, tip_x_alt; one site:

@@ -99,9 +99,6 @@ void Scene::validate() const {
                                         "age would be written (use discrete.representation = \"agent\", or add \"continuum\" "
                                         "to models)");
   if (bulk.height != 0.0) {  // the strip (docs/model.md §9)
-    if (time.integrator == core::Integrator::adaptive_rosenbrock)
-      throw ParamError("time.integrator", "\"adaptive\" integrates the 1D chain only; on the strip (bulk.height) use "
-                                          "\"implicit\" (a step chosen by accuracy) or \"explicit\"");
     if (drive.loading == core::Loading::homogeneous && drive.start == "steady_front")
       throw ParamError("drive.start", "the steady-front start is the 1D chain's front (docs/model.md §6); on the strip "
                                       "(bulk.height) start from a nucleation patch (drive.start = \"nucleation\")");

@@ -34,10 +34,12 @@
 #include <utility>
 #include <vector>
 
+#include "core/body.hpp"
 #include "core/bulk.hpp"
 #include "core/law.hpp"
 #include "core/params.hpp"
 #include "core/stepper.hpp"
+#include "core/strip.hpp"
 
 namespace slipfront::core {
 
@@ -113,9 +115,15 @@ inline constexpr double kDenseScale = 1.0 / (1.0 - 2.0 * kGamma);  ///< 1/(1 −
 inline constexpr double kSafety = 0.9, kBeta1 = 0.7 / 3.0, kBeta2 = 0.4 / 3.0, kGrowMax = 5.0, kShrinkMin = 0.2;
 }  // namespace detail
 
-template <SmoothLaw Law>
-class AdaptiveSimulation : public StepperCore<Law> {
-  using Core = StepperCore<Law>;
+// On a body (core/body.hpp): the 1D chain (core::Bulk, every node a site, the u system tridiagonal and solved by
+// Thomas, as above) or the antiplane strip (core::Strip, docs/model.md §9): u and v over all its dofs, A and σ̄
+// on the interface sites; the W solve eliminates (v, A, σ̄) the same way and leaves the strip's step matrix
+// M/c + c(S + K b bᵀ) + E diag(wx (η + q_σ)) Eᵀ for u, solved by Strip::solve_system (docs/numerics.md §8.5).
+// The stage vectors are [u | v | A | σ̄] with blocks of dofs, dofs, sites, sites (on the chain: four of n).
+template <SmoothLaw Law, Body B = Bulk>
+class AdaptiveSimulation : public StepperCore<Law, B> {
+  using Core = StepperCore<Law, B>;
+  static constexpr bool kChain = std::is_same_v<B, Bulk>;
 
  public:
   static constexpr const char* integrator_name = "adaptive";
@@ -123,16 +131,25 @@ class AdaptiveSimulation : public StepperCore<Law> {
   static constexpr double kGamma = detail::kGamma;
   static constexpr double kDenseScale = detail::kDenseScale;
 
-  AdaptiveSimulation(Bulk bulk, Law law, AdaptiveOptions opt)
+  AdaptiveSimulation(B bulk, Law law, AdaptiveOptions opt)
       : Core(std::move(bulk), std::move(law), "AdaptiveSimulation"), opt_(opt), h_next_(opt.dt_initial),
         last_dt_(opt.dt_initial) {
     opt_.validate();
-    const std::size_t m = 4 * this->n_;
+    const std::size_t m = 2 * this->n_ + 2 * this->sites_;
     for (auto* v : {&y_prev_, &ynew_, &f0_, &f1_, &f2_, &k1_, &k2_, &k3_, &k1_prev_, &k2_prev_}) v->assign(m, 0.0);
     for (auto* v : {&tmp_, &inv_a1_, &q_area_, &inv_s1_, &c_alpha_v_, &q_sigma_, &d_coef_, &thomas_c_, &thomas_inv_})
       v->assign(this->n_, 0.0);
-    theta_.assign(this->n_, 0);
-    theta_prev_.assign(this->n_, 0);
+    theta_.assign(this->sites_, 0);
+    theta_prev_.assign(this->sites_, 0);
+    if constexpr (!kChain) {
+      const B& b = this->bulk_;
+      mass_.resize(this->n_);
+      for (std::size_t j = 0; j < b.rows(); ++j)
+        for (std::size_t i = 0; i < b.sites(); ++i) mass_[j * b.sites() + i] = b.node_mass(i, j);
+      inv_mass_.resize(this->n_);
+      for (std::size_t k = 0; k < this->n_; ++k) inv_mass_[k] = 1.0 / mass_[k];
+      urhs_.assign(this->n_, 0.0);
+    }
   }
 
   double dt() const { return last_dt_; }  ///< size of the last accepted step (before any: dt_initial)
@@ -184,8 +201,10 @@ class AdaptiveSimulation : public StepperCore<Law> {
   void set_stop_time(double t) { t_stop_ = t; }
   double previous_time() const { return t_prev_; }  ///< start of the last accepted step
   /// Dense output (order 2) of one field at t ∈ [previous_time(), time()], all nodes.
+  /// out: the first out.size() values of the field (the sites; on the strip u and v of up to all dofs).
   void dense_state(double t, Field f, std::span<double> out) const {
-    const std::size_t n = this->n_, off = static_cast<std::size_t>(f) * n;
+    const std::size_t n = std::min(out.size(), block_size(static_cast<std::size_t>(f)));
+    const std::size_t off = offset(static_cast<std::size_t>(f));
     if (stats_.accepted == 0 || h_prev_ <= 0.0) {
       const double* c = current(static_cast<std::size_t>(f));
       for (std::size_t i = 0; i < n; ++i) out[i] = c[i];
@@ -198,7 +217,7 @@ class AdaptiveSimulation : public StepperCore<Law> {
   /// Dense output of one value (inline: the runner's tip restriction calls it per node).
   double dense_value(double t, Field f, std::size_t i) const {
     if (stats_.accepted == 0 || h_prev_ <= 0.0) return current(static_cast<std::size_t>(f))[i];
-    const std::size_t j = static_cast<std::size_t>(f) * this->n_ + i;
+    const std::size_t j = offset(static_cast<std::size_t>(f)) + i;
     const double th = std::clamp((t - t_prev_) / h_prev_, 0.0, 1.0);
     const double b1 = th * (1.0 - th) * kDenseScale * h_prev_, b2 = th * (th - 2.0 * kGamma) * kDenseScale * h_prev_;
     return y_prev_[j] + b1 * k1_prev_[j] + b2 * k2_prev_[j];
@@ -208,7 +227,7 @@ class AdaptiveSimulation : public StepperCore<Law> {
   /// max |θ(θ − 2d)| = 1 − 2d on [0, 1].
   double dense_deviation_bound(Field f, std::size_t i, double target) const {
     if (stats_.accepted == 0 || h_prev_ <= 0.0) return std::abs(target - current(static_cast<std::size_t>(f))[i]);
-    const std::size_t j = static_cast<std::size_t>(f) * this->n_ + i;
+    const std::size_t j = offset(static_cast<std::size_t>(f)) + i;
     return std::abs(target - y_prev_[j]) + h_prev_ * (0.25 * kDenseScale * std::abs(k1_prev_[j]) + std::abs(k2_prev_[j]));
   }
   const AdaptiveStats& stats() const { return stats_; }
@@ -238,11 +257,16 @@ class AdaptiveSimulation : public StepperCore<Law> {
       this->law_.advance_age(t_prev_, this->t_, std::span<const std::uint8_t>(theta_), dense_sampler());
   }
 
+  // Block f of the stage vectors [u | v | A | σ̄]: where it starts and its length.
+  std::size_t offset(std::size_t f) const {
+    return f < 2 ? f * this->n_ : 2 * this->n_ + (f - 2) * this->sites_;
+  }
+  std::size_t block_size(std::size_t f) const { return f < 2 ? this->n_ : this->sites_; }
   // The current state, block f of [u | v | A | σ̄].
   const double* current(std::size_t f) const {
     if (f == 0) return this->u_.data();
     if (f == 1) return this->v_.data();
-    return fields_ptr() + (f - 2) * this->n_;
+    return fields_ptr() + (f - 2) * this->sites_;
   }
   double* current(std::size_t f) { return const_cast<double*>(std::as_const(*this).current(f)); }
   const double* fields_ptr() const { return const_cast<Law&>(this->law_).fields().data(); }
@@ -252,7 +276,7 @@ class AdaptiveSimulation : public StepperCore<Law> {
   void start() {
     const double* a = current(2);
     const double* s = current(3);
-    for (std::size_t i = 0; i < this->n_; ++i)
+    for (std::size_t i = 0; i < this->sites_; ++i)
       theta_[i] = this->law_.sliding({this->v_[i], a[i], s[i]}) ? 1 : 0;
     theta_prev_ = theta_;
     f0_valid_ = false;
@@ -262,7 +286,7 @@ class AdaptiveSimulation : public StepperCore<Law> {
       e.time = this->t_;
       e.kinetic = this->kinetic_energy(this->v_);
       e.elastic = this->bulk_.elastic_energy(this->u_);
-      e.spring = this->bulk_.spring_energy(this->t_, this->u_[0]);
+      e.spring = this->bulk_.spring_energy(this->t_, std::span<const double>(this->u_));
       e.mechanical0 = e.mechanical();
     }
   }
@@ -277,6 +301,10 @@ class AdaptiveSimulation : public StepperCore<Law> {
   // The right-hand side at (t; u, v, A, σ̄), Θ frozen (see the header).
   void rhs(double t, const double* u, const double* v, const double* a, const double* s, std::vector<double>& f) {
     ++stats_.rhs;
+    if constexpr (kChain) rhs_chain(t, u, v, a, s, f);
+    else rhs_body(t, u, v, a, s, f);
+  }
+  void rhs_chain(double t, const double* u, const double* v, const double* a, const double* s, std::vector<double>& f) {
     const std::size_t n = this->n_;
     const Bulk& b = this->bulk_;
     double* fu = f.data();
@@ -294,10 +322,38 @@ class AdaptiveSimulation : public StepperCore<Law> {
       fs[i] = r.sigma_bar;
     }
   }
+  // The strip: u' = v, M v' = −S u + F(t) b + top wx σ_d − E wx (σ̄ + η v₀) (docs/model.md §9), the law's
+  // rates on the interface sites.
+  void rhs_body(double t, const double* u, const double* v, const double* a, const double* s, std::vector<double>& f) {
+    const std::size_t n = this->n_, m = this->sites_;
+    const B& b = this->bulk_;
+    double* fu = f.data();
+    double* fv = fu + n;
+    double* fa = fv + n;
+    double* fs = fa + m;
+    const std::size_t top = b.rows() - 1;
+    const double sd = b.uniform_stress(), eta = this->law_.params().eta;
+    const double edge = b.drive_force(t, std::span<const double>(u, n)) / b.height();
+    const double* im = inv_mass_.data();
+    b.elastic_forces(std::span<const double>(u, n), [&](std::size_t j, std::size_t i, double force) {
+      const std::size_t k = j * m + i;
+      const double wx = b.interface_weight(i);
+      if (i == 0) force += edge * b.row_weight(j);
+      if (j == top) force += wx * sd;
+      if (j == 0) force -= wx * (s[i] + eta * v[i]);
+      fv[k] = force * im[k];
+    });
+    for (std::size_t k = 0; k < n; ++k) fu[k] = v[k];
+    const std::uint8_t* th = theta_.data();
+    for (std::size_t i = 0; i < m; ++i) {
+      const SiteRate r = this->law_.rate({v[i], a[i], s[i]}, th[i] != 0);
+      fa[i] = r.area;
+      fs[i] = r.sigma_bar;
+    }
+  }
   void rhs_current(double t, std::vector<double>& f) { rhs(t, current(0), current(1), current(2), current(3), f); }
   void rhs_stage(double t, const std::vector<double>& y, std::vector<double>& f) {
-    const std::size_t n = this->n_;
-    rhs(t, y.data(), y.data() + n, y.data() + 2 * n, y.data() + 3 * n, f);
+    rhs(t, y.data() + offset(0), y.data() + offset(1), y.data() + offset(2), y.data() + offset(3), f);
   }
 
   // W = I − c J(y) at the current state. Per node, the rows of A and σ̄ give
@@ -308,6 +364,10 @@ class AdaptiveSimulation : public StepperCore<Law> {
   void factor(double c) {
     ++stats_.factorizations;
     c_ = c;
+    if constexpr (kChain) factor_chain(c);
+    else factor_body(c);
+  }
+  void factor_chain(double c) {
     const std::size_t n = this->n_;
     const Bulk& b = this->bulk_;
     const double rho = b.rho(), k = b.stiffness(), K = b.spring_K(), eta = this->law_.params().eta;
@@ -338,8 +398,67 @@ class AdaptiveSimulation : public StepperCore<Law> {
     }
   }
 
+  // The strip: the same per-site elimination; the u system's interface coefficients d_i = η + q_σ,i (the
+  // strip's matrix itself is factorised by Strip::solve_system for each c).
+  void factor_body(double c) {
+    const std::size_t m = this->sites_;
+    const double eta = this->law_.params().eta;
+    const double* v = current(1);
+    const double* a = current(2);
+    const double* s = current(3);
+    for (std::size_t i = 0; i < m; ++i) {
+      const SiteJacobian j = this->law_.jacobian({v[i], a[i], s[i]}, theta_[i] != 0);
+      const double ia1 = 1.0 / (1.0 - c * j.area_area);
+      const double qa = c * j.area_v * ia1;
+      const double is1 = 1.0 / (1.0 - c * j.sigma_sigma);
+      const double cav = c * j.sigma_area;
+      const double qs = (cav * qa + c * j.sigma_v) * is1;
+      inv_a1_[i] = ia1;
+      q_area_[i] = qa;
+      inv_s1_[i] = is1;
+      c_alpha_v_[i] = cav;
+      q_sigma_[i] = qs;
+      d_coef_[i] = eta + qs;
+    }
+  }
+
+  // The strip's W solve: per site x_A = p_A + q_A x_v0, x_σ = p_σ + q_σ x_v0; x_v = (x_u − b_u)/c; then
+  //   [M/c + c(S + K b bᵀ) + E diag(wx d) Eᵀ] x_u = M b_v + (M/c) b_u + E wx (d b_u0 − c p_σ).
+  void solve_body(std::vector<double>& x) {
+    const std::size_t n = this->n_, m = this->sites_;
+    B& b = this->bulk_;
+    double* xu = x.data();
+    double* xv = xu + n;
+    double* xa = xv + n;
+    double* xs = xa + m;
+    const double c = c_, inv_c = 1.0 / c;
+    for (std::size_t i = 0; i < m; ++i) {
+      const double pa = xa[i] * inv_a1_[i];
+      xa[i] = pa;
+      xs[i] = (xs[i] + c_alpha_v_[i] * pa) * inv_s1_[i];
+    }
+    double* r = urhs_.data();
+    const double* mass = mass_.data();
+    for (std::size_t k = 0; k < n; ++k) r[k] = mass[k] * (xv[k] + inv_c * xu[k]);
+    for (std::size_t i = 0; i < m; ++i) r[i] += b.interface_weight(i) * (d_coef_[i] * xu[i] - c * xs[i]);
+    b.solve_system(c, std::span<const double>(d_coef_.data(), m), urhs_, urhs_);
+    for (std::size_t k = 0; k < n; ++k) {
+      const double uk = r[k];
+      xv[k] = (uk - xu[k]) * inv_c;
+      xu[k] = uk;
+    }
+    for (std::size_t i = 0; i < m; ++i) {
+      xa[i] += q_area_[i] * xv[i];
+      xs[i] += q_sigma_[i] * xv[i];
+    }
+  }
+
   void solve(std::vector<double>& x) {  // in place: x ← W⁻¹ x
     ++stats_.solves;
+    if constexpr (kChain) solve_chain(x);
+    else solve_body(x);
+  }
+  void solve_chain(std::vector<double>& x) {
     const std::size_t n = this->n_;
     double* xu = x.data();
     double* xv = xu + n;
@@ -371,28 +490,30 @@ class AdaptiveSimulation : public StepperCore<Law> {
 
   // y_out = current + scale · k over all four blocks.
   void stage(double scale, const std::vector<double>& k, std::vector<double>& out) const {
-    const std::size_t n = this->n_;
     for (std::size_t f = 0; f < 4; ++f) {
       const double* y = current(f);
-      for (std::size_t i = 0; i < n; ++i) out[f * n + i] = y[i] + scale * k[f * n + i];
+      const std::size_t o = offset(f), n = block_size(f);
+      for (std::size_t i = 0; i < n; ++i) out[o + i] = y[i] + scale * k[o + i];
     }
   }
 
   // One Rosenbrock step of size h from the current state; fills ynew_, k1_, k2_, k3_; returns the
   // error norm.
   double attempt(double h) {
-    const std::size_t m = 4 * this->n_, n = this->n_;
-    const Bulk& b = this->bulk_;
+    const std::size_t m = k1_.size();
+    const B& b = this->bulk_;
     if (!f0_valid_) {
       rhs_current(this->t_, f0_);
       f0_valid_ = true;
     }
     factor(kGamma * h);
     // h d ∂f/∂t: only the drive spring depends on t explicitly (v row of node 0).
+    // (On the strip the spring's force spreads over the edge column: K v_d wy(j)/(H M_0j) = K v_d/(ρ wx(0)) in
+    // the v row of every node (0, j).)
     const double hdT =
-        b.has_drive_spring() ? kGamma * h * b.spring_K() * b.driver_velocity() / (b.rho() * b.node_weight(0)) : 0.0;
+        b.has_drive_spring() ? kGamma * h * b.spring_K() * b.driver_velocity() / (b.rho() * b.interface_weight(0)) : 0.0;
     for (std::size_t j = 0; j < m; ++j) k1_[j] = f0_[j];
-    k1_[n] += hdT;
+    add_time_derivative(k1_, hdT);
     solve(k1_);
     stage(0.5 * h, k1_, ynew_);
     rhs_stage(this->t_ + 0.5 * h, ynew_, f1_);
@@ -403,21 +524,30 @@ class AdaptiveSimulation : public StepperCore<Law> {
     rhs_stage(this->t_ + h, ynew_, f2_);
     for (std::size_t j = 0; j < m; ++j)
       k3_[j] = f2_[j] - detail::kE32 * (k2_[j] - f1_[j]) - 2.0 * (k1_[j] - f0_[j]);
-    k3_[n] += hdT;
+    add_time_derivative(k3_, hdT);
     solve(k3_);
     return error_norm(h);
+  }
+  // k += h d ∂f/∂t: the v rows of the nodes the drive spring pulls (the chain's node 0, the strip's edge column).
+  void add_time_derivative(std::vector<double>& k, double hdT) const {
+    const std::size_t n = this->n_;
+    if constexpr (kChain) {
+      k[n] += hdT;
+    } else {
+      if (hdT == 0.0) return;
+      for (std::size_t j = 0; j < this->bulk_.rows(); ++j) k[n + j * this->sites_] += hdT;
+    }
   }
 
   // Weighted norm of the local error estimate h/6 (k1 − 2 k2 + k3), see ErrorNorm.
   double error_norm(double h) const {
     const double rtol = opt_.rtol, atol = opt_.atol, h6 = h / 6.0;
-    const std::size_t n = this->n_;
     double norm = 0.0, probe = 0.0;  // probe: a NaN or infinity anywhere (std::max would drop a NaN)
     for (std::size_t j = 0; j < ynew_.size(); ++j) probe += ynew_[j] + k3_[j];
     if (!std::isfinite(probe)) return std::numeric_limits<double>::infinity();
     const double *yn = ynew_.data(), *k1 = k1_.data(), *k2 = k2_.data(), *k3 = k3_.data();
     for (std::size_t f = 0; f < 4; ++f) {
-      const std::size_t j0 = f * n, j1 = j0 + n;
+      const std::size_t j0 = offset(f), j1 = j0 + block_size(f);
       const double* y = current(f);  // y[j − j0], j in [j0, j1)
       if (opt_.norm == ErrorNorm::field) {  // one weight per field: atol + rtol · max over the grid
         double scale = 0.0, emax = 0.0;
@@ -438,7 +568,7 @@ class AdaptiveSimulation : public StepperCore<Law> {
         }
       }
     }
-    if (opt_.norm == ErrorNorm::rms) norm = std::sqrt(norm / static_cast<double>(4 * n));
+    if (opt_.norm == ErrorNorm::rms) norm = std::sqrt(norm / static_cast<double>(ynew_.size()));
     return std::isfinite(norm) ? norm : std::numeric_limits<double>::infinity();
   }
 
@@ -446,7 +576,7 @@ class AdaptiveSimulation : public StepperCore<Law> {
   // the current state (where e_i < 0) to ynew_ (where e_i > 0): Illinois regula falsi, upper end of
   // the bracket.
   double event_fraction(std::size_t i, double h) const {
-    const std::size_t n = this->n_, iv = n + i, ia = 2 * n + i, is = 3 * n + i;
+    const std::size_t iv = offset(1) + i, ia = offset(2) + i, is = offset(3) + i;
     const double yv = current(1)[i], ya = current(2)[i], ys = current(3)[i];
     auto e = [&](double th) {
       const double b1 = th * (1.0 - th) * kDenseScale * h, b2 = th * (th - 2.0 * kGamma) * kDenseScale * h;
@@ -486,7 +616,7 @@ class AdaptiveSimulation : public StepperCore<Law> {
   // e_i < −band·A, the invariant of every step start). Only A' and σ̄' of a flipped site change.
   bool flip_crossed() {
     bool any = false;
-    const std::size_t n = this->n_;
+    const std::size_t n = this->sites_, oa = offset(2), os = offset(3);
     const double* v = current(1);
     const double* a = current(2);
     const double* s = current(3);
@@ -497,8 +627,8 @@ class AdaptiveSimulation : public StepperCore<Law> {
         ++stats_.switchings;
         if (f0_valid_) {
           const SiteRate r = this->law_.rate(st, theta_[i] != 0);
-          f0_[2 * n + i] = r.area;
-          f0_[3 * n + i] = r.sigma_bar;
+          f0_[oa + i] = r.area;
+          f0_[os + i] = r.sigma_bar;
         }
         any = true;
       }
@@ -514,7 +644,7 @@ class AdaptiveSimulation : public StepperCore<Law> {
         std::size_t bad = 0;
         for (std::size_t j = 0; j < ynew_.size(); ++j)
           if (!std::isfinite(ynew_[j])) {
-            bad = j % this->n_;
+            bad = j < 2 * this->n_ ? j % this->n_ : (j - 2 * this->n_) % this->sites_;
             break;
           }
         throw NumericalError(stats_.accepted, this->t_, bad, "adaptive step below dt_min (" + format_number(h) + ")");
@@ -530,10 +660,10 @@ class AdaptiveSimulation : public StepperCore<Law> {
   // Stage 2: fraction θ ∈ [0, 1) of the trial step at which the first site crosses its switching
   // surface (2 if none does); with event_window > 0, the last crossing within the window instead.
   double first_switching(double h) {
-    const std::size_t n = this->n_;
-    const double* v = ynew_.data() + n;
-    const double* a = v + n;
-    const double* s = a + n;
+    const std::size_t n = this->sites_;
+    const double* v = ynew_.data() + offset(1);
+    const double* a = ynew_.data() + offset(2);
+    const double* s = ynew_.data() + offset(3);
     crossings_.clear();
     for (std::size_t i = 0; i < n; ++i)
       if (switch_function(i, {v[i], a[i], s[i]}) > 0.0) crossings_.push_back(event_fraction(i, h));
@@ -550,11 +680,11 @@ class AdaptiveSimulation : public StepperCore<Law> {
   // Stage 3 (interpolate): the end state is the dense output of the trial step at θ = frac.
   void end_on_dense_output(double frac, double h) {
     const double b1 = frac * (1.0 - frac) * kDenseScale * h, b2 = frac * (frac - 2.0 * kGamma) * kDenseScale * h;
-    const std::size_t n = this->n_;
     for (std::size_t f = 0; f < 4; ++f) {
       const double* y = current(f);
+      const std::size_t o = offset(f), n = block_size(f);
       for (std::size_t i = 0; i < n; ++i) {
-        const std::size_t j = f * n + i;
+        const std::size_t j = o + i;
         ynew_[j] = y[i] + b1 * k1_[j] + b2 * k2_[j];
       }
     }
@@ -564,17 +694,19 @@ class AdaptiveSimulation : public StepperCore<Law> {
   // state moves into y_prev_ (dense output) and ynew_ into the state. Returns whether it ended on the
   // stop time.
   bool accept(double h, double h_dense, bool f_end_valid) {
-    const std::size_t n = this->n_;
     double vmax = 0.0;
     for (std::size_t f = 0; f < 4; ++f) {
       double* y = current(f);
+      const std::size_t o = offset(f), n = block_size(f);
       for (std::size_t i = 0; i < n; ++i) {
-        const std::size_t j = f * n + i;
+        const std::size_t j = o + i;
         y_prev_[j] = y[i];
         y[i] = ynew_[j];
       }
     }
-    for (std::size_t i = 0; i < n; ++i) vmax = std::max({vmax, std::abs(y_prev_[n + i]), std::abs(this->v_[i])});
+    const std::size_t ov = offset(1);
+    for (std::size_t i = 0; i < this->sites_; ++i)
+      vmax = std::max({vmax, std::abs(y_prev_[ov + i]), std::abs(this->v_[i])});
     std::swap(f0_, f2_);  // FSAL: f at the new state, unless the step ended on the dense output
     std::swap(k1_prev_, k1_);
     std::swap(k2_prev_, k2_);
@@ -606,6 +738,46 @@ class AdaptiveSimulation : public StepperCore<Law> {
   // at t from the state, the work and dissipation by Simpson's rule on the step's dense output (its
   // start, middle and end), so the residual is the integration error of the step (O(rtol)).
   void energy_over_step() {
+    if constexpr (kChain) energy_over_step_chain();
+    else energy_over_step_body();
+  }
+  // The strip: the same rule over all dofs (kinetic, elastic, the uniform stress's power on the top face, the
+  // drive's on the edge column), the viscous and interfacial power on the interface sites.
+  void energy_over_step_body() {
+    EnergyBudget& e = *this->energy_;
+    const std::size_t n = this->n_, m = this->sites_;
+    const B& b = this->bulk_;
+    const double eta = this->law_.params().eta, t0 = t_prev_, t1 = this->t_;
+    en_v_.resize(n);
+    en_u_.resize(n);
+    en_s_.resize(m);
+    double visc[3], inter[3], drive[3];
+    const double ts[3] = {t0, 0.5 * (t0 + t1), t1};
+    for (int q = 0; q < 3; ++q) {
+      dense_state(ts[q], Field::slip_rate, en_v_);
+      dense_state(ts[q], Field::slip, en_u_);
+      dense_state(ts[q], Field::sigma_bar, en_s_);
+      double pv = 0.0, pi = 0.0;
+      for (std::size_t i = 0; i < m; ++i) {
+        const double w = b.interface_weight(i), vi = en_v_[i];
+        pv += w * eta * vi * vi;
+        pi += w * en_s_[i] * vi;
+      }
+      visc[q] = pv;
+      inter[q] = pi;
+      drive[q] = b.uniform_power(en_v_) + b.driver_velocity() * b.drive_force(ts[q], en_u_) +
+                 b.rear_traction() * b.edge_slip(en_v_);
+    }
+    const double h6 = (t1 - t0) / 6.0;
+    e.viscous += h6 * (visc[0] + 4.0 * visc[1] + visc[2]);
+    e.interfacial += h6 * (inter[0] + 4.0 * inter[1] + inter[2]);
+    e.drive_work += h6 * (drive[0] + 4.0 * drive[1] + drive[2]);
+    e.time = t1;
+    e.kinetic = this->kinetic_energy(this->v_);
+    e.elastic = b.elastic_energy(this->u_);
+    e.spring = b.spring_energy(t1, std::span<const double>(this->u_));
+  }
+  void energy_over_step_chain() {
     EnergyBudget& e = *this->energy_;
     const std::size_t n = this->n_;
     const Bulk& b = this->bulk_;
@@ -652,7 +824,8 @@ class AdaptiveSimulation : public StepperCore<Law> {
   // W factorization: node elimination coefficients and the Thomas factors of the u system.
   double c_ = 0.0;
   std::vector<double> inv_a1_, q_area_, inv_s1_, c_alpha_v_, q_sigma_, d_coef_, thomas_c_, thomas_inv_;
-  std::vector<double> en_v_, en_s_;  // energy budget work arrays
+  std::vector<double> en_v_, en_s_, en_u_;  // energy budget work arrays
+  std::vector<double> mass_, inv_mass_, urhs_;  // the strip: node masses, their inverses, the u system's rhs
   AdaptiveStats stats_;
 };
 

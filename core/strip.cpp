@@ -12,6 +12,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/IterativeLinearSolvers>
+#include <unsupported/Eigen/IterativeSolvers>
 
 namespace slipfront::core {
 namespace {
@@ -25,6 +26,8 @@ std::mutex& fftw_planner_mutex() {
 
 // The step system as an Eigen operator (Eigen docs, "Matrix-free solvers").
 class StripSystem;
+// solve_system's interface (Schur complement) system, the same way.
+class InterfaceSystem;
 
 }  // namespace
 }  // namespace slipfront::core
@@ -32,6 +35,8 @@ class StripSystem;
 namespace Eigen::internal {
 template <>
 struct traits<slipfront::core::StripSystem> : public traits<Eigen::SparseMatrix<double>> {};
+template <>
+struct traits<slipfront::core::InterfaceSystem> : public traits<Eigen::SparseMatrix<double>> {};
 }  // namespace Eigen::internal
 
 namespace slipfront::core {
@@ -80,6 +85,80 @@ class StripPreconditioner {
   const Strip* s_ = nullptr;
 };
 
+// solve_system's interface system in cosine space (docs/performance.md §12): for ξ = the interface row's
+// modes (x₀ = C ξ, C: FFTW's REDFT00 of one row, C² = 2(nx−1) I),
+//   B ξ = Wx ρ₀,   B = Wx diag(p) + Wx C diag(d) C / (2(nx−1))
+// (p: the modes' interface pivots, ρ₀: the eliminated right-hand side of row 0; Wx C is symmetric, so B is),
+// preconditioned by its diagonal for uniform d = d̄: Wx (p + d̄). Two transforms of one row per product.
+struct InterfaceData {
+  std::size_t nx = 0;
+  double* row = nullptr;         // fftw_malloc'd, nx
+  fftw_plan_s* plan = nullptr;   // REDFT00 of row, in place
+  std::vector<double> p;         // the interface pivots p_k = 1/g_k
+  std::vector<double> wx;        // interface weights (the modes' too)
+  std::vector<double> precond;   // 1/(wx_k (p_k + d̄))
+  std::vector<double> out;       // the preconditioner's result
+  const double* d = nullptr;     // the current interface coefficients
+  double norm = 1.0;             // 1/(2(nx−1))
+  mutable int applications = 0;
+
+  void apply(const double* x, double* y) {
+    ++applications;
+    for (std::size_t k = 0; k < nx; ++k) row[k] = x[k];
+    fftw_execute(plan);
+    for (std::size_t i = 0; i < nx; ++i) row[i] *= d[i] * norm;
+    fftw_execute(plan);
+    for (std::size_t k = 0; k < nx; ++k) y[k] = wx[k] * (p[k] * x[k] + row[k]);
+  }
+  const double* precondition(const double* r) {
+    out.resize(nx);
+    for (std::size_t k = 0; k < nx; ++k) out[k] = r[k] * precond[k];
+    return out.data();
+  }
+};
+
+class InterfaceSystem : public Eigen::EigenBase<InterfaceSystem> {
+ public:
+  using Scalar = double;
+  using RealScalar = double;
+  using StorageIndex = int;
+  enum { ColsAtCompileTime = Eigen::Dynamic, MaxColsAtCompileTime = Eigen::Dynamic, IsRowMajor = false };
+
+  explicit InterfaceSystem(InterfaceData& d) : d_(&d) {}
+  Eigen::Index rows() const { return static_cast<Eigen::Index>(d_->nx); }
+  Eigen::Index cols() const { return rows(); }
+  template <class Rhs>
+  Eigen::Product<InterfaceSystem, Rhs, Eigen::AliasFreeProduct> operator*(const Eigen::MatrixBase<Rhs>& x) const {
+    return Eigen::Product<InterfaceSystem, Rhs, Eigen::AliasFreeProduct>(*this, x.derived());
+  }
+  InterfaceData& data() const { return *d_; }
+
+ private:
+  InterfaceData* d_;
+};
+
+class InterfacePreconditioner {
+ public:
+  InterfacePreconditioner() = default;
+  template <class M>
+  explicit InterfacePreconditioner(const M& m) { compute(m); }
+  InterfacePreconditioner& analyzePattern(const InterfaceSystem&) { return *this; }
+  InterfacePreconditioner& factorize(const InterfaceSystem& m) { return compute(m); }
+  InterfacePreconditioner& compute(const InterfaceSystem& m) {
+    d_ = &m.data();
+    return *this;
+  }
+  template <class Rhs>
+  Eigen::Map<const Eigen::VectorXd> solve(const Eigen::MatrixBase<Rhs>& r) const {
+    const Eigen::Ref<const Eigen::VectorXd> rr(r.derived());
+    return Eigen::Map<const Eigen::VectorXd>(d_->precondition(rr.data()), rr.size());
+  }
+  Eigen::ComputationInfo info() const { return Eigen::Success; }
+
+ private:
+  InterfaceData* d_ = nullptr;
+};
+
 }  // namespace
 }  // namespace slipfront::core
 
@@ -103,9 +182,76 @@ struct generic_product_impl<slipfront::core::StripSystem, Rhs, SparseShape, Dens
     dst += alpha * tmp;
   }
 };
+template <class Rhs>
+struct generic_product_impl<slipfront::core::InterfaceSystem, Rhs, SparseShape, DenseShape, GemvProduct>
+    : generic_product_impl_base<slipfront::core::InterfaceSystem, Rhs,
+                                generic_product_impl<slipfront::core::InterfaceSystem, Rhs>> {
+  using Scalar = typename Product<slipfront::core::InterfaceSystem, Rhs>::Scalar;
+  template <class Dest>
+  static void evalTo(Dest& dst, const slipfront::core::InterfaceSystem& lhs, const Rhs& rhs) {
+    const Eigen::Ref<const Eigen::VectorXd> x(rhs);
+    Eigen::Ref<Eigen::VectorXd> y(dst);
+    lhs.data().apply(x.data(), y.data());
+  }
+  template <class Dest>
+  static void scaleAndAddTo(Dest& dst, const slipfront::core::InterfaceSystem& lhs, const Rhs& rhs, const Scalar& alpha) {
+    Eigen::VectorXd tmp(dst.size());
+    evalTo(tmp, lhs, rhs);
+    dst += alpha * tmp;
+  }
+};
 }  // namespace Eigen::internal
 
 namespace slipfront::core {
+
+// solve_system's workspace: the factors of P = M/c + c S in cosine space (from the top row down), the
+// interface system, and the spring's ψ = A₀⁻¹ b for the (c, d) it was computed for.
+struct Strip::Direct : InterfaceData {
+  double c = -1.0;
+  std::vector<double> lam;    // λ_k = (2/dx²)(1 − cos(πk/(nx−1)))
+  std::vector<double> inv;    // 1/pivot of the top-down elimination, [j·nx + k]
+  std::vector<double> f;  // the interface right-hand side
+  std::vector<double> psi, psi_d, spread;  // ψ, the d it holds for, b
+  std::vector<double> dstep;  // solve_step's d = η + c1/2 (StepSolver::direct)
+  double psi_c = -1.0, b_psi = 0.0;
+
+  Direct(const Strip& s) {
+    nx = s.sites();
+    lam.resize(nx);
+    const double pi_n = std::numbers::pi / static_cast<double>(nx - 1), two_dx2 = 2.0 / (s.dx() * s.dx());
+    for (std::size_t k = 0; k < nx; ++k) lam[k] = two_dx2 * (1.0 - std::cos(pi_n * static_cast<double>(k)));
+    inv.assign(s.dofs(), 0.0);
+    p.assign(nx, 0.0);
+    norm = 1.0 / (2.0 * static_cast<double>(nx - 1));
+    precond.assign(nx, 0.0);
+    wx.resize(nx);
+    for (std::size_t i = 0; i < nx; ++i) wx[i] = s.interface_weight(i);
+    f.assign(nx, 0.0);
+    spread.assign(s.dofs(), 0.0);
+    for (std::size_t j = 0; j < s.rows(); ++j) spread[j * nx] = s.row_weight(j) / s.height();
+    row = static_cast<double*>(fftw_malloc(nx * sizeof(double)));
+    if (row == nullptr) throw std::bad_alloc();
+    std::fill(row, row + nx, 0.0);
+    {
+      const std::lock_guard<std::mutex> lock(fftw_planner_mutex());
+      plan = fftw_plan_r2r_1d(static_cast<int>(nx), row, row, FFTW_REDFT00, FFTW_ESTIMATE);
+    }
+    if (plan == nullptr) {
+      fftw_free(row);
+      throw std::runtime_error("Strip: FFTW could not plan the interface's cosine transform");
+    }
+  }
+  Direct(const Direct&) = delete;
+  Direct& operator=(const Direct&) = delete;
+  ~Direct() {
+    {
+      const std::lock_guard<std::mutex> lock(fftw_planner_mutex());
+      fftw_destroy_plan(plan);
+    }
+    fftw_free(row);
+  }
+};
+
 
 double Strip::stable_time_step(const BulkParams& bulk, const DriveParams& drive, const InterfaceParams& law, double dx,
                                double dy) {
@@ -187,8 +333,9 @@ Strip::Strip(const Strip& o)
       rho_p_(o.rho_p_), mu_p_(o.mu_p_), sigma_d_(o.sigma_d_), spring_K_(o.spring_K_), v_d_(o.v_d_),
       rear_traction_(o.rear_traction_), stable_dt_(o.stable_dt_), shift_(o.shift_), inv_(o.inv_), rhs_(o.rhs_),
       inv_wx_(o.inv_wx_), fact_dt_(o.fact_dt_), fact_dbar_(o.fact_dbar_), last_iterations_(o.last_iterations_),
-      last_residual_(o.last_residual_) {
-  make_plans();
+      last_residual_(o.last_residual_), step_solver_(o.step_solver_),
+      last_interface_iterations_(o.last_interface_iterations_) {
+  make_plans();  // solve_system's workspace is made again on first use (the same factors, bit for bit)
 }
 
 Strip::Strip(Strip&& o) noexcept
@@ -197,7 +344,8 @@ Strip::Strip(Strip&& o) noexcept
       rear_traction_(o.rear_traction_), stable_dt_(o.stable_dt_), shift_(o.shift_), buf_(std::exchange(o.buf_, nullptr)),
       plan_(std::exchange(o.plan_, nullptr)), inv_(std::move(o.inv_)), rhs_(std::move(o.rhs_)),
       inv_wx_(std::move(o.inv_wx_)), fact_dt_(o.fact_dt_), fact_dbar_(o.fact_dbar_),
-      last_iterations_(o.last_iterations_), last_residual_(o.last_residual_) {}
+      last_iterations_(o.last_iterations_), last_residual_(o.last_residual_), step_solver_(o.step_solver_),
+      direct_(std::move(o.direct_)), last_interface_iterations_(o.last_interface_iterations_) {}
 
 Strip& Strip::operator=(const Strip& o) {
   if (this != &o) {
@@ -235,6 +383,9 @@ Strip& Strip::operator=(Strip&& o) noexcept {
     fact_dbar_ = o.fact_dbar_;
     last_iterations_ = o.last_iterations_;
     last_residual_ = o.last_residual_;
+    step_solver_ = o.step_solver_;
+    direct_ = std::move(o.direct_);
+    last_interface_iterations_ = o.last_interface_iterations_;
   }
   return *this;
 }
@@ -417,6 +568,15 @@ void Strip::solve_step(std::span<const double> c0, std::span<const double> c1, d
     if (j == ny) r += wx * sd;
     rhs[k] = r;
   });
+  if (step_solver_ == StepSolver::direct) {
+    std::vector<double>& d = direct().dstep;
+    d.resize(nx);
+    for (std::size_t i = 0; i < nx; ++i) d[i] = eta + 0.5 * c1[i];
+    solve_system(0.5 * dt, d, std::span<const double>(rhs, n), W);
+    last_iterations_ = 0;
+    last_residual_ = 0.0;
+    return;
+  }
   // The preconditioner's shift and factors.
   double dbar = eta;
   if (shift_ == Shift::mean_c1) {
@@ -446,6 +606,125 @@ void Strip::solve_step(std::span<const double> c0, std::span<const double> c1, d
     throw std::runtime_error("Strip: the implicit step's conjugate gradient did not converge: " +
                              std::to_string(last_iterations_) + " iterations, relative residual " +
                              format_number(last_residual_));
+}
+
+// Relative residual of the interface solve (the whole solve agrees with a sparse LDLT to ~1e-13).
+constexpr double kInterfaceTolerance = 1e-13;
+
+Strip::Direct& Strip::direct() {
+  if (!direct_) direct_ = std::make_unique<Direct>(*this);
+  return *direct_;
+}
+
+// The factors of T_k = (ρ'/c + c μ' λ_k) Wy + c μ' Dy/dy for every mode, eliminated from the top row (j = ny)
+// down: inv[j, k] = 1/pivot; the pivot of row 0 is 1/g_k, g_k = e0ᵀ T_k⁻¹ e0 (the interface's Green's function).
+void Strip::direct_factorise(double c) {
+  Direct& D = direct();
+  if (c == D.c) return;
+  const std::size_t nx = nx_, ny = ny_;
+  const double mass = rho_p_ / c, cm = c * mu_p_, ky = cm / dy_, o2 = ky * ky;
+  const double* lam = D.lam.data();
+  for (std::size_t j = ny + 1; j-- > 0;) {
+    const double wy = row_weight(j), nb = (j == 0 || j == ny) ? ky : 2.0 * ky;
+    double* r = D.inv.data() + j * nx;
+    if (j == ny) {
+      for (std::size_t k = 0; k < nx; ++k) r[k] = 1.0 / ((mass + cm * lam[k]) * wy + nb);
+    } else {
+      const double* p = r + nx;
+      for (std::size_t k = 0; k < nx; ++k) r[k] = 1.0 / ((mass + cm * lam[k]) * wy + nb - o2 * p[k]);
+    }
+  }
+  for (std::size_t k = 0; k < nx; ++k) D.p[k] = 1.0 / D.inv[k];
+  D.c = c;
+  D.psi_c = -1.0;
+}
+
+// x = A₀⁻¹ (rhs − s b), A₀ = A(c, d) without the spring (the factors of c made): the rows in cosine space,
+// the top-down elimination, the interface system for row 0, back substitution upwards, the rows back.
+void Strip::direct_solve(std::span<const double> d, const double* rhs, double s, double* x) {
+  Direct& D = direct();
+  const std::size_t nx = nx_, ny = ny_, n = dofs();
+  double* b = buf_;
+  const double* iw = inv_wx_.data();
+  for (std::size_t j = 0; j <= ny; ++j)
+    for (std::size_t i = 0; i < nx; ++i) b[j * nx + i] = rhs[j * nx + i] * iw[i];
+  if (s != 0.0)
+    for (std::size_t j = 0; j <= ny; ++j) b[j * nx] -= s * D.spread[j * nx] * iw[0];
+  fftw_execute(plan_);
+  const double o = -D.c * mu_p_ / dy_;
+  const double* inv = D.inv.data();
+  for (std::size_t j = ny; j-- > 0;) {
+    double* z = b + j * nx;
+    const double* zn = z + nx;
+    const double* iv = inv + (j + 1) * nx;
+    for (std::size_t k = 0; k < nx; ++k) z[k] -= o * iv[k] * zn[k];
+  }
+  // The interface row's modes ξ: B ξ = Wx ρ₀ (InterfaceData).
+  for (std::size_t k = 0; k < nx; ++k) D.f[k] = D.wx[k] * b[k];
+  double dbar = 0.0;
+  for (std::size_t i = 0; i < nx; ++i) dbar += d[i];
+  dbar = std::max(dbar / static_cast<double>(nx), 0.0);
+  for (std::size_t k = 0; k < nx; ++k) D.precond[k] = 1.0 / (D.wx[k] * (D.p[k] + dbar));
+  D.d = d.data();
+  const InterfaceSystem B(D);
+  const Eigen::Map<const Eigen::VectorXd> f(D.f.data(), static_cast<Eigen::Index>(nx));
+  Eigen::Map<Eigen::VectorXd> xi(b, static_cast<Eigen::Index>(nx));  // row 0 of the buffer: its modes
+  D.applications = 0;
+  {
+    Eigen::ConjugateGradient<InterfaceSystem, Eigen::Lower | Eigen::Upper, InterfacePreconditioner> cg;
+    cg.setTolerance(kInterfaceTolerance);
+    cg.setMaxIterations(300);
+    cg.compute(B);
+    xi = cg.solve(f);
+    bool ok = cg.info() == Eigen::Success && std::isfinite(cg.error());
+    if (!ok) {  // indefinite (d < 0 somewhere): MINRES, with the same (definite) preconditioner
+      Eigen::MINRES<InterfaceSystem, Eigen::Lower | Eigen::Upper, InterfacePreconditioner> mr;
+      mr.setTolerance(kInterfaceTolerance);
+      mr.setMaxIterations(1000);
+      mr.compute(B);
+      xi = mr.solve(f);
+      ok = mr.info() == Eigen::Success && std::isfinite(mr.error());
+      if (!ok)
+        throw std::runtime_error("Strip: the interface system of solve_system did not converge (CG and MINRES): " +
+                                 std::to_string(D.applications) + " applications, relative residual " +
+                                 format_number(mr.error()));
+    }
+  }
+  last_interface_iterations_ = D.applications;
+  D.d = nullptr;
+  // The rows above, from row 0's modes.
+  for (std::size_t j = 1; j <= ny; ++j) {
+    double* z = b + j * nx;
+    const double* zp = z - nx;
+    const double* iv = inv + j * nx;
+    for (std::size_t k = 0; k < nx; ++k) z[k] = (z[k] - o * zp[k]) * iv[k];
+  }
+  fftw_execute(plan_);
+  std::copy(b, b + n, x);
+}
+
+void Strip::solve_system(double c, std::span<const double> d, std::span<const double> rhs, std::span<double> x) {
+  if (!(c > 0.0)) throw std::invalid_argument("Strip::solve_system: c must be > 0");
+  direct_factorise(c);
+  Direct& D = direct();
+  const std::size_t n = dofs();
+  double s = 0.0;
+  if (spring_K_ > 0.0) {
+    // ψ = A₀⁻¹ b for this (c, d); then A⁻¹ r = A₀⁻¹ (r − s b), s = β ψᵀr / (1 + β bᵀψ), β = c K.
+    if (D.psi_c != c || !std::equal(d.begin(), d.end(), D.psi_d.begin(), D.psi_d.end())) {
+      D.psi.resize(n);
+      direct_solve(d, D.spread.data(), 0.0, D.psi.data());
+      D.b_psi = 0.0;
+      for (std::size_t j = 0; j <= ny_; ++j) D.b_psi += D.spread[j * nx_] * D.psi[j * nx_];
+      D.psi_d.assign(d.begin(), d.end());
+      D.psi_c = c;
+    }
+    const double beta = c * spring_K_;
+    double dot = 0.0;
+    for (std::size_t k = 0; k < n; ++k) dot += D.psi[k] * rhs[k];
+    s = beta * dot / (1.0 + beta * D.b_psi);
+  }
+  direct_solve(d, rhs.data(), s, x.data());
 }
 
 namespace {

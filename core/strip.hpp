@@ -23,6 +23,7 @@
 // independent (own buffers and FFTW plans) and may run concurrently. Results are bit-reproducible
 // (FFTW_ESTIMATE plans on aligned buffers of the same sizes; fixed operation order).
 #include <cstddef>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -128,6 +129,28 @@ class Strip {
   /// Relative residual the last solve reached.
   double last_residual() const { return last_residual_; }
 
+  /// The step matrix with coefficient c and interface coefficients d, solved directly for any right-hand side:
+  ///   A(c, d) x = rhs,   A(c, d) = M/c + c (S + K b bᵀ) + E diag(wx d) Eᵀ   (all dofs; c > 0; d per site).
+  /// The trapezoidal step's matrix is A(dt/2, η + c1/2); the adaptive integrator's u system is A(γh, η + q_σ)
+  /// (core/adaptive.hpp). d may be of either sign as long as A is definite (the interface Schur complement
+  /// below is then definite too). The capacitance method (docs/performance.md §12): P = M/c + c S is
+  /// diagonalised by the DCT-I along x (FFTW REDFT00), per mode a tridiagonal T_k in y, factorised from the
+  /// top row down so that its last pivot p_k gives the interface's Green's function G = Eᵀ P⁻¹ E, diagonal in
+  /// cosine space (1/p_k); the interface unknowns solve (G⁻¹ + Wx diag(d)) x₀ = Wx C ρ₀ (ρ₀: the eliminated
+  /// right-hand side of row 0) by Eigen's CG (MINRES when the CG fails: indefinite), preconditioned by the
+  /// cosine-diagonal G⁻¹ + d̄ Wx, d̄ = max(mean d, 0); the rows above follow by back substitution in cosine
+  /// space. The spring's rank one by Sherman–Morrison with ψ = A₀⁻¹ b (one more solve whenever c or d changes).
+  /// One solve costs about one application of the CG's preconditioner plus nx-sized interface iterations.
+  /// rhs and x may alias. Throws std::runtime_error when the interface solve does not converge.
+  void solve_system(double c, std::span<const double> d, std::span<const double> rhs, std::span<double> x);
+  /// Interface iterations of the last solve_system (the ψ solve not counted).
+  int last_interface_iterations() const { return last_interface_iterations_; }
+  /// How solve_step solves the trapezoidal step: the preconditioned CG over all dofs (default) or
+  /// solve_system (docs/performance.md §12).
+  enum class StepSolver { cg, direct };
+  void set_step_solver(StepSolver s) { step_solver_ = s; }
+  StepSolver step_solver() const { return step_solver_; }
+
   void set_shift(Shift s) { shift_ = s; }
   Shift shift() const { return shift_; }
   /// Bytes of workspace the object holds (FFT buffer, mode factors, right-hand side), and the bytes Eigen's
@@ -144,6 +167,10 @@ class Strip {
   void make_plans();
   void free_plans() noexcept;
   void factorise(double dt, double dbar) const;
+  struct Direct;  // solve_system's workspace (strip.cpp), made on first use
+  Direct& direct();
+  void direct_factorise(double c);
+  void direct_solve(std::span<const double> d, const double* rhs, double spring_shift, double* x);
 
   std::vector<double> x_;
   std::size_t nx_ = 0, ny_ = 0;
@@ -164,6 +191,9 @@ class Strip {
   mutable int applications_ = 0;
   int last_iterations_ = 0;
   double last_residual_ = 0.0;
+  StepSolver step_solver_ = StepSolver::cg;
+  std::unique_ptr<Direct> direct_;
+  int last_interface_iterations_ = 0;
 };
 
 template <class F>

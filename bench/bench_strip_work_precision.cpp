@@ -1,0 +1,133 @@
+// Work-precision of the strip's integrators on fig1_strip (issue 19; docs/performance.md §13): the explicit
+// reference scheme at cfl 1 and 0.5, the adaptive Rosenbrock integrator (core::AdaptiveSimulation on
+// core::Strip) at several rtol (atol = rtol/100), and the implicit trapezoidal at dt = 0.02 for the record, all
+// in one run, each with its event errors against a reference run (the explicit scheme at cfl 0.25) and its
+// wall time. Prints the table, then the ratio the issue asks for: the wall time of the fastest explicit run
+// with every event within 1% of the reference over that of the fastest adaptive run that is.
+//
+// fig1_strip as in configs/fig1_strip.toml (tests/scenes.hpp fig1 on the strip H = 17, dx = dy = 0.5; 601 x 35
+// = 21 035 nodes), the continuum model, to t = 120 (every event of fig1_strip happens by t = 110).
+//
+//   build/bench/bench_strip_work_precision                          (~1 min)
+//   SLIPFRONT_BENCH_QUICK=1 build/bench/bench_strip_work_precision  H = 4 (9 rows), to t = 60: a smoke test
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "compare/runner.hpp"
+#include "compare/scene.hpp"
+#include "../tests/scenes.hpp"
+
+using namespace slipfront;
+
+namespace {
+
+bool quick() { return std::getenv("SLIPFRONT_BENCH_QUICK") != nullptr; }
+
+compare::Scene base() {
+  compare::Scene s = testing::fig1_scene();
+  s.name = "fig1_strip";
+  s.bulk.height = quick() ? 4.0 : 17.0;
+  s.grid.dy = 0.5;
+  s.time.t_end = quick() ? 60.0 : 120.0;
+  s.output.snapshot_dt = 10.0;
+  s.output.series_dt = 0.5;
+  return s;
+}
+
+struct Run {
+  std::string label;
+  compare::ModelResult r;
+  double err = 0.0;  // max relative event error against the reference
+};
+
+compare::ModelResult run(const compare::Scene& s) {
+  s.validate();
+  auto out = compare::run_scene(s, {});
+  if (out.size() != 1 || out[0].status != compare::RunStatus::complete) {
+    std::fprintf(stderr, "run failed: %s\n", out.empty() ? "" : out[0].message.c_str());
+    std::exit(1);
+  }
+  return std::move(out[0]);
+}
+
+// The events compared (quick: t* only, the transient is beyond t = 60).
+std::vector<std::pair<const char*, double>> events(const compare::ModelResult& r) {
+  if (quick()) return {{"t*", r.events.t_star}};
+  return {{"t*", r.events.t_star},
+          {"t^", r.events.t_hat},
+          {"c_transient", r.events.c_transient},
+          {"x_arrest", r.events.x_arrest}};
+}
+
+}  // namespace
+
+int main() {
+  compare::Scene ref_scene = base();
+  ref_scene.time.cfl = 0.25;
+  const compare::ModelResult ref = run(ref_scene);
+  const auto ref_ev = events(ref);
+
+  std::vector<Run> runs;
+  for (const double cfl : {1.0, 0.5}) {
+    compare::Scene s = base();
+    s.time.cfl = cfl;
+    runs.push_back({"explicit cfl " + std::to_string(cfl).substr(0, 4), run(s)});
+  }
+  for (const double rtol : {1e-1, 3e-2, 1e-2, 3e-3, 1e-3}) {
+    compare::Scene s = base();
+    s.time.integrator = core::Integrator::adaptive_rosenbrock;
+    s.time.rtol = rtol;
+    s.time.atol = rtol / 100.0;
+    char label[64];
+    std::snprintf(label, sizeof label, "adaptive rtol %.0e", rtol);
+    runs.push_back({label, run(s)});
+  }
+  {
+    compare::Scene s = base();
+    s.time.integrator = core::Integrator::implicit_trapezoidal;
+    s.time.dt = 0.02;
+    runs.push_back({"implicit dt 0.02", run(s)});
+  }
+
+  std::printf("\nfig1_strip work-precision (H = %g, %g x %g nodes, t_end %g), reference: explicit cfl 0.25 "
+              "(%.0f steps, %.2f s)\n",
+              base().bulk.height, base().bulk.length / base().grid.dx + 1, base().bulk.height / base().grid.dy + 1,
+              base().time.t_end, ref.scalars.at("steps"), ref.wall_seconds);
+  std::printf("%-22s %9s %9s", "run", "steps", "wall s");
+  for (const auto& [name, v] : ref_ev) std::printf(" %12s", name);
+  std::printf(" %10s\n", "max error");
+  for (auto& x : runs) {
+    const auto ev = events(x.r);
+    double worst = 0.0;
+    for (std::size_t k = 0; k < ev.size(); ++k) {
+      const double e = std::abs(ev[k].second / ref_ev[k].second - 1.0);
+      worst = std::isfinite(e) ? std::max(worst, e) : std::numeric_limits<double>::infinity();
+    }
+    x.err = worst;
+    std::printf("%-22s %9.0f %9.3f", x.label.c_str(), x.r.scalars.at("steps"), x.r.wall_seconds);
+    for (std::size_t k = 0; k < ev.size(); ++k) std::printf(" %+12.2e", ev[k].second / ref_ev[k].second - 1.0);
+    std::printf(" %10.2e\n", worst);
+  }
+  auto fastest = [&](const char* prefix) {
+    const Run* best = nullptr;
+    for (const auto& x : runs)
+      if (x.label.rfind(prefix, 0) == 0 && x.err <= 0.01 && (!best || x.r.wall_seconds < best->r.wall_seconds))
+        best = &x;
+    return best;
+  };
+  const Run* ex = fastest("explicit");
+  const Run* ad = fastest("adaptive");
+  if (ex && ad)
+    std::printf("\nat 1%% error: fastest explicit %s %.3f s, fastest adaptive %s %.3f s: ratio explicit/adaptive %.2f "
+                "(issue 19 asks >= 10)\n",
+                ex->label.c_str(), ex->r.wall_seconds, ad->label.c_str(), ad->r.wall_seconds,
+                ex->r.wall_seconds / ad->r.wall_seconds);
+  else
+    std::printf("\nat 1%% error: no %s run within 1%%\n", ex ? "adaptive" : "explicit");
+  return 0;
+}

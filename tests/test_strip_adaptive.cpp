@@ -1,0 +1,328 @@
+// The accuracy-stepped integrator on the antiplane strip (issue 19, docs/numerics.md §8, docs/performance.md
+// §12–§13): the strip's direct solve of its step matrix (core::Strip::solve_system, the capacitance method)
+// against a sparse direct factorisation of the assembled matrix; the adaptive Rosenbrock integrator on the
+// strip against the explicit reference on fig1_strip's events; checkpoint/restart; the energy budget.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Dense>
+#include <Eigen/SparseCholesky>
+
+#include "compare/alongside.hpp"
+#include "compare/runner.hpp"
+#include "compare/scene.hpp"
+#include "core/strip.hpp"
+#include "scenes.hpp"
+
+using namespace slipfront;
+
+namespace {
+
+struct Setup {
+  core::BulkParams bulk;
+  core::DriveParams drive;
+  core::InterfaceParams law;
+  double dx = 0.5, dy = 0.25;
+};
+
+// A strip of nx columns and `rows` rows; edge (K = 2.5, v_d = 0.3) or homogeneous loading (K = 0).
+Setup setup(std::size_t nx, std::size_t rows, bool edge) {
+  Setup s;
+  s.bulk.rho = 0.01;
+  s.bulk.mu = 300.0;
+  s.bulk.length = static_cast<double>(nx - 1) * s.dx;
+  s.bulk.height = static_cast<double>(rows - 1) * s.dy;
+  s.drive.loading = edge ? core::Loading::edge : core::Loading::homogeneous;
+  s.drive.K = 2.5;
+  s.drive.v_d = 0.3;
+  s.drive.sigma_d = 0.5;
+  s.law.alpha = 1.05;
+  s.law.eta = 0.1;
+  return s;
+}
+
+std::vector<double> random_vector(std::size_t n, std::mt19937& g, double lo, double hi) {
+  std::uniform_real_distribution<double> d(lo, hi);
+  std::vector<double> v(n);
+  for (auto& x : v) x = d(g);
+  return v;
+}
+
+Eigen::Map<const Eigen::VectorXd> view(const std::vector<double>& v) {
+  return {v.data(), static_cast<Eigen::Index>(v.size())};
+}
+
+// A(c, d) = M/c + c (S + K b bᵀ) + E diag(wx d) Eᵀ, assembled from S and the definitions (docs/model.md §9).
+Eigen::SparseMatrix<double> assemble(const core::Strip& s, double c, const std::vector<double>& d) {
+  const auto n = static_cast<Eigen::Index>(s.dofs());
+  const std::size_t nx = s.sites();
+  Eigen::VectorXd b = Eigen::VectorXd::Zero(n);
+  for (std::size_t j = 0; j < s.rows(); ++j) b[static_cast<Eigen::Index>(j * nx)] = s.row_weight(j) / s.height();
+  std::vector<Eigen::Triplet<double>> tr;
+  for (std::size_t j = 0; j < s.rows(); ++j)
+    for (std::size_t i = 0; i < nx; ++i) {
+      const auto k = static_cast<Eigen::Index>(j * nx + i);
+      double a = s.node_mass(i, j) / c;
+      if (j == 0) a += s.interface_weight(i) * d[i];
+      tr.emplace_back(k, k, a);
+    }
+  Eigen::SparseMatrix<double> D(n, n);
+  D.setFromTriplets(tr.begin(), tr.end());
+  const Eigen::SparseMatrix<double> bb = (b * b.transpose()).sparseView();
+  return D + c * s.stiffness_matrix() + (c * s.spring_K()) * bb;
+}
+
+}  // namespace
+
+TEST_CASE("strip: solve_system (capacitance) matches a sparse LDLT of the assembled step matrix", "[strip][adaptive]") {
+  std::mt19937 g(19);
+  struct Shape {
+    std::size_t nx, rows;
+  };
+  int indefinite_d = 0;
+  for (const Shape sh : {Shape{17, 5}, Shape{33, 9}, Shape{101, 2}, Shape{2, 3}, Shape{3, 2}, Shape{64, 17}})
+    for (const bool edge : {true, false})
+      for (const double c : {0.004, 0.3})
+        for (const bool negative : {false, true}) {
+          INFO("nx " << sh.nx << " rows " << sh.rows << (edge ? " edge" : " homogeneous") << " c " << c
+                     << (negative ? " some d < 0" : " d >= 0"));
+          core::Strip s(setup(sh.nx, sh.rows, edge).bulk, setup(sh.nx, sh.rows, edge).drive,
+                        setup(sh.nx, sh.rows, edge).law, 0.5, 0.25);
+          const std::size_t n = s.dofs(), nx = s.sites();
+          std::vector<double> d = random_vector(nx, g, 0.0, 2.0);
+          if (negative)  // weakening sites: d < 0 on a third of them, bounded so that A stays definite
+            for (std::size_t i = 0; i < nx; i += 3) d[i] = -0.5 * s.rho() / c * std::uniform_real_distribution<>(0.0, 1.0)(g);
+          Eigen::SparseMatrix<double> A = assemble(s, c, d);
+          Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(A);
+          // Definite: the case the method is stated for (the negative d halved until it is).
+          for (int k = 0; k < 30 && !(ldlt.info() == Eigen::Success && ldlt.vectorD().minCoeff() > 0.0); ++k) {
+            for (auto& di : d) di = di < 0.0 ? 0.5 * di : di;
+            A = assemble(s, c, d);
+            ldlt.compute(A);
+          }
+          REQUIRE(ldlt.info() == Eigen::Success);
+          REQUIRE(ldlt.vectorD().minCoeff() > 0.0);
+          if (negative && *std::min_element(d.begin(), d.end()) < 0.0) ++indefinite_d;
+          const auto rhs = random_vector(n, g, -1.0, 1.0);
+          std::vector<double> x(n, 0.0);
+          s.solve_system(c, d, rhs, x);
+          const Eigen::VectorXd ref = ldlt.solve(view(rhs));
+          CHECK((view(x) - ref).norm() / ref.norm() < 1e-12);
+          CHECK((A * view(x) - view(rhs)).norm() / view(rhs).norm() < 1e-12);
+          CHECK(s.last_interface_iterations() >= 1);
+          CHECK(s.last_interface_iterations() < 60);
+          // A second right-hand side on the same (c, d), in place (rhs and x alias): the cached factors and ψ.
+          auto y = random_vector(n, g, -1.0, 1.0);
+          const Eigen::VectorXd ref2 = ldlt.solve(view(y));
+          s.solve_system(c, d, y, y);
+          CHECK((view(y) - ref2).norm() / ref2.norm() < 1e-12);
+        }
+  CHECK(indefinite_d > 0);
+}
+
+TEST_CASE("strip: the trapezoidal step by the direct solve is the CG's step", "[strip][adaptive]") {
+  std::mt19937 g(7);
+  for (const bool edge : {true, false}) {
+    const Setup st = setup(41, 9, edge);
+    core::Strip cg(st.bulk, st.drive, st.law, st.dx, st.dy), direct(st.bulk, st.drive, st.law, st.dx, st.dy);
+    direct.set_step_solver(core::Strip::StepSolver::direct);
+    const std::size_t n = cg.dofs(), nx = cg.sites();
+    const auto u = random_vector(n, g, -1, 1), V = random_vector(n, g, -1, 1), sb = random_vector(nx, g, -1, 1);
+    const auto c0 = random_vector(nx, g, -1, 1), c1 = random_vector(nx, g, 0.0, 3.0);
+    std::vector<double> w_cg(n, 0.0), w_direct(n, 0.0);
+    cg.solve_step(c0, c1, 1.3, 0.02, 0.1, u, V, sb, w_cg);
+    direct.solve_step(c0, c1, 1.3, 0.02, 0.1, u, V, sb, w_direct);
+    CHECK((view(w_cg) - view(w_direct)).norm() / view(w_cg).norm() < 1e-10);
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The adaptive integrator on the strip, end to end
+// ---------------------------------------------------------------------------------------------
+
+namespace {
+
+/// fig1 (testing::fig1_scene: μ = 300, α = 1.05, K = 2.5, v_d = 0.3, ρ = 0.01, η = 0.1, κ = 8, L = 300, dx = 0.5)
+/// on the strip of height H, row spacing dy.
+compare::Scene fig1_strip(double H, double dy) {
+  compare::Scene s = testing::fig1_scene();
+  s.name = "fig1_strip_adaptive_test";
+  s.bulk.height = H;
+  s.grid.dy = dy;
+  return s;
+}
+
+compare::Scene adaptive(compare::Scene s, double rtol) {
+  s.time.integrator = core::Integrator::adaptive_rosenbrock;
+  s.time.rtol = rtol;
+  s.time.atol = rtol / 100.0;  // as bench/bench_work_precision on the chain
+  return s;
+}
+
+compare::ModelResult run_one(const compare::Scene& s) {
+  s.validate();
+  auto out = compare::run_scene(s, {});
+  REQUIRE(out.size() == 1);
+  INFO(out[0].message);
+  REQUIRE(out[0].status == compare::RunStatus::complete);
+  return std::move(out[0]);
+}
+
+double rel(double a, double b) { return std::abs(a / b - 1.0); }
+
+/// A small strip: fig1 on L = 60, dx = 1, H = 4, dy = 1 (5 rows) to t = 60: first yield and the slow front.
+compare::Scene small_strip() {
+  compare::Scene s = fig1_strip(4.0, 1.0);
+  s.name = "small_strip";
+  s.bulk.length = 60.0;
+  s.grid.dx = 1.0;
+  s.time.t_end = 60.0;
+  s.output.series_dt = 0.5;
+  s.output.snapshot_dt = 5.0;
+  return s;
+}
+
+using testing::same;
+
+void require_identical(const compare::ModelResult& a, const compare::ModelResult& b) {
+  CHECK(a.status == b.status);
+  CHECK(same(a.series, b.series));
+  CHECK(same(a.snapshot_t, b.snapshot_t));
+  CHECK(same(a.snapshots, b.snapshots));
+  CHECK(same(a.bulk_t, b.bulk_t));
+  for (const auto& [name, col] : a.bulk) CHECK(same(col, b.bulk.at(name)));
+  for (const auto& [name, field] : compare::event_fields) {
+    CHECK(same(a.events.*field, b.events.*field));
+    CHECK(same(a.events_alt.*field, b.events_alt.*field));
+  }
+  REQUIRE(a.scalars.size() == b.scalars.size());
+  for (const auto& [k, v] : a.scalars) CHECK(same(v, b.scalars.at(k)));
+}
+
+}  // namespace
+
+TEST_CASE("strip adaptive: the scene runs the adaptive integrator on the strip (continuum), the discrete model explicit",
+          "[strip][adaptive]") {
+  compare::Scene s = adaptive(small_strip(), 1e-3);
+  s.models = {"continuum", "discrete"};
+  s.discrete.representation = "count";
+  s.discrete.contacts_per_site = 50;
+  s.validate();  // no longer refused
+  const auto out = compare::run_scene(s, {});
+  REQUIRE(out.size() == 2);
+  CHECK(out[0].labels.at("integrator") == "adaptive");
+  CHECK(out[1].labels.at("integrator") == "explicit");
+  for (const auto& m : out) {
+    CHECK(m.status == compare::RunStatus::complete);
+    CHECK(std::isfinite(m.events.t_star));
+  }
+  // The adaptive run against the explicit reference on the same small strip: first yield and the slow front.
+  compare::Scene ex = small_strip();
+  const auto e = run_one(ex);
+  CHECK(rel(out[0].events.t_star, e.events.t_star) < 1e-3);
+  // The slip along the interface at the last snapshot (t = 60, the slow front under way) within 1% of its range.
+  const std::size_t last = e.snapshot_t.size() - 1;
+  REQUIRE(out[0].snapshot_t.size() == e.snapshot_t.size());
+  const auto ua = testing::snapshot_row(out[0], "u", last), ue = testing::snapshot_row(e, "u", last);
+  double diff = 0.0, range = 0.0;
+  for (std::size_t i = 0; i < ue.size(); ++i) {
+    diff = std::max(diff, std::abs(ua[i] - ue[i]));
+    range = std::max(range, std::abs(ue[i]));
+  }
+  CHECK(diff < 0.01 * range);
+  CHECK(out[0].scalars.at("steps") < 0.05 * e.scalars.at("steps"));
+}
+
+TEST_CASE("strip adaptive: a restarted run is the uninterrupted run bit for bit, bulk snapshots included",
+          "[strip][adaptive][checkpoint]") {
+  compare::Scene s = adaptive(small_strip(), 1e-3);
+  s.output.energy = true;
+  s.bulk_output.dt = 10.0;
+  s.validate();
+  const auto whole = compare::run_scene_alongside(s, {});
+  REQUIRE(whole.models.size() == 1);
+  REQUIRE(std::isfinite(whole.models[0].events.t_star));
+  REQUIRE(whole.models[0].bulk_t.size() == 7);  // t = 0, 10, ..., 60 at the exact times on the dense output
+  CHECK(whole.models[0].bulk_t[3] == 30.0);
+  std::vector<std::pair<double, std::string>> saved;
+  compare::RunControl ctl;
+  ctl.checkpoint_every = 12.0;
+  ctl.checkpoint = [&](const std::string& state, double t) { saved.emplace_back(t, state); };
+  const auto with = compare::run_scene_alongside(s, ctl);
+  require_identical(whole.models[0], with.models[0]);
+  REQUIRE(saved.size() >= 4);
+  for (const std::size_t k : {std::size_t{0}, saved.size() / 2, saved.size() - 1}) {
+    INFO("restarted from the checkpoint at t = " << saved[k].first);
+    compare::RunControl rc;
+    rc.restart = saved[k].second;
+    const auto again = compare::run_scene_alongside(s, rc);
+    require_identical(whole.models[0], again.models[0]);
+  }
+}
+
+TEST_CASE("strip adaptive: the energy budget closes to the integration error (O(rtol))", "[strip][adaptive][energy]") {
+  // Drive work = kinetic + elastic + spring + viscous + interfacial work over every dof, the work terms by
+  // Simpson's rule on each step's dense output (as on the chain): the residual is the integration error.
+  compare::Scene edge = fig1_strip(4.0, 0.5);  // L = 300, dx = 0.5: first yield and the slow front
+  edge.time.t_end = 40.0;
+  compare::Scene homo = testing::homogeneous_scene(0.5, 150.0, 5.0);  // σ_d = 0.5, patch 0 ≤ x < 150
+  homo.bulk.height = 4.0;
+  homo.grid.dy = 0.5;
+  for (compare::Scene s : {edge, homo}) {
+    double previous = 0.0;
+    for (const double rtol : {1e-3, 1e-5}) {
+      s = adaptive(s, rtol);
+      s.output.energy = true;
+      s.output.series_dt = 0.5;
+      s.output.snapshot_dt = s.time.t_end;
+      const auto r = run_one(s);
+      const double worst = testing::worst_energy_residual(r);
+      std::printf("strip adaptive energy %s, rtol %g: %g steps, max |residual| / drive work = %.3g\n", s.name.c_str(),
+                  rtol, r.scalars.at("steps"), worst);
+      CHECK(worst < 10.0 * rtol);
+      if (previous > 0.0) CHECK(worst < previous);
+      previous = worst;
+    }
+  }
+}
+
+TEST_CASE("strip adaptive: fig1_strip events against the explicit reference within 1%", "[strip][adaptive]") {
+  // configs/fig1_strip.toml (H = 17, dx = dy = 0.5), continuum, to t = 120 (t^ ≈ 104.5, arrest at t ≈ 109.6);
+  // the explicit reference at cfl 0.5. The adaptive integrator at rtol 1e-2 (atol 1e-4).
+  compare::Scene s = fig1_strip(17.0, 0.5);
+  s.time.t_end = 120.0;
+  s.output.snapshot_dt = 10.0;
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto e = run_one(s);
+  const auto t1 = std::chrono::steady_clock::now();
+  const auto r = run_one(adaptive(s, 1e-2));
+  const auto t2 = std::chrono::steady_clock::now();
+  REQUIRE(r.labels.at("integrator") == "adaptive");
+  std::printf("fig1_strip explicit cfl 0.5 (%.2f s, %g steps) vs adaptive rtol 1e-2 (%.2f s, %g steps): t* %+.2e, "
+              "t^ %+.2e, c_transient %+.2e, x_arrest %+.2e, c_slow(alt) %+.2e\n",
+              std::chrono::duration<double>(t1 - t0).count(), e.scalars.at("steps"),
+              std::chrono::duration<double>(t2 - t1).count(), r.scalars.at("steps"),
+              r.events.t_star / e.events.t_star - 1, r.events.t_hat / e.events.t_hat - 1,
+              r.events.c_transient / e.events.c_transient - 1, r.events.x_arrest / e.events.x_arrest - 1,
+              r.events_alt.c_slow / e.events_alt.c_slow - 1);
+  for (const auto* ev : {&e.events, &r.events}) {
+    REQUIRE(std::isfinite(ev->t_star));
+    REQUIRE(std::isfinite(ev->t_hat));
+    REQUIRE(std::isfinite(ev->c_transient));
+    REQUIRE(std::isfinite(ev->x_arrest));
+  }
+  CHECK(rel(r.events.t_star, e.events.t_star) < 0.01);
+  CHECK(rel(r.events.t_hat, e.events.t_hat) < 0.01);
+  CHECK(rel(r.events.c_transient, e.events.c_transient) < 0.01);
+  CHECK(rel(r.events.x_arrest, e.events.x_arrest) < 0.01);
+  CHECK(rel(r.events_alt.c_slow, e.events_alt.c_slow) < 0.01);
+}

@@ -8,6 +8,7 @@
 #include "compare/difference.hpp"
 #include "compare/fit.hpp"
 #include "compare/fronts.hpp"
+#include "compare/strip_height.hpp"
 #include "compare/validity.hpp"
 #include "continuum/friction_law.hpp"
 #include "continuum/steady_front.hpp"
@@ -470,6 +471,11 @@ void validity_fig1(StudyReport& rep, const StudySpec&, const std::vector<StudyRu
                    const std::vector<Scene>& scenes, const std::vector<std::vector<ModelResult>>& res) {
   analyse_validity_fig1(rep, runs, scenes, res);
 }
+// fig1 on the strip against its height, the chain as the H -> 0 line (compare/strip_height.hpp).
+void strip_height(StudyReport& rep, const StudySpec&, const std::vector<StudyRun>& runs,
+                  const std::vector<Scene>& scenes, const std::vector<std::vector<ModelResult>>& res) {
+  analyse_strip_height(rep, runs, scenes, res);
+}
 
 // Every study kind, in the order they are listed: adding a kind is adding a row. The third column: the
 // models the analysis needs in every run (a study whose runs do not list them is refused at load).
@@ -496,6 +502,8 @@ constexpr StudyKind study_kind_table[] = {
      both, validity_fig1},
     {"steady_fronts", "runs started from the solved steady front (kicked or not), either model or both, vs sigma_d and N",
      any_model, steady_fronts},
+    {"strip_height", "fig1 on the strip vs its height H: t*, t^, c_slow, c_transient, x_arrest of both models against "
+     "H/l_e, the 1D chain (bulk.height = 0) as the H -> 0 line", both, strip_height},
     {"runs", "no analysis: just run every point", any_model, nullptr}};
 
 // The domains of the study file's numeric keys (docs/studies.md, "Study files").

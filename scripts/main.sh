@@ -5,8 +5,9 @@
 #      results.h5 per run),
 #   3. write the report with every plot (out/report.md, out/figures/*.png) and check that every plot
 #      it names exists and is not empty.
-# Takes about 9 minutes on 2 cores (build of the program ~2 min; scenes ~1 min; studies ~6 min, of which
-# the validity map ~4 min; report ~20 s; measured 6 min 43 s with the program already built). A scene or study that fails still leaves its partial results and the rest goes on; the job then exits 1.
+# Takes about 11 minutes on 2 cores (build of the program ~2 min; scenes ~1 min; studies ~7.5 min, of which
+# the validity map ~4 min and strip_height ~1.5 min; report ~20 s; measured 6 min 43 s with the program
+# already built, before strip_height). A scene or study that fails still leaves its partial results and the rest goes on; the job then exits 1.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 bash scripts/build.sh slipfront

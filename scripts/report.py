@@ -680,10 +680,90 @@ def validity_fig1_study(st, outdir):
     return figs, rows
 
 
+STRIP_EVENTS = (("t_star", "first yield t*"), ("t_hat", "instability t^"), ("c_slow", "slow-front speed c_slow"),
+                ("c_transient", "transient speed c_transient"), ("x_arrest", "arrest position x_arrest"))
+
+
+def strip_height_study(st, outdir):
+    """fig1 on the strip against H/l_e: the five events of both models, the 1D chain as the H -> 0 line (dashed),
+    and their relative differences to it (log-log, with the 0.5 % tolerance and an H^2 guide)."""
+    figs, rows = [], []
+    t = st.tables.get("strip_height", {})
+    if not t or not len(t.get("H", [])):
+        return figs, rows
+    H, x = t["H"], t["H_over_le"]
+    strip = H > 0
+    chain = np.where(H == 0)[0]
+    le = float(np.median(H[strip] / x[strip])) if strip.any() else math.nan
+    models = (("continuum", "C0", "o"), ("discrete", "C3", "s"))
+    fig, axs = plt.subplots(2, 3, figsize=(15, 8.5), constrained_layout=True)
+    for ax, (o, what) in zip(axs.flat, STRIP_EVENTS):
+        for m, color, marker in models:
+            y = t.get(f"{o}_{m}")
+            if y is None:
+                continue
+            ok = strip & np.isfinite(y)
+            ax.plot(x[ok], y[ok], marker=marker, color=color, ls="-", lw=0.8, mfc="none" if m == "discrete" else color,
+                    label=m)
+            if len(chain) and math.isfinite(y[chain[0]]):
+                ax.axhline(y[chain[0]], color=color, ls="--", lw=1, label=f"1D chain ({m}): {y[chain[0]]:.4g}")
+        ax.axvline(1.0, color="0.6", ls=":", lw=0.8)
+        ax.set_xscale("log")
+        ax.set_xlabel("H / l_e")
+        ax.set_title(what, fontsize=9)
+        if ax.get_legend_handles_labels()[0]:
+            ax.legend(fontsize=7)
+    ax = axs.flat[5]
+    drawn = False
+    for i, (o, what) in enumerate(STRIP_EVENTS):
+        for m, _, marker in models:
+            r = t.get(f"{o}_{m}_rel_1d")
+            if r is None:
+                continue
+            ok = strip & np.isfinite(r) & (np.abs(r) > 0)
+            if ok.any():
+                ax.loglog(x[ok], np.abs(r[ok]), marker=marker, color=f"C{i}", ls="-" if m == "continuum" else ":",
+                          lw=0.8, ms=4, mfc="none" if m == "discrete" else f"C{i}",
+                          label=f"{o} ({m})" if m == "continuum" else None)
+                drawn = True
+    if drawn:
+        xs = np.geomspace(max(np.nanmin(x[strip]), 1e-3), 1.0, 20)
+        ax.loglog(xs, xs ** 2 / 3, "k-", lw=0.8, alpha=0.5, label="(H/l_e)^2 / 3 (model.md §9.2)")
+        ax.axhline(0.005, color="k", ls="--", lw=0.8, label="0.5 %")
+        ax.set_xlabel("H / l_e")
+        ax.set_ylabel("|event / 1D event - 1|  (open, dotted: discrete)")
+        ax.set_title("relative difference to the 1D chain", fontsize=9)
+        ax.legend(fontsize=6, ncol=2)
+    else:
+        plot.no_data(ax, "no 1D chain run: no relative differences")
+    fig.suptitle(st.title(f"fig1 on the strip vs its height (l_e = sqrt(mu/alpha) = {le:.4g}; "
+                          "dashed: the 1D chain, the H -> 0 line)"), fontsize=9)
+    save(fig, outdir, f"{st.stem}_events_vs_H.png", figs)
+    thin = st.scalars.get("strip_height_thin_H", math.nan)
+    if len(chain) and math.isfinite(thin):
+        k = int(np.where(H == thin)[0][0])
+        big = int(np.argmax(np.where(strip, H, -1)))
+        for o, what in STRIP_EVENTS:
+            c, d = t.get(f"{o}_continuum"), t.get(f"{o}_discrete")
+            if c is None or d is None:
+                continue
+            rc, rd = t[f"{o}_continuum_rel_1d"], t[f"{o}_discrete_rel_1d"]
+            order = st.fit_label(f"strip_height_order_{o}_continuum").replace("slope", "order in H")
+            rows.append((f"{st.name}: {o}, 1D chain -> H = {thin:g} -> H = {H[big]:g} (H/l_e = {x[big]:.3g})",
+                         f"{c[chain[0]]:.4g} -> {c[k]:.4g} -> {c[big]:.4g}", f"{d[chain[0]]:.4g} -> {d[k]:.4g} -> {d[big]:.4g}",
+                         f"H = {thin:g} vs 1D: {rc[k]:+.3%} / {rd[k]:+.3%}", order))
+    dy = st.tables.get("strip_height_dy", {})
+    for k in range(len(dy.get("H", []))):
+        rows.append((f"{st.name}: events at H = {dy['H'][k]:g}, dy = {dy['dy'][k]:g} against dy = {dy['dy_reference'][k]:g}",
+                     "", "", f"largest change {dy['max_rel_ref'][k]:.3%}", "both models, t*, t^, c_slow, c_transient, x_arrest"))
+    return figs, rows
+
+
 STUDY_PLOTS = {"friction_law": friction_law_study, "threshold_width": threshold_width_study,
                "transient_friction": transient_study, "front_speeds": front_speeds_study, "fig2": fig2_study,
                "front_spectrum": spectrum_study, "steady_fronts": steady_fronts_study,
-               "validity_friction": validity_friction_study, "validity_fig1": validity_fig1_study}
+               "validity_friction": validity_friction_study, "validity_fig1": validity_fig1_study,
+               "strip_height": strip_height_study}
 
 
 def scene_rows(res):
@@ -903,6 +983,103 @@ def contacts_section(res, outdir):
     return figs, rows
 
 
+# --------------------------------------------------------------------------------------------
+# the strip's body (docs/output.md /<model>/bulk/): u, tau_xz, tau_yz over (x, y) around t^
+
+BULK_FIELDS = (("u", "displacement u", "viridis"), ("tau_xz", "shear stress tau_xz", "RdBu_r"),
+               ("tau_yz", "shear stress tau_yz", "RdBu_r"))
+
+
+def _bulk_group(res, model):
+    """/<model>/bulk when it holds snapshots of every field (a strip run with output.bulk_dt > 0), else None."""
+    g = res.group(model)
+    if "bulk" not in g or not isinstance(g["bulk"], h5py.Group):
+        return None
+    b = g["bulk"]
+    names = ("t", "x", "y") + tuple(f for f, _, _ in BULK_FIELDS)
+    if not all(k in b and isinstance(b[k], h5py.Dataset) for k in names) or b["t"].shape[:1] in ((), (0,)):
+        return None
+    shape = (b["t"].shape[0], b["y"].shape[0], b["x"].shape[0])
+    if any(b[f].shape != shape for f, _, _ in BULK_FIELDS):  # not the layout of docs/output.md: not pictured
+        print(f"report.py: warning: {res.path}: /{model}/bulk fields are not [t, y, x] = {shape}; no pictures",
+              file=sys.stderr)
+        return None
+    return b
+
+
+def bulk_times(t, t_hat, t_arrest):
+    """Indices of ~3 bulk snapshots bracketing t^: the last before it, one in the transient (nearest the middle
+    of [t^, t_arrest], else the first at or after t^) and the first after the arrest (else the next one); without
+    a t^ in the snapshots' span, the first, middle and last snapshot."""
+    t = np.asarray(t, dtype=float)
+    n = len(t)
+    if not (math.isfinite(t_hat) and t[0] < t_hat <= t[-1]):
+        return sorted({0, n // 2, n - 1})
+    before = int(np.where(t < t_hat)[0][-1])
+    after = np.where(t >= t_hat)[0]
+    if math.isfinite(t_arrest) and t_arrest > t_hat:
+        during = int(after[np.argmin(np.abs(t[after] - 0.5 * (t_hat + t_arrest)))])
+        later = np.where(t >= t_arrest)[0]
+    else:
+        during = int(after[0])
+        later = after[1:]
+    later = [int(k) for k in later if k > during]
+    return sorted({before, during} | ({later[0]} if later else set()))
+
+
+def strip_fields_section(res, outdir):
+    """Pictures of the strip's body around t^: per model, u, tau_xz and tau_yz over (x, y) at ~3 bulk snapshots
+    bracketing t^ (colour scales shared by every model and time of a field). Nothing for runs without bulk
+    snapshots (the 1D scenes, a strip without output.bulk_dt)."""
+    bulks = [(m, b) for m, b in ((m, _bulk_group(res, m)) for m in res.models) if b is not None]
+    if not bulks:
+        return []
+    figs = []
+    picks, limits = {}, {}
+    for m, b in bulks:
+        ev = plot.events(res.group(m))
+        picks[m] = bulk_times(b["t"][()], ev.get("t_hat", math.nan), ev.get("t_arrest", math.nan))
+    for f, _, cmap in BULK_FIELDS:
+        vals = np.concatenate([np.asarray(b[f][picks[m]], dtype=float).ravel() for m, b in bulks])
+        vals = vals[np.isfinite(vals)]
+        if cmap == "viridis":
+            limits[f] = (float(vals.min()), float(vals.max())) if vals.size else (0.0, 1.0)
+        else:  # symmetric about 0; the 99.5th percentile, so the loaded edge's corner does not set the scale
+            a = float(np.percentile(np.abs(vals), 99.5)) if vals.size else 1.0
+            limits[f] = (-a, a) if a > 0 else (-1.0, 1.0)
+        if limits[f][0] == limits[f][1]:
+            limits[f] = (limits[f][0] - 1.0, limits[f][1] + 1.0)
+    for m, b in bulks:
+        ev = plot.events(res.group(m))
+        t_hat = ev.get("t_hat", math.nan)
+        x, y, ts = b["x"][()], b["y"][()], b["t"][()]
+        # the fronts live near the loaded edge: show x up to 1.5 x_arrest (all of it when there is no arrest)
+        xa = ev.get("x_arrest", math.nan)
+        xmax = float(min(x[-1], 1.5 * xa)) if math.isfinite(xa) and xa > 0 else float(x[-1])
+        rows = picks[m]
+        fig, axes = plt.subplots(len(rows), len(BULK_FIELDS), figsize=(16, 2.3 * len(rows) + 1.2), squeeze=False,
+                                 constrained_layout=True)
+        for j, (f, what, cmap) in enumerate(BULK_FIELDS):
+            data = np.asarray(b[f][rows], dtype=float)
+            for i, k in enumerate(rows):
+                ax = axes[i, j]
+                pc = ax.pcolormesh(x, y, data[i], shading="nearest", cmap=cmap, vmin=limits[f][0], vmax=limits[f][1],
+                                   rasterized=True)
+                ax.set_xlim(0, xmax)
+                ax.set_ylim(y[0], y[-1])
+                rel = f", t - t^ = {ts[k] - t_hat:+.3g}" if math.isfinite(t_hat) else ""
+                ax.set_title(f"{what}, t = {ts[k]:.4g}{rel}", fontsize=8)
+                ax.set_ylabel("y (interface at 0)")
+                if i == len(rows) - 1:
+                    ax.set_xlabel("x (loaded edge at 0)" if res.loading() == "edge" else "x")
+            fig.colorbar(pc, ax=axes[:, j], label=f, shrink=0.9)
+        when = f"around t^ = {t_hat:.4g}" if math.isfinite(t_hat) else "at the first, middle and last bulk snapshot (no t^)"
+        fig.suptitle(res.title(f"the strip's body, {m} model: u, tau_xz, tau_yz over (x, y) {when}; x <= {xmax:.4g} of "
+                               f"{x[-1]:.4g} shown, decimated grid of {len(x)} x {len(y)} nodes", fig), fontsize=9)
+        save(fig, outdir, f"{res.scene}_strip_fields_{m}.png", figs)
+    return figs
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description="Plots and report.md for the slipfront results under DIR.")
     ap.add_argument("dir")
@@ -936,10 +1113,11 @@ def main(argv=None):
             summary += scene_rows(res)
             lines += [f"## Scene `{res.scene}`", "", f"{res.description}", "",
                       f"File: `{os.path.relpath(path, root)}`, status {res.status}, models {', '.join(res.models)}.", ""]
-            cfigs = []
+            cfigs, sfigs = [], []
             if res.models:
                 cfigs, crows = contacts_section(res, scene_dir)
                 summary += crows
+                sfigs = strip_fields_section(res, scene_dir)
         for w in written:
             lines.append(f"![{os.path.basename(w)}]({os.path.relpath(w, root)})")
             lines.append("")
@@ -951,6 +1129,15 @@ def main(argv=None):
                       "`/compare/contacts` (chi-square on a uniform subsample of m contacts; KS distance of the whole "
                       "population); one summary row per tested statistic and class.", ""]
             for w in cfigs:
+                lines.append(f"![{os.path.basename(w)}]({os.path.relpath(w, root)})")
+                lines.append("")
+        if sfigs:
+            lines += ["### The strip's body", "",
+                      "The displacement u and the shear stresses tau_xz, tau_yz of the strip over (x, y) (the interface at "
+                      "y = 0) at bulk snapshots bracketing t^: before it, during the transient and after its arrest "
+                      "(`/<model>/bulk/`, docs/output.md; colour scales shared by every model and time of a field, the "
+                      "stresses' scales clipped at the 99.5th percentile of |tau|).", ""]
+            for w in sfigs:
                 lines.append(f"![{os.path.basename(w)}]({os.path.relpath(w, root)})")
                 lines.append("")
     front_studies = [Study(p) for p in sorted(studies)]

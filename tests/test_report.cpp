@@ -172,3 +172,56 @@ with h5py.File(sys.argv[1], "r+") as f:
   CHECK(slipfront::testing::slurp(dir / "report.md") == md);
   for (const auto& e : fs::directory_iterator(dir)) CHECK(e.path().filename().string().rfind(".report.md.", 0) != 0);
 }
+
+TEST_CASE("report: the strip's body pictures and the events-vs-H figure; none for runs without bulk snapshots",
+          "[report][strip]") {
+  // A small fig1 strip with bulk snapshots (H = 4, every 5 time units: its t^ ~ 77 bracketed), the same strip
+  // without them, the 1D fig1, and a tiny strip_height study (3 heights and the chain). The report pictures the
+  // body of the first only (u, tau_xz, tau_yz, one figure per model), plots the study's events against H/l_e, and
+  // check_report.py passes.
+  const std::string bin = SLIPFRONT_BINARY, src = SLIPFRONT_SOURCE_DIR;
+  const slipfront::testing::TempDir scratch("report-strip");
+  const fs::path& dir = scratch.path;
+  const std::string small = " -q --force --set bulk.length=60 --set grid.dx=1 --set time.dt=0.001 --set time.t_end=90"
+                            " --set discrete.contacts_per_site=1000 --set output.snapshot_dt=1";
+  REQUIRE(sh(bin + " run " + src + "/configs/fig1_strip.toml --out " + (dir / "strip_bulk").string() + small +
+             " --set bulk.height=4 --set grid.dy=1 --set output.bulk_dt=5 --set output.bulk_stride=2 > /dev/null") == 0);
+  REQUIRE(sh(bin + " run " + src + "/configs/fig1_strip.toml --out " + (dir / "strip_plain").string() + small +
+             " --set bulk.height=4 --set grid.dy=1 --set output.bulk_dt=0 > /dev/null") == 0);
+  REQUIRE(sh(bin + " run " + src + "/configs/fig1.toml --out " + (dir / "chain").string() + small + " > /dev/null") == 0);
+  const fs::path study = dir / "strip_height.toml";
+  std::ofstream(study) << "study = \"tiny_strip_height\"\nkind = \"strip_height\"\nscene = \"" << src
+                       << "/configs/fig1_strip.toml\"\n"
+                          "set = [\"bulk.length=60\", \"grid.dx=1\", \"time.dt=0.001\", \"time.t_end=90\",\n"
+                          "       \"discrete.contacts_per_site=1000\", \"output.snapshot_dt=0\", \"output.bulk_dt=0\"]\n"
+                          "[[group]]\nname = \"fine\"\nvary = { \"bulk.height\" = [0.25, 2.0], \"grid.dy\" = [0.25] }\n"
+                          "[[group]]\nname = \"coarse\"\nvary = { \"bulk.height\" = [17.0], \"grid.dy\" = [1.0] }\n"
+                          "[[group]]\nname = \"chain\"\nvary = { \"bulk.height\" = [0.0], \"grid.dy\" = [0.0] }\n";
+  REQUIRE(sh(bin + " study " + study.string() + " --out " + (dir / "studies" / "tiny").string() + " -q > /dev/null") == 0);
+  REQUIRE(sh(bin + " report " + dir.string() + " > /dev/null") == 0);
+
+  const std::string md = slipfront::testing::slurp(dir / "report.md");
+  std::vector<std::string> fields, plain, chain, vs_h;
+  const std::regex image(R"(!\[[^\]]*\]\(([^)]+)\))");
+  for (auto it = std::sregex_iterator(md.begin(), md.end(), image); it != std::sregex_iterator(); ++it) {
+    const std::string rel = (*it)[1].str();
+    INFO(rel);
+    CHECK(fs::file_size(dir / rel) > 1000);
+    if (rel.find("_strip_fields_") != std::string::npos) fields.push_back(rel);
+    if (rel.find("strip_plain__results-") != std::string::npos) plain.push_back(rel);
+    if (rel.find("chain__results-") != std::string::npos) chain.push_back(rel);
+    if (rel.find("_events_vs_H.png") != std::string::npos) vs_h.push_back(rel);
+  }
+  REQUIRE(fields.size() == 2);  // one per model, both of the run with bulk snapshots
+  for (const auto& f : fields) CHECK(f.find("strip_bulk__results-") != std::string::npos);
+  CHECK(fields[0].find("fig1_strip_strip_fields_continuum.png") != std::string::npos);
+  CHECK(fields[1].find("fig1_strip_strip_fields_discrete.png") != std::string::npos);
+  CHECK(md.find("### The strip's body") != std::string::npos);
+  CHECK(plain.size() >= 2);  // its fronts and tip plots, and no body pictures (counted above)
+  CHECK(chain.size() >= 2);
+  REQUIRE(vs_h.size() == 1);
+  CHECK(vs_h[0].find("tiny_strip_height") != std::string::npos);
+  CHECK(md.find("## Study `tiny_strip_height` (strip_height)") < md.find(vs_h[0]));
+  CHECK(md.find("tiny_strip_height: t_star, 1D chain -> H = 0.25 -> H = 17") != std::string::npos);  // a summary row
+  CHECK(sh("/usr/bin/python3 " + src + "/scripts/check_report.py " + (dir / "report.md").string() + " > /dev/null") == 0);
+}

@@ -568,13 +568,13 @@ Vec transfer(const Collocation& col, const StripFront& g, double sd) {
       t = (xi - g.xi[a]) / (g.xi[b] - g.xi[a]);
     }
     for (std::size_t j = 0; j < ro; ++j) {
-      ucol[j] = (1.0 - t) * g.u[a * ro + j] + t * g.u[b * ro + j] + shift;
+      ucol[j] = (1.0 - t) * g.lift[a * ro + j] + t * g.lift[b * ro + j];
       pcol[j] = (1.0 - t) * g.strain[a * ro + j] + t * g.strain[b * ro + j];
     }
-    const double u0 = ucol[0];
+    const double u0 = (1.0 - t) * g.slip[a] + t * g.slip[b] + shift;
     for (int j = 0; j <= M; ++j) {
       const double yy = m.y[static_cast<std::size_t>(j)];
-      x[ns * i + m.iu(j)] = j == 0 ? u0 : interp_rows(g.y, ucol.data(), yy, sd / m.mu_s) - u0;
+      x[ns * i + m.iu(j)] = j == 0 ? u0 : interp_rows(g.y, ucol.data(), yy, sd / m.mu_s);
       x[ns * i + m.ip(j)] = interp_rows(g.y, pcol.data(), yy, 0.0);
     }
     x[ns * i + m.iA()] = (1.0 - t) * g.area[a] + t * g.area[b];
@@ -632,6 +632,7 @@ void finish(const Collocation& col, const Vec& x, StripFront& f) {
   const std::size_t ro = m.y.size();
   f.u.resize(static_cast<std::size_t>(n) * ro);
   f.strain.resize(f.u.size());
+  f.lift.resize(f.u.size());
   f.slip_rate.resize(static_cast<std::size_t>(n));
   f.area.resize(f.slip_rate.size());
   f.sigma_bar.resize(f.slip_rate.size());
@@ -640,7 +641,8 @@ void finish(const Collocation& col, const Vec& x, StripFront& f) {
   for (int i = 0; i < n; ++i) {
     const auto a = static_cast<std::size_t>(i);
     for (std::size_t j = 0; j < ro; ++j) {
-      f.u[a * ro + j] = x[ns * i] + (j == 0 ? 0.0 : x[ns * i + static_cast<int>(j)]);
+      f.lift[a * ro + j] = j == 0 ? 0.0 : x[ns * i + static_cast<int>(j)];
+      f.u[a * ro + j] = x[ns * i] + f.lift[a * ro + j];
       f.strain[a * ro + j] = x[ns * i + m.M + 1 + static_cast<int>(j)];
     }
     f.slip[a] = x[ns * i + m.iu(0)];
@@ -678,6 +680,7 @@ void finish(const Collocation& col, const Vec& x, StripFront& f) {
     f.ahead_rate.push_back(l);
     std::vector<std::complex<double>> mode(static_cast<std::size_t>(m.nb()));
     for (int r = 0; r < m.nb(); ++r) mode[static_cast<std::size_t>(r)] = d[k] * es.eigenvectors()(r, k);
+    for (int j = 1; j <= m.M; ++j) mode[static_cast<std::size_t>(j)] += mode[0];  // d_j → u_j = u_0 + d_j
     f.ahead_mode.push_back(std::move(mode));
   }
   f.status = FrontStatus::converged;
@@ -806,7 +809,7 @@ StripInterfaceSample sample_strip_interface(const StripFront& f, std::span<const
   auto node = [&](std::size_t i) {
     Vec y(m.ns());
     for (std::size_t j = 0; j < ro; ++j) {
-      y[static_cast<int>(j)] = f.u[i * ro + j] - (j == 0 ? 0.0 : f.u[i * ro]);
+      y[static_cast<int>(j)] = j == 0 ? f.u[i * ro] : f.lift[i * ro + j];
       y[m.M + 1 + static_cast<int>(j)] = f.strain[i * ro + j];
     }
     y[m.iA()] = f.area[i];
@@ -851,6 +854,201 @@ StripInterfaceSample sample_strip_interface(const StripFront& f, std::span<const
     out.slip.push_back(u);
   }
   return out;
+}
+
+}  // namespace slipfront::continuum
+
+namespace slipfront::continuum {
+
+namespace strip_detail {
+
+BranchPoint branch_point(const StripFront& f) {
+  return {f.sigma_d, f.c, f.v_tip, f.v_behind, f.area_behind, f.overstress_margin, f.min_slip_rate,
+          f.stable_eigenvalue, f.domain_length, f.residual_norm, f.speed_error, f.newton_iterations};
+}
+
+BranchEnd end_of(FrontStatus s) {
+  switch (s) {
+    case FrontStatus::resticks: return BranchEnd::resticking;
+    case FrontStatus::reverse_slip: return BranchEnd::reverse_slip;
+    case FrontStatus::sonic: return BranchEnd::sonic;
+    case FrontStatus::no_front_state:
+    case FrontStatus::not_a_saddle: return BranchEnd::saddle_node;
+    default: return BranchEnd::newton_failure;
+  }
+}
+
+// The continuation of the strip's branch in σ_d (docs/fronts.md §12): the stages of the 1D
+// BranchContinuation (docs/fronts.md §4) with strip fronts: the first front cold, the second by a natural
+// step, then pseudo-arclength in (σ_d, c/c_s) with the secant as predictor, every point polished at fixed
+// σ_d, the step capped to keep a quarter of the gap σ_d − σ_c^d, and the limiting front at σ_c^d.
+class StripContinuation {
+ public:
+  StripContinuation(const core::InterfaceParams& law, const core::BulkParams& bulk, const StripContinuationOptions& o)
+      : law_(law), bulk_(bulk), o_(o), cs_(std::sqrt(bulk.mu / bulk.rho)), sigma_c_(steady_minimum_stress(law)) {}
+
+  bool start() { return admissible_parameters() && first_front() && second_front(); }
+  void follow();
+  void solve_limiting_front();
+  void minimal_speed();
+  StripBranch take() { return std::move(br_); }
+  bool ended_at_saddle_node() const { return br_.end == BranchEnd::saddle_node; }
+
+ private:
+  void stop(BranchEnd e, std::string why) {
+    br_.end = e;
+    br_.reason = std::move(why);
+  }
+  bool stop_requested() {
+    if (!o_.stop || !o_.stop()) return false;
+    stop(BranchEnd::stopped, "stopped on request after " + std::to_string(br_.points.size()) +
+                                 " fronts: the branch is partial, c_min not computed");
+    return true;
+  }
+  bool admissible_parameters();
+  bool first_front();
+  bool second_front();
+  StripFront predict_and_correct(double t_sigma, double t_c);
+  void accept(StripFront next) {
+    prev_ = std::move(cur_);
+    cur_ = std::move(next);
+    br_.points.push_back(branch_point(cur_));
+  }
+
+  const core::InterfaceParams& law_;
+  const core::BulkParams& bulk_;
+  const StripContinuationOptions& o_;
+  const double cs_, sigma_c_;
+  StripBranch br_;
+  StripFront prev_, cur_;
+  double ds_ = 0.0, t_sigma_before_ = -1.0;
+};
+
+bool StripContinuation::admissible_parameters() {
+  const double v_m = steady_minimum_velocity(law_);
+  if (!(bulk_.height > 0.0)) {
+    stop(BranchEnd::no_branch, "bulk.height must be > 0 for the strip; nothing solved");
+    return false;
+  }
+  if (!std::isfinite(v_m) || !(v_m > 0.0) || !std::isfinite(sigma_c_) || !(sigma_c_ < 1.0)) {
+    stop(BranchEnd::no_branch, "the steady law has no minimum at a finite v > 0, or sigma_c^d = " +
+                                   core::format_number(sigma_c_) + " >= 1: no branch (docs/fronts.md §4); nothing solved");
+    return false;
+  }
+  return true;
+}
+
+bool StripContinuation::first_front() {
+  double sd = o_.sigma_start;
+  for (int k = 0; k <= 20; ++k) {
+    if (stop_requested()) return false;
+    if (k > 0) sd = sigma_c_ + (o_.sigma_start - sigma_c_) * std::pow(0.8, k);
+    prev_ = solve_strip_front(law_, bulk_, sd, o_.front);
+    if (prev_.status == FrontStatus::converged) break;
+  }
+  if (prev_.status != FrontStatus::converged) {
+    stop(end_of(prev_.status), "no front at sigma_start = " + core::format_number(o_.sigma_start) + " nor below: " + prev_.reason);
+    br_.last = prev_;
+    return false;
+  }
+  br_.points.push_back(branch_point(prev_));
+  return true;
+}
+
+bool StripContinuation::second_front() {
+  ds_ = o_.initial_step;
+  for (;;) {
+    if (stop_requested()) return false;
+    const double target = std::max(prev_.sigma_d - ds_, sigma_c_ + 0.5 * (prev_.sigma_d - sigma_c_));
+    cur_ = solve_strip_front(law_, bulk_, target, o_.front, &prev_);
+    if (cur_.status == FrontStatus::converged) break;
+    ds_ *= 0.5;
+    if (ds_ < o_.min_step) {
+      stop(end_of(cur_.status), "no second front below sigma_start: " + cur_.reason);
+      br_.last = prev_;
+      return false;
+    }
+  }
+  br_.points.push_back(branch_point(cur_));
+  return true;
+}
+
+StripFront StripContinuation::predict_and_correct(double t_sigma, double t_c) {
+  ds_ = std::min(ds_, o_.max_step);
+  if (t_sigma < 0.0) ds_ = std::min(ds_, 0.75 * (cur_.sigma_d - sigma_c_) / -t_sigma);
+  const Model m = make_model(law_, bulk_, o_.front);
+  StripFront next;
+  for (;;) {
+    const double sigma_p = cur_.sigma_d + ds_ * t_sigma, c_p = cur_.c + ds_ * t_c * cs_;
+    const Arclength arc{cur_.sigma_d, cur_.c, t_sigma, t_c, ds_, cs_};
+    next = solve_on_mesh(law_, bulk_, m, o_.front, sigma_p, c_p, arc,
+                         [&](const Collocation& col) { return transfer(col, cur_, sigma_p); });
+    if (next.status == FrontStatus::converged) break;
+    ds_ *= 0.5;
+    if (ds_ < o_.min_step) break;
+  }
+  return next;
+}
+
+void StripContinuation::follow() {
+  while (static_cast<int>(br_.points.size()) < o_.max_points) {
+    const double d_sigma = cur_.sigma_d - prev_.sigma_d, d_c = (cur_.c - prev_.c) / cs_;
+    const double norm = std::hypot(d_sigma, d_c), t_sigma = d_sigma / norm, t_c = d_c / norm;
+    if (t_sigma * t_sigma_before_ < 0.0) br_.folds.push_back(cur_.sigma_d);
+    t_sigma_before_ = t_sigma;
+    if (cur_.sigma_d - sigma_c_ < o_.end_gap * sigma_c_) {
+      stop(BranchEnd::saddle_node, "");
+      break;
+    }
+    if (stop_requested()) break;
+    StripFront next = predict_and_correct(t_sigma, t_c);
+    if (next.status != FrontStatus::converged) {
+      stop(end_of(next.status), "continuation stalls at sigma_d = " + core::format_number(cur_.sigma_d) +
+                                    " (step < min_step): " + std::string(to_string(next.status)) + ": " + next.reason);
+      break;
+    }
+    if (next.newton_iterations < o_.target_newton) ds_ *= 1.5;
+    else if (next.newton_iterations > o_.target_newton) ds_ *= 0.6;
+    StripFront polished = solve_strip_front(law_, bulk_, next.sigma_d, o_.front, &next);
+    accept(polished.status == FrontStatus::converged ? std::move(polished) : std::move(next));
+  }
+  br_.last = cur_;
+}
+
+void StripContinuation::solve_limiting_front() {
+  const StripFront end = solve_strip_saddle_node_front(law_, bulk_, o_.front, cur_);
+  if (end.status == FrontStatus::converged) {
+    br_.points.push_back(branch_point(end));
+    br_.last = end;
+    br_.reason = "sigma_d -> sigma_c^d = " + core::format_number(sigma_c_) +
+                 ": v_b -> v_m, the decaying mode of the sliding state behind -> 0 (saddle-node); limiting front "
+                 "at sigma_c^d solved directly: c = " + core::format_number(end.c);
+  } else {
+    br_.reason = "sigma_d -> sigma_c^d (saddle-node of the sliding state behind); the limiting front did not converge: " +
+                 end.reason;
+  }
+}
+
+void StripContinuation::minimal_speed() {
+  if (br_.points.empty() || !followed_to_end(br_.end)) return;
+  std::size_t k = 0;
+  for (std::size_t i = 1; i < br_.points.size(); ++i)
+    if (br_.points[i].c < br_.points[k].c) k = i;
+  br_.c_min = br_.points[k].c;
+  br_.sigma_d_at_c_min = br_.points[k].sigma_d;
+  br_.c_min_at_end = k + 1 == br_.points.size();
+}
+
+}  // namespace strip_detail
+
+StripBranch continue_strip_fronts(const core::InterfaceParams& law, const core::BulkParams& bulk,
+                                  const StripContinuationOptions& o) {
+  strip_detail::StripContinuation run(law, bulk, o);
+  if (!run.start()) return run.take();
+  run.follow();
+  if (run.ended_at_saddle_node()) run.solve_limiting_front();
+  run.minimal_speed();
+  return run.take();
 }
 
 }  // namespace slipfront::continuum

@@ -66,6 +66,7 @@ struct StripFront {
   std::vector<double> xi, y;
   std::vector<double> slip_rate, area, sigma_bar, slip, traction;  ///< interface: v, A, σ̄, u(ξ,0), τ = σ̄ + η v
   std::vector<double> u, strain;  ///< bulk u(ξ_i, y_j) and ∂ξ u (u → σ_d/α + σ_d y/μ' far ahead)
+  std::vector<double> lift;       ///< u(ξ_i, y_j) − u(ξ_i, 0): the solver's unknowns for j ≥ 1 (not rounded by u's size)
 
   double residual_norm = 0.0;     ///< max-norm of the discrete equations at the returned solution
   double speed_error = std::numeric_limits<double>::quiet_NaN();
@@ -77,7 +78,8 @@ struct StripFront {
   double slowest_growing = 0.0;   ///< slowest mode approaching the sliding state (sets L)
   double slowest_ahead = 0.0;     ///< slowest decay rate ahead of the tip (> 0)
   bool saddle_node_limit = false;
-  /// Ahead of the tip: (u, ∂ξu)(ξ) − stuck state = Σ_k Re(ahead_mode[k] e^{ahead_rate[k] ξ}), Re rate < 0.
+  /// Ahead of the tip: (u_0 … u_M, ∂ξu_0 … ∂ξu_M)(ξ) − stuck state = Σ_k Re(ahead_mode[k] e^{ahead_rate[k] ξ}),
+  /// Re rate < 0 (the M + 1 decaying modes of the linear stuck system).
   std::vector<std::complex<double>> ahead_rate;
   std::vector<std::vector<std::complex<double>>> ahead_mode;
 

@@ -107,7 +107,7 @@ std::vector<double> make_mesh(double L, int N, double h_tip, double grading) {
 
 enum class Side { behind, ahead };
 
-// The semi-discrete traveling-wave system (docs/fronts.md §10, eq. S2): for every row j
+// The semi-discrete traveling-wave system (docs/fronts.md §10.2, eq. S2): for every row j
 //   u_j' = p_j,   β² w_j p_j' = −(top_j − bottom_j),
 // top_j = (u_{j+1} − u_j)/k_j (σ_d/μ' on the top row), bottom_j = (u_j − u_{j−1})/k_{j−1} (τ/μ' on the
 // interface row), τ = σ̄ + η v behind and α u_0 + η v ahead (σ̄ = α u_0 in the stuck region), v = −c p_0;
@@ -297,7 +297,7 @@ struct Arclength {
   double sigma0, c0, t_sigma, t_c, step, c_scale;
 };
 
-// The discrete boundary-value problem (docs/fronts.md §10.4). Unknowns [y_0 … y_N, c (, σ_d)], rows:
+// The discrete boundary-value problem (docs/fronts.md §10.3). Unknowns [y_0 … y_N, c (, σ_d)], rows:
 //   M + 1  behind: Q_ref,bᵀ P_b(c, σ_d) T (y_0 − y_b) = 0     (no mode growing toward −∞ at ξ = −L)
 //   N · ns Lobatto IIIA on every interval (docs/fronts.md eq. 5)
 //   M + 1  tip: Q_ref,aᵀ P_a(c) ((u, p)_N − stuck) = 0        (only decaying modes ahead)
@@ -585,7 +585,7 @@ Vec transfer(const Collocation& col, const StripFront& g, double sd) {
   return x;
 }
 
-// A guess from the 1D front (docs/fronts.md §11): its interface fields, and across the height the thin-strip
+// A guess from the 1D front (docs/fronts.md §10.4): its interface fields, and across the height the thin-strip
 // profile of docs/model.md §9.2, u = u_0 + (τ/μ') y + q y²/2, q = (σ_d − τ)/(μ' H), p_j = −v/c.
 Vec from_one_dimensional(const Collocation& col, const SteadyFront& f1) {
   const Model& m = col.model();
@@ -703,6 +703,12 @@ StripFront solve_on_mesh(const core::InterfaceParams& law, const core::BulkParam
   f.saddle_node_limit = m.saddle_node;
   const double L = domain_length(m, o, c_guess, arc ? arc->sigma0 : sd);
   const Collocation col(m, make_mesh(L, o.intervals, o.tip_spacing, o.grading), c_guess, sd, arc);
+  if (!col.ok()) {  // the far fields have not M + 1 modes of each sign at the guess
+    f.status = FrontStatus::not_a_saddle;
+    f.reason = col.why();
+    f.c = c_guess;
+    return f;
+  }
   Vec x = start(col);
   x[col.c_index()] = c_guess;
   if (arc) x[col.c_index() + 1] = sd;
@@ -878,7 +884,7 @@ BranchEnd end_of(FrontStatus s) {
   }
 }
 
-// The continuation of the strip's branch in σ_d (docs/fronts.md §12): the stages of the 1D
+// The continuation of the strip's branch in σ_d (docs/fronts.md §10.8): the stages of the 1D
 // BranchContinuation (docs/fronts.md §4) with strip fronts: the first front cold, the second by a natural
 // step, then pseudo-arclength in (σ_d, c/c_s) with the secant as predictor, every point polished at fixed
 // σ_d, the step capped to keep a quarter of the gap σ_d − σ_c^d, and the limiting front at σ_c^d.

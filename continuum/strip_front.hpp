@@ -1,7 +1,7 @@
 #pragma once
 // Steady fronts in the antiplane strip of height H (docs/model.md §9, issue 20 item 1): the traveling-wave
 // problem of docs/fronts.md §1 with the strip under the interface instead of the 1D chain. Derivation,
-// method, far-field conditions, order and results: docs/fronts.md §10–§13.
+// method, far-field conditions, order and results: docs/fronts.md §10.
 //
 // In ξ = x − c t (tip at ξ = 0) the bulk obeys β² ∂ξξ u + ∂yy u = 0, β² = 1 − c²/c_s², with
 //   μ' ∂y u(ξ, 0) = τ = σ̄ + η v,  v = −c ∂ξ u(ξ, 0)   (interface, y = 0)
@@ -42,7 +42,7 @@ struct StripFrontOptions {
   double tolerance = 1e-11;       ///< Newton: stop when the scaled update is below this
   int max_newton = 40;
   /// Cold start (no guess): the 1D front at the same σ_d is solved and the strip is grown from
-  /// H_0 = min(H, thin_height) by factors of `height_factor` at fixed μ (docs/fronts.md §11).
+  /// H_0 = min(H, thin_height) by factors of `height_factor` at fixed μ (docs/fronts.md §10.4).
   double thin_height = 0.5;
   double height_factor = 2.0;
   bool estimate_error = false;    ///< also solve on every other ξ node: speed_error = |c_2h − c_h|/15
@@ -104,7 +104,7 @@ struct StripInterfaceSample {
 StripInterfaceSample sample_strip_interface(const StripFront& front, std::span<const double> xi);
 
 // ---------------------------------------------------------------------------------------------------
-// Continuation in σ_d (docs/fronts.md §12): the pattern of continue_steady_fronts (docs/fronts.md §4).
+// Continuation in σ_d (docs/fronts.md §10.8): the pattern of continue_steady_fronts (docs/fronts.md §4).
 
 struct StripContinuationOptions {
   double sigma_start = 0.8;

@@ -1,4 +1,4 @@
-// Steady fronts in the strip, slow tier (continuum/strip_front.hpp, docs/fronts.md §12–§13): the branch
+// Steady fronts in the strip, slow tier (continuum/strip_front.hpp, docs/fronts.md §10.6–§10.9): the branch
 // continued in σ_d to its end at several H with c_min(H) → the 1D c_min at second order, and the fronts of
 // one strip material (μ', ρ' fixed) from the 1D limit to H = 64, converged across the height.
 #include <catch2/catch.hpp>

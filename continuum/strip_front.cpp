@@ -825,7 +825,7 @@ StripInterfaceSample sample_strip_interface(const StripFront& f, std::span<const
   StripInterfaceSample out;
   for (double xi : xs) {
     double v, A, s, u;
-    if (xi >= 0.0) {
+    if (xi > 0.0) {
       double du = 0.0, dp = 0.0;
       for (std::size_t k = 0; k < f.ahead_rate.size(); ++k) {
         const auto e = std::exp(f.ahead_rate[k] * xi);

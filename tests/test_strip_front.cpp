@@ -294,3 +294,28 @@ TEST_CASE("strip front: no front outside (sigma_c^d, 1), and a strip needs a hei
   CHECK(flat.status != FrontStatus::converged);
   CHECK(flat.reason.find("height") != std::string::npos);
 }
+
+TEST_CASE("strip front: the interface sampler reproduces the nodes and is continuous at the tip", "[strip][front]") {
+  StripFrontOptions o;
+  o.rows = 8;
+  o.intervals = 200;
+  const StripFront f = continuum::solve_strip_front(paper, strip(2.0), 0.5, o);
+  REQUIRE(f.status == FrontStatus::converged);
+  const auto at_nodes = continuum::sample_strip_interface(f, f.xi);
+  for (std::size_t i = 0; i < f.xi.size(); ++i) {
+    CHECK(std::abs(at_nodes.slip_rate[i] - f.slip_rate[i]) < 1e-13);
+    CHECK(std::abs(at_nodes.area[i] - f.area[i]) < 1e-13);
+    CHECK(std::abs(at_nodes.sigma_bar[i] - f.sigma_bar[i]) < 1e-13);
+    CHECK(std::abs(at_nodes.slip[i] - f.slip[i]) < 1e-12);
+  }
+  // Across the tip: the modes ahead (ξ = +ε) against the collocation polynomial (ξ = −ε); far ahead the
+  // stuck state; just beyond −L the sliding state.
+  const std::vector<double> xs{-1e-9, 1e-9, 1e4, f.xi.front() - 1e-9};
+  const auto s = continuum::sample_strip_interface(f, xs);
+  CHECK(std::abs(s.slip_rate[0] - s.slip_rate[1]) < 1e-7);
+  CHECK(std::abs(s.sigma_bar[0] - s.sigma_bar[1]) < 1e-7);
+  CHECK(std::abs(s.slip[0] - s.slip[1]) < 1e-7);
+  CHECK(std::abs(s.slip_rate[2]) < 1e-12);
+  CHECK(std::abs(s.slip[2] - 0.5 / paper.alpha) < 1e-12);
+  CHECK(std::abs(s.slip_rate[3] / f.slip_rate[0] - 1.0) < 1e-6);
+}

@@ -1,0 +1,1060 @@
+#include "continuum/strip_front.hpp"
+
+#include <Eigen/Dense>
+#include <Eigen/Sparse>
+#include <Eigen/SparseLU>
+#include <algorithm>
+#include <boost/math/tools/roots.hpp>
+#include <cmath>
+#include <cstdint>
+#include <numeric>
+#include <optional>
+#include <utility>
+
+#include "continuum/friction_law.hpp"
+
+namespace slipfront::continuum {
+
+namespace strip_detail {
+
+using Vec = Eigen::VectorXd;
+using Mat = Eigen::MatrixXd;
+using CVec = Eigen::VectorXcd;
+using CMat = Eigen::MatrixXcd;
+constexpr double nan_value = std::numeric_limits<double>::quiet_NaN();
+
+// The strip across its height (docs/model.md §9.6 rows): nodes y_0 = 0 (interface) < … < y_M = H, spacings
+// k_j = y_{j+1} − y_j, dual widths w_j (half cells on both faces). The state at a ξ node is
+// (u_0 … u_M, p_0 … p_M, A, σ̄) with p_j = ∂ξ u_j.
+struct Model {
+  double mu_s, rho_s, H, alpha, kappa, eta, cs2;
+  std::vector<double> y, k, w;
+  int M;
+  bool saddle_node = false;
+  core::InterfaceParams law() const { return {alpha, kappa, eta}; }
+  int ns() const { return 2 * (M + 1) + 2; }
+  int nb() const { return 2 * (M + 1); }  // the bulk part (u, p)
+  int iu(int j) const { return j; }
+  int ip(int j) const { return M + 1 + j; }
+  int iA() const { return 2 * (M + 1); }
+  int iS() const { return 2 * (M + 1) + 1; }
+  double sound_speed() const { return std::sqrt(cs2); }
+};
+
+// Rows graded toward the interface: y_j = H (e^{γ j/M} − 1)/(e^γ − 1), γ from the first spacing (TOMS 748);
+// uniform when H/M ≤ first spacing.
+std::vector<double> make_rows(double H, int M, double first, double grading) {
+  std::vector<double> y(static_cast<std::size_t>(M) + 1);
+  double g = grading;
+  if (g <= 0.0 && first > 0.0 && H / M > first) {
+    auto spacing = [&](double gm) { return std::log(H * std::expm1(gm / M) / std::expm1(gm)) - std::log(first); };
+    double hi = 1.0;
+    while (spacing(hi) > 0.0) hi *= 2.0;
+    std::uintmax_t iters = 200;
+    const auto br = boost::math::tools::toms748_solve(spacing, 1e-9, hi, boost::math::tools::eps_tolerance<double>(50), iters);
+    g = 0.5 * (br.first + br.second);
+  }
+  for (int j = 0; j <= M; ++j) {
+    const double s = static_cast<double>(j) / M;
+    y[static_cast<std::size_t>(j)] = g > 0.0 ? H * std::expm1(g * s) / std::expm1(g) : H * s;
+  }
+  y.back() = H;
+  return y;
+}
+
+Model make_model(const core::InterfaceParams& law, const core::BulkParams& bulk, const StripFrontOptions& o) {
+  Model m;
+  m.H = bulk.height;
+  m.mu_s = bulk.mu / bulk.height;
+  m.rho_s = bulk.rho / bulk.height;
+  m.cs2 = bulk.mu / bulk.rho;
+  m.alpha = law.alpha;
+  m.kappa = law.kappa;
+  m.eta = law.eta;
+  m.M = std::max(1, o.rows);
+  m.y = make_rows(m.H, m.M, o.row_spacing, o.row_grading);
+  m.k.resize(static_cast<std::size_t>(m.M));
+  m.w.assign(static_cast<std::size_t>(m.M) + 1, 0.0);
+  for (int j = 0; j < m.M; ++j) {
+    const auto a = static_cast<std::size_t>(j);
+    m.k[a] = m.y[a + 1] - m.y[a];
+    m.w[a] += 0.5 * m.k[a];
+    m.w[a + 1] += 0.5 * m.k[a];
+  }
+  return m;
+}
+
+// Nodes ξ_0 = −L < … < ξ_N = 0, geometric from the tip (the map of docs/fronts.md §3).
+std::vector<double> make_mesh(double L, int N, double h_tip, double grading) {
+  std::vector<double> xi(static_cast<std::size_t>(N) + 1);
+  double beta = grading;
+  if (beta <= 0.0 && L / N > h_tip) {
+    auto first = [&](double bt) { return std::log(L * std::expm1(bt / N) / std::expm1(bt)) - std::log(h_tip); };
+    double hi = 1.0;
+    while (first(hi) > 0.0) hi *= 2.0;
+    std::uintmax_t iters = 200;
+    const auto br = boost::math::tools::toms748_solve(first, 1e-9, hi, boost::math::tools::eps_tolerance<double>(50), iters);
+    beta = 0.5 * (br.first + br.second);
+  }
+  for (int j = 0; j <= N; ++j) {
+    const double s = static_cast<double>(j) / N;
+    xi[static_cast<std::size_t>(N - j)] = -(beta > 0.0 ? L * std::expm1(beta * s) / std::expm1(beta) : L * s);
+  }
+  xi[0] = -L;
+  xi[static_cast<std::size_t>(N)] = 0.0;
+  return xi;
+}
+
+enum class Side { behind, ahead };
+
+// The semi-discrete traveling-wave system (docs/fronts.md §10.2, eq. S2): for every row j
+//   u_j' = p_j,   β² w_j p_j' = −(top_j − bottom_j),
+// top_j = (u_{j+1} − u_j)/k_j (σ_d/μ' on the top row), bottom_j = (u_j − u_{j−1})/k_{j−1} (τ/μ' on the
+// interface row), τ = σ̄ + η v behind and α u_0 + η v ahead (σ̄ = α u_0 in the stuck region), v = −c p_0;
+// behind the tip A' = −(1 − A − κA|v|)/c, σ̄' = −(αAv − σ̄|v|)/c (docs/fronts.md eq. 1b, 1c); ahead A, σ̄
+// are not dynamic (their components are 0). The unknowns of the rows j ≥ 1 are d_j = u_j − u_0 (the
+// strain across the height is small against u itself, so the fluxes are computed without cancellation):
+// d_j' = p_j − p_0. f, its Jacobian J, ∂f/∂c and ∂f/∂σ_d.
+struct Rhs {
+  Vec f, fc, fs;
+  Mat J;
+};
+Rhs rhs(const Model& m, const Vec& y, double c, double sd, Side side, bool with_jacobian = true) {
+  const int M = m.M, n = m.ns();
+  Rhs r;
+  r.f = Vec::Zero(n);
+  r.fc = Vec::Zero(n);
+  r.fs = Vec::Zero(n);
+  if (with_jacobian) r.J = Mat::Zero(n, n);
+  const double b2 = 1.0 - c * c / m.cs2, db2 = -2.0 * c / m.cs2;
+  const double p0 = y[m.ip(0)], v = -c * p0;
+  const double A = y[m.iA()], s = y[m.iS()];
+  const double tau = (side == Side::behind ? s : m.alpha * y[m.iu(0)]) + m.eta * v;
+  auto d = [&](int j) { return j == 0 ? 0.0 : y[m.iu(j)]; };
+  auto add = [&](int row, int j, double value) {  // ∂(row)/∂d_j (nothing for d_0 = 0)
+    if (j > 0) r.J(row, m.iu(j)) += value;
+  };
+  for (int j = 0; j <= M; ++j) {
+    const auto a = static_cast<std::size_t>(j);
+    r.f[m.iu(j)] = j == 0 ? y[m.ip(0)] : y[m.ip(j)] - y[m.ip(0)];
+    if (with_jacobian) {
+      r.J(m.iu(j), m.ip(j)) = 1.0;
+      if (j > 0) r.J(m.iu(j), m.ip(0)) = -1.0;
+    }
+    const double top = j < M ? (d(j + 1) - d(j)) / m.k[a] : sd / m.mu_s;
+    const double bottom = j > 0 ? (d(j) - d(j - 1)) / m.k[a - 1] : tau / m.mu_s;
+    const double X = top - bottom, scale = 1.0 / (b2 * m.w[a]);
+    r.f[m.ip(j)] = -X * scale;
+    r.fc[m.ip(j)] = X * db2 / (b2 * b2 * m.w[a]);
+    if (j == M) r.fs[m.ip(j)] = -scale / m.mu_s;
+    if (j == 0) r.fc[m.ip(j)] += -(m.eta * p0 / m.mu_s) * scale;  // ∂bottom/∂c = ∂τ/∂c / μ' = −η p_0/μ'
+    if (!with_jacobian) continue;
+    if (j < M) {
+      add(m.ip(j), j + 1, -scale / m.k[a]);
+      add(m.ip(j), j, scale / m.k[a]);
+    }
+    if (j > 0) {
+      add(m.ip(j), j, scale / m.k[a - 1]);
+      add(m.ip(j), j - 1, -scale / m.k[a - 1]);
+    } else {
+      // bottom = τ/μ': ∂τ/∂p_0 = −η c; ∂τ/∂σ̄ = 1 behind, ∂τ/∂u_0 = α ahead.
+      const double g = scale / m.mu_s;
+      r.J(m.ip(0), m.ip(0)) += g * (-m.eta * c);
+      if (side == Side::behind) r.J(m.ip(0), m.iS()) += g;
+      else r.J(m.ip(0), m.iu(0)) += g * m.alpha;
+    }
+  }
+  if (side == Side::behind) {
+    const double speed = std::abs(v), sign = v >= 0.0 ? 1.0 : -1.0;
+    const double relax = 1.0 - A - m.kappa * A * speed, source = m.alpha * A * v - s * speed;
+    r.f[m.iA()] = -relax / c;
+    r.f[m.iS()] = -source / c;
+    const double dA_dv = m.kappa * A * sign / c, dS_dv = -(m.alpha * A - s * sign) / c;
+    // total c-derivative at fixed p_0: explicit + ∂/∂v · ∂v/∂c, ∂v/∂c = −p_0
+    r.fc[m.iA()] = relax / (c * c) + dA_dv * (-p0);
+    r.fc[m.iS()] = source / (c * c) + dS_dv * (-p0);
+    if (with_jacobian) {
+      r.J(m.iA(), m.iA()) = (1.0 + m.kappa * speed) / c;
+      r.J(m.iA(), m.ip(0)) = dA_dv * (-c);
+      r.J(m.iS(), m.iA()) = -m.alpha * v / c;
+      r.J(m.iS(), m.iS()) = speed / c;
+      r.J(m.iS(), m.ip(0)) = dS_dv * (-c);
+    }
+  }
+  return r;
+}
+
+// The sliding state behind (σ_ss(v_b) = σ_d on the strengthening branch; v_m at the saddle-node), with
+// ∂y u = σ_d/μ' through the height (the interface carries τ = σ_d); u_0 = 0 (u is defined up to a constant
+// there: the projection does not see it).
+Vec behind_state(const Model& m, double c, double sd) {
+  const double vb = m.saddle_node ? steady_minimum_velocity(m.law()) : strengthening_branch_velocity(m.law(), sd);
+  const double Ab = 1.0 / (1.0 + m.kappa * vb);
+  Vec y(m.ns());
+  for (int j = 0; j <= m.M; ++j) {
+    y[m.iu(j)] = sd * m.y[static_cast<std::size_t>(j)] / m.mu_s;  // u_0 = 0, d_j
+    y[m.ip(j)] = -vb / c;
+  }
+  y[m.iA()] = Ab;
+  y[m.iS()] = m.alpha * Ab;
+  return y;
+}
+// The stuck state ahead (docs/model.md §9.4): u = σ_d/α + σ_d y/μ', p = 0, A = 1, σ̄ = σ_d.
+Vec stuck_state(const Model& m, double sd) {
+  Vec y = Vec::Zero(m.ns());
+  y[m.iu(0)] = sd / m.alpha;
+  for (int j = 1; j <= m.M; ++j) y[m.iu(j)] = sd * m.y[static_cast<std::size_t>(j)] / m.mu_s;
+  y[m.iA()] = 1.0;
+  y[m.iS()] = sd;
+  return y;
+}
+
+// The far-field conditions (docs/fronts.md §10.3). Behind, in the coordinates z = (u_1 − u_0, …, u_M − u_0,
+// p, A, σ̄) that remove the translation u → u + const (the one null mode of the sliding state), the M + 1
+// modes that decay in forward ξ (λ_s and M bulk modes, growing toward −∞) must be absent at ξ = −L: their
+// left eigenvectors annihilate z(−L) − z_b. Ahead, the M + 1 modes of the linear stuck system (u, p) that
+// grow with ξ must be absent at the tip. Both as an orthonormal basis Q of the left eigenspace (its columns).
+struct Subspace {
+  Mat Q;                      ///< columns: orthonormal basis of the excluded modes' left eigenspace
+  std::vector<std::complex<double>> excluded, kept;  ///< eigenvalues, sorted by real part
+  bool ok = false;
+  std::string why;
+};
+
+// T: y → z (drops u_0, the translation u → u + const); behind only.
+Mat translation_free(const Model& m) {
+  const int n = m.ns();
+  Mat T = Mat::Zero(n - 1, n);
+  for (int r = 1; r < n; ++r) T(r - 1, r) = 1.0;
+  return T;
+}
+
+// The left eigenspace of the `count` eigenvalues of Jr with the smallest (lowest = true) or largest real parts.
+Subspace left_subspace(const Mat& Jr, int count, bool lowest, bool allow_null) {
+  Subspace out;
+  const Eigen::EigenSolver<Mat> es(Jr.transpose(), true);
+  if (es.info() != Eigen::Success) {
+    out.why = "eigenproblem of the far field failed";
+    return out;
+  }
+  const int n = static_cast<int>(Jr.rows());
+  std::vector<int> order(static_cast<std::size_t>(n));
+  std::iota(order.begin(), order.end(), 0);
+  const CVec ev = es.eigenvalues();
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    return lowest ? ev[a].real() < ev[b].real() : ev[a].real() > ev[b].real();
+  });
+  const double scale = std::max(1.0, Jr.cwiseAbs().maxCoeff());
+  const double last = ev[order[static_cast<std::size_t>(count) - 1]].real(), next = ev[order[static_cast<std::size_t>(count)]].real();
+  const double sgn = lowest ? 1.0 : -1.0;  // excluded: sgn·Re < 0
+  const bool gap = sgn * next > 0.0 && (sgn * last < 0.0 || (allow_null && std::abs(last) <= 1e-8 * scale));
+  for (int r = 0; r < n; ++r) (r < count ? out.excluded : out.kept).push_back(ev[order[static_cast<std::size_t>(r)]]);
+  if (!gap) {
+    out.why = "the far field has not " + std::to_string(count) + " modes of each sign (the " + std::to_string(count) +
+              "th and next real parts: " + core::format_number(last) + ", " + core::format_number(next) + ")";
+    return out;
+  }
+  Mat W(n, count);
+  int col = 0;
+  for (int r = 0; r < count; ++r) {
+    const int k = order[static_cast<std::size_t>(r)];
+    const CVec l = es.eigenvectors().col(k);
+    if (std::abs(ev[k].imag()) <= 1e-12 * scale) {
+      W.col(col++) = l.real();
+    } else if (ev[k].imag() > 0.0) {
+      if (col + 2 > count) break;
+      W.col(col++) = l.real();
+      W.col(col++) = l.imag();
+    }
+  }
+  if (col != count) {
+    out.why = "a complex pair of far-field modes is split by the count";
+    return out;
+  }
+  const Eigen::HouseholderQR<Mat> qr(W);
+  out.Q = qr.householderQ() * Mat::Identity(n, count);
+  out.ok = true;
+  return out;
+}
+
+Subspace behind_subspace(const Model& m, double c, double sd) {
+  const Vec yb = behind_state(m, c, sd);
+  const Mat J = rhs(m, yb, c, sd, Side::behind).J;
+  const Mat T = translation_free(m);
+  Mat S = T.transpose();  // a right inverse of T with δu_0 = 0: T S = I
+  S.row(m.iu(0)).setZero();
+  const Mat Jz = T * J * S;
+  return left_subspace(Jz, m.M + 1, true, m.saddle_node);
+}
+
+Subspace ahead_subspace(const Model& m, double c, double sd) {
+  const Vec ys = stuck_state(m, sd);
+  const Mat J = rhs(m, ys, c, sd, Side::ahead).J.topLeftCorner(m.nb(), m.nb());
+  return left_subspace(J, m.M + 1, false, false);
+}
+
+struct Arclength {
+  double sigma0, c0, t_sigma, t_c, step, c_scale;
+};
+
+// The discrete boundary-value problem (docs/fronts.md §10.3). Unknowns [y_0 … y_N, c (, σ_d)], rows:
+//   M + 1  behind: Q_ref,bᵀ P_b(c, σ_d) T (y_0 − y_b) = 0     (no mode growing toward −∞ at ξ = −L)
+//   N · ns Lobatto IIIA on every interval (docs/fronts.md eq. 5)
+//   M + 1  tip: Q_ref,aᵀ P_a(c) ((u, p)_N − stuck) = 0        (only decaying modes ahead)
+//   3      tip: A_N = 1, σ̄_N = α u_{0,N}, σ̄_N + η v_N = 1   (Θ switches at the tip)
+//   (1     pseudo-arclength)
+// P = Q Qᵀ is the orthogonal projector on the excluded left eigenspace; the reference bases Q_ref (fixed for
+// one Newton solve) make the rows smooth in c and σ_d, which enter through finite differences.
+class Collocation {
+ public:
+  Collocation(const Model& m, std::vector<double> xi, double c0, double sigma_d, std::optional<Arclength> arc)
+      : m_(m), xi_(std::move(xi)), sigma_fixed_(sigma_d), arc_(arc), T_(translation_free(m)) {
+    const double s0 = arc ? arc->sigma0 + arc->step * arc->t_sigma : sigma_d;
+    const Subspace b = behind_subspace(m_, c0, s0), a = ahead_subspace(m_, c0, s0);
+    ok_ = b.ok && a.ok;
+    why_ = !b.ok ? "behind: " + b.why : (!a.ok ? "ahead: " + a.why : std::string());
+    if (ok_) {
+      Qb_ = b.Q;
+      Qa_ = a.Q;
+    }
+  }
+  bool ok() const { return ok_; }
+  const std::string& why() const { return why_; }
+  const Model& model() const { return m_; }
+  int nodes() const { return static_cast<int>(xi_.size()); }
+  int size() const { return m_.ns() * nodes() + 1 + (arc_ ? 1 : 0); }
+  int c_index() const { return m_.ns() * nodes(); }
+  double c_of(const Vec& x) const { return x[c_index()]; }
+  double sigma_of(const Vec& x) const { return arc_ ? x[c_index() + 1] : sigma_fixed_; }
+  Vec y(const Vec& x, int i) const { return x.segment(m_.ns() * i, m_.ns()); }
+  const std::vector<double>& xi() const { return xi_; }
+
+  // The far-field rows as functions of (node state, c, σ_d).
+  Vec behind_rows(const Vec& y0, double c, double sd, Mat* dy) const {
+    const Subspace b = behind_subspace(m_, c, sd);
+    if (!b.ok) return Vec::Constant(m_.M + 1, nan_value);
+    const Mat G = Qb_.transpose() * b.Q * b.Q.transpose() * T_;
+    if (dy) *dy = G;
+    return G * (y0 - behind_state(m_, c, sd));
+  }
+  Vec ahead_rows(const Vec& yN, double c, double sd, Mat* dy) const {
+    const Subspace a = ahead_subspace(m_, c, sd);
+    if (!a.ok) return Vec::Constant(m_.M + 1, nan_value);
+    const Mat G = Qa_.transpose() * a.Q * a.Q.transpose();
+    if (dy) *dy = G;
+    return G * (yN - stuck_state(m_, sd)).head(m_.nb());
+  }
+
+  bool assemble(const Vec& x, Vec& F, Eigen::SparseMatrix<double>* jac) const {
+    const int N = nodes() - 1, n = size(), ns = m_.ns(), M = m_.M, ic = c_index(), is = ic + 1;
+    const double c = c_of(x), sd = sigma_of(x);
+    if (!ok_ || !(c > 0.0) || !(c < m_.sound_speed())) return false;
+    F.setZero(n);
+    std::vector<Eigen::Triplet<double>> t;
+    auto dense = [&](int row, int col, const Mat& B) {
+      for (int r = 0; r < B.rows(); ++r)
+        for (int k = 0; k < B.cols(); ++k)
+          if (B(r, k) != 0.0) t.emplace_back(row + r, col + k, B(r, k));
+    };
+    auto column = [&](int row, int col, const Vec& v) {
+      for (int r = 0; r < v.size(); ++r)
+        if (v[r] != 0.0) t.emplace_back(row + r, col, v[r]);
+    };
+    if (jac) t.reserve(static_cast<std::size_t>(N) * static_cast<std::size_t>(ns) * static_cast<std::size_t>(ns));
+
+    // Behind: ξ_0 = −L.
+    const Vec y0 = y(x, 0);
+    Mat G;
+    F.segment(0, M + 1) = behind_rows(y0, c, sd, jac ? &G : nullptr);
+    if (jac) {
+      dense(0, 0, G);
+      const double hc = 1e-6 * c;
+      column(0, ic, (behind_rows(y0, c + hc, sd, nullptr) - behind_rows(y0, c - hc, sd, nullptr)) / (2.0 * hc));
+      if (arc_) {
+        const double hs = std::min(1e-7, 0.25 * (sd - steady_minimum_stress(m_.law())));
+        column(0, is, (behind_rows(y0, c, sd + hs, nullptr) - behind_rows(y0, c, sd - hs, nullptr)) / (2.0 * hs));
+      }
+    }
+
+    // Intervals (all behind the tip): Lobatto IIIA, y_m = (y_i + y_{i+1})/2 + h/8 (f_i − f_{i+1}).
+    const Mat I = Mat::Identity(ns, ns);
+    Rhs right = rhs(m_, y(x, 0), c, sd, Side::behind, jac != nullptr);
+    for (int i = 0; i < N; ++i) {
+      const Rhs left = std::move(right);
+      right = rhs(m_, y(x, i + 1), c, sd, Side::behind, jac != nullptr);
+      const double h = xi_[static_cast<std::size_t>(i) + 1] - xi_[static_cast<std::size_t>(i)];
+      const Vec ym = 0.5 * (y(x, i) + y(x, i + 1)) + h / 8.0 * (left.f - right.f);
+      const Rhs mid = rhs(m_, ym, c, sd, Side::behind, jac != nullptr);
+      const int row = M + 1 + ns * i;
+      F.segment(row, ns) = y(x, i + 1) - y(x, i) - h / 6.0 * (left.f + 4.0 * mid.f + right.f);
+      if (!jac) continue;
+      const Mat Bi = -I - h / 6.0 * (left.J + 4.0 * mid.J * (0.5 * I + h / 8.0 * left.J));
+      const Mat Bn = I - h / 6.0 * (right.J + 4.0 * mid.J * (0.5 * I - h / 8.0 * right.J));
+      dense(row, ns * i, Bi);
+      dense(row, ns * (i + 1), Bn);
+      column(row, ic, -h / 6.0 * (left.fc + 4.0 * (mid.fc + mid.J * (h / 8.0 * (left.fc - right.fc))) + right.fc));
+      if (arc_) column(row, is, -h / 6.0 * (left.fs + 4.0 * (mid.fs + mid.J * (h / 8.0 * (left.fs - right.fs))) + right.fs));
+    }
+
+    // The tip ξ_N = 0: the decaying subspace ahead, and Θ's switch.
+    const int row = M + 1 + ns * N;
+    const Vec yN = y(x, N);
+    F.segment(row, M + 1) = ahead_rows(yN, c, sd, jac ? &G : nullptr);
+    if (jac) {
+      dense(row, ns * N, G);
+      const double hc = 1e-6 * c;
+      column(row, ic, (ahead_rows(yN, c + hc, sd, nullptr) - ahead_rows(yN, c - hc, sd, nullptr)) / (2.0 * hc));
+      if (arc_) {
+        const double hs = 1e-7;
+        column(row, is, (ahead_rows(yN, c, sd + hs, nullptr) - ahead_rows(yN, c, sd - hs, nullptr)) / (2.0 * hs));
+      }
+    }
+    const int r2 = row + M + 1, base = ns * N;
+    F[r2] = yN[m_.iA()] - 1.0;
+    F[r2 + 1] = yN[m_.iS()] - m_.alpha * yN[m_.iu(0)];
+    F[r2 + 2] = yN[m_.iS()] - m_.eta * c * yN[m_.ip(0)] - 1.0;
+    if (jac) {
+      t.emplace_back(r2, base + m_.iA(), 1.0);
+      t.emplace_back(r2 + 1, base + m_.iS(), 1.0);
+      t.emplace_back(r2 + 1, base + m_.iu(0), -m_.alpha);
+      t.emplace_back(r2 + 2, base + m_.iS(), 1.0);
+      t.emplace_back(r2 + 2, base + m_.ip(0), -m_.eta * c);
+      t.emplace_back(r2 + 2, ic, -m_.eta * yN[m_.ip(0)]);
+    }
+    if (arc_) {
+      const auto& a = *arc_;
+      F[n - 1] = a.t_sigma * (sd - a.sigma0) + a.t_c * (c - a.c0) / a.c_scale - a.step;
+      if (jac) {
+        t.emplace_back(n - 1, is, a.t_sigma);
+        t.emplace_back(n - 1, ic, a.t_c / a.c_scale);
+      }
+    }
+    if (jac) {
+      jac->resize(n, n);
+      jac->setFromTriplets(t.begin(), t.end());
+    }
+    return F.allFinite();
+  }
+
+ private:
+  Model m_;
+  std::vector<double> xi_;
+  double sigma_fixed_;
+  std::optional<Arclength> arc_;
+  Mat T_, Qb_, Qa_;
+  bool ok_ = false;
+  std::string why_;
+};
+
+struct NewtonResult {
+  bool converged = false;
+  int iterations = 0;
+  double residual = nan_value;
+  std::string failure;
+};
+
+// Damped Newton with Eigen's SparseLU (COLAMD), as in the 1D solver (docs/fronts.md §3).
+NewtonResult newton(const Collocation& col, Vec& x, double tol, int max_iter) {
+  NewtonResult out;
+  Vec F, Ft;
+  Eigen::SparseMatrix<double> J;
+  Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu;
+  bool analysed = false;
+  if (!col.ok()) {
+    out.failure = "no far-field subspace: " + col.why();
+    return out;
+  }
+  if (!col.assemble(x, F, &J)) {
+    out.failure = "the initial guess is not admissible (c outside (0, c_s), or the far fields have no saddle structure)";
+    return out;
+  }
+  for (int it = 1; it <= max_iter; ++it) {
+    out.iterations = it;
+    if (!analysed) {
+      lu.analyzePattern(J);
+      analysed = true;
+    }
+    lu.factorize(J);
+    if (lu.info() != Eigen::Success) {
+      out.failure = "singular Jacobian (SparseLU: " + lu.lastErrorMessage() + ")";
+      return out;
+    }
+    const Vec dx = lu.solve(-F);
+    double scaled = 0.0;
+    for (Eigen::Index k = 0; k < x.size(); ++k) scaled = std::max(scaled, std::abs(dx[k]) / std::max(1.0, std::abs(x[k])));
+    const double f0 = F.norm();
+    if (scaled < tol) {  // the full step is below the tolerance: take it and stop (at the round-off floor the
+      x += dx;           // residual need not decrease any more)
+      if (!col.assemble(x, F, nullptr)) break;
+      out.converged = true;
+      out.residual = F.lpNorm<Eigen::Infinity>();
+      return out;
+    }
+    double lambda = 1.0;
+    Vec xt;
+    bool accepted = false;
+    for (int damp = 0; damp < 30; ++damp, lambda *= 0.5) {
+      xt = x + lambda * dx;
+      if (col.assemble(xt, Ft, nullptr) && (Ft.norm() <= (1.0 - 1e-4 * lambda) * f0 || Ft.norm() < 1e-13)) {
+        accepted = true;
+        break;
+      }
+    }
+    if (!accepted) {
+      out.failure = "no descent along the Newton direction (no solution near the guess)";
+      return out;
+    }
+    x = xt;
+    col.assemble(x, F, &J);
+  }
+  out.residual = F.lpNorm<Eigen::Infinity>();
+  out.failure = "no convergence in " + std::to_string(max_iter) + " Newton iterations";
+  return out;
+}
+
+// L: the nonlinear region near the tip plus `decay_lengths` e-folds of the slowest mode approaching the
+// sliding state (the error of the linear projection is quadratic in the distance from it).
+double domain_length(const Model& m, const StripFrontOptions& o, double c, double sd, double* slowest_out = nullptr) {
+  const Subspace b = behind_subspace(m, c, sd);
+  double slowest = std::numeric_limits<double>::infinity();
+  for (const auto& l : b.kept)
+    if (l.real() > 0.0) slowest = std::min(slowest, l.real());
+  if (!std::isfinite(slowest)) slowest = 1.0 / c;
+  if (slowest_out) *slowest_out = slowest;
+  if (o.domain_length > 0.0) return o.domain_length;
+  const double vb = m.saddle_node ? steady_minimum_velocity(m.law()) : strengthening_branch_velocity(m.law(), sd);
+  return o.tip_length * c / (1.0 + m.kappa * vb) + o.decay_lengths / slowest;
+}
+
+StripFront empty_front(const core::InterfaceParams& law, const core::BulkParams& bulk, double sd) {
+  StripFront f;
+  f.law = law;
+  f.bulk = bulk;
+  f.mu_strip = bulk.mu / bulk.height;
+  f.rho_strip = bulk.rho / bulk.height;
+  f.sigma_d = sd;
+  return f;
+}
+
+// Linear interpolation of a column of node values in y, continued above the old top with slope `top_slope`.
+double interp_rows(const std::vector<double>& yo, const double* col, double yy, double top_slope) {
+  const std::size_t n = yo.size();
+  if (yy >= yo.back()) return col[n - 1] + top_slope * (yy - yo.back());
+  const auto it = std::upper_bound(yo.begin(), yo.end(), yy);
+  const std::size_t b = std::max<std::size_t>(1, static_cast<std::size_t>(it - yo.begin())), a = b - 1;
+  const double t = (yy - yo[a]) / (yo[b] - yo[a]);
+  return (1.0 - t) * col[a] + t * col[b];
+}
+
+// A guess on the mesh of `col` from a strip front (any H, rows, mesh): bilinear in (ξ, y), the sliding
+// state continued beyond its −L, the top slope σ_d/μ' above its H.
+Vec transfer(const Collocation& col, const StripFront& g, double sd) {
+  const Model& m = col.model();
+  const int ns = m.ns(), M = m.M, Mo = g.rows();
+  Vec x = Vec::Zero(col.size());
+  const std::size_t ro = static_cast<std::size_t>(Mo) + 1;
+  std::vector<double> ucol(ro), pcol(ro);
+  for (int i = 0; i < col.nodes(); ++i) {
+    const double xi = col.xi()[static_cast<std::size_t>(i)];
+    double shift = 0.0;
+    std::size_t a = 0, b = 0;
+    double t = 0.0;
+    if (xi <= g.xi.front()) {
+      shift = -g.v_behind / g.c * (xi - g.xi.front());
+    } else {
+      const auto it = std::upper_bound(g.xi.begin(), g.xi.end(), xi);
+      b = std::min<std::size_t>(static_cast<std::size_t>(it - g.xi.begin()), g.xi.size() - 1);
+      a = b - 1;
+      t = (xi - g.xi[a]) / (g.xi[b] - g.xi[a]);
+    }
+    for (std::size_t j = 0; j < ro; ++j) {
+      ucol[j] = (1.0 - t) * g.lift[a * ro + j] + t * g.lift[b * ro + j];
+      pcol[j] = (1.0 - t) * g.strain[a * ro + j] + t * g.strain[b * ro + j];
+    }
+    const double u0 = (1.0 - t) * g.slip[a] + t * g.slip[b] + shift;
+    for (int j = 0; j <= M; ++j) {
+      const double yy = m.y[static_cast<std::size_t>(j)];
+      x[ns * i + m.iu(j)] = j == 0 ? u0 : interp_rows(g.y, ucol.data(), yy, sd / m.mu_s);
+      x[ns * i + m.ip(j)] = interp_rows(g.y, pcol.data(), yy, 0.0);
+    }
+    x[ns * i + m.iA()] = (1.0 - t) * g.area[a] + t * g.area[b];
+    x[ns * i + m.iS()] = (1.0 - t) * g.sigma_bar[a] + t * g.sigma_bar[b];
+  }
+  x[col.c_index()] = g.c;
+  if (col.size() > col.c_index() + 1) x[col.c_index() + 1] = sd;
+  return x;
+}
+
+// A guess from the 1D front (docs/fronts.md §10.4): its interface fields, and across the height the thin-strip
+// profile of docs/model.md §9.2, u = u_0 + (τ/μ') y + q y²/2, q = (σ_d − τ)/(μ' H), p_j = −v/c.
+Vec from_one_dimensional(const Collocation& col, const SteadyFront& f1) {
+  const Model& m = col.model();
+  const int ns = m.ns();
+  const auto s = sample_steady_front(f1, col.xi(), 0.0);
+  Vec x = Vec::Zero(col.size());
+  for (int i = 0; i < col.nodes(); ++i) {
+    const auto a = static_cast<std::size_t>(i);
+    const double tau = s.sigma_bar[a] + m.eta * s.slip_rate[a];
+    const double q = (f1.sigma_d - tau) / (m.mu_s * m.H);
+    for (int j = 0; j <= m.M; ++j) {
+      const double yy = m.y[static_cast<std::size_t>(j)];
+      x[ns * i + m.iu(j)] = j == 0 ? s.slip[a] : tau * yy / m.mu_s + 0.5 * q * yy * yy;
+      x[ns * i + m.ip(j)] = -s.slip_rate[a] / f1.c;
+    }
+    x[ns * i + m.iA()] = s.area[a];
+    x[ns * i + m.iS()] = s.sigma_bar[a];
+  }
+  x[col.c_index()] = f1.c;
+  return x;
+}
+
+// Admissibility behind the tip (as in 1D): |σ|/A − 1 at its interior minima and far end.
+double overstress_margin(const Model& m, const StripFront& f) {
+  const std::size_t n = f.xi.size();
+  std::vector<double> g(n);
+  for (std::size_t i = 0; i < n; ++i) g[i] = std::abs(f.sigma_bar[i] + m.eta * f.slip_rate[i]) / f.area[i] - 1.0;
+  double margin = g.front();
+  for (std::size_t i = 1; i + 2 < n; ++i)
+    if (g[i] <= g[i - 1] && g[i] <= g[i + 1]) margin = std::min(margin, g[i]);
+  return margin;
+}
+
+// The converged iterate into f: fields, far fields, the modes ahead, diagnostics, status.
+void finish(const Collocation& col, const Vec& x, StripFront& f) {
+  const Model& m = col.model();
+  const int ns = m.ns(), n = col.nodes();
+  const double c = col.c_of(x), sd = col.sigma_of(x);
+  f.sigma_d = sd;
+  f.c = c;
+  f.xi = col.xi();
+  f.y = m.y;
+  f.domain_length = -f.xi.front();
+  const std::size_t ro = m.y.size();
+  f.u.resize(static_cast<std::size_t>(n) * ro);
+  f.strain.resize(f.u.size());
+  f.lift.resize(f.u.size());
+  f.slip_rate.resize(static_cast<std::size_t>(n));
+  f.area.resize(f.slip_rate.size());
+  f.sigma_bar.resize(f.slip_rate.size());
+  f.slip.resize(f.slip_rate.size());
+  f.traction.resize(f.slip_rate.size());
+  for (int i = 0; i < n; ++i) {
+    const auto a = static_cast<std::size_t>(i);
+    for (std::size_t j = 0; j < ro; ++j) {
+      f.lift[a * ro + j] = j == 0 ? 0.0 : x[ns * i + static_cast<int>(j)];
+      f.u[a * ro + j] = x[ns * i] + f.lift[a * ro + j];
+      f.strain[a * ro + j] = x[ns * i + m.M + 1 + static_cast<int>(j)];
+    }
+    f.slip[a] = x[ns * i + m.iu(0)];
+    f.slip_rate[a] = -c * x[ns * i + m.ip(0)];
+    f.area[a] = x[ns * i + m.iA()];
+    f.sigma_bar[a] = x[ns * i + m.iS()];
+    f.traction[a] = f.sigma_bar[a] + m.eta * f.slip_rate[a];
+  }
+  f.v_tip = f.slip_rate.back();
+  f.sigma_bar_tip = f.sigma_bar.back();
+  const Vec yb = behind_state(m, c, sd);
+  f.v_behind = -c * yb[m.ip(0)];
+  f.area_behind = yb[m.iA()];
+  f.sigma_bar_behind = yb[m.iS()];
+  f.overstress_margin = overstress_margin(m, f);
+  f.min_slip_rate = *std::min_element(f.slip_rate.begin(), f.slip_rate.end());
+  // Modes behind: λ_s (the excluded one nearest 0) and the slowest approach.
+  const Subspace b = behind_subspace(m, c, sd);
+  f.stable_eigenvalue = b.excluded.empty() ? nan_value : b.excluded.back().real();
+  f.slowest_growing = nan_value;
+  for (const auto& l : b.kept)
+    if (l.real() > 0.0 && !(l.real() >= f.slowest_growing)) f.slowest_growing = l.real();
+  // Modes ahead: the decaying ones carry (u, p)(0) − stuck.
+  const Vec ys = stuck_state(m, sd);
+  const Mat Ja = rhs(m, ys, c, sd, Side::ahead).J.topLeftCorner(m.nb(), m.nb());
+  const Eigen::EigenSolver<Mat> es(Ja, true);
+  const CVec d = es.eigenvectors().partialPivLu().solve((x.segment(ns * (n - 1), m.nb()) - ys.head(m.nb())).cast<std::complex<double>>());
+  f.ahead_rate.clear();
+  f.ahead_mode.clear();
+  f.slowest_ahead = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < m.nb(); ++k) {
+    const auto l = es.eigenvalues()[k];
+    if (l.real() >= 0.0) continue;
+    f.slowest_ahead = std::min(f.slowest_ahead, -l.real());
+    f.ahead_rate.push_back(l);
+    std::vector<std::complex<double>> mode(static_cast<std::size_t>(m.nb()));
+    for (int r = 0; r < m.nb(); ++r) mode[static_cast<std::size_t>(r)] = d[k] * es.eigenvectors()(r, k);
+    for (int j = 1; j <= m.M; ++j) mode[static_cast<std::size_t>(j)] += mode[0];  // d_j → u_j = u_0 + d_j
+    f.ahead_mode.push_back(std::move(mode));
+  }
+  f.status = FrontStatus::converged;
+  f.reason.clear();
+  if (f.min_slip_rate <= 0.0) {
+    f.status = FrontStatus::reverse_slip;
+    f.reason = "v <= 0 behind the tip (min v = " + core::format_number(f.min_slip_rate) + ")";
+  } else if (f.overstress_margin <= 0.0) {
+    f.status = FrontStatus::resticks;
+    f.reason = "|sigma|/A - 1 <= 0 behind the tip (min " + core::format_number(f.overstress_margin) + "): Theta = 1 violated";
+  }
+}
+
+// One Newton solve on a fresh mesh from an initial iterate built by `start`.
+template <class Start>
+StripFront solve_on_mesh(const core::InterfaceParams& law, const core::BulkParams& bulk, const Model& m,
+                         const StripFrontOptions& o, double sd, double c_guess, std::optional<Arclength> arc,
+                         Start&& start) {
+  StripFront f = empty_front(law, bulk, sd);
+  f.saddle_node_limit = m.saddle_node;
+  const double L = domain_length(m, o, c_guess, arc ? arc->sigma0 : sd);
+  const Collocation col(m, make_mesh(L, o.intervals, o.tip_spacing, o.grading), c_guess, sd, arc);
+  if (!col.ok()) {  // the far fields have not M + 1 modes of each sign at the guess
+    f.status = FrontStatus::not_a_saddle;
+    f.reason = col.why();
+    f.c = c_guess;
+    return f;
+  }
+  Vec x = start(col);
+  x[col.c_index()] = c_guess;
+  if (arc) x[col.c_index() + 1] = sd;
+  const auto nr = newton(col, x, o.tolerance, o.max_newton);
+  f.newton_iterations = nr.iterations;
+  f.domain_length = L;
+  if (!nr.converged) {
+    f.status = col.c_of(x) >= 0.999 * m.sound_speed() ? FrontStatus::sonic : FrontStatus::newton_failed;
+    f.reason = nr.failure;
+    f.c = col.c_of(x);
+    f.sigma_d = col.sigma_of(x);
+    return f;
+  }
+  finish(col, x, f);
+  f.residual_norm = nr.residual;
+  if (o.estimate_error && o.intervals % 2 == 0 && o.intervals >= 8) {
+    std::vector<double> coarse_xi;
+    Vec xc(m.ns() * (col.nodes() / 2 + 1) + 1);
+    int k = 0;
+    for (int i = 0; i < col.nodes(); i += 2, ++k) {
+      coarse_xi.push_back(col.xi()[static_cast<std::size_t>(i)]);
+      xc.segment(m.ns() * k, m.ns()) = col.y(x, i);
+    }
+    xc[xc.size() - 1] = f.c;
+    const Collocation coarse(m, std::move(coarse_xi), f.c, f.sigma_d, std::nullopt);
+    const auto nc = newton(coarse, xc, o.tolerance, o.max_newton);
+    f.speed_error = nc.converged ? std::abs(coarse.c_of(xc) - f.c) / 15.0 : std::numeric_limits<double>::infinity();
+  }
+  return f;
+}
+
+bool admissible_sigma(const core::InterfaceParams& law, double sd, StripFront& f) {
+  const double sigma_c = steady_minimum_stress(law);
+  if (sd > sigma_c && sd < 1.0) return true;
+  f.status = FrontStatus::no_front_state;
+  f.reason = "sigma_d = " + core::format_number(sd) + " outside (sigma_c^d, 1) = (" + core::format_number(sigma_c) +
+             ", 1): no sliding state on the strengthening branch behind, or no stuck state ahead";
+  return false;
+}
+
+}  // namespace strip_detail
+
+StripFront solve_strip_front(const core::InterfaceParams& law, const core::BulkParams& bulk, double sigma_d,
+                             const StripFrontOptions& o, const StripFront* guess) {
+  using namespace strip_detail;
+  StripFront f = empty_front(law, bulk, sigma_d);
+  if (!(bulk.height > 0.0)) {
+    f.reason = "bulk.height must be > 0 for the strip (H = " + core::format_number(bulk.height) + ")";
+    return f;
+  }
+  if (!admissible_sigma(law, sigma_d, f)) return f;
+  if (guess && guess->status == FrontStatus::converged) {
+    const Model m = make_model(law, bulk, o);
+    return solve_on_mesh(law, bulk, m, o, sigma_d, guess->c, std::nullopt,
+                         [&](const Collocation& col) { return transfer(col, *guess, sigma_d); });
+  }
+  // Cold start: the 1D front, then the strip grown from H_0 = min(H, thin_height) at fixed μ, ρ.
+  const SteadyFront f1 = solve_steady_front(law, {bulk.rho, bulk.mu, bulk.length, 0.0}, sigma_d);
+  if (f1.status != FrontStatus::converged) {
+    f.status = f1.status;
+    f.reason = "cold start: no 1D front at this sigma_d: " + f1.reason;
+    return f;
+  }
+  core::BulkParams b = bulk;
+  b.height = std::min(bulk.height, o.thin_height);
+  const Model m0 = make_model(law, b, o);
+  StripFront g = solve_on_mesh(law, b, m0, o, sigma_d, f1.c, std::nullopt,
+                               [&](const Collocation& col) { return from_one_dimensional(col, f1); });
+  while (g.status == FrontStatus::converged && b.height < bulk.height) {
+    b.height = std::min(bulk.height, b.height * o.height_factor);
+    const Model m = make_model(law, b, o);
+    StripFront next = solve_on_mesh(law, b, m, o, sigma_d, g.c, std::nullopt,
+                                    [&](const Collocation& col) { return transfer(col, g, sigma_d); });
+    if (next.status != FrontStatus::converged)
+      next.reason = "cold start: growing the strip failed at H = " + core::format_number(b.height) + ": " + next.reason;
+    g = std::move(next);
+  }
+  return g;
+}
+
+StripFront solve_strip_saddle_node_front(const core::InterfaceParams& law, const core::BulkParams& bulk,
+                                         const StripFrontOptions& o, const StripFront& guess) {
+  using namespace strip_detail;
+  Model m = make_model(law, bulk, o);
+  m.saddle_node = true;
+  const double sigma_c = steady_sliding(law, steady_minimum_velocity(law)).sigma;
+  return solve_on_mesh(law, bulk, m, o, sigma_c, guess.c, std::nullopt,
+                       [&](const Collocation& col) { return transfer(col, guess, sigma_c); });
+}
+
+StripInterfaceSample sample_strip_interface(const StripFront& f, std::span<const double> xs) {
+  using namespace strip_detail;
+  StripFrontOptions o;
+  o.rows = f.rows();
+  Model m = make_model(f.law, f.bulk, o);
+  m.y = f.y;  // the front's own rows
+  for (int j = 0; j < m.M; ++j) m.k[static_cast<std::size_t>(j)] = m.y[static_cast<std::size_t>(j) + 1] - m.y[static_cast<std::size_t>(j)];
+  std::fill(m.w.begin(), m.w.end(), 0.0);
+  for (int j = 0; j < m.M; ++j) {
+    m.w[static_cast<std::size_t>(j)] += 0.5 * m.k[static_cast<std::size_t>(j)];
+    m.w[static_cast<std::size_t>(j) + 1] += 0.5 * m.k[static_cast<std::size_t>(j)];
+  }
+  const std::size_t ro = f.y.size();
+  auto node = [&](std::size_t i) {
+    Vec y(m.ns());
+    for (std::size_t j = 0; j < ro; ++j) {
+      y[static_cast<int>(j)] = j == 0 ? f.u[i * ro] : f.lift[i * ro + j];
+      y[m.M + 1 + static_cast<int>(j)] = f.strain[i * ro + j];
+    }
+    y[m.iA()] = f.area[i];
+    y[m.iS()] = f.sigma_bar[i];
+    return y;
+  };
+  StripInterfaceSample out;
+  for (double xi : xs) {
+    double v, A, s, u;
+    if (xi > 0.0) {
+      double du = 0.0, dp = 0.0;
+      for (std::size_t k = 0; k < f.ahead_rate.size(); ++k) {
+        const auto e = std::exp(f.ahead_rate[k] * xi);
+        du += (f.ahead_mode[k][0] * e).real();
+        dp += (f.ahead_mode[k][ro] * e).real();
+      }
+      u = f.sigma_d / f.law.alpha + du;
+      v = -f.c * dp;
+      A = 1.0;
+      s = f.law.alpha * u;
+    } else if (xi >= f.xi.front()) {
+      const auto it = std::upper_bound(f.xi.begin(), f.xi.end(), xi);
+      const std::size_t b = std::min<std::size_t>(static_cast<std::size_t>(it - f.xi.begin()), f.xi.size() - 1), a = b - 1;
+      const double h = f.xi[b] - f.xi[a], t = (xi - f.xi[a]) / h;
+      const Vec ya = node(a), yb = node(b);
+      const Vec fa = rhs(m, ya, f.c, f.sigma_d, Side::behind, false).f, fb = rhs(m, yb, f.c, f.sigma_d, Side::behind, false).f;
+      const double h00 = (2 * t - 3) * t * t + 1, h10 = ((t - 2) * t + 1) * t, h01 = (3 - 2 * t) * t * t, h11 = (t - 1) * t * t;
+      const Vec y = h00 * ya + h10 * h * fa + h01 * yb + h11 * h * fb;
+      u = y[m.iu(0)];
+      v = -f.c * y[m.ip(0)];
+      A = y[m.iA()];
+      s = y[m.iS()];
+    } else {
+      v = f.v_behind;
+      A = f.area_behind;
+      s = f.sigma_bar_behind;
+      u = f.slip.front() - f.v_behind / f.c * (xi - f.xi.front());
+    }
+    out.slip_rate.push_back(v);
+    out.area.push_back(A);
+    out.sigma_bar.push_back(s);
+    out.slip.push_back(u);
+  }
+  return out;
+}
+
+}  // namespace slipfront::continuum
+
+namespace slipfront::continuum {
+
+namespace strip_detail {
+
+BranchPoint branch_point(const StripFront& f) {
+  return {f.sigma_d, f.c, f.v_tip, f.v_behind, f.area_behind, f.overstress_margin, f.min_slip_rate,
+          f.stable_eigenvalue, f.domain_length, f.residual_norm, f.speed_error, f.newton_iterations};
+}
+
+BranchEnd end_of(FrontStatus s) {
+  switch (s) {
+    case FrontStatus::resticks: return BranchEnd::resticking;
+    case FrontStatus::reverse_slip: return BranchEnd::reverse_slip;
+    case FrontStatus::sonic: return BranchEnd::sonic;
+    case FrontStatus::no_front_state:
+    case FrontStatus::not_a_saddle: return BranchEnd::saddle_node;
+    default: return BranchEnd::newton_failure;
+  }
+}
+
+// The continuation of the strip's branch in σ_d (docs/fronts.md §10.8): the stages of the 1D
+// BranchContinuation (docs/fronts.md §4) with strip fronts: the first front cold, the second by a natural
+// step, then pseudo-arclength in (σ_d, c/c_s) with the secant as predictor, every point polished at fixed
+// σ_d, the step capped to keep a quarter of the gap σ_d − σ_c^d, and the limiting front at σ_c^d.
+class StripContinuation {
+ public:
+  StripContinuation(const core::InterfaceParams& law, const core::BulkParams& bulk, const StripContinuationOptions& o)
+      : law_(law), bulk_(bulk), o_(o), cs_(std::sqrt(bulk.mu / bulk.rho)), sigma_c_(steady_minimum_stress(law)) {}
+
+  bool start() { return admissible_parameters() && first_front() && second_front(); }
+  void follow();
+  void solve_limiting_front();
+  void minimal_speed();
+  StripBranch take() { return std::move(br_); }
+  bool ended_at_saddle_node() const { return br_.end == BranchEnd::saddle_node; }
+
+ private:
+  void stop(BranchEnd e, std::string why) {
+    br_.end = e;
+    br_.reason = std::move(why);
+  }
+  bool stop_requested() {
+    if (!o_.stop || !o_.stop()) return false;
+    stop(BranchEnd::stopped, "stopped on request after " + std::to_string(br_.points.size()) +
+                                 " fronts: the branch is partial, c_min not computed");
+    return true;
+  }
+  bool admissible_parameters();
+  bool first_front();
+  bool second_front();
+  StripFront predict_and_correct(double t_sigma, double t_c);
+  void accept(StripFront next) {
+    prev_ = std::move(cur_);
+    cur_ = std::move(next);
+    br_.points.push_back(branch_point(cur_));
+  }
+
+  const core::InterfaceParams& law_;
+  const core::BulkParams& bulk_;
+  const StripContinuationOptions& o_;
+  const double cs_, sigma_c_;
+  StripBranch br_;
+  StripFront prev_, cur_;
+  double ds_ = 0.0, t_sigma_before_ = -1.0;
+};
+
+bool StripContinuation::admissible_parameters() {
+  const double v_m = steady_minimum_velocity(law_);
+  if (!(bulk_.height > 0.0)) {
+    stop(BranchEnd::no_branch, "bulk.height must be > 0 for the strip; nothing solved");
+    return false;
+  }
+  if (!std::isfinite(v_m) || !(v_m > 0.0) || !std::isfinite(sigma_c_) || !(sigma_c_ < 1.0)) {
+    stop(BranchEnd::no_branch, "the steady law has no minimum at a finite v > 0, or sigma_c^d = " +
+                                   core::format_number(sigma_c_) + " >= 1: no branch (docs/fronts.md §4); nothing solved");
+    return false;
+  }
+  return true;
+}
+
+bool StripContinuation::first_front() {
+  double sd = o_.sigma_start;
+  for (int k = 0; k <= 20; ++k) {
+    if (stop_requested()) return false;
+    if (k > 0) sd = sigma_c_ + (o_.sigma_start - sigma_c_) * std::pow(0.8, k);
+    prev_ = solve_strip_front(law_, bulk_, sd, o_.front);
+    if (prev_.status == FrontStatus::converged) break;
+  }
+  if (prev_.status != FrontStatus::converged) {
+    stop(end_of(prev_.status), "no front at sigma_start = " + core::format_number(o_.sigma_start) + " nor below: " + prev_.reason);
+    br_.last = prev_;
+    return false;
+  }
+  br_.points.push_back(branch_point(prev_));
+  return true;
+}
+
+bool StripContinuation::second_front() {
+  ds_ = o_.initial_step;
+  for (;;) {
+    if (stop_requested()) return false;
+    const double target = std::max(prev_.sigma_d - ds_, sigma_c_ + 0.5 * (prev_.sigma_d - sigma_c_));
+    cur_ = solve_strip_front(law_, bulk_, target, o_.front, &prev_);
+    if (cur_.status == FrontStatus::converged) break;
+    ds_ *= 0.5;
+    if (ds_ < o_.min_step) {
+      stop(end_of(cur_.status), "no second front below sigma_start: " + cur_.reason);
+      br_.last = prev_;
+      return false;
+    }
+  }
+  br_.points.push_back(branch_point(cur_));
+  return true;
+}
+
+StripFront StripContinuation::predict_and_correct(double t_sigma, double t_c) {
+  ds_ = std::min(ds_, o_.max_step);
+  if (t_sigma < 0.0) ds_ = std::min(ds_, 0.75 * (cur_.sigma_d - sigma_c_) / -t_sigma);
+  const Model m = make_model(law_, bulk_, o_.front);
+  StripFront next;
+  for (;;) {
+    const double sigma_p = cur_.sigma_d + ds_ * t_sigma, c_p = cur_.c + ds_ * t_c * cs_;
+    const Arclength arc{cur_.sigma_d, cur_.c, t_sigma, t_c, ds_, cs_};
+    next = solve_on_mesh(law_, bulk_, m, o_.front, sigma_p, c_p, arc,
+                         [&](const Collocation& col) { return transfer(col, cur_, sigma_p); });
+    if (next.status == FrontStatus::converged) break;
+    ds_ *= 0.5;
+    if (ds_ < o_.min_step) break;
+  }
+  return next;
+}
+
+void StripContinuation::follow() {
+  while (static_cast<int>(br_.points.size()) < o_.max_points) {
+    const double d_sigma = cur_.sigma_d - prev_.sigma_d, d_c = (cur_.c - prev_.c) / cs_;
+    const double norm = std::hypot(d_sigma, d_c), t_sigma = d_sigma / norm, t_c = d_c / norm;
+    if (t_sigma * t_sigma_before_ < 0.0) br_.folds.push_back(cur_.sigma_d);
+    t_sigma_before_ = t_sigma;
+    if (cur_.sigma_d - sigma_c_ < o_.end_gap * sigma_c_) {
+      stop(BranchEnd::saddle_node, "");
+      break;
+    }
+    if (stop_requested()) break;
+    StripFront next = predict_and_correct(t_sigma, t_c);
+    if (next.status != FrontStatus::converged) {
+      stop(end_of(next.status), "continuation stalls at sigma_d = " + core::format_number(cur_.sigma_d) +
+                                    " (step < min_step): " + std::string(to_string(next.status)) + ": " + next.reason);
+      break;
+    }
+    if (next.newton_iterations < o_.target_newton) ds_ *= 1.5;
+    else if (next.newton_iterations > o_.target_newton) ds_ *= 0.6;
+    StripFront polished = solve_strip_front(law_, bulk_, next.sigma_d, o_.front, &next);
+    accept(polished.status == FrontStatus::converged ? std::move(polished) : std::move(next));
+  }
+  br_.last = cur_;
+}
+
+void StripContinuation::solve_limiting_front() {
+  const StripFront end = solve_strip_saddle_node_front(law_, bulk_, o_.front, cur_);
+  if (end.status == FrontStatus::converged) {
+    br_.points.push_back(branch_point(end));
+    br_.last = end;
+    br_.reason = "sigma_d -> sigma_c^d = " + core::format_number(sigma_c_) +
+                 ": v_b -> v_m, the decaying mode of the sliding state behind -> 0 (saddle-node); limiting front "
+                 "at sigma_c^d solved directly: c = " + core::format_number(end.c);
+  } else {
+    br_.reason = "sigma_d -> sigma_c^d (saddle-node of the sliding state behind); the limiting front did not converge: " +
+                 end.reason;
+  }
+}
+
+void StripContinuation::minimal_speed() {
+  if (br_.points.empty() || !followed_to_end(br_.end)) return;
+  std::size_t k = 0;
+  for (std::size_t i = 1; i < br_.points.size(); ++i)
+    if (br_.points[i].c < br_.points[k].c) k = i;
+  br_.c_min = br_.points[k].c;
+  br_.sigma_d_at_c_min = br_.points[k].sigma_d;
+  br_.c_min_at_end = k + 1 == br_.points.size();
+}
+
+}  // namespace strip_detail
+
+StripBranch continue_strip_fronts(const core::InterfaceParams& law, const core::BulkParams& bulk,
+                                  const StripContinuationOptions& o) {
+  strip_detail::StripContinuation run(law, bulk, o);
+  if (!run.start()) return run.take();
+  run.follow();
+  if (run.ended_at_saddle_node()) run.solve_limiting_front();
+  run.minimal_speed();
+  return run.take();
+}
+
+}  // namespace slipfront::continuum

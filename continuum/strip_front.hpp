@@ -1,0 +1,135 @@
+#pragma once
+// Steady fronts in the antiplane strip of height H (docs/model.md §9, issue 20 item 1): the traveling-wave
+// problem of docs/fronts.md §1 with the strip under the interface instead of the 1D chain. Derivation,
+// method, far-field conditions, order and results: docs/fronts.md §10.
+//
+// In ξ = x − c t (tip at ξ = 0) the bulk obeys β² ∂ξξ u + ∂yy u = 0, β² = 1 − c²/c_s², with
+//   μ' ∂y u(ξ, 0) = τ = σ̄ + η v,  v = −c ∂ξ u(ξ, 0)   (interface, y = 0)
+//   μ' ∂y u(ξ, H) = σ_d                                 (top)
+// and the interface law of docs/fronts.md eq. (1b, 1c) behind the tip. The strip is discretised across
+// its height by vertex-centred finite volumes (the rows of core::Strip, docs/model.md §9.6) on rows graded
+// toward the interface, which leaves a first-order system of ODEs in ξ. It is collocated on [−L, 0]
+// (Lobatto IIIA, as the 1D solver) with c an unknown, in one Newton iteration with Eigen's SparseLU.
+// Ahead of the tip the problem is linear (A ≡ 1, σ̄ = α u(ξ, 0)) and is solved exactly in its modes: the
+// tip state lies in the decaying subspace (the 2D form of the 1D closed form ahead). Behind, a projection
+// condition at ξ = −L removes the modes that grow toward −∞ (the 2D form of the 1D projection condition).
+//
+// The scene convention of docs/model.md §9.1: `bulk.mu`, `bulk.rho` are thickness-integrated, the strip's
+// material is μ' = μ/H, ρ' = ρ/H; H → 0 at fixed μ is the 1D model. Plain structs; nothing here does I/O.
+#include <complex>
+#include <functional>
+#include <limits>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "continuum/steady_front.hpp"
+#include "core/params.hpp"
+
+namespace slipfront::continuum {
+
+/// Discretisation and Newton settings of one strip-front solve.
+struct StripFrontOptions {
+  int intervals = 600;            ///< ξ intervals on [−L, 0]
+  int rows = 16;                  ///< row intervals across the height (M; M + 1 rows, row 0 the interface)
+  double tip_spacing = 0.05;      ///< ξ interval at the tip (geometric growth behind, as in 1D)
+  double grading = 0.0;           ///< β of the ξ mesh map if > 0 (overrides tip_spacing), docs/fronts.md §3
+  double row_spacing = 0.25;      ///< first row spacing at the interface; rows uniform when H/M ≤ this
+  double row_grading = 0.0;       ///< γ of the row map y_j = H (e^{γj/M} − 1)/(e^γ − 1) if > 0 (overrides row_spacing)
+  double domain_length = 0.0;     ///< L; 0 = automatic: tip_length + decay_lengths / (slowest mode behind)
+  double tip_length = 40.0;       ///< automatic L: in units of c/(1 + κ v_b)
+  double decay_lengths = 20.0;    ///< automatic L: e-folds of the slowest mode of the sliding state behind
+  double tolerance = 1e-11;       ///< Newton: stop when the scaled update is below this
+  int max_newton = 40;
+  /// Cold start (no guess): the 1D front at the same σ_d is solved and the strip is grown from
+  /// H_0 = min(H, thin_height) by factors of `height_factor` at fixed μ (docs/fronts.md §10.4).
+  double thin_height = 0.5;
+  double height_factor = 2.0;
+  bool estimate_error = false;    ///< also solve on every other ξ node: speed_error = |c_2h − c_h|/15
+};
+
+/// One steady front in the strip at one σ_d. Fields on the nodes ξ_0 = −L < … < ξ_N = 0 (tip) and the
+/// rows 0 = y_0 < … < y_M = H; bulk fields node-major, index i·(M + 1) + j.
+struct StripFront {
+  FrontStatus status = FrontStatus::newton_failed;
+  std::string reason;
+
+  core::InterfaceParams law;
+  core::BulkParams bulk;          ///< as given: μ, ρ integrated over the height, `height` = H
+  double mu_strip = 0.0, rho_strip = 0.0;  ///< μ' = μ/H, ρ' = ρ/H
+  double sigma_d = 0.0;
+
+  double c = 0.0;
+  double v_tip = 0.0, sigma_bar_tip = 0.0;  ///< at ξ = 0 (σ̄_tip + η v_tip = 1)
+  double v_behind = 0.0, area_behind = 0.0, sigma_bar_behind = 0.0;  ///< the sliding state (as in 1D)
+
+  std::vector<double> xi, y;
+  std::vector<double> slip_rate, area, sigma_bar, slip, traction;  ///< interface: v, A, σ̄, u(ξ,0), τ = σ̄ + η v
+  std::vector<double> u, strain;  ///< bulk u(ξ_i, y_j) and ∂ξ u (u → σ_d/α + σ_d y/μ' far ahead)
+  std::vector<double> lift;       ///< u(ξ_i, y_j) − u(ξ_i, 0): the solver's unknowns for j ≥ 1 (not rounded by u's size)
+
+  double residual_norm = 0.0;     ///< max-norm of the discrete equations at the returned solution
+  double speed_error = std::numeric_limits<double>::quiet_NaN();
+  int newton_iterations = 0;
+  double domain_length = 0.0;
+  double overstress_margin = 0.0; ///< min of |σ|/A − 1 behind the tip (interior minima and far end)
+  double min_slip_rate = 0.0;
+  double stable_eigenvalue = 0.0; ///< the decaying mode of the sliding state nearest 0 (λ_s; → 0 at σ_c^d)
+  double slowest_growing = 0.0;   ///< slowest mode approaching the sliding state (sets L)
+  double slowest_ahead = 0.0;     ///< slowest decay rate ahead of the tip (> 0)
+  bool saddle_node_limit = false;
+  /// Ahead of the tip: (u_0 … u_M, ∂ξu_0 … ∂ξu_M)(ξ) − stuck state = Σ_k Re(ahead_mode[k] e^{ahead_rate[k] ξ}),
+  /// Re rate < 0 (the M + 1 decaying modes of the linear stuck system).
+  std::vector<std::complex<double>> ahead_rate;
+  std::vector<std::vector<std::complex<double>>> ahead_mode;
+
+  int rows() const { return static_cast<int>(y.size()) - 1; }
+  double u_at(std::size_t i, std::size_t j) const { return u[i * y.size() + j]; }
+};
+
+/// Solve for the strip front at σ_d. `guess`: a strip front (any H, σ_d, mesh; e.g. the neighbour of a
+/// continuation); without it, a cold start from the 1D front (options.thin_height).
+StripFront solve_strip_front(const core::InterfaceParams& law, const core::BulkParams& bulk, double sigma_d,
+                             const StripFrontOptions& options = {}, const StripFront* guess = nullptr);
+
+/// The limiting front at σ_d = σ_c^d (v_b = v_m, the null mode of the saddle-node behind). Needs a guess.
+StripFront solve_strip_saddle_node_front(const core::InterfaceParams& law, const core::BulkParams& bulk,
+                                         const StripFrontOptions& options, const StripFront& guess);
+
+/// The interface fields of a solved front at positions ξ (any order, tip at 0): the collocation
+/// polynomial on [−L, 0], the modes ahead of the tip; beyond −L the sliding state.
+struct StripInterfaceSample {
+  std::vector<double> slip_rate, area, sigma_bar, slip;
+};
+StripInterfaceSample sample_strip_interface(const StripFront& front, std::span<const double> xi);
+
+// ---------------------------------------------------------------------------------------------------
+// Continuation in σ_d (docs/fronts.md §10.8): the pattern of continue_steady_fronts (docs/fronts.md §4).
+
+struct StripContinuationOptions {
+  double sigma_start = 0.8;
+  double initial_step = 0.01;     ///< pseudo-arclength step in (σ_d, c/c_s)
+  double max_step = 0.05;
+  double min_step = 1e-6;
+  int target_newton = 5;
+  double end_gap = 1e-7;          ///< stop when σ_d − σ_c^d < end_gap · σ_c^d
+  int max_points = 400;
+  StripFrontOptions front;
+  std::function<bool()> stop;     ///< polled before every solve; true ends the branch (`stopped`)
+};
+
+struct StripBranch {
+  std::vector<BranchPoint> points;
+  BranchEnd end = BranchEnd::max_points;
+  std::string reason;
+  std::vector<double> folds;
+  double c_min = std::numeric_limits<double>::quiet_NaN();
+  double sigma_d_at_c_min = std::numeric_limits<double>::quiet_NaN();
+  bool c_min_at_end = false;
+  StripFront last;
+};
+
+StripBranch continue_strip_fronts(const core::InterfaceParams& law, const core::BulkParams& bulk,
+                                  const StripContinuationOptions& options = {});
+
+}  // namespace slipfront::continuum

@@ -611,7 +611,9 @@ std::string scaling_line(const compare::FrontsResult& fr) {
   const int fitted = static_cast<int>(fits.at("points")[all]), tried = static_cast<int>(fits.at("tried")[all]);
   std::string without;
   const auto& pts = fr.scaling_points;
-  for (std::size_t k = 0; k < pts.at("c_min").size(); ++k)
+  // A study stopped before its first point has fits (refused) but no points.
+  const std::size_t points = pts.count("c_min") ? pts.at("c_min").size() : 0;
+  for (std::size_t k = 0; k < points; ++k)
     if (!(pts.at("c_min")[k] > 0.0))
       without += (without.empty() ? "" : ", ") + fr.scaling_parameters[static_cast<std::size_t>(pts.at("parameter_index")[k])] +
                  " = " + format_number(pts.at("value")[k]);

@@ -173,7 +173,7 @@ with h5py.File(sys.argv[1], "r+") as f:
   for (const auto& e : fs::directory_iterator(dir)) CHECK(e.path().filename().string().rfind(".report.md.", 0) != 0);
 }
 
-TEST_CASE("report: the strip's body pictures and the events-vs-H figure; none for runs without bulk snapshots",
+TEST_CASE("report: the strip's body pictures and the events-vs-H figure, and none for runs without bulk snapshots",
           "[report][strip]") {
   // A small fig1 strip with bulk snapshots (H = 4, every 5 time units: its t^ ~ 77 bracketed), the same strip
   // without them, the 1D fig1, and a tiny strip_height study (3 heights and the chain). The report pictures the

@@ -25,7 +25,7 @@ namespace core = slipfront::core;
 int main(int argc, char** argv) {
   double mu = 300.0, rho = 1e-9, alpha = 1.05, kappa = 8.0, eta = 0.1, hmin = 1.0, hmax = 1e6, per_decade = 2.0;
   int rows = 16, intervals = 400, branch_rows = 8, branch_intervals = 300;
-  bool branches = true;
+  bool branches = true, check = false;
   double tol = 1e-11, max_factor = 2.0;
   std::string out;
   for (int i = 1; i < argc; ++i) {
@@ -44,6 +44,7 @@ int main(int argc, char** argv) {
     else if (a == "--branch-rows") branch_rows = static_cast<int>(next());
     else if (a == "--branch-intervals") branch_intervals = static_cast<int>(next());
     else if (a == "--no-branches") branches = false;
+    else if (a == "--check") check = true;
     else if (a == "--tol") tol = next();
     else if (a == "--max-factor") max_factor = next();
     else if (a == "--out" && i + 1 < argc) out = argv[++i];
@@ -76,6 +77,42 @@ int main(int argc, char** argv) {
   for (const auto& st : path.steps)
     std::fprintf(stderr, "  step H = %-12.6g c = %-12.8g predicted %-12.8g (%+.2e) newton %d rejected %d\n", st.height, st.c,
                  st.c_predicted, st.c_predicted / st.c - 1.0, st.newton_iterations, st.rejected);
+
+  // Mesh convergence at the largest H: each variant re-solved from the path's last front.
+  if (check && !path.fronts.empty()) {
+    const auto& last = path.fronts.back();
+    const double h = last.bulk.height, lt = continuum::strip_tip_zone(law, last.c, last.v_behind);
+    struct Variant {
+      const char* what;
+      int rows, intervals;
+      double tip_res, row_res, decay, rho_factor;
+    };
+    const std::vector<Variant> variants{{"base", rows, intervals, 30, 10, 20, 1},
+                                        {"2x rows", 2 * rows, intervals, 30, 10, 20, 1},
+                                        {"4x rows", 4 * rows, intervals, 30, 10, 20, 1},
+                                        {"2x intervals", rows, 2 * intervals, 30, 10, 20, 1},
+                                        {"tip, first row /2", rows, intervals, 60, 20, 20, 1},
+                                        {"2x rows, first row /2", 2 * rows, intervals, 30, 20, 20, 1},
+                                        {"L: 30 e-folds", rows, intervals, 30, 10, 30, 1},
+                                        {"rho' / 100", rows, intervals, 30, 10, 20, 0.01}};
+    double base = 0.0;
+    for (const auto& v : variants) {
+      continuum::StripFrontOptions fo = o.front;
+      fo.rows = v.rows;
+      fo.intervals = v.intervals;
+      fo.tip_spacing = lt / v.tip_res;
+      fo.row_spacing = lt / v.row_res;
+      fo.decay_lengths = v.decay;
+      fo.max_newton = 40;
+      const auto tv = std::chrono::steady_clock::now();
+      const auto fr = continuum::solve_strip_saddle_node_front(law, {rho * v.rho_factor * h, mu * h, 1000.0, h}, fo, last);
+      const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - tv).count();
+      if (base == 0.0) base = fr.c;
+      std::fprintf(stderr, "check H = %g %-24s rows %3d intervals %4d: c = %.10g (%+.2e vs base) %s, newton %d, residual %.1e, L = %.4g, %.1f s\n",
+                   h, v.what, v.rows, v.intervals, fr.c, fr.c / base - 1.0, continuum::to_string(fr.status), fr.newton_iterations,
+                   fr.residual_norm, fr.domain_length, sec);
+    }
+  }
 
   continuum::StripHeightPath start_path;
   if (branches) {

@@ -624,6 +624,20 @@ std::string scaling_line(const compare::FrontsResult& fr) {
          core::format_number(100.0 * fits.at("spread")[all], 3) + " % over those " + std::to_string(fitted) + " points\n";
 }
 
+// The strip's collapse line: the pooled prefactor and spread, and each parameter's exponent d ln c_min/d ln p.
+std::string strip_scaling_line(const compare::FrontsResult& fr) {
+  const auto& fits = fr.scaling_fits;
+  if (!fits.count("parameter_index") || fits.at("parameter_index").empty()) return "  scaling: not run\n";
+  std::string line = "  scaling (strip): c_min = " + format_number(fits.at("prefactor").back()) +
+                     " sqrt(mu' H alpha/(eta kappa)), largest deviation " +
+                     core::format_number(100.0 * fits.at("spread").back(), 3) + " % over " +
+                     std::to_string(static_cast<int>(fits.at("points").back())) + " points; exponents";
+  for (std::size_t k = 0; k + 1 < fits.at("parameter_index").size(); ++k)
+    line += " " + fr.scaling_parameters[static_cast<std::size_t>(fits.at("parameter_index")[k])] + " " +
+            format_number(fits.at("exponent")[k]);
+  return line + " (1D: 0.5, 0.5, -0.5, -0.5)\n";
+}
+
 // (e) The summary on stdout, whatever the status: the branch, c_min (nan: not computed), the front at the
 // scene's σ_d and, with --scaling, the fit.
 void print_fronts_summary(std::ostream& out, const compare::Scene& scene, const compare::FrontsResult& fr,
@@ -643,7 +657,13 @@ void print_fronts_summary(std::ostream& out, const compare::Scene& scene, const 
       << (std::isfinite(get("c_at_scene_sigma_d")) ? "c = " + format_number(get("c_at_scene_sigma_d")) + " (profile 0)"
                                                     : "no steady front (" + label("scene_front") + ")")
       << "\n";
-  if (scaling) out << scaling_line(fr);
+  if (get("height") > 0.0)
+    out << "  strip H = " << format_number(get("height")) << " (mu' = " << format_number(get("mu_strip")) << ", l_kappa = "
+        << format_number(get("ell_kappa")) << ", s = " << format_number(get("s")) << "): c_min / c_min(1D, mu = mu' H) = "
+        << format_number(get("c_min_over_1d")) << " (1D: " << format_number(get("c_min_1d")) << "); "
+        << format_number(get("rows")) << " rows, " << format_number(get("intervals")) << " intervals\n";
+  if (scaling && get("height") > 0.0) out << strip_scaling_line(fr);
+  else if (scaling) out << scaling_line(fr);
 }
 
 }  // namespace
@@ -669,7 +689,8 @@ int fronts_command(const FrontsOptions& opts, std::ostream& out, std::ostream& e
   meta.command_line = opts.command_line;
   compare::FrontsResult fr;
   try {
-    fr = compare::compute_fronts(*scene, opts.scaling, [] { return StopSignals::requested(); });
+    fr = compare::compute_fronts(*scene, opts.scaling, [] { return StopSignals::requested(); },
+                                 compare::StripFrontsSettings{opts.rows, opts.intervals});
     meta.status = fr.status;
     meta.message = fr.message;
   } catch (const std::exception& e) {
@@ -785,6 +806,10 @@ CLI::App* add_fronts_verb(CLI::App& app, FrontsOptions& opts) {
   fronts->add_flag("--scaling", opts.scaling,
                    "Also the minimal-speed scaling study: c_min varying each of mu, alpha, eta, kappa (4 values each)");
   fronts->add_flag("-f,--force", opts.force, "Overwrite an existing DIR/fronts.h5");
+  fronts->add_option("--rows", opts.rows, "Strip scenes (bulk.height): row intervals across the height (default 8)")
+      ->check(CLI::Range(1, 256));
+  fronts->add_option("--intervals", opts.intervals, "Strip scenes: xi intervals of the collocation mesh (default 300)")
+      ->check(CLI::Range(8, 100000));
   fronts->footer(
       "The traveling waves of docs/model.md §6 solved directly (collocation + Newton, docs/fronts.md): the\n"
       "branch c(sigma_d) continued down to where it ends (and why), c_min, profiles A, sigma_bar, v, u along it.\n"

@@ -40,6 +40,8 @@ struct FrontsOptions {
   bool scaling = false;
   bool force = false;
   std::string command_line;
+  int rows = 8;          ///< the strip (bulk.height > 0): row intervals across the height
+  int intervals = 300;   ///< the strip: ξ intervals
 };
 /// `slipfront fronts`: the steady fronts of a homogeneous scene to DIR/fronts.h5 (docs/model.md §6).
 int fronts_command(const FrontsOptions& opts, std::ostream& out, std::ostream& err);

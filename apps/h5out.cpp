@@ -598,6 +598,12 @@ void write_fronts_file(const std::filesystem::path& tmp, const compare::Scene& s
       attr_double(pg.get(), "v_behind", p.v_behind);
       attr_int(pg.get(), "limiting", p.limiting ? 1 : 0);
       for (const auto& [fname, v] : p.fields) dataset_1d(pg.get(), fname, v, "front profile " + fname, where + "/" + fname);
+      if (!p.y.empty()) {  // the strip: rows and the bulk field on xi × y
+        const hsize_t nx = p.fields.at("xi").size(), ny = p.y.size();
+        dataset_1d(pg.get(), "y", p.y, "rows across the height, y = 0 the interface, y = H the top", where + "/y");
+        dataset(pg.get(), "u_xy", p.u_xy.data(), {nx, ny}, "bulk displacement u(xi, y) [xi][y]", where + "/u_xy", true);
+        dataset(pg.get(), "lift_xy", p.lift_xy.data(), {nx, ny}, "u(xi, y) - u(xi, 0) [xi][y]", where + "/lift_xy", true);
+      }
     }
   }
   if (!fr.scaling_points.empty()) {

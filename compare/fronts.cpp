@@ -29,7 +29,8 @@ constexpr double nan_value = std::numeric_limits<double>::quiet_NaN();
 
 // (a) The branch: its points as columns, c_min and the law's numbers as scalars, its end and reason. What
 // was not computed (c_min of a branch not followed to its end) stays NaN.
-void store_branch(const Scene& s, const continuum::FrontBranch& branch, FrontsResult& r) {
+template <class Branch>
+void store_branch(const Scene& s, const Branch& branch, FrontsResult& r) {
   for (const auto& p : branch.points) {
     r.branch["sigma_d"].push_back(p.sigma_d);
     r.branch["c"].push_back(p.c);
@@ -122,7 +123,8 @@ continuum::ScalingStudy run_scaling(const Scene& s, const std::function<bool()>&
 
 // (d) The status: interrupted on a stop; failed with the reason when no front was found, the branch was not
 // followed to its end (c_min not computed) or the pooled scaling fit was refused; complete otherwise.
-void judge(const continuum::FrontBranch& branch, const continuum::ScalingStudy* study, bool stopped, FrontsResult& r) {
+template <class Branch>
+void judge(const Branch& branch, const continuum::ScalingStudy* study, bool stopped, FrontsResult& r) {
   using continuum::BranchEnd;
   if (stopped || branch.end == BranchEnd::stopped || (study && study->stopped)) {
     r.status = RunStatus::interrupted;
@@ -145,6 +147,196 @@ void judge(const continuum::FrontBranch& branch, const continuum::ScalingStudy* 
   }
 }
 
+
+// ---------------------------------------------------------------------------------------------------
+// The strip (bulk.height > 0, docs/fronts.md §10.14): the same stages with continuum/strip_front.hpp.
+
+FrontProfile profile_of(const continuum::StripFront& f) {
+  FrontProfile p;
+  p.sigma_d = f.sigma_d;
+  p.c = f.c;
+  p.v_tip = f.v_tip;
+  p.v_behind = f.v_behind;
+  p.limiting = f.saddle_node_limit;
+  p.fields["xi"] = f.xi;
+  p.fields["A"] = f.area;
+  p.fields["sigma_bar"] = f.sigma_bar;
+  p.fields["v"] = f.slip_rate;
+  p.fields["u"] = f.slip;
+  p.fields["tau"] = f.traction;
+  p.y = f.y;
+  p.u_xy = f.u;
+  p.lift_xy = f.lift;
+  return p;
+}
+
+// The strip's lengths and speeds of the paper's 2D argument, and the 1D c_min of the same column stiffness.
+void store_strip_scalars(const Scene& s, double c_min, FrontsResult& r) {
+  const auto& ip = s.interface;
+  const double H = s.bulk.height, mus = s.bulk.mu / H;
+  r.scalars["height"] = H;
+  r.scalars["mu_strip"] = mus;
+  r.scalars["rho_strip"] = s.bulk.rho / H;
+  r.scalars["ell"] = mus;
+  r.scalars["ell_kappa"] = mus * ip.kappa / (ip.eta * ip.alpha);
+  r.scalars["s"] = mus / ip.eta;
+  const auto b1 = continuum::continue_steady_fronts(ip, {s.bulk.rho, s.bulk.mu, s.bulk.length, 0.0});
+  r.scalars["c_min_1d"] = b1.c_min;
+  r.scalars["c_min_over_1d"] = c_min / b1.c_min;
+}
+
+// Profiles of the strip: at each wanted σ_d one Newton solve from the branch's front nearest to it (the
+// branch's fronts are kept by on_front); the limiting front as it is.
+bool solve_strip_profiles(const Scene& s, const continuum::StripBranch& branch,
+                          const std::vector<continuum::StripFront>& kept, const continuum::StripFrontOptions& fo,
+                          const std::function<bool()>& stop, FrontsResult& r) {
+  const auto& ip = s.interface;
+  std::vector<double> wanted{s.drive.sigma_d};
+  const double lo = r.scalars["sigma_c_d"];
+  if (!branch.points.empty())
+    for (double f : {0.01, 0.05, 0.15, 0.35, 0.6}) wanted.push_back(lo + f * (0.99 - lo));
+  r.scalars["scene_sigma_d"] = s.drive.sigma_d;
+  r.scalars["c_at_scene_sigma_d"] = nan_value;
+  r.labels["scene_front"] = "not solved (stopped)";
+  for (std::size_t k = 0; k < wanted.size(); ++k) {
+    if (stop && stop()) return false;
+    const continuum::StripFront* guess = nullptr;
+    for (const auto& f : kept)
+      if (!f.saddle_node_limit && (!guess || std::abs(f.sigma_d - wanted[k]) < std::abs(guess->sigma_d - wanted[k]))) guess = &f;
+    const auto f = continuum::solve_strip_front(ip, s.bulk, wanted[k], fo, guess);
+    const bool converged = f.status == continuum::FrontStatus::converged;
+    if (k == 0) {
+      r.scalars["c_at_scene_sigma_d"] = converged ? f.c : nan_value;
+      r.labels["scene_front"] = converged ? std::string("converged")
+                                          : std::string(continuum::to_string(f.status)) + ": " + f.reason;
+    }
+    if (converged) r.profiles.push_back(profile_of(f));
+  }
+  if (branch.last.saddle_node_limit) r.profiles.push_back(profile_of(branch.last));
+  return true;
+}
+
+// The strip's collapse at the scene's H (--scaling): μ' (bulk.mu at fixed H), α, η, κ each at four values
+// (the scene's × 0.5, 1, 2, 4), c_min the limiting front at σ_c^d, reached from the scene's limiting front by
+// steps of √2 in the parameter (each from the last, its guess stretched by the ratio of the 1D scales). Fits:
+// per parameter the local exponent d ln c_min/d ln p (the 1D line: +1/2 for μ', α and −1/2 for η, κ) and
+// c_min = a sqrt(μ'H α/(ηκ)); pooled, the same line through every point. A poor collapse is a result (the
+// paper's 2D regimes), not a failure: nothing is refused.
+bool run_strip_scaling(const Scene& s, const continuum::StripFront& limiting, const continuum::StripFrontOptions& fo,
+                       const std::function<bool()>& stop, FrontsResult& r) {
+  const std::vector<std::string> names{"mu", "alpha", "eta", "kappa"};
+  const std::vector<double> factors{0.5, 1.0, 2.0, 4.0};
+  const double H = s.bulk.height;
+  std::vector<double> all_c, all_scale;
+  for (std::size_t p = 0; p < names.size(); ++p) {
+    r.scaling_parameters.push_back(names[p]);
+    std::vector<double> lx, ly, cs, sc;
+    auto problem = [&](double f) {
+      core::InterfaceParams ip = s.interface;
+      core::BulkParams b = s.bulk;
+      if (p == 0) b.mu *= f, b.rho *= f;  // μ' and ρ' together: c_s fixed
+      if (p == 1) ip.alpha *= f;
+      if (p == 2) ip.eta *= f;
+      if (p == 3) ip.kappa *= f;
+      return std::pair{ip, b};
+    };
+    auto scale_of = [&](double f) {
+      const auto [ip, b] = problem(f);
+      return std::sqrt(b.mu * ip.alpha / (ip.eta * ip.kappa));
+    };
+    for (double target : factors) {
+      if (stop && stop()) return false;
+      continuum::StripFront cur = limiting;
+      double f = 1.0;
+      const double step = target > 1.0 ? std::sqrt(2.0) : 1.0 / std::sqrt(2.0);
+      while (cur.status == continuum::FrontStatus::converged && std::abs(std::log(f / target)) > 1e-9) {
+        const double fn = target > 1.0 ? std::min(target, f * step) : std::max(target, f * step);
+        const auto [ip, b] = problem(fn);
+        cur = continuum::solve_strip_saddle_node_front(ip, b, fo, cur, cur.c * scale_of(fn) / scale_of(f));
+        f = fn;
+      }
+      const bool ok = cur.status == continuum::FrontStatus::converged;
+      const auto [ip, b] = problem(target);
+      r.scaling_points["parameter_index"].push_back(static_cast<double>(p));
+      r.scaling_points["value"].push_back(p == 0 ? b.mu / H : p == 1 ? ip.alpha : p == 2 ? ip.eta : ip.kappa);
+      r.scaling_points["c_min"].push_back(ok ? cur.c : nan_value);
+      r.scaling_points["sigma_d_at_c_min"].push_back(ok ? cur.sigma_d : nan_value);
+      r.scaling_points["scale"].push_back(scale_of(target));
+      if (!ok) continue;
+      lx.push_back(std::log(target));
+      ly.push_back(std::log(cur.c));
+      cs.push_back(cur.c);
+      sc.push_back(scale_of(target));
+    }
+    auto fit_line = [&](const std::vector<double>& c, const std::vector<double>& sc_, double index, double exponent) {
+      double num = 0.0, den = 0.0;
+      for (std::size_t k = 0; k < c.size(); ++k) num += c[k] * sc_[k], den += sc_[k] * sc_[k];
+      const double a = c.size() ? num / den : nan_value;
+      double spread = 0.0, rms = 0.0;
+      for (std::size_t k = 0; k < c.size(); ++k) {
+        const double d = c[k] / (a * sc_[k]) - 1.0;
+        spread = std::max(spread, std::abs(d));
+        rms += d * d;
+      }
+      rms = c.size() ? std::sqrt(rms / static_cast<double>(c.size())) : nan_value;
+      r.scaling_fits["parameter_index"].push_back(index);
+      r.scaling_fits["prefactor"].push_back(a);
+      r.scaling_fits["spread"].push_back(c.size() ? spread : nan_value);
+      r.scaling_fits["rms_relative"].push_back(rms);
+      r.scaling_fits["points"].push_back(static_cast<double>(c.size()));
+      r.scaling_fits["tried"].push_back(index < 0 ? static_cast<double>(names.size() * factors.size())
+                                                  : static_cast<double>(factors.size()));
+      r.scaling_fits["exponent"].push_back(exponent);
+      r.scaling_refused.push_back(c.size() < 2 ? "fewer than two points with a limiting front" : "");
+    };
+    double exponent = nan_value;
+    if (lx.size() >= 2) {  // least-squares slope of ln c_min against ln p
+      double mx = 0.0, my = 0.0, sxx = 0.0, sxy = 0.0;
+      for (std::size_t k = 0; k < lx.size(); ++k) mx += lx[k], my += ly[k];
+      mx /= static_cast<double>(lx.size());
+      my /= static_cast<double>(lx.size());
+      for (std::size_t k = 0; k < lx.size(); ++k) sxx += (lx[k] - mx) * (lx[k] - mx), sxy += (lx[k] - mx) * (ly[k] - my);
+      exponent = sxy / sxx;
+    }
+    fit_line(cs, sc, static_cast<double>(p), exponent);
+    all_c.insert(all_c.end(), cs.begin(), cs.end());
+    all_scale.insert(all_scale.end(), sc.begin(), sc.end());
+    if (p + 1 == names.size()) {
+      fit_line(all_c, all_scale, -1.0, nan_value);
+      const std::size_t last = r.scaling_fits["prefactor"].size() - 1;
+      r.scalars["scaling_prefactor"] = r.scaling_fits["prefactor"][last];
+      r.scalars["scaling_spread"] = r.scaling_fits["spread"][last];
+      r.scalars["scaling_points"] = r.scaling_fits["points"][last];
+      r.scalars["scaling_tried"] = r.scaling_fits["tried"][last];
+    }
+  }
+  return true;
+}
+
+FrontsResult compute_strip_fronts(const Scene& s, bool scaling, const std::function<bool()>& stop,
+                                  const StripFrontsSettings& settings) {
+  FrontsResult r;
+  continuum::StripContinuationOptions o;
+  o.front.rows = settings.rows;
+  o.front.intervals = settings.intervals;
+  o.stop = stop;
+  std::vector<continuum::StripFront> kept;
+  o.on_front = [&](const continuum::StripFront& f) { kept.push_back(f); };
+  const auto branch = continuum::continue_strip_fronts(s.interface, s.bulk, o);  // (a) the branch
+  store_branch(s, branch, r);
+  store_strip_scalars(s, branch.c_min, r);
+  r.scalars["rows"] = settings.rows;
+  r.scalars["intervals"] = settings.intervals;
+  const bool stopped = branch.end == continuum::BranchEnd::stopped;
+  const bool profiles = !stopped && solve_strip_profiles(s, branch, kept, o.front, stop, r);  // (b) profiles
+  kept.clear();
+  const bool has_branch = continuum::followed_to_end(branch.end) && branch.last.saddle_node_limit;
+  bool scaling_done = false;
+  if (scaling && has_branch && profiles) scaling_done = run_strip_scaling(s, branch.last, o.front, stop, r);  // (c)
+  judge(branch, nullptr, stopped || !profiles || (scaling && has_branch && profiles && !scaling_done), r);    // (d)
+  if (scaling && !has_branch && r.status == RunStatus::failed) r.message += "; the scaling study was not run";
+  return r;
+}
 }  // namespace
 
 double solved_front_speed(const Scene& s, double sigma_d) {
@@ -152,10 +344,16 @@ double solved_front_speed(const Scene& s, double sigma_d) {
   return f.status == continuum::FrontStatus::converged ? f.c : std::numeric_limits<double>::quiet_NaN();
 }
 
-FrontsResult compute_fronts(const Scene& s, bool scaling, const std::function<bool()>& stop) {
+FrontsResult compute_fronts(const Scene& s, bool scaling, const std::function<bool()>& stop,
+                            const StripFrontsSettings& strip) {
   const auto wall0 = std::chrono::steady_clock::now();
   if (s.drive.loading != core::Loading::homogeneous)
     throw core::ParamError("drive.loading", "steady fronts are solved for homogeneous loading (docs/model.md §6)");
+  if (s.bulk.height > 0.0) {
+    FrontsResult r = compute_strip_fronts(s, scaling, stop, strip);
+    r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+    return r;
+  }
   FrontsResult r;
   continuum::ContinuationOptions options;
   options.stop = stop;

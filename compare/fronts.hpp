@@ -11,13 +11,23 @@
 #include "compare/result.hpp"
 #include "compare/scene.hpp"
 #include "continuum/steady_front.hpp"
+#include "continuum/strip_front.hpp"
 
 namespace slipfront::compare {
 
 struct FrontProfile {
   double sigma_d = 0.0, c = 0.0, v_tip = 0.0, v_behind = 0.0;
   bool limiting = false;  ///< the limiting front at the end of the branch
-  Columns fields;         ///< xi, A, sigma_bar, v, u on the solver's mesh (tip at xi = 0)
+  Columns fields;         ///< xi, A, sigma_bar, v, u on the solver's mesh (tip at xi = 0); the strip adds tau
+  /// The strip (bulk.height > 0): the rows y_0 = 0 < … < y_M = H and the bulk fields on xi × y, node-major
+  /// ([xi.size()][y.size()]): u(ξ, y) and its lift u(ξ, y) − u(ξ, 0). Empty for the 1D chain.
+  std::vector<double> y, u_xy, lift_xy;
+};
+
+/// The strip solver's discretisation for `slipfront fronts` on a scene with bulk.height (docs/fronts.md §10.14).
+struct StripFrontsSettings {
+  int rows = 8;          ///< row intervals across the height (graded toward the interface)
+  int intervals = 300;   ///< ξ intervals on [−L, 0]
 };
 
 struct FrontsResult {
@@ -43,7 +53,12 @@ struct FrontsResult {
 /// σ_d; the front at the scene's σ_d is solved and reported on its own (profile 0 when there is one). With
 /// `scaling` the minimal-speed scaling study too. `stop` (polled between solves) ends the work early with
 /// status interrupted. Throws core::ParamError when the scene is not under homogeneous loading.
-FrontsResult compute_fronts(const Scene& s, bool scaling, const std::function<bool()>& stop = {});
+/// On a scene with bulk.height > 0 the strip's branch (continuum/strip_front.hpp) with `strip` settings; its
+/// profiles carry u(ξ, y); `scaling` then varies μ' (bulk.mu at fixed H), α, η, κ around the scene's values
+/// (four values each, the limiting front at σ_c^d: c_min at the branch's end) against the 1D scale
+/// sqrt(μα/(ηκ)) with μ = μ'H (docs/fronts.md §10.14).
+FrontsResult compute_fronts(const Scene& s, bool scaling, const std::function<bool()>& stop = {},
+                            const StripFrontsSettings& strip = {});
 
 /// c of the solved steady front at σ_d (NaN where there is none).
 double solved_front_speed(const Scene& s, double sigma_d);

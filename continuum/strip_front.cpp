@@ -468,6 +468,8 @@ NewtonResult newton(const Collocation& col, Vec& x, double tol, int max_iter) {
     out.failure = "the initial guess is not admissible (c outside (0, c_s), or the far fields have no saddle structure)";
     return out;
   }
+  double previous_scaled = std::numeric_limits<double>::infinity();
+  constexpr double floor_tolerance = 1e-6;
   for (int it = 1; it <= max_iter; ++it) {
     out.iterations = it;
     if (!analysed) {
@@ -483,8 +485,13 @@ NewtonResult newton(const Collocation& col, Vec& x, double tol, int max_iter) {
     double scaled = 0.0;
     for (Eigen::Index k = 0; k < x.size(); ++k) scaled = std::max(scaled, std::abs(dx[k]) / std::max(1.0, std::abs(x[k])));
     const double f0 = F.norm();
-    if (scaled < tol) {  // the full step is below the tolerance: take it and stop (at the round-off floor the
-      x += dx;           // residual need not decrease any more)
+    // The full step is below the tolerance, or below 1e-7 and no longer shrinking (quadratic convergence
+    // lost: the round-off floor of an ill-conditioned Jacobian, thick strips, docs/fronts.md §10.11): take it
+    // and stop (at the round-off floor the residual need not decrease any more).
+    const bool at_floor = scaled < floor_tolerance && scaled > 0.25 * previous_scaled;
+    previous_scaled = scaled;
+    if (scaled < tol || at_floor) {
+      x += dx;
       if (!col.assemble(x, F, nullptr)) break;
       out.converged = true;
       out.residual = F.lpNorm<Eigen::Infinity>();
@@ -499,6 +506,13 @@ NewtonResult newton(const Collocation& col, Vec& x, double tol, int max_iter) {
         accepted = true;
         break;
       }
+    }
+    if (!accepted && scaled < floor_tolerance) {  // at the round-off floor: no descent is possible any more
+      x += dx;
+      if (!col.assemble(x, F, nullptr)) break;
+      out.converged = true;
+      out.residual = F.lpNorm<Eigen::Infinity>();
+      return out;
     }
     if (!accepted) {
       out.failure = "no descent along the Newton direction (no solution near the guess)";
@@ -544,6 +558,47 @@ double interp_rows(const std::vector<double>& yo, const double* col, double yy, 
   const std::size_t b = std::max<std::size_t>(1, static_cast<std::size_t>(it - yo.begin())), a = b - 1;
   const double t = (yy - yo[a]) / (yo[b] - yo[a]);
   return (1.0 - t) * col[a] + t * col[b];
+}
+
+// A guess on the mesh of `col` from a strip front stretched by `s` in ξ and y (the front's lengths scale
+// with c: s = c_new/c_old, docs/fronts.md §10.11). u, v, A, σ̄ are carried as functions of (ξ/s, y/s), so
+// p = ∂ξu scales as 1/s; across the height the part of the lift beyond the uniform strain σ_d y/μ' is
+// carried (constant above the old top, where ∂y of it vanishes). s = 1 is the plain transfer below.
+Vec transfer_stretched(const Collocation& col, const StripFront& g, double sd, double s) {
+  const Model& m = col.model();
+  const int ns = m.ns(), M = m.M;
+  const std::size_t ro = g.y.size();
+  const double old_strain = g.sigma_d / g.mu_strip, new_strain = sd / m.mu_s;
+  Vec x = Vec::Zero(col.size());
+  std::vector<double> rcol(ro), pcol(ro);
+  for (int i = 0; i < col.nodes(); ++i) {
+    const double xo = col.xi()[static_cast<std::size_t>(i)] / s;
+    double shift = 0.0, t = 0.0;
+    std::size_t a = 0, b = 0;
+    if (xo <= g.xi.front()) {
+      shift = -g.v_behind / g.c * (xo - g.xi.front());
+    } else {
+      const auto it = std::upper_bound(g.xi.begin(), g.xi.end(), xo);
+      b = std::min<std::size_t>(static_cast<std::size_t>(it - g.xi.begin()), g.xi.size() - 1);
+      a = b - 1;
+      t = (xo - g.xi[a]) / (g.xi[b] - g.xi[a]);
+    }
+    for (std::size_t j = 0; j < ro; ++j) {
+      rcol[j] = (1.0 - t) * g.lift[a * ro + j] + t * g.lift[b * ro + j] - old_strain * g.y[j];
+      pcol[j] = (1.0 - t) * g.strain[a * ro + j] + t * g.strain[b * ro + j];
+    }
+    const double u0 = (1.0 - t) * g.slip[a] + t * g.slip[b] + shift;
+    for (int j = 0; j <= M; ++j) {
+      const double yy = m.y[static_cast<std::size_t>(j)], yo = yy / s;
+      x[ns * i + m.iu(j)] = j == 0 ? u0 : new_strain * yy + interp_rows(g.y, rcol.data(), yo, 0.0);
+      x[ns * i + m.ip(j)] = interp_rows(g.y, pcol.data(), yo, 0.0) / s;
+    }
+    x[ns * i + m.iA()] = (1.0 - t) * g.area[a] + t * g.area[b];
+    x[ns * i + m.iS()] = (1.0 - t) * g.sigma_bar[a] + t * g.sigma_bar[b];
+  }
+  x[col.c_index()] = g.c * s;
+  if (col.size() > col.c_index() + 1) x[col.c_index() + 1] = sd;
+  return x;
 }
 
 // A guess on the mesh of `col` from a strip front (any H, rows, mesh): bilinear in (ξ, y), the sliding
@@ -790,11 +845,15 @@ StripFront solve_strip_front(const core::InterfaceParams& law, const core::BulkP
 }
 
 StripFront solve_strip_saddle_node_front(const core::InterfaceParams& law, const core::BulkParams& bulk,
-                                         const StripFrontOptions& o, const StripFront& guess) {
+                                         const StripFrontOptions& o, const StripFront& guess, double c_guess) {
   using namespace strip_detail;
   Model m = make_model(law, bulk, o);
   m.saddle_node = true;
   const double sigma_c = steady_sliding(law, steady_minimum_velocity(law)).sigma;
+  if (c_guess > 0.0)
+    return solve_on_mesh(law, bulk, m, o, sigma_c, c_guess, std::nullopt, [&](const Collocation& col) {
+      return transfer_stretched(col, guess, sigma_c, c_guess / guess.c);
+    });
   return solve_on_mesh(law, bulk, m, o, sigma_c, guess.c, std::nullopt,
                        [&](const Collocation& col) { return transfer(col, guess, sigma_c); });
 }
@@ -919,6 +978,7 @@ class StripContinuation {
     prev_ = std::move(cur_);
     cur_ = std::move(next);
     br_.points.push_back(branch_point(cur_));
+    if (o_.on_front) o_.on_front(cur_);
   }
 
   const core::InterfaceParams& law_;
@@ -949,7 +1009,7 @@ bool StripContinuation::first_front() {
   for (int k = 0; k <= 20; ++k) {
     if (stop_requested()) return false;
     if (k > 0) sd = sigma_c_ + (o_.sigma_start - sigma_c_) * std::pow(0.8, k);
-    prev_ = solve_strip_front(law_, bulk_, sd, o_.front);
+    prev_ = solve_strip_front(law_, bulk_, sd, o_.front, k == 0 ? o_.start : nullptr);
     if (prev_.status == FrontStatus::converged) break;
   }
   if (prev_.status != FrontStatus::converged) {
@@ -958,6 +1018,8 @@ bool StripContinuation::first_front() {
     return false;
   }
   br_.points.push_back(branch_point(prev_));
+  br_.first = prev_;
+  if (o_.on_front) o_.on_front(prev_);
   return true;
 }
 
@@ -976,6 +1038,7 @@ bool StripContinuation::second_front() {
     }
   }
   br_.points.push_back(branch_point(cur_));
+  if (o_.on_front) o_.on_front(cur_);
   return true;
 }
 
@@ -1025,6 +1088,7 @@ void StripContinuation::solve_limiting_front() {
   const StripFront end = solve_strip_saddle_node_front(law_, bulk_, o_.front, cur_);
   if (end.status == FrontStatus::converged) {
     br_.points.push_back(branch_point(end));
+    if (o_.on_front) o_.on_front(end);
     br_.last = end;
     br_.reason = "sigma_d -> sigma_c^d = " + core::format_number(sigma_c_) +
                  ": v_b -> v_m, the decaying mode of the sliding state behind -> 0 (saddle-node); limiting front "
@@ -1055,6 +1119,124 @@ StripBranch continue_strip_fronts(const core::InterfaceParams& law, const core::
   if (run.ended_at_saddle_node()) run.solve_limiting_front();
   run.minimal_speed();
   return run.take();
+}
+
+}  // namespace slipfront::continuum
+
+namespace slipfront::continuum {
+
+double strip_tip_zone(const core::InterfaceParams& law, double c, double v_behind) {
+  return c / (1.0 + law.kappa * v_behind);
+}
+
+// The continuation in H at fixed material (docs/fronts.md §10.11): steps in ln H with the secant predictor
+// of ln c, the last front stretched by c_p/c as the guess, the meshes scaled with the predicted tip zone;
+// a failed step is halved in ln H, the step grows by 1.5 after a quick solve and shrinks after a slow one.
+StripHeightPath continue_strip_height(const core::InterfaceParams& law, double mu_strip, double rho_strip,
+                                      const StripHeightOptions& o, double length) {
+  using namespace strip_detail;
+  StripHeightPath out;
+  if (o.heights.empty() || !(o.heights.front() > 0.0) || !std::is_sorted(o.heights.begin(), o.heights.end())) {
+    out.reason = "heights must be positive and increasing";
+    return out;
+  }
+  auto bulk_at = [&](double H) { return core::BulkParams{rho_strip * H, mu_strip * H, length, H}; };
+  const double sigma_c = steady_minimum_stress(law);
+  const double sd = o.limiting ? sigma_c : o.sigma_d;
+  const double vb = o.limiting ? steady_minimum_velocity(law) : strengthening_branch_velocity(law, sd);
+  const double cs = std::sqrt(mu_strip / rho_strip);
+  auto options_for = [&](double c) {
+    StripFrontOptions f = o.front;
+    const double lt = strip_tip_zone(law, c, vb);
+    if (o.tip_resolution > 0.0) f.tip_spacing = lt / o.tip_resolution;
+    if (o.row_resolution > 0.0) f.row_spacing = lt / o.row_resolution;
+    return f;
+  };
+  // One solve at H from `from` stretched by c_p/from.c, on meshes scaled with c_p.
+  auto solve_at = [&](double H, double c_p, const StripFront& from) {
+    const core::BulkParams b = bulk_at(H);
+    const StripFrontOptions f = options_for(c_p);
+    Model m = make_model(law, b, f);
+    m.saddle_node = o.limiting;
+    const double s = c_p / from.c;
+    return solve_on_mesh(law, b, m, f, sd, c_p, std::nullopt,
+                         [&](const Collocation& col) { return transfer_stretched(col, from, sd, s); });
+  };
+  auto stopped = [&] {
+    if (!o.stop || !o.stop()) return false;
+    out.reason = "stopped on request at H = " + core::format_number(out.steps.empty() ? 0.0 : out.steps.back().height);
+    return true;
+  };
+
+  // The first front: given, or cold (the strip's branch to its end for the limiting front), then re-solved
+  // on the meshes of the path.
+  const double H0 = o.heights.front();
+  StripFront first;
+  if (o.start) {
+    first = *o.start;
+  } else if (o.limiting) {
+    StripContinuationOptions co;
+    co.front = o.front;
+    co.stop = o.stop;
+    StripBranch br = continue_strip_fronts(law, bulk_at(H0), co);
+    if (br.end != BranchEnd::saddle_node || !br.last.saddle_node_limit) {
+      out.reason = "no limiting front at H = " + core::format_number(H0) + ": " + br.reason;
+      return out;
+    }
+    first = std::move(br.last);
+  } else {
+    first = solve_strip_front(law, bulk_at(H0), sd, o.front);
+  }
+  if (first.status != FrontStatus::converged) {
+    out.reason = "no first front at H = " + core::format_number(H0) + ": " + first.reason;
+    return out;
+  }
+  StripFront cur = solve_at(H0, first.c, first);
+  if (cur.status != FrontStatus::converged) {
+    out.reason = "the first front did not converge on the path's meshes at H = " + core::format_number(H0) + ": " + cur.reason;
+    return out;
+  }
+  out.steps.push_back({H0, cur.c, first.c, cur.newton_iterations, 0});
+  out.fronts.push_back(cur);
+
+  double step = std::log(o.max_factor);  // in ln H
+  for (std::size_t k = 1; k < o.heights.size(); ++k) {
+    const double target = o.heights[k];
+    int rejected = 0;
+    while (cur.bulk.height < target * (1.0 - 1e-12)) {
+      if (stopped()) return out;
+      const double H = cur.bulk.height, Hn = std::min(target, H * std::exp(step));
+      double slope = 0.5;  // the 1D line c ∝ sqrt(μ'H) until two steps are known
+      if (out.steps.size() >= 2) {
+        const auto& p = out.steps[out.steps.size() - 2];
+        const auto& q = out.steps.back();
+        slope = std::log(q.c / p.c) / std::log(q.height / p.height);
+      }
+      const double c_p = std::min(cur.c * std::pow(Hn / H, slope), 0.5 * (cur.c + cs));
+      StripFront next = solve_at(Hn, c_p, cur);
+      if (next.status != FrontStatus::converged) {
+        ++rejected;
+        step *= 0.5;
+        if (step < std::log(o.min_factor)) {
+          out.reason = "the continuation in H stalls at H = " + core::format_number(H) + " (step below min_factor): " +
+                       std::string(to_string(next.status)) + ": " + next.reason;
+          return out;
+        }
+        continue;
+      }
+      out.steps.push_back({Hn, next.c, c_p, next.newton_iterations, rejected});
+      rejected = 0;
+      // Step control by the predictor's error (the iteration count is no guide at the round-off floor of
+      // thick strips, where Newton takes 5-9 iterations from a prediction good to 1e-6).
+      const double miss = std::abs(c_p / next.c - 1.0);
+      if (miss < o.target_miss || next.newton_iterations <= o.target_newton) step = std::min(std::log(o.max_factor), 1.5 * step);
+      else if (miss > 5.0 * o.target_miss) step *= 0.6;
+      cur = std::move(next);
+    }
+    out.fronts.push_back(cur);
+  }
+  out.complete = true;
+  return out;
 }
 
 }  // namespace slipfront::continuum

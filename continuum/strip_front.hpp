@@ -92,9 +92,11 @@ struct StripFront {
 StripFront solve_strip_front(const core::InterfaceParams& law, const core::BulkParams& bulk, double sigma_d,
                              const StripFrontOptions& options = {}, const StripFront* guess = nullptr);
 
-/// The limiting front at σ_d = σ_c^d (v_b = v_m, the null mode of the saddle-node behind). Needs a guess.
+/// The limiting front at σ_d = σ_c^d (v_b = v_m, the null mode of the saddle-node behind). Needs a guess;
+/// with c_guess > 0 the guess is stretched in ξ and y by c_guess/guess.c (a neighbouring problem whose front
+/// is longer or shorter, docs/fronts.md §10.11) and Newton starts at c_guess.
 StripFront solve_strip_saddle_node_front(const core::InterfaceParams& law, const core::BulkParams& bulk,
-                                         const StripFrontOptions& options, const StripFront& guess);
+                                         const StripFrontOptions& options, const StripFront& guess, double c_guess = 0.0);
 
 /// The interface fields of a solved front at positions ξ (any order, tip at 0): the collocation
 /// polynomial on [−L, 0], the modes ahead of the tip; beyond −L the sliding state.
@@ -116,6 +118,11 @@ struct StripContinuationOptions {
   int max_points = 400;
   StripFrontOptions front;
   std::function<bool()> stop;     ///< polled before every solve; true ends the branch (`stopped`)
+  /// A converged strip front of the same problem (any σ_d, H, rows; e.g. from continue_strip_height) used as
+  /// the guess of the first front at sigma_start instead of the cold start from the 1D front. Not owned.
+  const StripFront* start = nullptr;
+  /// Called with every front the branch keeps (its points, in order, the limiting front last): for profiles.
+  std::function<void(const StripFront&)> on_front;
 };
 
 struct StripBranch {
@@ -126,10 +133,58 @@ struct StripBranch {
   double c_min = std::numeric_limits<double>::quiet_NaN();
   double sigma_d_at_c_min = std::numeric_limits<double>::quiet_NaN();
   bool c_min_at_end = false;
+  StripFront first;               ///< the first front (at sigma_start or below it)
   StripFront last;
 };
 
 StripBranch continue_strip_fronts(const core::InterfaceParams& law, const core::BulkParams& bulk,
                                   const StripContinuationOptions& options = {});
+
+// ---------------------------------------------------------------------------------------------------
+// Continuation in the height at a fixed strip material (docs/fronts.md §10.11): μ' = μ/H, ρ' = ρ/H held,
+// H grown from the first of `heights` to the last, either at a fixed σ_d or for the limiting front at σ_c^d
+// (c_min(H) wherever the branch ends at the saddle-node with c monotone, as on every branch computed).
+
+struct StripHeightOptions {
+  std::vector<double> heights;    ///< increasing; the path stops at each (its front is returned)
+  bool limiting = true;           ///< the limiting front at σ_c^d; false: the front at sigma_d
+  double sigma_d = 0.8;
+  double max_factor = 2.0;        ///< largest step H_{n+1}/H_n
+  double min_factor = 1.002;      ///< the path fails when a step below this does not converge
+  int target_newton = 4;          ///< the step grows after at most this many Newton iterations,
+  double target_miss = 2e-3;      ///< or when the predicted c was within this (relative); shrinks beyond 5 times it
+  /// The meshes follow the front's own length, the tip zone ℓ_tip = c/(1 + κ v_b) (c the predicted speed):
+  /// the ξ spacing at the tip is ℓ_tip/tip_resolution and the first row spacing ℓ_tip/row_resolution
+  /// (0: keep front.tip_spacing, front.row_spacing). L is automatic (docs/fronts.md §10.3) unless set.
+  double tip_resolution = 30.0;
+  double row_resolution = 10.0;
+  StripFrontOptions front;        ///< rows, intervals, Newton settings of every solve (max_newton: 12 is plenty)
+  /// The first front (at heights.front()); without it the first front is solved cold: the 1D front's
+  /// branch is not needed, the strip's branch is (limiting) or solve_strip_front (fixed σ_d).
+  const StripFront* start = nullptr;
+  std::function<bool()> stop;     ///< polled before every solve
+};
+
+struct StripHeightStep {          ///< one accepted step of the path
+  double height = 0.0, c = 0.0;
+  double c_predicted = 0.0;       ///< the secant predictor in (ln H, ln c)
+  int newton_iterations = 0, rejected = 0;  ///< rejected: failed tries (step halved in ln H) before this one
+};
+
+struct StripHeightPath {
+  std::vector<StripFront> fronts; ///< at heights[0], heights[1], … as far as the path got
+  std::vector<StripHeightStep> steps;
+  bool complete = false;
+  std::string reason;             ///< why it stopped early ("" when complete)
+};
+
+/// Material (μ', ρ') and the law fixed, bulk.mu = μ'H, bulk.rho = ρ'H, bulk.length = `length` (unused by the
+/// solver). Each step solves from the last front stretched in ξ and y by the ratio of the predicted to the
+/// last speed (the front's lengths scale with c), with the secant prediction of c.
+StripHeightPath continue_strip_height(const core::InterfaceParams& law, double mu_strip, double rho_strip,
+                                      const StripHeightOptions& options, double length = 1000.0);
+
+/// The tip zone c/(1 + κ v_b) of a front at speed c with sliding at v_b behind (the front's length scale).
+double strip_tip_zone(const core::InterfaceParams& law, double c, double v_behind);
 
 }  // namespace slipfront::continuum

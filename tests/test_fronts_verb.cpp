@@ -163,3 +163,52 @@ TEST_CASE("fronts verb: SIGINT writes a readable file with status interrupted an
   CHECK(err.find("partial results written to") != std::string::npos);
   CHECK(slipfront::testing::slurp(child.out_path).find("steady fronts interrupted") != std::string::npos);
 }
+
+TEST_CASE("fronts verb: a strip scene (bulk.height) gives the strip's branch, c_min against the 1D line and u(xi, y)",
+          "[fronts][cli][strip]") {
+  // configs/steady_front_strip.toml (H = 16, mu' = 300, rho' = 0.01) on a small mesh (4 rows, 200 intervals):
+  // the branch ends at the saddle-node with c_min = 43.7668 (16 rows, 400 intervals: 43.7681, docs/fronts.md
+  // §10.7), 3e-4 above the 1D c_min of mu = mu' H (43.7537); the front at the scene's sigma_d = 0.5 is
+  // profile 0 (c = 144.536); every profile carries the rows y and u(xi, y) on xi × y, whose lift at the far
+  // end behind is the uniform strain sigma_d y/mu' (0.5 * 16/300 at the top).
+  const TempDir dir("fronts-strip");
+  const std::string scene = std::string(SLIPFRONT_SOURCE_DIR) + "/configs/steady_front_strip.toml";
+  const auto o = slipfront::testing::run(
+      {SLIPFRONT_BINARY, "fronts", scene, "--out", (dir.path / "s").string(), "--rows", "4", "--intervals", "200"}, dir.path);
+  INFO(o.err);
+  REQUIRE(o.code == 0);
+  const auto f = slipfront::testing::read_h5(dir.path / "s" / "fronts.h5");
+  CHECK(f.strings.at("/meta@status") == "complete");
+  CHECK(f.strings.at("/branch@end") == "saddle_node");
+  CHECK(f.numbers.at("/branch@height") == 16.0);
+  CHECK(f.numbers.at("/branch@mu_strip") == Approx(300.0).epsilon(1e-12));
+  CHECK(f.numbers.at("/branch@c_min") == Approx(43.7668).epsilon(1e-4));
+  CHECK(f.numbers.at("/branch@c_min_1d") == Approx(43.7537).epsilon(1e-4));
+  CHECK(f.numbers.at("/branch@c_min_over_1d") > 1.0);
+  CHECK(f.numbers.at("/branch@c_min_over_1d") < 1.001);
+  CHECK(f.numbers.at("/branch@c_min_at_end") == 1.0);
+  CHECK(f.numbers.at("/branch@ell_kappa") == Approx(300.0 * 8.0 / (0.1 * 1.05)).epsilon(1e-12));
+  REQUIRE(f.datasets.count("/branch/c") == 1);
+  CHECK(f.datasets.at("/branch/c").size() > 20);
+  CHECK(f.datasets.at("/branch/sigma_d").front() == 0.8);
+  CHECK(f.numbers.at("/profiles/0@sigma_d") == 0.5);
+  CHECK(f.numbers.at("/profiles/0@c") == Approx(144.536).epsilon(1e-5));
+  for (int k = 0; f.datasets.count("/profiles/" + std::to_string(k) + "/xi"); ++k) {
+    const std::string p = "/profiles/" + std::to_string(k);
+    INFO(p);
+    const auto& xi = f.datasets.at(p + "/xi");
+    const auto& y = f.datasets.at(p + "/y");
+    const auto& u = f.datasets.at(p + "/u_xy");
+    const auto& lift = f.datasets.at(p + "/lift_xy");
+    REQUIRE(y.size() == 5);
+    CHECK(y.front() == 0.0);
+    CHECK(y.back() == Approx(16.0).epsilon(1e-14));
+    REQUIRE(u.size() == xi.size() * y.size());
+    REQUIRE(lift.size() == u.size());
+    CHECK(u[0] == f.datasets.at(p + "/u")[0]);  // row 0 is the interface
+    const double sd = f.numbers.at(p + "@sigma_d");
+    CHECK(lift[y.size() - 1] == Approx(sd * 16.0 / 300.0).epsilon(1e-6));  // far behind, top row
+    CHECK(f.datasets.count(p + "/tau") == 1);
+  }
+  CHECK(o.out.find("c_min / c_min(1D, mu = mu' H) = 1.0003") != std::string::npos);
+}

@@ -337,7 +337,7 @@ class DynamicRun {
   const Scene& s_;
   std::chrono::steady_clock::time_point wall0_;
   ModelResult r_;
-  std::optional<continuum::SteadyFront> front_;  // a steady-front start
+  std::optional<FrontStart> front_;  // a steady-front start
   Stepper sim_;
   bool one_d_;
   FrontTracker tracker_;

@@ -22,14 +22,40 @@ std::int64_t fixed_step_count(const Scene& s) {
   return static_cast<std::int64_t>(n);
 }
 
-std::optional<continuum::SteadyFront> front_start(const Scene& s) {
+continuum::StripFrontOptions strip_start_options(const Scene& s) {
+  continuum::StripFrontOptions o;
+  o.rows = static_cast<int>(std::llround(s.bulk.height / s.grid.row_spacing()));
+  o.row_spacing = s.bulk.height;  // ≥ H/M: uniform rows, the strip's own
+  o.tip_spacing = std::min(o.tip_spacing, 0.1 * s.grid.dx);
+  return o;
+}
+
+std::optional<FrontStart> front_start(const Scene& s) {
   if (s.drive.loading != core::Loading::homogeneous || s.drive.start != "steady_front") return std::nullopt;
+  auto refuse = [&](continuum::FrontStatus status, const std::string& reason) {
+    return core::ParamError("drive.sigma_d", "no steady front" + std::string(s.bulk.height > 0.0 ? " in the strip" : "") +
+                                                 " at sigma_d = " + core::format_number(s.drive.sigma_d) +
+                                                 " to start from (" + continuum::to_string(status) + ": " + reason + ")");
+  };
+  FrontStart out;
+  if (s.bulk.height > 0.0) {
+    auto front = continuum::solve_strip_front(s.interface, s.bulk, s.drive.sigma_d, strip_start_options(s));
+    if (front.status != continuum::FrontStatus::converged) throw refuse(front.status, front.reason);
+    out.c = front.c;
+    out.v_tip = front.v_tip;
+    out.v_behind = front.v_behind;
+    out.far_field_strain = -front.v_behind / front.c;
+    out.strip = std::move(front);
+    return out;
+  }
   auto front = continuum::solve_steady_front(s.interface, s.bulk, s.drive.sigma_d);
-  if (front.status != continuum::FrontStatus::converged)
-    throw core::ParamError("drive.sigma_d", "no steady front at sigma_d = " + core::format_number(s.drive.sigma_d) +
-                                                " to start from (" + continuum::to_string(front.status) + ": " +
-                                                front.reason + ")");
-  return front;
+  if (front.status != continuum::FrontStatus::converged) throw refuse(front.status, front.reason);
+  out.c = front.c;
+  out.v_tip = front.v_tip;
+  out.v_behind = front.v_behind;
+  out.far_field_strain = front.far_field_strain;
+  out.chain = std::move(front);
+  return out;
 }
 
 }  // namespace slipfront::compare

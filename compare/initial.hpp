@@ -10,6 +10,7 @@
 #include "compare/scene.hpp"
 #include "continuum/friction_law.hpp"
 #include "continuum/steady_front.hpp"
+#include "continuum/strip_front.hpp"
 #include "core/adaptive.hpp"
 #include "core/bulk.hpp"
 
@@ -22,17 +23,31 @@ double dynamic_time_step(const Scene& s);
 /// time.t_end when it would not fit a 64-bit count (the run could not even start).
 std::int64_t fixed_step_count(const Scene& s);
 
+/// The solved front a steady-front start begins from: the chain's (continuum::SteadyFront) or, on the strip
+/// (bulk.height > 0), the strip's (continuum::StripFront, solved on the scene's own rows: docs/fronts.md §10.15).
+struct FrontStart {
+  std::optional<continuum::SteadyFront> chain;
+  std::optional<continuum::StripFront> strip;
+  double c = 0.0, v_tip = 0.0, v_behind = 0.0;
+  double far_field_strain = 0.0;  ///< u_x far behind (−v_b/c), the same in every row of the strip
+};
+
 /// Homogeneous loading with drive.start = "steady_front": the steady front at σ_d (docs/model.md §6),
-/// solved by continuum::solve_steady_front; nothing otherwise. Throws core::ParamError naming
-/// drive.sigma_d when there is no front there.
-std::optional<continuum::SteadyFront> front_start(const Scene& s);
+/// solved by continuum::solve_steady_front on the chain and by continuum::solve_strip_front on the strip
+/// (strip_start_options); nothing otherwise. Throws core::ParamError naming drive.sigma_d when there is no
+/// front there.
+std::optional<FrontStart> front_start(const Scene& s);
+
+/// The strip front's settings for a strip scene's start: the scene's rows (uniform, H/grid.dy intervals, so
+/// u and v are set row by row with no interpolation in y), a tip spacing of dx/10 (at most the solver's 0.05).
+continuum::StripFrontOptions strip_start_options(const Scene& s);
 
 /// The stepper of a scene for `law` (asked first to carry what the scene records: the mean contact age
 /// of output.ages, for laws with core::LawHooks::ages); a steady-front start puts the front's far-field
 /// traction μ v_b/c on the rear edge (the strain u_x = −v_b/c it has far behind), so the interface
 /// behind slides steadily up to x = 0.
 template <class Stepper, class Law>
-Stepper make_stepper(const Scene& s, Law law, const std::optional<continuum::SteadyFront>& front) {
+Stepper make_stepper(const Scene& s, Law law, const std::optional<FrontStart>& front) {
   if constexpr (Law::hooks.ages) law.track_ages(s.output.ages);  // before any set_site: ages start at 0
   core::DriveParams drive = s.drive;
   if (front) drive.rear_traction = -s.bulk.mu * front->far_field_strain;
@@ -52,15 +67,33 @@ Stepper make_stepper(const Scene& s, Law law, const std::optional<continuum::Ste
 /// docs/model.md §1 initial state: at rest and stuck (edge loading, spring block: u = v = 0, A = 1,
 /// σ̄ = 0), or, under homogeneous loading, the stuck state A = 1, σ̄ = σ_d, u = σ_d/α with a nucleation
 /// patch 0 ≤ x < ℓ_n in steady sliding at σ_d on the strengthening branch — or the solved steady front
-/// with its tip at drive.front_x (docs/model.md §6), plus the slip-rate kick drive.kick_dv behind it.
+/// with its tip at drive.front_x (docs/model.md §6), plus the slip-rate kick drive.kick_dv behind it (on
+/// the strip: u and v of every row from the strip's front, the kick on the interface row only).
 /// On the strip (docs/model.md §9.4) every row above the interface carries the uniform shear σ_d:
 /// u(x, y) = u(x, 0) + σ_d y/μ', moving with the interface's slip rate (the chain has one row, y = 0).
 template <class Stepper>
-void set_initial_conditions(const Scene& s, Stepper& sim, const std::optional<continuum::SteadyFront>& front) {
+void set_initial_conditions(const Scene& s, Stepper& sim, const std::optional<FrontStart>& front) {
   if (s.drive.loading != core::Loading::homogeneous) return;
   const auto& x = sim.bulk().x();
+  if (front && front->strip) {
+    const auto& body = sim.bulk();
+    const std::size_t n = x.size(), rows = body.rows();
+    if (static_cast<std::size_t>(front->strip->rows()) + 1 != rows)
+      throw core::ParamError("grid.dy", "the strip front has " + std::to_string(front->strip->rows() + 1) +
+                                            " rows, the strip " + std::to_string(rows));
+    std::vector<double> xi(n);
+    for (std::size_t i = 0; i < n; ++i) xi[i] = x[i] - s.drive.front_x;
+    const auto f = continuum::sample_strip_front(*front->strip, xi);
+    for (std::size_t i = 0; i < n; ++i) {
+      const bool kicked = x[i] <= s.drive.front_x && x[i] >= s.drive.front_x - s.drive.kick_length;
+      sim.law().set_site(i, f.interface.area[i], f.interface.sigma_bar[i]);
+      for (std::size_t j = 0; j < rows; ++j)
+        sim.set_initial(j * n + i, f.u[i * rows + j], f.velocity[i * rows + j] + (kicked && j == 0 ? s.drive.kick_dv : 0.0));
+    }
+    return;
+  }
   if (front) {
-    const auto f = continuum::sample_steady_front(*front, x, s.drive.front_x);
+    const auto f = continuum::sample_steady_front(*front->chain, x, s.drive.front_x);
     for (std::size_t i = 0; i < x.size(); ++i) {
       const bool kicked = x[i] <= s.drive.front_x && x[i] >= s.drive.front_x - s.drive.kick_length;
       sim.law().set_site(i, f.area[i], f.sigma_bar[i]);

@@ -99,9 +99,6 @@ void Scene::validate() const {
                                         "age would be written (use discrete.representation = \"agent\", or add \"continuum\" "
                                         "to models)");
   if (bulk.height != 0.0) {  // the strip (docs/model.md §9)
-    if (drive.loading == core::Loading::homogeneous && drive.start == "steady_front")
-      throw ParamError("drive.start", "the steady-front start is the 1D chain's front (docs/model.md §6); on the strip "
-                                      "(bulk.height) start from a nucleation patch (drive.start = \"nucleation\")");
     // Too few rows (docs/numerics.md §8.2): the y profile under the interface is not resolved; lifted with the
     // grid's other resolution check (limits.min_nodes_per_elastic_length = 0).
     if (limits.min_nodes_per_elastic_length > 0.0) {

@@ -858,7 +858,7 @@ StripFront solve_strip_saddle_node_front(const core::InterfaceParams& law, const
                        [&](const Collocation& col) { return transfer(col, guess, sigma_c); });
 }
 
-StripInterfaceSample sample_strip_interface(const StripFront& f, std::span<const double> xs) {
+StripFrontSample sample_strip_front(const StripFront& f, std::span<const double> xs) {
   using namespace strip_detail;
   StripFrontOptions o;
   o.rows = f.rows();
@@ -881,21 +881,27 @@ StripInterfaceSample sample_strip_interface(const StripFront& f, std::span<const
     y[m.iS()] = f.sigma_bar[i];
     return y;
   };
-  StripInterfaceSample out;
+  const Vec ys = stuck_state(m, f.sigma_d);
+  StripFrontSample out;
+  auto& in = out.interface;
+  out.u.reserve(xs.size() * ro);
+  out.velocity.reserve(xs.size() * ro);
   for (double xi : xs) {
-    double v, A, s, u;
-    if (xi > 0.0) {
-      double du = 0.0, dp = 0.0;
-      for (std::size_t k = 0; k < f.ahead_rate.size(); ++k) {
-        const auto e = std::exp(f.ahead_rate[k] * xi);
-        du += (f.ahead_mode[k][0] * e).real();
-        dp += (f.ahead_mode[k][ro] * e).real();
+    double A, s;
+    if (xi > 0.0) {  // the modes of the stuck system: (u_j, p_j) − stuck
+      for (std::size_t j = 0; j < ro; ++j) {
+        double du = 0.0, dp = 0.0;
+        for (std::size_t k = 0; k < f.ahead_rate.size(); ++k) {
+          const auto e = std::exp(f.ahead_rate[k] * xi);
+          du += (f.ahead_mode[k][j] * e).real();
+          dp += (f.ahead_mode[k][ro + j] * e).real();
+        }
+        out.u.push_back(ys[m.iu(0)] + (j == 0 ? 0.0 : ys[m.iu(static_cast<int>(j))]) + du);
+        out.velocity.push_back(-f.c * dp);
       }
-      u = f.sigma_d / f.law.alpha + du;
-      v = -f.c * dp;
       A = 1.0;
-      s = f.law.alpha * u;
-    } else if (xi >= f.xi.front()) {
+      s = f.law.alpha * out.u[out.u.size() - ro];
+    } else if (xi >= f.xi.front()) {  // the collocation solution: cubic Hermite on the interval
       const auto it = std::upper_bound(f.xi.begin(), f.xi.end(), xi);
       const std::size_t b = std::min<std::size_t>(static_cast<std::size_t>(it - f.xi.begin()), f.xi.size() - 1), a = b - 1;
       const double h = f.xi[b] - f.xi[a], t = (xi - f.xi[a]) / h;
@@ -903,22 +909,32 @@ StripInterfaceSample sample_strip_interface(const StripFront& f, std::span<const
       const Vec fa = rhs(m, ya, f.c, f.sigma_d, Side::behind, false).f, fb = rhs(m, yb, f.c, f.sigma_d, Side::behind, false).f;
       const double h00 = (2 * t - 3) * t * t + 1, h10 = ((t - 2) * t + 1) * t, h01 = (3 - 2 * t) * t * t, h11 = (t - 1) * t * t;
       const Vec y = h00 * ya + h10 * h * fa + h01 * yb + h11 * h * fb;
-      u = y[m.iu(0)];
-      v = -f.c * y[m.ip(0)];
+      for (std::size_t j = 0; j < ro; ++j) {
+        const int jj = static_cast<int>(j);
+        out.u.push_back(y[m.iu(0)] + (j == 0 ? 0.0 : y[m.iu(jj)]));
+        out.velocity.push_back(-f.c * y[m.ip(jj)]);
+      }
       A = y[m.iA()];
       s = y[m.iS()];
-    } else {
-      v = f.v_behind;
+    } else {  // beyond −L: the sliding state, every row translating at v_b with the lift it has at −L
+      for (std::size_t j = 0; j < ro; ++j) {
+        out.u.push_back(f.u[j] - f.v_behind / f.c * (xi - f.xi.front()));
+        out.velocity.push_back(f.v_behind);
+      }
       A = f.area_behind;
       s = f.sigma_bar_behind;
-      u = f.slip.front() - f.v_behind / f.c * (xi - f.xi.front());
     }
-    out.slip_rate.push_back(v);
-    out.area.push_back(A);
-    out.sigma_bar.push_back(s);
-    out.slip.push_back(u);
+    const std::size_t first = out.u.size() - ro;
+    in.slip_rate.push_back(out.velocity[first]);
+    in.area.push_back(A);
+    in.sigma_bar.push_back(s);
+    in.slip.push_back(out.u[first]);
   }
   return out;
+}
+
+StripInterfaceSample sample_strip_interface(const StripFront& f, std::span<const double> xs) {
+  return sample_strip_front(f, xs).interface;
 }
 
 }  // namespace slipfront::continuum

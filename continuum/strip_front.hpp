@@ -104,6 +104,14 @@ struct StripInterfaceSample {
   std::vector<double> slip_rate, area, sigma_bar, slip;
 };
 StripInterfaceSample sample_strip_interface(const StripFront& front, std::span<const double> xi);
+/// The whole front at positions ξ on its own rows (docs/fronts.md §10.15): the interface fields as above and,
+/// on every row j, u(ξ, y_j) and the velocity ∂t u = −c ∂ξ u(ξ, y_j), index k·(M + 1) + j (k the position).
+/// Ahead of the tip the modes; behind −L every row translates at v_b with the lift it has at −L.
+struct StripFrontSample {
+  StripInterfaceSample interface;
+  std::vector<double> u, velocity;
+};
+StripFrontSample sample_strip_front(const StripFront& front, std::span<const double> xi);
 
 // ---------------------------------------------------------------------------------------------------
 // Continuation in σ_d (docs/fronts.md §10.8): the pattern of continue_steady_fronts (docs/fronts.md §4).

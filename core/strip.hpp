@@ -143,6 +143,11 @@ class Strip {
   /// One solve costs about one application of the CG's preconditioner plus nx-sized interface iterations.
   /// rhs and x may alias. Throws std::runtime_error when the interface solve does not converge.
   void solve_system(double c, std::span<const double> d, std::span<const double> rhs, std::span<double> x);
+  /// Relative residual at which solve_system's interface iterations stop (default 1e-13: the solve then agrees
+  /// with a sparse LDLT to ~1e-13). The adaptive integrator loosens it with its rtol (docs/numerics.md §8.5).
+  /// Throws std::invalid_argument outside [1e-13, 1).
+  void set_interface_tolerance(double tol);
+  double interface_tolerance() const { return interface_tolerance_; }
   /// Interface iterations of the last solve_system (the ψ solve not counted).
   int last_interface_iterations() const { return last_interface_iterations_; }
   /// How solve_step solves the trapezoidal step: the preconditioned CG over all dofs (default) or
@@ -170,7 +175,8 @@ class Strip {
   struct Direct;  // solve_system's workspace (strip.cpp), made on first use
   Direct& direct();
   void direct_factorise(double c);
-  void direct_solve(std::span<const double> d, const double* rhs, double spring_shift, double* x);
+  void direct_modes(std::span<const double> d, const double* rhs, double* z);
+  double edge_functional(const double* z) const;
 
   std::vector<double> x_;
   std::size_t nx_ = 0, ny_ = 0;
@@ -194,6 +200,7 @@ class Strip {
   StepSolver step_solver_ = StepSolver::cg;
   std::unique_ptr<Direct> direct_;
   int last_interface_iterations_ = 0;
+  double interface_tolerance_ = 1e-13;
 };
 
 template <class F>

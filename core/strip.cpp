@@ -97,20 +97,18 @@ class StripPreconditioner {
 // with in(row, i), i = 0 … N, executes, and hands every Y_k to out(row, k, Y_k).
 class CosineTransform {
  public:
-  CosineTransform(std::size_t n, std::size_t rows) : n_(n), N_(n - 1), rows_(rows) {
+  CosineTransform(std::size_t n, std::size_t rows) : N_(n - 1), rows_(rows) {
     const std::size_t len = 2 * N_;
-    ext_ = static_cast<double*>(fftw_malloc(rows * len * sizeof(double)));
-    spec_ = static_cast<fftw_complex*>(fftw_malloc(rows * (N_ + 1) * sizeof(fftw_complex)));
+    ext_ = static_cast<double*>(fftw_malloc(len * sizeof(double)));
+    spec_ = static_cast<fftw_complex*>(fftw_malloc((N_ + 1) * sizeof(fftw_complex)));
     if (ext_ == nullptr || spec_ == nullptr) {
       release();
       throw std::bad_alloc();
     }
-    std::fill(ext_, ext_ + rows * len, 0.0);
-    const int l = static_cast<int>(len), dist_out = static_cast<int>(N_ + 1);
+    std::fill(ext_, ext_ + len, 0.0);
     {
       const std::lock_guard<std::mutex> lock(fftw_planner_mutex());
-      plan_ = fftw_plan_many_dft_r2c(1, &l, static_cast<int>(rows), ext_, nullptr, 1, l, spec_, nullptr, 1, dist_out,
-                                     FFTW_ESTIMATE);
+      plan_ = fftw_plan_dft_r2c_1d(static_cast<int>(len), ext_, spec_, FFTW_ESTIMATE);
     }
     if (plan_ == nullptr) {
       release();
@@ -121,19 +119,22 @@ class CosineTransform {
   CosineTransform& operator=(const CosineTransform&) = delete;
   ~CosineTransform() { release(); }
 
+  // One row: in(i), i = 0 … N; out(k, Y_k), k = 0 … N.
+  template <class In, class Out>
+  void row(In&& in, Out&& out) {
+    const std::size_t N = N_, len = 2 * N;
+    double* e = ext_;
+    for (std::size_t i = 0; i <= N; ++i) e[i] = in(i);
+    for (std::size_t i = 1; i < N; ++i) e[len - i] = e[i];
+    fftw_execute(plan_);
+    const fftw_complex* y = spec_;
+    for (std::size_t k = 0; k <= N; ++k) out(k, y[k][0]);
+  }
+  // Every row in order, one at a time through one row's buffers (they stay in the first-level caches).
   template <class In, class Out>
   void run(In&& in, Out&& out) {
-    const std::size_t N = N_, len = 2 * N;
-    for (std::size_t r = 0; r < rows_; ++r) {
-      double* e = ext_ + r * len;
-      for (std::size_t i = 0; i <= N; ++i) e[i] = in(r, i);
-      for (std::size_t i = 1; i < N; ++i) e[len - i] = e[i];
-    }
-    fftw_execute(plan_);
-    for (std::size_t r = 0; r < rows_; ++r) {
-      const fftw_complex* y = spec_ + r * (N + 1);
-      for (std::size_t k = 0; k <= N; ++k) out(r, k, y[k][0]);
-    }
+    for (std::size_t r = 0; r < rows_; ++r)
+      row([&in, r](std::size_t i) { return in(r, i); }, [&out, r](std::size_t k, double v) { out(r, k, v); });
   }
 
  private:
@@ -148,7 +149,7 @@ class CosineTransform {
     ext_ = nullptr;
     spec_ = nullptr;
   }
-  std::size_t n_, N_, rows_;
+  std::size_t N_, rows_;
   double* ext_ = nullptr;
   fftw_complex* spec_ = nullptr;
   fftw_plan plan_ = nullptr;
@@ -705,24 +706,37 @@ void Strip::direct_factorise(double c) {
 // z = the modes of A₀⁻¹ r (A₀ = A(c, d) without the spring, the factors of c made), before the inverse
 // transform: the rows' DCT (r scaled by 1/(wx 2(nx−1)), the transform's normalisation), the top-down
 // elimination, the interface system for row 0, back substitution upwards. rhs = nullptr: r = b, the spring's
-// spread, whose rows' DCT is b_j/(wx(0) 2(nx−1)) in every mode (the DCT-I of e_0 is all ones).
-void Strip::direct_modes(std::span<const double> d, const double* rhs, double* z) {
+// spread, whose rows' DCT is b_j/(wx(0) 2(nx−1)) in every mode (the DCT-I of e_0 is all ones). Returns bᵀ C z
+// (bᵀ x for x the inverse transform of z). The rows are transformed one at a time and eliminated while in cache.
+double Strip::direct_modes(std::span<const double> d, const double* rhs, double* z) {
   Direct& D = direct();
   const std::size_t nx = nx_, ny = ny_;
   const double* iw = inv_wx_.data();
-  if (rhs != nullptr) {
-    D.bulk_dct->run([rhs, iw, nx](std::size_t j, std::size_t i) { return rhs[j * nx + i] * iw[i]; },
-                    [z, nx](std::size_t j, std::size_t k, double v) { z[j * nx + k] = v; });
-  } else {
-    for (std::size_t j = 0; j <= ny; ++j) std::fill(z + j * nx, z + (j + 1) * nx, D.spread[j] * iw[0]);
-  }
   const double o = -D.c * mu_p_ / dy_;
   const double* inv = D.inv.data();
-  for (std::size_t j = ny; j-- > 0;) {
+  // Row by row from the top: its transform, then its elimination by the row above (still in cache).
+  for (std::size_t j = ny + 1; j-- > 0;) {
     double* zj = z + j * nx;
-    const double* zn = zj + nx;
-    const double* iv = inv + (j + 1) * nx;
-    for (std::size_t k = 0; k < nx; ++k) zj[k] -= o * iv[k] * zn[k];
+    if (rhs != nullptr) {
+      const double* rj = rhs + j * nx;
+      if (j == ny) {
+        D.bulk_dct->row([rj, iw](std::size_t i) { return rj[i] * iw[i]; }, [zj](std::size_t k, double v) { zj[k] = v; });
+      } else {
+        const double* zn = zj + nx;
+        const double* iv = inv + (j + 1) * nx;
+        D.bulk_dct->row([rj, iw](std::size_t i) { return rj[i] * iw[i]; },
+                        [zj, zn, iv, o](std::size_t k, double v) { zj[k] = v - o * iv[k] * zn[k]; });
+      }
+    } else {
+      const double bj = D.spread[j] * iw[0];
+      if (j == ny) {
+        std::fill(zj, zj + nx, bj);
+      } else {
+        const double* zn = zj + nx;
+        const double* iv = inv + (j + 1) * nx;
+        for (std::size_t k = 0; k < nx; ++k) zj[k] = bj - o * iv[k] * zn[k];
+      }
+    }
   }
   // The interface row's modes ξ: B ξ = Wx ρ₀ (InterfaceData).
   for (std::size_t k = 0; k < nx; ++k) D.f[k] = D.wx[k] * z[k];
@@ -757,26 +771,22 @@ void Strip::direct_modes(std::span<const double> d, const double* rhs, double* z
   }
   last_interface_iterations_ = D.applications;
   D.d = nullptr;
-  // The rows above, from row 0's modes.
+  // The rows above, from row 0's modes; bᵀ C z on the way (x_j0 = z_j0 + z_jN + 2 Σ_{0<k<N} z_jk: the DCT-I at
+  // i = 0).
+  const auto edge = [nx](const double* r) {
+    double inner = 0.0;
+    for (std::size_t k = 1; k + 1 < nx; ++k) inner += r[k];
+    return r[0] + r[nx - 1] + 2.0 * inner;
+  };
+  double functional = D.spread[0] * edge(z);
   for (std::size_t j = 1; j <= ny; ++j) {
     double* zj = z + j * nx;
     const double* zp = zj - nx;
     const double* iv = inv + j * nx;
     for (std::size_t k = 0; k < nx; ++k) zj[k] = (zj[k] - o * zp[k]) * iv[k];
+    functional += D.spread[j] * edge(zj);
   }
-}
-
-// bᵀ x for x the inverse transform of the modes z: x_j0 = z_j0 + z_jN + 2 Σ_{0<k<N} z_jk (the DCT-I at i = 0).
-double Strip::edge_functional(const double* z) const {
-  const std::size_t nx = nx_;
-  double s = 0.0;
-  for (std::size_t j = 0; j <= ny_; ++j) {
-    const double* r = z + j * nx;
-    double inner = 0.0;
-    for (std::size_t k = 1; k + 1 < nx; ++k) inner += r[k];
-    s += direct_->spread[j] * (r[0] + r[nx - 1] + 2.0 * inner);
-  }
-  return s;
+  return functional;
 }
 
 void Strip::solve_system(double c, std::span<const double> d, std::span<const double> rhs, std::span<double> x) {
@@ -790,18 +800,17 @@ void Strip::solve_system(double c, std::span<const double> d, std::span<const do
     // β = c K (Sherman–Morrison). ψ costs one interface solve and two passes, no transform.
     if (D.psi_c != c || !std::equal(d.begin(), d.end(), D.psi_d.begin(), D.psi_d.end())) {
       D.psi.resize(n);
-      direct_modes(d, nullptr, D.psi.data());
-      D.b_psi = edge_functional(D.psi.data());
+      D.b_psi = direct_modes(d, nullptr, D.psi.data());
       D.psi_d.assign(d.begin(), d.end());
       D.psi_c = c;
     }
   }
   double* z = buf_;
-  direct_modes(d, rhs.data(), z);
+  const double b_x = direct_modes(d, rhs.data(), z);
   double* xo = x.data();
   if (spring_K_ > 0.0) {
     const double beta = c * spring_K_;
-    s = beta * edge_functional(z) / (1.0 + beta * D.b_psi);
+    s = beta * b_x / (1.0 + beta * D.b_psi);
     const double* psi = D.psi.data();
     D.bulk_dct->run([z, psi, s, nx](std::size_t j, std::size_t k) { return z[j * nx + k] - s * psi[j * nx + k]; },
                     [xo, nx](std::size_t j, std::size_t i, double v) { xo[j * nx + i] = v; });

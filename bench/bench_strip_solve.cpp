@@ -193,9 +193,8 @@ void bm_direct(benchmark::State& state, bool stage, const char* name) {
   state.counters["nodes"] = static_cast<double>(n);
   Record& r = records()[std::string(name) + "/" + sizes()[static_cast<std::size_t>(state.range(0))].series][n];
   r = {total / static_cast<double>(count), its / static_cast<double>(count),
-       // solve_system's own: the mode factors and ψ (n each), the transform's even extensions (2N per row) and
-       // their spectra (N + 1 complex per row): ~6 n
-       static_cast<double>(p.strip.workspace_bytes() + 6 * n * sizeof(double)) / static_cast<double>(n), n};
+       // solve_system's own: the mode factors and ψ (n each; the transforms' buffers are one row long)
+       static_cast<double>(p.strip.workspace_bytes() + 2 * n * sizeof(double)) / static_cast<double>(n), n};
 }
 void bm_direct_step(benchmark::State& s) { bm_direct(s, false, "direct"); }
 void bm_direct_stage(benchmark::State& s) { bm_direct(s, true, "direct_stage"); }

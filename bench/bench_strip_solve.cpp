@@ -9,7 +9,7 @@
 //   cg_ichol      Eigen CG on the assembled matrix with IncompleteCholesky (factorised per step)
 //   direct        Strip::solve_step by Strip::solve_system (StepSolver::direct): the capacitance method, a
 //                 cosine-space direct solve of the separable part and CG on the interface row only; c1
-//                 changes every step, so each step also makes the spring's ψ (one more solve)
+//                 changes every step, so each step also makes the spring's ψ (one more interface solve)
 //   direct_stage  Strip::solve_system with another right-hand side on the same (c, d): what a Rosenbrock
 //                 stage costs (docs/performance.md §13); the "iterations" column: interface CG iterations
 // Each solve starts from W = 0 with random u, V, σ̄, c0 and c1 ∈ [0, 2] (η = 0.1, dt = 0.02, dx = dy = 0.5,
@@ -193,7 +193,8 @@ void bm_direct(benchmark::State& state, bool stage, const char* name) {
   state.counters["nodes"] = static_cast<double>(n);
   Record& r = records()[std::string(name) + "/" + sizes()[static_cast<std::size_t>(state.range(0))].series][n];
   r = {total / static_cast<double>(count), its / static_cast<double>(count),
-       static_cast<double>(p.strip.workspace_bytes() + 3 * n * sizeof(double)) / static_cast<double>(n), n};
+       // solve_system's own: the mode factors and ψ (n each; the transforms' buffers are one row long)
+       static_cast<double>(p.strip.workspace_bytes() + 2 * n * sizeof(double)) / static_cast<double>(n), n};
 }
 void bm_direct_step(benchmark::State& s) { bm_direct(s, false, "direct"); }
 void bm_direct_stage(benchmark::State& s) { bm_direct(s, true, "direct_stage"); }

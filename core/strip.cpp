@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <mutex>
 #include <numbers>
 #include <stdexcept>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include <fftw3.h>
 
@@ -85,15 +87,83 @@ class StripPreconditioner {
   const Strip* s_ = nullptr;
 };
 
+// The DCT-I of solve_system (FFTW's REDFT00 convention, unnormalised: Y_k = X_0 + (−1)^k X_N +
+// 2 Σ_{0<i<N} X_i cos(πik/N), n = N + 1 points) of `rows` rows, computed as FFTW's real-to-complex transform of
+// each row's even extension (X_0 … X_N, X_{N−1} … X_1: length 2N; Y_k = Re of its k-th coefficient). FFTW's own
+// REDFT00 plan for these sizes (FFTW_ESTIMATE) is a split-radix recursion ending in a padded r2hc that allocates
+// its buffers at every execution and copies in and out of another buffer: 2.3× slower at n = 601
+// (docs/performance.md §13). Out of place, on buffers owned here: no allocation per transform. FFTW_ESTIMATE:
+// the same sizes and alignment give the same plan (bit-reproducible runs). run(in, out) fills the extension
+// with in(row, i), i = 0 … N, executes, and hands every Y_k to out(row, k, Y_k).
+class CosineTransform {
+ public:
+  CosineTransform(std::size_t n, std::size_t rows) : N_(n - 1), rows_(rows) {
+    const std::size_t len = 2 * N_;
+    ext_ = static_cast<double*>(fftw_malloc(len * sizeof(double)));
+    spec_ = static_cast<fftw_complex*>(fftw_malloc((N_ + 1) * sizeof(fftw_complex)));
+    if (ext_ == nullptr || spec_ == nullptr) {
+      release();
+      throw std::bad_alloc();
+    }
+    std::fill(ext_, ext_ + len, 0.0);
+    {
+      const std::lock_guard<std::mutex> lock(fftw_planner_mutex());
+      plan_ = fftw_plan_dft_r2c_1d(static_cast<int>(len), ext_, spec_, FFTW_ESTIMATE);
+    }
+    if (plan_ == nullptr) {
+      release();
+      throw std::runtime_error("Strip: FFTW could not plan the cosine transform of solve_system");
+    }
+  }
+  CosineTransform(const CosineTransform&) = delete;
+  CosineTransform& operator=(const CosineTransform&) = delete;
+  ~CosineTransform() { release(); }
+
+  // One row: in(i), i = 0 … N; out(k, Y_k), k = 0 … N.
+  template <class In, class Out>
+  void row(In&& in, Out&& out) {
+    const std::size_t N = N_, len = 2 * N;
+    double* e = ext_;
+    for (std::size_t i = 0; i <= N; ++i) e[i] = in(i);
+    for (std::size_t i = 1; i < N; ++i) e[len - i] = e[i];
+    fftw_execute(plan_);
+    const fftw_complex* y = spec_;
+    for (std::size_t k = 0; k <= N; ++k) out(k, y[k][0]);
+  }
+  // Every row in order, one at a time through one row's buffers (they stay in the first-level caches).
+  template <class In, class Out>
+  void run(In&& in, Out&& out) {
+    for (std::size_t r = 0; r < rows_; ++r)
+      row([&in, r](std::size_t i) { return in(r, i); }, [&out, r](std::size_t k, double v) { out(r, k, v); });
+  }
+
+ private:
+  void release() noexcept {
+    if (plan_ != nullptr) {
+      const std::lock_guard<std::mutex> lock(fftw_planner_mutex());
+      fftw_destroy_plan(plan_);
+    }
+    plan_ = nullptr;
+    if (ext_ != nullptr) fftw_free(ext_);
+    if (spec_ != nullptr) fftw_free(spec_);
+    ext_ = nullptr;
+    spec_ = nullptr;
+  }
+  std::size_t N_, rows_;
+  double* ext_ = nullptr;
+  fftw_complex* spec_ = nullptr;
+  fftw_plan plan_ = nullptr;
+};
+
 // solve_system's interface system in cosine space (docs/performance.md §12): for ξ = the interface row's
-// modes (x₀ = C ξ, C: FFTW's REDFT00 of one row, C² = 2(nx−1) I),
+// modes (x₀ = C ξ, C: the DCT-I of one row, C² = 2(nx−1) I),
 //   B ξ = Wx ρ₀,   B = Wx diag(p) + Wx C diag(d) C / (2(nx−1))
 // (p: the modes' interface pivots, ρ₀: the eliminated right-hand side of row 0; Wx C is symmetric, so B is),
 // preconditioned by its diagonal for uniform d = d̄: Wx (p + d̄). Two transforms of one row per product.
 struct InterfaceData {
   std::size_t nx = 0;
-  double* row = nullptr;         // fftw_malloc'd, nx
-  fftw_plan_s* plan = nullptr;   // REDFT00 of row, in place
+  std::unique_ptr<CosineTransform> row_dct;  // one row
+  std::vector<double> row;       // the product's intermediate (physical space)
   std::vector<double> p;         // the interface pivots p_k = 1/g_k
   std::vector<double> wx;        // interface weights (the modes' too)
   std::vector<double> precond;   // 1/(wx_k (p_k + d̄))
@@ -104,11 +174,15 @@ struct InterfaceData {
 
   void apply(const double* x, double* y) {
     ++applications;
-    for (std::size_t k = 0; k < nx; ++k) row[k] = x[k];
-    fftw_execute(plan);
-    for (std::size_t i = 0; i < nx; ++i) row[i] *= d[i] * norm;
-    fftw_execute(plan);
-    for (std::size_t k = 0; k < nx; ++k) y[k] = wx[k] * (p[k] * x[k] + row[k]);
+    double* r = row.data();
+    const double* dd = d;
+    const double nm = norm;
+    row_dct->run([x](std::size_t, std::size_t k) { return x[k]; },
+                 [r, dd, nm](std::size_t, std::size_t i, double v) { r[i] = v * dd[i] * nm; });
+    const double* w = wx.data();
+    const double* pp = p.data();
+    row_dct->run([r](std::size_t, std::size_t i) { return r[i]; },
+                 [x, y, w, pp](std::size_t, std::size_t k, double v) { y[k] = w[k] * (pp[k] * x[k] + v); });
   }
   const double* precondition(const double* r) {
     out.resize(nx);
@@ -205,15 +279,17 @@ struct generic_product_impl<slipfront::core::InterfaceSystem, Rhs, SparseShape, 
 namespace slipfront::core {
 
 // solve_system's workspace: the factors of P = M/c + c S in cosine space (from the top row down), the
-// interface system, and the spring's ψ = A₀⁻¹ b for the (c, d) it was computed for.
+// interface system, the transforms, and the spring's ψ (in cosine space) for the (c, d) it was computed for.
 struct Strip::Direct : InterfaceData {
   double c = -1.0;
   std::vector<double> lam;    // λ_k = (2/dx²)(1 − cos(πk/(nx−1)))
   std::vector<double> inv;    // 1/pivot of the top-down elimination, [j·nx + k]
   std::vector<double> f;  // the interface right-hand side
-  std::vector<double> psi, psi_d, spread;  // ψ, the d it holds for, b
+  std::vector<double> psi, psi_d;  // the modes of ψ = A₀⁻¹ b (before the inverse transform), the d they hold for
+  std::vector<double> spread;  // b_j = wy(j)/H, the edge column's spread
   std::vector<double> dstep;  // solve_step's d = η + c1/2 (StepSolver::direct)
   double psi_c = -1.0, b_psi = 0.0;
+  std::unique_ptr<CosineTransform> bulk_dct;  // every row
 
   Direct(const Strip& s) {
     nx = s.sites();
@@ -227,28 +303,11 @@ struct Strip::Direct : InterfaceData {
     wx.resize(nx);
     for (std::size_t i = 0; i < nx; ++i) wx[i] = s.interface_weight(i);
     f.assign(nx, 0.0);
-    spread.assign(s.dofs(), 0.0);
-    for (std::size_t j = 0; j < s.rows(); ++j) spread[j * nx] = s.row_weight(j) / s.height();
-    row = static_cast<double*>(fftw_malloc(nx * sizeof(double)));
-    if (row == nullptr) throw std::bad_alloc();
-    std::fill(row, row + nx, 0.0);
-    {
-      const std::lock_guard<std::mutex> lock(fftw_planner_mutex());
-      plan = fftw_plan_r2r_1d(static_cast<int>(nx), row, row, FFTW_REDFT00, FFTW_ESTIMATE);
-    }
-    if (plan == nullptr) {
-      fftw_free(row);
-      throw std::runtime_error("Strip: FFTW could not plan the interface's cosine transform");
-    }
-  }
-  Direct(const Direct&) = delete;
-  Direct& operator=(const Direct&) = delete;
-  ~Direct() {
-    {
-      const std::lock_guard<std::mutex> lock(fftw_planner_mutex());
-      fftw_destroy_plan(plan);
-    }
-    fftw_free(row);
+    spread.resize(s.rows());
+    for (std::size_t j = 0; j < s.rows(); ++j) spread[j] = s.row_weight(j) / s.height();
+    row.assign(nx, 0.0);
+    row_dct = std::make_unique<CosineTransform>(nx, 1);
+    bulk_dct = std::make_unique<CosineTransform>(nx, s.rows());
   }
 };
 
@@ -334,7 +393,7 @@ Strip::Strip(const Strip& o)
       rear_traction_(o.rear_traction_), stable_dt_(o.stable_dt_), shift_(o.shift_), inv_(o.inv_), rhs_(o.rhs_),
       inv_wx_(o.inv_wx_), fact_dt_(o.fact_dt_), fact_dbar_(o.fact_dbar_), last_iterations_(o.last_iterations_),
       last_residual_(o.last_residual_), step_solver_(o.step_solver_),
-      last_interface_iterations_(o.last_interface_iterations_) {
+      last_interface_iterations_(o.last_interface_iterations_), interface_tolerance_(o.interface_tolerance_) {
   make_plans();  // solve_system's workspace is made again on first use (the same factors, bit for bit)
 }
 
@@ -345,7 +404,8 @@ Strip::Strip(Strip&& o) noexcept
       plan_(std::exchange(o.plan_, nullptr)), inv_(std::move(o.inv_)), rhs_(std::move(o.rhs_)),
       inv_wx_(std::move(o.inv_wx_)), fact_dt_(o.fact_dt_), fact_dbar_(o.fact_dbar_),
       last_iterations_(o.last_iterations_), last_residual_(o.last_residual_), step_solver_(o.step_solver_),
-      direct_(std::move(o.direct_)), last_interface_iterations_(o.last_interface_iterations_) {}
+      direct_(std::move(o.direct_)), last_interface_iterations_(o.last_interface_iterations_),
+      interface_tolerance_(o.interface_tolerance_) {}
 
 Strip& Strip::operator=(const Strip& o) {
   if (this != &o) {
@@ -386,6 +446,7 @@ Strip& Strip::operator=(Strip&& o) noexcept {
     step_solver_ = o.step_solver_;
     direct_ = std::move(o.direct_);
     last_interface_iterations_ = o.last_interface_iterations_;
+    interface_tolerance_ = o.interface_tolerance_;
   }
   return *this;
 }
@@ -608,12 +669,15 @@ void Strip::solve_step(std::span<const double> c0, std::span<const double> c1, d
                              format_number(last_residual_));
 }
 
-// Relative residual of the interface solve (the whole solve agrees with a sparse LDLT to ~1e-13).
-constexpr double kInterfaceTolerance = 1e-13;
-
 Strip::Direct& Strip::direct() {
   if (!direct_) direct_ = std::make_unique<Direct>(*this);
   return *direct_;
+}
+
+void Strip::set_interface_tolerance(double tol) {
+  if (!(tol >= 1e-13 && tol < 1.0))
+    throw std::invalid_argument("Strip::set_interface_tolerance: the tolerance must be in [1e-13, 1)");
+  interface_tolerance_ = tol;
 }
 
 // The factors of T_k = (ρ'/c + c μ' λ_k) Wy + c μ' Dy/dy for every mode, eliminated from the top row (j = ny)
@@ -639,28 +703,43 @@ void Strip::direct_factorise(double c) {
   D.psi_c = -1.0;
 }
 
-// x = A₀⁻¹ (rhs − s b), A₀ = A(c, d) without the spring (the factors of c made): the rows in cosine space,
-// the top-down elimination, the interface system for row 0, back substitution upwards, the rows back.
-void Strip::direct_solve(std::span<const double> d, const double* rhs, double s, double* x) {
+// z = the modes of A₀⁻¹ r (A₀ = A(c, d) without the spring, the factors of c made), before the inverse
+// transform: the rows' DCT (r scaled by 1/(wx 2(nx−1)), the transform's normalisation), the top-down
+// elimination, the interface system for row 0, back substitution upwards. rhs = nullptr: r = b, the spring's
+// spread, whose rows' DCT is b_j/(wx(0) 2(nx−1)) in every mode (the DCT-I of e_0 is all ones). Returns bᵀ C z
+// (bᵀ x for x the inverse transform of z). The rows are transformed one at a time and eliminated while in cache.
+double Strip::direct_modes(std::span<const double> d, const double* rhs, double* z) {
   Direct& D = direct();
-  const std::size_t nx = nx_, ny = ny_, n = dofs();
-  double* b = buf_;
+  const std::size_t nx = nx_, ny = ny_;
   const double* iw = inv_wx_.data();
-  for (std::size_t j = 0; j <= ny; ++j)
-    for (std::size_t i = 0; i < nx; ++i) b[j * nx + i] = rhs[j * nx + i] * iw[i];
-  if (s != 0.0)
-    for (std::size_t j = 0; j <= ny; ++j) b[j * nx] -= s * D.spread[j * nx] * iw[0];
-  fftw_execute(plan_);
   const double o = -D.c * mu_p_ / dy_;
   const double* inv = D.inv.data();
-  for (std::size_t j = ny; j-- > 0;) {
-    double* z = b + j * nx;
-    const double* zn = z + nx;
-    const double* iv = inv + (j + 1) * nx;
-    for (std::size_t k = 0; k < nx; ++k) z[k] -= o * iv[k] * zn[k];
+  // Row by row from the top: its transform, then its elimination by the row above (still in cache).
+  for (std::size_t j = ny + 1; j-- > 0;) {
+    double* zj = z + j * nx;
+    if (rhs != nullptr) {
+      const double* rj = rhs + j * nx;
+      if (j == ny) {
+        D.bulk_dct->row([rj, iw](std::size_t i) { return rj[i] * iw[i]; }, [zj](std::size_t k, double v) { zj[k] = v; });
+      } else {
+        const double* zn = zj + nx;
+        const double* iv = inv + (j + 1) * nx;
+        D.bulk_dct->row([rj, iw](std::size_t i) { return rj[i] * iw[i]; },
+                        [zj, zn, iv, o](std::size_t k, double v) { zj[k] = v - o * iv[k] * zn[k]; });
+      }
+    } else {
+      const double bj = D.spread[j] * iw[0];
+      if (j == ny) {
+        std::fill(zj, zj + nx, bj);
+      } else {
+        const double* zn = zj + nx;
+        const double* iv = inv + (j + 1) * nx;
+        for (std::size_t k = 0; k < nx; ++k) zj[k] = bj - o * iv[k] * zn[k];
+      }
+    }
   }
   // The interface row's modes ξ: B ξ = Wx ρ₀ (InterfaceData).
-  for (std::size_t k = 0; k < nx; ++k) D.f[k] = D.wx[k] * b[k];
+  for (std::size_t k = 0; k < nx; ++k) D.f[k] = D.wx[k] * z[k];
   double dbar = 0.0;
   for (std::size_t i = 0; i < nx; ++i) dbar += d[i];
   dbar = std::max(dbar / static_cast<double>(nx), 0.0);
@@ -668,18 +747,18 @@ void Strip::direct_solve(std::span<const double> d, const double* rhs, double s,
   D.d = d.data();
   const InterfaceSystem B(D);
   const Eigen::Map<const Eigen::VectorXd> f(D.f.data(), static_cast<Eigen::Index>(nx));
-  Eigen::Map<Eigen::VectorXd> xi(b, static_cast<Eigen::Index>(nx));  // row 0 of the buffer: its modes
+  Eigen::Map<Eigen::VectorXd> xi(z, static_cast<Eigen::Index>(nx));  // row 0: its modes
   D.applications = 0;
   {
     Eigen::ConjugateGradient<InterfaceSystem, Eigen::Lower | Eigen::Upper, InterfacePreconditioner> cg;
-    cg.setTolerance(kInterfaceTolerance);
+    cg.setTolerance(interface_tolerance_);
     cg.setMaxIterations(300);
     cg.compute(B);
     xi = cg.solve(f);
     bool ok = cg.info() == Eigen::Success && std::isfinite(cg.error());
     if (!ok) {  // indefinite (d < 0 somewhere): MINRES, with the same (definite) preconditioner
       Eigen::MINRES<InterfaceSystem, Eigen::Lower | Eigen::Upper, InterfacePreconditioner> mr;
-      mr.setTolerance(kInterfaceTolerance);
+      mr.setTolerance(interface_tolerance_);
       mr.setMaxIterations(1000);
       mr.compute(B);
       xi = mr.solve(f);
@@ -692,39 +771,53 @@ void Strip::direct_solve(std::span<const double> d, const double* rhs, double s,
   }
   last_interface_iterations_ = D.applications;
   D.d = nullptr;
-  // The rows above, from row 0's modes.
+  // The rows above, from row 0's modes; bᵀ C z on the way (x_j0 = z_j0 + z_jN + 2 Σ_{0<k<N} z_jk: the DCT-I at
+  // i = 0).
+  const auto edge = [nx](const double* r) {
+    double inner = 0.0;
+    for (std::size_t k = 1; k + 1 < nx; ++k) inner += r[k];
+    return r[0] + r[nx - 1] + 2.0 * inner;
+  };
+  double functional = D.spread[0] * edge(z);
   for (std::size_t j = 1; j <= ny; ++j) {
-    double* z = b + j * nx;
-    const double* zp = z - nx;
+    double* zj = z + j * nx;
+    const double* zp = zj - nx;
     const double* iv = inv + j * nx;
-    for (std::size_t k = 0; k < nx; ++k) z[k] = (z[k] - o * zp[k]) * iv[k];
+    for (std::size_t k = 0; k < nx; ++k) zj[k] = (zj[k] - o * zp[k]) * iv[k];
+    functional += D.spread[j] * edge(zj);
   }
-  fftw_execute(plan_);
-  std::copy(b, b + n, x);
+  return functional;
 }
 
 void Strip::solve_system(double c, std::span<const double> d, std::span<const double> rhs, std::span<double> x) {
   if (!(c > 0.0)) throw std::invalid_argument("Strip::solve_system: c must be > 0");
   direct_factorise(c);
   Direct& D = direct();
-  const std::size_t n = dofs();
+  const std::size_t n = dofs(), nx = nx_;
   double s = 0.0;
   if (spring_K_ > 0.0) {
-    // ψ = A₀⁻¹ b for this (c, d); then A⁻¹ r = A₀⁻¹ (r − s b), s = β ψᵀr / (1 + β bᵀψ), β = c K.
+    // ψ = A₀⁻¹ b for this (c, d), kept as its modes; then A⁻¹ r = A₀⁻¹ r − s ψ, s = β bᵀA₀⁻¹r / (1 + β bᵀψ),
+    // β = c K (Sherman–Morrison). ψ costs one interface solve and two passes, no transform.
     if (D.psi_c != c || !std::equal(d.begin(), d.end(), D.psi_d.begin(), D.psi_d.end())) {
       D.psi.resize(n);
-      direct_solve(d, D.spread.data(), 0.0, D.psi.data());
-      D.b_psi = 0.0;
-      for (std::size_t j = 0; j <= ny_; ++j) D.b_psi += D.spread[j * nx_] * D.psi[j * nx_];
+      D.b_psi = direct_modes(d, nullptr, D.psi.data());
       D.psi_d.assign(d.begin(), d.end());
       D.psi_c = c;
     }
-    const double beta = c * spring_K_;
-    double dot = 0.0;
-    for (std::size_t k = 0; k < n; ++k) dot += D.psi[k] * rhs[k];
-    s = beta * dot / (1.0 + beta * D.b_psi);
   }
-  direct_solve(d, rhs.data(), s, x.data());
+  double* z = buf_;
+  const double b_x = direct_modes(d, rhs.data(), z);
+  double* xo = x.data();
+  if (spring_K_ > 0.0) {
+    const double beta = c * spring_K_;
+    s = beta * b_x / (1.0 + beta * D.b_psi);
+    const double* psi = D.psi.data();
+    D.bulk_dct->run([z, psi, s, nx](std::size_t j, std::size_t k) { return z[j * nx + k] - s * psi[j * nx + k]; },
+                    [xo, nx](std::size_t j, std::size_t i, double v) { xo[j * nx + i] = v; });
+  } else {
+    D.bulk_dct->run([z, nx](std::size_t j, std::size_t k) { return z[j * nx + k]; },
+                    [xo, nx](std::size_t j, std::size_t i, double v) { xo[j * nx + i] = v; });
+  }
 }
 
 namespace {

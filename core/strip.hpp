@@ -138,11 +138,18 @@ class Strip {
   /// top row down so that its last pivot p_k gives the interface's Green's function G = Eᵀ P⁻¹ E, diagonal in
   /// cosine space (1/p_k); the interface unknowns solve (G⁻¹ + Wx diag(d)) x₀ = Wx C ρ₀ (ρ₀: the eliminated
   /// right-hand side of row 0) by Eigen's CG (MINRES when the CG fails: indefinite), preconditioned by the
-  /// cosine-diagonal G⁻¹ + d̄ Wx, d̄ = max(mean d, 0); the rows above follow by back substitution in cosine
-  /// space. The spring's rank one by Sherman–Morrison with ψ = A₀⁻¹ b (one more solve whenever c or d changes).
-  /// One solve costs about one application of the CG's preconditioner plus nx-sized interface iterations.
+  /// cosine-diagonal G⁻¹ + d̄ Wx, d̄ = max(mean d, 0), to interface_tolerance(); the rows above follow by back
+  /// substitution in cosine space. The transforms are FFTW's real-to-complex transforms of the rows' even
+  /// extensions on buffers owned by the object. The spring's rank one by Sherman–Morrison with ψ = A₀⁻¹ b kept in
+  /// cosine space (remade whenever c or d change: one more interface solve, no transform; bᵀx from the modes).
+  /// One solve costs two transforms of every row plus nx-sized interface iterations (two one-row transforms each).
   /// rhs and x may alias. Throws std::runtime_error when the interface solve does not converge.
   void solve_system(double c, std::span<const double> d, std::span<const double> rhs, std::span<double> x);
+  /// Relative residual at which solve_system's interface iterations stop (default 1e-13: the solve then agrees
+  /// with a sparse LDLT to ~1e-13). The adaptive integrator loosens it with its rtol (docs/numerics.md §8.5).
+  /// Throws std::invalid_argument outside [1e-13, 1).
+  void set_interface_tolerance(double tol);
+  double interface_tolerance() const { return interface_tolerance_; }
   /// Interface iterations of the last solve_system (the ψ solve not counted).
   int last_interface_iterations() const { return last_interface_iterations_; }
   /// How solve_step solves the trapezoidal step: the preconditioned CG over all dofs (default) or
@@ -170,7 +177,7 @@ class Strip {
   struct Direct;  // solve_system's workspace (strip.cpp), made on first use
   Direct& direct();
   void direct_factorise(double c);
-  void direct_solve(std::span<const double> d, const double* rhs, double spring_shift, double* x);
+  double direct_modes(std::span<const double> d, const double* rhs, double* z);
 
   std::vector<double> x_;
   std::size_t nx_ = 0, ny_ = 0;
@@ -194,6 +201,7 @@ class Strip {
   StepSolver step_solver_ = StepSolver::cg;
   std::unique_ptr<Direct> direct_;
   int last_interface_iterations_ = 0;
+  double interface_tolerance_ = 1e-13;
 };
 
 template <class F>

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <optional>
 #include <stdexcept>
 
 #include "compare/contacts.hpp"
@@ -37,70 +39,107 @@ class FieldComparison {
   Columns c_;
 };
 
-// Two models on one scene in lockstep (a SteppedRun, compare/run_loop.hpp): each step advances both
-// (a model that has ended, failed or been interrupted stays where it is) and compares their fields when
-// both are at the same time.
-template <class RunA, class RunB>
+// The models of a scene in lockstep (a SteppedRun, compare/run_loop.hpp): the continuum, the mean-field and
+// the discrete run, each present when the scene lists it (at least two). Each step advances every present run
+// (a model that has ended, failed or been interrupted stays where it is) and compares the continuum's and the
+// discrete model's fields when both run and are at the same time.
+template <class RunC, class RunM, class RunD>
 class Lockstep {
  public:
   static constexpr std::int64_t progress_every = 1024;
   static constexpr bool checkpointable = true;
-  Lockstep(const Scene& s, RunA& a, RunB& b) : s_(s), a_(a), b_(b), fields_(s.output.compare_dt) {}
-  bool done() const { return a_.done() && b_.done(); }
-  double time() const { return a_.time(); }
+  Lockstep(const Scene& s, RunC* c, RunM* m, RunD* d) : s_(s), c_(c), m_(m), d_(d), fields_(s.output.compare_dt) {}
+  bool done() const {
+    bool all = true;
+    each([&](auto& r) { all = all && r.done(); });
+    return all;
+  }
+  double time() const { return c_ ? c_->time() : m_ ? m_->time() : d_->time(); }
   double end() const { return s_.time.t_end; }
-  void start() { fields_.observe(0.0, a_.sim(), b_.sim()); }
+  /// The present models in the order continuum, mean_field, discrete, joined by '+'.
+  std::string label() const {
+    std::string out;
+    each([&](auto& r) { out += (out.empty() ? "" : "+") + r.model(); });
+    return out;
+  }
+  void start() {
+    if (c_ && d_) fields_.observe(0.0, c_->sim(), d_->sim());
+  }
   void step() {
-    if (!a_.done()) a_.step();
-    if (!b_.done()) b_.step();
-    if (a_.time() == b_.time()) fields_.observe(a_.time(), a_.sim(), b_.sim());  // both advanced (none failed)
+    each([](auto& r) {
+      if (!r.done()) r.step();
+    });
+    if (c_ && d_ && c_->time() == d_->time()) fields_.observe(c_->time(), c_->sim(), d_->sim());  // both advanced
   }
   void interrupt() {
-    if (!a_.done()) a_.interrupt();
-    if (!b_.done()) b_.interrupt();
+    each([](auto& r) {
+      if (!r.done()) r.interrupt();
+    });
   }
   Columns take_fields() { return fields_.take(); }
   template <class Ar>
   void serialize(Ar& ar) {
-    ar.tag("lockstep");
-    ar(a_, b_, fields_);
+    // continuum+discrete keep the tag and layout of the checkpoints written before mean_field existed
+    const std::string tag = c_ && d_ && !m_ ? std::string("lockstep") : "lockstep " + label();
+    ar.tag(tag.c_str());
+    each([&](auto& r) { ar(r); });
+    ar(fields_);
   }
 
  private:
+  template <class F>
+  void each(F&& f) const {
+    if (c_) f(*c_);
+    if (m_) f(*m_);
+    if (d_) f(*d_);
+  }
   const Scene& s_;
-  RunA& a_;
-  RunB& b_;
+  RunC* c_;
+  RunM* m_;
+  RunD* d_;
   FieldComparison fields_;
 };
 
-template <class Tag, class LawA, class LawB>
-SceneResult lockstep(const Scene& s, LawA a, LawB b, const RunControl& ctl) {
-  DynamicRun<LawA, typename Tag::template stepper<LawA>> ra(s, std::move(a), "continuum",
-                                                            contact_prediction_for(s, "continuum"));
-  DynamicRun<LawB, typename Tag::template stepper<LawB>> rb(s, std::move(b), "discrete");
-  Lockstep both(s, ra, rb);
+// The listed models of {continuum, mean_field, discrete} in lockstep on the integrator Tag; `discrete_law` is
+// the discrete model's law when the scene lists it.
+template <class Tag, class LawD>
+SceneResult lockstep(const Scene& s, std::optional<LawD> discrete_law, const RunControl& ctl) {
+  using LawC = continuum::FrictionLaw;
+  using LawM = discrete::MeanFieldLaw;
+  const std::size_t nodes = core::Bulk(s.bulk, s.drive, s.interface, s.grid.dx).nodes();
+  std::optional<DynamicRun<LawC, typename Tag::template stepper<LawC>>> rc;
+  std::optional<DynamicRun<LawM, typename Tag::template stepper<LawM>>> rm;
+  std::optional<DynamicRun<LawD, typename Tag::template stepper<LawD>>> rd;
+  if (s.lists("continuum")) rc.emplace(s, LawC(s.interface, nodes), "continuum", contact_prediction_for(s, "continuum"));
+  if (s.lists("mean_field")) rm.emplace(s, mean_field_law(s, nodes), "mean_field");
+  if (discrete_law) rd.emplace(s, std::move(*discrete_law), "discrete");
+  Lockstep all(s, rc ? &*rc : nullptr, rm ? &*rm : nullptr, rd ? &*rd : nullptr);
   if (!ctl.restart.empty()) {  // continue from a checkpoint (RunControl)
     core::Archive ar = core::Archive::reader(ctl.restart);
-    ar(both);
+    ar(all);
   } else {
-    both.start();
+    all.start();
   }
-  run_loop(both, ctl, "continuum+discrete");
+  run_loop(all, ctl, all.label());
+  std::map<std::string, ModelResult> done;
+  if (rc) done["continuum"] = rc->finish();
+  if (rm) done["mean_field"] = rm->finish();
+  if (rd) done["discrete"] = rd->finish();
   SceneResult out;
-  ModelResult mc = ra.finish(), md = rb.finish();
-  out.comparison = compare_results(s, mc, md);
-  out.comparison.fields = both.take_fields();
-  const char* defs[][2] = {
-      {"fields/A_distance", "||A_discrete - A_continuum||_2 / ||A_continuum||_2 over the nodes at time t"},
-      {"fields/sigma_bar_distance", "the same relative L2 distance for sigma_bar"},
-      {"fields/v_distance", "the same relative L2 distance for the slip rate v"},
-      {"fields/u_distance", "the same relative L2 distance for the slip u"},
-      {"fields/t", "comparison times: the first step at or after each multiple of output.compare_dt"}};
-  for (const auto& d : defs) out.comparison.definitions[d[0]] = d[1];
-  label_discrete(s, md);
-  out.models.push_back(std::move(mc));
-  out.models.push_back(std::move(md));
-  if (s.models.front() == "discrete") std::swap(out.models[0], out.models[1]);
+  if (rc && rd) {
+    out.comparison = compare_results(s, done["continuum"], done["discrete"]);
+    out.comparison.fields = all.take_fields();
+    const char* defs[][2] = {
+        {"fields/A_distance", "||A_discrete - A_continuum||_2 / ||A_continuum||_2 over the nodes at time t"},
+        {"fields/sigma_bar_distance", "the same relative L2 distance for sigma_bar"},
+        {"fields/v_distance", "the same relative L2 distance for the slip rate v"},
+        {"fields/u_distance", "the same relative L2 distance for the slip u"},
+        {"fields/t", "comparison times: the first step at or after each multiple of output.compare_dt"}};
+    for (const auto& d : defs) out.comparison.definitions[d[0]] = d[1];
+  }
+  if (rm) label_mean_field(s, done["mean_field"]);
+  if (rd) label_discrete(s, done["discrete"]);
+  for (const auto& m : s.models) out.models.push_back(std::move(done.at(m)));  // in the scene's order
   return out;
 }
 
@@ -249,7 +288,10 @@ SceneResult run_scene_alongside(const Scene& s, const RunControl& ctl) {
     out.models = run_scene(s, ctl);
     const ModelResult* c = nullptr;
     const ModelResult* d = nullptr;
-    for (const auto& m : out.models) (m.model == "continuum" ? c : d) = &m;
+    for (const auto& m : out.models) {
+      if (m.model == "continuum") c = &m;
+      if (m.model == "discrete") d = &m;
+    }
     if (c && d) out.comparison = compare_results(s, *c, *d);
     return out;
   };
@@ -259,9 +301,10 @@ SceneResult run_scene_alongside(const Scene& s, const RunControl& ctl) {
     if constexpr (is_adaptive<Tag>) {
       return separately();  // not reached: runs_in_lockstep excludes the adaptive integrator
     } else {
+      if (!s.lists("discrete")) return lockstep<Tag, discrete::CountLaw>(s, std::nullopt, ctl);
       return with_discrete_law(s, [&](auto make_discrete) {
         const core::Bulk probe(s.bulk, s.drive, s.interface, s.grid.dx);
-        return lockstep<Tag>(s, continuum::FrictionLaw(s.interface, probe.nodes()), make_discrete(probe.nodes()), ctl);
+        return lockstep<Tag>(s, std::optional(make_discrete(probe.nodes())), ctl);
       });
     }
   });

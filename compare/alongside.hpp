@@ -14,8 +14,9 @@
 
 namespace slipfront::compare {
 
-/// Run every model of the scene; with both continuum and discrete on a bulk scene, in lockstep.
-/// Each model's result is bit-identical to the one run_scene gives for it alone.
+/// Run every model of the scene; with two or more of continuum, mean_field and discrete on a bulk scene on a
+/// fixed-step integrator, in lockstep. Each model's result is bit-identical to the one run_scene gives for it
+/// alone. The comparison (fields, events) is of the continuum and the discrete model, when both run.
 SceneResult run_scene_alongside(const Scene& s, const RunControl& ctl);
 
 /// The end-of-run comparison of two models' results (events, series, friction law); fields are

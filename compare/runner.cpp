@@ -45,6 +45,11 @@ std::vector<ModelResult> run_scene(const Scene& s, const RunControl& ctl) {
           return run_model<Law>(s, make, m, ctl, header, from);
         }));
         label_discrete(s, out.back());
+      } else if (m == "mean_field") {
+        // docs/model.md §2.2: the ensemble's N → ∞ limit, deterministic, on the same bulk, grid and time step.
+        auto make = [&](std::size_t n) { return mean_field_law(s, n); };
+        out.push_back(run_model<discrete::MeanFieldLaw>(s, make, m, ctl, header, from));
+        label_mean_field(s, out.back());
       } else {
         throw std::invalid_argument("unknown model '" + m + "'");
       }

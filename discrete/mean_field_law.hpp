@@ -17,8 +17,8 @@
 //   2. contacts    n_b' = relax(n_b, T_b, 1 + d_b, Δt)   (T_b, d_b frozen: the exact expected two-state step)
 //   3. stress      σ̄' = relax(σ̄, α Ā v, Y |v|, Δt), Ā = (A + A')/2, Y at the start of the step
 // Reads discrete.threshold, width, renewal and bins; not contacts_per_site, seed, representation, noise or
-// threads. With w = 0 it is the continuum law (docs/model.md §2.2: bit for bit with quenched renewal, to an
-// ulp of T = A + (1 − A) per step with fresh renewal).
+// threads. With w = 0 it is the continuum law bit for bit (docs/model.md §2.2: one class, T = 1 exactly — fresh
+// renewal's T = A + (1 − A) rounds to 1 for every A in [0, 1] — and otherwise FrictionLaw's operations).
 //
 // The adaptive integrator does not apply: its state is [A | σ̄] per site (core::SmoothLaw), this law's is the
 // B attached fractions and σ̄, and Y is piecewise constant in τ with B jumps (docs/model.md §2.2).

@@ -90,7 +90,7 @@ bool discrete_listed(const Scene& s) { return s.lists("discrete"); }
 bool thresholds_used(const Scene& s) { return s.lists("discrete") || s.lists("mean_field"); }
 bool contact_statistics(const Scene& s) { return discrete_listed(s) && s.discrete.contact_statistics; }
 bool both_models_bulk(const Scene& s) {
-  return s.lists("discrete") && s.lists("continuum") && s.drive.loading != Loading::imposed_rate;
+  return s.lists("discrete") && (s.lists("continuum") || s.lists("mean_field")) && s.drive.loading != Loading::imposed_rate;
 }
 
 // Pointer to member `M` of section `S` of a Scene, as a Target.
@@ -204,7 +204,7 @@ const std::vector<Section>& schema() {
            {"energy", at<&Scene::output, &OutputParams::energy>, always, "always"},
            {"ages", at<&Scene::output, &OutputParams::ages>, always, "always"},
            {"compare_dt", at<&Scene::output, &OutputParams::compare_dt>, both_models_bulk,
-            "when models lists continuum and discrete on a bulk scene"},
+            "when models lists discrete and continuum or mean_field on a bulk scene"},
            {"contact_snapshot_dt", at<&Scene::output, &OutputParams::contact_snapshot_dt>, contact_statistics,
             "with discrete.contact_statistics = true"},
            // the strip's body snapshots (/<model>/bulk/, docs/output.md): a chain has no body to snapshot

@@ -41,8 +41,9 @@ class FieldComparison {
 
 // The models of a scene in lockstep (a SteppedRun, compare/run_loop.hpp): the continuum, the mean-field and
 // the discrete run, each present when the scene lists it (at least two). Each step advances every present run
-// (a model that has ended, failed or been interrupted stays where it is) and compares the continuum's and the
-// discrete model's fields when both run and are at the same time.
+// (a model that has ended, failed or been interrupted stays where it is) and compares the discrete model's
+// fields with its reference's when both are at the same time: mean_field when it runs (docs/model.md §2.2: the
+// ensemble's own N → ∞ limit), else the continuum.
 template <class RunC, class RunM, class RunD>
 class Lockstep {
  public:
@@ -62,14 +63,12 @@ class Lockstep {
     each([&](auto& r) { out += (out.empty() ? "" : "+") + r.model(); });
     return out;
   }
-  void start() {
-    if (c_ && d_) fields_.observe(0.0, c_->sim(), d_->sim());
-  }
+  void start() { observe_fields(); }
   void step() {
     each([](auto& r) {
       if (!r.done()) r.step();
     });
-    if (c_ && d_ && c_->time() == d_->time()) fields_.observe(c_->time(), c_->sim(), d_->sim());  // both advanced
+    observe_fields();
   }
   void interrupt() {
     each([](auto& r) {
@@ -87,6 +86,11 @@ class Lockstep {
   }
 
  private:
+  // the discrete model against its reference, when both advanced to the same time (neither failed)
+  void observe_fields() {
+    if (d_ && m_ && m_->time() == d_->time()) fields_.observe(d_->time(), m_->sim(), d_->sim());
+    else if (d_ && !m_ && c_ && c_->time() == d_->time()) fields_.observe(d_->time(), c_->sim(), d_->sim());
+  }
   template <class F>
   void each(F&& f) const {
     if (c_) f(*c_);
@@ -126,16 +130,18 @@ SceneResult lockstep(const Scene& s, std::optional<LawD> discrete_law, const Run
   if (rm) done["mean_field"] = rm->finish();
   if (rd) done["discrete"] = rd->finish();
   SceneResult out;
-  if (rc && rd) {
-    out.comparison = compare_results(s, done["continuum"], done["discrete"]);
+  if (rd && (rc || rm)) {
+    const ModelResult& ref = done[rm ? "mean_field" : "continuum"];
+    out.comparison = compare_results(s, ref, done["discrete"], rc ? &done["continuum"] : nullptr);
     out.comparison.fields = all.take_fields();
-    const char* defs[][2] = {
-        {"fields/A_distance", "||A_discrete - A_continuum||_2 / ||A_continuum||_2 over the nodes at time t"},
+    const std::string r = ref.model;
+    const std::pair<const char*, std::string> defs[] = {
+        {"fields/A_distance", "||A_discrete - A_" + r + "||_2 / ||A_" + r + "||_2 over the nodes at time t"},
         {"fields/sigma_bar_distance", "the same relative L2 distance for sigma_bar"},
         {"fields/v_distance", "the same relative L2 distance for the slip rate v"},
         {"fields/u_distance", "the same relative L2 distance for the slip u"},
         {"fields/t", "comparison times: the first step at or after each multiple of output.compare_dt"}};
-    for (const auto& d : defs) out.comparison.definitions[d[0]] = d[1];
+    for (const auto& [k, v] : defs) out.comparison.definitions[k] = v;
   }
   if (rm) label_mean_field(s, done["mean_field"]);
   if (rd) label_discrete(s, done["discrete"]);
@@ -226,8 +232,10 @@ void compare_contacts(const ModelResult& c, const ModelResult& d, Comparison& cm
 
 }  // namespace
 
-Comparison compare_results(const Scene& s, const ModelResult& c, const ModelResult& d) {
+Comparison compare_results(const Scene& s, const ModelResult& c, const ModelResult& d, const ModelResult* predictor) {
   Comparison cmp;
+  cmp.reference = c.model;
+  const std::string& ref = c.model;  // the reference: continuum, or mean_field (docs/model.md §2.2)
   for (const auto& [name, field] : event_fields)
     for (const bool alt : {false, true}) {
       const double a = (alt ? c.events_alt : c.events).*field, b = (alt ? d.events_alt : d.events).*field;
@@ -235,10 +243,10 @@ Comparison compare_results(const Scene& s, const ModelResult& c, const ModelResu
       const std::string key = std::string(name) + (alt ? "_alt" : "");
       cmp.metrics[key + "_rel_diff"] = relative_difference(a, b);
       cmp.metrics[key + "_abs_diff"] = b - a;
-      cmp.definitions[key + "_rel_diff"] = "(discrete - continuum) / |continuum| of the event " + key +
+      cmp.definitions[key + "_rel_diff"] = "(discrete - " + ref + ") / |" + ref + "| of the event " + key +
                                            " (docs/model.md §3; _alt: on the A_tip_alt front); 0 where both are 0, NaN where "
-                                           "one model has no such event or only the continuum value is 0 (see _abs_diff)";
-      cmp.definitions[key + "_abs_diff"] = "discrete - continuum of the event " + key + "; NaN where one model has no such event";
+                                           "one model has no such event or only the " + ref + " value is 0 (see _abs_diff)";
+      cmp.definitions[key + "_abs_diff"] = "discrete - " + ref + " of the event " + key + "; NaN where one model has no such event";
     }
   const bool zero_d = !core::is_one_dimensional(s.drive.loading);
   const char* col = zero_d && s.drive.loading == core::Loading::imposed_rate ? "sigma" : "drive_force";
@@ -246,7 +254,7 @@ Comparison compare_results(const Scene& s, const ModelResult& c, const ModelResu
     cmp.metrics[std::string(col) + "_history_distance"] = relative_rms_distance(c.series.at(col), d.series.at(col));
     cmp.definitions[std::string(col) + "_history_distance"] =
         std::string("relative RMS distance over the series times of ") + col +
-        "(t): sqrt(sum (discrete - continuum)^2 / sum continuum^2)";
+        "(t): sqrt(sum (discrete - " + ref + ")^2 / sum " + ref + "^2)";
   }
   if (c.series.count("tip_x") && d.series.count("tip_x")) {
     const auto& a = c.series.at("tip_x");
@@ -257,9 +265,10 @@ Comparison compare_results(const Scene& s, const ModelResult& c, const ModelResu
       if (std::isfinite(a[i]) && std::isfinite(b[i])) { s2 += (a[i] - b[i]) * (a[i] - b[i]); ++n; }
     cmp.metrics["tip_x_rms_difference"] = n ? std::sqrt(s2 / n) : nan;
     cmp.definitions["tip_x_rms_difference"] =
-        "RMS over the series times where both fronts exist of x_tip(discrete) - x_tip(continuum)";
+        "RMS over the series times where both fronts exist of x_tip(discrete) - x_tip(" + ref + ")";
   }
-  compare_contacts(c, d, cmp);
+  // the contact statistics against the only prediction there is, the continuum's (docs/model.md §7.2)
+  if (predictor) compare_contacts(*predictor, d, cmp);
   if (c.friction_law.count("sigma") && d.friction_law.count("sigma")) {
     const auto& a = c.friction_law.at("sigma");
     const auto& b = d.friction_law.at("sigma");
@@ -273,9 +282,10 @@ Comparison compare_results(const Scene& s, const ModelResult& c, const ModelResu
     }
     cmp.metrics["friction_law_max_rel_diff"] = mx;
     cmp.metrics["friction_law_rms_rel_diff"] = a.empty() ? nan : std::sqrt(s2 / static_cast<double>(a.size()));
-    cmp.definitions["friction_law_max_rel_diff"] = "max over v of |sigma_discrete - sigma_continuum| / sigma_continuum";
-    cmp.definitions["friction_law_rms_rel_diff"] = "RMS over v of (sigma_discrete - sigma_continuum) / sigma_continuum";
-    cmp.definitions["friction_law/rel_diff"] = "(sigma_discrete - sigma_continuum) / sigma_continuum at each v";
+    const std::string sr = "sigma_" + ref;
+    cmp.definitions["friction_law_max_rel_diff"] = "max over v of |sigma_discrete - " + sr + "| / " + sr;
+    cmp.definitions["friction_law_rms_rel_diff"] = "RMS over v of (sigma_discrete - " + sr + ") / " + sr;
+    cmp.definitions["friction_law/rel_diff"] = "(sigma_discrete - " + sr + ") / " + sr + " at each v";
   }
   return cmp;
 }
@@ -287,12 +297,14 @@ SceneResult run_scene_alongside(const Scene& s, const RunControl& ctl) {
     SceneResult out;
     out.models = run_scene(s, ctl);
     const ModelResult* c = nullptr;
+    const ModelResult* m = nullptr;
     const ModelResult* d = nullptr;
-    for (const auto& m : out.models) {
-      if (m.model == "continuum") c = &m;
-      if (m.model == "discrete") d = &m;
+    for (const auto& r : out.models) {
+      if (r.model == "continuum") c = &r;
+      if (r.model == "mean_field") m = &r;
+      if (r.model == "discrete") d = &r;
     }
-    if (c && d) out.comparison = compare_results(s, *c, *d);
+    if (d && (m || c)) out.comparison = compare_results(s, m ? *m : *c, *d, c);
     return out;
   };
   if (!runs_in_lockstep(s)) return separately();

@@ -340,7 +340,7 @@ void put_memory(const Scene& s, Estimate& e, MemoryItems items) {
     state_max = std::max(state_max, m.state_bytes);
     state_sum += m.state_bytes;
   }
-  if (runs_in_lockstep(s) && s.lists("continuum") && s.lists("discrete") && s.output.compare_dt > 0) {
+  if (runs_in_lockstep(s) && s.lists("discrete") && s.output.compare_dt > 0) {  // the discrete model vs its reference
     const double bytes = growth * 5.0 * word * samples(s.time.t_end, s.output.compare_dt, e.steps);
     records += bytes;
     items.emplace_back("field comparison (output.compare_dt)", bytes);

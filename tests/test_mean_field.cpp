@@ -24,6 +24,7 @@
 #include "apps/config.hpp"
 #include "apps/h5in.hpp"
 #include "compare/alongside.hpp"
+#include "compare/difference.hpp"
 #include "compare/runner.hpp"
 #include "compare/scene.hpp"
 #include "discrete/mean_field_law.hpp"
@@ -155,6 +156,7 @@ TEST_CASE("mean_field: equals the count representation with the noise off at the
   for (const Case c : {Case{"uniform", 0.2, "fresh", 64, false}, Case{"uniform", 0.2, "quenched", 64, false},
                        Case{"gaussian", 0.3, "fresh", 16, true}, Case{"weibull", 0.3, "quenched", 16, true}}) {
     compare::Scene s = disordered(fig1_short({"mean_field", "discrete"}), c.threshold, c.w, c.renewal, c.bins);
+    s.bulk.length = 100.0;  // the slow front is near x = 15 at t = 40: a third of fig1's sites is enough
     if (c.implicit) s = implicit(s);
     INFO(c.threshold << " w = " << c.w << ", " << c.renewal << ", " << c.bins << " bins"
                      << (c.implicit ? ", implicit" : ", explicit"));
@@ -185,6 +187,38 @@ TEST_CASE("mean_field: equals the count representation with the noise off at the
   REQUIRE(r.size() == 2);
   CHECK(same(r[0].friction_law.at("sigma"), r[1].friction_law.at("sigma")));
   CHECK(same(r[0].friction_law.at("A"), r[1].friction_law.at("A")));
+}
+
+TEST_CASE("mean_field: /compare takes mean_field as the discrete model's reference, and noise off it finds no difference",
+          "[mean_field][compare]") {
+  // fig1 to t = 40, w = 0.2 uniform quenched, 16 classes, the count representation with the noise off: the discrete
+  // model IS its reference here, so every difference the comparison layer reports must be exactly 0
+  compare::Scene s = disordered(fig1_short({"continuum", "mean_field", "discrete"}), "uniform", 0.2, "quenched", 16);
+  s = implicit(s);
+  s.output.compare_dt = 5.0;
+  s.validate();
+  const auto r = compare::run_scene_alongside(s, {});
+  REQUIRE(r.models.size() == 3);
+  const auto& cmp = r.comparison;
+  CHECK(cmp.reference == "mean_field");
+  REQUIRE(cmp.fields.at("t").size() == 9);  // t = 0, 5, ..., 40
+  for (const char* f : {"A_distance", "sigma_bar_distance", "v_distance", "u_distance"})
+    for (const double x : cmp.fields.at(f)) CHECK(x == 0.0);
+  std::size_t events = 0;
+  for (const auto& [k, v] : cmp.metrics)
+    if (k.size() > 9 && k.substr(k.size() - 9) == "_rel_diff") {
+      INFO(k);
+      CHECK(v == 0.0);
+      ++events;
+    }
+  CHECK(events >= 2);  // t_star on both fronts (t_hat comes later, ≈ 69 at this w)
+  CHECK(cmp.metrics.at("drive_force_history_distance") == 0.0);
+  // without mean_field the reference is the continuum, as before (and there the disorder shows: t* moved)
+  compare::Scene two = s;
+  two.models = {"continuum", "discrete"};
+  const auto r2 = compare::run_scene_alongside(two, {});
+  CHECK(r2.comparison.reference == "continuum");
+  CHECK(r2.comparison.metrics.at("t_star_rel_diff") < -0.1);
 }
 
 TEST_CASE("mean_field: the law's state, classes and overloaded fraction", "[mean_field]") {
@@ -252,6 +286,12 @@ TEST_CASE("mean_field: a disordered fig1 with the three models runs through the 
   CHECK(same(alone[0].events.t_star, mf.events.t_star));
   // and the population balance is no continuum: disorder moves first yield (≈ 25.7 without it)
   CHECK(mf.events.t_star < 0.8 * f.models[0].events.t_star);
+  // /compare holds the discrete model against its reference, mean_field (issue 21 item 2), and says so
+  CHECK(f.comparison.reference == "mean_field");
+  CHECK(h5.strings.at("/compare@reference") == "mean_field");
+  const auto& d = f.models[2];
+  CHECK(same(f.comparison.metrics.at("t_star_rel_diff"), compare::relative_difference(mf.events.t_star, d.events.t_star)));
+  CHECK(testing::contains(f.comparison.definitions.at("t_star_rel_diff"), "(discrete - mean_field)"));
 }
 
 TEST_CASE("mean_field: three models in lockstep restart from a checkpoint bit for bit", "[mean_field][checkpoint]") {
@@ -271,7 +311,13 @@ TEST_CASE("mean_field: three models in lockstep restart from a checkpoint bit fo
   REQUIRE(whole.models.size() == 3);
   CHECK(whole.models[0].model == "discrete");  // in the scene's order
   CHECK(whole.models[1].model == "mean_field");
-  CHECK(!whole.comparison.fields.empty());  // continuum vs discrete, as before
+  // the discrete model against mean_field (its own N → ∞ limit), online fields and events
+  CHECK(whole.comparison.reference == "mean_field");
+  REQUIRE(!whole.comparison.fields.empty());
+  CHECK(whole.comparison.fields.at("A_distance").front() == 0.0);  // t = 0: both stuck, A = 1
+  CHECK(whole.comparison.fields.at("A_distance").back() > 0.0);     // N = 50: noise
+  CHECK(same(whole.comparison.metrics.at("t_star_abs_diff"),
+             whole.models[0].events.t_star - whole.models[1].events.t_star));
   std::vector<std::pair<double, std::string>> saved;
   compare::RunControl ctl;
   ctl.checkpoint_every = 10.0;

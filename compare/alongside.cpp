@@ -115,7 +115,7 @@ SceneResult lockstep(const Scene& s, std::optional<LawD> discrete_law, const Run
   std::optional<DynamicRun<LawM, typename Tag::template stepper<LawM>>> rm;
   std::optional<DynamicRun<LawD, typename Tag::template stepper<LawD>>> rd;
   if (s.lists("continuum")) rc.emplace(s, LawC(s.interface, nodes), "continuum", contact_prediction_for(s, "continuum"));
-  if (s.lists("mean_field")) rm.emplace(s, mean_field_law(s, nodes), "mean_field");
+  if (s.lists("mean_field")) rm.emplace(s, mean_field_law(s, nodes), "mean_field", contact_prediction_for(s, "mean_field"));
   if (discrete_law) rd.emplace(s, std::move(*discrete_law), "discrete");
   Lockstep all(s, rc ? &*rc : nullptr, rm ? &*rm : nullptr, rd ? &*rd : nullptr);
   if (!ctl.restart.empty()) {  // continue from a checkpoint (RunControl)
@@ -132,7 +132,7 @@ SceneResult lockstep(const Scene& s, std::optional<LawD> discrete_law, const Run
   SceneResult out;
   if (rd && (rc || rm)) {
     const ModelResult& ref = done[rm ? "mean_field" : "continuum"];
-    out.comparison = compare_results(s, ref, done["discrete"], rc ? &done["continuum"] : nullptr);
+    out.comparison = compare_results(s, ref, done["discrete"], &ref);
     out.comparison.fields = all.take_fields();
     const std::string r = ref.model;
     const std::pair<const char*, std::string> defs[] = {
@@ -149,8 +149,9 @@ SceneResult lockstep(const Scene& s, std::optional<LawD> discrete_law, const Run
   return out;
 }
 
-// docs/model.md §7.2: the agent's lifetime and age histograms by region and phase against the continuum's
-// prediction (compare/contacts.hpp: contact_fit), one row per statistic and class.
+// docs/model.md §7.2: the agent's lifetime and age histograms by region and phase against the prediction of
+// c — the continuum's, or the mean-field law's at the scene's w (docs/model.md §2.2) — (compare/contacts.hpp:
+// contact_fit), one row per statistic and class.
 void compare_contacts(const ModelResult& c, const ModelResult& d, Comparison& cmp) {
   double min_p = 1.0, max_ks = 0.0, tested = 0.0;
   // Ages are sampled at the contact snapshots only, so they are compared at the snapshots at which both
@@ -207,7 +208,7 @@ void compare_contacts(const ModelResult& c, const ModelResult& d, Comparison& cm
   cmp.metrics["contacts_tested"] = tested;
   cmp.metrics["contacts_min_p"] = min_p;
   cmp.metrics["contacts_max_ks_distance"] = max_ks;
-  const std::pair<const char*, const char*> defs[] = {
+  const std::pair<const char*, std::string> defs[] = {
       {"contacts_tested", "number of (statistic, class) rows of contacts/ tested: at least 500 measured contacts and 2 merged bins"},
       {"contacts_min_p", "smallest p_value over the tested rows of contacts/ (false-alarm rate per row alpha: reject at p < alpha; "
                          "Bonferroni over contacts_tested rows for the family)"},
@@ -218,7 +219,7 @@ void compare_contacts(const ModelResult& c, const ModelResult& d, Comparison& cm
       {"contacts/region", "0 behind the front, 1 in the tip band (|x - x_f| <= measure.tip_band), 2 ahead (x_f: the "
                           "A_tip_alt tip of each model)"},
       {"contacts/measured_total", "contacts counted by the agent in this statistic and class"},
-      {"contacts/predicted_total", "expected count predicted from the continuum fields (N x the expected fraction)"},
+      {"contacts/predicted_total", "expected count predicted from the " + c.model + " fields (N x the expected fraction)"},
       {"contacts/ks_distance", "max over the class_time_edges of |F_measured - F_predicted| (whole population, binned CDFs)"},
       {"contacts/thinned_size", "m: size of the uniform subsample of the measured contacts tested (min(2000, measured_total))"},
       {"contacts/chi2", "Pearson X^2 of the subsample against the predicted proportions, bins merged until each expects >= 5"},
@@ -267,7 +268,7 @@ Comparison compare_results(const Scene& s, const ModelResult& c, const ModelResu
     cmp.definitions["tip_x_rms_difference"] =
         "RMS over the series times where both fronts exist of x_tip(discrete) - x_tip(" + ref + ")";
   }
-  // the contact statistics against the only prediction there is, the continuum's (docs/model.md §7.2)
+  // the contact statistics against the predictor's prediction (docs/model.md §7.2: the reference's own)
   if (predictor) compare_contacts(*predictor, d, cmp);
   if (c.friction_law.count("sigma") && d.friction_law.count("sigma")) {
     const auto& a = c.friction_law.at("sigma");
@@ -304,7 +305,7 @@ SceneResult run_scene_alongside(const Scene& s, const RunControl& ctl) {
       if (r.model == "mean_field") m = &r;
       if (r.model == "discrete") d = &r;
     }
-    if (d && (m || c)) out.comparison = compare_results(s, m ? *m : *c, *d, c);
+    if (d && (m || c)) out.comparison = compare_results(s, m ? *m : *c, *d, m ? m : c);
     return out;
   };
   if (!runs_in_lockstep(s)) return separately();

@@ -23,8 +23,8 @@ SceneResult run_scene_alongside(const Scene& s, const RunControl& ctl);
 /// The end-of-run comparison of the discrete model's results with its reference's (events, series, friction
 /// law): the reference is mean_field when the scene lists it (docs/model.md §2.2: the ensemble's own N → ∞
 /// limit at its w), else the continuum; fields are compared online by run_scene_alongside and merged in. The
-/// contact statistics are compared with `predictor`'s prediction (the continuum's, docs/model.md §7.2; nullptr:
-/// no continuum ran, no contact comparison).
+/// contact statistics are compared with `predictor`'s prediction (docs/model.md §7.2; the run_scene_alongside
+/// passes the reference: mean_field's prediction at the scene's w, else the continuum's; nullptr: none).
 Comparison compare_results(const Scene& s, const ModelResult& reference, const ModelResult& discrete,
                            const ModelResult* predictor);
 /// The same with the reference as the predictor (the continuum).

@@ -12,7 +12,9 @@ namespace slipfront::compare {
 ContactPredictionSetup contact_prediction_for(const Scene& s, std::string_view model) {
   const bool agent_statistics = s.lists("discrete") && s.discrete.contact_statistics && s.discrete.representation != "count";
   ContactPredictionSetup setup;
-  if (model == "continuum" && agent_statistics && s.time.integrator != core::Integrator::adaptive_rosenbrock)
+  // the continuum's prediction (w = 0) and, when it runs, the mean-field law's at the scene's w (docs/model.md §2.2)
+  if ((model == "continuum" || model == "mean_field") && agent_statistics &&
+      s.time.integrator != core::Integrator::adaptive_rosenbrock)
     setup.mode = ContactPredictionSetup::Mode::on;
   return setup;
 }

@@ -64,6 +64,17 @@ double MeanFieldLaw::overloaded_fraction(std::size_t i, double v) const {
   return over / area_[i];
 }
 
+void MeanFieldLaw::class_rates(std::size_t, double v, double area, double sigma_bar, std::span<const double> n,
+                               std::span<double> hazard, std::span<double> total) const {
+  const std::size_t k = overloaded_classes(core::contact_stress(sigma_bar + ip_.eta * v, area));
+  const double inv_b = 1.0 / static_cast<double>(nbins_), detach = ip_.kappa * std::abs(v);
+  const double pool = quenched_ ? 0.0 : (1.0 - area) * inv_b;
+  for (std::size_t b = 0; b < nbins_; ++b) {
+    hazard[b] = b < k ? detach : 0.0;
+    total[b] = quenched_ ? inv_b : n[b] + pool;
+  }
+}
+
 core::LawStepInfo MeanFieldLaw::advance(double dt, std::span<const double> v) {
   if (v.size() != size()) throw std::invalid_argument("MeanFieldLaw::advance: one slip rate per site");
   if (dt != cached_dt_) {  // the classes with no detachment relax at rate 1: their factors depend on dt only

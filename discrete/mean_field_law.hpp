@@ -36,7 +36,7 @@ namespace slipfront::discrete {
 
 class MeanFieldLaw {
  public:
-  static constexpr core::LawHooks hooks{.checkpoints = true};
+  static constexpr core::LawHooks hooks{.class_hazards = true, .checkpoints = true};
   /// Validates the threshold keys of `dp` (DiscreteParams::validate_threshold_law: ParamError naming the
   /// key). All sites start stuck: A = 1 (1/B in every class), σ̄ = 0.
   MeanFieldLaw(const core::InterfaceParams& ip, const DiscreteParams& dp, std::size_t sites);
@@ -77,6 +77,16 @@ class MeanFieldLaw {
   double detached(std::size_t i, std::size_t b) const;
   /// Y_i: the overloaded fraction of the attached contacts of site i at slip rate v, now.
   double overloaded_fraction(std::size_t i, double v) const;
+
+  // --- the contact prediction by threshold class (core::LawHooks::class_hazards, compare/contacts.hpp) ------
+  std::size_t prediction_classes() const { return nbins_; }
+  /// Every site's attached fractions per class [sites × B] (class fastest).
+  std::span<const double> attached_classes() const { return att_; }
+  /// For a step at slip rate v from the start-of-step state (area, sigma_bar, n = the site's B class fractions),
+  /// what advance() freezes in each class b: the detachment hazard κ|v| θ(τ − s_b), τ = |σ̄ + ηv|/A, and the total
+  /// T_b the class relaxes to (fresh n_b + (1 − A)/B, quenched 1/B).
+  void class_rates(std::size_t i, double v, double area, double sigma_bar, std::span<const double> n,
+                   std::span<double> hazard, std::span<double> total) const;
 
   /// Checkpoints (core::Archive): the attached fractions and σ̄; a state of another size or binning is refused.
   template <class Ar>

@@ -24,6 +24,7 @@
 #include "apps/config.hpp"
 #include "apps/h5in.hpp"
 #include "compare/alongside.hpp"
+#include "compare/contacts.hpp"
 #include "compare/difference.hpp"
 #include "compare/runner.hpp"
 #include "compare/scene.hpp"
@@ -219,6 +220,85 @@ TEST_CASE("mean_field: /compare takes mean_field as the discrete model's referen
   const auto r2 = compare::run_scene_alongside(two, {});
   CHECK(r2.comparison.reference == "continuum");
   CHECK(r2.comparison.metrics.at("t_star_rel_diff") < -0.1);
+}
+
+TEST_CASE("mean_field: at w = 0 its contact prediction is the continuum's bit for bit, and /compare tests it",
+          "[mean_field][contacts]") {
+  // fig1 on L = 60, dx = 1 to t = 60 (first yield, the slow front), implicit dt = 0.02, the agent with contact
+  // statistics (N = 200): the continuum and the mean-field law both predict the agent's lifetimes and ages
+  // (docs/model.md §7.2, §2.2); with one class, T = 1 and the same hazard the two predictions are one computation
+  compare::Scene s = implicit(testing::fig1_scene());
+  s.models = {"continuum", "mean_field", "discrete"};
+  s.bulk.length = 60.0;
+  s.grid.dx = 1.0;
+  s.time.t_end = 60.0;
+  s.output.snapshot_dt = 5.0;
+  s.output.contact_snapshot_dt = 5.0;
+  s.discrete.representation = "agent";
+  s.discrete.contacts_per_site = 200;
+  s.discrete.contact_statistics = true;
+  s.discrete.seed = 4;
+  s.validate();
+  const auto r = compare::run_scene_alongside(s, {});
+  REQUIRE(r.models.size() == 3);
+  const auto &c = r.models[0], &m = r.models[1];
+  REQUIRE(m.model == "mean_field");
+  REQUIRE(c.contacts_2d.count("class_lifetime_counts") == 1);
+  CHECK(same(c.contacts, m.contacts));
+  REQUIRE(c.contacts_2d.size() == m.contacts_2d.size());
+  for (const auto& [k, t] : c.contacts_2d) {
+    INFO(k);
+    CHECK(same(t.data, m.contacts_2d.at(k).data));
+  }
+  double lifetimes = 0.0;
+  for (const double x : m.contacts_2d.at("class_lifetime_counts").data) lifetimes += x;
+  CHECK(lifetimes > 1000.0);  // the prediction saw detachments (the slow front)
+  // /compare: the agent against the mean-field prediction (the reference's own), rows written
+  CHECK(r.comparison.reference == "mean_field");
+  CHECK(r.comparison.metrics.count("contacts_min_p") == 1);
+  CHECK(testing::contains(r.comparison.definitions.at("contacts/predicted_total"), "mean_field fields"));
+}
+
+TEST_CASE("mean_field: the contact prediction by threshold class keeps the law's own attached fraction",
+          "[mean_field][contacts]") {
+  // One site at imposed slip rates (a history 0.3 → 3 → 0.5), w = 0.3, 16 classes, both renewals: the prediction's
+  // attached mass is the law's A (its births and decays are the law's class updates), and every attachment ends
+  // attached or detached (attachments = detachments + attached − attached at t = 0). Tolerance: the prediction drops
+  // cohorts below 1e-14 of a site (compare/contacts.hpp), at most one per class per step: 6000 × 16 × 1e-14 ≈ 1e-9
+  // (round-off adds ~steps × classes × 2^-53 ≈ 1e-11). Measured: 1.0e-12 (a first bound of 1e-12 had ignored both).
+  for (const char* renewal : {"fresh", "quenched"}) {
+    INFO(renewal);
+    discrete::DiscreteParams d;
+    d.threshold = "uniform";
+    d.width = 0.3;
+    d.bins = 16;
+    d.renewal = renewal;
+    discrete::MeanFieldLaw law(testing::paper_interface(), d, 1);
+    compare::ContactPrediction p(1, 1000.0, 1.0, 0.1, 1e4, law.prediction_classes());
+    p.start(law.attached_classes());
+    std::vector<double> n0, hazard(16), total(16);
+    const double dt = 0.01;
+    double worst = 0.0;
+    for (int k = 0; k < 6000; ++k) {
+      const double v = k < 2000 ? 0.3 : k < 4000 ? 3.0 : 0.5;
+      const double a0 = law.contact_area()[0], sb0 = law.sigma_bar()[0];
+      n0.assign(law.attached_classes().begin(), law.attached_classes().end());
+      law.class_rates(0, v, a0, sb0, n0, hazard, total);
+      const double vv[1] = {v};
+      law.advance(dt, vv);
+      p.step(dt, n0, hazard, total);
+      worst = std::max(worst, std::abs(p.attached_mass(0) - law.contact_area()[0]));
+    }
+    std::printf("mean-field contact prediction (%s): max |attached mass - A| = %.3g\n", renewal, worst);
+    CHECK(worst < 6000 * 16 * 1e-14);
+    CHECK(law.contact_area()[0] < 0.6);  // it slid: the overloaded classes lost contacts
+    const auto t = p.tables();
+    const double att = t.columns.at("attachments_total_per_site")[0], det = t.columns.at("detachments_total_per_site")[0];
+    CHECK(att == Approx(det + 1000.0 * (law.contact_area()[0] - 1.0)).epsilon(1e-9));
+    double lifetimes = 0.0;
+    for (const double x : t.tables.at("class_lifetime_counts").data) lifetimes += x;
+    CHECK(lifetimes == Approx(det).epsilon(1e-9));
+  }
 }
 
 TEST_CASE("mean_field: the law's state, classes and overloaded fraction", "[mean_field]") {

@@ -86,9 +86,11 @@ bool implicit_integrator(const Scene& s) {
 }
 bool adaptive(const Scene& s) { return !imposed(s) && s.time.integrator == core::Integrator::adaptive_rosenbrock; }
 bool discrete_listed(const Scene& s) { return s.lists("discrete"); }
+// the threshold law's keys: the discrete model's and the mean-field law's (docs/model.md §2.2)
+bool thresholds_used(const Scene& s) { return s.lists("discrete") || s.lists("mean_field"); }
 bool contact_statistics(const Scene& s) { return discrete_listed(s) && s.discrete.contact_statistics; }
 bool both_models_bulk(const Scene& s) {
-  return s.lists("discrete") && s.lists("continuum") && s.drive.loading != Loading::imposed_rate;
+  return s.lists("discrete") && (s.lists("continuum") || s.lists("mean_field")) && s.drive.loading != Loading::imposed_rate;
 }
 
 // Pointer to member `M` of section `S` of a Scene, as a Target.
@@ -202,7 +204,7 @@ const std::vector<Section>& schema() {
            {"energy", at<&Scene::output, &OutputParams::energy>, always, "always"},
            {"ages", at<&Scene::output, &OutputParams::ages>, always, "always"},
            {"compare_dt", at<&Scene::output, &OutputParams::compare_dt>, both_models_bulk,
-            "when models lists continuum and discrete on a bulk scene"},
+            "when models lists discrete and continuum or mean_field on a bulk scene"},
            {"contact_snapshot_dt", at<&Scene::output, &OutputParams::contact_snapshot_dt>, contact_statistics,
             "with discrete.contact_statistics = true"},
            // the strip's body snapshots (/<model>/bulk/, docs/output.md): a chain has no body to snapshot
@@ -215,14 +217,14 @@ const std::vector<Section>& schema() {
        {
            {"contacts_per_site", at<&Scene::discrete, &D::contacts_per_site>, discrete_listed,
             "when models lists discrete"},
-           {"threshold", at<&Scene::discrete, &D::threshold>, discrete_listed, "when models lists discrete"},
-           {"width", at<&Scene::discrete, &D::width>, discrete_listed, "when models lists discrete"},
-           {"renewal", at<&Scene::discrete, &D::renewal>, discrete_listed, "when models lists discrete"},
+           {"threshold", at<&Scene::discrete, &D::threshold>, thresholds_used, "when models lists discrete or mean_field"},
+           {"width", at<&Scene::discrete, &D::width>, thresholds_used, "when models lists discrete or mean_field"},
+           {"renewal", at<&Scene::discrete, &D::renewal>, thresholds_used, "when models lists discrete or mean_field"},
            {"representation", at<&Scene::discrete, &D::representation>, discrete_listed,
             "when models lists discrete"},
            {"noise", at<&Scene::discrete, &D::noise>, discrete_listed, "when models lists discrete"},
            {"seed", at<&Scene::discrete, &D::seed>, discrete_listed, "when models lists discrete"},
-           {"bins", at<&Scene::discrete, &D::bins>, discrete_listed, "when models lists discrete"},
+           {"bins", at<&Scene::discrete, &D::bins>, thresholds_used, "when models lists discrete or mean_field"},
            {"contact_statistics", at<&Scene::discrete, &D::contact_statistics>, discrete_listed,
             "when models lists discrete"},
            {"threads", at<&Scene::discrete, &D::threads>, discrete_listed, "when models lists discrete"},

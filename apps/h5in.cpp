@@ -213,6 +213,9 @@ compare::Comparison read_comparison(hid_t file) {
   compare::Comparison c;
   if (!has_link(file, "compare")) return c;
   Hid g(H5Gopen2(file, "compare", H5P_DEFAULT), H5Gclose, "open group /compare");
+  c.reference = attr_string_or(g.get(), "reference", "/compare", "continuum");  // absent: the continuum
+  if (c.reference != "continuum" && c.reference != "mean_field")
+    throw InputError("/compare reference names '" + c.reference + "' (expected continuum or mean_field)");
   for (const auto& name : link_names(g.get(), "/compare")) {
     const std::string where = "/compare/" + name;
     if (object_type(g.get(), name, where) == H5I_GROUP) {

@@ -356,8 +356,9 @@ void write_meta(hid_t file, const RunMeta& meta, compare::RunStatus status, cons
 void comparison_group(hid_t file, const compare::Comparison& c) {
   Hid g = make_group(file, "compare", "/compare");
   attr_string(g.get(), "description",
-              "metrics of the comparison layer (discrete vs continuum on the same scene, grid and time step); "
+              "metrics of the comparison layer (discrete vs " + c.reference + " on the same scene, grid and time step); "
               "each dataset has its definition as the attribute 'definition'");
+  if (c.reference != "continuum") attr_string(g.get(), "reference", c.reference);  // (files before mean_field: none)
   auto definition = [&](const std::string& key) {
     const auto it = c.definitions.find(key);
     return it == c.definitions.end() ? key : it->second;

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <optional>
 #include <stdexcept>
 
 #include "compare/contacts.hpp"
@@ -37,75 +39,119 @@ class FieldComparison {
   Columns c_;
 };
 
-// Two models on one scene in lockstep (a SteppedRun, compare/run_loop.hpp): each step advances both
-// (a model that has ended, failed or been interrupted stays where it is) and compares their fields when
-// both are at the same time.
-template <class RunA, class RunB>
+// The models of a scene in lockstep (a SteppedRun, compare/run_loop.hpp): the continuum, the mean-field and
+// the discrete run, each present when the scene lists it (at least two). Each step advances every present run
+// (a model that has ended, failed or been interrupted stays where it is) and compares the discrete model's
+// fields with its reference's when both are at the same time: mean_field when it runs (docs/model.md §2.2: the
+// ensemble's own N → ∞ limit), else the continuum.
+template <class RunC, class RunM, class RunD>
 class Lockstep {
  public:
   static constexpr std::int64_t progress_every = 1024;
   static constexpr bool checkpointable = true;
-  Lockstep(const Scene& s, RunA& a, RunB& b) : s_(s), a_(a), b_(b), fields_(s.output.compare_dt) {}
-  bool done() const { return a_.done() && b_.done(); }
-  double time() const { return a_.time(); }
+  Lockstep(const Scene& s, RunC* c, RunM* m, RunD* d) : s_(s), c_(c), m_(m), d_(d), fields_(s.output.compare_dt) {}
+  bool done() const {
+    bool all = true;
+    each([&](auto& r) { all = all && r.done(); });
+    return all;
+  }
+  double time() const { return c_ ? c_->time() : m_ ? m_->time() : d_->time(); }
   double end() const { return s_.time.t_end; }
-  void start() { fields_.observe(0.0, a_.sim(), b_.sim()); }
+  /// The present models in the order continuum, mean_field, discrete, joined by '+'.
+  std::string label() const {
+    std::string out;
+    each([&](auto& r) { out += (out.empty() ? "" : "+") + r.model(); });
+    return out;
+  }
+  void start() { observe_fields(); }
   void step() {
-    if (!a_.done()) a_.step();
-    if (!b_.done()) b_.step();
-    if (a_.time() == b_.time()) fields_.observe(a_.time(), a_.sim(), b_.sim());  // both advanced (none failed)
+    each([](auto& r) {
+      if (!r.done()) r.step();
+    });
+    observe_fields();
   }
   void interrupt() {
-    if (!a_.done()) a_.interrupt();
-    if (!b_.done()) b_.interrupt();
+    each([](auto& r) {
+      if (!r.done()) r.interrupt();
+    });
   }
   Columns take_fields() { return fields_.take(); }
   template <class Ar>
   void serialize(Ar& ar) {
-    ar.tag("lockstep");
-    ar(a_, b_, fields_);
+    // continuum+discrete keep the tag and layout of the checkpoints written before mean_field existed
+    const std::string tag = c_ && d_ && !m_ ? std::string("lockstep") : "lockstep " + label();
+    ar.tag(tag.c_str());
+    each([&](auto& r) { ar(r); });
+    ar(fields_);
   }
 
  private:
+  // the discrete model against its reference, when both advanced to the same time (neither failed)
+  void observe_fields() {
+    if (d_ && m_ && m_->time() == d_->time()) fields_.observe(d_->time(), m_->sim(), d_->sim());
+    else if (d_ && !m_ && c_ && c_->time() == d_->time()) fields_.observe(d_->time(), c_->sim(), d_->sim());
+  }
+  template <class F>
+  void each(F&& f) const {
+    if (c_) f(*c_);
+    if (m_) f(*m_);
+    if (d_) f(*d_);
+  }
   const Scene& s_;
-  RunA& a_;
-  RunB& b_;
+  RunC* c_;
+  RunM* m_;
+  RunD* d_;
   FieldComparison fields_;
 };
 
-template <class Tag, class LawA, class LawB>
-SceneResult lockstep(const Scene& s, LawA a, LawB b, const RunControl& ctl) {
-  DynamicRun<LawA, typename Tag::template stepper<LawA>> ra(s, std::move(a), "continuum",
-                                                            contact_prediction_for(s, "continuum"));
-  DynamicRun<LawB, typename Tag::template stepper<LawB>> rb(s, std::move(b), "discrete");
-  Lockstep both(s, ra, rb);
+// The listed models of {continuum, mean_field, discrete} in lockstep on the integrator Tag; `discrete_law` is
+// the discrete model's law when the scene lists it.
+template <class Tag, class LawD>
+SceneResult lockstep(const Scene& s, std::optional<LawD> discrete_law, const RunControl& ctl) {
+  using LawC = continuum::FrictionLaw;
+  using LawM = discrete::MeanFieldLaw;
+  const std::size_t nodes = core::Bulk(s.bulk, s.drive, s.interface, s.grid.dx).nodes();
+  std::optional<DynamicRun<LawC, typename Tag::template stepper<LawC>>> rc;
+  std::optional<DynamicRun<LawM, typename Tag::template stepper<LawM>>> rm;
+  std::optional<DynamicRun<LawD, typename Tag::template stepper<LawD>>> rd;
+  if (s.lists("continuum")) rc.emplace(s, LawC(s.interface, nodes), "continuum", contact_prediction_for(s, "continuum"));
+  if (s.lists("mean_field")) rm.emplace(s, mean_field_law(s, nodes), "mean_field", contact_prediction_for(s, "mean_field"));
+  if (discrete_law) rd.emplace(s, std::move(*discrete_law), "discrete");
+  Lockstep all(s, rc ? &*rc : nullptr, rm ? &*rm : nullptr, rd ? &*rd : nullptr);
   if (!ctl.restart.empty()) {  // continue from a checkpoint (RunControl)
     core::Archive ar = core::Archive::reader(ctl.restart);
-    ar(both);
+    ar(all);
   } else {
-    both.start();
+    all.start();
   }
-  run_loop(both, ctl, "continuum+discrete");
+  run_loop(all, ctl, all.label());
+  std::map<std::string, ModelResult> done;
+  if (rc) done["continuum"] = rc->finish();
+  if (rm) done["mean_field"] = rm->finish();
+  if (rd) done["discrete"] = rd->finish();
   SceneResult out;
-  ModelResult mc = ra.finish(), md = rb.finish();
-  out.comparison = compare_results(s, mc, md);
-  out.comparison.fields = both.take_fields();
-  const char* defs[][2] = {
-      {"fields/A_distance", "||A_discrete - A_continuum||_2 / ||A_continuum||_2 over the nodes at time t"},
-      {"fields/sigma_bar_distance", "the same relative L2 distance for sigma_bar"},
-      {"fields/v_distance", "the same relative L2 distance for the slip rate v"},
-      {"fields/u_distance", "the same relative L2 distance for the slip u"},
-      {"fields/t", "comparison times: the first step at or after each multiple of output.compare_dt"}};
-  for (const auto& d : defs) out.comparison.definitions[d[0]] = d[1];
-  label_discrete(s, md);
-  out.models.push_back(std::move(mc));
-  out.models.push_back(std::move(md));
-  if (s.models.front() == "discrete") std::swap(out.models[0], out.models[1]);
+  if (rd && (rc || rm)) {
+    const ModelResult& ref = done[rm ? "mean_field" : "continuum"];
+    out.comparison = compare_results(s, ref, done["discrete"], &ref);
+    out.comparison.fields = all.take_fields();
+    const std::string r = ref.model;
+    const std::pair<const char*, std::string> defs[] = {
+        {"fields/A_distance", "||A_discrete - A_" + r + "||_2 / ||A_" + r + "||_2 over the nodes at time t"},
+        {"fields/sigma_bar_distance", "the same relative L2 distance for sigma_bar"},
+        {"fields/v_distance", "the same relative L2 distance for the slip rate v"},
+        {"fields/u_distance", "the same relative L2 distance for the slip u"},
+        {"fields/t", "comparison times: the first step at or after each multiple of output.compare_dt"}};
+    for (const auto& [k, v] : defs) out.comparison.definitions[k] = v;
+  }
+  if (rm) label_mean_field(s, done["mean_field"]);
+  if (rd) label_discrete(s, done["discrete"]);
+  for (const auto& m : s.models) out.models.push_back(std::move(done.at(m)));  // in the scene's order
   return out;
 }
 
-// docs/model.md §7.2: the agent's lifetime and age histograms by region and phase against the continuum's
-// prediction (compare/contacts.hpp: contact_fit), one row per statistic and class.
+// docs/model.md §7.2: the agent's lifetime and age histograms by region and phase against the prediction of
+// c — the continuum's, or the mean-field law's at the scene's w (docs/model.md §2.2) — (compare/contacts.hpp:
+// contact_fit), one row per statistic and class.
 void compare_contacts(const ModelResult& c, const ModelResult& d, Comparison& cmp) {
   double min_p = 1.0, max_ks = 0.0, tested = 0.0;
   // Ages are sampled at the contact snapshots only, so they are compared at the snapshots at which both
@@ -162,7 +208,7 @@ void compare_contacts(const ModelResult& c, const ModelResult& d, Comparison& cm
   cmp.metrics["contacts_tested"] = tested;
   cmp.metrics["contacts_min_p"] = min_p;
   cmp.metrics["contacts_max_ks_distance"] = max_ks;
-  const std::pair<const char*, const char*> defs[] = {
+  const std::pair<const char*, std::string> defs[] = {
       {"contacts_tested", "number of (statistic, class) rows of contacts/ tested: at least 500 measured contacts and 2 merged bins"},
       {"contacts_min_p", "smallest p_value over the tested rows of contacts/ (false-alarm rate per row alpha: reject at p < alpha; "
                          "Bonferroni over contacts_tested rows for the family)"},
@@ -173,7 +219,7 @@ void compare_contacts(const ModelResult& c, const ModelResult& d, Comparison& cm
       {"contacts/region", "0 behind the front, 1 in the tip band (|x - x_f| <= measure.tip_band), 2 ahead (x_f: the "
                           "A_tip_alt tip of each model)"},
       {"contacts/measured_total", "contacts counted by the agent in this statistic and class"},
-      {"contacts/predicted_total", "expected count predicted from the continuum fields (N x the expected fraction)"},
+      {"contacts/predicted_total", "expected count predicted from the " + c.model + " fields (N x the expected fraction)"},
       {"contacts/ks_distance", "max over the class_time_edges of |F_measured - F_predicted| (whole population, binned CDFs)"},
       {"contacts/thinned_size", "m: size of the uniform subsample of the measured contacts tested (min(2000, measured_total))"},
       {"contacts/chi2", "Pearson X^2 of the subsample against the predicted proportions, bins merged until each expects >= 5"},
@@ -187,8 +233,10 @@ void compare_contacts(const ModelResult& c, const ModelResult& d, Comparison& cm
 
 }  // namespace
 
-Comparison compare_results(const Scene& s, const ModelResult& c, const ModelResult& d) {
+Comparison compare_results(const Scene& s, const ModelResult& c, const ModelResult& d, const ModelResult* predictor) {
   Comparison cmp;
+  cmp.reference = c.model;
+  const std::string& ref = c.model;  // the reference: continuum, or mean_field (docs/model.md §2.2)
   for (const auto& [name, field] : event_fields)
     for (const bool alt : {false, true}) {
       const double a = (alt ? c.events_alt : c.events).*field, b = (alt ? d.events_alt : d.events).*field;
@@ -196,10 +244,10 @@ Comparison compare_results(const Scene& s, const ModelResult& c, const ModelResu
       const std::string key = std::string(name) + (alt ? "_alt" : "");
       cmp.metrics[key + "_rel_diff"] = relative_difference(a, b);
       cmp.metrics[key + "_abs_diff"] = b - a;
-      cmp.definitions[key + "_rel_diff"] = "(discrete - continuum) / |continuum| of the event " + key +
+      cmp.definitions[key + "_rel_diff"] = "(discrete - " + ref + ") / |" + ref + "| of the event " + key +
                                            " (docs/model.md §3; _alt: on the A_tip_alt front); 0 where both are 0, NaN where "
-                                           "one model has no such event or only the continuum value is 0 (see _abs_diff)";
-      cmp.definitions[key + "_abs_diff"] = "discrete - continuum of the event " + key + "; NaN where one model has no such event";
+                                           "one model has no such event or only the " + ref + " value is 0 (see _abs_diff)";
+      cmp.definitions[key + "_abs_diff"] = "discrete - " + ref + " of the event " + key + "; NaN where one model has no such event";
     }
   const bool zero_d = !core::is_one_dimensional(s.drive.loading);
   const char* col = zero_d && s.drive.loading == core::Loading::imposed_rate ? "sigma" : "drive_force";
@@ -207,7 +255,7 @@ Comparison compare_results(const Scene& s, const ModelResult& c, const ModelResu
     cmp.metrics[std::string(col) + "_history_distance"] = relative_rms_distance(c.series.at(col), d.series.at(col));
     cmp.definitions[std::string(col) + "_history_distance"] =
         std::string("relative RMS distance over the series times of ") + col +
-        "(t): sqrt(sum (discrete - continuum)^2 / sum continuum^2)";
+        "(t): sqrt(sum (discrete - " + ref + ")^2 / sum " + ref + "^2)";
   }
   if (c.series.count("tip_x") && d.series.count("tip_x")) {
     const auto& a = c.series.at("tip_x");
@@ -218,9 +266,10 @@ Comparison compare_results(const Scene& s, const ModelResult& c, const ModelResu
       if (std::isfinite(a[i]) && std::isfinite(b[i])) { s2 += (a[i] - b[i]) * (a[i] - b[i]); ++n; }
     cmp.metrics["tip_x_rms_difference"] = n ? std::sqrt(s2 / n) : nan;
     cmp.definitions["tip_x_rms_difference"] =
-        "RMS over the series times where both fronts exist of x_tip(discrete) - x_tip(continuum)";
+        "RMS over the series times where both fronts exist of x_tip(discrete) - x_tip(" + ref + ")";
   }
-  compare_contacts(c, d, cmp);
+  // the contact statistics against the predictor's prediction (docs/model.md §7.2: the reference's own)
+  if (predictor) compare_contacts(*predictor, d, cmp);
   if (c.friction_law.count("sigma") && d.friction_law.count("sigma")) {
     const auto& a = c.friction_law.at("sigma");
     const auto& b = d.friction_law.at("sigma");
@@ -234,9 +283,10 @@ Comparison compare_results(const Scene& s, const ModelResult& c, const ModelResu
     }
     cmp.metrics["friction_law_max_rel_diff"] = mx;
     cmp.metrics["friction_law_rms_rel_diff"] = a.empty() ? nan : std::sqrt(s2 / static_cast<double>(a.size()));
-    cmp.definitions["friction_law_max_rel_diff"] = "max over v of |sigma_discrete - sigma_continuum| / sigma_continuum";
-    cmp.definitions["friction_law_rms_rel_diff"] = "RMS over v of (sigma_discrete - sigma_continuum) / sigma_continuum";
-    cmp.definitions["friction_law/rel_diff"] = "(sigma_discrete - sigma_continuum) / sigma_continuum at each v";
+    const std::string sr = "sigma_" + ref;
+    cmp.definitions["friction_law_max_rel_diff"] = "max over v of |sigma_discrete - " + sr + "| / " + sr;
+    cmp.definitions["friction_law_rms_rel_diff"] = "RMS over v of (sigma_discrete - " + sr + ") / " + sr;
+    cmp.definitions["friction_law/rel_diff"] = "(sigma_discrete - " + sr + ") / " + sr + " at each v";
   }
   return cmp;
 }
@@ -248,9 +298,14 @@ SceneResult run_scene_alongside(const Scene& s, const RunControl& ctl) {
     SceneResult out;
     out.models = run_scene(s, ctl);
     const ModelResult* c = nullptr;
+    const ModelResult* m = nullptr;
     const ModelResult* d = nullptr;
-    for (const auto& m : out.models) (m.model == "continuum" ? c : d) = &m;
-    if (c && d) out.comparison = compare_results(s, *c, *d);
+    for (const auto& r : out.models) {
+      if (r.model == "continuum") c = &r;
+      if (r.model == "mean_field") m = &r;
+      if (r.model == "discrete") d = &r;
+    }
+    if (d && (m || c)) out.comparison = compare_results(s, m ? *m : *c, *d, m ? m : c);
     return out;
   };
   if (!runs_in_lockstep(s)) return separately();
@@ -259,9 +314,10 @@ SceneResult run_scene_alongside(const Scene& s, const RunControl& ctl) {
     if constexpr (is_adaptive<Tag>) {
       return separately();  // not reached: runs_in_lockstep excludes the adaptive integrator
     } else {
+      if (!s.lists("discrete")) return lockstep<Tag, discrete::CountLaw>(s, std::nullopt, ctl);
       return with_discrete_law(s, [&](auto make_discrete) {
         const core::Bulk probe(s.bulk, s.drive, s.interface, s.grid.dx);
-        return lockstep<Tag>(s, continuum::FrictionLaw(s.interface, probe.nodes()), make_discrete(probe.nodes()), ctl);
+        return lockstep<Tag>(s, std::optional(make_discrete(probe.nodes())), ctl);
       });
     }
   });

@@ -14,12 +14,22 @@
 
 namespace slipfront::compare {
 
-/// Run every model of the scene; with both continuum and discrete on a bulk scene, in lockstep.
-/// Each model's result is bit-identical to the one run_scene gives for it alone.
+/// Run every model of the scene; with two or more of continuum, mean_field and discrete on a bulk scene on a
+/// fixed-step integrator, in lockstep. Each model's result is bit-identical to the one run_scene gives for it
+/// alone. The comparison (fields, events) is of the discrete model with its reference (mean_field when listed,
+/// else the continuum; compare_results), when the discrete model and a reference run.
 SceneResult run_scene_alongside(const Scene& s, const RunControl& ctl);
 
-/// The end-of-run comparison of two models' results (events, series, friction law); fields are
-/// compared online by run_scene_alongside and merged in.
-Comparison compare_results(const Scene& s, const ModelResult& continuum, const ModelResult& discrete);
+/// The end-of-run comparison of the discrete model's results with its reference's (events, series, friction
+/// law): the reference is mean_field when the scene lists it (docs/model.md §2.2: the ensemble's own N → ∞
+/// limit at its w), else the continuum; fields are compared online by run_scene_alongside and merged in. The
+/// contact statistics are compared with `predictor`'s prediction (docs/model.md §7.2; the run_scene_alongside
+/// passes the reference: mean_field's prediction at the scene's w, else the continuum's; nullptr: none).
+Comparison compare_results(const Scene& s, const ModelResult& reference, const ModelResult& discrete,
+                           const ModelResult* predictor);
+/// The same with the reference as the predictor (the continuum).
+inline Comparison compare_results(const Scene& s, const ModelResult& continuum, const ModelResult& discrete) {
+  return compare_results(s, continuum, discrete, &continuum);
+}
 
 }  // namespace slipfront::compare

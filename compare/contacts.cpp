@@ -19,12 +19,20 @@ double weight(double x, double dt) { return x != 0.0 ? -std::expm1(-x * dt) / x 
 }  // namespace
 
 ContactPrediction::ContactPrediction(std::size_t sites, double contacts_per_site, double hazard_scale,
-                                     double cohort_width, double age_cap)
+                                     double cohort_width, double age_cap, std::size_t classes)
     : n_contacts_(contacts_per_site), scale_(hazard_scale), width_(cohort_width), age_cap_(age_cap),
-      edges_(discrete::class_time_edges()), bins_(edges_.size() - 1), cohorts_(sites), compacted_size_(sites, 0),
+      classes_(classes), edges_(discrete::class_time_edges()), bins_(edges_.size() - 1), cohorts_(sites * classes),
+      compacted_size_(sites * classes, 0),
       lifetime_(core::FrontClasses::count * bins_, 0.0), age_(core::FrontClasses::count * bins_, 0.0),
       detach_total_(sites, 0.0), attach_total_(sites, 0.0), snapshots_per_phase_(core::FrontClasses::phases, 0.0) {
   if (!(cohort_width > 0.0)) throw std::invalid_argument("ContactPrediction: cohort_width must be > 0");
+  if (classes == 0) throw std::invalid_argument("ContactPrediction: at least one class per site");
+}
+
+std::size_t ContactPrediction::cohorts(std::size_t i) const {
+  std::size_t n = 0;
+  for (std::size_t b = 0; b < classes_; ++b) n += cohorts_[i * classes_ + b].size();
+  return n;
 }
 
 void ContactPrediction::start(std::span<const double> areas) {
@@ -117,22 +125,25 @@ void ContactPrediction::add_ages(std::vector<double>& table, std::size_t cls, co
   row[b] += mass * (1.0 - done);
 }
 
-void ContactPrediction::step(double dt, std::span<const double> area0, std::span<const double> hazard) {
+void ContactPrediction::step(double dt, std::span<const double> area0, std::span<const double> hazard,
+                             std::span<const double> totals) {
   const double t0 = clock_, t1 = t0 + dt;
   clock_ = t1;
-  for (std::size_t i = 0; i < cohorts_.size(); ++i) {
-    const double h = hazard[i], hs = scale_ * h, a0 = area0[i], r = 1.0 + h;
+  for (std::size_t k = 0; k < cohorts_.size(); ++k) {
+    const std::size_t i = k / classes_;  // the site of sub-population k
+    const double h = hazard[k], hs = scale_ * h, a0 = area0[k], r = 1.0 + h, T = totals.empty() ? 1.0 : totals[k];
     const std::size_t cls = front_.class_of(i);
-    // attachments over the step, ∫(1 − A) dt with A(u) = 1/r + (a0 − 1/r) e^{−ru} (the law's own A)
-    const double births = dt - (dt / r + (a0 - 1.0 / r) * weight(r, dt));
-    auto& cs = cohorts_[i];
+    // attachments over the step, ∫(T − A) dt with A(u) = T/r + (a0 − T/r) e^{−ru} (the law's own A; T = 1:
+    // the same operations as before classes existed, 1.0 × x being x)
+    const double births = T * dt - (T * dt / r + (a0 - T / r) * weight(r, dt));
+    auto& cs = cohorts_[k];
     double lost = 0.0, survivors = births;
     if (hs > 0.0) {
       // every cohort decays by e^{−hs dt}; its loss goes to the lifetimes of the site's class
       const double decay = std::exp(-hs * dt), loss = -std::expm1(-hs * dt);
       std::size_t w = 0;
-      for (std::size_t k = 0; k < cs.size(); ++k) {
-        Cohort c = cs[k];
+      for (std::size_t j = 0; j < cs.size(); ++j) {
+        Cohort c = cs[j];
         const double gone = c.mass * loss;
         c.mass *= decay;
         lost += gone;
@@ -142,7 +153,7 @@ void ContactPrediction::step(double dt, std::span<const double> area0, std::span
       cs.resize(w);
       // the contacts born in the step that are still attached at its end, and the lifetimes of the
       // others: density ∝ e^{−hs l} (dt − l) on [0, dt] (constant attachment rate over the step)
-      survivors = (1.0 - 1.0 / r) * weight(hs, dt) - (a0 - 1.0 / r) * std::exp(-hs * dt) * weight(r - hs, dt);
+      survivors = (T - T / r) * weight(hs, dt) - (a0 - T / r) * std::exp(-hs * dt) * weight(r - hs, dt);
       const double gone_new = std::max(0.0, births - survivors);
       lost += gone_new;
       if (gone_new > 0.0) {
@@ -166,7 +177,7 @@ void ContactPrediction::step(double dt, std::span<const double> area0, std::span
     if (survivors >= negligible) cs.push_back({t0, t1, survivors, hs, t1 - mean_back(hs, dt)});
     detach_total_[i] += lost * n_contacts_;
     attach_total_[i] += births * n_contacts_;
-    if (cs.size() > compacted_size_[i] + 16) compact(i, t1);
+    if (cs.size() > compacted_size_[k] + 16) compact(k, t1);
     max_cohorts_ = std::max(max_cohorts_, cs.size());
   }
 }
@@ -203,9 +214,9 @@ void ContactPrediction::snapshot() {
   const std::size_t regions = core::FrontClasses::regions, first = regions * front_.phase * bins_;
   std::vector<double> before(age_.begin() + static_cast<std::ptrdiff_t>(first),
                              age_.begin() + static_cast<std::ptrdiff_t>(first + regions * bins_));
-  for (std::size_t i = 0; i < cohorts_.size(); ++i) {
-    const std::size_t cls = front_.class_of(i);
-    for (const Cohort& c : cohorts_[i]) add_ages(age_, cls, c, t, c.mass * n_contacts_);
+  for (std::size_t k = 0; k < cohorts_.size(); ++k) {
+    const std::size_t cls = front_.class_of(k / classes_);
+    for (const Cohort& c : cohorts_[k]) add_ages(age_, cls, c, t, c.mass * n_contacts_);
   }
   for (std::size_t k = 0; k < regions * bins_; ++k) region_age_rows_.push_back(age_[first + k] - before[k]);
 }
@@ -213,16 +224,18 @@ void ContactPrediction::snapshot() {
 double ContactPrediction::mean_age(std::size_t i) const {
   const double t = clock_;
   double m = 0.0, s = 0.0;
-  for (const Cohort& c : cohorts_[i]) {
-    m += c.mass;
-    s += c.mass * (t - c.mean);
-  }
+  for (std::size_t b = 0; b < classes_; ++b)
+    for (const Cohort& c : cohorts_[i * classes_ + b]) {
+      m += c.mass;
+      s += c.mass * (t - c.mean);
+    }
   return m > 0.0 ? s / m : std::numeric_limits<double>::quiet_NaN();
 }
 
 double ContactPrediction::attached_mass(std::size_t i) const {
   double m = 0.0;
-  for (const Cohort& c : cohorts_[i]) m += c.mass;
+  for (std::size_t b = 0; b < classes_; ++b)
+    for (const Cohort& c : cohorts_[i * classes_ + b]) m += c.mass;
   return m;
 }
 

@@ -22,6 +22,13 @@
 // whatever t_end. With hazard_scale ≠ 1 the survival uses s·h (a deliberately wrong prediction for
 // tests: the births still follow the run's A).
 //
+// Threshold classes (the mean-field law, docs/model.md §2.2): with `classes` = B > 1 every site holds B
+// sub-populations, one per threshold class b, each with its own hazard h_b = κ|v| θ(τ − s_b) and the total
+// T_b its attached fraction n_b relaxes to (dn_b/dt = (T_b − n_b) − h_b n_b: fresh T_b = n_b + (1 − A)/B,
+// quenched 1/B; the continuum is B = 1, T = 1). Its attachments over a step are then ∫(T_b − n_b) with the
+// law's own n_b(u); everything else is per sub-population as above, and the classes of a site share its
+// region and phase, so the tables are those of the site's contacts whatever their threshold.
+//
 // The goodness of fit (contact_fit): per class, the measured histogram against the predicted one on the
 // class edges (docs/contacts.md §4): bins merged from the small end until each predicted probability is
 // at least 5/m (the rest joins the last group); the measured population thinned to a uniform subsample
@@ -46,17 +53,21 @@ class ContactPrediction {
  public:
   /// `contacts_per_site` N scales the expected counts; every site starts with one cohort of age 0
   /// and the mass given by initial_areas (call start() before the first step).
+  /// `classes` threshold classes per site (1: the continuum).
   ContactPrediction(std::size_t sites, double contacts_per_site, double hazard_scale = 1.0,
-                    double cohort_width = 0.1, double age_cap = 1e4);
-  /// The state at t = 0: every attached contact has age 0.
+                    double cohort_width = 0.1, double age_cap = 1e4, std::size_t classes = 1);
+  /// The state at t = 0: every attached contact has age 0. `areas` [sites × classes]: the attached fraction
+  /// of each class of each site (class fastest).
   void start(std::span<const double> areas);
   /// Where the sites are relative to the continuum's front, and its phase (docs/model.md §7.2).
   void set_front(const core::FrontClasses& f) { front_ = f; }
-  /// One step of length dt of the continuum run: A at its start and the hazard Θκ|v| frozen over it.
+  /// One step of length dt of the continuum run: A at its start and the hazard Θκ|v| frozen over it
+  /// (per class, [sites × classes], with the totals T of the header comment; empty totals: T = 1).
   /// Times are kept on the prediction's own clock Σ dt, accumulated as the agent accumulates its time
   /// (AgentLaw::time), so that ages that fall exactly on a bin edge (before first yield every age is t)
   /// land in the same bin in both.
-  void step(double dt, std::span<const double> area0, std::span<const double> hazard);
+  void step(double dt, std::span<const double> area0, std::span<const double> hazard,
+            std::span<const double> totals = {});
   /// A contact snapshot at the end of the last step: the expected ages of the attached contacts.
   void snapshot();
   double time() const { return clock_; }
@@ -69,14 +80,16 @@ class ContactPrediction {
   /// contact_snapshots_per_phase, detachments_total_per_site, attachments_total_per_site,
   /// lifetime_total).
   core::ContactTables tables() const;
-  std::size_t max_cohorts() const { return max_cohorts_; }  ///< the most cohorts any site held
-  std::size_t cohorts(std::size_t i) const { return cohorts_[i].size(); }
+  std::size_t max_cohorts() const { return max_cohorts_; }  ///< the most cohorts any site (class) held
+  std::size_t cohorts(std::size_t i) const;                 ///< cohorts of site i, all its classes
+  std::size_t classes() const { return classes_; }
 
   /// Checkpoints (core::Archive).
   template <class Ar>
   void serialize(Ar& ar) {
     ar(n_contacts_, scale_, width_, age_cap_, clock_, front_, edges_, bins_, cohorts_, compacted_size_, lifetime_, age_,
-       detach_total_, attach_total_, snapshots_per_phase_, snapshot_t_, snapshot_phase_, region_age_rows_, max_cohorts_);
+       detach_total_, attach_total_, snapshots_per_phase_, snapshot_t_, snapshot_phase_, region_age_rows_, max_cohorts_,
+       classes_);
   }
 
  private:
@@ -104,6 +117,7 @@ class ContactPrediction {
   std::size_t bin(double x) const;
 
   double n_contacts_, scale_, width_, age_cap_;
+  std::size_t classes_ = 1;    ///< threshold classes per site: cohorts_[site × classes_ + class]
   double clock_ = 0.0;
   core::FrontClasses front_;
   std::vector<double> edges_;  ///< class_time_edges

@@ -177,6 +177,7 @@ class DynamicRun {
       throw core::ArchiveError("checkpoint: the contact prediction of the checkpoint and of this run differ");
     if (predict_) ar(*predict_);
     ar(predict_prefix_, a0_, sb0_, hazard_);
+    if constexpr (Law::hooks.class_hazards) ar(n0_, totals_);
   }
 
   void interrupt() {
@@ -264,20 +265,31 @@ class DynamicRun {
 
   // docs/model.md §7.2: the prediction integrates the law's detachment hazard along its fields (fixed
   // steps: the step's A and σ̄ at its start and its slip rate).
+  // The mean-field law (core::LawHooks::class_hazards): the same per threshold class, with each class's
+  // attached fraction at the step's start, its hazard and its relaxation total (docs/model.md §2.2).
   void start_prediction(const ContactPredictionSetup& setup) {
+    const auto n_contacts = static_cast<double>(s_.discrete.contacts_per_site);
     if constexpr (Law::hooks.contact_hazard && !DenseStepper<Stepper>) {
-      predict_.emplace(r_.x.size(), static_cast<double>(s_.discrete.contacts_per_site), setup.hazard_scale);
+      predict_.emplace(r_.x.size(), n_contacts, setup.hazard_scale);
       predict_->start(sim_.law().contact_area());
+      predict_prefix_ = setup.prefix;
+    } else if constexpr (Law::hooks.class_hazards && !DenseStepper<Stepper>) {
+      predict_.emplace(r_.x.size(), n_contacts, setup.hazard_scale, 0.1, 1e4, sim_.law().prediction_classes());
+      predict_->start(sim_.law().attached_classes());
       predict_prefix_ = setup.prefix;
     } else {
       throw std::invalid_argument("a contact prediction needs a law with a detachment hazard "
-                                  "(core::LawHooks::contact_hazard) on a fixed-step integrator");
+                                  "(core::LawHooks::contact_hazard or class_hazards) on a fixed-step integrator");
     }
   }
   void remember_start() {
     const auto a = sim_.law().contact_area(), sb = sim_.law().sigma_bar();
     a0_.assign(a.begin(), a.end());
     sb0_.assign(sb.begin(), sb.end());
+    if constexpr (Law::hooks.class_hazards) {
+      const auto n = sim_.law().attached_classes();
+      n0_.assign(n.begin(), n.end());
+    }
   }
   void predict_step() {
     if constexpr (Law::hooks.contact_hazard && !DenseStepper<Stepper>) {
@@ -285,6 +297,16 @@ class DynamicRun {
       hazard_.resize(v.size());
       for (std::size_t i = 0; i < v.size(); ++i) hazard_[i] = sim_.law().detachment_hazard({v[i], a0_[i], sb0_[i]});
       predict_->step(sim_.dt(), a0_, hazard_);
+    } else if constexpr (Law::hooks.class_hazards && !DenseStepper<Stepper>) {
+      const auto v = sim_.slip_rate();
+      const std::size_t B = sim_.law().prediction_classes();
+      hazard_.resize(n0_.size());
+      totals_.resize(n0_.size());
+      const std::span<const double> n0(n0_);
+      for (std::size_t i = 0; i < v.size(); ++i)
+        sim_.law().class_rates(i, v[i], a0_[i], sb0_[i], n0.subspan(i * B, B), std::span(hazard_).subspan(i * B, B),
+                               std::span(totals_).subspan(i * B, B));
+      predict_->step(sim_.dt(), n0_, hazard_, totals_);
     }
   }
 
@@ -351,6 +373,7 @@ class DynamicRun {
   std::optional<ContactPrediction> predict_;  // docs/model.md §7.2 (continuum law, fixed-step steppers)
   std::string predict_prefix_;
   std::vector<double> a0_, sb0_, hazard_;     // the prediction's view of the current step
+  std::vector<double> n0_, totals_;           // ... per threshold class (core::LawHooks::class_hazards)
 };
 
 /// Bulk scenes run alone: one DynamicRun driven by run_loop (checkpoints written after `header`), and,

@@ -116,6 +116,13 @@ LawCost law_cost(const Scene& s, const std::string& model, double steps) {
     return out;
   }
   const auto& d = s.discrete;
+  if (model == "mean_field") {  // the count representation's noise-off step without engines: B fractions, A, σ̄
+    const double b = count_bins(d);
+    out.bytes_per_site = word * (b + 2.0);
+    out.ns_per_site_step = c.count_mean + c.count_mean_bin * b;
+    out.what = "mean-field law (" + count(b) + " threshold classes)";
+    return out;
+  }
   const double n = static_cast<double>(d.contacts_per_site), f = active_fraction(s.drive.loading);
   if (d.representation == "count") {
     const double b = count_bins(d), det = d.renewal == "quenched" ? b : 1.0;
@@ -333,7 +340,7 @@ void put_memory(const Scene& s, Estimate& e, MemoryItems items) {
     state_max = std::max(state_max, m.state_bytes);
     state_sum += m.state_bytes;
   }
-  if (runs_in_lockstep(s) && s.output.compare_dt > 0) {
+  if (runs_in_lockstep(s) && s.lists("discrete") && s.output.compare_dt > 0) {  // the discrete model vs its reference
     const double bytes = growth * 5.0 * word * samples(s.time.t_end, s.output.compare_dt, e.steps);
     records += bytes;
     items.emplace_back("field comparison (output.compare_dt)", bytes);
@@ -365,6 +372,12 @@ void put_notes(const Scene& s, Estimate& e) {
     e.notes.push_back("output.ages: the " + s.discrete.representation +
                       " representation carries no contact age: ages are written for the continuum model only "
                       "(discrete.representation = \"agent\" carries them)");
+  if (s.output.ages && s.lists("mean_field"))
+    e.notes.push_back("output.ages: the mean_field model carries no contact age (docs/model.md §2.2): none is written "
+                      "under /mean_field");
+  if (s.lists("mean_field") && (s.discrete.threshold == "delta" || s.discrete.width == 0.0))
+    e.notes.push_back("mean_field with discrete.width = 0: the population balance is the continuum law (docs/model.md "
+                      "§2.2); set discrete.threshold and discrete.width for a disordered interface");
   if (s.lists("discrete") && s.discrete.representation == "count" && s.discrete.threads > 1) {
     const unsigned hw = std::thread::hardware_concurrency();
     if (hw > 0 && static_cast<unsigned>(s.discrete.threads) > hw)

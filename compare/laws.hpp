@@ -1,6 +1,7 @@
 #pragma once
 // The one place that turns a scene's [discrete] section into an interface law type: every runner
-// (run_scene, run_scene_alongside) dispatches through with_discrete_law.
+// (run_scene, run_scene_alongside) dispatches through with_discrete_law, and builds the mean-field law
+// (model mean_field, docs/model.md §2.2) with mean_field_law.
 #include <string>
 
 #include "compare/result.hpp"
@@ -8,6 +9,7 @@
 #include "core/params.hpp"
 #include "discrete/agent_law.hpp"
 #include "discrete/count_law.hpp"
+#include "discrete/mean_field_law.hpp"
 #include "discrete/naive_law.hpp"
 
 namespace slipfront::compare {
@@ -36,6 +38,21 @@ inline void label_discrete(const Scene& s, ModelResult& r) {
   r.scalars["contacts_per_site"] = static_cast<double>(d.contacts_per_site);
   r.scalars["width"] = d.width;
   if (d.representation == "count") r.scalars["bins"] = d.width > 0.0 ? d.bins : 1.0;
+}
+
+/// The model mean_field (docs/model.md §2.2): the population balance at the scene's threshold law, width,
+/// renewal and binning (discrete.threshold, width, renewal, bins).
+inline discrete::MeanFieldLaw mean_field_law(const Scene& s, std::size_t sites) {
+  return discrete::MeanFieldLaw(s.interface, s.discrete, sites);
+}
+
+/// The mean-field settings as attributes of its group: only the keys it reads.
+inline void label_mean_field(const Scene& s, ModelResult& r) {
+  const auto& d = s.discrete;
+  r.labels["threshold"] = d.threshold;
+  r.labels["renewal"] = d.renewal;
+  r.scalars["width"] = d.width;
+  r.scalars["bins"] = d.width > 0.0 ? d.bins : 1.0;
 }
 
 }  // namespace slipfront::compare

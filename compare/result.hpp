@@ -86,6 +86,9 @@ struct ModelResult {
 
 /// The comparison layer's metrics of one scene run (compare/alongside.hpp), each with its definition.
 struct Comparison {
+  /// The model the discrete model is compared with: mean_field when the scene lists it (docs/model.md §2.2),
+  /// else continuum (/compare attribute `reference`).
+  std::string reference = "continuum";
   Columns fields;                                   ///< t, A_distance, sigma_bar_distance, v_distance, u_distance
   Columns friction_law;                             ///< v, rel_diff (imposed-rate sweeps)
   Columns contacts;                                 ///< goodness of fit of the contact statistics, one row per statistic and class
@@ -96,7 +99,7 @@ struct Comparison {
 
 struct SceneResult {
   std::vector<ModelResult> models;
-  Comparison comparison;  ///< empty unless the scene runs both continuum and discrete
+  Comparison comparison;  ///< empty unless the scene runs discrete and a reference (continuum or mean_field)
 };
 
 }  // namespace slipfront::compare

@@ -12,7 +12,9 @@ namespace slipfront::compare {
 ContactPredictionSetup contact_prediction_for(const Scene& s, std::string_view model) {
   const bool agent_statistics = s.lists("discrete") && s.discrete.contact_statistics && s.discrete.representation != "count";
   ContactPredictionSetup setup;
-  if (model == "continuum" && agent_statistics && s.time.integrator != core::Integrator::adaptive_rosenbrock)
+  // the continuum's prediction (w = 0) and, when it runs, the mean-field law's at the scene's w (docs/model.md §2.2)
+  if ((model == "continuum" || model == "mean_field") && agent_statistics &&
+      s.time.integrator != core::Integrator::adaptive_rosenbrock)
     setup.mode = ContactPredictionSetup::Mode::on;
   return setup;
 }
@@ -45,6 +47,11 @@ std::vector<ModelResult> run_scene(const Scene& s, const RunControl& ctl) {
           return run_model<Law>(s, make, m, ctl, header, from);
         }));
         label_discrete(s, out.back());
+      } else if (m == "mean_field") {
+        // docs/model.md §2.2: the ensemble's N → ∞ limit, deterministic, on the same bulk, grid and time step.
+        auto make = [&](std::size_t n) { return mean_field_law(s, n); };
+        out.push_back(run_model<discrete::MeanFieldLaw>(s, make, m, ctl, header, from));
+        label_mean_field(s, out.back());
       } else {
         throw std::invalid_argument("unknown model '" + m + "'");
       }

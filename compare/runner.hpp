@@ -19,9 +19,10 @@
 
 namespace slipfront::compare {
 
-/// docs/model.md §7.2: the continuum predicts the contact statistics the agent measures — on for the
-/// model "continuum" of a scene that records contact statistics with a representation that has them
-/// (discrete.contact_statistics, agent or naive), off otherwise.
+/// docs/model.md §7.2: the continuum predicts the contact statistics the agent measures, and so does the
+/// mean-field law at the scene's threshold disorder (docs/model.md §2.2) — on for the models "continuum" and
+/// "mean_field" of a scene that records contact statistics with a representation that has them
+/// (discrete.contact_statistics, agent or naive) on a fixed-step integrator, off otherwise.
 ContactPredictionSetup contact_prediction_for(const Scene& s, std::string_view model);
 
 /// Run one model on a scene, whichever loading and integrator it has. make_law(n_sites) builds the law.

@@ -27,6 +27,35 @@ const KeyDomain bulk_output_domains[] = {
     {"output.bulk_stride", K::integer, 1.0, 1e9, false, false, false, "",
      "(keep every k-th node in x and y; the last column and the top row always)"},
 };
+
+// The model names: known, at least one, none twice.
+void check_models(const std::vector<std::string>& models) {
+  using core::ParamError;
+  if (models.empty()) throw ParamError("models", "must list at least one model");
+  for (std::size_t k = 0; k < models.size(); ++k) {
+    const auto& m = models[k];
+    if (m != "continuum" && m != "mean_field" && m != "discrete")
+      throw ParamError("models", "unknown model '" + m + "' (expected continuum, mean_field or discrete)");
+    if (std::find(models.begin(), models.begin() + static_cast<std::ptrdiff_t>(k), m) != models.begin() + static_cast<std::ptrdiff_t>(k))
+      throw ParamError("models", "lists '" + m + "' twice (each model runs once)");
+  }
+}
+
+// The mean-field law's rules (docs/model.md §2.2): it reads the threshold law's keys only (checked here when the
+// discrete model, whose validate() checks them, does not run); its state is the attached fraction per threshold
+// class and Y is piecewise constant in the contact stress, so it is no rate law on [A | σ̄] for the adaptive
+// integrator to advance.
+void check_mean_field(const Scene& s) {
+  if (!s.lists("discrete")) s.discrete.validate_threshold_law();
+  if (s.time.integrator == core::Integrator::adaptive_rosenbrock && s.drive.loading != core::Loading::imposed_rate)
+    throw core::ParamError(
+        "time.integrator",
+        "the mean_field model has no adaptive integrator: its state is the attached fraction per threshold class "
+        "(discrete.bins of them), not the [A | sigma_bar] the adaptive integrator advances, and its overloaded "
+        "fraction Y jumps wherever the contact stress crosses a class's threshold (docs/model.md §2.2); use "
+        "time.integrator = \"explicit\" or \"implicit\"");
+}
+
 }  // namespace
 
 std::span<const KeyDomain> limit_key_domains() { return limit_domains; }
@@ -68,10 +97,7 @@ void LimitParams::validate() const {
 
 void Scene::validate() const {
   using core::ParamError;
-  if (models.empty()) throw ParamError("models", "must list at least one model");
-  for (const auto& m : models)
-    if (m != "continuum" && m != "discrete")
-      throw ParamError("models", "unknown model '" + m + "' (expected continuum or discrete)");
+  check_models(models);
   const bool one_d = core::is_one_dimensional(drive.loading);
   interface.validate();
   bulk.validate(one_d);
@@ -85,6 +111,7 @@ void Scene::validate() const {
   const bool continuum_runs = lists("continuum");
   const bool discrete_runs = lists("discrete");
   if (discrete_runs) discrete.validate();
+  if (lists("mean_field")) check_mean_field(*this);
   // (scene rules, not DiscreteParams::validate, which every law's constructor runs on its own parameters)
   if (discrete_runs && discrete.contact_statistics && discrete.representation == "count")  // would record nothing
     throw ParamError("discrete.contact_statistics",
@@ -93,9 +120,10 @@ void Scene::validate() const {
   // Only the continuum law and the agent representation carry contact ages (docs/model.md §7.1): a run that
   // asks for them and has neither would end "complete" with none (a run with the continuum and count or
   // naive gets the continuum's, and a note says so: compare::estimate).
-  if (output.ages && !continuum_runs && discrete.representation != "agent")
-    throw ParamError("output.ages", "the " + discrete.representation +
-                                        " representation carries no contact age and the continuum model does not run: no "
+  if (output.ages && !continuum_runs && (!discrete_runs || discrete.representation != "agent"))
+    throw ParamError("output.ages", (discrete_runs ? "the " + discrete.representation + " representation carries"
+                                                   : std::string("the mean_field model carries")) +
+                                        " no contact age and the continuum model does not run: no "
                                         "age would be written (use discrete.representation = \"agent\", or add \"continuum\" "
                                         "to models)");
   if (bulk.height != 0.0) {  // the strip (docs/model.md §9)
@@ -158,7 +186,8 @@ double strip_max_row_spacing(double mu, double alpha, double height) {
 bool Scene::lists(std::string_view model) const { return std::find(models.begin(), models.end(), model) != models.end(); }
 
 bool runs_in_lockstep(const Scene& s) {
-  return s.lists("continuum") && s.lists("discrete") && s.drive.loading != core::Loading::imposed_rate &&
+  const int listed = s.lists("continuum") + s.lists("mean_field") + s.lists("discrete");
+  return listed >= 2 && s.drive.loading != core::Loading::imposed_rate &&
          s.time.integrator != core::Integrator::adaptive_rosenbrock;
 }
 

@@ -40,6 +40,11 @@ struct LawHooks {
   /// The detachment hazard of an attached contact at a site state, detachment_hazard(SiteState): what
   /// the contact prediction (compare/contacts.hpp) integrates along the law's own fields.
   bool contact_hazard = false;
+  /// The same per threshold class (the mean-field law, docs/model.md §2.2): prediction_classes() classes per
+  /// site, attached_classes() their attached fractions [sites × classes], and class_rates(i, v, A, σ̄, n,
+  /// hazard, total) the hazard and relaxation total of each class of site i for a step at slip rate v from
+  /// the start-of-step state (A, σ̄, n) (compare/contacts.hpp: ContactPrediction with classes).
+  bool class_hazards = false;
   /// Checkpoints (core/archive.hpp): serialize(ar) names the whole state, random streams included.
   bool checkpoints = false;
 };
@@ -94,6 +99,12 @@ template <class L>
 concept HasContactHazard = requires(const L& cl, SiteState st) {
   { cl.detachment_hazard(st) } -> std::same_as<double>;
 };
+template <class L>
+concept HasClassHazards = requires(const L& cl, std::span<const double> n, std::span<double> out) {
+  { cl.prediction_classes() } -> std::convertible_to<std::size_t>;
+  { cl.attached_classes() } -> std::convertible_to<std::span<const double>>;
+  cl.class_rates(std::size_t{0}, 0.0, 0.0, 0.0, n, out, out);
+};
 
 /// The law's declared hooks against its members: each declared hook must be there with its signature,
 /// and each hook that is there must be declared (a hook the law has but does not declare would never be
@@ -112,6 +123,9 @@ consteval bool check_hooks() {
                 "observe_front(FrontClasses) and contact_tables()");
   static_assert(h.contact_hazard == HasContactHazard<L>,
                 "LawHooks::contact_hazard must be declared exactly when the law has detachment_hazard(SiteState)");
+  static_assert(h.class_hazards == HasClassHazards<L>,
+                "LawHooks::class_hazards must be declared exactly when the law has prediction_classes(), attached_classes() "
+                "and class_rates(i, v, A, sigma_bar, n, hazard, total)");
   static_assert(h.checkpoints == requires(L& law, Archive& ar) { law.serialize(ar); },
                 "LawHooks::checkpoints must be declared exactly when the law has serialize(ar)");
   return true;

@@ -63,4 +63,19 @@ void DiscreteParams::validate() const {
   core::check_in_domain(domain("discrete.threads"), threads);
 }
 
+void DiscreteParams::validate_threshold_law() const {
+  using core::ParamError;
+  auto domain = [](const char* key) { return *core::find_key_domain(key_domains(), key); };
+  if (!one_of(threshold, domain("discrete.threshold").choices))
+    throw ParamError("discrete.threshold",
+                     "unknown distribution '" + threshold + "' (expected delta, uniform, gaussian or weibull)");
+  core::check_in_domain(domain("discrete.width"), width);
+  if (threshold == "delta" && width != 0.0)
+    throw ParamError("discrete.width", "a delta distribution has width 0 (choose uniform, gaussian or weibull)");
+  if (threshold != "delta" && width > 0.0) (void)ThresholdDistribution(threshold, width);
+  if (!one_of(renewal, domain("discrete.renewal").choices))
+    throw ParamError("discrete.renewal", "unknown renewal '" + renewal + "' (expected fresh or quenched)");
+  core::check_in_domain(domain("discrete.bins"), bins);
+}
+
 }  // namespace slipfront::discrete

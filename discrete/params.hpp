@@ -20,6 +20,9 @@ struct DiscreteParams {
   bool contact_statistics = false;       ///< agent: store /discrete/contacts
   int threads = 1;                       ///< threads over sites (results do not depend on it)
   void validate() const;                 ///< throws core::ParamError("discrete.<key>", reason)
+  /// The keys of the threshold law alone (threshold, width, renewal, bins), with validate()'s messages:
+  /// what the mean-field law reads (discrete/mean_field_law.hpp; it has no N, seed or representation).
+  void validate_threshold_law() const;
 };
 
 /// The domains of the [discrete] keys (see core::KeyDomain): validate() checks them, the

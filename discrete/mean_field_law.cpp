@@ -1,0 +1,121 @@
+#include "discrete/mean_field_law.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace slipfront::discrete {
+
+namespace {
+const DiscreteParams& validated(const DiscreteParams& dp) {
+  dp.validate_threshold_law();
+  return dp;
+}
+}  // namespace
+
+MeanFieldLaw::MeanFieldLaw(const core::InterfaceParams& ip, const DiscreteParams& dp, std::size_t sites)
+    : ip_(ip), g_(validated(dp).threshold, dp.width) {
+  if (sites == 0) throw std::invalid_argument("MeanFieldLaw: no sites");
+  nbins_ = g_.degenerate() ? 1 : static_cast<std::size_t>(dp.bins);
+  quenched_ = dp.renewal == "quenched";
+  // the count representation's classes (CountLaw): quantile bins [b/B, (b+1)/B) of g at their conditional means
+  thresholds_.resize(nbins_);
+  const double B = static_cast<double>(nbins_);
+  for (std::size_t b = 0; b < nbins_; ++b)
+    thresholds_[b] = g_.conditional_mean(static_cast<double>(b) / B, static_cast<double>(b + 1) / B);
+  att_.assign(sites * nbins_, 0.0);
+  area_.assign(sites, 1.0);
+  sigma_bar_.assign(sites, 0.0);
+  for (std::size_t i = 0; i < sites; ++i) set_site(i, 1.0, 0.0);
+}
+
+void MeanFieldLaw::set_site(std::size_t i, double area, double sigma_bar) {
+  if (!(area >= 0.0 && area <= 1.0)) throw std::invalid_argument("MeanFieldLaw::set_site: A must lie in [0, 1]");
+  double* a = att_.data() + i * nbins_;
+  const double B = static_cast<double>(nbins_);
+  for (std::size_t b = 0; b < nbins_; ++b) a[b] = area / B;
+  area_[i] = total(i);
+  sigma_bar_[i] = sigma_bar;
+}
+
+double MeanFieldLaw::total(std::size_t i) const {
+  double sum = 0.0;
+  for (const double n : attached(i)) sum += n;
+  return sum;
+}
+
+double MeanFieldLaw::detached(std::size_t i, std::size_t b) const {
+  return quenched_ ? 1.0 / static_cast<double>(nbins_) - att_[i * nbins_ + b] : 1.0 - area_[i];
+}
+
+// Overloaded classes: s_b < τ (thresholds ascending, so a prefix).
+std::size_t MeanFieldLaw::overloaded_classes(double tau) const {
+  if (nbins_ == 1) return tau > thresholds_[0] ? 1 : 0;
+  return static_cast<std::size_t>(std::lower_bound(thresholds_.begin(), thresholds_.end(), tau) - thresholds_.begin());
+}
+
+double MeanFieldLaw::overloaded_fraction(std::size_t i, double v) const {
+  const double tau = core::contact_stress(sigma_bar_[i] + ip_.eta * v, area_[i]);
+  const std::size_t k = overloaded_classes(tau);
+  if (!(area_[i] > 0.0)) return 1.0;
+  double over = 0.0;
+  for (std::size_t b = 0; b < k; ++b) over += att_[i * nbins_ + b];
+  return over / area_[i];
+}
+
+void MeanFieldLaw::class_rates(std::size_t, double v, double area, double sigma_bar, std::span<const double> n,
+                               std::span<double> hazard, std::span<double> total) const {
+  const std::size_t k = overloaded_classes(core::contact_stress(sigma_bar + ip_.eta * v, area));
+  const double inv_b = 1.0 / static_cast<double>(nbins_), detach = ip_.kappa * std::abs(v);
+  const double pool = quenched_ ? 0.0 : (1.0 - area) * inv_b;
+  for (std::size_t b = 0; b < nbins_; ++b) {
+    hazard[b] = b < k ? detach : 0.0;
+    total[b] = quenched_ ? inv_b : n[b] + pool;
+  }
+}
+
+core::LawStepInfo MeanFieldLaw::advance(double dt, std::span<const double> v) {
+  if (v.size() != size()) throw std::invalid_argument("MeanFieldLaw::advance: one slip rate per site");
+  if (dt != cached_dt_) {  // the classes with no detachment relax at rate 1: their factors depend on dt only
+    free_exp_ = std::exp(-1.0 * dt);
+    free_weight_ = core::relax_weight(1.0, dt);
+    cached_dt_ = dt;
+  }
+  const double alpha = ip_.alpha, kappa = ip_.kappa, eta = ip_.eta;
+  const std::size_t B = nbins_;
+  const double inv_b = 1.0 / static_cast<double>(B);
+  bool any = false;
+  for (std::size_t i = 0; i < size(); ++i) {
+    const double vi = v[i], speed = std::abs(vi), a0 = area_[i], sb = sigma_bar_[i];
+    if (!std::isfinite(vi)) {  // the stepper reports it with the step and site
+      sigma_bar_[i] = std::numeric_limits<double>::quiet_NaN();
+      continue;
+    }
+    // 1. load: τ at the start of the step, overloaded classes [0, k), the overloaded fraction Y
+    double* n = att_.data() + i * B;
+    const std::size_t k = overloaded_classes(core::contact_stress(sb + eta * vi, a0));
+    double n_over = 0.0;
+    for (std::size_t b = 0; b < k; ++b) n_over += n[b];
+    const double y = a0 > 0.0 ? n_over / a0 : 1.0;
+    any |= speed > 0.0 && (n_over > 0.0 || !(a0 > 0.0));
+    // 2. contacts: n_b' = relax(n_b, T_b, 1 + d_b, Δt), T_b and d_b frozen
+    const double r_over = 1.0 + kappa * speed;
+    const double e_over = std::exp(-r_over * dt), w_over = core::relax_weight(r_over, dt);
+    const double pool = quenched_ ? 0.0 : (1.0 - a0) * inv_b;  // fresh: the detached feed every class by 1/B
+    double a1 = 0.0;
+    for (std::size_t b = 0; b < B; ++b) {
+      const double target = quenched_ ? inv_b : n[b] + pool;
+      const bool over = b < k;
+      n[b] = n[b] * (over ? e_over : free_exp_) + target * (over ? w_over : free_weight_);
+      a1 += n[b];
+    }
+    area_[i] = a1;
+    // 3. stress: exact with Ā = (A + A')/2 and Y frozen (rate 0: σ̄ + source Δt, as relax() gives it)
+    const double source = alpha * 0.5 * (a0 + a1) * vi, rate = y * speed;
+    sigma_bar_[i] = rate > 0.0 ? core::relax(sb, source, rate, dt) : sb + source * dt;
+  }
+  return {any};
+}
+
+}  // namespace slipfront::discrete

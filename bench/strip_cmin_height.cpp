@@ -59,6 +59,10 @@ int main(int argc, char** argv) {
   const int n = static_cast<int>(std::lround(per_decade * std::log10(hmax / hmin)));
   for (int k = 0; k <= n; ++k) H.push_back(hmin * std::pow(hmax / hmin, static_cast<double>(k) / n));
   std::FILE* f = out.empty() ? stdout : std::fopen(out.c_str(), "w");
+  if (f == nullptr) {
+    std::fprintf(stderr, "strip_cmin_height: cannot write %s\n", out.c_str());
+    return 2;
+  }
   std::fprintf(stderr, "material mu' = %g rho' = %g (c_s = %g), alpha = %g kappa = %g eta = %g: l = %g, l_kappa = %g, s = %g\n",
                mu, rho, cs, alpha, kappa, eta, ell, ell_kappa, s);
 

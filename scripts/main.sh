@@ -6,11 +6,11 @@
 #   3. write the report with every plot (out/report.md, out/figures/*.png) and check that every plot
 #      it names exists and is not empty.
 # Takes about 11 minutes on 2 cores (build of the program ~2 min; scenes ~1 min; studies ~7.5 min, of which
-# the validity map ~4 min and strip_height ~1.5 min; report ~20 s; measured 6 min 43 s with the program
+# the validity map ~4 min and strip_height ~1.5 min; c_min(H) ~20 s; report ~20 s; measured 6 min 43 s with the program
 # already built, before strip_height). A scene or study that fails still leaves its partial results and the rest goes on; the job then exits 1.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
-bash scripts/build.sh slipfront
+bash scripts/build.sh slipfront strip_cmin_height
 
 scenes=(fig1 friction_law velocity_step spring_block homogeneous_front steady_front contacts contacts_disorder fig1_strip homogeneous_strip)
 slipfront=build/apps/slipfront
@@ -28,6 +28,17 @@ echo "== steady fronts: $slipfront fronts configs/homogeneous_front.toml --scali
 rc=0
 "$slipfront" fronts configs/homogeneous_front.toml --scaling --out out/homogeneous_front --force || rc=$?
 ((rc == 0)) || failed+=("fronts: slipfront fronts exited with $rc")
+
+# c_min(H) of the strip at fixed material over H = 1 .. 1e6 (docs/fronts.md §10.11-§10.12; `slipfront fronts` has
+# no H path): the driver's limiting fronts, 12 rows, 300 intervals, ~20 s. report.py draws it (any
+# strip_cmin_height.csv under out/).
+cmin_out=out/strip_cmin_height/strip_cmin_height.csv
+echo "== c_min(H): build/bench/strip_cmin_height --hmin 1 --hmax 1e6 --per-decade 2 --rows 12 --intervals 300 --no-branches --out $cmin_out"
+mkdir -p "$(dirname "$cmin_out")"
+rc=0
+build/bench/strip_cmin_height --hmin 1 --hmax 1e6 --per-decade 2 --rows 12 --intervals 300 --no-branches \
+  --out "$cmin_out" || rc=$?
+((rc == 0)) || failed+=("c_min(H): strip_cmin_height exited with $rc")
 
 for study in configs/studies/*.toml; do
   name=$(basename "$study" .toml)

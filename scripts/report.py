@@ -759,6 +759,174 @@ def strip_height_study(st, outdir):
     return figs, rows
 
 
+# ---- c_min(H) of the strip at fixed material (docs/fronts.md §10.12; CSV of build/bench/strip_cmin_height) ----
+
+CMIN_CSV = "strip_cmin_height.csv"
+CMIN_1D_TOL = 0.01  # "the 1D regime holds": c_min within 1 % of the 1D c_min at mu = mu' H
+CMIN_LEAVE = 0.01  # "the crossover": the local exponent first below 1/2 - 0.01
+
+
+def read_cmin_csv(path):
+    """The columns of a strip_cmin_height CSV as float arrays (rows with a finite positive H and c_min), sorted by H;
+    None when it has no such row or lacks a column the figure needs."""
+    import csv
+    with open(path, newline="", encoding="utf-8", errors="replace") as f:
+        rows = list(csv.DictReader(f))
+    need = ("H", "H_over_l", "H_over_l_kappa", "c_min", "c_min_over_s", "c_min_1d")
+    if not rows or any(k not in rows[0] for k in need):
+        return None
+
+    def num(v):
+        try:
+            return float(v)
+        except (TypeError, ValueError):
+            return math.nan
+    t = {k: np.array([num(r.get(k)) for r in rows]) for k in need}
+    ok = np.isfinite(t["H"]) & (t["H"] > 0) & np.isfinite(t["c_min"]) & (t["c_min"] > 0)
+    order = np.argsort(t["H"][ok])
+    t = {k: v[ok][order] for k, v in t.items()}
+    return t if len(t["H"]) else None
+
+
+def cmin_analysis(t):
+    """The paper's lengths from the data (l = H/(H/l), l_kappa, s = c/(c/s)), the local exponent between neighbours,
+    the paper's intermediate-regime exponent 1/2 - eps/2 (tan(pi eps/2) = c/s at the interval's midpoint), the
+    Brener-Marchenko eps_BM = ln(H/l_k)/ln(H/l), and the one-line answer's numbers."""
+    H, c, c1 = t["H"], t["c_min"], t["c_min_1d"]
+    a = {"H": H, "c": c, "c1": c1}
+    a["l"] = float(np.median(H / t["H_over_l"]))
+    a["lk"] = float(np.median(H / t["H_over_l_kappa"]))
+    a["s"] = float(np.median(c / t["c_min_over_s"]))
+    a["ratio"] = c / c1
+    a["eps"] = 2 / math.pi * np.arctan(c / a["s"])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        a["eps_bm"] = np.where(H > a["lk"], np.log(H / a["lk"]) / np.log(H / a["l"]), math.nan)
+    if len(H) >= 2:
+        a["Hmid"] = np.sqrt(H[1:] * H[:-1])
+        a["expo"] = np.log(c[1:] / c[:-1]) / np.log(H[1:] / H[:-1])
+        a["pred"] = 0.5 - (2 / math.pi * np.arctan(np.sqrt(c[1:] * c[:-1]) / a["s"])) / 2
+    else:
+        a["Hmid"] = a["expo"] = a["pred"] = np.array([])
+    # prefactor of the 1D line c_min,1D/s = A sqrt(H/l_k), from the 1D c_min at the smallest H
+    a["A"] = float(c1[0] / (a["s"] * math.sqrt(H[0] / a["lk"]))) if math.isfinite(c1[0]) else math.nan
+    # where the 1D regime holds: the largest H up to which every c_min is within CMIN_1D_TOL of the 1D c_min
+    good = np.abs(a["ratio"] - 1) <= CMIN_1D_TOL
+    a["n1d"] = int(np.argmin(good)) if not good.all() else len(H)
+    # the crossover: the first interval whose local exponent is below 1/2 - CMIN_LEAVE
+    low = np.where(a["expo"] < 0.5 - CMIN_LEAVE)[0]
+    a["cross"] = int(low[0]) if len(low) else -1
+    return a
+
+
+def intermediate_form(H, a):
+    """The paper's intermediate regime, c/s = A sqrt(H/l_k) (l/H)^(eps/2) with tan(pi eps/2) = c/s (A the 1D
+    prefactor): solved for c by bisection at each H > l (the right side falls with c there)."""
+    out = np.full(len(H), math.nan)
+    for i, h in enumerate(H):
+        if h <= a["l"] or not math.isfinite(a["A"]):
+            continue
+        top = a["A"] * math.sqrt(h / a["lk"])
+        lo, hi = 0.0, top
+        for _ in range(80):
+            x = 0.5 * (lo + hi)
+            eps = 2 / math.pi * math.atan(x)
+            if x < top * (a["l"] / h) ** (eps / 2):
+                lo = x
+            else:
+                hi = x
+        out[i] = a["s"] * 0.5 * (lo + hi)
+    return out
+
+
+def strip_cmin_section(path, root, figdir):
+    """The report's c_min(H) section: the figure (c_min against H, log-log, with the 1D line, the paper's
+    intermediate form, the Brener-Marchenko large-H form and the lengths l, l_kappa; below, the local exponent
+    against 1/2 and the paper's exponents) and one summary row answering the paper's question from the numbers.
+    ([], []) when the file has no usable row."""
+    try:
+        t = read_cmin_csv(path)
+    except OSError as e:
+        print(f"report.py: warning: {path}: {e}", file=sys.stderr)
+        return [], []
+    if t is None:
+        return [], []
+    a = cmin_analysis(t)
+    H, c = a["H"], a["c"]
+    l, lk, s = a["l"], a["lk"], a["s"]
+    fig, (ax, bx) = plt.subplots(2, 1, figsize=(9, 9), sharex=True, constrained_layout=True,
+                                 gridspec_kw={"height_ratios": [3, 2]})
+    ax.loglog(H, c, "o-", color="C0", lw=1, label="c_min of the strip (computed)")
+    if np.isfinite(a["c1"]).any():
+        ax.loglog(H, a["c1"], "--", color="k", lw=1,
+                  label=f"1D c_min at mu = mu' H (measured; = {a['A']:.4f} s sqrt(H/l_kappa))")
+    ax.loglog(H, 0.576 * s * np.sqrt(H / lk), ":", color="0.5", lw=1,
+              label="paper's 1D line 0.576 sqrt(mu' H alpha/(eta kappa)) = 0.576 s sqrt(H/l_kappa)")
+    Hs = np.geomspace(H[0], H[-1], 200)
+    inter = intermediate_form(Hs, a)
+    if np.isfinite(inter).any():
+        ax.loglog(Hs, inter, "-", color="C2", lw=1,
+                  label="paper, l << H << l_kappa: c/s = A sqrt(H/l_kappa) (l/H)^(eps/2), tan(pi eps/2) = c/s")
+    bm = Hs > lk * 1.05
+    if bm.any():
+        eb = np.log(Hs[bm] / lk) / np.log(Hs[bm] / l)
+        ax.loglog(Hs[bm], s * np.tan(np.pi * eb / 2), "-", color="C3", lw=1,
+                  label="Brener-Marchenko, H >> l_kappa: c/s = tan(pi eps_BM/2), eps_BM = ln(H/l_kappa)/ln(H/l)")
+    ax.axhline(s, color="0.6", ls=":", lw=0.8)
+    for b in (ax, bx):
+        for x, name in ((l, "l"), (lk, "l_kappa")):
+            if H[0] <= x <= H[-1]:
+                b.axvline(x, color="0.4", ls="-.", lw=0.8)
+    for x, name in ((l, f"l = {l:.4g}"), (lk, f"l_kappa = {lk:.4g}")):
+        if H[0] <= x <= H[-1]:
+            ax.text(x, ax.get_ylim()[0], " " + name, rotation=90, va="bottom", ha="right", fontsize=8, color="0.3")
+    ax.text(H[0], s, f" s = mu'/eta = {s:.4g}", va="bottom", fontsize=8, color="0.4")
+    ax.set_ylabel("c_min")
+    ax.legend(fontsize=7, loc="upper left")
+    if len(a["expo"]):
+        bx.semilogx(a["Hmid"], a["expo"], "o-", color="C0", lw=1, label="d ln c_min / d ln H (between neighbours)")
+        bx.semilogx(a["Hmid"], a["pred"], "s--", color="C2", lw=1, mfc="none",
+                    label="paper, intermediate: 1/2 - eps/2 (eps from the measured c/s)")
+        if bm.sum() >= 3:
+            cb = np.log(s * np.tan(np.pi * (np.log(Hs[bm] / lk) / np.log(Hs[bm] / l)) / 2))
+            bx.semilogx(Hs[bm][1:-1], (cb[2:] - cb[:-2]) / (np.log(Hs[bm][2:]) - np.log(Hs[bm][:-2])), "-", color="C3",
+                        lw=1, label="Brener-Marchenko form's d ln c / d ln H")
+        bx.axhline(0.5, color="k", ls="--", lw=0.8, label="1/2 (1D)")
+        bx.set_ylim(0, 0.7)
+        bx.legend(fontsize=7, loc="lower left")
+    else:
+        plot.no_data(bx, "one H only: no local exponent")
+    bx.set_xlabel("H (strip height)")
+    bx.set_ylabel("local exponent")
+    fig.suptitle(f"c_min(H) of the strip at fixed material (l = {l:.4g}, l_kappa = {lk:.4g}, s = {s:.4g}); "
+                 f"{os.path.relpath(path, root)}", fontsize=9)
+    figs = []
+    save(fig, figdir, f"{figure_key(root, path)}_cmin_vs_H.png", figs)
+
+    # the one-line answer, from the numbers
+    n1d, k = a["n1d"], a["cross"]
+    if n1d == 0:
+        holds = f"1D c_min (within {CMIN_1D_TOL:.0%}) fails already at H = {H[0]:.4g}"
+    else:
+        holds = (f"1D c_min holds (within {CMIN_1D_TOL:.0%}) up to H = {H[n1d - 1]:.4g} (H/l = {H[n1d - 1] / l:.3g})"
+                 + ("" if n1d < len(H) else ", the largest H"))
+    if k >= 0:
+        cross = (f"exponent leaves 1/2 (< {0.5 - CMIN_LEAVE:.2f}: {a['expo'][k]:.3f}) on H/l = {H[k] / l:.3g} .. "
+                 f"{H[k + 1] / l:.3g}")
+    else:
+        cross = f"exponent stays >= {0.5 - CMIN_LEAVE:.2f} to H = {H[-1]:.4g}"
+    big = len(H) - 1
+    if H[big] > lk and math.isfinite(a["eps_bm"][big]):
+        gap = (f"at H = {H[big]:.4g} (H/l_kappa = {H[big] / lk:.3g}): eps = {a['eps'][big]:.3f} vs eps_BM = "
+               f"{a['eps_bm'][big]:.3f} (gap {a['eps'][big] - a['eps_bm'][big]:+.3f}; c_min = "
+               f"{c[big] / (s * math.tan(math.pi * a['eps_bm'][big] / 2)):.3g} x BM), c_min/c_min,1D = {a['ratio'][big]:.3g}")
+    else:
+        gap = f"no H > l_kappa = {lk:.4g}: large-H regime not reached (c_min/c_min,1D = {a['ratio'][big]:.3g} at H = {H[big]:.4g})"
+    expo = (f"local exponent {a['expo'][0]:.3f} -> {a['expo'][-1]:.3f}" if len(a["expo"]) else "")
+    rows = [(f"c_min(H) of the strip, H = {H[0]:.4g} .. {H[-1]:.4g}: does the 1D c_min hold?",
+             f"{holds}; {cross}", "", gap, expo)]
+    return figs, rows
+
+
 STUDY_PLOTS = {"friction_law": friction_law_study, "threshold_width": threshold_width_study,
                "transient_friction": transient_study, "front_speeds": front_speeds_study, "fig2": fig2_study,
                "front_spectrum": spectrum_study, "steady_fronts": steady_fronts_study,
@@ -1087,7 +1255,7 @@ def main(argv=None):
     root = os.path.abspath(args.dir)
     figdir = os.path.join(root, "figures")
     os.makedirs(figdir, exist_ok=True)
-    scenes, studies, fronts = [], [], []
+    scenes, studies, fronts, cmins = [], [], [], []
     for d, subdirs, files in os.walk(root):
         subdirs[:] = sorted(s for s in subdirs if s not in ("runs", "figures"))  # study runs are summarised
         if "results.h5" in files:
@@ -1096,6 +1264,8 @@ def main(argv=None):
             studies.append(os.path.join(d, "study.h5"))
         if "fronts.h5" in files:
             fronts.append(os.path.join(d, "fronts.h5"))
+        if CMIN_CSV in files:
+            cmins.append(os.path.join(d, CMIN_CSV))
     lines = ["# slipfront report", "", f"Results under `{root}`.", ""]
     summary = []
     missing = []
@@ -1148,6 +1318,17 @@ def main(argv=None):
         summary += rows
     for st in front_studies:
         st.f.close()
+    for path in sorted(cmins):
+        figs, rows = strip_cmin_section(path, root, figdir)
+        summary += rows
+        lines += ["## c_min(H) of the strip at fixed material", "",
+                  "The limiting front's speed c_min against the strip's height H (build/bench/strip_cmin_height, "
+                  "docs/fronts.md §10.12): the 1D line, the paper's intermediate form and the Brener-Marchenko "
+                  "large-H form, the lengths l and l_kappa; below, the local exponent against 1/2 and the paper's "
+                  "exponents.", "", f"File: `{os.path.relpath(path, root)}`, {len(figs) and 'plotted' or 'no usable row'}.", ""]
+        for w in figs:
+            lines.append(f"![{os.path.basename(w)}]({os.path.relpath(w, root)})")
+            lines.append("")
     for path in sorted(studies):
         st = Study(path)
         st.stem = f"{figure_key(root, path)}_{st.name}"

@@ -225,3 +225,67 @@ TEST_CASE("report: the strip's body pictures and the events-vs-H figure, and non
   CHECK(md.find("tiny_strip_height: t_star, 1D chain -> H = 0.25 -> H = 17") != std::string::npos);  // a summary row
   CHECK(sh("/usr/bin/python3 " + src + "/scripts/check_report.py " + (dir / "report.md").string() + " > /dev/null") == 0);
 }
+
+TEST_CASE("report: the c_min(H) figure and its summary row come from the strip_cmin_height CSV", "[report][strip]") {
+  // The committed c_min(H) data (docs/data/strip_cmin_height.csv, H = 1 .. 1e6) as out/.../strip_cmin_height.csv:
+  // the report draws c_min vs H (with the local exponent) and one summary row whose numbers are the data's (the 1D
+  // regime within 1 % up to H = 3162, the exponent below 0.49 from H/l = 3.33, eps vs eps_BM at H = 1e6). Then the
+  // data changed (the 1D c_min 3 % higher from H = 1000 on, the last H dropped): the row follows. A CSV with a header
+  // only gives no figure and the report still succeeds.
+  const std::string src = SLIPFRONT_SOURCE_DIR;
+  const slipfront::testing::TempDir scratch("report-cmin");
+  const fs::path& dir = scratch.path;
+  const fs::path csv = dir / "cmin" / "strip_cmin_height.csv";
+  fs::create_directories(csv.parent_path());
+  fs::copy_file(fs::path(src) / "docs" / "data" / "strip_cmin_height.csv", csv);
+  const auto report = [&] {
+    REQUIRE(sh(std::string(SLIPFRONT_BINARY) + " report " + dir.string() + " > /dev/null") == 0);
+    return slipfront::testing::slurp(dir / "report.md");
+  };
+  const auto figures = [&](const std::string& md) {
+    std::vector<std::string> out;
+    const std::regex image(R"(!\[[^\]]*\]\(([^)]+_cmin_vs_H\.png)\))");
+    for (auto it = std::sregex_iterator(md.begin(), md.end(), image); it != std::sregex_iterator(); ++it) {
+      out.push_back((*it)[1].str());
+      CHECK(fs::file_size(dir / out.back()) > 10000);
+    }
+    return out;
+  };
+  const std::string md = report();
+  REQUIRE(figures(md).size() == 1);
+  CHECK(md.find("## c_min(H) of the strip at fixed material") < md.find(figures(md)[0]));
+  const std::string row = "| c_min(H) of the strip, H = 1 .. 1e+06: does the 1D c_min hold? | 1D c_min holds (within 1%) "
+                          "up to H = 3162 (H/l = 10.5); exponent leaves 1/2 (< 0.49: 0.488) on H/l = 3.33 .. 10.5";
+  CHECK(md.find(row) != std::string::npos);
+  CHECK(md.find("at H = 1e+06 (H/l_kappa = 43.8): eps = 0.541 vs eps_BM = 0.466 (gap +0.075; c_min = 1.27 x BM), "
+                "c_min/c_min,1D = 0.302") != std::string::npos);
+  CHECK(sh("/usr/bin/python3 " + src + "/scripts/check_report.py " + (dir / "report.md").string() + " > /dev/null") == 0);
+
+  // the data changed: the row's numbers change with it
+  const fs::path edit = dir / "edit.py";
+  slipfront::testing::write_text(edit, R"(import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+names = list(rows[0].keys())
+rows = [r for r in rows if float(r["H"]) < 5e5]
+for r in rows:
+    if float(r["H"]) >= 1000:
+        r["c_min_1d"] = repr(1.03 * float(r["c_min_1d"]))
+with open(sys.argv[1], "w", newline="") as f:
+    w = csv.DictWriter(f, names)
+    w.writeheader()
+    w.writerows(rows)
+)");
+  REQUIRE(sh("/usr/bin/python3 " + edit.string() + " " + csv.string()) == 0);
+  const std::string changed = report();
+  CHECK(figures(changed).size() == 1);
+  CHECK(changed.find(row) == std::string::npos);
+  CHECK(changed.find("| c_min(H) of the strip, H = 1 .. 3.162e+05: does the 1D c_min hold? | 1D c_min holds (within "
+                     "1%) up to H = 316.2 (H/l = 1.05)") != std::string::npos);
+  CHECK(changed.find("at H = 3.162e+05 (H/l_kappa = 13.8): eps = 0.476 vs eps_BM = 0.377") != std::string::npos);
+
+  // no usable row: no figure, no row, the report is still written
+  slipfront::testing::write_text(csv, "H,H_over_l,H_over_l_kappa,c_min,c_min_over_s,c_min_over_cs,c_min_1d\n");
+  const std::string empty = report();
+  CHECK(figures(empty).empty());
+  CHECK(empty.find("| c_min(H) of the strip") == std::string::npos);
+}

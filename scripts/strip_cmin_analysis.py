@@ -27,7 +27,7 @@ for k, r in enumerate(rows):
         ps = f"{pred:.4f}"
     else:
         es = ps = "—"
-    a1d = 0.5755  # c_min,1D / (s sqrt(H/l_k)) in the 1D regime (11.3051/ (3000 sqrt(1/22857)))
+    a1d = c1 / (s * math.sqrt(H / ellk))  # the measured 1D prefactor: c_min,1D/s = a1d sqrt(H/l_k) (0.5697 here)
     inter = a1d * math.sqrt(H / ellk) * (ell / H) ** (eps / 2) if H > ell else float("nan")
     bm = math.log(H / ellk) / math.log(H / ell) if H > ellk else float("nan")
     print(f"| {H:.4g} | {H/ell:.3g} | {H/ellk:.3g} | {c:.6g} | {cs_:.4g} | {c/c1:.5f} | {es} | {ps} | "

@@ -10,7 +10,9 @@
 namespace slipfront::compare {
 namespace {
 
-FrontProfile profile_of(const continuum::SteadyFront& f) {
+// The interface fields every front has (the chain's SteadyFront, the strip's StripFront).
+template <class Front>
+FrontProfile interface_profile(const Front& f) {
   FrontProfile p;
   p.sigma_d = f.sigma_d;
   p.c = f.c;
@@ -24,6 +26,8 @@ FrontProfile profile_of(const continuum::SteadyFront& f) {
   p.fields["u"] = f.slip;
   return p;
 }
+
+FrontProfile profile_of(const continuum::SteadyFront& f) { return interface_profile(f); }
 
 constexpr double nan_value = std::numeric_limits<double>::quiet_NaN();
 
@@ -152,17 +156,7 @@ void judge(const Branch& branch, const continuum::ScalingStudy* study, bool stop
 // The strip (bulk.height > 0, docs/fronts.md §10.14): the same stages with continuum/strip_front.hpp.
 
 FrontProfile profile_of(const continuum::StripFront& f) {
-  FrontProfile p;
-  p.sigma_d = f.sigma_d;
-  p.c = f.c;
-  p.v_tip = f.v_tip;
-  p.v_behind = f.v_behind;
-  p.limiting = f.saddle_node_limit;
-  p.fields["xi"] = f.xi;
-  p.fields["A"] = f.area;
-  p.fields["sigma_bar"] = f.sigma_bar;
-  p.fields["v"] = f.slip_rate;
-  p.fields["u"] = f.slip;
+  FrontProfile p = interface_profile(f);
   p.fields["tau"] = f.traction;
   p.y = f.y;
   p.u_xy = f.u;

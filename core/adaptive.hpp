@@ -373,6 +373,22 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
     if constexpr (kChain) factor_chain(c);
     else factor_body(c);
   }
+  // Site i's rows of A and σ̄ in W = I − c J (both bodies): x_A = p_A + q_A x_v, x_σ = p_σ + q_σ x_v. Stores the
+  // elimination coefficients and returns q_σ.
+  double eliminate_site(std::size_t i, double c, double v, double a, double s) {
+    const SiteJacobian j = this->law_.jacobian({v, a, s}, theta_[i] != 0);
+    const double ia1 = 1.0 / (1.0 - c * j.area_area);
+    const double qa = c * j.area_v * ia1;
+    const double is1 = 1.0 / (1.0 - c * j.sigma_sigma);
+    const double cav = c * j.sigma_area;
+    const double qs = (cav * qa + c * j.sigma_v) * is1;
+    inv_a1_[i] = ia1;
+    q_area_[i] = qa;
+    inv_s1_[i] = is1;
+    c_alpha_v_[i] = cav;
+    q_sigma_[i] = qs;
+    return qs;
+  }
   void factor_chain(double c) {
     const std::size_t n = this->n_;
     const Bulk& b = this->bulk_;
@@ -383,19 +399,9 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
     const double base = 1.0 + c * eta / rho, c_rho = c / rho, rho_c2 = rho / (c * c);
     const double off = -k;
     for (std::size_t i = 0; i < n; ++i) {
-      const SiteJacobian j = this->law_.jacobian({v[i], a[i], s[i]}, theta_[i] != 0);
-      const double ia1 = 1.0 / (1.0 - c * j.area_area);
-      const double qa = c * j.area_v * ia1;
-      const double is1 = 1.0 / (1.0 - c * j.sigma_sigma);
-      const double cav = c * j.sigma_area;
-      const double qs = (cav * qa + c * j.sigma_v) * is1;
+      const double qs = eliminate_site(i, c, v[i], a[i], s[i]);
       const double w = b.node_weight(i);
       const double dc = rho_c2 * w * (base + c_rho * qs);
-      inv_a1_[i] = ia1;
-      q_area_[i] = qa;
-      inv_s1_[i] = is1;
-      c_alpha_v_[i] = cav;
-      q_sigma_[i] = qs;
       d_coef_[i] = dc;
       const double diag = dc + b.elastic_diagonal(i) + (i == 0 ? K : 0.0);
       const double m = i == 0 ? diag : diag - off * thomas_c_[i - 1];
@@ -413,18 +419,7 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
     const double* a = current(2);
     const double* s = current(3);
     for (std::size_t i = 0; i < m; ++i) {
-      const SiteJacobian j = this->law_.jacobian({v[i], a[i], s[i]}, theta_[i] != 0);
-      const double ia1 = 1.0 / (1.0 - c * j.area_area);
-      const double qa = c * j.area_v * ia1;
-      const double is1 = 1.0 / (1.0 - c * j.sigma_sigma);
-      const double cav = c * j.sigma_area;
-      const double qs = (cav * qa + c * j.sigma_v) * is1;
-      inv_a1_[i] = ia1;
-      q_area_[i] = qa;
-      inv_s1_[i] = is1;
-      c_alpha_v_[i] = cav;
-      q_sigma_[i] = qs;
-      d_coef_[i] = eta + qs;
+      d_coef_[i] = eta + eliminate_site(i, c, v[i], a[i], s[i]);
     }
   }
 

@@ -69,6 +69,7 @@ bool spring_driven(const Scene& s) {
   return s.drive.loading == Loading::edge || s.drive.loading == Loading::spring_block;
 }
 bool homogeneous(const Scene& s) { return s.drive.loading == Loading::homogeneous; }
+bool edge_loaded(const Scene& s) { return s.drive.loading == Loading::edge; }
 bool steady_front_start(const Scene& s) { return homogeneous(s) && s.drive.start == "steady_front"; }
 bool nucleated(const Scene& s) { return homogeneous(s) && s.drive.start != "steady_front"; }
 bool imposed(const Scene& s) { return s.drive.loading == Loading::imposed_rate; }
@@ -178,6 +179,7 @@ const std::vector<Section>& schema() {
            {"rtol", at<&Scene::time, &TimeParams::rtol>, adaptive, "with time.integrator = adaptive"},
            {"atol", at<&Scene::time, &TimeParams::atol>, adaptive, "with time.integrator = adaptive"},
            {"dt_max", at<&Scene::time, &TimeParams::dt_max>, adaptive, "with time.integrator = adaptive"},
+           {"stop_at_arrest", at<&Scene::time, &TimeParams::stop_at_arrest>, edge_loaded, "with drive.loading = edge"},
        }},
       {"measure",
        {

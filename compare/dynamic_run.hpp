@@ -141,6 +141,7 @@ class DynamicRun {
   static constexpr bool checkpointable = true;
   bool done() const {
     if (r_.status != RunStatus::complete) return true;
+    if (s_.time.stop_at_arrest && tracker_.phase() == 3) return true;  // docs/cli.md time.stop_at_arrest
     if constexpr (DenseStepper<Stepper>) return sim_.time() >= s_.time.t_end * (1.0 - 1e-12);
     else return sim_.steps() >= nsteps_;
   }

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "compare/difference.hpp"
+#include "compare/fig2_cmin.hpp"
 #include "compare/fit.hpp"
 #include "compare/fronts.hpp"
 #include "compare/strip_height.hpp"
@@ -312,6 +313,7 @@ void fig2(StudyReport& rep, const StudySpec&, const std::vector<StudyRun>& runs,
     if (missing && col == "c_continuum")
       rep.notes.push_back(std::to_string(missing) + " run(s) had no measurable transient front (" + m + "); see fig2_* tables");
   }
+  fig2_against_cmin(rep, all, scenes);  // c_transient against the run's own c_min, per height
   rep.tables["fig2_all"] = all;
   rep.definitions["fig2_all/X"] = "sqrt(mu alpha/(eta kappa)), the scaling estimate of the minimal steady front speed";
 }

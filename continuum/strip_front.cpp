@@ -1148,19 +1148,20 @@ double strip_tip_zone(const core::InterfaceParams& law, double c, double v_behin
 // The continuation in H at fixed material (docs/fronts.md §10.11): steps in ln H with the secant predictor
 // of ln c, the last front stretched by c_p/c as the guess, the meshes scaled with the predicted tip zone;
 // a failed step is halved in ln H, the step grows by 1.5 after a quick solve and shrinks after a slow one.
-StripHeightPath continue_strip_height(const core::InterfaceParams& law, double mu_strip, double rho_strip,
-                                      const StripHeightOptions& o, double length) {
+namespace {
+// The path itself: `bulk_at(H)` the scene's bulk at height H, c_s its shear wave speed (the same at every H on
+// both paths), `slope0` the predictor's d ln c/d ln H until two steps are known (the thin strip's value).
+StripHeightPath continue_height(const core::InterfaceParams& law, const std::function<core::BulkParams(double)>& bulk_at,
+                                double cs, double slope0, const StripHeightOptions& o) {
   using namespace strip_detail;
   StripHeightPath out;
   if (o.heights.empty() || !(o.heights.front() > 0.0) || !std::is_sorted(o.heights.begin(), o.heights.end())) {
     out.reason = "heights must be positive and increasing";
     return out;
   }
-  auto bulk_at = [&](double H) { return core::BulkParams{rho_strip * H, mu_strip * H, length, H}; };
   const double sigma_c = steady_minimum_stress(law);
   const double sd = o.limiting ? sigma_c : o.sigma_d;
   const double vb = o.limiting ? steady_minimum_velocity(law) : strengthening_branch_velocity(law, sd);
-  const double cs = std::sqrt(mu_strip / rho_strip);
   auto options_for = [&](double c) {
     StripFrontOptions f = o.front;
     const double lt = strip_tip_zone(law, c, vb);
@@ -1222,7 +1223,7 @@ StripHeightPath continue_strip_height(const core::InterfaceParams& law, double m
     while (cur.bulk.height < target * (1.0 - 1e-12)) {
       if (stopped()) return out;
       const double H = cur.bulk.height, Hn = std::min(target, H * std::exp(step));
-      double slope = 0.5;  // the 1D line c ∝ sqrt(μ'H) until two steps are known
+      double slope = slope0;  // the thin strip's line until two steps are known
       if (out.steps.size() >= 2) {
         const auto& p = out.steps[out.steps.size() - 2];
         const auto& q = out.steps.back();
@@ -1253,6 +1254,23 @@ StripHeightPath continue_strip_height(const core::InterfaceParams& law, double m
   }
   out.complete = true;
   return out;
+}
+}  // namespace
+
+StripHeightPath continue_strip_height(const core::InterfaceParams& law, double mu_strip, double rho_strip,
+                                      const StripHeightOptions& o, double length) {
+  // fixed material: the thin strip's c_min is the 1D one of μ = μ'H, c ∝ sqrt(μ'H) (slope ½)
+  return continue_height(
+      law, [&](double H) { return core::BulkParams{rho_strip * H, mu_strip * H, length, H}; },
+      std::sqrt(mu_strip / rho_strip), 0.5, o);
+}
+
+StripHeightPath continue_strip_height_at_column(const core::InterfaceParams& law, const core::BulkParams& column,
+                                                const StripHeightOptions& o) {
+  // fixed column (μ, ρ integrated over the height): the thin strip's c_min is the 1D one of μ (slope 0)
+  return continue_height(
+      law, [&](double H) { return core::BulkParams{column.rho, column.mu, column.length, H}; },
+      std::sqrt(column.mu / column.rho), 0.0, o);
 }
 
 }  // namespace slipfront::continuum

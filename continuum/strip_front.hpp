@@ -192,6 +192,12 @@ struct StripHeightPath {
 StripHeightPath continue_strip_height(const core::InterfaceParams& law, double mu_strip, double rho_strip,
                                       const StripHeightOptions& options, double length = 1000.0);
 
+/// The same path at a fixed column, the scene convention of docs/model.md §9.1: bulk.mu = μ and bulk.rho = ρ
+/// (integrated over the height) held, μ' = μ/H and ρ' = ρ/H falling as H grows; H → 0 is the 1D model of μ, ρ.
+/// The c_min(H) of a time-dependent strip scene (its `bulk` at every `height`), docs/fronts.md §10.16.
+StripHeightPath continue_strip_height_at_column(const core::InterfaceParams& law, const core::BulkParams& column,
+                                                const StripHeightOptions& options);
+
 /// The tip zone c/(1 + κ v_b) of a front at speed c with sliding at v_b behind (the front's length scale).
 double strip_tip_zone(const core::InterfaceParams& law, double c, double v_behind);
 

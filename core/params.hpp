@@ -157,6 +157,9 @@ struct TimeParams {
   /// implicit: refuse a step that does not resolve the drive spring or the contact turnover
   /// (core::implicit_resolution); false runs it anyway, at the user's risk.
   bool implicit_resolution_check = true;
+  /// edge loading: end the run at the arrest of the transient front (t_arrest of docs/model.md §3) of every
+  /// model instead of at t_end, for studies that need the events up to it (docs/cli.md, `time.stop_at_arrest`).
+  bool stop_at_arrest = false;
   void validate(Loading l) const;
 };
 

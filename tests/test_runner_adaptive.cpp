@@ -70,3 +70,40 @@ TEST_CASE("config: bad integrator settings are refused with their key", "[adapti
   refused({"time.integrator=adaptive", "time.atol=-1"}, "time.atol");
   refused({"time.integrator=adaptive", "time.dt_max=0"}, "time.dt_max");
 }
+
+TEST_CASE("runner: time.stop_at_arrest ends fig1 at the arrest with the events of the whole run", "[adaptive]") {
+  // The run stops at t_arrest (docs/cli.md time.stop_at_arrest); every event up to it is the whole run's,
+  // bit for bit (the same steps up to the stop), and the run is shorter than t_end by what follows the arrest.
+  const auto whole = compare::run_scene(fig1({"time.integrator=adaptive"}), {});
+  const auto cut = compare::run_scene(fig1({"time.integrator=adaptive", "time.stop_at_arrest=true"}), {});
+  REQUIRE(whole.at(0).status == compare::RunStatus::complete);
+  REQUIRE(cut.at(0).status == compare::RunStatus::complete);
+  const auto& w = whole[0].events;
+  const auto& c = cut[0].events;
+  REQUIRE(std::isfinite(w.t_arrest));
+  CHECK(c.t_arrest == w.t_arrest);
+  CHECK(c.t_star == w.t_star);
+  CHECK(c.t_hat == w.t_hat);
+  CHECK(c.c_transient == w.c_transient);
+  const auto& ca = cut[0].events_alt;
+  CHECK(ca.c_slow == whole[0].events_alt.c_slow);
+  CHECK(ca.x_arrest == whole[0].events_alt.x_arrest);
+  CHECK(c.x_arrest == w.x_arrest);
+  const double reached = cut[0].scalars.at("t_reached");
+  CHECK(reached >= w.t_arrest);
+  CHECK(reached < w.t_arrest + 2.0);  // the step after the arrest (dt_max = 1 and the tracker's sub-intervals)
+  CHECK(reached < 0.9 * whole[0].scalars.at("t_reached"));
+}
+
+TEST_CASE("config: time.stop_at_arrest is noted as ignored and reset where there is no arrest to stop at", "[adaptive]") {
+  // Like every key a scene does not use (docs/cli.md): a note naming the key and when it is used, and the
+  // value reset to its default, so that the homogeneous front still runs to t_end.
+  std::vector<std::string> notes;
+  const auto s = app::load_scene(std::string(SLIPFRONT_SOURCE_DIR) + "/configs/homogeneous_front.toml",
+                                 {"time.stop_at_arrest=true"}, &notes);
+  CHECK_FALSE(s.time.stop_at_arrest);
+  bool named = false;
+  for (const auto& n : notes)
+    named = named || (n.find("time.stop_at_arrest") != std::string::npos && n.find("drive.loading = edge") != std::string::npos);
+  CHECK(named);
+}

@@ -354,3 +354,50 @@ TEST_CASE("strip front: continuation in H at fixed material keeps the 1D exponen
   // The secant predictor is good: after the first step every prediction within 1e-3.
   for (std::size_t k = 2; k < path.steps.size(); ++k) CHECK(std::abs(path.steps[k].c_predicted / path.steps[k].c - 1.0) < 1e-3);
 }
+
+TEST_CASE("strip front: the path at a fixed column reaches the fixed-material path's c_min at the same strip", "[strip][front][height]") {
+  // The scene convention (docs/model.md §9.1, docs/fronts.md §10.16): bulk.mu = 300 and bulk.rho = 0.01 held
+  // while H grows from 0.5 to 100, i.e. mu' = 300/H. At H = 100 the strip is mu' = 3, rho' = 1e-4, which the
+  // fixed-material path reaches from H = 1: two different paths, one problem, so the two limiting fronts must
+  // agree to the discretisation's resolution of the mesh difference (both meshes follow the predicted tip
+  // zone, so they differ: 1.09e-4 in c measured), and re-solved on one mesh from either guess they must be the
+  // same front to Newton's tolerance (8 rows, 200 intervals). At H = 0.5 the column's c_min is the 1D one
+  // (11.2811) within 1e-3 (+H²).
+  const core::InterfaceParams law{1.05, 8.0, 0.1};
+  continuum::StripHeightOptions o;
+  o.heights = {0.5, 17.0, 100.0};
+  o.front.rows = 8;
+  o.front.intervals = 200;
+  o.front.max_newton = 12;
+  const auto column = continuum::continue_strip_height_at_column(law, {0.01, 300.0, 600.0, 0.0}, o);
+  INFO(column.reason);
+  REQUIRE(column.complete);
+  REQUIRE(column.fronts.size() == 3);
+  for (std::size_t k = 0; k < 3; ++k) {
+    CHECK(column.fronts[k].saddle_node_limit);
+    CHECK(column.fronts[k].bulk.mu == 300.0);
+    CHECK(column.fronts[k].bulk.height == Approx(o.heights[k]).epsilon(1e-12));
+  }
+  CHECK(std::abs(column.fronts[0].c / 11.28108382 - 1.0) < 1e-3);
+  o.heights = {1.0, 100.0};
+  const auto material = continuum::continue_strip_height(law, 3.0, 1e-4, o);
+  REQUIRE(material.complete);
+  const double a = column.fronts[2].c, b = material.fronts[1].c;
+  INFO("c_min(H = 100): column path " << a << ", material path " << b);
+  CHECK(std::abs(a / b - 1.0) < 1e-3);
+  continuum::StripFrontOptions same = o.front;
+  const double tip = continuum::strip_tip_zone(law, a, continuum::steady_minimum_velocity(law));
+  same.tip_spacing = tip / 30.0;
+  same.row_spacing = tip / 10.0;
+  const auto& fc = column.fronts[2];
+  const auto& fm = material.fronts[1];
+  same.domain_length = fc.domain_length;
+  const auto rc = continuum::solve_strip_saddle_node_front(law, fc.bulk, same, fc);
+  const auto rm = continuum::solve_strip_saddle_node_front(law, fm.bulk, same, fm);
+  REQUIRE(rc.status == FrontStatus::converged);
+  REQUIRE(rm.status == FrontStatus::converged);
+  CHECK(rc.bulk.mu == Approx(rm.bulk.mu).epsilon(1e-12));
+  CHECK(std::abs(rc.c / rm.c - 1.0) < 1e-9);
+  // 2D: the thick strip's c_min is below the 1D one (docs/fronts.md §10.12: 0.925 at H/l = 33)
+  CHECK(a < 0.95 * 11.28108382);
+}

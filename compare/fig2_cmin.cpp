@@ -1,0 +1,160 @@
+#include "compare/fig2_cmin.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <future>
+#include <map>
+#include <limits>
+#include <tuple>
+
+#include "continuum/steady_front.hpp"
+#include "continuum/strip_front.hpp"
+#include "core/params.hpp"
+
+namespace slipfront::compare {
+namespace {
+
+constexpr double inf = std::numeric_limits<double>::infinity();
+
+// One material column: the law and the integrated μ, ρ (docs/model.md §9.1); its heights, increasing.
+using ColumnKey = std::tuple<double, double, double, double, double>;  // α, κ, η, μ, ρ
+
+struct ColumnResult {
+  std::map<double, double> c_min;        // H -> c_min (H = 0: the chain's)
+  std::map<double, std::string> why;     // H -> why there is none
+};
+
+// The chain's c_min: the end of the 1D branch (docs/fronts.md §4); the strip's: the limiting front continued in
+// H at the fixed column from a thin strip (§10.16), 8 rows and 200 intervals (within 1e-3 of 12 rows, §10.13).
+ColumnResult column_speeds(const core::InterfaceParams& law, double mu, double rho, const std::vector<double>& heights) {
+  ColumnResult out;
+  if (heights.front() == 0.0) {
+    const auto b = continuum::continue_steady_fronts(law, {rho, mu, 1000.0, 0.0});
+    if (b.end == continuum::BranchEnd::saddle_node && std::isfinite(b.c_min)) out.c_min[0.0] = b.c_min;
+    else out.why[0.0] = "the 1D branch ends without a limiting front: " + b.reason;
+  }
+  std::vector<double> strip(heights.begin() + (heights.front() == 0.0 ? 1 : 0), heights.end());
+  if (strip.empty()) return out;
+  continuum::StripHeightOptions o;
+  o.heights.push_back(std::min(0.5, strip.front()));
+  for (double H : strip)
+    if (H > o.heights.back()) o.heights.push_back(H);
+  o.front.rows = 8;
+  o.front.intervals = 200;
+  o.front.max_newton = 12;
+  const auto path = continuum::continue_strip_height_at_column(law, {rho, mu, 1000.0, 0.0}, o);
+  for (const auto& f : path.fronts) out.c_min[f.bulk.height] = f.c;
+  for (double H : strip)
+    if (!out.c_min.count(H)) out.why[H] = "the path in H stopped before H = " + core::format_number(H) + ": " + path.reason;
+  return out;
+}
+
+double slope_through_origin(const std::vector<double>& x, const std::vector<double>& y) {
+  double sxy = 0, sxx = 0;
+  for (std::size_t k = 0; k < x.size(); ++k)
+    if (std::isfinite(x[k]) && std::isfinite(y[k])) { sxy += x[k] * y[k]; sxx += x[k] * x[k]; }
+  return sxx > 0 ? sxy / sxx : nan;
+}
+
+}  // namespace
+
+std::vector<double> minimal_front_speeds(const std::vector<Scene>& scenes, std::vector<std::string>& why) {
+  std::map<ColumnKey, std::vector<double>> columns;
+  for (const auto& s : scenes)
+    columns[{s.interface.alpha, s.interface.kappa, s.interface.eta, s.bulk.mu, s.bulk.rho}].push_back(s.bulk.height);
+  std::map<ColumnKey, std::future<ColumnResult>> jobs;
+  for (auto& [key, hs] : columns) {
+    std::sort(hs.begin(), hs.end());
+    hs.erase(std::unique(hs.begin(), hs.end()), hs.end());
+    const auto [a, k, e, mu, rho] = key;
+    jobs[key] = std::async(std::launch::async, column_speeds, core::InterfaceParams{a, k, e}, mu, rho, hs);
+  }
+  std::map<ColumnKey, ColumnResult> done;
+  for (auto& [key, job] : jobs) done[key] = job.get();
+  std::vector<double> out;
+  why.assign(scenes.size(), "");
+  for (std::size_t i = 0; i < scenes.size(); ++i) {
+    const auto& s = scenes[i];
+    const auto& r = done.at({s.interface.alpha, s.interface.kappa, s.interface.eta, s.bulk.mu, s.bulk.rho});
+    const auto it = r.c_min.find(s.bulk.height);
+    out.push_back(it == r.c_min.end() ? nan : it->second);
+    if (it == r.c_min.end()) why[i] = r.why.count(s.bulk.height) ? r.why.at(s.bulk.height) : "no c_min";
+  }
+  return out;
+}
+
+void fig2_against_cmin(StudyReport& rep, Columns& all, const std::vector<Scene>& scenes) {
+  std::vector<std::string> why;
+  const auto c_min = minimal_front_speeds(scenes, why);
+  const char* models[] = {"continuum", "discrete"};
+  std::map<double, std::vector<std::size_t>> by_height;
+  for (std::size_t i = 0; i < scenes.size(); ++i) {
+    all["H"].push_back(scenes[i].bulk.height);
+    all["c_min"].push_back(c_min[i]);
+    for (const char* m : models) {
+      const double c = all[std::string("c_") + m][i];
+      all[std::string("ratio_") + m].push_back(c / c_min[i]);
+    }
+    by_height[scenes[i].bulk.height].push_back(i);
+    if (!why[i].empty()) rep.notes.push_back("run " + std::to_string(i) + ": no c_min: " + why[i]);
+  }
+  Columns h;
+  for (const auto& [H, idx] : by_height) {
+    // the lengths of the paper's 2D argument (docs/fronts.md §10.12): l = mu' = mu/H, l_kappa = mu' kappa/(eta alpha),
+    // their range over the height's runs
+    double l_lo = inf, l_hi = 0, lk_lo = inf, lk_hi = 0;
+    for (std::size_t i : idx) {
+      const auto& s = scenes[i];
+      const double r = H > 0 ? H * H / s.bulk.mu : 0.0;
+      const double rk = r * s.interface.eta * s.interface.alpha / s.interface.kappa;
+      l_lo = std::min(l_lo, r), l_hi = std::max(l_hi, r), lk_lo = std::min(lk_lo, rk), lk_hi = std::max(lk_hi, rk);
+    }
+    h["H"].push_back(H);
+    h["H_over_l_min"].push_back(l_lo);
+    h["H_over_l_max"].push_back(l_hi);
+    h["H_over_l_kappa_min"].push_back(lk_lo);
+    h["H_over_l_kappa_max"].push_back(lk_hi);
+    h["runs"].push_back(static_cast<double>(idx.size()));
+    for (const char* m : models) {
+      std::vector<double> x, y, r;
+      for (std::size_t i : idx) {
+        x.push_back(c_min[i]);
+        y.push_back(all[std::string("c_") + m][i]);
+        r.push_back(all[std::string("ratio_") + m][i]);
+      }
+      std::vector<double> finite;
+      for (double v : r)
+        if (std::isfinite(v)) finite.push_back(v);
+      double mean = nan, rsd = nan;
+      if (!finite.empty()) {
+        double sum = 0;
+        for (double v : finite) sum += v;
+        mean = sum / static_cast<double>(finite.size());
+        double ss = 0;
+        for (double v : finite) ss += (v - mean) * (v - mean);
+        rsd = finite.size() > 1 ? std::sqrt(ss / static_cast<double>(finite.size() - 1)) / mean : nan;
+      }
+      h[std::string("slope_") + m].push_back(slope_through_origin(x, y));
+      h[std::string("ratio_mean_") + m].push_back(mean);
+      h[std::string("ratio_rsd_") + m].push_back(rsd);
+      h[std::string("measured_") + m].push_back(static_cast<double>(finite.size()));
+    }
+  }
+  rep.tables["fig2_heights"] = h;
+  rep.definitions["fig2_all/H"] = "bulk.height of the run (0: the 1D chain)";
+  rep.definitions["fig2_all/c_min"] =
+      "minimal steady front speed of the run's own scene: the end of the 1D branch (chain) or the strip's limiting "
+      "front at the run's H, continued in H at fixed mu, rho (docs/fronts.md §10.16)";
+  rep.definitions["fig2_all/ratio_continuum"] = "c_transient / c_min (continuum)";
+  rep.definitions["fig2_all/ratio_discrete"] = "c_transient / c_min (discrete)";
+  rep.definitions["fig2_heights/H_over_l_min"] =
+      "smallest H/l over the height's runs, l = mu' = mu/H (docs/fronts.md §10.12); _max: the largest";
+  rep.definitions["fig2_heights/H_over_l_kappa_min"] =
+      "smallest H/l_kappa over the height's runs, l_kappa = mu' kappa/(eta alpha); _max: the largest";
+  rep.definitions["fig2_heights/slope_continuum"] =
+      "least-squares slope through the origin of c_transient vs c_min over the height's runs (continuum)";
+  rep.definitions["fig2_heights/ratio_rsd_continuum"] =
+      "relative standard deviation of c_transient/c_min over the height's runs: the scatter about the collapse";
+}
+
+}  // namespace slipfront::compare

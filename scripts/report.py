@@ -3,8 +3,9 @@
 
 Run with /usr/bin/python3 (Debian's numpy, h5py, matplotlib). Called by `slipfront report DIR`.
 Scene files (results.h5) are plotted with plot.py; studies (study.h5) get their convergence plots,
-each with its fitted slope and 95% interval; report.md collects the figures and a summary table
-(observable, continuum value, discrete value at the largest N, relative difference, fitted rate).
+each with its fitted slope and 95% interval; report.md collects the figures and a summary in three tables: limits
+that must hold (each against the model or limit it is supposed to reach, with statistic, threshold and verdict),
+effects of a parameter (differences, no verdict) and measurements (docs/studies.md, "The report").
 """
 import argparse
 import hashlib

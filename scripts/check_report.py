@@ -188,9 +188,8 @@ def main(argv):
         print(f"check_report: {len(bad)} of {len(images)} plots bad")
     else:
         print(f"check_report: {len(images)} plots named in {report}, all present and non-empty")
-    print(f"check_report: {checked} verdict rows read against their files, {len(errors)} compare a model with a limit it "
-          "is not supposed to reach or misstate their reference" if not errors or checked else
-          f"check_report: {len(errors)} errors in the limits table")
+    print(f"check_report: {checked} verdict rows read against their files; {len(errors)} errors (a model tested against "
+          "a limit it is not supposed to reach, a misstated reference or w, a missing file or table)")
     return 1 if bad or errors else 0
 
 

@@ -377,7 +377,7 @@ TEST_CASE("report: a disordered scene is tested against mean_field when its file
   const auto check = slipfront::testing::run({"/usr/bin/python3", src + "/scripts/check_report.py", (dir / "report.md").string()}, dir);
   INFO(check.out + check.err);
   CHECK(check.code == 0);
-  CHECK(check.out.find("verdict rows read against their files, 0 compare") != std::string::npos);
+  CHECK(check.out.find("verdict rows read against their files; 0 errors") != std::string::npos);
 }
 
 TEST_CASE("report: check_report.py rejects a verdict row testing a disordered discrete model against the continuum",

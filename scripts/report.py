@@ -3,8 +3,9 @@
 
 Run with /usr/bin/python3 (Debian's numpy, h5py, matplotlib). Called by `slipfront report DIR`.
 Scene files (results.h5) are plotted with plot.py; studies (study.h5) get their convergence plots,
-each with its fitted slope and 95% interval; report.md collects the figures and a summary table
-(observable, continuum value, discrete value at the largest N, relative difference, fitted rate).
+each with its fitted slope and 95% interval; report.md collects the figures and a summary in three tables: limits
+that must hold (each against the model or limit it is supposed to reach, with statistic, threshold and verdict),
+effects of a parameter (differences, no verdict) and measurements (docs/studies.md, "The report").
 """
 import argparse
 import hashlib
@@ -55,6 +56,28 @@ class Study:
         self.status = plot.as_str(meta.get("status", "unknown"))
         self.wall = plot.as_float(meta.get("wall_seconds", math.nan))
         self.commit = plot.as_str(meta.get("git_commit", "unknown"))
+        self.source = path  # the file relative to the report's DIR (main sets it)
+
+    def widths(self):
+        """The threshold widths w of the study's discrete runs (the varied discrete.width, else the first run's
+        resolved config); {0.0} when none can be read."""
+        out = set()
+        for run_id, point in self.runs:
+            if "discrete.width" in point:
+                out.add(float(point["discrete.width"]))
+        if not out:
+            for run_id, _ in self.runs[:1]:
+                try:
+                    with h5py.File(self.run_file(run_id), "r") as f:
+                        cfg = plot.read_config(f).get("discrete", {})
+                    if cfg.get("threshold", "delta") != "delta":
+                        out.add(float(cfg.get("width", 0.0)))
+                except (OSError, KeyError, ValueError):
+                    pass
+        return out or {0.0}
+
+    def w_label(self):
+        return ", ".join(f"{w:g}" for w in sorted(self.widths()))
 
     def run_file(self, run_id):
         return os.path.join(self.dir, "runs", run_id, "results.h5")
@@ -141,6 +164,105 @@ def save(fig, outdir, name, figures):
 
 
 # --------------------------------------------------------------------------------------------
+# summary rows: each is a limit that must hold (with its statistic, threshold and verdict), an effect of a
+# parameter (a difference, no verdict), or a measurement (neither). docs/studies.md "The report".
+
+SCENE_EVENT_TOL = 0.05  # a scene's event within 5 % of its limit's (one run at one N; not a significance test)
+IDENTITY_TOL = 1e-12  # noise off, w = 0 (or the mean_field reference): the discrete update is the reference's
+CONTACTS_FAMILY_ALPHA = 0.01  # contact-statistics rows: family false-alarm rate, Bonferroni over a scene's rows
+NRATE = -0.5  # the random part of the error falls like N^-1/2 (docs/model.md §2.1 item 2)
+BIAS_TOL = 0.01  # the validity map's 1 % (docs/model.md §8)
+STRIP_THIN_TOL = 0.005  # the strip_height study's H -> 0 check (docs/studies.md)
+
+
+def limit_row(limit, observable, reference, ref_value, disc_value, statistic, threshold, verdict, source, w=""):
+    """A limit that must hold: `reference` names the model (or limit) the discrete value is tested against;
+    `verdict` is "pass", "FAIL" or "n/a" (no statistic); `source` the file (relative to DIR) it was read from."""
+    return {"kind": "limit", "limit": limit, "observable": observable, "reference": reference, "ref": ref_value,
+            "disc": disc_value, "statistic": statistic, "threshold": threshold, "verdict": verdict,
+            "source": source, "w": w}
+
+
+def effect_row(parameter, observable, without, with_, difference, note, source):
+    """An effect of a parameter: the value without it (the reference), with it, their difference; no verdict."""
+    return {"kind": "effect", "parameter": parameter, "observable": observable, "without": without, "with": with_,
+            "difference": difference, "note": note, "source": source}
+
+
+def measure_row(observable, c="", d="", diff="", note=""):
+    """A measurement (neither a limit tested nor an effect): the report's former five columns."""
+    return {"kind": "measure", "cells": (observable, c, d, diff, note)}
+
+
+def verdict_of(ok):
+    return "n/a" if ok is None else ("pass" if ok else "FAIL")
+
+
+def ci_contains(st, name, value):
+    """Whether the 95 % interval of the fitted scalar `name` contains `value` (None: no fit)."""
+    lo, hi = st.scalars.get(name + "_ci_low", math.nan), st.scalars.get(name + "_ci_high", math.nan)
+    if not (math.isfinite(lo) and math.isfinite(hi)):
+        return None
+    return lo <= value <= hi
+
+
+def fmt_w(w):
+    return f"{w:g}"
+
+
+def cell(s):
+    return str(s).replace("|", "\\|").replace("\n", " ")
+
+
+def summary_tables(rows):
+    """The summary as markdown lines: limits that must hold, effects of a parameter, other measurements."""
+    lim = [r for r in rows if r["kind"] == "limit"]
+    eff = [r for r in rows if r["kind"] == "effect"]
+    mea = [r for r in rows if r["kind"] == "measure"]
+    out = ["## Summary", "",
+           "Three tables (docs/studies.md, \"The report\"): **limits that must hold** are tested, each against the "
+           "model or limit it is supposed to reach, with a statistic, its threshold and a verdict; **effects of a "
+           "parameter** (threshold disorder w, N below the validity crossover, the strip height H) are differences "
+           "a parameter causes, shown without a verdict: they are results, not failures; **measurements** are "
+           "neither.", "",
+           "### Limits that must hold", "",
+           f"{len(lim)} rows, {sum(r['verdict'] == 'pass' for r in lim)} pass, "
+           f"{sum(r['verdict'] == 'FAIL' for r in lim)} fail, {sum(r['verdict'] == 'n/a' for r in lim)} without a "
+           "statistic.", "",
+           "| limit | observable | reference | reference value | discrete value | statistic | threshold | verdict | w | file |",
+           "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
+    out += ["| " + " | ".join(cell(r[k]) for k in ("limit", "observable", "reference", "ref", "disc", "statistic",
+                                                    "threshold", "verdict", "w")) + f" | `{cell(r['source'])}` |"
+            for r in lim]
+    out += ["", "### Effects of a parameter", "",
+            "| parameter | observable | without it (reference) | with it | difference | note | file |",
+            "| --- | --- | --- | --- | --- | --- | --- |"]
+    out += ["| " + " | ".join(cell(r[k]) for k in ("parameter", "observable", "without", "with", "difference", "note"))
+            + f" | `{cell(r['source'])}` |" for r in eff]
+    out += ["", "### Measurements", "", "| observable | continuum | discrete (largest N) | relative difference | fitted rate |",
+            "| --- | --- | --- | --- | --- |"]
+    out += [f"| {' | '.join(cell(c) for c in r['cells'])} |" for r in mea]
+    return out + [""]
+
+
+def reference_of(res):
+    """The model the file's /compare compared the discrete model with (docs/output.md): its attribute
+    `reference`, absent for the continuum; without /compare, mean_field when the file has it, else continuum."""
+    if "compare" in res.f:
+        return plot.as_str(res.f["compare"].attrs.get("reference", "continuum"))
+    return "mean_field" if "mean_field" in res.models else "continuum"
+
+
+def disorder_of(res):
+    """(w, noise on) of the file's discrete model, from its resolved config."""
+    w = plot.as_float(res.param("discrete", "width", 0.0))
+    w = 0.0 if w is None or not math.isfinite(w) else float(w)
+    if str(res.param("discrete", "threshold", "delta")) == "delta":
+        w = 0.0
+    return w, bool(res.param("discrete", "noise", True))
+
+
+# --------------------------------------------------------------------------------------------
 # one plot function per study kind; each returns (figures, summary rows)
 
 
@@ -184,9 +306,15 @@ def friction_law_study(st, outdir):
     ax.legend(fontsize=7)
     save(fig, outdir, f"{st.stem}_fig2_left.png", figs)
     if t:
-        rows.append((f"{st.name}: steady friction, random error at N = {t['N'][-1]:.0f}", "0",
-                     f"{t['random'][-1]:.3g}", "", st.fit_labels("friction_law_random_exponent")))
-        rows.append((f"{st.name}: steady friction, bias at N = {t['N'][-1]:.0f}", "0", f"{t['bias'][-1]:.3g}", "", ""))
+        fit = st.best_fit("friction_law_random_exponent")
+        rows.append(limit_row("N-rate of a study: discrete -> continuum as N^-1/2", f"{st.name}: steady friction, random "
+                              f"error at N = {t['N'][-1]:.0f}", "continuum", "0", f"{t['random'][-1]:.3g}",
+                              st.fit_labels("friction_law_random_exponent"), "95% CI of the slope contains -1/2",
+                              verdict_of(ci_contains(st, fit, NRATE)), st.source, st.w_label()))
+        rows.append(limit_row("discrete -> continuum as N -> inf at w = 0", f"{st.name}: steady friction, bias at "
+                              f"N = {t['N'][-1]:.0f}", "continuum", "0", f"{t['bias'][-1]:.3g}", "bias (seed mean)",
+                              "<= 1%", verdict_of(t["bias"][-1] <= BIAS_TOL if math.isfinite(t["bias"][-1]) else None),
+                              st.source, st.w_label()))
     return figs, rows
 
 
@@ -234,11 +362,19 @@ def threshold_width_study(st, outdir):
         ax.set_title(st.title("static peak and slip vs threshold width w (noise off)"), fontsize=8)
     ax.legend(fontsize=7)
     save(fig, outdir, f"{st.stem}_{'laws' if steady else 'histories'}_vs_w.png", figs)
-    rows.append((f"{st.name}: distance to the continuum at w = {t['width'][0]:.3g}", "0", f"{t['distance'][0]:.3g}", "",
-                 st.fit_label("threshold_width_exponent")))
+    k = int(np.argmin(t["width"]))
+    lim = "discrete (noise off) -> continuum as w -> 0"
+    rows.append(limit_row(lim, f"{st.name}: distance to the continuum at w = {t['width'][k]:.3g}", "continuum", "0",
+                          f"{t['distance'][k]:.3g}", "rate " + st.fit_label("threshold_width_exponent"),
+                          "<= 1% at the smallest w", verdict_of(abs(t["distance"][k]) <= BIAS_TOL
+                                                                 if math.isfinite(t["distance"][k]) else None),
+                          st.source, f"{t['width'][k]:g}"))
     if "threshold_width_peak_exponent" in st.scalars:
-        rows.append((f"{st.name}: static peak shift at w = {t['width'][0]:.3g}", "0", f"{t['F_peak_shift'][0]:.3g}", "",
-                     st.fit_label("threshold_width_peak_exponent")))
+        rows.append(limit_row(lim, f"{st.name}: static peak shift at w = {t['width'][k]:.3g}", "continuum", "0",
+                              f"{t['F_peak_shift'][k]:.3g}", "rate " + st.fit_label("threshold_width_peak_exponent"),
+                              "<= 1% at the smallest w", verdict_of(abs(t["F_peak_shift"][k]) <= BIAS_TOL
+                                                                     if math.isfinite(t["F_peak_shift"][k]) else None),
+                              st.source, f"{t['width'][k]:g}"))
     return figs, rows
 
 
@@ -272,8 +408,11 @@ def transient_study(st, outdir):
     axs[1].legend(fontsize=7)
     fig.suptitle(st.title("transient friction, discrete vs continuum"), fontsize=8)
     save(fig, outdir, f"{st.stem}_transient.png", figs)
-    rows.append((f"{st.name}: friction history distance at N = {t['N'][-1]:.0f}", "0", f"{t['distance_mean'][-1]:.3g}",
-                 "", st.fit_labels("transient_distance_exponent")))
+    rows.append(limit_row("N-rate of a study: discrete -> continuum as N^-1/2", f"{st.name}: friction history distance "
+                          f"at N = {t['N'][-1]:.0f}", "continuum", "0", f"{t['distance_mean'][-1]:.3g}",
+                          st.fit_labels("transient_distance_exponent"), "95% CI of the slope contains -1/2",
+                          verdict_of(ci_contains(st, st.best_fit("transient_distance_exponent"), NRATE)), st.source,
+                          st.w_label()))
     return figs, rows
 
 
@@ -314,9 +453,13 @@ def front_speeds_study(st, outdir):
     fig.tight_layout()
     save(fig, outdir, f"{st.stem}_fronts_vs_N.png", figs)
     for o in obs:
-        rows.append((f"{st.name}: {o}, mean ± sd over seeds at N = {N[-1]:.0f}", f"{t[o + '_continuum'][-1]:.4g}",
-                     f"{t[o + '_mean'][-1]:.4g} ± {t[o + '_sd'][-1]:.2g}", f"{t[o + '_rel_diff'][-1]:+.2%}",
-                     "spread: " + st.fit_label(st.best_fit(f"front_{o}_sd_exponent"))))
+        fit = st.best_fit(f"front_{o}_sd_exponent")
+        rows.append(limit_row("N-rate of a study: spread over seeds as N^-1/2",
+                              f"{st.name}: {o}, mean ± sd over seeds at N = {N[-1]:.0f}", "continuum",
+                              f"{t[o + '_continuum'][-1]:.4g}", f"{t[o + '_mean'][-1]:.4g} ± {t[o + '_sd'][-1]:.2g} "
+                              f"({t[o + '_rel_diff'][-1]:+.2%})", "spread: " + st.fit_label(fit),
+                              "95% CI of the slope contains -1/2", verdict_of(ci_contains(st, fit, NRATE)), st.source,
+                              st.w_label()))
     return figs, rows
 
 
@@ -345,7 +488,7 @@ def fig2_study(st, outdir):
     fig.suptitle(st.title("Fig. 2 (right): transient front speed collapse"), fontsize=9)
     save(fig, outdir, f"{st.stem}_fig2_right.png", figs)
     for m in ("continuum", "discrete"):
-        rows.append((f"Fig. 2 right slope ({m})", "", f"{st.scalars.get('fig2_slope_all_' + m, math.nan):.3g}", "", ""))
+        rows.append(measure_row(f"Fig. 2 right slope ({m})", "", f"{st.scalars.get('fig2_slope_all_' + m, math.nan):.3g}"))
     return figs, rows
 
 
@@ -373,11 +516,11 @@ def spectrum_study(st, outdir):
     axs[1].set_ylabel("slip rate behind the front")
     fig.suptitle(st.title("front spectrum, homogeneous loading"), fontsize=9)
     save(fig, outdir, f"{st.stem}_spectrum.png", figs)
-    rows.append(("slowest nucleated front (continuum)", f"{st.scalars.get('spectrum_slowest_front', math.nan):.3g}",
+    rows.append(measure_row("slowest nucleated front (continuum)", f"{st.scalars.get('spectrum_slowest_front', math.nan):.3g}",
                  "", "", f"at sigma_d = {st.scalars.get('spectrum_slowest_front_sigma_d', math.nan):.3g}; "
                          f"nucleation limit sigma_d = {lim:.3g} (a property of the start)"))
     if math.isfinite(st.scalars.get("branch_c_min", math.nan)):
-        rows.append(("minimal steady front speed c_min (solved branch)", f"{st.scalars['branch_c_min']:.4g}", "", "",
+        rows.append(measure_row("minimal steady front speed c_min (solved branch)", f"{st.scalars['branch_c_min']:.4g}", "", "",
                      f"at sigma_d = {st.scalars.get('branch_sigma_d_at_c_min', math.nan):.5g} (end of the branch)"))
     return figs, rows
 
@@ -397,8 +540,12 @@ def steady_fronts_study(st, outdir):
         ax.set_title(st.title("steady front: discrete speed vs N"), fontsize=8)
         ax.legend(fontsize=7)
         save(fig, outdir, f"{st.stem}_speed_vs_N.png", figs)
-        rows.append((f"{st.name}: discrete front speed vs continuum at N = {n['N'][-1]:.0f}", "0",
-                     f"{n['rms_discrete_vs_continuum'][-1]:.3g}", "", st.fit_labels("steady_front_speed_exponent")))
+        rows.append(limit_row("N-rate of a study: discrete -> continuum as N^-1/2", f"{st.name}: discrete front speed vs "
+                              f"continuum at N = {n['N'][-1]:.0f}", "continuum", "0",
+                              f"{n['rms_discrete_vs_continuum'][-1]:.3g}", st.fit_labels("steady_front_speed_exponent"),
+                              "95% CI of the slope contains -1/2",
+                              verdict_of(ci_contains(st, st.best_fit("steady_front_speed_exponent"), NRATE)), st.source,
+                              st.w_label()))
     elif t:
         fig, ax = plt.subplots(figsize=(6.5, 4.5))
         for kick, mk in ((0.0, "o"), (-0.5, "v"), (2.0, "^")):
@@ -415,7 +562,7 @@ def steady_fronts_study(st, outdir):
         save(fig, outdir, f"{st.stem}_speed_vs_solved.png", figs)
         k = st.scalars.get("kick_max_speed_change", math.nan)
         worst = np.nanmax(np.abs(t["rel_continuum"])) if len(t["rel_continuum"]) else math.nan
-        rows.append((f"{st.name}: front started from the solved one, max abs(c/c_solved - 1)", f"{worst:.2g}",
+        rows.append(measure_row(f"{st.name}: front started from the solved one, max abs(c/c_solved - 1)", f"{worst:.2g}",
                      f"{np.nanmax(np.abs(t['rel_discrete'])):.2g}", "",
                      f"kicked fronts return to the branch: max speed change {k:.2g}" if math.isfinite(k) else ""))
     return figs, rows
@@ -473,7 +620,7 @@ def fronts_file(path, root, figdir, studies):
             ax.legend(fontsize=7)
         fig.suptitle(f"{scene}: steady fronts, the branch and its profiles (docs/fronts.md)   [{status}]", fontsize=9)
         save(fig, outdir, f"{stem}_{scene}_fronts_branch.png", figs)
-        rows.append((f"{scene}: minimal steady front speed c_min (solved)", f"{c_min:.5g}", "", "",
+        rows.append(measure_row(f"{scene}: minimal steady front speed c_min (solved)", f"{c_min:.5g}", "", "",
                      f"at sigma_d = {sd_min:.5g}; branch end: {ba.get('end', '')}; status {status}"))
         if "scaling" in f and "points" in f["scaling"] and "c_min" in f["scaling"]["points"]:
             sc = f["scaling"]
@@ -499,7 +646,7 @@ def fronts_file(path, root, figdir, studies):
             save(fig, outdir, f"{stem}_{scene}_cmin_collapse.png", figs)
             refused = [ln for ln in plot.as_str(sc["fits"].attrs.get("refused", "")).split("\n") if ln.startswith("all: ")]
             why = refused[0][len("all: "):] if refused and refused[0] != "all: fitted" else ""
-            rows.append((f"{scene}: c_min / sqrt(mu alpha/(eta kappa)) ({fitted} of {tried} branches with a c_min)",
+            rows.append(measure_row(f"{scene}: c_min / sqrt(mu alpha/(eta kappa)) ({fitted} of {tried} branches with a c_min)",
                          f"{a:.3g}", "", "", f"no fit: {why}" if why else
                          f"largest deviation {100 * spread:.1f}% over the {fitted} fitted points"))
         end = f"the branch ends at sigma_d = {sd_min:.6g} ({plot.as_str(ba.get('reason', ''))})" if math.isfinite(c_min) \
@@ -610,15 +757,15 @@ def validity_friction_study(st, outdir):
             ax.legend(fontsize=6)
         fig.suptitle(st.title("N* against kappa and eta: the (kappa/eta)^(1/2) of the argument and the free fit"), fontsize=9)
         save(fig, outdir, f"{st.stem}_kappa_eta.png", figs)
-        rows.append((f"{st.name}: N* ~ (alpha - 1)^p kappa^q eta^r, free fit (w = 0)", "", f"{pa:.2f}, {pk:.2f}, {pe:.2f}", "",
+        rows.append(measure_row(f"{st.name}: N* ~ (alpha - 1)^p kappa^q eta^r, free fit (w = 0)", "", f"{pa:.2f}, {pk:.2f}, {pe:.2f}", "",
                      "argument: -3/2, +1/2, -1/2; " + ", ".join(st.fit_label(f"validity_friction_free_fit_{n}_exponent")
                                                               for n in ("alpha_minus_1", "kappa", "eta"))))
-    rows.append((f"{st.name}: N* (steady-law bias < 1%, w = 0) ~ (alpha - 1)^p", "", "", "",
+    rows.append(measure_row(f"{st.name}: N* (steady-law bias < 1%, w = 0) ~ (alpha - 1)^p", "", "", "",
                  st.fit_label("validity_friction_Nstar1_exponent") + "; theory -3/2, naive -2"))
     if x:
         for k in range(len(x["alpha"])):
             if x["width"][k] == 0 and math.isfinite(x["N_star_1"][k]) and ("kappa" not in x or (x["kappa"][k] == kref and x["eta"][k] == eref)):
-                rows.append((f"{st.name}: N* (1%) at alpha - 1 = {x['alpha_minus_1'][k]:.3g}", "", f"{x['N_star_1'][k]:.3g}", "",
+                rows.append(measure_row(f"{st.name}: N* (1%) at alpha - 1 = {x['alpha_minus_1'][k]:.3g}", "", f"{x['N_star_1'][k]:.3g}", "",
                              f"between N = {x['N_star_1_low'][k]:.3g} and {x['N_star_1_high'][k]:.3g}"))
     return figs, rows
 
@@ -668,15 +815,19 @@ def validity_fig1_study(st, outdir):
         fig.suptitle(st.title("fig1 runs by mode (dashed box: continuum-like)"), fontsize=9)
         save(fig, outdir, f"{st.stem}_modes.png", figs)
     if math.isfinite(st.scalars.get("validity_fig1_Nstar50_exponent", math.nan)):
-        rows.append((f"{st.name}: N* (half of fig1 runs continuum-like) ~ (alpha - 1)^p", "", "", "",
+        rows.append(measure_row(f"{st.name}: N* (half of fig1 runs continuum-like) ~ (alpha - 1)^p", "", "", "",
                      st.fit_label("validity_fig1_Nstar50_exponent") + "; theory -2"))
     stp = st.tables.get("validity_fig1_step", {})
     for k in range(len(stp.get("alpha", []))):
         fine = "explicit" if stp["dt_fine"][k] == 0 else f"dt {stp['dt_fine'][k]:g}"
-        rows.append((f"{st.name}: continuum-like fraction at alpha = {stp['alpha'][k]:g}, N = {stp['N'][k]:g}, dt {stp['dt'][k]:g} vs {fine}",
-                     "", f"{stp['fraction'][k]:.3f} vs {stp['fraction_fine'][k]:.3f}", "",
-                     f"difference {stp['difference'][k]:+.3f}, p = {stp['pvalue'][k]:.2f} (two-proportion z test, "
-                     f"{stp['runs'][k]:g} seeds)"))
+        pv = float(stp["pvalue"][k])
+        rows.append(limit_row("the continuum-like fraction does not depend on the time step",
+                              f"{st.name}: continuum-like fraction at alpha = {stp['alpha'][k]:g}, N = {stp['N'][k]:g}",
+                              f"discrete at {fine}", f"{stp['fraction_fine'][k]:.3f}",
+                              f"{stp['fraction'][k]:.3f} (dt {stp['dt'][k]:g})",
+                              f"difference {stp['difference'][k]:+.3f}, p = {pv:.2f} (two-proportion z test, "
+                              f"{stp['runs'][k]:g} seeds)", "p >= 0.05",
+                              verdict_of(pv >= 0.05 if math.isfinite(pv) else None), st.source, st.w_label()))
     return figs, rows
 
 
@@ -749,12 +900,20 @@ def strip_height_study(st, outdir):
                 continue
             rc, rd = t[f"{o}_continuum_rel_1d"], t[f"{o}_discrete_rel_1d"]
             order = st.fit_label(f"strip_height_order_{o}_continuum").replace("slope", "order in H")
-            rows.append((f"{st.name}: {o}, 1D chain -> H = {thin:g} -> H = {H[big]:g} (H/l_e = {x[big]:.3g})",
-                         f"{c[chain[0]]:.4g} -> {c[k]:.4g} -> {c[big]:.4g}", f"{d[chain[0]]:.4g} -> {d[k]:.4g} -> {d[big]:.4g}",
-                         f"H = {thin:g} vs 1D: {rc[k]:+.3%} / {rd[k]:+.3%}", order))
+            worst = max(abs(rc[k]), abs(rd[k]))
+            rows.append(limit_row("strip -> 1D chain as H -> 0 (both models)",
+                                  f"{st.name}: {o}, 1D chain -> H = {thin:g} (H/l_e = {x[k]:.3g})", "1D chain",
+                                  f"{c[chain[0]]:.4g} / {d[chain[0]]:.4g}", f"{c[k]:.4g} / {d[k]:.4g}",
+                                  f"H = {thin:g} vs 1D (continuum / discrete): {rc[k]:+.3%} / {rd[k]:+.3%}; {order}",
+                                  "abs <= 0.5%", verdict_of(worst <= STRIP_THIN_TOL if math.isfinite(worst) else None),
+                                  st.source, st.w_label()))
+            rows.append(effect_row("strip height H", f"{st.name}: {o}, 1D chain -> H = {H[big]:g} (H/l_e = {x[big]:.3g}) "
+                                   "(continuum / discrete)", f"1D chain {c[chain[0]]:.4g} / {d[chain[0]]:.4g}",
+                                   f"H = {H[big]:g}: {c[big]:.4g} / {d[big]:.4g}",
+                                   f"{rc[big]:+.2%} / {rd[big]:+.2%}", order, st.source))
     dy = st.tables.get("strip_height_dy", {})
     for k in range(len(dy.get("H", []))):
-        rows.append((f"{st.name}: events at H = {dy['H'][k]:g}, dy = {dy['dy'][k]:g} against dy = {dy['dy_reference'][k]:g}",
+        rows.append(measure_row(f"{st.name}: events at H = {dy['H'][k]:g}, dy = {dy['dy'][k]:g} against dy = {dy['dy_reference'][k]:g}",
                      "", "", f"largest change {dy['max_rel_ref'][k]:.3%}", "both models, t*, t^, c_slow, c_transient, x_arrest"))
     return figs, rows
 
@@ -922,8 +1081,8 @@ def strip_cmin_section(path, root, figdir):
     else:
         gap = f"no H > l_kappa = {lk:.4g}: large-H regime not reached (c_min/c_min,1D = {a['ratio'][big]:.3g} at H = {H[big]:.4g})"
     expo = (f"local exponent {a['expo'][0]:.3f} -> {a['expo'][-1]:.3f}" if len(a["expo"]) else "")
-    rows = [(f"c_min(H) of the strip, H = {H[0]:.4g} .. {H[-1]:.4g}: does the 1D c_min hold?",
-             f"{holds}; {cross}", "", gap, expo)]
+    rows = [measure_row(f"c_min(H) of the strip, H = {H[0]:.4g} .. {H[-1]:.4g}: does the 1D c_min hold?",
+                        f"{holds}; {cross}", "", gap, expo)]
     return figs, rows
 
 
@@ -934,33 +1093,68 @@ STUDY_PLOTS = {"friction_law": friction_law_study, "threshold_width": threshold_
                "strip_height": strip_height_study}
 
 
-def scene_rows(res):
-    """Summary rows of a scene file with both models: the events of each and their difference."""
+def scene_rows(res, source=""):
+    """Summary rows of a scene file with the discrete model and its reference (/compare's `reference`: mean_field
+    when the scene lists it, else the continuum). The discrete model against its reference is a limit that must
+    hold when the reference is the ensemble's own N -> infinity limit at its w: mean_field, or the continuum at
+    w = 0 (docs/model.md §2.1, §2.2); with w > 0 against the continuum it is an effect of the disorder (no verdict).
+    With both mean_field and continuum, mean_field against the continuum is the effect of w at N -> infinity."""
     rows = []
-    if "continuum" not in res.models or "discrete" not in res.models:
+    if "discrete" not in res.models or not ({"continuum", "mean_field"} & set(res.models)):
         return rows
-    if res.kind() == "sweep":  # Fig. 2 (left): the minimum of the steady law, both models and the closed form
-        ac, ad = res.group("continuum").attrs, res.group("discrete").attrs
-        p = plot.interface_params(res)
-        for key_c, key_d, what, closed in (("v_m_numeric", "v_m_fit", "v_m", 0), ("sigma_c_numeric", "sigma_c_fit",
-                                                                                    "sigma_c^d", 1)):
-            c = plot.as_float(ac.get(key_c, ac.get(key_d.replace("numeric", "fit"), math.nan)))
-            d = plot.as_float(ad.get(key_d, math.nan))
-            cf = plot.minimum_of_friction(*p)[closed] if p else math.nan
-            rel = f"{(d - c) / c:+.2%}" if math.isfinite(c) and math.isfinite(d) else ""
-            rows.append((f"{res.scene}: {what} (closed form {cf:.5g}; discrete: parabola fit)", f"{c:.5g}", f"{d:.5g}",
-                         rel, ""))
-        return rows
-    ec, ed = plot.events(res.group("continuum")), plot.events(res.group("discrete"))
+    ref = reference_of(res)
+    if ref not in res.models:
+        ref = "mean_field" if "mean_field" in res.models else "continuum"
+    w, noise = disorder_of(res)
     n = res.param("discrete", "contacts_per_site", "?")
-    keys = {"edge": ("t_star", "t_hat", "c_slow_alt", "c_transient", "x_arrest"),
-            "homogeneous": ("c_front", "v_behind"),
-            "spring_block": ("t_star", "t_hat")}.get(res.loading(), ("t_star",))
-    for k in keys:
-        c, d = ec.get(k, math.nan), ed.get(k, math.nan)
-        if math.isfinite(c) or math.isfinite(d):
-            rel = f"{(d - c) / c:+.2%}" if math.isfinite(c) and math.isfinite(d) and c != 0 else ""
-            rows.append((f"{res.scene}: {k} (discrete N={n})", f"{c:.4g}", f"{d:.4g}", rel, ""))
+    if res.kind() == "sweep":  # Fig. 2 (left): the minimum of the steady law, both models and the closed form
+        p = plot.interface_params(res)
+        values = {}
+        for m in res.models:
+            a = res.group(m).attrs
+            values[m] = {what: plot.as_float(a.get(k, a.get(k2, math.nan)))
+                         for what, k, k2 in (("v_m", "v_m_numeric", "v_m_fit"), ("sigma_c^d", "sigma_c_numeric",
+                                                                                   "sigma_c_fit"))}
+            if m == "discrete":
+                values[m] = {"v_m": plot.as_float(a.get("v_m_fit", math.nan)),
+                             "sigma_c^d": plot.as_float(a.get("sigma_c_fit", math.nan))}
+        keys = (("v_m", 0), ("sigma_c^d", 1))
+        label = {k: f"{k} (closed form {plot.minimum_of_friction(*p)[i]:.5g}; discrete: parabola fit)" if p else k
+                 for k, i in keys}
+    else:
+        values = {m: plot.events(res.group(m)) for m in res.models}
+        keys = [(k, 0) for k in {"edge": ("t_star", "t_hat", "c_slow_alt", "c_transient", "x_arrest"),
+                                 "homogeneous": ("c_front", "v_behind"),
+                                 "spring_block": ("t_star", "t_hat")}.get(res.loading(), ("t_star",))]
+        label = {k: f"{k} (discrete N={n})" for k, _ in keys}
+    tested = ref == "mean_field" or w == 0
+    for k, _ in keys:
+        c, d = values[ref].get(k, math.nan), values["discrete"].get(k, math.nan)
+        if not (math.isfinite(c) or math.isfinite(d)):
+            continue
+        relv = (d - c) / abs(c) if math.isfinite(c) and math.isfinite(d) and c != 0 else math.nan
+        rel = f"{relv:+.2%}" if math.isfinite(relv) else ""
+        if tested:
+            if noise:
+                lim, tol, thr = f"discrete -> {ref} as N -> inf at w = {fmt_w(w)}", SCENE_EVENT_TOL, "abs <= 5%"
+            else:
+                lim, tol, thr = f"discrete = {ref} at w = {fmt_w(w)}, noise off", IDENTITY_TOL, "abs <= 1e-12"
+            ok = None if not math.isfinite(relv) else abs(relv) <= tol
+            rows.append(limit_row(lim, f"{res.scene}: {label[k]}", ref, f"{c:.5g}", f"{d:.5g}",
+                                  f"relative difference {rel or 'n/a'}", thr, verdict_of(ok), source, fmt_w(w)))
+        else:
+            rows.append(effect_row(f"threshold disorder w = {fmt_w(w)} (discrete N = {n}; the continuum is w = 0)",
+                                   f"{res.scene}: {label[k]}", f"continuum {c:.5g}", f"discrete {d:.5g}", rel,
+                                   "no mean_field in the file: the disorder's effect, not a test", source))
+    if ref == "mean_field" and "continuum" in res.models and w > 0:
+        for k, _ in keys:
+            c, m = values["continuum"].get(k, math.nan), values["mean_field"].get(k, math.nan)
+            if not (math.isfinite(c) or math.isfinite(m)):
+                continue
+            rel = f"{(m - c) / abs(c):+.2%}" if math.isfinite(c) and math.isfinite(m) and c != 0 else ""
+            rows.append(effect_row(f"threshold disorder w = {fmt_w(w)} (mean_field: N -> inf at w; continuum: w = 0)",
+                                   f"{res.scene}: {label[k].replace(f' (discrete N={n})', '')}", f"continuum {c:.5g}",
+                                   f"mean_field {m:.5g}", rel, "deterministic, both N -> inf", source))
     return rows
 
 
@@ -972,10 +1166,13 @@ REGIONS = ("behind", "tip", "ahead")
 
 
 def _contacts(res):
-    """(continuum contacts group, discrete contacts group) when both have the class tables, else None."""
+    """(the reference's contacts group, discrete contacts group) when both have the class tables, else None. The
+    reference is the model /compare tested the agent against (mean_field when listed, else the continuum:
+    docs/contacts.md §3); its tables are the prediction."""
     f = res.f
-    if "continuum/contacts/class_lifetime_counts" in f and "discrete/contacts/class_lifetime_counts" in f:
-        return f["continuum/contacts"], f["discrete/contacts"]
+    ref = reference_of(res)
+    if f"{ref}/contacts/class_lifetime_counts" in f and "discrete/contacts/class_lifetime_counts" in f:
+        return f[f"{ref}/contacts"], f["discrete/contacts"]
     return None
 
 
@@ -1009,7 +1206,7 @@ def _fit_rows(res):
     return [{k: float(v[i]) for k, v in cols.items()} for i in range(len(cols.get("phase", [])))]
 
 
-def _class_grid(res, outdir, figs, name, what, measured, predicted, edges, fits, stat):
+def _class_grid(res, outdir, figs, name, what, measured, predicted, edges, fits, stat, ref="continuum"):
     """Histograms per phase (rows) and region (columns): the agent's (bars) and the prediction (line),
     as fractions per decade of the class's total."""
     rows = [ph for ph in range(4) if measured[3 * ph:3 * ph + 3].sum() + predicted[3 * ph:3 * ph + 3].sum() > 0]
@@ -1032,7 +1229,7 @@ def _class_grid(res, outdir, figs, name, what, measured, predicted, edges, fits,
                               label=f"agent (n = {mt:.3g})")
                 if pt > 0:
                     ax.stairs(predicted[cls] / pt / dec, np.append(lo[0], hi), color="C0", lw=1.4,
-                              label=f"continuum prediction ({pt:.3g})")
+                              label=f"{ref} prediction ({pt:.3g})")
                 ax.set_xscale("log")
                 fit = [f for f in fits if f["statistic"] == stat and int(f["phase"]) == ph and int(f["region"]) == r]
                 if fit:
@@ -1044,11 +1241,11 @@ def _class_grid(res, outdir, figs, name, what, measured, predicted, edges, fits,
             ax.set_xlabel(what)
             if r == 0:
                 ax.set_ylabel("fraction per decade")
-    fig.suptitle(res.title(f"{what}: agent vs continuum prediction, by phase and region", fig), fontsize=9)
+    fig.suptitle(res.title(f"{what}: agent vs {ref} prediction, by phase and region", fig), fontsize=9)
     save(fig, outdir, f"{res.scene}_{name}.png", figs)
 
 
-def contacts_section(res, outdir):
+def contacts_section(res, outdir, source=""):
     """The contact-statistics figures and summary rows of a scene with the agent's statistics and the
     continuum's prediction (docs/contacts.md): age maps, lifetime and age histograms by phase and region,
     surviving thresholds; one summary row per tested statistic and class (distance to the prediction)."""
@@ -1056,9 +1253,11 @@ def contacts_section(res, outdir):
     if both is None:
         return [], []
     c, d = both
+    ref = reference_of(res)
+    w, _ = disorder_of(res)
     figs, rows = [], []
     # 1. age maps side by side: the continuum's mean age (its age field) and the agent's (exact)
-    maps = [(m, plot.dataset(res.group(m), "snapshots/age")) for m in ("continuum", "discrete")]
+    maps = [(m, plot.dataset(res.group(m), "snapshots/age")) for m in (ref, "discrete")]
     maps = [(m, a) for m, a in maps if a is not None and a.size]
     if maps:
         pos = np.concatenate([a[np.isfinite(a) & (a > 0)] for _, a in maps])
@@ -1075,18 +1274,18 @@ def contacts_section(res, outdir):
             if t is not None and tip is not None:
                 axes[0, j].plot(tip, t, "w--", lw=0.9, label="front (A < A_tip_alt)")
                 axes[0, j].legend(fontsize=7, loc="upper right")
-            axes[0, j].set_title(("continuum prediction" if m == "continuum" else "agent (measured)") + ": mean age")
+            axes[0, j].set_title((f"{m} prediction" if m != "discrete" else "agent (measured)") + ": mean age")
             axes[0, j].set_xlabel("x")
             axes[0, j].set_ylabel("t")
             fig.colorbar(pc, ax=axes[0, j], label="mean contact age")
         if len(maps) == 2 and maps[0][1].shape == maps[1][1].shape:
             with np.errstate(divide="ignore", invalid="ignore"):
                 ratio = np.log2(maps[1][1] / maps[0][1])
-            g = res.group("continuum")
+            g = res.group(ref)
             pc = axes[0, -1].pcolormesh(plot.dataset(g, "x"), plot.dataset(g, "snapshots/t"), np.clip(ratio, -1, 1),
                                         shading="nearest", cmap="RdBu_r", vmin=-1, vmax=1, rasterized=True)
-            fig.colorbar(pc, ax=axes[0, -1], label="log2(agent / continuum)")
-            axes[0, -1].set_title("agent / continuum (log2, clipped at ±1)")
+            fig.colorbar(pc, ax=axes[0, -1], label=f"log2(agent / {ref})")
+            axes[0, -1].set_title(f"agent / {ref} (log2, clipped at ±1)")
             axes[0, -1].set_xlabel("x")
         else:
             plot.no_data(axes[0, -1], "no pair of age maps")
@@ -1096,11 +1295,11 @@ def contacts_section(res, outdir):
     edges = c["class_time_edges"][()]
     # 2. lifetimes, 3. ages (at the snapshots where both models share a phase)
     _class_grid(res, outdir, figs, "lifetimes", "lifetime of completed attachments", d["class_lifetime_counts"][()],
-                c["class_lifetime_counts"][()], edges, fits, 0)
+                c["class_lifetime_counts"][()], edges, fits, 0, ref)
     matched = _matched_ages(c, d)
     if matched is not None:
         _class_grid(res, outdir, figs, "age_histograms", "age of attached contacts", matched[0], matched[1], edges,
-                    fits, 1)
+                    fits, 1, ref)
     # 4. surviving thresholds: attached contacts by class against the drawn ones
     if "class_threshold_counts" in d and "threshold_hist_edges" in d:
         th = d["class_threshold_counts"][()]
@@ -1128,8 +1327,10 @@ def contacts_section(res, outdir):
                     ax.legend(fontsize=6)
                     if ph > 0 and width > 0:
                         am = float((row * mid).sum() / row.sum())
-                        rows.append((f"{res.scene}: surviving thresholds, {PHASES[ph]}, {REGIONS[r]} (w = {width:g})",
-                                     f"drawn mean {dm:.4f}", f"attached mean {am:.4f}", f"{am / dm - 1:+.2%}", ""))
+                        rows.append(effect_row(f"threshold disorder w = {width:g} (the front keeps the strong contacts)",
+                                               f"{res.scene}: surviving thresholds, {PHASES[ph]}, {REGIONS[r]}",
+                                               f"drawn mean {dm:.4f}", f"attached mean {am:.4f}", f"{am / dm - 1:+.2%}",
+                                               "thresholds of the attached contacts against those drawn from g", source))
                 ax.set_title(f"{PHASES[ph]}, {REGIONS[r]}", fontsize=9)
                 ax.set_xlabel("threshold s")
         if not prow:
@@ -1137,17 +1338,28 @@ def contacts_section(res, outdir):
         note = "" if width > 0 else "   (w = 0: every threshold is 1)"
         fig.suptitle(res.title("thresholds of the attached contacts vs drawn" + note, fig), fontsize=9)
         save(fig, outdir, f"{res.scene}_thresholds.png", figs)
+    # the goodness of fit: a limit that must hold when the prediction is from the ensemble's own N -> infinity
+    # limit at its w (mean_field, or the continuum at w = 0), each row at the family false-alarm rate
+    # CONTACTS_FAMILY_ALPHA (Bonferroni over the scene's tested rows, docs/contacts.md §3); else an effect of w
     n = res.param("discrete", "contacts_per_site", "?")
-    for f in fits:
-        if not f.get("tested"):
-            continue
+    tested = [f for f in fits if f.get("tested")]
+    alpha_row = CONTACTS_FAMILY_ALPHA / max(1, len(tested))
+    for f in tested:
         stat = "lifetimes" if f["statistic"] == 0 else "ages"
         ph, r = PHASES[int(f["phase"])], REGIONS[int(f["region"])]
         rel = f["measured_total"] / f["predicted_total"] - 1 if f["predicted_total"] > 0 else math.nan
-        rows.append((f"{res.scene}: contact {stat}, {ph}, {r} (agent N={n} vs prediction; totals)",
-                     f"{f['predicted_total']:.4g}", f"{f['measured_total']:.4g}", f"{rel:+.2%}",
-                     f"KS distance {f['ks_distance']:.4f}; X2 {f['chi2']:.1f}/{f['dof']:.0f}, p = {f['p_value']:.2g} "
-                     f"(m = {f['thinned_size']:.0f})"))
+        fit = (f"KS distance {f['ks_distance']:.4f}; X2 {f['chi2']:.1f}/{f['dof']:.0f}, p = {f['p_value']:.2g} "
+               f"(m = {f['thinned_size']:.0f}); totals {rel:+.2%}")
+        what = f"{res.scene}: contact {stat}, {ph}, {r} (agent N={n})"
+        if ref == "mean_field" or w == 0:
+            rows.append(limit_row(f"agent contact statistics = renewal prediction from {ref} at w = {fmt_w(w)}", what,
+                                  ref, f"{f['predicted_total']:.4g} predicted", f"{f['measured_total']:.4g} measured",
+                                  fit, f"p >= {alpha_row:.2g} (family {CONTACTS_FAMILY_ALPHA:g}, {len(tested)} rows)",
+                                  verdict_of(f["p_value"] >= alpha_row), source, fmt_w(w)))
+        else:
+            rows.append(effect_row(f"threshold disorder w = {fmt_w(w)} (agent vs the continuum's prediction, w = 0)",
+                                   what, f"continuum {f['predicted_total']:.4g}", f"agent {f['measured_total']:.4g}",
+                                   f"{rel:+.2%}", fit + "; no mean_field in the file: not a test", source))
     return figs, rows
 
 
@@ -1280,12 +1492,13 @@ def main(argv=None):
             scene_dir = figure_dir(figdir, root, path) if res.models else None
             if res.models:
                 plot.PLOTTERS[res.kind()](res, scene_dir, written, 110)
-            summary += scene_rows(res)
+            source = os.path.relpath(path, root)
+            summary += scene_rows(res, source)
             lines += [f"## Scene `{res.scene}`", "", f"{res.description}", "",
                       f"File: `{os.path.relpath(path, root)}`, status {res.status}, models {', '.join(res.models)}.", ""]
             cfigs, sfigs = [], []
             if res.models:
-                cfigs, crows = contacts_section(res, scene_dir)
+                cfigs, crows = contacts_section(res, scene_dir, source)
                 summary += crows
                 sfigs = strip_fields_section(res, scene_dir)
         for w in written:
@@ -1332,6 +1545,7 @@ def main(argv=None):
     for path in sorted(studies):
         st = Study(path)
         st.stem = f"{figure_key(root, path)}_{st.name}"
+        st.source = os.path.relpath(path, root)
         figs, rows = STUDY_PLOTS.get(st.kind, lambda s, o: ([], []))(st, figdir)
         summary += rows
         lines += [f"## Study `{st.name}` ({st.kind})", "", st.description, "",
@@ -1349,8 +1563,7 @@ def main(argv=None):
             lines.append(f"![{os.path.basename(w)}]({os.path.relpath(w, root)})")
             lines.append("")
         st.f.close()
-    lines[4:4] = ["## Summary", "", "| observable | continuum | discrete (largest N) | relative difference | fitted rate |",
-                  "| --- | --- | --- | --- | --- |"] + [f"| {' | '.join(r)} |" for r in summary] + [""]
+    lines[4:4] = summary_tables(summary)
     for m in missing:
         lines.append(f"- could not read {m}")
     out = os.path.join(root, "report.md")

@@ -5,6 +5,7 @@
 
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -222,7 +223,11 @@ TEST_CASE("report: the strip's body pictures and the events-vs-H figure, and non
   REQUIRE(vs_h.size() == 1);
   CHECK(vs_h[0].find("tiny_strip_height") != std::string::npos);
   CHECK(md.find("## Study `tiny_strip_height` (strip_height)") < md.find(vs_h[0]));
-  CHECK(md.find("tiny_strip_height: t_star, 1D chain -> H = 0.25 -> H = 17") != std::string::npos);  // a summary row
+  // summary rows: H -> 0 is a limit (with its verdict), the largest H an effect of the strip height
+  const std::string effects_part = md.substr(md.find("### Effects of a parameter"));
+  CHECK(md.find("| strip -> 1D chain as H -> 0 (both models) | tiny_strip_height: t_star, 1D chain -> H = 0.25") <
+        md.find("### Effects of a parameter"));
+  CHECK(effects_part.find("| strip height H | tiny_strip_height: t_star, 1D chain -> H = 17") != std::string::npos);
   CHECK(sh("/usr/bin/python3 " + src + "/scripts/check_report.py " + (dir / "report.md").string() + " > /dev/null") == 0);
 }
 
@@ -288,4 +293,139 @@ with open(sys.argv[1], "w", newline="") as f:
   const std::string empty = report();
   CHECK(figures(empty).empty());
   CHECK(empty.find("| c_min(H) of the strip") == std::string::npos);
+}
+
+namespace {
+// The summary's three parts of report.md: the limits table, the effects table, the rest.
+struct Summary {
+  std::string limits, effects;
+};
+Summary summary_of(const std::string& md) {
+  const auto a = md.find("### Limits that must hold"), b = md.find("### Effects of a parameter"),
+             c = md.find("### Measurements");
+  REQUIRE(a != std::string::npos);
+  REQUIRE(b != std::string::npos);
+  REQUIRE(c != std::string::npos);
+  REQUIRE(a < b);
+  REQUIRE(b < c);
+  return {md.substr(a, b - a), md.substr(b, c - b)};
+}
+// The table rows (lines starting with "| ") of a part that name `file`.
+std::vector<std::string> rows_naming(const std::string& part, const std::string& file) {
+  std::vector<std::string> out;
+  std::istringstream in(part);
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind("| ", 0) == 0 && line.find("`" + file + "`") != std::string::npos) out.push_back(line);
+  return out;
+}
+}  // namespace
+
+TEST_CASE("report: a disordered scene is tested against mean_field when its file has it, else its differences are effects",
+          "[report]") {
+  // contacts_disorder (w = 0.2, agent N = 1000, a small chain to t = 40: first yield and the slow front) twice: with
+  // mean_field (the scene's models) and without it. With it, the discrete model's events and the contact statistics are
+  // rows of "Limits that must hold" tested against mean_field (reference column, verdict), and mean_field against the
+  // continuum is an effect of w. Without it, the same differences against the continuum are effects only: no limit row
+  // names that file. check_report.py, which reads the files, passes.
+  const std::string bin = SLIPFRONT_BINARY, src = SLIPFRONT_SOURCE_DIR;
+  const slipfront::testing::TempDir scratch("report-disorder");
+  const fs::path& dir = scratch.path;
+  const std::string small = " -q --force --set bulk.length=60 --set grid.dx=1 --set time.t_end=40"
+                            " --set discrete.contacts_per_site=1000 --set output.contact_snapshot_dt=2";
+  REQUIRE(sh(bin + " run " + src + "/configs/contacts_disorder.toml --out " + (dir / "with").string() + small +
+             " > /dev/null") == 0);
+  REQUIRE(sh(bin + " run " + src + "/configs/contacts_disorder.toml --out " + (dir / "without").string() + small +
+             " --set 'models=[\"continuum\",\"discrete\"]' > /dev/null") == 0);
+  REQUIRE(sh(bin + " report " + dir.string() + " > /dev/null") == 0);
+  const std::string md = slipfront::testing::slurp(dir / "report.md");
+  const Summary sum = summary_of(md);
+
+  const auto with_limits = rows_naming(sum.limits, "with/results.h5");
+  REQUIRE(with_limits.size() >= 2);  // t_star and at least one contact-statistics row
+  bool event = false, contacts = false;
+  for (const auto& r : with_limits) {
+    INFO(r);
+    CHECK(r.find("| mean_field |") != std::string::npos);  // the reference column
+    CHECK((r.find("| pass |") != std::string::npos || r.find("| FAIL |") != std::string::npos));
+    CHECK(r.find("| 0.2 |") != std::string::npos);
+    if (r.find("discrete -> mean_field as N -> inf at w = 0.2 | contacts_disorder: t_star") != std::string::npos) event = true;
+    if (r.find("renewal prediction from mean_field at w = 0.2") != std::string::npos) contacts = true;
+  }
+  CHECK(event);
+  CHECK(contacts);
+  const auto with_effects = rows_naming(sum.effects, "with/results.h5");
+  CHECK(std::any_of(with_effects.begin(), with_effects.end(), [](const std::string& r) {
+    return r.find("mean_field: N -> inf at w; continuum: w = 0") != std::string::npos &&
+           r.find("contacts_disorder: t_star") != std::string::npos;
+  }));
+
+  CHECK(rows_naming(sum.limits, "without/results.h5").empty());  // no verdict against the continuum at w > 0
+  const auto without_effects = rows_naming(sum.effects, "without/results.h5");
+  bool t_star = false, lifetimes = false;
+  for (const auto& r : without_effects) {
+    INFO(r);
+    CHECK(r.find("| pass |") == std::string::npos);
+    CHECK(r.find("| FAIL |") == std::string::npos);
+    if (r.find("contacts_disorder: t_star (discrete N=1000) | continuum 25.6") != std::string::npos) t_star = true;
+    if (r.find("contact lifetimes, slow front") != std::string::npos &&
+        r.find("agent vs the continuum's prediction") != std::string::npos)
+      lifetimes = true;
+  }
+  CHECK(t_star);
+  CHECK(lifetimes);
+  const auto check = slipfront::testing::run({"/usr/bin/python3", src + "/scripts/check_report.py", (dir / "report.md").string()}, dir);
+  INFO(check.out + check.err);
+  CHECK(check.code == 0);
+  CHECK(check.out.find("verdict rows read against their files; 0 errors") != std::string::npos);
+}
+
+TEST_CASE("report: check_report.py rejects a verdict row testing a disordered discrete model against the continuum",
+          "[report]") {
+  // The report of the case above, edited: (1) a limits row with a verdict for the file without mean_field, tested
+  // against the continuum at w = 0.2 (what the summary used to show); (2) the row of the file with mean_field claiming
+  // the continuum as its reference. check_report.py reads the files (w from /config, the reference from /compare) and
+  // rejects both; the unedited report passes.
+  const std::string bin = SLIPFRONT_BINARY, src = SLIPFRONT_SOURCE_DIR;
+  const slipfront::testing::TempDir scratch("report-reject");
+  const fs::path& dir = scratch.path;
+  const std::string small = " -q --force --set bulk.length=60 --set grid.dx=1 --set time.t_end=40"
+                            " --set discrete.contacts_per_site=1000 --set discrete.representation=count"
+                            " --set discrete.contact_statistics=false";
+  REQUIRE(sh(bin + " run " + src + "/configs/contacts_disorder.toml --out " + (dir / "with").string() + small +
+             " > /dev/null") == 0);
+  REQUIRE(sh(bin + " run " + src + "/configs/contacts_disorder.toml --out " + (dir / "without").string() + small +
+             " --set 'models=[\"continuum\",\"discrete\"]' > /dev/null") == 0);
+  REQUIRE(sh(bin + " report " + dir.string() + " > /dev/null") == 0);
+  const std::string md = slipfront::testing::slurp(dir / "report.md");
+  const auto check = [&](const std::string& text) {
+    slipfront::testing::write_text(dir / "edited.md", text);
+    return slipfront::testing::run({"/usr/bin/python3", src + "/scripts/check_report.py", (dir / "edited.md").string()}, dir);
+  };
+  CHECK(check(md).code == 0);
+
+  const auto rows = rows_naming(summary_of(md).limits, "with/results.h5");
+  REQUIRE(!rows.empty());
+  const std::string row = rows[0];
+  const auto replace = [](std::string s, const std::string& from, const std::string& to) {
+    const auto k = s.find(from);
+    REQUIRE(k != std::string::npos);
+    return s.replace(k, from.size(), to);
+  };
+  const std::string as_continuum = replace(row, "| mean_field |", "| continuum |");
+  // (1) the file without mean_field, tested against the continuum
+  const std::string planted = replace(replace(as_continuum, "`with/results.h5`", "`without/results.h5`"),
+                                      "discrete -> mean_field", "discrete -> continuum");
+  const auto one = check(replace(md, row + "\n", row + "\n" + planted + "\n"));
+  INFO(one.err);
+  CHECK(one.code == 1);
+  CHECK(one.err.find("against the continuum, a limit it is not supposed to reach") != std::string::npos);
+  CHECK(one.err.find("without/results.h5") != std::string::npos);
+  // (2) the file with mean_field, its row claiming the continuum
+  const auto two = check(replace(md, row, as_continuum));
+  INFO(two.err);
+  CHECK(two.code == 1);
+  CHECK(two.err.find("compared the discrete model with mean_field") != std::string::npos);
+  // the same planted row without a verdict (n/a) is not a test: accepted
+  CHECK(check(replace(md, row + "\n", row + "\n" + replace(planted, planted.find("| pass |") != std::string::npos ? "| pass |" : "| FAIL |", "| n/a |") + "\n")).code == 0);
 }

@@ -1185,13 +1185,20 @@ StripHeightPath continue_height(const core::InterfaceParams& law, const std::fun
     return true;
   };
 
-  // The first front: given, or cold (the strip's branch to its end for the limiting front), then re-solved
-  // on the meshes of the path.
+  // The first front: given, or cold (for the limiting front: from the front near the end, or the strip's branch
+  // to its end), then re-solved on the meshes of the path.
   const double H0 = o.heights.front();
   StripFront first;
   if (o.start) {
     first = *o.start;
   } else if (o.limiting) {
+    // the front just above the end of the branch, cold from the 1D front at the same σ_d, then the limiting
+    // front from it; the strip's branch to its end only where that fails (it costs ~30 solves)
+    const double near = sigma_c + 0.02 * (1.0 - sigma_c);
+    const StripFront close = solve_strip_front(law, bulk_at(H0), near, o.front);
+    if (close.status == FrontStatus::converged) first = solve_strip_saddle_node_front(law, bulk_at(H0), o.front, close);
+  }
+  if (!o.start && o.limiting && (first.status != FrontStatus::converged || !first.saddle_node_limit)) {
     StripContinuationOptions co;
     co.front = o.front;
     co.stop = o.stop;
@@ -1201,7 +1208,7 @@ StripHeightPath continue_height(const core::InterfaceParams& law, const std::fun
       return out;
     }
     first = std::move(br.last);
-  } else {
+  } else if (!o.start && !o.limiting) {
     first = solve_strip_front(law, bulk_at(H0), sd, o.front);
   }
   if (first.status != FrontStatus::converged) {

@@ -465,9 +465,13 @@ def front_speeds_study(st, outdir):
 
 def fig2_study(st, outdir):
     figs, rows = [], []
-    groups = {k[len("fig2_"):]: v for k, v in st.tables.items() if k.startswith("fig2_") and k != "fig2_all"}
+    groups = {k[len("fig2_"):]: v for k, v in st.tables.items()
+              if k.startswith("fig2_") and k not in ("fig2_all", "fig2_heights")}
     if not groups:
         return figs, rows
+    heights = st.tables.get("fig2_heights", {})
+    if heights and len(heights.get("H", [])) > 1:
+        return fig2_strip_study(st, outdir)
     fig, axs = plt.subplots(1, 2, figsize=(12, 5))
     for i, (name, t) in enumerate(sorted(groups.items())):
         for ax, m in zip(axs, ("continuum", "discrete")):
@@ -489,6 +493,76 @@ def fig2_study(st, outdir):
     save(fig, outdir, f"{st.stem}_fig2_right.png", figs)
     for m in ("continuum", "discrete"):
         rows.append(measure_row(f"Fig. 2 right slope ({m})", "", f"{st.scalars.get('fig2_slope_all_' + m, math.nan):.3g}"))
+    if heights and len(heights.get("H", [])) == 1:
+        for m in ("continuum", "discrete"):
+            if np.isfinite(heights[f"slope_{m}"][0]):
+                rows.append(measure_row(f"Fig. 2 right against c_min ({m})", "", f"{heights[f'slope_{m}'][0]:.3g}", "",
+                                        f"c_transient/c_min {heights[f'ratio_mean_{m}'][0]:.3g} "
+                                        f"± {100 * heights[f'ratio_rsd_{m}'][0]:.0f} % over "
+                                        f"{int(heights[f'measured_{m}'][0])} runs (docs/fronts.md §10.16)"))
+    return figs, rows
+
+
+def fig2_height_label(H, h, k):
+    if H == 0:
+        return "1D chain"
+    return f"H = {H:g} (H/l {h['H_over_l_min'][k]:.2g}-{h['H_over_l_max'][k]:.2g})"
+
+
+def fig2_strip_study(st, outdir):
+    """Fig. 2 (right) in the strip (docs/fronts.md §10.16): c_transient against sqrt(mu alpha/(eta kappa)) and
+    against the run's own c_min, one colour per height; the ratio c_transient/c_min against H/l; one effect row
+    per height against the chain (the effect of H on the collapse)."""
+    figs, rows = [], []
+    a, h = st.tables["fig2_all"], st.tables["fig2_heights"]
+    Hs = list(h["H"])
+    fig, axs = plt.subplots(1, 3, figsize=(16, 5))
+    for k, H in enumerate(Hs):
+        sel = a["H"] == H
+        y = a["c_continuum"][sel]
+        ok = np.isfinite(y)
+        lab = fig2_height_label(H, h, k)
+        axs[0].plot(a["X"][sel][ok], y[ok], "os^vD"[k % 5], color=f"C{k}", label=lab)
+        cm = a["c_min"][sel]
+        ok2 = ok & np.isfinite(cm)
+        sl = h["slope_continuum"][k]
+        axs[1].plot(cm[ok2], y[ok2], "os^vD"[k % 5], color=f"C{k}",
+                    label=f"{lab}: slope {sl:.2f}, scatter {100 * h['ratio_rsd_continuum'][k]:.0f} %")
+        if np.isfinite(sl) and ok2.any():
+            xs = np.linspace(0, np.nanmax(cm[ok2]) * 1.05, 10)
+            axs[1].plot(xs, sl * xs, "--", color=f"C{k}", lw=1)
+        r = a["ratio_continuum"][sel]
+        xpos = np.full(r.shape, H if H > 0 else 0.5)
+        axs[2].plot(xpos[np.isfinite(r)], r[np.isfinite(r)], "os^vD"[k % 5], color=f"C{k}", label=lab)
+    cmax = np.nanmax(a["c_min"]) * 1.05 if np.isfinite(a["c_min"]).any() else 1.0
+    axs[1].plot([0, cmax], [0, cmax], "k:", lw=1, label="c_transient = c_min")
+    axs[0].set_xlabel("sqrt(mu alpha / (eta kappa))  (mu integrated over the height)")
+    axs[0].set_ylabel("transient front speed c_transient (continuum)")
+    axs[0].set_title("the paper's axis", fontsize=9)
+    axs[1].set_xlabel("c_min of the run's own scene (1D branch end / strip limiting front at its H)")
+    axs[1].set_ylabel("c_transient")
+    axs[1].set_title("against the minimal steady front speed", fontsize=9)
+    axs[2].set_xscale("log")
+    axs[2].axhline(1.0, color="k", ls=":", lw=1)
+    axs[2].set_xlabel("H (the chain drawn at 0.5)")
+    axs[2].set_ylabel("c_transient / c_min")
+    axs[2].set_title("the ratio per run", fontsize=9)
+    for ax in axs:
+        ax.legend(fontsize=7)
+    fig.suptitle(st.title("Fig. 2 (right) in the strip: transient fronts against c_min(H)"), fontsize=9)
+    save(fig, outdir, f"{st.stem}_fig2_right_strip.png", figs)
+    chain = Hs.index(0.0) if 0.0 in Hs else None
+    for k, H in enumerate(Hs):
+        mean, rsd, sl = h["ratio_mean_continuum"][k], h["ratio_rsd_continuum"][k], h["slope_continuum"][k]
+        note = (f"slope through the origin {sl:.3g}, scatter {100 * rsd:.0f} % over {int(h['measured_continuum'][k])} runs "
+                f"(docs/fronts.md §10.16)")
+        if H == 0 or chain is None:
+            rows.append(measure_row("Fig. 2 right against c_min, 1D chain (continuum)", f"{mean:.3g}", "", "", note))
+            continue
+        base = h["ratio_mean_continuum"][chain]
+        rows.append(effect_row(f"strip height {fig2_height_label(H, h, k)}", "c_transient / c_min, mean over runs",
+                               f"chain {base:.3g}", f"{mean:.3g}", f"{100 * (mean / base - 1):+.1f} %", note,
+                               st.source))
     return figs, rows
 
 

@@ -205,6 +205,7 @@ const std::vector<Section>& schema() {
            {"snapshot_dt", at<&Scene::output, &OutputParams::snapshot_dt>, always, "always"},
            {"energy", at<&Scene::output, &OutputParams::energy>, always, "always"},
            {"ages", at<&Scene::output, &OutputParams::ages>, always, "always"},
+           {"deflate", at<&Scene::output, &OutputParams::deflate>, always, "always"},
            {"compare_dt", at<&Scene::output, &OutputParams::compare_dt>, both_models_bulk,
             "when models lists discrete and continuum or mean_field on a bulk scene"},
            {"contact_snapshot_dt", at<&Scene::output, &OutputParams::contact_snapshot_dt>, contact_statistics,

@@ -80,24 +80,27 @@ void attr_int(hid_t obj, const std::string& name, long long value) {
   check(H5Awrite(attr.get(), H5T_NATIVE_LLONG, &value), "write attribute " + name);
 }
 
-// A float64 dataset of shape dims (rank 1, 2 or 3) with a `description` attribute. Snapshots
-// (`compress`, rank 2 or 3) are chunked by whole rows (whole [nyk, nxk] planes) and gzip-compressed when
-// the filter is available.
+// A float64 dataset of shape dims (rank 1, 2 or 3) with a `description` attribute. The fields (snapshots,
+// bulk snapshots, the fronts' bulk profiles: rank 2 or 3) pass the scene's output.deflate: 0 (the default)
+// writes them contiguous and unfiltered like every other dataset; 1..9 chunks them by whole rows (whole
+// [nyk, nxk] planes, at most 128 KiB a chunk) with the byte shuffle and gzip at that level, when the
+// filter is available. Measured (bench/bench_output, docs/output.md "Layout of the fields"): on fig1's fields
+// gzip 4 + shuffle saves 43% of the bytes and takes ~9x the time of writing them contiguous.
 void dataset(hid_t parent, const std::string& name, const double* data, std::vector<hsize_t> dims,
-             const std::string& description, const std::string& where, bool compress = false) {
+             const std::string& description, const std::string& where, int deflate = 0) {
   const auto rank = static_cast<int>(dims.size());
   Hid space(H5Screate_simple(rank, dims.data(), nullptr), H5Sclose, "make the dataspace of " + where);
   Hid dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, "make a property list");
   hsize_t total = 1;
   for (const auto d : dims) total *= d;
-  if (compress && rank >= 2 && total > 0 && H5Zfilter_avail(H5Z_FILTER_DEFLATE) > 0) {
+  if (deflate > 0 && rank >= 2 && total > 0 && H5Zfilter_avail(H5Z_FILTER_DEFLATE) > 0) {
     const hsize_t cols = total / dims[0];  // values per row (rank 3: per plane)
     const hsize_t rows = std::clamp<hsize_t>(16384 / std::max<hsize_t>(cols, 1), 1, dims[0]);  // ≤ 128 KiB
     std::vector<hsize_t> chunk = dims;
     chunk[0] = rows;
     check(H5Pset_chunk(dcpl.get(), rank, chunk.data()), "chunk " + where);
     check(H5Pset_shuffle(dcpl.get()), "set the shuffle filter on " + where);
-    check(H5Pset_deflate(dcpl.get(), 4), "set the gzip filter on " + where);
+    check(H5Pset_deflate(dcpl.get(), static_cast<unsigned>(deflate)), "set the gzip filter on " + where);
   }
   Hid ds(H5Dcreate2(parent, name.c_str(), H5T_IEEE_F64LE, space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT),
          H5Dclose, "create dataset " + where);
@@ -254,7 +257,7 @@ void events(hid_t model_group, const std::string& model, const compare::ModelRes
   for (const auto& [name, why] : r.events_alt.reasons) attr_string(g.get(), name + "_alt_reason", why);
 }
 
-void model(hid_t file, const compare::ModelResult& r) {
+void model(hid_t file, const compare::ModelResult& r, int deflate) {
   const std::string& m = r.model;
   Hid g = make_group(file, m, "/" + m);
   for (const auto& [name, value] : r.scalars) attr_double(g.get(), name, value);
@@ -276,7 +279,7 @@ void model(hid_t file, const compare::ModelResult& r) {
       if (v.size() != ns * nx)
         throw OutputError("snapshot column " + name + " of " + m + " has " + std::to_string(v.size()) +
                           " values, expected ns * nx = " + std::to_string(ns) + " * " + std::to_string(nx));
-      dataset(s.get(), name, v.data(), {ns, nx}, description_of("snapshots", name), where, true);
+      dataset(s.get(), name, v.data(), {ns, nx}, description_of("snapshots", name), where, deflate);
     }
   }
 
@@ -294,7 +297,7 @@ void model(hid_t file, const compare::ModelResult& r) {
         throw OutputError("bulk snapshot field " + name + " of " + m + " has " + std::to_string(v.size()) +
                           " values, expected nb * nyk * nxk = " + std::to_string(nb) + " * " + std::to_string(nyk) +
                           " * " + std::to_string(nxk));
-      dataset(b.get(), name, v.data(), {nb, nyk, nxk}, description_of("bulk", name), where, true);
+      dataset(b.get(), name, v.data(), {nb, nyk, nxk}, description_of("bulk", name), where, deflate);
     }
   }
 
@@ -476,7 +479,7 @@ void write_file(const std::filesystem::path& tmp, const compare::Scene& scene, c
     Hid g = make_group(file.get(), "config", "/config");
     attr_string(g.get(), "toml", resolved_toml);
   }
-  for (const auto& r : results) model(file.get(), r);
+  for (const auto& r : results) model(file.get(), r, scene.output.deflate);
   if (comparison && !comparison->empty()) comparison_group(file.get(), *comparison);
   save_image(file, tmp);
 }
@@ -602,8 +605,10 @@ void write_fronts_file(const std::filesystem::path& tmp, const compare::Scene& s
       if (!p.y.empty()) {  // the strip: rows and the bulk field on xi × y
         const hsize_t nx = p.fields.at("xi").size(), ny = p.y.size();
         dataset_1d(pg.get(), "y", p.y, "rows across the height, y = 0 the interface, y = H the top", where + "/y");
-        dataset(pg.get(), "u_xy", p.u_xy.data(), {nx, ny}, "bulk displacement u(xi, y) [xi][y]", where + "/u_xy", true);
-        dataset(pg.get(), "lift_xy", p.lift_xy.data(), {nx, ny}, "u(xi, y) - u(xi, 0) [xi][y]", where + "/lift_xy", true);
+        dataset(pg.get(), "u_xy", p.u_xy.data(), {nx, ny}, "bulk displacement u(xi, y) [xi][y]", where + "/u_xy",
+                scene.output.deflate);
+        dataset(pg.get(), "lift_xy", p.lift_xy.data(), {nx, ny}, "u(xi, y) - u(xi, 0) [xi][y]", where + "/lift_xy",
+                scene.output.deflate);
       }
     }
   }

@@ -330,8 +330,8 @@ ModelEstimate model_estimate(const Scene& s, const std::string& model, double si
 
 // Output and peak memory. Records kept: every model's and, in lockstep, the field comparison. Output:
 // the records as written (tip samples are not). While writing, the in-memory HDF5 image and its copy:
-// two copies of the file, whose snapshots are compressed (smooth fields: 2x or more), so counted as one
-// uncompressed copy. Peak: lockstep runs hold every model's state at once; sequential runs one state at a
+// two copies of the file, counted as one uncompressed copy (the fields were gzip-compressed, 2x, before
+// issue 22; uncompressed by default since, output.deflate = 0: this undercounts by up to one copy). Peak: lockstep runs hold every model's state at once; sequential runs one state at a
 // time. The records of every model stay until the file is written.
 void put_memory(const Scene& s, Estimate& e, MemoryItems items) {
   double state_max = 0.0, state_sum = 0.0, records = 0.0;

@@ -80,6 +80,8 @@ const KeyDomain continuum_domains[] = {
     {"output.compare_dt", K::number, 0.0, cap, false, false, false, "", "(0: no field comparison)"},
     {"output.contact_snapshot_dt", K::number, -cap, cap, false, false, false, "",
      "(< 0: output.snapshot_dt; 0: no contact snapshots)"},
+    {"output.deflate", K::integer, 0.0, 9.0, false, false, false, "",
+     "(gzip level of the field datasets, with the byte shuffle; 0: no compression)"},
 };
 
 std::string lower_bound_text(const KeyDomain& d) {
@@ -321,6 +323,7 @@ void OutputParams::validate() const {
   check_in_domain("output.snapshot_dt", snapshot_dt);
   check_in_domain("output.compare_dt", compare_dt);
   check_in_domain("output.contact_snapshot_dt", contact_snapshot_dt);
+  check_in_domain("output.deflate", deflate);
 }
 
 }  // namespace slipfront::core

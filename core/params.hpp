@@ -193,6 +193,10 @@ struct OutputParams {
   /// Cadence of the contact snapshots (ages and thresholds of the attached contacts, agent with
   /// discrete.contact_statistics; the continuum's predicted ages): < 0 means snapshot_dt, 0 none.
   double contact_snapshot_dt = -1.0;
+  /// gzip level of the field datasets (snapshots, the strip's bulk, the fronts' bulk profiles), with the
+  /// byte shuffle, in chunks of whole rows; 0: none, contiguous (the default, docs/output.md "Layout of
+  /// the fields": compression cost more than the run and saved 40%).
+  int deflate = 0;
   /// The contact-snapshot cadence in effect (−1: none).
   double contact_every() const {
     const double c = contact_snapshot_dt < 0 ? snapshot_dt : contact_snapshot_dt;

@@ -110,6 +110,16 @@ TEST_CASE("config: wrong types are refused", "[config]") {
   require_refused("models_numbers.toml", "models = [1]\n" + minimal, {}, {"models", "array of strings"});
 }
 
+TEST_CASE("config: output.deflate is an integer gzip level in 0..9, 0 by default", "[config]") {
+  CHECK(load_scene(write_config("deflate_default.toml", minimal), {}).output.deflate == 0);
+  CHECK(load_scene(write_config("deflate_9.toml", minimal + "[output]\ndeflate = 9\n"), {}).output.deflate == 9);
+  CHECK(load_scene(write_config("deflate_set.toml", minimal), {"output.deflate=1"}).output.deflate == 1);
+  require_refused("deflate_high.toml", minimal + "[output]\ndeflate = 10\n", {}, {"output.deflate", "[0, 9]", "10"});
+  require_refused("deflate_negative.toml", minimal, {"output.deflate=-1"}, {"output.deflate", "[0, 9]"});
+  require_refused("deflate_float.toml", minimal + "[output]\ndeflate = 1.5\n", {}, {"output.deflate", "integer"});
+  require_refused("deflate_string.toml", minimal + "[output]\ndeflate = \"gzip\"\n", {}, {"output.deflate"});
+}
+
 TEST_CASE("config: out-of-range values are refused with the key and the reason", "[config]") {
   require_refused("alpha_low.toml", replace(minimal, "alpha = 1.05", "alpha = 0.9"), {},
                   {"interface.alpha", "must be >= 1"});

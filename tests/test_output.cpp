@@ -189,6 +189,77 @@ TEST_CASE("output: a tiny edge-loading run is written in the docs/model.md §5 l
   CHECK(datasets_without_description(file.id).empty());
 }
 
+// The layout of a dataset: contiguous or chunked, and its filters with their parameters.
+struct StoredLayout {
+  H5D_layout_t layout = H5D_LAYOUT_ERROR;
+  std::vector<H5Z_filter_t> filters;
+  std::vector<unsigned> deflate_level;  // the gzip filter's parameters (its level), if present
+};
+
+StoredLayout stored_layout(hid_t file, const std::string& path) {
+  H5 ds{H5Dopen2(file, path.c_str(), H5P_DEFAULT), H5Dclose};
+  REQUIRE(ds.id >= 0);
+  H5 dcpl{H5Dget_create_plist(ds.id), H5Pclose};
+  REQUIRE(dcpl.id >= 0);
+  StoredLayout out;
+  out.layout = H5Pget_layout(dcpl.id);
+  const int n = H5Pget_nfilters(dcpl.id);
+  REQUIRE(n >= 0);
+  for (int k = 0; k < n; ++k) {
+    unsigned flags = 0, values[8] = {};
+    std::size_t nvalues = 8;
+    char name[64];
+    const H5Z_filter_t f = H5Pget_filter2(dcpl.id, static_cast<unsigned>(k), &flags, &nvalues, values, sizeof name, name, nullptr);
+    out.filters.push_back(f);
+    if (f == H5Z_FILTER_DEFLATE) out.deflate_level.assign(values, values + nvalues);
+  }
+  return out;
+}
+
+TEST_CASE("output: snapshot fields are contiguous and unfiltered by default, gzip with shuffle on output.deflate", "[output]") {
+  const TempDir dir("output");
+  const std::vector<std::string> fields = {"A", "sigma_bar", "v", "u"};
+  {
+    const Run run = run_tiny();
+    CHECK(run.scene.output.deflate == 0);  // the default (docs/output.md "Layout of the fields")
+    const fs::path path = dir.path / "default.h5";
+    app::write_results(path, run.scene, run.toml, run.results, {});
+    H5 file{H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose};
+    REQUIRE(file.id >= 0);
+    for (const auto& f : fields) {
+      INFO(f);
+      const StoredLayout l = stored_layout(file.id, "/continuum/snapshots/" + f);
+      CHECK(l.layout == H5D_CONTIGUOUS);
+      CHECK(l.filters.empty());
+      H5 ds{H5Dopen2(file.id, ("/continuum/snapshots/" + f).c_str(), H5P_DEFAULT), H5Dclose};
+      H5 type{H5Dget_type(ds.id), H5Tclose};
+      CHECK(H5Tequal(type.id, H5T_IEEE_F64LE) > 0);  // dtype unchanged: float64
+      CHECK(read_doubles(file.id, "/continuum/snapshots/" + f) == run.results[0].snapshots.at(f));
+    }
+    CHECK(shape(file.id, "/continuum/snapshots/A") == std::vector<hsize_t>{5, 11});
+  }
+  {
+    const Run run = run_tiny({"output.deflate=2"});
+    CHECK(run.scene.output.deflate == 2);
+    CHECK(run.toml.find("deflate = 2") != std::string::npos);  // in the resolved configuration
+    const fs::path path = dir.path / "gzip.h5";
+    app::write_results(path, run.scene, run.toml, run.results, {});
+    H5 file{H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose};
+    REQUIRE(file.id >= 0);
+    for (const auto& f : fields) {
+      INFO(f);
+      const StoredLayout l = stored_layout(file.id, "/continuum/snapshots/" + f);
+      CHECK(l.layout == H5D_CHUNKED);
+      CHECK(l.filters == std::vector<H5Z_filter_t>{H5Z_FILTER_SHUFFLE, H5Z_FILTER_DEFLATE});
+      CHECK(l.deflate_level == std::vector<unsigned>{2});
+      CHECK(read_doubles(file.id, "/continuum/snapshots/" + f) == run.results[0].snapshots.at(f));
+    }
+    // The 1D datasets are never filtered.
+    CHECK(stored_layout(file.id, "/continuum/snapshots/t").filters.empty());
+    CHECK(stored_layout(file.id, "/continuum/series/t").filters.empty());
+  }
+}
+
 TEST_CASE("output: status is the worst of models and run and files are replaced atomically", "[output]") {
   const TempDir dir("output");
   Run run = run_tiny({"output.snapshot_dt=0"});

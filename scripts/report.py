@@ -536,10 +536,10 @@ def fig2_strip_study(st, outdir):
         axs[2].plot(xpos[np.isfinite(r)], r[np.isfinite(r)], "os^vD"[k % 5], color=f"C{k}", label=lab)
     cmax = np.nanmax(a["c_min"]) * 1.05 if np.isfinite(a["c_min"]).any() else 1.0
     axs[1].plot([0, cmax], [0, cmax], "k:", lw=1, label="c_transient = c_min")
-    axs[0].set_xlabel("sqrt(mu alpha / (eta kappa))  (mu integrated over the height)")
+    axs[0].set_xlabel("sqrt(mu alpha / (eta kappa)), mu integrated")
     axs[0].set_ylabel("transient front speed c_transient (continuum)")
     axs[0].set_title("the paper's axis", fontsize=9)
-    axs[1].set_xlabel("c_min of the run's own scene (1D branch end / strip limiting front at its H)")
+    axs[1].set_xlabel("c_min of the run's own scene")
     axs[1].set_ylabel("c_transient")
     axs[1].set_title("against the minimal steady front speed", fontsize=9)
     axs[2].set_xscale("log")

@@ -59,6 +59,7 @@ const KeyDomain continuum_domains[] = {
     {"time.implicit_tolerance", K::number, 0.0, cap, false, false, false, "", "(0: no error control)"},
     {"time.implicit_max_halvings", K::integer, 0.0, 30.0},
     {"time.implicit_resolution_check", K::boolean},
+    {"time.stop_at_arrest", K::boolean},
     {"time.rtol", K::number, 0.0, 1.0, true, true},
     {"time.atol", K::number, 0.0, cap, true},
     {"time.dt_max", K::number, 0.0, cap, true},

@@ -331,6 +331,7 @@ void spectrum(StudyReport& rep, const StudySpec&, const std::vector<StudyRun>& r
     t["sigma_d"].push_back(sd);
     t["c_front_continuum"].push_back(c ? c->events.c_front : nan);
     t["c_front_discrete"].push_back(d ? d->events.c_front : nan);
+    t["front_settled_continuum"].push_back(c ? c->events.front_settled : nan);
     t["c_solved"].push_back(solved);
     t["c_front_continuum_rel_solved"].push_back(c ? c->events.c_front / solved - 1.0 : nan);
     t["v_behind_continuum"].push_back(c ? c->events.v_behind : nan);
@@ -344,7 +345,8 @@ void spectrum(StudyReport& rep, const StudySpec&, const std::vector<StudyRun>& r
   }
   rep.tables["front_spectrum"] = t;
   rep.definitions["front_spectrum/c_front_continuum"] =
-      "least-squares slope of x_tip(t) over the middle half of the front's run (nucleated homogeneous loading)";
+      "c_front of the run (docs/model.md §3.1): the tip's speed fitted where it has settled, else over the middle half "
+      "of its run (front_settled_continuum = 0)";
   rep.definitions["front_spectrum/c_solved"] = "speed of the steady front at sigma_d solved directly (docs/fronts.md)";
   rep.definitions["front_spectrum/v_behind_continuum"] =
       "mean slip rate over [x_tip - behind_far, x_tip - behind_near] when the tip passes behind_tip_fraction L";

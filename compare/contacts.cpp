@@ -69,39 +69,59 @@ void ContactPrediction::add_losses(std::size_t cls, const Cohort& c, double mass
     row[b] += mass;
     return;
   }
-  // F(x): the fraction of the step's loss that happened by t0 + x (frozen hazard)
-  const double norm = -std::expm1(-rate * dt);
-  auto lost_by = [&](double x) {
-    if (x <= 0.0) return 0.0;
-    if (x >= dt) return 1.0;
-    return rate * dt < 1e-12 ? x / dt : -std::expm1(-rate * x) / norm;
-  };
-  // P(lifetime < l) = ∫ density(s) F(l + s − t0) ds: the attachment times after t0 + dt − l count
-  // whole; those in (t0 − l, t0 + dt − l) by 5-point Gauss–Legendre on the smooth integrand
-  static constexpr double gx[5] = {-0.9061798459386640, -0.5384693101056831, 0.0, 0.5384693101056831, 0.9061798459386640};
-  static constexpr double gw[5] = {0.2369268850561891, 0.4786286704993665, 0.5688888888888889, 0.4786286704993665,
-                                   0.2369268850561891};
-  const double width = c.end - c.start;
-  auto cdf = [&](double l) {
-    if (width <= 0.0) return lost_by(l + c.end - t0);
-    double p = 1.0 - share_before(c, t0 + dt - l);
-    const double lo = std::max(c.start, t0 - l), hi = std::min(c.end, t0 + dt - l);
-    if (hi > lo) {
-      const double lw = c.tilt * width;
-      const double half = 0.5 * (hi - lo), mid = 0.5 * (hi + lo);
-      double sum = 0.0;
-      for (int k = 0; k < 5; ++k) {
-        const double s = mid + half * gx[k];
-        const double dens = lw < 1e-9 ? 1.0 / width : c.tilt * std::exp(c.tilt * (s - c.end)) / -std::expm1(-lw);
-        sum += gw[k] * dens * lost_by(l + s - t0);
-      }
-      p += half * sum;
+  // the cumulative fractions at the edges the lifetimes straddle depend on the cohort's shape and the
+  // step, not on its mass: computed once per site and step for every class with this shape (split_cache_)
+  const LossSplit* split = nullptr;
+  for (const LossSplit& e : split_cache_)
+    if (e.start == c.start && e.end == c.end && e.tilt == c.tilt && e.rate == rate) {
+      split = &e;
+      break;
     }
-    return std::clamp(p, 0.0, 1.0);
-  };
+  if (split == nullptr) {
+    // F(x): the fraction of the step's loss that happened by t0 + x (frozen hazard)
+    const double norm = -std::expm1(-rate * dt);
+    auto lost_by = [&](double x) {
+      if (x <= 0.0) return 0.0;
+      if (x >= dt) return 1.0;
+      return rate * dt < 1e-12 ? x / dt : -std::expm1(-rate * x) / norm;
+    };
+    // P(lifetime < l) = ∫ density(s) F(l + s − t0) ds: the attachment times after t0 + dt − l count
+    // whole; those in (t0 − l, t0 + dt − l) by 5-point Gauss–Legendre on the smooth integrand
+    static constexpr double gx[5] = {-0.9061798459386640, -0.5384693101056831, 0.0, 0.5384693101056831,
+                                     0.9061798459386640};
+    static constexpr double gw[5] = {0.2369268850561891, 0.4786286704993665, 0.5688888888888889, 0.4786286704993665,
+                                     0.2369268850561891};
+    const double width = c.end - c.start;
+    auto cdf = [&](double l) {
+      if (width <= 0.0) return lost_by(l + c.end - t0);
+      double p = 1.0 - share_before(c, t0 + dt - l);
+      const double lo = std::max(c.start, t0 - l), hi = std::min(c.end, t0 + dt - l);
+      if (hi > lo) {
+        const double lw = c.tilt * width;
+        const double half = 0.5 * (hi - lo), mid = 0.5 * (hi + lo);
+        double sum = 0.0;
+        for (int k = 0; k < 5; ++k) {
+          const double s = mid + half * gx[k];
+          const double dens = lw < 1e-9 ? 1.0 / width : c.tilt * std::exp(c.tilt * (s - c.end)) / -std::expm1(-lw);
+          sum += gw[k] * dens * lost_by(l + s - t0);
+        }
+        p += half * sum;
+      }
+      return std::clamp(p, 0.0, 1.0);
+    };
+    LossSplit e{c.start, c.end, c.tilt, rate, b, split_values_.size(), 0};
+    double done = 0.0;
+    for (std::size_t k = b; edges_[k + 1] < l_max; ++k) {
+      done = std::max(done, cdf(edges_[k + 1]));
+      split_values_.push_back(done);
+    }
+    e.end_index = split_values_.size();
+    split_cache_.push_back(e);
+    split = &split_cache_.back();
+  }
   double done = 0.0;
-  for (; edges_[b + 1] < l_max; ++b) {
-    const double f = std::max(done, cdf(edges_[b + 1]));
+  for (std::size_t k = split->begin; k < split->end_index; ++k, ++b) {
+    const double f = split_values_[k];
     row[b] += mass * (f - done);
     done = f;
   }
@@ -125,22 +145,59 @@ void ContactPrediction::add_ages(std::vector<double>& table, std::size_t cls, co
   row[b] += mass * (1.0 - done);
 }
 
+const ContactPrediction::RateTerms& ContactPrediction::rate_terms(double h, double dt) {
+  for (const RateTerms& e : rate_cache_)
+    if (e.h == h) return e;
+  RateTerms e;
+  e.h = h;
+  e.hs = scale_ * h;
+  const double hs = e.hs, r = 1.0 + h;
+  e.birth_weight = weight(r, dt);
+  e.back = mean_back(hs, dt);
+  if (hs > 0.0) {
+    e.decay = std::exp(-hs * dt);
+    e.loss = -std::expm1(-hs * dt);
+    e.surv_weight = weight(hs, dt);
+    e.surv_exp = std::exp(-hs * dt);
+    e.surv_cross = weight(r - hs, dt);
+    // the lifetimes of the contacts born and lost in the step: density ∝ e^{−hs l} (dt − l) on [0, dt]
+    // (constant attachment rate over the step), the cumulative fractions at the class edges below dt
+    const double x = hs * dt;
+    auto cdf = [&](double l) {  // fraction of the step's own losses with lifetime < l
+      if (x < 1e-3) return (dt * l - 0.5 * l * l) / (0.5 * dt * dt);
+      return ((1.0 / hs - dt) * std::expm1(-hs * l) + l * std::exp(-hs * l)) /
+             ((1.0 / hs - dt) * std::expm1(-x) + dt * std::exp(-x));
+    };
+    e.young_begin = split_values_.size();
+    for (std::size_t b = 0; edges_[b + 1] < dt; ++b) split_values_.push_back(cdf(edges_[b + 1]));
+    e.young_end = split_values_.size();
+  }
+  rate_cache_.push_back(e);
+  return rate_cache_.back();
+}
+
 void ContactPrediction::step(double dt, std::span<const double> area0, std::span<const double> hazard,
                              std::span<const double> totals) {
   const double t0 = clock_, t1 = t0 + dt;
   clock_ = t1;
   for (std::size_t k = 0; k < cohorts_.size(); ++k) {
     const std::size_t i = k / classes_;  // the site of sub-population k
-    const double h = hazard[k], hs = scale_ * h, a0 = area0[k], r = 1.0 + h, T = totals.empty() ? 1.0 : totals[k];
+    if (k % classes_ == 0) {             // what the classes of one site share (RateTerms, LossSplit)
+      rate_cache_.clear();
+      split_cache_.clear();
+      split_values_.clear();
+    }
+    const RateTerms rt = rate_terms(hazard[k], dt);
+    const double hs = rt.hs, a0 = area0[k], r = 1.0 + rt.h, T = totals.empty() ? 1.0 : totals[k];
     const std::size_t cls = front_.class_of(i);
     // attachments over the step, ∫(T − A) dt with A(u) = T/r + (a0 − T/r) e^{−ru} (the law's own A; T = 1:
     // the same operations as before classes existed, 1.0 × x being x)
-    const double births = T * dt - (T * dt / r + (a0 - T / r) * weight(r, dt));
+    const double births = T * dt - (T * dt / r + (a0 - T / r) * rt.birth_weight);
     auto& cs = cohorts_[k];
     double lost = 0.0, survivors = births;
     if (hs > 0.0) {
       // every cohort decays by e^{−hs dt}; its loss goes to the lifetimes of the site's class
-      const double decay = std::exp(-hs * dt), loss = -std::expm1(-hs * dt);
+      const double decay = rt.decay, loss = rt.loss;
       std::size_t w = 0;
       for (std::size_t j = 0; j < cs.size(); ++j) {
         Cohort c = cs[j];
@@ -152,29 +209,23 @@ void ContactPrediction::step(double dt, std::span<const double> area0, std::span
       }
       cs.resize(w);
       // the contacts born in the step that are still attached at its end, and the lifetimes of the
-      // others: density ∝ e^{−hs l} (dt − l) on [0, dt] (constant attachment rate over the step)
-      survivors = (T - T / r) * weight(hs, dt) - (a0 - T / r) * std::exp(-hs * dt) * weight(r - hs, dt);
+      // others (RateTerms: their cumulative fractions at the class edges below dt)
+      survivors = (T - T / r) * rt.surv_weight - (a0 - T / r) * rt.surv_exp * rt.surv_cross;
       const double gone_new = std::max(0.0, births - survivors);
       lost += gone_new;
       if (gone_new > 0.0) {
         double* row = lifetime_.data() + cls * bins_;
-        const double x = hs * dt;
-        auto cdf = [&](double l) {  // fraction of the step's own losses with lifetime < l
-          if (x < 1e-3) return (dt * l - 0.5 * l * l) / (0.5 * dt * dt);
-          return ((1.0 / hs - dt) * std::expm1(-hs * l) + l * std::exp(-hs * l)) /
-                 ((1.0 / hs - dt) * std::expm1(-x) + dt * std::exp(-x));
-        };
         std::size_t b = 0;
         double done = 0.0;
-        for (; edges_[b + 1] < dt; ++b) {
-          const double f = cdf(edges_[b + 1]);
+        for (std::size_t q = rt.young_begin; q < rt.young_end; ++q, ++b) {
+          const double f = split_values_[q];
           row[b] += gone_new * n_contacts_ * (f - done);
           done = f;
         }
         row[b] += gone_new * n_contacts_ * (1.0 - done);
       }
     }
-    if (survivors >= negligible) cs.push_back({t0, t1, survivors, hs, t1 - mean_back(hs, dt)});
+    if (survivors >= negligible) cs.push_back({t0, t1, survivors, hs, t1 - rt.back});
     detach_total_[i] += lost * n_contacts_;
     attach_total_[i] += births * n_contacts_;
     if (cs.size() > compacted_size_[k] + 16) compact(k, t1);

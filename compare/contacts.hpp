@@ -111,6 +111,24 @@ class ContactPrediction {
   // frozen hazard's density ∝ e^{−rate (t' − t0)}, attachment times with the cohort's density (Gauss
   // quadrature where the lifetime range straddles a bin edge).
   void add_losses(std::size_t cls, const Cohort& c, double mass, double t0, double dt, double rate);
+  // What a step's loss computations depend on besides the masses, shared by the sub-populations of one
+  // step: the classes of a site see at most two hazards (κ|v| for the overloaded ones, 0 for the others)
+  // and their cohorts born in the same steps under the same hazard have the same attachment interval and
+  // tilt, so each quantity below is computed once per site and step and reused bit for bit (the same
+  // function of the same arguments; only the masses differ). Cleared at every site.
+  struct RateTerms {   // the factors of one hazard hs (rate r = 1 + h) over the step
+    double h = -1.0, hs = -1.0, decay = 0.0, loss = 0.0, birth_weight = 0.0, surv_weight = 0.0, surv_exp = 0.0,
+           surv_cross = 0.0, back = 0.0;  ///< back: mean_back(hs, dt), the new cohort's mean age
+    std::size_t young_begin = 0, young_end = 0;  ///< the young-loss fractions in split_values_
+  };
+  struct LossSplit {  // add_losses' cumulative fractions at the class edges of one cohort shape
+    double start, end, tilt, rate;
+    std::size_t first_bin, begin, end_index;  ///< split_values_[begin, end_index)
+  };
+  const RateTerms& rate_terms(double h, double dt);
+  std::vector<RateTerms> rate_cache_;
+  std::vector<LossSplit> split_cache_;
+  std::vector<double> split_values_;
   // The cohort's mass at its ages t − s into the class bins of row cls of `table`.
   void add_ages(std::vector<double>& table, std::size_t cls, const Cohort& c, double t, double mass);
   void compact(std::size_t i, double t);

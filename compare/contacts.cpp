@@ -61,10 +61,10 @@ double ContactPrediction::share_before(const Cohort& c, double x) {
   return (std::expm1(c.tilt * (x - c.end)) - std::expm1(-lw)) / -std::expm1(-lw);
 }
 
-void ContactPrediction::add_losses(std::size_t cls, const Cohort& c, double mass, double t0, double dt, double rate) {
+void ContactPrediction::add_losses(std::size_t cls, const Cohort& c, double mass, double t0, double dt, double rate,
+                                   std::size_t b) {
   double* row = lifetime_.data() + cls * bins_;
-  const double l_min = t0 - c.end, l_max = t0 + dt - c.start;
-  std::size_t b = bin(l_min);
+  const double l_max = t0 + dt - c.start;
   if (edges_[b + 1] >= l_max) {  // the usual case: the whole loss in one bin
     row[b] += mass;
     return;
@@ -198,16 +198,25 @@ void ContactPrediction::step(double dt, std::span<const double> area0, std::span
     if (hs > 0.0) {
       // every cohort decays by e^{−hs dt}; its loss goes to the lifetimes of the site's class
       const double decay = rt.decay, loss = rt.loss;
-      std::size_t w = 0;
+      // the cohorts are in attachment order, oldest first: their shortest lifetimes t0 − end decrease, and
+      // the bin of each is found by walking down from the previous one (bin() of the first)
+      std::size_t w = 0, b = cs.empty() ? 0 : bin(t0 - cs.front().end);
+      bool dropped = false;
       for (std::size_t j = 0; j < cs.size(); ++j) {
-        Cohort c = cs[j];
+        Cohort& c = cs[j];
         const double gone = c.mass * loss;
         c.mass *= decay;
         lost += gone;
-        add_losses(cls, c, gone * n_contacts_, t0, dt, hs);
-        if (c.mass >= negligible) cs[w++] = c;
+        const double l_min = t0 - c.end;
+        while (b > 0 && l_min < edges_[b]) --b;
+        add_losses(cls, c, gone * n_contacts_, t0, dt, hs, b);
+        dropped |= !(c.mass >= negligible);
       }
-      cs.resize(w);
+      if (dropped) {
+        for (std::size_t j = 0; j < cs.size(); ++j)
+          if (cs[j].mass >= negligible) cs[w++] = cs[j];
+        cs.resize(w);
+      }
       // the contacts born in the step that are still attached at its end, and the lifetimes of the
       // others (RateTerms: their cumulative fractions at the class edges below dt)
       survivors = (T - T / r) * rt.surv_weight - (a0 - T / r) * rt.surv_exp * rt.surv_cross;

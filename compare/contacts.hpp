@@ -110,7 +110,8 @@ class ContactPrediction {
   // Lifetimes of `mass` lost over [t0, t0 + dt] from cohort c, by class bin: loss times with the
   // frozen hazard's density ∝ e^{−rate (t' − t0)}, attachment times with the cohort's density (Gauss
   // quadrature where the lifetime range straddles a bin edge).
-  void add_losses(std::size_t cls, const Cohort& c, double mass, double t0, double dt, double rate);
+  // `b` is bin(t0 − c.end), the bin of its shortest lifetime (step() walks it down the age-ordered cohorts).
+  void add_losses(std::size_t cls, const Cohort& c, double mass, double t0, double dt, double rate, std::size_t b);
   // What a step's loss computations depend on besides the masses, shared by the sub-populations of one
   // step: the classes of a site see at most two hazards (κ|v| for the overloaded ones, 0 for the others)
   // and their cohorts born in the same steps under the same hazard have the same attachment interval and

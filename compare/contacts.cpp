@@ -40,7 +40,35 @@ void ContactPrediction::start(std::span<const double> areas) {
     cohorts_[i].clear();
     if (areas[i] > negligible) cohorts_[i].push_back({0.0, 0.0, areas[i], 0.0, 0.0});
   }
+  // the shared tail: the last classes of a site with the same attached fraction (their cohorts are the same)
+  const std::size_t sites = cohorts_.size() / classes_;
+  tail_.assign(sites, 0);
+  for (std::size_t i = 0; i < sites; ++i) {
+    const double* a = areas.data() + i * classes_;
+    std::size_t g = classes_ - 1;
+    while (g > 0 && a[g - 1] == a[classes_ - 1]) --g;
+    tail_[i] = g;
+    for (std::size_t b = g + 1; b < classes_; ++b) cohorts_[i * classes_ + b].clear();
+  }
   max_cohorts_ = 1;
+}
+
+std::size_t ContactPrediction::split_tail(std::size_t i, std::span<const double> area0, std::span<const double> hazard,
+                                          std::span<const double> totals) {
+  const std::size_t first = i * classes_, last = first + classes_ - 1, g = tail_[i];
+  auto same = [&](std::size_t k) {
+    return area0[k] == area0[last] && hazard[k] == hazard[last] && (totals.empty() || totals[k] == totals[last]);
+  };
+  std::size_t h = classes_ - 1;  // the classes [h, B) get the same inputs this step
+  while (h > g && same(first + h - 1)) --h;
+  if (h > g) {  // classes [g, h) leave the tail: each with a copy of its cohorts (the same until now)
+    for (std::size_t b = g + 1; b <= h; ++b) {
+      cohorts_[first + b] = cohorts_[first + g];
+      compacted_size_[first + b] = compacted_size_[first + g];
+    }
+    tail_[i] = h;
+  }
+  return tail_[i];
 }
 
 std::size_t ContactPrediction::bin(double x) const {
@@ -71,12 +99,18 @@ void ContactPrediction::add_losses(std::size_t cls, const Cohort& c, double mass
   }
   // the cumulative fractions at the edges the lifetimes straddle depend on the cohort's shape and the
   // step, not on its mass: computed once per site and step for every class with this shape (split_cache_)
+  // (the classes' cohorts come in the same order: the entry after the last one used is tried first)
   const LossSplit* split = nullptr;
-  for (const LossSplit& e : split_cache_)
-    if (e.start == c.start && e.end == c.end && e.tilt == c.tilt && e.rate == rate) {
-      split = &e;
-      break;
-    }
+  auto fits = [&](const LossSplit& e) { return e.start == c.start && e.end == c.end && e.tilt == c.tilt && e.rate == rate; };
+  if (split_next_ < split_cache_.size() && fits(split_cache_[split_next_])) {
+    split = &split_cache_[split_next_];
+  } else {
+    for (const LossSplit& e : split_cache_)
+      if (fits(e)) {
+        split = &e;
+        break;
+      }
+  }
   if (split == nullptr) {
     // F(x): the fraction of the step's loss that happened by t0 + x (frozen hazard)
     const double norm = -std::expm1(-rate * dt);
@@ -119,6 +153,7 @@ void ContactPrediction::add_losses(std::size_t cls, const Cohort& c, double mass
     split_cache_.push_back(e);
     split = &split_cache_.back();
   }
+  split_next_ = static_cast<std::size_t>(split - split_cache_.data()) + 1;
   double done = 0.0;
   for (std::size_t k = split->begin; k < split->end_index; ++k, ++b) {
     const double f = split_values_[k];
@@ -180,16 +215,22 @@ void ContactPrediction::step(double dt, std::span<const double> area0, std::span
                              std::span<const double> totals) {
   const double t0 = clock_, t1 = t0 + dt;
   clock_ = t1;
+  std::size_t tail = 0;
   for (std::size_t k = 0; k < cohorts_.size(); ++k) {
     const std::size_t i = k / classes_;  // the site of sub-population k
     if (k % classes_ == 0) {             // what the classes of one site share (RateTerms, LossSplit)
       rate_cache_.clear();
       split_cache_.clear();
       split_values_.clear();
+      tail = i * classes_ + split_tail(i, area0, hazard, totals);
     }
+    if (k > tail) continue;  // in the shared tail, held at class `tail`
+    split_next_ = 0;
+    const double nm = k == tail ? n_contacts_ * static_cast<double>(classes_ - k % classes_) : n_contacts_;
     const RateTerms rt = rate_terms(hazard[k], dt);
     const double hs = rt.hs, a0 = area0[k], r = 1.0 + rt.h, T = totals.empty() ? 1.0 : totals[k];
     const std::size_t cls = front_.class_of(i);
+    const bool classed = front_.classed();  // phase next_event: the cohorts go on, their losses are not classed
     // attachments over the step, ∫(T − A) dt with A(u) = T/r + (a0 − T/r) e^{−ru} (the law's own A; T = 1:
     // the same operations as before classes existed, 1.0 × x being x)
     const double births = T * dt - (T * dt / r + (a0 - T / r) * rt.birth_weight);
@@ -202,6 +243,8 @@ void ContactPrediction::step(double dt, std::span<const double> area0, std::span
       // the bin of each is found by walking down from the previous one (bin() of the first)
       std::size_t w = 0, b = cs.empty() ? 0 : bin(t0 - cs.front().end);
       bool dropped = false;
+      double* lrow = lifetime_.data() + cls * bins_;
+      const double t1_less = t0 + dt;
       for (std::size_t j = 0; j < cs.size(); ++j) {
         Cohort& c = cs[j];
         const double gone = c.mass * loss;
@@ -209,7 +252,10 @@ void ContactPrediction::step(double dt, std::span<const double> area0, std::span
         lost += gone;
         const double l_min = t0 - c.end;
         while (b > 0 && l_min < edges_[b]) --b;
-        add_losses(cls, c, gone * n_contacts_, t0, dt, hs, b);
+        if (classed) {
+          if (edges_[b + 1] >= t1_less - c.start) lrow[b] += gone * nm;  // add_losses' usual case, inline
+          else add_losses(cls, c, gone * nm, t0, dt, hs, b);
+        }
         dropped |= !(c.mass >= negligible);
       }
       if (dropped) {
@@ -222,21 +268,20 @@ void ContactPrediction::step(double dt, std::span<const double> area0, std::span
       survivors = (T - T / r) * rt.surv_weight - (a0 - T / r) * rt.surv_exp * rt.surv_cross;
       const double gone_new = std::max(0.0, births - survivors);
       lost += gone_new;
-      if (gone_new > 0.0) {
-        double* row = lifetime_.data() + cls * bins_;
-        std::size_t b = 0;
+      if (gone_new > 0.0 && classed) {
+        std::size_t yb = 0;
         double done = 0.0;
-        for (std::size_t q = rt.young_begin; q < rt.young_end; ++q, ++b) {
+        for (std::size_t q = rt.young_begin; q < rt.young_end; ++q, ++yb) {
           const double f = split_values_[q];
-          row[b] += gone_new * n_contacts_ * (f - done);
+          lrow[yb] += gone_new * nm * (f - done);
           done = f;
         }
-        row[b] += gone_new * n_contacts_ * (1.0 - done);
+        lrow[yb] += gone_new * nm * (1.0 - done);
       }
     }
     if (survivors >= negligible) cs.push_back({t0, t1, survivors, hs, t1 - rt.back});
-    detach_total_[i] += lost * n_contacts_;
-    attach_total_[i] += births * n_contacts_;
+    detach_total_[i] += lost * nm;
+    attach_total_[i] += births * nm;
     if (cs.size() > compacted_size_[k] + 16) compact(k, t1);
     max_cohorts_ = std::max(max_cohorts_, cs.size());
   }
@@ -267,16 +312,21 @@ void ContactPrediction::compact(std::size_t i, double t) {
 
 void ContactPrediction::snapshot() {
   const double t = clock_;
-  snapshots_per_phase_[front_.phase] += 1.0;
   snapshot_t_.push_back(t);
   snapshot_phase_.push_back(static_cast<double>(front_.phase));
+  if (!front_.classed()) {  // phase next_event: a snapshot with no classed ages (rows of zeros, as the agent's)
+    region_age_rows_.insert(region_age_rows_.end(), core::FrontClasses::regions * bins_, 0.0);
+    return;
+  }
+  snapshots_per_phase_[front_.phase] += 1.0;
   // this snapshot's ages by region: the class rows of the current phase, before and after
   const std::size_t regions = core::FrontClasses::regions, first = regions * front_.phase * bins_;
   std::vector<double> before(age_.begin() + static_cast<std::ptrdiff_t>(first),
                              age_.begin() + static_cast<std::ptrdiff_t>(first + regions * bins_));
   for (std::size_t k = 0; k < cohorts_.size(); ++k) {
     const std::size_t cls = front_.class_of(k / classes_);
-    for (const Cohort& c : cohorts_[k]) add_ages(age_, cls, c, t, c.mass * n_contacts_);
+    const double nm = n_contacts_ * multiplicity(k);  // the shared tail counts B − tail_ times (empty beyond it)
+    for (const Cohort& c : cohorts_[k]) add_ages(age_, cls, c, t, c.mass * nm);
   }
   for (std::size_t k = 0; k < regions * bins_; ++k) region_age_rows_.push_back(age_[first + k] - before[k]);
 }
@@ -284,18 +334,22 @@ void ContactPrediction::snapshot() {
 double ContactPrediction::mean_age(std::size_t i) const {
   const double t = clock_;
   double m = 0.0, s = 0.0;
-  for (std::size_t b = 0; b < classes_; ++b)
+  for (std::size_t b = 0; b < classes_; ++b) {
+    const double mult = multiplicity(i * classes_ + b);
     for (const Cohort& c : cohorts_[i * classes_ + b]) {
-      m += c.mass;
-      s += c.mass * (t - c.mean);
+      m += c.mass * mult;
+      s += c.mass * mult * (t - c.mean);
     }
+  }
   return m > 0.0 ? s / m : std::numeric_limits<double>::quiet_NaN();
 }
 
 double ContactPrediction::attached_mass(std::size_t i) const {
   double m = 0.0;
-  for (std::size_t b = 0; b < classes_; ++b)
-    for (const Cohort& c : cohorts_[i * classes_ + b]) m += c.mass;
+  for (std::size_t b = 0; b < classes_; ++b) {
+    const double mult = multiplicity(i * classes_ + b);
+    for (const Cohort& c : cohorts_[i * classes_ + b]) m += c.mass * mult;
+  }
   return m;
 }
 
@@ -343,6 +397,7 @@ std::pair<Table2D, Table2D> matched_age_tables(const ModelResult& measured, cons
   for (std::size_t k = 0; k < ns; ++k) {
     if ((*pm)[k] != (*pp)[k]) continue;  // the models are in different phases: different moments
     const auto phase = static_cast<std::size_t>((*pm)[k]);
+    if (phase >= core::FrontClasses::phases) continue;  // next_event: not classed
     for (std::size_t j = 0; j < cols; ++j) {
       out.first.data[phase * cols + j] += am->second.data[k * cols + j];
       out.second.data[phase * cols + j] += ap->second.data[k * cols + j];

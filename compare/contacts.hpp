@@ -89,7 +89,7 @@ class ContactPrediction {
   void serialize(Ar& ar) {
     ar(n_contacts_, scale_, width_, age_cap_, clock_, front_, edges_, bins_, cohorts_, compacted_size_, lifetime_, age_,
        detach_total_, attach_total_, snapshots_per_phase_, snapshot_t_, snapshot_phase_, region_age_rows_, max_cohorts_,
-       classes_);
+       classes_, tail_);
   }
 
  private:
@@ -130,6 +130,7 @@ class ContactPrediction {
   std::vector<RateTerms> rate_cache_;
   std::vector<LossSplit> split_cache_;
   std::vector<double> split_values_;
+  std::size_t split_next_ = 0;  ///< the split_cache_ entry after the last one used (tried first)
   // The cohort's mass at its ages t − s into the class bins of row cls of `table`.
   void add_ages(std::vector<double>& table, std::size_t cls, const Cohort& c, double t, double mass);
   void compact(std::size_t i, double t);
@@ -146,6 +147,19 @@ class ContactPrediction {
   std::vector<double> lifetime_, age_, detach_total_, attach_total_, snapshots_per_phase_;
   std::vector<double> snapshot_t_, snapshot_phase_, region_age_rows_;  ///< per contact snapshot
   std::size_t max_cohorts_ = 0;
+  // The shared tail of each site: classes [tail_[i], B) have had bit for bit the same inputs (attached fraction,
+  // hazard, total) at every step so far — at a site the front has not reached, every class; behind it, the
+  // classes never overloaded — so their cohorts are the same: held once, at class tail_[i], and counted
+  // B − tail_[i] times. When some of them get different inputs (τ passes their thresholds) they leave the
+  // tail with a copy of its cohorts. Exact: the same operations on the same numbers, only the tables' sums
+  // are m·x instead of m additions of x (round-off).
+  std::vector<std::size_t> tail_;
+  std::size_t split_tail(std::size_t i, std::span<const double> area0, std::span<const double> hazard,
+                         std::span<const double> totals);
+  double multiplicity(std::size_t k) const {
+    const std::size_t i = k / classes_, b = k % classes_;
+    return b == tail_[i] ? static_cast<double>(classes_ - b) : 1.0;
+  }
 };
 
 /// One row of the goodness of fit: a statistic ("lifetime" or "age") of one class.

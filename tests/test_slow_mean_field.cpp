@@ -113,7 +113,7 @@ TEST_CASE("mean_field (slow): the agent's contact statistics at w = 0.2 against 
 // models in a run to t = 150 are bit for bit those of the same run stopped just after that instability (nothing is
 // added after it, in the mean field too, whose own phase 3 would go on); (iii) control: the mean field run alone (no
 // other model to end its phase 3) has more after-arrest lifetimes than in lockstep — so (ii) could fail.
-// Deterministic runs: no false-alarm rate. Slow tier: four runs of 7500 steps, ~3 min on the shared machine.
+// Deterministic runs: no false-alarm rate. Slow tier: four runs of 7500 steps, 52-176 s on the shared machine.
 TEST_CASE("mean_field (slow): the after-arrest statistics of every model stop at the earliest next instability",
           "[slow][mean_field][contacts]") {
   compare::Scene s = testing::fig1_scene();

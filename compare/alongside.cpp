@@ -68,6 +68,11 @@ class Lockstep {
     each([](auto& r) {
       if (!r.done()) r.step();
     });
+    // docs/model.md §7.2: the after-arrest phase of the contact statistics ends at the earliest next
+    // instability of the models compared, for all of them (like with like: one cycle in every model)
+    bool next = false;
+    each([&](auto& r) { next = next || r.had_next_instability(); });
+    if (next) each([](auto& r) { r.close_after_arrest(); });
     observe_fields();
   }
   void interrupt() {
@@ -166,7 +171,7 @@ void compare_contacts(const ModelResult& c, const ModelResult& d, Comparison& cm
     const auto& rows_p = c.contacts_2d.at("region_age_counts");
     const std::size_t nb = age_measured.cols;
     for (std::size_t k = 0; k < pm.size(); ++k) {
-      if (pm[k] != c.contacts.at("contact_snapshot_phase")[k]) continue;
+      if (pm[k] != c.contacts.at("contact_snapshot_phase")[k] || pm[k] >= core::FrontClasses::phases) continue;
       for (std::size_t r = 0; r < core::FrontClasses::regions; ++r) {
         double m = 0.0, p = 0.0;
         for (std::size_t j = 0; j < nb; ++j) {

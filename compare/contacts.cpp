@@ -40,7 +40,35 @@ void ContactPrediction::start(std::span<const double> areas) {
     cohorts_[i].clear();
     if (areas[i] > negligible) cohorts_[i].push_back({0.0, 0.0, areas[i], 0.0, 0.0});
   }
+  // the shared tail: the last classes of a site with the same attached fraction (their cohorts are the same)
+  const std::size_t sites = cohorts_.size() / classes_;
+  tail_.assign(sites, 0);
+  for (std::size_t i = 0; i < sites; ++i) {
+    const double* a = areas.data() + i * classes_;
+    std::size_t g = classes_ - 1;
+    while (g > 0 && a[g - 1] == a[classes_ - 1]) --g;
+    tail_[i] = g;
+    for (std::size_t b = g + 1; b < classes_; ++b) cohorts_[i * classes_ + b].clear();
+  }
   max_cohorts_ = 1;
+}
+
+std::size_t ContactPrediction::split_tail(std::size_t i, std::span<const double> area0, std::span<const double> hazard,
+                                          std::span<const double> totals) {
+  const std::size_t first = i * classes_, last = first + classes_ - 1, g = tail_[i];
+  auto same = [&](std::size_t k) {
+    return area0[k] == area0[last] && hazard[k] == hazard[last] && (totals.empty() || totals[k] == totals[last]);
+  };
+  std::size_t h = classes_ - 1;  // the classes [h, B) get the same inputs this step
+  while (h > g && same(first + h - 1)) --h;
+  if (h > g) {  // classes [g, h) leave the tail: each with a copy of its cohorts (the same until now)
+    for (std::size_t b = g + 1; b <= h; ++b) {
+      cohorts_[first + b] = cohorts_[first + g];
+      compacted_size_[first + b] = compacted_size_[first + g];
+    }
+    tail_[i] = h;
+  }
+  return tail_[i];
 }
 
 std::size_t ContactPrediction::bin(double x) const {
@@ -61,47 +89,74 @@ double ContactPrediction::share_before(const Cohort& c, double x) {
   return (std::expm1(c.tilt * (x - c.end)) - std::expm1(-lw)) / -std::expm1(-lw);
 }
 
-void ContactPrediction::add_losses(std::size_t cls, const Cohort& c, double mass, double t0, double dt, double rate) {
+void ContactPrediction::add_losses(std::size_t cls, const Cohort& c, double mass, double t0, double dt, double rate,
+                                   std::size_t b) {
   double* row = lifetime_.data() + cls * bins_;
-  const double l_min = t0 - c.end, l_max = t0 + dt - c.start;
-  std::size_t b = bin(l_min);
+  const double l_max = t0 + dt - c.start;
   if (edges_[b + 1] >= l_max) {  // the usual case: the whole loss in one bin
     row[b] += mass;
     return;
   }
-  // F(x): the fraction of the step's loss that happened by t0 + x (frozen hazard)
-  const double norm = -std::expm1(-rate * dt);
-  auto lost_by = [&](double x) {
-    if (x <= 0.0) return 0.0;
-    if (x >= dt) return 1.0;
-    return rate * dt < 1e-12 ? x / dt : -std::expm1(-rate * x) / norm;
-  };
-  // P(lifetime < l) = ∫ density(s) F(l + s − t0) ds: the attachment times after t0 + dt − l count
-  // whole; those in (t0 − l, t0 + dt − l) by 5-point Gauss–Legendre on the smooth integrand
-  static constexpr double gx[5] = {-0.9061798459386640, -0.5384693101056831, 0.0, 0.5384693101056831, 0.9061798459386640};
-  static constexpr double gw[5] = {0.2369268850561891, 0.4786286704993665, 0.5688888888888889, 0.4786286704993665,
-                                   0.2369268850561891};
-  const double width = c.end - c.start;
-  auto cdf = [&](double l) {
-    if (width <= 0.0) return lost_by(l + c.end - t0);
-    double p = 1.0 - share_before(c, t0 + dt - l);
-    const double lo = std::max(c.start, t0 - l), hi = std::min(c.end, t0 + dt - l);
-    if (hi > lo) {
-      const double lw = c.tilt * width;
-      const double half = 0.5 * (hi - lo), mid = 0.5 * (hi + lo);
-      double sum = 0.0;
-      for (int k = 0; k < 5; ++k) {
-        const double s = mid + half * gx[k];
-        const double dens = lw < 1e-9 ? 1.0 / width : c.tilt * std::exp(c.tilt * (s - c.end)) / -std::expm1(-lw);
-        sum += gw[k] * dens * lost_by(l + s - t0);
+  // the cumulative fractions at the edges the lifetimes straddle depend on the cohort's shape and the
+  // step, not on its mass: computed once per site and step for every class with this shape (split_cache_)
+  // (the classes' cohorts come in the same order: the entry after the last one used is tried first)
+  const LossSplit* split = nullptr;
+  auto fits = [&](const LossSplit& e) { return e.start == c.start && e.end == c.end && e.tilt == c.tilt && e.rate == rate; };
+  if (split_next_ < split_cache_.size() && fits(split_cache_[split_next_])) {
+    split = &split_cache_[split_next_];
+  } else {
+    for (const LossSplit& e : split_cache_)
+      if (fits(e)) {
+        split = &e;
+        break;
       }
-      p += half * sum;
+  }
+  if (split == nullptr) {
+    // F(x): the fraction of the step's loss that happened by t0 + x (frozen hazard)
+    const double norm = -std::expm1(-rate * dt);
+    auto lost_by = [&](double x) {
+      if (x <= 0.0) return 0.0;
+      if (x >= dt) return 1.0;
+      return rate * dt < 1e-12 ? x / dt : -std::expm1(-rate * x) / norm;
+    };
+    // P(lifetime < l) = ∫ density(s) F(l + s − t0) ds: the attachment times after t0 + dt − l count
+    // whole; those in (t0 − l, t0 + dt − l) by 5-point Gauss–Legendre on the smooth integrand
+    static constexpr double gx[5] = {-0.9061798459386640, -0.5384693101056831, 0.0, 0.5384693101056831,
+                                     0.9061798459386640};
+    static constexpr double gw[5] = {0.2369268850561891, 0.4786286704993665, 0.5688888888888889, 0.4786286704993665,
+                                     0.2369268850561891};
+    const double width = c.end - c.start;
+    auto cdf = [&](double l) {
+      if (width <= 0.0) return lost_by(l + c.end - t0);
+      double p = 1.0 - share_before(c, t0 + dt - l);
+      const double lo = std::max(c.start, t0 - l), hi = std::min(c.end, t0 + dt - l);
+      if (hi > lo) {
+        const double lw = c.tilt * width;
+        const double half = 0.5 * (hi - lo), mid = 0.5 * (hi + lo);
+        double sum = 0.0;
+        for (int k = 0; k < 5; ++k) {
+          const double s = mid + half * gx[k];
+          const double dens = lw < 1e-9 ? 1.0 / width : c.tilt * std::exp(c.tilt * (s - c.end)) / -std::expm1(-lw);
+          sum += gw[k] * dens * lost_by(l + s - t0);
+        }
+        p += half * sum;
+      }
+      return std::clamp(p, 0.0, 1.0);
+    };
+    LossSplit e{c.start, c.end, c.tilt, rate, b, split_values_.size(), 0};
+    double done = 0.0;
+    for (std::size_t k = b; edges_[k + 1] < l_max; ++k) {
+      done = std::max(done, cdf(edges_[k + 1]));
+      split_values_.push_back(done);
     }
-    return std::clamp(p, 0.0, 1.0);
-  };
+    e.end_index = split_values_.size();
+    split_cache_.push_back(e);
+    split = &split_cache_.back();
+  }
+  split_next_ = static_cast<std::size_t>(split - split_cache_.data()) + 1;
   double done = 0.0;
-  for (; edges_[b + 1] < l_max; ++b) {
-    const double f = std::max(done, cdf(edges_[b + 1]));
+  for (std::size_t k = split->begin; k < split->end_index; ++k, ++b) {
+    const double f = split_values_[k];
     row[b] += mass * (f - done);
     done = f;
   }
@@ -125,58 +180,108 @@ void ContactPrediction::add_ages(std::vector<double>& table, std::size_t cls, co
   row[b] += mass * (1.0 - done);
 }
 
+const ContactPrediction::RateTerms& ContactPrediction::rate_terms(double h, double dt) {
+  for (const RateTerms& e : rate_cache_)
+    if (e.h == h) return e;
+  RateTerms e;
+  e.h = h;
+  e.hs = scale_ * h;
+  const double hs = e.hs, r = 1.0 + h;
+  e.birth_weight = weight(r, dt);
+  e.back = mean_back(hs, dt);
+  if (hs > 0.0) {
+    e.decay = std::exp(-hs * dt);
+    e.loss = -std::expm1(-hs * dt);
+    e.surv_weight = weight(hs, dt);
+    e.surv_exp = std::exp(-hs * dt);
+    e.surv_cross = weight(r - hs, dt);
+    // the lifetimes of the contacts born and lost in the step: density ∝ e^{−hs l} (dt − l) on [0, dt]
+    // (constant attachment rate over the step), the cumulative fractions at the class edges below dt
+    const double x = hs * dt;
+    auto cdf = [&](double l) {  // fraction of the step's own losses with lifetime < l
+      if (x < 1e-3) return (dt * l - 0.5 * l * l) / (0.5 * dt * dt);
+      return ((1.0 / hs - dt) * std::expm1(-hs * l) + l * std::exp(-hs * l)) /
+             ((1.0 / hs - dt) * std::expm1(-x) + dt * std::exp(-x));
+    };
+    e.young_begin = split_values_.size();
+    for (std::size_t b = 0; edges_[b + 1] < dt; ++b) split_values_.push_back(cdf(edges_[b + 1]));
+    e.young_end = split_values_.size();
+  }
+  rate_cache_.push_back(e);
+  return rate_cache_.back();
+}
+
 void ContactPrediction::step(double dt, std::span<const double> area0, std::span<const double> hazard,
                              std::span<const double> totals) {
   const double t0 = clock_, t1 = t0 + dt;
   clock_ = t1;
+  std::size_t tail = 0;
   for (std::size_t k = 0; k < cohorts_.size(); ++k) {
     const std::size_t i = k / classes_;  // the site of sub-population k
-    const double h = hazard[k], hs = scale_ * h, a0 = area0[k], r = 1.0 + h, T = totals.empty() ? 1.0 : totals[k];
+    if (k % classes_ == 0) {             // what the classes of one site share (RateTerms, LossSplit)
+      rate_cache_.clear();
+      split_cache_.clear();
+      split_values_.clear();
+      tail = i * classes_ + split_tail(i, area0, hazard, totals);
+    }
+    if (k > tail) continue;  // in the shared tail, held at class `tail`
+    split_next_ = 0;
+    const double nm = k == tail ? n_contacts_ * static_cast<double>(classes_ - k % classes_) : n_contacts_;
+    const RateTerms rt = rate_terms(hazard[k], dt);
+    const double hs = rt.hs, a0 = area0[k], r = 1.0 + rt.h, T = totals.empty() ? 1.0 : totals[k];
     const std::size_t cls = front_.class_of(i);
+    const bool classed = front_.classed();  // phase next_event: the cohorts go on, their losses are not classed
     // attachments over the step, ∫(T − A) dt with A(u) = T/r + (a0 − T/r) e^{−ru} (the law's own A; T = 1:
     // the same operations as before classes existed, 1.0 × x being x)
-    const double births = T * dt - (T * dt / r + (a0 - T / r) * weight(r, dt));
+    const double births = T * dt - (T * dt / r + (a0 - T / r) * rt.birth_weight);
     auto& cs = cohorts_[k];
     double lost = 0.0, survivors = births;
     if (hs > 0.0) {
       // every cohort decays by e^{−hs dt}; its loss goes to the lifetimes of the site's class
-      const double decay = std::exp(-hs * dt), loss = -std::expm1(-hs * dt);
-      std::size_t w = 0;
+      const double decay = rt.decay, loss = rt.loss;
+      // the cohorts are in attachment order, oldest first: their shortest lifetimes t0 − end decrease, and
+      // the bin of each is found by walking down from the previous one (bin() of the first)
+      std::size_t w = 0, b = cs.empty() ? 0 : bin(t0 - cs.front().end);
+      bool dropped = false;
+      double* lrow = lifetime_.data() + cls * bins_;
+      const double t1_less = t0 + dt;
       for (std::size_t j = 0; j < cs.size(); ++j) {
-        Cohort c = cs[j];
+        Cohort& c = cs[j];
         const double gone = c.mass * loss;
         c.mass *= decay;
         lost += gone;
-        add_losses(cls, c, gone * n_contacts_, t0, dt, hs);
-        if (c.mass >= negligible) cs[w++] = c;
+        const double l_min = t0 - c.end;
+        while (b > 0 && l_min < edges_[b]) --b;
+        if (classed) {
+          if (edges_[b + 1] >= t1_less - c.start) lrow[b] += gone * nm;  // add_losses' usual case, inline
+          else add_losses(cls, c, gone * nm, t0, dt, hs, b);
+        }
+        dropped |= !(c.mass >= negligible);
       }
-      cs.resize(w);
+      if (dropped) {
+        for (std::size_t j = 0; j < cs.size(); ++j)
+          if (cs[j].mass >= negligible) cs[w++] = cs[j];
+        cs.resize(w);
+      }
       // the contacts born in the step that are still attached at its end, and the lifetimes of the
-      // others: density ∝ e^{−hs l} (dt − l) on [0, dt] (constant attachment rate over the step)
-      survivors = (T - T / r) * weight(hs, dt) - (a0 - T / r) * std::exp(-hs * dt) * weight(r - hs, dt);
+      // others (RateTerms: their cumulative fractions at the class edges below dt)
+      survivors = (T - T / r) * rt.surv_weight - (a0 - T / r) * rt.surv_exp * rt.surv_cross;
       const double gone_new = std::max(0.0, births - survivors);
       lost += gone_new;
-      if (gone_new > 0.0) {
-        double* row = lifetime_.data() + cls * bins_;
-        const double x = hs * dt;
-        auto cdf = [&](double l) {  // fraction of the step's own losses with lifetime < l
-          if (x < 1e-3) return (dt * l - 0.5 * l * l) / (0.5 * dt * dt);
-          return ((1.0 / hs - dt) * std::expm1(-hs * l) + l * std::exp(-hs * l)) /
-                 ((1.0 / hs - dt) * std::expm1(-x) + dt * std::exp(-x));
-        };
-        std::size_t b = 0;
+      if (gone_new > 0.0 && classed) {
+        std::size_t yb = 0;
         double done = 0.0;
-        for (; edges_[b + 1] < dt; ++b) {
-          const double f = cdf(edges_[b + 1]);
-          row[b] += gone_new * n_contacts_ * (f - done);
+        for (std::size_t q = rt.young_begin; q < rt.young_end; ++q, ++yb) {
+          const double f = split_values_[q];
+          lrow[yb] += gone_new * nm * (f - done);
           done = f;
         }
-        row[b] += gone_new * n_contacts_ * (1.0 - done);
+        lrow[yb] += gone_new * nm * (1.0 - done);
       }
     }
-    if (survivors >= negligible) cs.push_back({t0, t1, survivors, hs, t1 - mean_back(hs, dt)});
-    detach_total_[i] += lost * n_contacts_;
-    attach_total_[i] += births * n_contacts_;
+    if (survivors >= negligible) cs.push_back({t0, t1, survivors, hs, t1 - rt.back});
+    detach_total_[i] += lost * nm;
+    attach_total_[i] += births * nm;
     if (cs.size() > compacted_size_[k] + 16) compact(k, t1);
     max_cohorts_ = std::max(max_cohorts_, cs.size());
   }
@@ -207,16 +312,21 @@ void ContactPrediction::compact(std::size_t i, double t) {
 
 void ContactPrediction::snapshot() {
   const double t = clock_;
-  snapshots_per_phase_[front_.phase] += 1.0;
   snapshot_t_.push_back(t);
   snapshot_phase_.push_back(static_cast<double>(front_.phase));
+  if (!front_.classed()) {  // phase next_event: a snapshot with no classed ages (rows of zeros, as the agent's)
+    region_age_rows_.insert(region_age_rows_.end(), core::FrontClasses::regions * bins_, 0.0);
+    return;
+  }
+  snapshots_per_phase_[front_.phase] += 1.0;
   // this snapshot's ages by region: the class rows of the current phase, before and after
   const std::size_t regions = core::FrontClasses::regions, first = regions * front_.phase * bins_;
   std::vector<double> before(age_.begin() + static_cast<std::ptrdiff_t>(first),
                              age_.begin() + static_cast<std::ptrdiff_t>(first + regions * bins_));
   for (std::size_t k = 0; k < cohorts_.size(); ++k) {
     const std::size_t cls = front_.class_of(k / classes_);
-    for (const Cohort& c : cohorts_[k]) add_ages(age_, cls, c, t, c.mass * n_contacts_);
+    const double nm = n_contacts_ * multiplicity(k);  // the shared tail counts B − tail_ times (empty beyond it)
+    for (const Cohort& c : cohorts_[k]) add_ages(age_, cls, c, t, c.mass * nm);
   }
   for (std::size_t k = 0; k < regions * bins_; ++k) region_age_rows_.push_back(age_[first + k] - before[k]);
 }
@@ -224,18 +334,22 @@ void ContactPrediction::snapshot() {
 double ContactPrediction::mean_age(std::size_t i) const {
   const double t = clock_;
   double m = 0.0, s = 0.0;
-  for (std::size_t b = 0; b < classes_; ++b)
+  for (std::size_t b = 0; b < classes_; ++b) {
+    const double mult = multiplicity(i * classes_ + b);
     for (const Cohort& c : cohorts_[i * classes_ + b]) {
-      m += c.mass;
-      s += c.mass * (t - c.mean);
+      m += c.mass * mult;
+      s += c.mass * mult * (t - c.mean);
     }
+  }
   return m > 0.0 ? s / m : std::numeric_limits<double>::quiet_NaN();
 }
 
 double ContactPrediction::attached_mass(std::size_t i) const {
   double m = 0.0;
-  for (std::size_t b = 0; b < classes_; ++b)
-    for (const Cohort& c : cohorts_[i * classes_ + b]) m += c.mass;
+  for (std::size_t b = 0; b < classes_; ++b) {
+    const double mult = multiplicity(i * classes_ + b);
+    for (const Cohort& c : cohorts_[i * classes_ + b]) m += c.mass * mult;
+  }
   return m;
 }
 
@@ -283,6 +397,7 @@ std::pair<Table2D, Table2D> matched_age_tables(const ModelResult& measured, cons
   for (std::size_t k = 0; k < ns; ++k) {
     if ((*pm)[k] != (*pp)[k]) continue;  // the models are in different phases: different moments
     const auto phase = static_cast<std::size_t>((*pm)[k]);
+    if (phase >= core::FrontClasses::phases) continue;  // next_event: not classed
     for (std::size_t j = 0; j < cols; ++j) {
       out.first.data[phase * cols + j] += am->second.data[k * cols + j];
       out.second.data[phase * cols + j] += ap->second.data[k * cols + j];

@@ -89,7 +89,7 @@ class ContactPrediction {
   void serialize(Ar& ar) {
     ar(n_contacts_, scale_, width_, age_cap_, clock_, front_, edges_, bins_, cohorts_, compacted_size_, lifetime_, age_,
        detach_total_, attach_total_, snapshots_per_phase_, snapshot_t_, snapshot_phase_, region_age_rows_, max_cohorts_,
-       classes_);
+       classes_, tail_);
   }
 
  private:
@@ -110,7 +110,27 @@ class ContactPrediction {
   // Lifetimes of `mass` lost over [t0, t0 + dt] from cohort c, by class bin: loss times with the
   // frozen hazard's density ∝ e^{−rate (t' − t0)}, attachment times with the cohort's density (Gauss
   // quadrature where the lifetime range straddles a bin edge).
-  void add_losses(std::size_t cls, const Cohort& c, double mass, double t0, double dt, double rate);
+  // `b` is bin(t0 − c.end), the bin of its shortest lifetime (step() walks it down the age-ordered cohorts).
+  void add_losses(std::size_t cls, const Cohort& c, double mass, double t0, double dt, double rate, std::size_t b);
+  // What a step's loss computations depend on besides the masses, shared by the sub-populations of one
+  // step: the classes of a site see at most two hazards (κ|v| for the overloaded ones, 0 for the others)
+  // and their cohorts born in the same steps under the same hazard have the same attachment interval and
+  // tilt, so each quantity below is computed once per site and step and reused bit for bit (the same
+  // function of the same arguments; only the masses differ). Cleared at every site.
+  struct RateTerms {   // the factors of one hazard hs (rate r = 1 + h) over the step
+    double h = -1.0, hs = -1.0, decay = 0.0, loss = 0.0, birth_weight = 0.0, surv_weight = 0.0, surv_exp = 0.0,
+           surv_cross = 0.0, back = 0.0;  ///< back: mean_back(hs, dt), the new cohort's mean age
+    std::size_t young_begin = 0, young_end = 0;  ///< the young-loss fractions in split_values_
+  };
+  struct LossSplit {  // add_losses' cumulative fractions at the class edges of one cohort shape
+    double start, end, tilt, rate;
+    std::size_t first_bin, begin, end_index;  ///< split_values_[begin, end_index)
+  };
+  const RateTerms& rate_terms(double h, double dt);
+  std::vector<RateTerms> rate_cache_;
+  std::vector<LossSplit> split_cache_;
+  std::vector<double> split_values_;
+  std::size_t split_next_ = 0;  ///< the split_cache_ entry after the last one used (tried first)
   // The cohort's mass at its ages t − s into the class bins of row cls of `table`.
   void add_ages(std::vector<double>& table, std::size_t cls, const Cohort& c, double t, double mass);
   void compact(std::size_t i, double t);
@@ -127,6 +147,19 @@ class ContactPrediction {
   std::vector<double> lifetime_, age_, detach_total_, attach_total_, snapshots_per_phase_;
   std::vector<double> snapshot_t_, snapshot_phase_, region_age_rows_;  ///< per contact snapshot
   std::size_t max_cohorts_ = 0;
+  // The shared tail of each site: classes [tail_[i], B) have had bit for bit the same inputs (attached fraction,
+  // hazard, total) at every step so far — at a site the front has not reached, every class; behind it, the
+  // classes never overloaded — so their cohorts are the same: held once, at class tail_[i], and counted
+  // B − tail_[i] times. When some of them get different inputs (τ passes their thresholds) they leave the
+  // tail with a copy of its cohorts. Exact: the same operations on the same numbers, only the tables' sums
+  // are m·x instead of m additions of x (round-off).
+  std::vector<std::size_t> tail_;
+  std::size_t split_tail(std::size_t i, std::span<const double> area0, std::span<const double> hazard,
+                         std::span<const double> totals);
+  double multiplicity(std::size_t k) const {
+    const std::size_t i = k / classes_, b = k % classes_;
+    return b == tail_[i] ? static_cast<double>(classes_ - b) : 1.0;
+  }
 };
 
 /// One row of the goodness of fit: a statistic ("lifetime" or "age") of one class.

@@ -179,6 +179,17 @@ class DynamicRun {
     if (predict_) ar(*predict_);
     ar(predict_prefix_, a0_, sb0_, hazard_);
     if constexpr (Law::hooks.class_hazards) ar(n0_, totals_);
+    ar(after_arrest_closed_);
+  }
+
+  /// docs/model.md §7.2: whether this run has had its next instability after the arrest (phase 4, next event).
+  bool had_next_instability() const { return tracker_.phase() == core::FrontClasses::next_event; }
+  /// Ends the after-arrest phase of the contact statistics now (in lockstep: at the earliest next instability
+  /// of the compared models): from here on a run in phase 3 classes its contacts as next_event (not classed).
+  void close_after_arrest() {
+    if (after_arrest_closed_) return;
+    after_arrest_closed_ = true;
+    observe_front();
   }
 
   void interrupt() {
@@ -251,7 +262,9 @@ class DynamicRun {
   // laws that class their contact statistics by them.
   void observe_front() {
     if (!Law::hooks.contact_statistics && !predict_) return;
-    const auto f = front_classes(r_.x, tracker_.last_tip_alt(), s_.measure.tip_band, tracker_.phase());
+    const std::size_t phase = tracker_.phase() == 3 && after_arrest_closed_ ? core::FrontClasses::next_event
+                                                                              : tracker_.phase();
+    const auto f = front_classes(r_.x, tracker_.last_tip_alt(), s_.measure.tip_band, phase);
     if constexpr (Law::hooks.contact_statistics) sim_.law().observe_front(f);
     if (predict_) predict_->set_front(f);
   }
@@ -375,6 +388,7 @@ class DynamicRun {
   std::string predict_prefix_;
   std::vector<double> a0_, sb0_, hazard_;     // the prediction's view of the current step
   std::vector<double> n0_, totals_;           // ... per threshold class (core::LawHooks::class_hazards)
+  bool after_arrest_closed_ = false;          // close_after_arrest: phase 3 is over (another model's next event)
 };
 
 /// Bulk scenes run alone: one DynamicRun driven by run_loop (checkpoints written after `header`), and,

@@ -85,6 +85,8 @@ void FrontTracker::observe_step(double t0, double t1, bool yielded, double max_v
   } else if (in_transient_ && max_v < p_.v_event * p_.arrest_fraction) {
     in_transient_ = false;
     ev_.t_arrest = t_mid;
+  } else if (!in_transient_ && !std::isnan(ev_.t_arrest) && std::isnan(t_next_) && max_v > p_.v_event) {
+    t_next_ = t_mid;  // the next instability: phase 4 (docs/model.md §7.2)
   }
   prev_max_v_ = max_v;
   prev_t_mid_ = t_mid;

@@ -118,8 +118,10 @@ class FrontTracker {
   /// Between t^ and the arrest (max v has not yet fallen back below v_event/5).
   bool in_transient() const { return in_transient_; }
   /// Phase of the run so far (docs/model.md §7.2): 0 before first yield, 1 slow front (t* ≤ t < t^),
-  /// 2 transient (t^ to the arrest), 3 after the arrest.
+  /// 2 transient (t^ to the arrest), 3 after the arrest (to the next instability), 4 next event (from the
+  /// next instability after the arrest on: max v > v_event again).
   std::size_t phase() const {
+    if (!std::isnan(t_next_)) return 4;
     if (in_transient_) return 2;
     if (!std::isnan(ev_.t_arrest)) return 3;
     return std::isnan(ev_.t_star) ? 0 : 1;
@@ -135,7 +137,7 @@ class FrontTracker {
   Events finish(bool homogeneous, bool alt = false) const;
   template <class Ar>
   void serialize(Ar& ar) {
-    ar(ts_, tips_, tips_alt_, samples_, last_tip_alt_, ev_, prev_max_v_, prev_t_mid_, in_transient_);
+    ar(ts_, tips_, tips_alt_, samples_, last_tip_alt_, ev_, prev_max_v_, prev_t_mid_, in_transient_, t_next_);
   }
 
  private:
@@ -147,6 +149,7 @@ class FrontTracker {
   Events ev_;
   double prev_max_v_ = 0.0, prev_t_mid_ = 0.0;
   bool in_transient_ = false;
+  double t_next_ = nan;  ///< the next instability after the arrest (phase 4), NaN until then
 };
 
 /// Stick–slip cycles of the spring block: a cycle's slip event starts when v > v_event and ends when

@@ -95,7 +95,7 @@ ContactStats::ContactStats(std::size_t sites, double threshold_max)
 
 void ContactStats::begin_snapshot(double t) {
   snapshot_t_.push_back(t);
-  snapshots_per_phase_[front_.phase] += 1.0;
+  if (front_.classed()) snapshots_per_phase_[front_.phase] += 1.0;
   snapshot_phase_.push_back(static_cast<double>(front_.phase));
   std::fill(region_age_row_.begin(), region_age_row_.end(), 0.0);
   age_.clear();

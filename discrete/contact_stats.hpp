@@ -109,7 +109,7 @@ class ContactStats {
     if (!enabled_) return;
     const std::size_t b = lifetime_.bin(lifetime);
     lifetime_.add_to(b);
-    class_lifetime_[front_.class_of(site) * class_bins_ + class_bin_[b]] += 1.0;
+    if (front_.classed()) class_lifetime_[front_.class_of(site) * class_bins_ + class_bin_[b]] += 1.0;
     ++detach_total_[site];
     ++detach_count_[site];
     ++n_lifetimes_;
@@ -138,13 +138,14 @@ class ContactStats {
   void attached_age(std::size_t cls, double age, double count = 1.0) {
     const std::size_t b = age_.bin(age), cb = class_bin_[b];
     age_.add_to(b, count);
+    if (cls >= core::FrontClasses::count) return;  // phase next_event: not classed
     class_age_[cls * class_bins_ + cb] += count;
     region_age_row_[(cls % core::FrontClasses::regions) * class_bins_ + cb] += count;
   }
   void attached_threshold(std::size_t cls, double threshold, double count = 1.0) {
     const std::size_t b = threshold_.bin(threshold);
     threshold_.add_to(b, count);
-    class_threshold_[cls * threshold_.bins() + b] += count;
+    if (cls < core::FrontClasses::count) class_threshold_[cls * threshold_.bins() + b] += count;
   }
   void attached(std::size_t cls, double age, double threshold) {
     attached_age(cls, age);

@@ -1281,7 +1281,7 @@ def _matched_ages(c, d):
     nb = rm.shape[1] // 3
     m, p = np.zeros((12, nb)), np.zeros((12, nb))
     for k in range(len(pm)):
-        if pm[k] != pp[k]:
+        if pm[k] != pp[k] or pm[k] >= 4:  # phase 4 (next event): not classed (docs/model.md §7.2)
             continue
         ph = int(pm[k])
         m[3 * ph:3 * ph + 3] += rm[k].reshape(3, nb)

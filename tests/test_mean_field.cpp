@@ -473,3 +473,4 @@ TEST_CASE("mean_field: hostile inputs name the key and the reason", "[mean_field
     return testing::contains(n, "discrete.contacts_per_site");
   }));
 }
+

@@ -303,3 +303,31 @@ TEST_CASE("compare: relative differences are defined where the continuum value i
   CHECK(cmp.metrics.at("t_hat_rel_diff") == Approx(0.01).epsilon(1e-12));
   for (const auto& [k, v] : cmp.metrics) CHECK_FALSE(std::isinf(v));
 }
+
+TEST_CASE("measure: FrontTracker: phases, and the after-arrest phase ends at the next instability", "[measure]") {
+  // docs/model.md §7.2: 0 before yield, 1 slow front, 2 transient (t^ to the arrest), 3 after arrest, 4 from the
+  // next instability on (max v > v_event again after the arrest); the events of the first cycle are kept.
+  core::MeasureParams mp;
+  const auto x = grid(1.0, 50.0);
+  compare::FrontTracker tr(mp, x);
+  auto step = [&](double t, bool yielded, double max_v) { tr.observe_step(t, t + 0.01, yielded, max_v); };
+  CHECK(tr.phase() == 0);
+  step(1.0, true, 0.1);
+  CHECK(tr.phase() == 1);
+  step(2.0, true, 2.0 * mp.v_event);
+  CHECK(tr.phase() == 2);
+  step(3.0, true, 0.5 * mp.v_event);  // still above the arrest level v_event/5
+  CHECK(tr.phase() == 2);
+  step(4.0, false, 0.1 * mp.v_event);
+  CHECK(tr.phase() == 3);
+  step(5.0, true, 0.9 * mp.v_event);  // a new slow front, below v_event: still after arrest
+  CHECK(tr.phase() == 3);
+  step(6.0, true, 1.5 * mp.v_event);
+  CHECK(tr.phase() == 4);
+  step(7.0, false, 0.01);  // and it stays: one cycle per run of the statistics
+  CHECK(tr.phase() == 4);
+  const auto ev = tr.finish(false);
+  CHECK(ev.t_arrest == Approx(4.005));
+  CHECK(ev.t_hat > 1.005);  // interpolated between the midpoints of the steps before and at the crossing
+  CHECK(ev.t_hat <= 2.005);
+}

@@ -17,7 +17,10 @@
 // N = 1e4 — on the first run, 3 of 15 (slow front: lifetimes ahead, ages in the tip band; after arrest: ages ahead).
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <cstdio>
+#include <numeric>
+#include <vector>
 #include <string>
 
 #include "compare/alongside.hpp"
@@ -100,4 +103,91 @@ TEST_CASE("mean_field (slow): the agent's contact statistics at w = 0.2 against 
   CHECK(with_mf.failed < with_c.failed);
   CHECK(with_wrong.min_p < 0.01 / with_wrong.tested);
   CHECK(with_wrong.ks_sum > with_mf.ks_sum);
+}
+
+// docs/model.md §7.2: the after-arrest phase of the contact statistics ends at the earliest next instability of the
+// models run together (phase 4, next event: nothing classed from there on). Scene: contacts_disorder on L = 100 with
+// N = 1000 (seed 2, deterministic): the agent's second instability comes at t ≈ 148, the mean field has none before
+// t = 150. Asserted: (i) every model's contact snapshots are in phase 4 after the agent's second instability, and in
+// phase 3 between its own arrest and it; (ii) the after-arrest rows (lifetimes, ages, thresholds) of all three
+// models in a run to t = 150 are bit for bit those of the same run stopped just after that instability (nothing is
+// added after it, in the mean field too, whose own phase 3 would go on); (iii) control: the mean field run alone (no
+// other model to end its phase 3) has more after-arrest lifetimes than in lockstep — so (ii) could fail.
+// Deterministic runs: no false-alarm rate. Slow tier: four runs of 7500 steps, 52-176 s on the shared machine.
+TEST_CASE("mean_field (slow): the after-arrest statistics of every model stop at the earliest next instability",
+          "[slow][mean_field][contacts]") {
+  compare::Scene s = testing::fig1_scene();
+  s.name = "contacts_disorder_next_event";
+  s.models = {"continuum", "mean_field", "discrete"};
+  s.bulk.length = 100.0;
+  s.time.t_end = 150.0;
+  s.time.integrator = core::Integrator::implicit_trapezoidal;
+  s.time.dt = 0.02;
+  s.measure.tip_band = 5.0;
+  s.output.snapshot_dt = 5.0;
+  s.output.contact_snapshot_dt = 5.0;
+  s.discrete.contacts_per_site = 1000;
+  s.discrete.threshold = "uniform";
+  s.discrete.width = 0.2;
+  s.discrete.representation = "agent";
+  s.discrete.seed = 2;
+  s.discrete.contact_statistics = true;
+  s.validate();
+  const auto full = compare::run_scene_alongside(s, {});
+  REQUIRE(full.models.size() == 3);
+  // each model's instabilities: upward crossings of v_event by max v (series every step)
+  auto crossings = [&](const compare::ModelResult& m) {
+    const auto& t = m.series.at("t");
+    const auto& v = m.series.at("max_v");
+    std::vector<double> out;
+    for (std::size_t k = 1; k < t.size(); ++k)
+      if (v[k] > s.measure.v_event && v[k - 1] <= s.measure.v_event) out.push_back(t[k]);
+    return out;
+  };
+  const auto cd = crossings(full.models[2]), cm = crossings(full.models[1]);
+  REQUIRE(cd.size() == 2);  // the agent: its first event and the next instability
+  REQUIRE(cm.size() == 1);  // the mean field: no next instability before t_end
+  const double t_next = cd[1];
+  std::printf("next-event cut: agent's instabilities at %.2f and %.2f, mean field's at %.2f\n", cd[0], cd[1], cm[0]);
+  REQUIRE(t_next < s.time.t_end - 0.5);
+  for (const auto& m : full.models) {
+    const auto& ts = m.contacts.at("snapshot_t");
+    const auto& ph = m.contacts.at("contact_snapshot_phase");
+    std::size_t in3 = 0;
+    for (std::size_t k = 0; k < ts.size(); ++k) {
+      if (ts[k] > t_next + 0.1) CHECK(ph[k] == 4.0);
+      if (ts[k] > m.events.t_arrest + 0.1 && ts[k] < t_next) {
+        CHECK(ph[k] == 3.0);
+        ++in3;
+      }
+    }
+    CHECK(in3 >= 3);
+    CHECK(ts.back() > t_next + 0.1);
+  }
+  // (ii) the same run stopped just after the agent's next instability
+  compare::Scene cut = s;
+  cut.time.t_end = std::ceil((t_next + 0.2) / s.time.dt) * s.time.dt;
+  const auto part = compare::run_scene_alongside(cut, {});
+  const std::size_t nb_rows = core::FrontClasses::count, first = 3 * core::FrontClasses::regions;
+  auto after_arrest = [&](const compare::ModelResult& m, const char* table) {
+    const auto& t = m.contacts_2d.at(table);
+    return std::vector<double>(t.data.begin() + static_cast<std::ptrdiff_t>(first * t.cols),
+                               t.data.begin() + static_cast<std::ptrdiff_t>(nb_rows * t.cols));
+  };
+  for (std::size_t k = 0; k < 3; ++k) {
+    INFO(full.models[k].model);
+    CHECK(after_arrest(full.models[k], "class_lifetime_counts") == after_arrest(part.models[k], "class_lifetime_counts"));
+    CHECK(after_arrest(full.models[k], "class_age_counts") == after_arrest(part.models[k], "class_age_counts"));
+  }
+  CHECK(after_arrest(full.models[2], "class_threshold_counts") == after_arrest(part.models[2], "class_threshold_counts"));
+  // (iii) control: the mean field alone classes its after-arrest contacts to t_end (its own phase 3 goes on)
+  auto make = [&](std::size_t n) { return compare::mean_field_law(s, n); };
+  const auto alone = compare::run_model<discrete::MeanFieldLaw>(s, make, "mean_field", {});
+  auto sum = [](const std::vector<double>& x) { return std::accumulate(x.begin(), x.end(), 0.0); };
+  const double in_lockstep = sum(after_arrest(full.models[1], "class_lifetime_counts"));
+  const double by_itself = sum(after_arrest(alone, "class_lifetime_counts"));
+  std::printf("mean field after-arrest lifetimes: %.6g in lockstep (cut at %.2f), %.6g alone (to %.0f)\n", in_lockstep,
+              t_next, by_itself, s.time.t_end);
+  CHECK(in_lockstep > 0.0);
+  CHECK(by_itself > in_lockstep * 1.001);
 }

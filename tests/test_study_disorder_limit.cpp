@@ -1,8 +1,8 @@
 // The study kind disorder_limit (issue 21, docs/studies.md): threshold disorder w, the discrete model against
 // mean_field as N grows and mean_field against the continuum as w -> 0. A tiny study run the way `slipfront study`
-// runs it (the 0D steady law, 7 rates, 3 N x 2 seeds at w = 0.2 and 4 widths: ~1 s), its tables; a tiny fig1 with
-// mean_field and the continuum; then the analysis on hand-made results, for its rates, its 1 % crossing and each
-// of its notes.
+// runs it (the 0D steady law, 7 rates, 4 N x 2 seeds at w = 0.2 and 4 widths: ~1 s), its tables; a tiny fig1 with
+// mean_field and the continuum; the analysis on hand-made results, for its rates, its 1 % crossing and each of its
+// notes; and the report of a tiny study made by the program (its two figures, its rows, check_report).
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -17,6 +17,7 @@
 #include "compare/disorder_limit.hpp"
 #include "compare/pool.hpp"
 #include "compare/study.hpp"
+#include "process.hpp"
 #include "scenes.hpp"
 
 namespace fs = std::filesystem;
@@ -253,4 +254,44 @@ TEST_CASE("disorder_limit: fig1 with mean_field: first yield comes earlier with 
   CHECK(tw.at("t_star_rel_diff")[0] < 0.01);
   CHECK(tw.at("t_star_rel_diff")[2] > 0.01);
   CHECK(rep.tables.at("disorder_limit_N").at("N").empty());  // no discrete model listed
+}
+
+TEST_CASE("disorder_limit: the report draws the kind's two figures and tells its limits from its effects",
+          "[study][disorder][report]") {
+  const testing::TempDir dir("disorder-limit-report");
+  const std::string bin = SLIPFRONT_BINARY, src = SLIPFRONT_SOURCE_DIR;
+  testing::write_text(dir.path / "d.toml",
+                      "study = \"tiny_disorder\"\nkind = \"disorder_limit\"\nscene = \"" + src +
+                          "/configs/friction_law.toml\"\n"
+                          "set = [\"drive.points=7\", \"time.steps=1000\", \"discrete.threshold=uniform\"]\n"
+                          "[[group]]\nname = \"N\"\nvary = { models = [[\"continuum\", \"mean_field\", \"discrete\"]], "
+                          "\"discrete.width\" = [0.2], \"discrete.contacts_per_site\" = [100, 1000, 10000], "
+                          "\"discrete.seed\" = [1, 2] }\n"
+                          "[[group]]\nname = \"w\"\nvary = { models = [[\"continuum\", \"mean_field\"]], "
+                          "\"discrete.width\" = [0.01, 0.03, 0.05, 0.1] }\n");
+  const auto st = testing::run({bin, "study", "d.toml", "--out", "out/studies/tiny", "-q"}, dir.path);
+  INFO(st.err);
+  REQUIRE(st.code == 0);
+  const auto rp = testing::run({bin, "report", "out"}, dir.path);
+  INFO(rp.err);
+  REQUIRE(rp.code == 0);
+  const std::string md = testing::slurp(dir.path / "out" / "report.md");
+  for (const char* fig : {"tiny_disorder_distance_vs_N.png", "tiny_disorder_distance_vs_w.png"}) {
+    INFO(fig);
+    CHECK(md.find(fig) != std::string::npos);
+  }
+  const std::size_t effects = md.find("### Effects of a parameter");
+  REQUIRE(effects != std::string::npos);
+  // the N-rate against mean_field and the w -> 0 rate are limits (with verdicts); the departure per w an effect
+  const std::size_t n_rate = md.find("| N-rate of a study: discrete -> mean_field as N^-1/2 at w > 0 | tiny_disorder: sigma");
+  const std::size_t w_rate = md.find("| mean_field -> continuum as w -> 0 | tiny_disorder: sigma (uniform_fresh)");
+  const std::size_t w_effect = md.find("| threshold disorder w (at N -> inf: mean_field) | tiny_disorder: sigma (uniform_fresh)");
+  CHECK(n_rate < effects);
+  CHECK(w_rate < effects);
+  CHECK(w_effect > effects);
+  CHECK(w_effect != std::string::npos);
+  CHECK(md.find("| mean_field | ", n_rate) < md.find('\n', n_rate));  // its reference
+  const auto ck = testing::run({"/usr/bin/python3", src + "/scripts/check_report.py", "out/report.md"}, dir.path);
+  INFO(ck.out << ck.err);
+  CHECK(ck.code == 0);
 }

@@ -137,18 +137,6 @@ compare::Columns read_columns(hid_t parent, const std::string& group, const std:
   return cols;
 }
 
-const std::pair<const char*, double compare::Events::*> event_names[] = {
-    {"t_star", &compare::Events::t_star},
-    {"t_hat", &compare::Events::t_hat},
-    {"c_slow", &compare::Events::c_slow},
-    {"c_transient", &compare::Events::c_transient},
-    {"c_transient_peak", &compare::Events::c_transient_peak},
-    {"x_arrest", &compare::Events::x_arrest},
-    {"t_arrest", &compare::Events::t_arrest},
-    {"c_front", &compare::Events::c_front},
-    {"v_behind", &compare::Events::v_behind},
-};
-
 compare::ModelResult read_model(hid_t file, const std::string& m, const ReadOptions& opt) {
   const std::string base = "/" + m;
   Hid g(H5Gopen2(file, m.c_str(), H5P_DEFAULT), H5Gclose, "open group " + base);
@@ -167,7 +155,7 @@ compare::ModelResult read_model(hid_t file, const std::string& m, const ReadOpti
   r.series = read_columns(g.get(), "series", base + "/series");
   if (has_link(g.get(), "events")) {
     Hid e(H5Gopen2(g.get(), "events", H5P_DEFAULT), H5Gclose, "open group " + base + "/events");
-    for (const auto& [name, member] : event_names) {
+    for (const auto& [name, member] : compare::event_fields) {  // every event h5out writes
       if (H5Aexists(e.get(), name) > 0) r.events.*member = attr_double(e.get(), name, base + "/events");
       const std::string alt = std::string(name) + "_alt";
       if (H5Aexists(e.get(), alt.c_str()) > 0) r.events_alt.*member = attr_double(e.get(), alt, base + "/events");

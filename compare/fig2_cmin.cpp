@@ -49,6 +49,21 @@ ColumnResult column_speeds(const core::InterfaceParams& law, double mu, double r
   return out;
 }
 
+// Mean, relative standard deviation and count of the finite values of r.
+std::tuple<double, double, std::size_t> mean_and_spread(const std::vector<double>& r) {
+  std::vector<double> f;
+  for (double v : r)
+    if (std::isfinite(v)) f.push_back(v);
+  if (f.empty()) return {nan, nan, 0};
+  double sum = 0;
+  for (double v : f) sum += v;
+  const double mean = sum / static_cast<double>(f.size());
+  double ss = 0;
+  for (double v : f) ss += (v - mean) * (v - mean);
+  const double rsd = f.size() > 1 ? std::sqrt(ss / static_cast<double>(f.size() - 1)) / mean : nan;
+  return {mean, rsd, f.size()};
+}
+
 double slope_through_origin(const std::vector<double>& x, const std::vector<double>& y) {
   double sxy = 0, sxx = 0;
   for (std::size_t k = 0; k < x.size(); ++k)
@@ -116,28 +131,22 @@ void fig2_against_cmin(StudyReport& rep, Columns& all, const std::vector<Scene>&
     h["H_over_l_kappa_max"].push_back(lk_hi);
     h["runs"].push_back(static_cast<double>(idx.size()));
     for (const char* m : models) {
-      std::vector<double> x, y, r;
+      std::vector<double> x, X, y, r, rX;
       for (std::size_t i : idx) {
         x.push_back(c_min[i]);
+        X.push_back(all["X"][i]);
         y.push_back(all[std::string("c_") + m][i]);
         r.push_back(all[std::string("ratio_") + m][i]);
+        rX.push_back(y.back() / X.back());
       }
-      std::vector<double> finite;
-      for (double v : r)
-        if (std::isfinite(v)) finite.push_back(v);
-      double mean = nan, rsd = nan;
-      if (!finite.empty()) {
-        double sum = 0;
-        for (double v : finite) sum += v;
-        mean = sum / static_cast<double>(finite.size());
-        double ss = 0;
-        for (double v : finite) ss += (v - mean) * (v - mean);
-        rsd = finite.size() > 1 ? std::sqrt(ss / static_cast<double>(finite.size() - 1)) / mean : nan;
-      }
+      const auto [mean, rsd, n] = mean_and_spread(r);
+      const auto [mean_X, rsd_X, n_X] = mean_and_spread(rX);
       h[std::string("slope_") + m].push_back(slope_through_origin(x, y));
       h[std::string("ratio_mean_") + m].push_back(mean);
       h[std::string("ratio_rsd_") + m].push_back(rsd);
-      h[std::string("measured_") + m].push_back(static_cast<double>(finite.size()));
+      h[std::string("slope_X_") + m].push_back(slope_through_origin(X, y));
+      h[std::string("ratio_X_rsd_") + m].push_back(rsd_X);
+      h[std::string("measured_") + m].push_back(static_cast<double>(n));
     }
   }
   rep.tables["fig2_heights"] = h;
@@ -153,6 +162,10 @@ void fig2_against_cmin(StudyReport& rep, Columns& all, const std::vector<Scene>&
       "smallest H/l_kappa over the height's runs, l_kappa = mu' kappa/(eta alpha); _max: the largest";
   rep.definitions["fig2_heights/slope_continuum"] =
       "least-squares slope through the origin of c_transient vs c_min over the height's runs (continuum)";
+  rep.definitions["fig2_heights/slope_X_continuum"] =
+      "least-squares slope through the origin of c_transient vs sqrt(mu alpha/(eta kappa)) over the height's runs";
+  rep.definitions["fig2_heights/ratio_X_rsd_continuum"] =
+      "relative standard deviation of c_transient/sqrt(mu alpha/(eta kappa)) over the height's runs";
   rep.definitions["fig2_heights/ratio_rsd_continuum"] =
       "relative standard deviation of c_transient/c_min over the height's runs: the scatter about the collapse";
 }

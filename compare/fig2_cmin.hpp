@@ -16,7 +16,7 @@ std::vector<double> minimal_front_speeds(const std::vector<Scene>& scenes, std::
 
 /// Adds to a fig2 analysis: columns H, c_min, ratio_<model> = c_transient/c_min to `all` (runs in order, its columns c_continuum and c_discrete filled), the
 /// table `fig2_heights` (one row per height: H, the range of H/l and H/l_kappa over its runs, runs, slope of c_transient vs
-/// c_min through the origin, mean and relative spread of the ratio, per model) and its definitions.
+/// c_min through the origin, mean and relative spread of the ratio, the same against sqrt(μα/(ηκ)), per model) and its definitions.
 void fig2_against_cmin(StudyReport& rep, Columns& all, const std::vector<Scene>& scenes);
 
 }  // namespace slipfront::compare

@@ -31,6 +31,47 @@ double ls_slope(std::span<const double> t, std::span<const double> y) {
   return stt > 0 ? sty / stt : nan;
 }
 
+SettledSpeed settled_speed(std::span<const double> t, std::span<const double> x, double x_end, double window, double band) {
+  SettledSpeed r;
+  const std::size_t n = std::min(t.size(), x.size());
+  // the first sample at or after `from` whose tip lies beyond `top` (n if none)
+  auto passes = [&](std::size_t from, double top) {
+    while (from < n && !(x[from] > top)) ++from;
+    return from;
+  };
+  std::vector<std::size_t> first;  // each window's first sample
+  for (std::size_t i = 0; i < n; ++i) {
+    const double top = x[i] + window;
+    if (top > x_end) continue;
+    const std::size_t j = passes(i, top);
+    if (j == n) continue;  // the samples end before the tip passed the window's end
+    first.push_back(i);
+    r.window_x.push_back(x[i]);
+    r.window_c.push_back(ls_slope(t.subspan(i, j - i), x.subspan(i, j - i)));
+  }
+  const std::size_t m = r.window_c.size();
+  if (m < 2) return r;
+  // the largest and smallest windowed speed from window k on, scanned from the last window back
+  std::vector<double> hi(m), lo(m);
+  for (std::size_t k = m; k-- > 0;) {
+    hi[k] = k + 1 < m ? std::max(hi[k + 1], r.window_c[k]) : r.window_c[k];
+    lo[k] = k + 1 < m ? std::min(lo[k + 1], r.window_c[k]) : r.window_c[k];
+  }
+  std::size_t k = 0;
+  while (k < m && !(lo[k] > 0.0 && hi[k] <= (1.0 + band) * lo[k])) ++k;
+  const double last = r.window_c.back();
+  if (k < m && x_end - r.window_x[k] >= 2.0 * window) {
+    r.settled = true;
+    r.x_settled = r.window_x[k];
+    const std::size_t i = first[k], j = passes(i, x_end);
+    r.c = ls_slope(t.subspan(i, j - i), x.subspan(i, j - i));
+    r.drift = (last - r.window_c[k]) / last;
+  } else {
+    r.drift = (last - r.window_c.front()) / last;
+  }
+  return r;
+}
+
 FrontTracker::FrontTracker(const core::MeasureParams& p, std::vector<double> x)
     : p_(p), x_(std::move(x)), samples_(p.sample_dt) {}
 
@@ -145,8 +186,25 @@ Events FrontTracker::finish(bool homogeneous, bool alt) const {
       const double x1 = *std::max_element(wy.begin(), wy.end());
       // A front is steady only if it runs at least half of what lies ahead of it; a patch that
       // creeps and re-sticks has no front speed.
-      if (x1 - wy.front() >= 0.5 * (x_.back() - wy.front())) ev.c_front = slope_middle_distance(wt, wy, wy.front(), x1);
-      else ev.reasons["c_front"] = "the front ran less than half of the length ahead of it (re-stuck or too short a run)";
+      if (x1 - wy.front() >= 0.5 * (x_.back() - wy.front())) {
+        ev.c_front_middle = slope_middle_distance(wt, wy, wy.front(), x1);
+        // docs/model.md §3.1: the tip's speed over windows of fixed travel, the end zone left
+        // out (the tip speeds up over the last ~40 length units as it reaches the free end).
+        const double x_end = std::min(x1, x_.back() - p_.settle_end_zone);
+        const SettledSpeed s = settled_speed(wt, wy, x_end, p_.settle_window, p_.settle_band);
+        ev.c_front_drift = s.drift;
+        ev.front_settled = s.settled ? 1.0 : 0.0;
+        ev.c_front = s.settled ? s.c : ev.c_front_middle;
+        ev.x_settled = s.x_settled;
+        if (!s.settled)
+          ev.reasons["x_settled"] =
+              "the windowed tip speed (windows of " + core::format_number(p_.settle_window, 6) +
+              " length units) did not stay within a relative band of " + core::format_number(p_.settle_band, 6) +
+              " over at least two windows before x = " + core::format_number(x_end, 6) +
+              ": not settled (front_settled = 0); c_front is c_front_middle, c_front_drift the drift seen over every window";
+      } else {
+        ev.reasons["c_front"] = "the front ran less than half of the length ahead of it (re-stuck or too short a run)";
+      }
     }
     drop(&Events::c_transient, "c_transient", "homogeneous loading: the front's speed is c_front");
     drop(&Events::c_transient_peak, "c_transient_peak", "homogeneous loading: the front's speed is c_front");
@@ -154,7 +212,8 @@ Events FrontTracker::finish(bool homogeneous, bool alt) const {
   }
   // A front speed is the slope of an advancing tip: a negative value is a receding tip (healing), not a front.
   for (const auto& [field, name] : {std::pair{&Events::c_slow, "c_slow"}, std::pair{&Events::c_transient, "c_transient"},
-                                    std::pair{&Events::c_transient_peak, "c_transient_peak"}, std::pair{&Events::c_front, "c_front"}})
+                                    std::pair{&Events::c_transient_peak, "c_transient_peak"}, std::pair{&Events::c_front, "c_front"},
+                                    std::pair{&Events::c_front_middle, "c_front_middle"}})
     if (ev.*field < 0.0) drop(field, name, "negative (" + core::format_number(ev.*field, 6) + "): the tip receded, no advancing front");
   return ev;
 }

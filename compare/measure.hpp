@@ -27,15 +27,22 @@ struct Events {
   double c_transient_peak = nan;  ///< peak tip speed over 0.5 time units during the transient
   double x_arrest = nan;          ///< largest x_tip reached before max v < v_event/5 after t^
   double t_arrest = nan;          ///< time at which max v fell back below v_event/5
-  double c_front = nan;           ///< homogeneous loading: LS slope of x_tip over the middle half of its run
-                                  ///< (NaN if it runs less than half the length ahead of it: re-stuck)
+  /// Homogeneous loading (docs/model.md §3.1): the LS slope of x_tip over its settled part
+  /// when the front settled (front_settled = 1), else c_front_middle; NaN if it runs less than half the length
+  /// ahead of it (re-stuck).
+  double c_front = nan;
   double v_behind = nan;          ///< homogeneous loading: mean v over [ℓ_n, x_tip − 10] when x_tip passes 3L/4
+  double c_front_middle = nan;    ///< homogeneous loading: LS slope of x_tip over the middle half of its run
+  double c_front_drift = nan;     ///< relative change of the windowed tip speed over the settled part (or every window)
+  double x_settled = nan;         ///< where the settled part starts (NaN unless front_settled = 1)
+  double front_settled = nan;     ///< 1 settled, 0 not (c_front is then c_front_middle), NaN without a front speed
   /// Why an event is NaN where a reader could expect a value (event name → reason), e.g. t_hat before
   /// first yield (elastic motion, not an instability) or a receding tip (a negative speed).
   std::map<std::string, std::string> reasons;
   template <class Ar>
   void serialize(Ar& ar) {
-    ar(t_star, t_hat, c_slow, c_transient, c_transient_peak, x_arrest, t_arrest, c_front, v_behind, reasons);
+    ar(t_star, t_hat, c_slow, c_transient, c_transient_peak, x_arrest, t_arrest, c_front, v_behind, c_front_middle,
+       c_front_drift, x_settled, front_settled, reasons);
   }
 };
 
@@ -49,7 +56,9 @@ inline constexpr EventField event_fields[] = {
     {"t_star", &Events::t_star},         {"t_hat", &Events::t_hat},       {"c_slow", &Events::c_slow},
     {"c_transient", &Events::c_transient}, {"c_transient_peak", &Events::c_transient_peak},
     {"x_arrest", &Events::x_arrest},     {"t_arrest", &Events::t_arrest}, {"c_front", &Events::c_front},
-    {"v_behind", &Events::v_behind},
+    {"v_behind", &Events::v_behind},     {"c_front_middle", &Events::c_front_middle},
+    {"c_front_drift", &Events::c_front_drift}, {"x_settled", &Events::x_settled},
+    {"front_settled", &Events::front_settled},
 };
 
 /// Largest x with A < threshold, interpolated linearly between nodes; NaN if A ≥ threshold everywhere.
@@ -74,6 +83,24 @@ double tip_position_lazy(std::span<const double> x, std::size_t m, double thresh
 
 /// Least-squares slope of y(t); NaN with fewer than 2 distinct points.
 double ls_slope(std::span<const double> t, std::span<const double> y);
+
+/// Where a front's speed has settled (docs/model.md §3.1).
+struct SettledSpeed {
+  double c = nan;          ///< LS slope of x over the samples from x_settled until x first passes x_end (NaN unless settled)
+  double x_settled = nan;  ///< start of the first window from which every windowed speed stays in the band (NaN unless settled)
+  /// (last − first windowed speed)/last windowed speed, the first being the window at x_settled when settled, the
+  /// first window otherwise; NaN with fewer than two windows.
+  double drift = nan;
+  bool settled = false;
+  std::vector<double> window_x, window_c;  ///< each window's start and its speed
+};
+
+/// Tip samples (t, x) in time order (finite tips): a window starts at every sample i and holds the samples from i
+/// until the tip first passes x_i + window; its speed is their LS slope. Windows whose end lies beyond x_end, or that
+/// the samples do not close (the tip never passed x_i + window), are not formed. The front settled at the first window
+/// k from which every later windowed speed lies in a band of relative width `band` (max/min − 1 ≤ band), provided
+/// that settled part spans at least two windows (x_end − x_k ≥ 2 window); then c is the LS slope over it.
+SettledSpeed settled_speed(std::span<const double> t, std::span<const double> x, double x_end, double window, double band);
 
 class FrontTracker {
  public:

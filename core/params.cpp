@@ -59,6 +59,7 @@ const KeyDomain continuum_domains[] = {
     {"time.implicit_tolerance", K::number, 0.0, cap, false, false, false, "", "(0: no error control)"},
     {"time.implicit_max_halvings", K::integer, 0.0, 30.0},
     {"time.implicit_resolution_check", K::boolean},
+    {"time.stop_at_arrest", K::boolean},
     {"time.rtol", K::number, 0.0, 1.0, true, true},
     {"time.atol", K::number, 0.0, cap, true},
     {"time.dt_max", K::number, 0.0, cap, true},
@@ -72,6 +73,9 @@ const KeyDomain continuum_domains[] = {
     {"measure.behind_tip_fraction", K::number, 0.0, 1.0, true, false},
     {"measure.behind_near", K::number, 0.0, cap},
     {"measure.behind_far", K::number, 0.0, cap, true},
+    {"measure.settle_window", K::number, 0.0, cap, true, false, false, "", "(length units)"},
+    {"measure.settle_band", K::number, 0.0, 1.0, true, true},
+    {"measure.settle_end_zone", K::number, 0.0, cap, false, false, false, "", "(length units)"},
     {"measure.tip_band", K::number, 0.0, cap, false, false, false, "", "(length units)"},
     {"output.series_dt", K::number, 0.0, cap, false, false, false, "", "(0: every step)"},
     {"output.snapshot_dt", K::number, 0.0, cap, false, false, false, "", "(0: none)"},
@@ -316,6 +320,9 @@ void MeasureParams::validate() const {
   check_in_domain("measure.behind_far", behind_far);
   require(behind_far > behind_near, "measure.behind_far", "must be > measure.behind_near (" + format_number(behind_near) + ")");
   check_in_domain("measure.tip_band", tip_band);
+  check_in_domain("measure.settle_window", settle_window);
+  check_in_domain("measure.settle_band", settle_band);
+  check_in_domain("measure.settle_end_zone", settle_end_zone);
 }
 
 void OutputParams::validate() const {

@@ -177,6 +177,11 @@ struct MeasureParams {
   double behind_tip_fraction = 0.75;
   double behind_near = 100.0;
   double behind_far = 150.0;
+  /// Homogeneous loading, the settled front speed (docs/model.md §3): windows of settle_window length units of
+  /// travel, a relative band of settle_band, the last settle_end_zone length units before the far end left out.
+  double settle_window = 150.0;
+  double settle_band = 2e-3;
+  double settle_end_zone = 50.0;
   /// Contact statistics by region (docs/model.md §7.2): half-width of the tip band around the
   /// A_tip_alt front (length units).
   double tip_band = 5.0;

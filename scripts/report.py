@@ -537,10 +537,10 @@ def fig2_strip_study(st, outdir):
         axs[2].plot(xpos[np.isfinite(r)], r[np.isfinite(r)], "os^vD"[k % 5], color=f"C{k}", label=lab)
     cmax = np.nanmax(a["c_min"]) * 1.05 if np.isfinite(a["c_min"]).any() else 1.0
     axs[1].plot([0, cmax], [0, cmax], "k:", lw=1, label="c_transient = c_min")
-    axs[0].set_xlabel("sqrt(mu alpha / (eta kappa))  (mu integrated over the height)")
+    axs[0].set_xlabel("sqrt(mu alpha / (eta kappa)), mu integrated")
     axs[0].set_ylabel("transient front speed c_transient (continuum)")
     axs[0].set_title("the paper's axis", fontsize=9)
-    axs[1].set_xlabel("c_min of the run's own scene (1D branch end / strip limiting front at its H)")
+    axs[1].set_xlabel("c_min of the run's own scene")
     axs[1].set_ylabel("c_transient")
     axs[1].set_title("against the minimal steady front speed", fontsize=9)
     axs[2].set_xscale("log")
@@ -1351,6 +1351,24 @@ def scene_rows(res, source=""):
             rows.append(effect_row(f"threshold disorder w = {fmt_w(w)} (mean_field: N -> inf at w; continuum: w = 0)",
                                    f"{res.scene}: {label[k].replace(f' (discrete N={n})', '')}", f"continuum {c:.5g}",
                                    f"mean_field {m:.5g}", rel, "deterministic, both N -> inf", source))
+    if res.loading() == "homogeneous":
+        rows += settle_rows(res, values)
+    return rows
+
+
+def settle_rows(res, values):
+    """A nucleated front's c_front is measured where its speed has settled (docs/model.md §3.1): per model, where it
+    settled and the drift it saw, or that it did not settle (c_front is then the middle-half fit)."""
+    rows = []
+    for m in res.models:
+        e = values.get(m, {})
+        c, settled = e.get("c_front", math.nan), e.get("front_settled", math.nan)
+        if not math.isfinite(c) or not math.isfinite(settled):
+            continue
+        x, drift = e.get("x_settled", math.nan), e.get("c_front_drift", math.nan)
+        where = f"settled from x = {x:.0f}" if settled > 0 else "did not settle: middle-half fit"
+        rows.append(measure_row(f"{res.scene}: c_front ({m})", f"{c:.5g}", "", f"drift {drift:+.2%}",
+                                f"{where} (docs/model.md §3.1)"))
     return rows
 
 

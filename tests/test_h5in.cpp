@@ -42,7 +42,9 @@ void check_columns(const compare::Columns& a, const compare::Columns& b, const s
 void check_events(const compare::Events& a, const compare::Events& b) {
   for (auto m : {&compare::Events::t_star, &compare::Events::t_hat, &compare::Events::c_slow,
                  &compare::Events::c_transient, &compare::Events::c_transient_peak, &compare::Events::x_arrest,
-                 &compare::Events::t_arrest, &compare::Events::c_front, &compare::Events::v_behind})
+                 &compare::Events::t_arrest, &compare::Events::c_front, &compare::Events::v_behind,
+                 &compare::Events::c_front_middle, &compare::Events::c_front_drift, &compare::Events::x_settled,
+                 &compare::Events::front_settled})
     CHECK(same_bits(a.*m, b.*m));
 }
 

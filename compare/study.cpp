@@ -541,7 +541,10 @@ std::string describe(ModelsNeeded needs) {
 std::string missing_models(const StudyKind& kind, const Scene& scene) {
   std::string missing;
   if (kind.needs.continuum && !scene.lists("continuum")) missing = "continuum";
-  if (kind.needs.mean_field && !scene.lists("mean_field")) missing += (missing.empty() ? "" : " and ") + std::string("mean_field");
+  if (kind.needs.mean_field && !scene.lists("mean_field")) {
+    if (!missing.empty()) missing += " and ";
+    missing += "mean_field";
+  }
   if (kind.needs.discrete && !scene.lists("discrete")) missing += (missing.empty() ? "" : " and ") + std::string("discrete");
   return missing;
 }

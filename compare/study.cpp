@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "compare/difference.hpp"
+#include "compare/disorder_limit.hpp"
 #include "compare/fig2_cmin.hpp"
 #include "compare/fit.hpp"
 #include "compare/fronts.hpp"
@@ -15,6 +16,28 @@
 #include "continuum/steady_front.hpp"
 
 namespace slipfront::compare {
+
+void put_fit(StudyReport& rep, const std::string& name, const LineFit& f, const std::string& what) {
+  rep.scalars[name] = f.slope;
+  rep.scalars[name + "_ci_low"] = f.slope_ci_low;
+  rep.scalars[name + "_ci_high"] = f.slope_ci_high;
+  rep.scalars[name + "_points"] = f.n;
+  rep.definitions[name] = what + " (least-squares slope in log-log; _ci_low/_ci_high: 95% Student-t interval)";
+}
+
+// Power-law fit over every point, and (name + "_from") over x >= from when that leaves >= 3 points.
+void put_fits(StudyReport& rep, const std::string& name, const std::vector<double>& x, const std::vector<double>& y,
+              double from, const std::string& what) {
+  if (x.size() >= 3) put_fit(rep, name, fit_power_law(x, y), what + ", all points");
+  if (from <= 0) return;
+  std::vector<double> fx, fy;
+  for (std::size_t k = 0; k < x.size(); ++k)
+    if (x[k] >= from) { fx.push_back(x[k]); fy.push_back(y[k]); }
+  if (fx.size() >= 3)
+    put_fit(rep, name + "_from", fit_power_law(fx, fy), what + ", points with N >= " + core::format_number(from) +
+                                                             " (study key fit_from: the mean-field regime)");
+}
+
 namespace {
 
 std::string run_id(std::size_t i) {
@@ -50,27 +73,6 @@ std::map<double, std::vector<std::size_t>> by_value(const std::vector<StudyRun>&
     if (it != runs[i].point.end()) g[std::stod(it->second)].push_back(i);
   }
   return g;
-}
-
-void put_fit(StudyReport& rep, const std::string& name, const LineFit& f, const std::string& what) {
-  rep.scalars[name] = f.slope;
-  rep.scalars[name + "_ci_low"] = f.slope_ci_low;
-  rep.scalars[name + "_ci_high"] = f.slope_ci_high;
-  rep.scalars[name + "_points"] = f.n;
-  rep.definitions[name] = what + " (least-squares slope in log-log; _ci_low/_ci_high: 95% Student-t interval)";
-}
-
-// Power-law fit over every point, and (name + "_from") over x >= from when that leaves >= 3 points.
-void put_fits(StudyReport& rep, const std::string& name, const std::vector<double>& x, const std::vector<double>& y,
-              double from, const std::string& what) {
-  if (x.size() >= 3) put_fit(rep, name, fit_power_law(x, y), what + ", all points");
-  if (from <= 0) return;
-  std::vector<double> fx, fy;
-  for (std::size_t k = 0; k < x.size(); ++k)
-    if (x[k] >= from) { fx.push_back(x[k]); fy.push_back(y[k]); }
-  if (fx.size() >= 3)
-    put_fit(rep, name + "_from", fit_power_law(fx, fy), what + ", points with N >= " + core::format_number(from) +
-                                                             " (study key fit_from: the mean-field regime)");
 }
 
 const std::vector<double>& column(const Columns& c, const std::string& name) {
@@ -486,6 +488,7 @@ void strip_height(StudyReport& rep, const StudySpec&, const std::vector<StudyRun
 constexpr ModelsNeeded both{.continuum = true, .discrete = true};
 constexpr ModelsNeeded continuum_model{.continuum = true};
 constexpr ModelsNeeded any_model{};
+constexpr ModelsNeeded continuum_mean_field{.continuum = true, .mean_field = true};
 constexpr StudyKind study_kind_table[] = {
     {"friction_law", "steady friction of the discrete model vs the continuum as contacts_per_site grows", both,
      friction_law_vs_N},
@@ -508,6 +511,9 @@ constexpr StudyKind study_kind_table[] = {
      any_model, steady_fronts},
     {"strip_height", "fig1 on the strip vs its height H: t*, t^, c_slow, c_transient, x_arrest of both models against "
      "H/l_e, the 1D chain (bulk.height = 0) as the H -> 0 line", both, strip_height},
+    {"disorder_limit", "threshold disorder w: the discrete model -> mean_field as N grows at each w, and mean_field -> "
+     "the continuum as w -> 0 with the w of a 1 % departure, on fig1's events or the steady law", continuum_mean_field,
+     analyse_disorder_limit},
     {"runs", "no analysis: just run every point", any_model, nullptr}};
 
 // The domains of the study file's numeric keys (docs/studies.md, "Study files").
@@ -526,6 +532,8 @@ constexpr KeyDomain study_domains[] = {
 std::span<const StudyKind> study_kinds() { return study_kind_table; }
 
 std::string describe(ModelsNeeded needs) {
+  if (needs.mean_field)
+    return needs.discrete ? "the continuum, mean_field and the discrete model" : "the continuum and the mean_field model";
   if (needs.continuum && needs.discrete) return "the continuum and the discrete model";
   if (needs.continuum) return "the continuum model";
   if (needs.discrete) return "the discrete model";
@@ -535,6 +543,10 @@ std::string describe(ModelsNeeded needs) {
 std::string missing_models(const StudyKind& kind, const Scene& scene) {
   std::string missing;
   if (kind.needs.continuum && !scene.lists("continuum")) missing = "continuum";
+  if (kind.needs.mean_field && !scene.lists("mean_field")) {
+    if (!missing.empty()) missing += " and ";
+    missing += "mean_field";
+  }
   if (kind.needs.discrete && !scene.lists("discrete")) missing += (missing.empty() ? "" : " and ") + std::string("discrete");
   return missing;
 }

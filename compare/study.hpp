@@ -81,6 +81,7 @@ using StudyAnalysis = void (*)(StudyReport& rep, const StudySpec& spec, const st
 struct ModelsNeeded {
   bool continuum = false;
   bool discrete = false;
+  bool mean_field = false;  ///< (disorder_limit: only with the continuum)
 };
 /// "the continuum and the discrete model", "the continuum model", ..., "any model".
 std::string describe(ModelsNeeded needs);
@@ -106,6 +107,14 @@ const StudyKind* find_study_kind(std::string_view name);
 /// Analyse the results of every run (scenes[i], results[i] belong to runs[i]; one result per model).
 StudyReport analyse_study(const StudySpec& spec, const std::vector<StudyRun>& runs, const std::vector<Scene>& scenes,
                           const std::vector<std::vector<ModelResult>>& results);
+
+/// Analysis helpers shared by the kinds: one fitted rate as scalars `name`, `name_ci_low`, `name_ci_high`,
+/// `name_points` with its definition; put_fits: the power-law fit over every point, and (name + "_from") over
+/// x >= from when that leaves >= 3 points (the study key fit_from).
+struct LineFit;
+void put_fit(StudyReport& rep, const std::string& name, const LineFit& f, const std::string& what);
+void put_fits(StudyReport& rep, const std::string& name, const std::vector<double>& x, const std::vector<double>& y,
+              double from, const std::string& what);
 
 /// Result of the model named `model` in one run's results (nullptr if absent).
 const ModelResult* find_model(const std::vector<ModelResult>& r, const std::string& model);

@@ -10,7 +10,8 @@
    - the row's reference must be the one the file's /compare used (its attribute `reference`, absent for the
      continuum), and its w the file's;
    - a study (study.h5) tested against the continuum must run at w = 0 (its rows at w = 0 only), unless its limit
-     is the continuum as w -> 0 (kind threshold_width, docs/model.md §2.1 item 4).
+     is the continuum as w -> 0 (kind threshold_width, docs/model.md §2.1 item 4; kind disorder_limit, mean_field
+     -> continuum as w -> 0, docs/model.md §2.2).
 """
 import math
 import os
@@ -154,7 +155,7 @@ def check_limits(text, root):
         elif kind == "study":
             skind, widths = info
             if ref == "continuum" and any(w > 0 for w in widths):
-                towards_zero = skind == "threshold_width" and "w -> 0" in r.get("limit", "")
+                towards_zero = skind in ("threshold_width", "disorder_limit") and "w -> 0" in r.get("limit", "")
                 at_zero = same_w(r.get("w", ""), 0.0) and 0.0 in widths
                 if not (towards_zero or at_zero):
                     errors.append(f"{what}: tests runs at w = {', '.join(f'{w:g}' for w in sorted(widths))} ({src}, "

@@ -50,7 +50,8 @@ class Study:
             if not line.strip():
                 continue
             parts = line.split()
-            point = dict(p.split("=", 1) for p in parts[1:])
+            # (a varied array value, e.g. models = ["continuum", "mean_field"], has spaces: its later words are skipped)
+            point = dict(p.split("=", 1) for p in parts[1:] if "=" in p)
             self.runs.append((parts[0], point))
         meta = self.f["meta"].attrs
         self.status = plot.as_str(meta.get("status", "unknown"))
@@ -992,6 +993,130 @@ def strip_height_study(st, outdir):
     return figs, rows
 
 
+DISORDER_LAWS = ("delta", "uniform", "gaussian", "weibull")  # the codes of compare/disorder_limit.cpp's tables
+DISORDER_RENEWALS = ("fresh", "quenched")
+DISORDER_LEVEL = 0.01  # where mean_field departs from the continuum: the validity map's 1 % (docs/model.md §8)
+DISORDER_W0_MAX = 0.05  # a w -> 0 limit row needs a w-rate or a width at most this (fig1's and the law's alpha - 1)
+
+
+def disorder_label(t, k):
+    law, ren = int(t["threshold"][k]), int(t["renewal"][k])
+    return (f"{DISORDER_LAWS[law] if 0 <= law < len(DISORDER_LAWS) else 'other'}_"
+            f"{DISORDER_RENEWALS[ren] if 0 <= ren < len(DISORDER_RENEWALS) else 'other'}")
+
+
+def disorder_observables(t, suffix):
+    return [c[:-len(suffix)] for c in sorted(t) if c.endswith(suffix)]
+
+
+def disorder_limit_study(st, outdir):
+    """Threshold disorder (kind disorder_limit): the discrete model's relative difference to mean_field against N per
+    (law, renewal, w): its spread over seeds (the random part) with its N-fit, the RMS (with the bias) and an N^-1/2
+    guide; |mean_field - continuum|/continuum against w per (law, renewal), with the 1 % line and its crossing.
+    Rows: the N-rates of the random part are limits (95 % CI contains -1/2); the w -> 0 rate a limit (the difference
+    at the smallest w within 1 %) for each (law, renewal) with a w-rate or a width <= 0.05; the differences at each w
+    effects of w."""
+    figs, rows = [], []
+    tn, tw = st.tables.get("disorder_limit_N", {}), st.tables.get("disorder_limit_w", {})
+    fig1 = "t_hat_rel_diff" in tw or "t_hat_rms_rel" in tn
+    what = "fig1 events" if fig1 else "steady friction law"
+    if tn and len(tn.get("N", [])):
+        obs = disorder_observables(tn, "_rms_rel")
+        groups = {}
+        for k in range(len(tn["N"])):
+            groups.setdefault((disorder_label(tn, k), float(tn["w"][k])), []).append(k)
+        fig, axs = plt.subplots(1, len(obs), figsize=(4.2 * len(obs), 4), constrained_layout=True, squeeze=False)
+        for ax, o in zip(axs[0], obs):
+            for i, ((lab, w), ks) in enumerate(sorted(groups.items())):
+                fit = st.best_fit(f"disorder_N_{o}_{lab}_w{w:g}_sd_exponent")
+                N, y = tn["N"][ks], tn[f"{o}_sd_rel"][ks]
+                loglog_fit(ax, N, y, st, fit, f"{lab}, w = {w:g}: spread over seeds", f"C{i}")
+                rms = tn[f"{o}_rms_rel"][ks]
+                okr = np.isfinite(rms) & (rms > 0)
+                ax.loglog(N[okr], rms[okr], "x", color=f"C{i}", label=f"{lab}, w = {w:g}: RMS (with the bias)")
+                ok = np.isfinite(y) & (y > 0)
+                if ok.any():
+                    j = int(np.argmin(np.where(ok, N, np.inf)))
+                    ax.loglog(N, y[j] * (N / N[j]) ** -0.5, ":", color=f"C{i}", lw=0.8)
+            ax.set_xlabel("contacts per site N")
+            ax.set_ylabel("discrete / mean_field - 1 over seeds")
+            ax.set_title(f"{o} (dotted: N^-1/2)", fontsize=9)
+            if ax.get_legend_handles_labels()[0]:
+                ax.legend(fontsize=6)
+            else:
+                plot.no_data(ax, "identical to mean_field at every N")
+        fig.suptitle(st.title(f"{what}: discrete -> mean_field as N grows, at each w"), fontsize=9)
+        save(fig, outdir, f"{st.stem}_distance_vs_N.png", figs)
+        for (lab, w), ks in sorted(groups.items()):
+            big = ks[int(np.argmax(tn["N"][ks]))]
+            for o in obs:
+                name = f"disorder_N_{o}_{lab}_w{w:g}_sd_exponent"
+                if name not in st.scalars:
+                    continue
+                fit = st.best_fit(name)
+                total = st.fit_label(st.best_fit(f"disorder_N_{o}_{lab}_w{w:g}_exponent"))
+                rows.append(limit_row("N-rate of a study: discrete -> mean_field as N^-1/2 at w > 0",
+                                      f"{st.name}: {o} ({lab}), spread over seeds of the relative difference at "
+                                      f"N = {tn['N'][big]:.0f}", "mean_field",
+                                      f"{tn[f'{o}_mean_field'][big]:.4g}" if f"{o}_mean_field" in tn else "",
+                                      f"{tn[f'{o}_sd_rel'][big]:.3g}",
+                                      f"random part {st.fit_labels(name)}; RMS with the bias {total}",
+                                      "95% CI of the slope contains -1/2", verdict_of(ci_contains(st, fit, NRATE)),
+                                      st.source, f"{w:g}"))
+    if tw and len(tw.get("w", [])):
+        obs = disorder_observables(tw, "_rel_diff")
+        groups = {}
+        for k in range(len(tw["w"])):
+            groups.setdefault(disorder_label(tw, k), []).append(k)
+        fig, axs = plt.subplots(1, len(obs), figsize=(4.2 * len(obs), 4), constrained_layout=True, squeeze=False)
+        for ax, o in zip(axs[0], obs):
+            for i, (lab, ks) in enumerate(sorted(groups.items())):
+                ks = sorted(ks, key=lambda k: tw["w"][k])
+                w, y = tw["w"][ks], tw[f"{o}_rel_diff"][ks]
+                ok = np.isfinite(y) & (y > 0)
+                ax.loglog(w[ok], y[ok], "o-", color=f"C{i}", lw=0.8, ms=4,
+                          label=f"{lab}: {st.fit_label(f'disorder_w_{o}_{lab}_exponent').replace('slope', 'rate')}")
+                x = st.scalars.get(f"disorder_w1pct_{o}_{lab}", math.nan)
+                if math.isfinite(x):
+                    ax.axvline(x, color=f"C{i}", ls=":", lw=0.8)
+            ax.axhline(DISORDER_LEVEL, color="k", ls="--", lw=0.8, label="1 %")
+            ax.set_xlabel("threshold width w")
+            ax.set_ylabel("|mean_field / continuum - 1|")
+            ax.set_title(f"{o} (dotted: the 1 % crossing)", fontsize=9)
+            ax.legend(fontsize=6)
+        fig.suptitle(st.title(f"{what}: mean_field (N -> inf) against the continuum as w -> 0"), fontsize=9)
+        save(fig, outdir, f"{st.stem}_distance_vs_w.png", figs)
+        for lab, ks in sorted(groups.items()):
+            ks = sorted(ks, key=lambda k: tw["w"][k])
+            lo, hi = ks[0], ks[-1]
+            for o in obs:
+                rel = tw[f"{o}_rel_diff"]
+                cont = tw.get(f"{o}_continuum", np.full(len(rel), math.nan))
+                mf = tw.get(f"{o}_mean_field", np.full(len(rel), math.nan))
+                x = st.scalars.get(f"disorder_w1pct_{o}_{lab}", math.nan)
+                status = st.scalars.get(f"disorder_w1pct_{o}_{lab}_status", math.nan)
+                cross = (f"1 % at w = {x:.3g}" if math.isfinite(x) else
+                         f"above 1 % already at w = {tw['w'][lo]:g}" if status == -1 else
+                         f"within 1 % up to w = {tw['w'][hi]:g}")
+                rate = st.fit_label(f"disorder_w_{o}_{lab}_exponent").replace("slope", "rate")
+                rows.append(effect_row("threshold disorder w (at N -> inf: mean_field)",
+                                       f"{st.name}: {o} ({lab}), continuum -> mean_field at w = {tw['w'][lo]:g} .. "
+                                       f"{tw['w'][hi]:g}", f"{cont[lo]:.4g}" if math.isfinite(cont[lo]) else "continuum",
+                                       f"{mf[hi]:.4g}" if math.isfinite(mf[hi]) else f"w = {tw['w'][hi]:g}",
+                                       ", ".join(f"{tw['w'][k]:g}: {rel[k]:.2%}" for k in ks), f"{cross}; {rate}",
+                                       st.source))
+                if f"disorder_w_{o}_{lab}_exponent" not in st.scalars and tw["w"][lo] > DISORDER_W0_MAX:
+                    continue  # no width near 0 (e.g. a renewal run at large w only): no w -> 0 limit to test
+                rows.append(limit_row("mean_field -> continuum as w -> 0", f"{st.name}: {o} ({lab}), |mean_field/"
+                                      f"continuum - 1| at w = {tw['w'][lo]:g}", "continuum",
+                                      f"{cont[lo]:.4g}" if math.isfinite(cont[lo]) else "0",
+                                      f"{mf[lo]:.4g}" if math.isfinite(mf[lo]) else f"{rel[lo]:.3g}",
+                                      f"{rel[lo]:.3%}; {rate}", "<= 1% at the smallest w",
+                                      verdict_of(rel[lo] <= DISORDER_LEVEL if math.isfinite(rel[lo]) else None),
+                                      st.source, f"{tw['w'][lo]:g}"))
+    return figs, rows
+
+
 # ---- c_min(H) of the strip at fixed material (docs/fronts.md §10.12; CSV of build/bench/strip_cmin_height) ----
 
 CMIN_CSV = "strip_cmin_height.csv"
@@ -1164,7 +1289,7 @@ STUDY_PLOTS = {"friction_law": friction_law_study, "threshold_width": threshold_
                "transient_friction": transient_study, "front_speeds": front_speeds_study, "fig2": fig2_study,
                "front_spectrum": spectrum_study, "steady_fronts": steady_fronts_study,
                "validity_friction": validity_friction_study, "validity_fig1": validity_fig1_study,
-               "strip_height": strip_height_study}
+               "strip_height": strip_height_study, "disorder_limit": disorder_limit_study}
 
 
 def scene_rows(res, source=""):

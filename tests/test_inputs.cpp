@@ -262,16 +262,30 @@ vary = { "discrete.seed" = [9007199254740993, 9007199254740992] }
 }
 
 TEST_CASE("inputs: each study kind states the models its analysis needs", "[inputs][study]") {
-  compare::Scene both, continuum, discrete;
-  both.models = {"continuum", "discrete"};
+  compare::Scene all, continuum, discrete;
+  all.models = {"continuum", "mean_field", "discrete"};
   continuum.models = {"continuum"};
   discrete.models = {"discrete"};
+  // the models a kind needs that a scene listing only `listed` lacks, in the order continuum, mean_field, discrete
+  const auto lacking = [](const compare::ModelsNeeded& n, const std::string& listed) {
+    std::string m;
+    for (const auto& [needed, name] : {std::pair{n.continuum, "continuum"}, std::pair{n.mean_field, "mean_field"},
+                                       std::pair{n.discrete, "discrete"}})
+      if (needed && listed != name) {
+        if (!m.empty()) m += " and ";
+        m += name;
+      }
+    return m;
+  };
   for (const compare::StudyKind& k : compare::study_kinds()) {
     INFO(k.name);
-    CHECK(compare::missing_models(k, both).empty());  // both models feed every analysis
-    CHECK(compare::missing_models(k, continuum) == (k.needs.discrete ? "discrete" : ""));
-    CHECK(compare::missing_models(k, discrete) == (k.needs.continuum ? "continuum" : ""));
+    CHECK(compare::missing_models(k, all).empty());  // the three models feed every analysis
+    CHECK(compare::missing_models(k, continuum) == lacking(k.needs, "continuum"));
+    CHECK(compare::missing_models(k, discrete) == lacking(k.needs, "discrete"));
   }
+  // disorder_limit compares mean_field with the continuum (and the discrete model with mean_field where it runs)
+  CHECK(compare::missing_models(*compare::find_study_kind("disorder_limit"), continuum) == "mean_field");
+  CHECK(compare::missing_models(*compare::find_study_kind("disorder_limit"), discrete) == "continuum and mean_field");
   const auto needs = [](std::string_view name) { return compare::find_study_kind(name)->needs; };
   for (const char* comparison : {"friction_law", "threshold_width", "transient_friction", "front_speeds",
                                  "validity_friction", "validity_fig1"}) {
@@ -282,4 +296,5 @@ TEST_CASE("inputs: each study kind states the models its analysis needs", "[inpu
   CHECK(compare::describe(needs("fig2")) == "the continuum model");
   CHECK(compare::describe(needs("runs")) == "any model");
   CHECK(compare::describe(needs("steady_fronts")) == "any model");
+  CHECK(compare::describe(needs("disorder_limit")) == "the continuum and the mean_field model");
 }

@@ -6,9 +6,9 @@
 #   3. write the report with every plot (out/report.md, out/figures/*.png) and check (check_report.py) that no
 #      verdict of its summary tests a model against a limit it is not supposed to reach, and that every plot
 #      it names exists and is not empty.
-# Takes about 11 minutes on 2 cores (build of the program ~2 min; scenes ~1 min, plus ~40 s CPU since contacts_disorder runs mean_field; studies ~7.5 min, of which
-# the validity map ~4 min and strip_height ~1.5 min; c_min(H) ~20 s; report ~20 s; measured 6 min 43 s with the program
-# already built, before strip_height). A scene or study that fails still leaves its partial results and the rest goes on; the job then exits 1.
+# Takes 13 min 32 s on 2 cores with the program built (measured while the test suite ran alongside; 14 min CPU):
+# scenes ~2 min, studies ~10 min (validity_fig1 4.4, strip_height 1.4, fig2_strip 0.8, disorder_limit 0.7, the
+# rest ~3), c_min(H) ~20 s, report ~30 s; a first build adds ~5 min. A scene or study that fails still leaves its partial results and the rest goes on; the job then exits 1.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 bash scripts/build.sh slipfront strip_cmin_height

@@ -497,7 +497,9 @@ def fig2_study(st, outdir):
     if heights and len(heights.get("H", [])) == 1:
         for m in ("continuum", "discrete"):
             if np.isfinite(heights[f"slope_{m}"][0]):
-                rows.append(measure_row(f"Fig. 2 right against c_min ({m})", "", f"{heights[f'slope_{m}'][0]:.3g}", "",
+                slope = f"{heights[f'slope_{m}'][0]:.3g}"
+                rows.append(measure_row(f"Fig. 2 right against c_min, slope ({m})", slope if m == "continuum" else "",
+                                        slope if m == "discrete" else "", "",
                                         f"c_transient/c_min {heights[f'ratio_mean_{m}'][0]:.3g} "
                                         f"± {100 * heights[f'ratio_rsd_{m}'][0]:.0f} % over "
                                         f"{int(heights[f'measured_{m}'][0])} runs (docs/fronts.md §10.16)"))

@@ -16,30 +16,14 @@
 #include "compare/pool.hpp"
 #include "compare/strip_height.hpp"
 #include "compare/study.hpp"
+#include "study_run.hpp"
 #include "continuum/friction_law.hpp"
 
 using namespace slipfront;
 
 namespace {
-
-compare::StudyReport run(const std::string& name) {
-  const auto spec = app::load_study(std::string(SLIPFRONT_SOURCE_DIR) + "/configs/studies/" + name + ".toml");
-  const auto runs = compare::expand(spec);
-  std::vector<compare::Scene> scenes;
-  for (const auto& r : runs) scenes.push_back(app::load_scene(spec.scene_file, r.overrides));
-  std::vector<std::vector<compare::ModelResult>> results(runs.size());
-  compare::run_pool(runs.size(), std::max(1u, std::thread::hardware_concurrency()), [&](std::size_t i) {
-    auto sr = compare::run_scene_alongside(scenes[i], {});
-    for (auto& m : sr.models) m.snapshots.clear();
-    results[i] = std::move(sr.models);
-  });
-  auto rep = compare::analyse_study(spec, runs, scenes, results);
-  for (const auto& [k, v] : rep.scalars) WARN(name << ": " << k << " = " << v);
-  return rep;
-}
-
-double get(const compare::StudyReport& r, const std::string& k) { return r.scalars.at(k); }
-
+compare::StudyReport run(const std::string& name) { return testing::run_study(name); }
+double get(const compare::StudyReport& r, const std::string& k) { return testing::scalar(r, k); }
 }  // namespace
 
 TEST_CASE("slow studies: friction law, random error ~ N^(-1/2) in the mean-field regime", "[slow][studies]") {

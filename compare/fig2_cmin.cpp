@@ -1,5 +1,7 @@
 #include "compare/fig2_cmin.hpp"
 
+#include "compare/fit.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <future>
@@ -47,28 +49,6 @@ ColumnResult column_speeds(const core::InterfaceParams& law, double mu, double r
   for (double H : strip)
     if (!out.c_min.count(H)) out.why[H] = "the path in H stopped before H = " + core::format_number(H) + ": " + path.reason;
   return out;
-}
-
-// Mean, relative standard deviation and count of the finite values of r.
-std::tuple<double, double, std::size_t> mean_and_spread(const std::vector<double>& r) {
-  std::vector<double> f;
-  for (double v : r)
-    if (std::isfinite(v)) f.push_back(v);
-  if (f.empty()) return {nan, nan, 0};
-  double sum = 0;
-  for (double v : f) sum += v;
-  const double mean = sum / static_cast<double>(f.size());
-  double ss = 0;
-  for (double v : f) ss += (v - mean) * (v - mean);
-  const double rsd = f.size() > 1 ? std::sqrt(ss / static_cast<double>(f.size() - 1)) / mean : nan;
-  return {mean, rsd, f.size()};
-}
-
-double slope_through_origin(const std::vector<double>& x, const std::vector<double>& y) {
-  double sxy = 0, sxx = 0;
-  for (std::size_t k = 0; k < x.size(); ++k)
-    if (std::isfinite(x[k]) && std::isfinite(y[k])) { sxy += x[k] * y[k]; sxx += x[k] * x[k]; }
-  return sxx > 0 ? sxy / sxx : nan;
 }
 
 }  // namespace
@@ -139,8 +119,8 @@ void fig2_against_cmin(StudyReport& rep, Columns& all, const std::vector<Scene>&
         r.push_back(all[std::string("ratio_") + m][i]);
         rX.push_back(y.back() / X.back());
       }
-      const auto [mean, rsd, n] = mean_and_spread(r);
-      const auto [mean_X, rsd_X, n_X] = mean_and_spread(rX);
+      const double mean = mean_of(r), rsd = sd_of(r) / mean, rsd_X = sd_of(rX) / mean_of(rX);
+      const int n = finite_count(r);
       h[std::string("slope_") + m].push_back(slope_through_origin(x, y));
       h[std::string("ratio_mean_") + m].push_back(mean);
       h[std::string("ratio_rsd_") + m].push_back(rsd);

@@ -144,4 +144,32 @@ double golden_section_minimum(const std::function<double(double)>& f, double lo,
   return 0.5 * (lo + hi);
 }
 
+double mean_of(std::span<const double> v) {
+  double s = 0;
+  int n = 0;
+  for (double x : v)
+    if (std::isfinite(x)) { s += x; ++n; }
+  return n ? s / n : std::numeric_limits<double>::quiet_NaN();
+}
+
+double sd_of(std::span<const double> v) {
+  const double m = mean_of(v);
+  double s = 0;
+  int n = 0;
+  for (double x : v)
+    if (std::isfinite(x)) { s += (x - m) * (x - m); ++n; }
+  return n > 1 ? std::sqrt(s / (n - 1)) : std::numeric_limits<double>::quiet_NaN();
+}
+
+int finite_count(std::span<const double> v) {
+  return static_cast<int>(std::count_if(v.begin(), v.end(), [](double x) { return std::isfinite(x); }));
+}
+
+double slope_through_origin(std::span<const double> x, std::span<const double> y) {
+  double sxy = 0, sxx = 0;
+  for (std::size_t k = 0; k < x.size() && k < y.size(); ++k)
+    if (std::isfinite(x[k]) && std::isfinite(y[k])) { sxy += x[k] * y[k]; sxx += x[k] * x[k]; }
+  return sxx > 0 ? sxy / sxx : std::numeric_limits<double>::quiet_NaN();
+}
+
 }  // namespace slipfront::compare

@@ -17,6 +17,14 @@ struct LineFit {
   double confidence;
 };
 
+/// Mean and sample standard deviation of the finite values of v (NaN with none, or with fewer than 2 for the sd),
+/// and how many are finite.
+double mean_of(std::span<const double> v);
+double sd_of(std::span<const double> v);
+int finite_count(std::span<const double> v);
+/// Least-squares slope through the origin of y(x) over the pairs with both finite (NaN with none).
+double slope_through_origin(std::span<const double> x, std::span<const double> y);
+
 /// Ordinary least squares y = a + b x (optionally weighted by 1/sigma²); NaN fields with n < 3.
 LineFit fit_line(std::span<const double> x, std::span<const double> y, double confidence = 0.95);
 LineFit fit_line_weighted(std::span<const double> x, std::span<const double> y, std::span<const double> sigma,

@@ -46,25 +46,6 @@ std::string run_id(std::size_t i) {
   return buf;
 }
 
-double mean_of(const std::vector<double>& v) {
-  double s = 0;
-  int n = 0;
-  for (double x : v)
-    if (std::isfinite(x)) { s += x; ++n; }
-  return n ? s / n : nan;
-}
-double sd_of(const std::vector<double>& v) {
-  const double m = mean_of(v);
-  double s = 0;
-  int n = 0;
-  for (double x : v)
-    if (std::isfinite(x)) { s += (x - m) * (x - m); ++n; }
-  return n > 1 ? std::sqrt(s / (n - 1)) : nan;
-}
-int finite_count(const std::vector<double>& v) {
-  return static_cast<int>(std::count_if(v.begin(), v.end(), [](double x) { return std::isfinite(x); }));
-}
-
 // Runs grouped by one varied key's numeric value (seeds pooled), in increasing order of the value.
 std::map<double, std::vector<std::size_t>> by_value(const std::vector<StudyRun>& runs, const std::string& key) {
   std::map<double, std::vector<std::size_t>> g;
@@ -290,12 +271,6 @@ void fig2(StudyReport& rep, const StudySpec&, const std::vector<StudyRun>& runs,
       (*t)["x_arrest_continuum"].push_back(c ? c->events.x_arrest : nan);
     }
   }
-  auto slope_through_origin = [](const std::vector<double>& x, const std::vector<double>& y) {
-    double sxy = 0, sxx = 0;
-    for (std::size_t k = 0; k < x.size(); ++k)
-      if (std::isfinite(y[k])) { sxy += x[k] * y[k]; sxx += x[k] * x[k]; }
-    return sxx > 0 ? sxy / sxx : nan;
-  };
   for (auto& [name, g] : groups) {
     for (const char* m : {"continuum", "discrete"}) {
       const std::string col = std::string("c_") + m;

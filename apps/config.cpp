@@ -86,6 +86,10 @@ bool implicit_integrator(const Scene& s) {
   return !imposed(s) && s.time.integrator == core::Integrator::implicit_trapezoidal;
 }
 bool adaptive(const Scene& s) { return !imposed(s) && s.time.integrator == core::Integrator::adaptive_rosenbrock; }
+// the step-controlled integrator of the stochastic and mean-field laws (core/leap.hpp): adaptive with one of them
+bool leap_stepped(const Scene& s) { return adaptive(s) && (s.lists("discrete") || s.lists("mean_field")); }
+// the implicit step's error control: the implicit integrator, and the step-controlled one built on it
+bool linearisation_controlled(const Scene& s) { return implicit_integrator(s) || leap_stepped(s); }
 bool discrete_listed(const Scene& s) { return s.lists("discrete"); }
 // the threshold law's keys: the discrete model's and the mean-field law's (docs/model.md §2.2)
 bool thresholds_used(const Scene& s) { return s.lists("discrete") || s.lists("mean_field"); }
@@ -170,8 +174,8 @@ const std::vector<Section>& schema() {
            {"steps", at<&Scene::time, &TimeParams::steps>, imposed, "with drive.loading = imposed_rate"},
            {"integrator", at<&Scene::time, &TimeParams::integrator>, bulk_scene,
             "with drive.loading = edge, homogeneous or spring_block"},
-           {"implicit_tolerance", at<&Scene::time, &TimeParams::implicit_tolerance>, implicit_integrator,
-            "with time.integrator = implicit"},
+           {"implicit_tolerance", at<&Scene::time, &TimeParams::implicit_tolerance>, linearisation_controlled,
+            "with time.integrator = implicit, or adaptive with the discrete or mean_field model"},
            {"implicit_max_halvings", at<&Scene::time, &TimeParams::implicit_max_halvings>, implicit_integrator,
             "with time.integrator = implicit"},
            {"implicit_resolution_check", at<&Scene::time, &TimeParams::implicit_resolution_check>,
@@ -179,6 +183,8 @@ const std::vector<Section>& schema() {
            {"rtol", at<&Scene::time, &TimeParams::rtol>, adaptive, "with time.integrator = adaptive"},
            {"atol", at<&Scene::time, &TimeParams::atol>, adaptive, "with time.integrator = adaptive"},
            {"dt_max", at<&Scene::time, &TimeParams::dt_max>, adaptive, "with time.integrator = adaptive"},
+           {"leap_epsilon", at<&Scene::time, &TimeParams::leap_epsilon>, leap_stepped,
+            "with time.integrator = adaptive and the discrete or mean_field model"},
            {"stop_at_arrest", at<&Scene::time, &TimeParams::stop_at_arrest>, edge_loaded, "with drive.loading = edge"},
        }},
       {"measure",

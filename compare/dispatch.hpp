@@ -9,15 +9,17 @@
 #include "core/adaptive.hpp"
 #include "core/bulk.hpp"
 #include "core/implicit.hpp"
+#include "core/leap.hpp"
 #include "core/law.hpp"
 #include "core/stepper.hpp"
 #include "core/strip.hpp"
 
 namespace slipfront::compare {
 
-/// Tags of time.integrator on a body: Tag::stepper<Law> is the stepper class for a law. The adaptive
-/// integrator advances deterministic rate laws (core::SmoothLaw) on either body (the chain, the strip); a
-/// stochastic law runs on the explicit scheme then (it has no rates to integrate), alongside on the same scene.
+/// Tags of time.integrator on a body: Tag::stepper<Law> is the stepper class for a law. time.integrator =
+/// adaptive advances deterministic rate laws (core::SmoothLaw: the continuum law) on the Rosenbrock integrator
+/// and every other law (the discrete ensembles, the mean-field law) on the step-controlled implicit one
+/// (core/leap.hpp), on either body (the chain, the strip), alongside on the same scene.
 template <core::Body B>
 struct ExplicitTag {
   using body = B;
@@ -33,7 +35,7 @@ struct ImplicitTag {
 namespace detail {
 template <class Law, class B, bool Smooth = core::SmoothLaw<Law>>
 struct AdaptiveStepper {
-  using type = core::ExplicitSimulation<Law, B>;
+  using type = core::LeapSimulation<Law, B>;
 };
 template <class Law, class B>
 struct AdaptiveStepper<Law, B, true> {
@@ -76,11 +78,17 @@ B make_body(const Scene& s, const core::DriveParams& drive) {
   else return B(s.bulk, drive, s.interface, s.grid.dx);
 }
 
-/// Steppers with dense output (the adaptive integrator): measurements and records at exact times.
+/// Steppers with dense output (the adaptive integrators): measurements and records at exact times.
 template <class S>
 concept DenseStepper = requires(const S& sim, double t, std::span<double> out) {
   sim.previous_time();
   sim.dense_state(t, core::Field::slip_rate, out);
 };
+
+/// Steppers whose law advances in steps with the slip rates frozen, one law step per stepper step (the
+/// explicit, the implicit and the step-controlled integrators; not the Rosenbrock one): what a contact
+/// prediction integrated along the law's fields step by step needs (compare/dynamic_run.hpp).
+template <class S>
+concept FrozenRateSteps = !DenseStepper<S> || requires { requires S::frozen_rate_steps; };
 
 }  // namespace slipfront::compare

@@ -92,7 +92,7 @@ double sample_tips_dense(const S& sim, FrontTracker& tracker, std::span<const do
 ///   3. record    the recorder stores what is due in the step (series, snapshots, contact statistics)
 /// finish() hands over the result.
 /// Whether a run predicts contact statistics from its own fields (compare/contacts.hpp, docs/model.md
-/// §7.2): on — a law that declares core::LawHooks::contact_hazard, on a fixed-step integrator, integrates
+/// §7.2): on — a law that declares core::LawHooks::contact_hazard, on an integrator that advances it in frozen-rate steps (FrozenRateSteps), integrates
 /// the law's detachment_hazard along its fields (the continuum's prediction of what the agent measures,
 /// contact_prediction_for in compare/runner.hpp; or the agent's prediction from its own fields);
 /// hazard_scale ≠ 1 gives a deliberately wrong prediction (tests); the tables are stored under
@@ -218,6 +218,13 @@ class DynamicRun {
       r_.scalars["substeps"] = static_cast<double>(sim_.substeps());
       r_.scalars["max_linearisation_defect"] = sim_.max_defect();
     }
+    if constexpr (requires { sim_.stats().leap_rejected; }) {  // the step-controlled integrator (core/leap.hpp)
+      const auto& st = sim_.stats();
+      r_.scalars["trial_solves"] = static_cast<double>(st.solves);
+      r_.scalars["defect_halvings"] = static_cast<double>(st.defect_halvings);
+      r_.scalars["leap_rejected"] = static_cast<double>(st.leap_rejected);
+      r_.scalars["located_onsets"] = static_cast<double>(st.located);
+    }
     r_.scalars["t_reached"] = sim_.time();
     r_.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0_).count();
     return std::move(r_);
@@ -229,6 +236,8 @@ class DynamicRun {
   // the stick–slip cycles of a 0D block.
   void observe(double t0, double t1) {
     if constexpr (DenseStepper<Stepper>) {
+      if constexpr (FrozenRateSteps<Stepper>)
+        if (predict_) predict_step();
       observe_dense(t0, t1);
     } else {
       if (predict_) predict_step();
@@ -242,6 +251,7 @@ class DynamicRun {
   // snapshots (at the exact cadence times on the dense output).
   void record(double t0, double t1) {
     if constexpr (DenseStepper<Stepper>) {
+      if constexpr (FrozenRateSteps<Stepper>) record_contacts(t1);
       recorder_.after_step(t0, t1, true, [&](double t) { return DenseState<Stepper>(sim_, t, buffers_); }, tracker_,
                            sim_.energy());
     } else {
@@ -283,17 +293,17 @@ class DynamicRun {
   // attached fraction at the step's start, its hazard and its relaxation total (docs/model.md §2.2).
   void start_prediction(const ContactPredictionSetup& setup) {
     const auto n_contacts = static_cast<double>(s_.discrete.contacts_per_site);
-    if constexpr (Law::hooks.contact_hazard && !DenseStepper<Stepper>) {
+    if constexpr (Law::hooks.contact_hazard && FrozenRateSteps<Stepper>) {
       predict_.emplace(r_.x.size(), n_contacts, setup.hazard_scale);
       predict_->start(sim_.law().contact_area());
       predict_prefix_ = setup.prefix;
-    } else if constexpr (Law::hooks.class_hazards && !DenseStepper<Stepper>) {
+    } else if constexpr (Law::hooks.class_hazards && FrozenRateSteps<Stepper>) {
       predict_.emplace(r_.x.size(), n_contacts, setup.hazard_scale, 0.1, 1e4, sim_.law().prediction_classes());
       predict_->start(sim_.law().attached_classes());
       predict_prefix_ = setup.prefix;
     } else {
       throw std::invalid_argument("a contact prediction needs a law with a detachment hazard "
-                                  "(core::LawHooks::contact_hazard or class_hazards) on a fixed-step integrator");
+                                  "(core::LawHooks::contact_hazard or class_hazards) on an integrator with frozen-rate steps (not the Rosenbrock one)");
     }
   }
   void remember_start() {
@@ -306,12 +316,12 @@ class DynamicRun {
     }
   }
   void predict_step() {
-    if constexpr (Law::hooks.contact_hazard && !DenseStepper<Stepper>) {
+    if constexpr (Law::hooks.contact_hazard && FrozenRateSteps<Stepper>) {
       const auto v = sim_.slip_rate();
       hazard_.resize(v.size());
       for (std::size_t i = 0; i < v.size(); ++i) hazard_[i] = sim_.law().detachment_hazard({v[i], a0_[i], sb0_[i]});
       predict_->step(sim_.dt(), a0_, hazard_);
-    } else if constexpr (Law::hooks.class_hazards && !DenseStepper<Stepper>) {
+    } else if constexpr (Law::hooks.class_hazards && FrozenRateSteps<Stepper>) {
       const auto v = sim_.slip_rate();
       const std::size_t B = sim_.law().prediction_classes();
       hazard_.resize(n0_.size());

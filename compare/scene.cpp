@@ -42,18 +42,11 @@ void check_models(const std::vector<std::string>& models) {
 }
 
 // The mean-field law's rules (docs/model.md §2.2): it reads the threshold law's keys only (checked here when the
-// discrete model, whose validate() checks them, does not run); its state is the attached fraction per threshold
-// class and Y is piecewise constant in the contact stress, so it is no rate law on [A | σ̄] for the adaptive
-// integrator to advance.
+// discrete model, whose validate() checks them, does not run). Its state is the attached fraction per threshold
+// class, not a rate law on [A | σ̄]: with time.integrator = adaptive it runs on the step-controlled implicit
+// integrator (core/leap.hpp), as the discrete model does.
 void check_mean_field(const Scene& s) {
   if (!s.lists("discrete")) s.discrete.validate_threshold_law();
-  if (s.time.integrator == core::Integrator::adaptive_rosenbrock && s.drive.loading != core::Loading::imposed_rate)
-    throw core::ParamError(
-        "time.integrator",
-        "the mean_field model has no adaptive integrator: its state is the attached fraction per threshold class "
-        "(discrete.bins of them), not the [A | sigma_bar] the adaptive integrator advances, and its overloaded "
-        "fraction Y jumps wherever the contact stress crosses a class's threshold (docs/model.md §2.2); use "
-        "time.integrator = \"explicit\" or \"implicit\"");
 }
 
 }  // namespace

@@ -73,6 +73,10 @@ struct AdaptiveOptions {
   /// sliding one sticks when it crosses 1 − band (each step ends there, so the band is all the
   /// delay there is: ~band/(d(|σ|/A)/dt), 1e-8 time units for fig1).
   double switch_band = 1e-9;
+  /// The step-controlled integrator of the stochastic laws (core/leap.hpp): the leap condition's bound on
+  /// the change of a site's relaxation rate per step, and the linearisation defect a step may leave.
+  double leap_epsilon = TimeParams{}.leap_epsilon;
+  double defect_tolerance = TimeParams{}.implicit_tolerance;
   void validate() const;     ///< throws ParamError("time.<key>", reason)
   /// The scene's time.rtol, time.atol and time.dt_max; every other option at its default.
   static AdaptiveOptions from(const TimeParams& t) {
@@ -80,6 +84,8 @@ struct AdaptiveOptions {
     o.rtol = t.rtol;
     o.atol = t.atol;
     o.dt_max = t.dt_max;
+    o.leap_epsilon = t.leap_epsilon;
+    o.defect_tolerance = t.implicit_tolerance;
     return o;
   }
 };

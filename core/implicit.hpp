@@ -108,7 +108,8 @@ class ImplicitSimulation : public StepperCore<Law, B> {
     if (!std::isfinite(this->max_v_)) this->report_non_finite();
   }
 
- private:
+ protected:
+  // (protected: the step-controlled integrator, core/leap.hpp, takes its steps from these parts)
   // One (sub)step [t, t + h]: 1. the law's linearisation, 2. the body's linear system for W, 3. with
   // error control, the defect of the linearisation at W (a half step pair instead when too large), 4. u,
   // V from W and the law's own update with W.

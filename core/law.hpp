@@ -47,6 +47,10 @@ struct LawHooks {
   bool class_hazards = false;
   /// Checkpoints (core/archive.hpp): serialize(ar) names the whole state, random streams included.
   bool checkpoints = false;
+  /// The contact stress below which no contact of any site is overloaded, yield_onset(): the weakest
+  /// threshold. The step-controlled integrator (core/leap.hpp) ends a step where a site that had no
+  /// overloaded contact reaches it (a located onset of yield, docs/numerics.md §9).
+  bool yield_onset = false;
 };
 
 struct LawStepInfo {
@@ -100,6 +104,10 @@ concept HasContactHazard = requires(const L& cl, SiteState st) {
   { cl.detachment_hazard(st) } -> std::same_as<double>;
 };
 template <class L>
+concept HasYieldOnset = requires(const L& cl) {
+  { cl.yield_onset() } -> std::convertible_to<double>;
+};
+template <class L>
 concept HasClassHazards = requires(const L& cl, std::span<const double> n, std::span<double> out) {
   { cl.prediction_classes() } -> std::convertible_to<std::size_t>;
   { cl.attached_classes() } -> std::convertible_to<std::span<const double>>;
@@ -126,6 +134,8 @@ consteval bool check_hooks() {
   static_assert(h.class_hazards == HasClassHazards<L>,
                 "LawHooks::class_hazards must be declared exactly when the law has prediction_classes(), attached_classes() "
                 "and class_rates(i, v, A, sigma_bar, n, hazard, total)");
+  static_assert(h.yield_onset == HasYieldOnset<L>,
+                "LawHooks::yield_onset must be declared exactly when the law has yield_onset()");
   static_assert(h.checkpoints == requires(L& law, Archive& ar) { law.serialize(ar); },
                 "LawHooks::checkpoints must be declared exactly when the law has serialize(ar)");
   return true;

@@ -63,6 +63,7 @@ const KeyDomain continuum_domains[] = {
     {"time.rtol", K::number, 0.0, 1.0, true, true},
     {"time.atol", K::number, 0.0, cap, true},
     {"time.dt_max", K::number, 0.0, cap, true},
+    {"time.leap_epsilon", K::number, 0.0, 1.0, true, false, false, "", "(relative change of a site's rates per step)"},
     {"measure.A_tip", K::number, 0.0, 1.0, true, true},
     {"measure.A_tip_alt", K::number, 0.0, 1.0, true, true},
     {"measure.v_event", K::number, 0.0, cap, true},
@@ -300,6 +301,8 @@ void TimeParams::validate(Loading l) const {
     check_in_domain("time.rtol", rtol);
     check_in_domain("time.atol", atol);
     check_in_domain("time.dt_max", dt_max);
+    check_in_domain("time.leap_epsilon", leap_epsilon);
+    check_in_domain("time.implicit_tolerance", implicit_tolerance);
   }
   if (l == Loading::imposed_rate) {
     check_in_domain("time.slip_end", slip_end);

@@ -143,12 +143,15 @@ struct TimeParams {
   /// imposed_rate: each sweep point runs t_end + slip_end/|v| with `steps` steps (exact updates).
   double slip_end = 50.0;
   int steps = 4000;
-  /// Bulk scenes: see Integrator (the adaptive integrator runs deterministic laws only; the discrete
-  /// model then steps explicitly).
+  /// Bulk scenes: see Integrator (adaptive: the continuum law on the Rosenbrock integrator, the discrete
+  /// and mean-field laws on the step-controlled implicit one, core/leap.hpp).
   Integrator integrator = Integrator::central_difference;
   double rtol = 1e-2;    ///< adaptive: relative tolerance of the local error per step
   double atol = 1e-5;    ///< adaptive: absolute tolerance
   double dt_max = 1.0;   ///< adaptive: largest step
+  /// adaptive, the discrete and mean-field laws (core/leap.hpp, docs/numerics.md §9): the leap condition's
+  /// bound on the change of a site's relaxation rate 1 + κ|v| over one step, relative to the rate.
+  double leap_epsilon = 0.2;
   /// implicit: error control around switchings (core/implicit.hpp, docs/numerics.md §7): a step
   /// whose linearisation defect exceeds implicit_tolerance (stress units) is halved, at most
   /// implicit_max_halvings times; 0 turns it off.

@@ -108,7 +108,7 @@ struct DetachedContact {
 class AgentLaw {
  public:
   static constexpr core::LawHooks hooks{
-      .ages = true, .contact_statistics = true, .contact_hazard = true, .checkpoints = true};
+      .ages = true, .contact_statistics = true, .contact_hazard = true, .checkpoints = true, .yield_onset = true};
   /// Validates `dp` (ParamError naming the key). All sites start stuck: A = 1, σ̄ = 0.
   AgentLaw(const core::InterfaceParams& ip, const DiscreteParams& dp, std::size_t sites);
 
@@ -117,6 +117,9 @@ class AgentLaw {
   const core::InterfaceParams& params() const { return ip_; }
   std::span<const double> contact_area() const { return area_; }
   std::span<const double> sigma_bar() const { return sigma_bar_; }
+  /// The lowest threshold g gives (its first bin edge; 1 when w = 0): below it no contact is overloaded
+  /// (core::LawHooks::yield_onset).
+  double yield_onset() const { return degenerate_ ? 1.0 : edges_.front(); }
 
   /// Initial state of site i: n = round(A N) attached contacts with thresholds drawn from g (none
   /// drawn when w = 0) and age 0, the rest detached since now. Restarts the site's random stream, so

@@ -51,7 +51,7 @@ struct PoolHandle {
 
 class CountLaw {
  public:
-  static constexpr core::LawHooks hooks{.checkpoints = true};
+  static constexpr core::LawHooks hooks{.checkpoints = true, .yield_onset = true};
   /// Validates `dp` (ParamError naming the key). All sites start stuck: A = 1, σ̄ = 0, the N
   /// attached contacts spread over the bins by expectation rounding (a stratified sample of g).
   CountLaw(const core::InterfaceParams& ip, const DiscreteParams& dp, std::size_t sites);
@@ -88,6 +88,9 @@ class CountLaw {
       core::linearise_stress(a, sb, y, wp, k, c0, c1);
     };
   }
+
+  /// The weakest threshold s_0: below it no contact is overloaded (core::LawHooks::yield_onset).
+  double yield_onset() const { return thresholds_.front(); }
 
   // --- inspection ------------------------------------------------------------------------------
   const DiscreteParams& discrete_params() const { return dp_; }

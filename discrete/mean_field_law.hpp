@@ -36,7 +36,7 @@ namespace slipfront::discrete {
 
 class MeanFieldLaw {
  public:
-  static constexpr core::LawHooks hooks{.class_hazards = true, .checkpoints = true};
+  static constexpr core::LawHooks hooks{.class_hazards = true, .checkpoints = true, .yield_onset = true};
   /// Validates the threshold keys of `dp` (DiscreteParams::validate_threshold_law: ParamError naming the
   /// key). All sites start stuck: A = 1 (1/B in every class), σ̄ = 0.
   MeanFieldLaw(const core::InterfaceParams& ip, const DiscreteParams& dp, std::size_t sites);
@@ -64,6 +64,9 @@ class MeanFieldLaw {
       core::linearise_stress(a, sb, y, wp, k, c0, c1);
     };
   }
+
+  /// The weakest class threshold s_0: below it no class is overloaded (core::LawHooks::yield_onset).
+  double yield_onset() const { return thresholds_.front(); }
 
   // --- inspection ------------------------------------------------------------------------------
   const ThresholdDistribution& distribution() const { return g_; }

@@ -45,13 +45,14 @@ TEST_CASE("runner: the adaptive integrator reproduces fig1's events within 1% in
 }
 
 TEST_CASE("runner: with the adaptive continuum, both models still run and are compared", "[adaptive]") {
-  // No common step: the models run one after the other; the end-of-run comparison is still written.
+  // No common step (the continuum on Rosenbrock steps, the discrete model on leap steps, core/leap.hpp): the
+  // models run one after the other; the end-of-run comparison is still written.
   auto s = fig1({"models=[\"continuum\",\"discrete\"]", "time.integrator=adaptive", "time.t_end=40",
                  "bulk.length=100", "grid.dx=1", "discrete.contacts_per_site=1000"});
   const auto r = compare::run_scene_alongside(s, {});
   REQUIRE(r.models.size() == 2);
   CHECK(r.models[0].labels.at("integrator") == "adaptive");
-  CHECK(r.models[1].labels.at("integrator") == "explicit");
+  CHECK(r.models[1].labels.at("integrator") == "leap");  // core/leap.hpp
   CHECK(std::abs(r.comparison.metrics.at("t_star_rel_diff")) < 0.01);
   CHECK(r.comparison.fields.empty());
 }

@@ -210,7 +210,7 @@ void require_identical(const compare::ModelResult& a, const compare::ModelResult
 
 }  // namespace
 
-TEST_CASE("strip adaptive: the scene runs the adaptive integrator on the strip (continuum), the discrete model explicit",
+TEST_CASE("strip adaptive: the scene runs the adaptive integrator on the strip (continuum), the discrete model on leap steps",
           "[strip][adaptive]") {
   compare::Scene s = adaptive(small_strip(), 1e-3);
   s.models = {"continuum", "discrete"};
@@ -220,7 +220,7 @@ TEST_CASE("strip adaptive: the scene runs the adaptive integrator on the strip (
   const auto out = compare::run_scene(s, {});
   REQUIRE(out.size() == 2);
   CHECK(out[0].labels.at("integrator") == "adaptive");
-  CHECK(out[1].labels.at("integrator") == "explicit");
+  CHECK(out[1].labels.at("integrator") == "leap");  // core/leap.hpp
   for (const auto& m : out) {
     CHECK(m.status == compare::RunStatus::complete);
     CHECK(std::isfinite(m.events.t_star));

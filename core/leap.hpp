@@ -1,0 +1,276 @@
+#pragma once
+// Accuracy-chosen steps for the stochastic and mean-field interface laws (issue 22, docs/numerics.md §9):
+// the implicit step of core/implicit.hpp (trapezoidal body, the law's stress linearised on the interface,
+// the law's own exact or sampled update with the slip rates frozen over the step) with a step size chosen
+// for each step by three tests, made on the trial solution before the law advances (so a rejected trial
+// costs one solve and no random draw):
+//   1. defect   the linearisation defect of the trial (ImplicitSimulation): the stress the law will give at
+//               the step's own slip rates against the one the body was solved with. Above
+//               time.implicit_tolerance the trial is first solved again with the law linearised at its own
+//               rates (at most twice: a site at its threshold then has the yield state in the solve that the
+//               law's own test will give it), and only then halved
+//   2. leap     the leap condition (Cao, Gillespie & Petzold, J. Chem. Phys. 124, 044109, 2006): over a step the
+//               rates of every site's two-state chain (attach 1, detach κ|v| for an overloaded contact) are
+//               frozen, so the step keeps, with ε = time.leap_epsilon,
+//                   κ |dv_i/dt| h ≤ ε (1 + κ|v_i|)     the detachment rate changes by a fraction ε at most
+//                   h (1 + κ|v_i| [τ_i > s_0]) ≤ ε      at a site whose contacts move (A < 1, or τ_i > s_0) and
+//                                                      whose contact stress τ_i is within 20 % of the weakest
+//                                                      threshold s_0: the step is a fraction ε of the time in
+//                                                      which its counts relax, so that a fluctuation that takes τ
+//                                                      across the threshold and back (a site that re-sticks) is
+//                                                      seen by the law's yield test
+//               (dv/dt from the trial's W and the previous step's). A trial that breaks it by more than twice
+//               is shortened; the next step is sized from it (and from the defect, which scales as h²)
+//   3. onset    a site with no overloaded contact whose contact stress |σ̄ + ηW|/A' (the linearised σ̄' and
+//               the attach-only A' at the step's end) passes the weakest threshold (core::LawHooks::
+//               yield_onset) inside the trial ends the step there (linear interpolation of the stress over
+//               the step, then re-solved; at least 1 % of the trial, so that a site hovering at its threshold
+//               cannot stall the run), so that the law's own yield test sees the onset at the next step
+// Within a step the sampled counts are exact for the frozen rates (the two-state chain's transition
+// probabilities), so the step error is that of freezing the rates (tests 2 and 3) and of the body's
+// trapezoidal rule (test 1 and 2 on v); quiet stretches (no site moves its rates) grow the step by ×2 per
+// step up to time.dt_max.
+//
+// Dense output (for the runner's measurements at exact times, compare/dynamic_run.hpp): over the last step
+// u is linear (u = u^n + (t − t^n) W, the trapezoidal rule's own), v is the step's frozen W, and A, σ̄ are
+// linear between the step's ends.
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <span>
+#include <vector>
+
+#include "core/adaptive.hpp"
+#include "core/implicit.hpp"
+
+namespace slipfront::core {
+
+/// Work counters of the step-controlled integrator.
+struct LeapStats {
+  std::int64_t accepted = 0;       ///< accepted steps (== steps())
+  std::int64_t defect_halvings = 0;  ///< trials halved by the linearisation defect (test 1)
+  std::int64_t leap_rejected = 0;  ///< trials shortened by the leap condition (test 2)
+  std::int64_t located = 0;        ///< trials shortened to end at an onset of yield (test 3)
+  std::int64_t relinearised = 0;   ///< trials solved again at their own rates (test 1)
+  std::int64_t solves = 0;         ///< trial solves
+  template <class Ar>
+  void serialize(Ar& ar) {
+    ar(accepted, defect_halvings, leap_rejected, located, relinearised, solves);
+  }
+};
+
+template <InterfaceLaw Law, Body B = Bulk>
+class LeapSimulation : public ImplicitSimulation<Law, B> {
+  using Base = ImplicitSimulation<Law, B>;
+
+ public:
+  static constexpr const char* integrator_name = "leap";
+  static constexpr bool error_control = true;
+  /// The law advances in steps with frozen rates, one per accepted step (as the fixed-step integrators): what
+  /// a contact prediction along the fields needs (compare/dynamic_run.hpp).
+  static constexpr bool frozen_rate_steps = true;
+  /// A trial is shortened when it breaks the leap condition by more than this factor.
+  static constexpr double kLeapReject = 2.0;
+  /// Growth and shrink limits of the proposed next step, and the safety factor.
+  static constexpr double kGrowMax = 2.0, kShrinkMin = 0.2, kSafety = 0.9;
+  /// At most this many trials per step (then the last one is taken).
+  static constexpr int kMaxTrials = 40;
+  /// The band of contact stress about the weakest threshold, relative to it, in which a site whose contacts move
+  /// keeps the step a fraction ε of its relaxation time (leap_ratio).
+  static constexpr double kBand = 0.2;
+  /// A located step is at least this fraction of the trial: a site whose contact stress hovers at the threshold
+  /// (its rise in σ̄ balanced by a fall of η W) cannot shrink the steps without end; its onset is then late by
+  /// at most this fraction of a step.
+  static constexpr double kLocateFloor = 0.01;
+  /// Before a trial with too large a defect is halved, it is solved again up to this many times with the law
+  /// linearised at the trial's own slip rates: where a site's yield state differs between the previous step's
+  /// rate and the trial's (a site at its threshold), the yield state of the solve then agrees with the law's.
+  static constexpr int kRelinearise = 2;
+
+  LeapSimulation(B bulk, Law law, const AdaptiveOptions& opt)
+      : Base(std::move(bulk), std::move(law), opt.dt_initial), opt_(opt), h_next_(opt.dt_initial),
+        u0_(this->n_), a0_(this->sites_), s0_(this->sites_), w_prev_(this->sites_), w_lin_(this->sites_) {
+    this->set_error_control(opt.defect_tolerance, 0);
+  }
+
+  /// No step crosses t (a scene's t_end): the step that would is shortened to end on it.
+  void set_stop_time(double t) { t_stop_ = t; }
+  double previous_time() const { return t_prev_; }
+  double dt() const { return h_last_ > 0.0 ? h_last_ : h_next_; }  ///< the last accepted step
+  const LeapStats& stats() const { return stats_; }
+
+  /// Dense output of one field at t ∈ [previous_time(), time()] (see the header).
+  void dense_state(double t, Field f, std::span<double> out) const {
+    const std::size_t n = std::min(out.size(), f == Field::slip || f == Field::slip_rate ? this->n_ : this->sites_);
+    for (std::size_t i = 0; i < n; ++i) out[i] = dense_value(t, f, i);
+  }
+  double dense_value(double t, Field f, std::size_t i) const {
+    switch (f) {
+      case Field::slip:
+        return stats_.accepted == 0 ? this->u_[i] : u0_[i] + std::clamp(t - t_prev_, 0.0, h_last_) * this->v_[i];
+      case Field::slip_rate: return this->v_[i];
+      case Field::contact_area: return lerp(a0_[i], this->law_.contact_area()[i], t);
+      case Field::sigma_bar: return lerp(s0_[i], this->law_.sigma_bar()[i], t);
+    }
+    return 0.0;
+  }
+
+  template <class Ar>
+  void serialize(Ar& ar) {
+    ar.tag("leap");
+    Base::serialize(ar);
+    ar(t_prev_, h_next_, h_last_, t_stop_, u0_, a0_, s0_, w_prev_, stats_);
+  }
+
+  // One accepted step: trials from the proposed size through tests 1–3 (the header), then the step is taken
+  // as an implicit step (u, V from W, the law's own update) and the next size is proposed from the leap ratio.
+  void step() {
+    if (this->energy_ && std::isnan(this->energy_->mechanical0)) {
+      this->mechanical_now();
+      this->energy_->mechanical0 = this->energy_->mechanical();
+    }
+    const double t = this->t_;
+    double h = std::min(h_next_, opt_.dt_max);
+    if (t_stop_ > t && h >= t_stop_ - t) h = t_stop_ - t;
+    double h_wanted = h, ratio = 0.0, defect = 0.0;
+    std::copy(this->v_.begin(), this->v_.begin() + static_cast<std::ptrdiff_t>(this->sites_), w_prev_.begin());
+    for (int trial = 1;; ++trial) {
+      this->solve_trial(t, h);
+      ++stats_.solves;
+      if (trial == kMaxTrials || h <= opt_.dt_min) break;
+      if (this->tol_ > 0.0) {  // 1. defect
+        defect = this->linearisation_defect(h);
+        for (int k = 0; k < kRelinearise && defect > this->tol_; ++k) {  // linearised again at the trial's own W
+          resolve_at_trial(t, h);
+          defect = this->linearisation_defect(h);
+        }
+        if (defect > this->tol_) {
+          ++stats_.defect_halvings;
+          h *= 0.5;
+          h_wanted = h;
+          continue;
+        }
+        this->max_defect_ = std::max(this->max_defect_, defect);
+      }
+      ratio = leap_ratio(h);  // 2. leap
+      if (ratio > kLeapReject) {
+        ++stats_.leap_rejected;
+        h *= std::max(kShrinkMin, kSafety / ratio);
+        h_wanted = h;
+        continue;
+      }
+      if constexpr (Law::hooks.yield_onset) {  // 3. onset
+        const double frac = first_onset(h);
+        if (frac < 1.0) {
+          const double h_loc = std::max(kLocateFloor * h, h * frac * (1.0 + 1e-6));
+          if (h_loc < h * (1.0 - 1e-3)) {
+            ++stats_.located;
+            h = h_loc;
+            continue;
+          }
+        }
+      }
+      break;
+    }
+    take(t, h);
+    // the next size: the leap ratio scales as h, the defect as h² (a change of the rates over the step, times h)
+    double grow = ratio > 0.0 ? kSafety / ratio : kGrowMax;
+    if (defect > 0.0) grow = std::min(grow, kSafety * std::sqrt(this->tol_ / defect));
+    h_next_ = h_wanted * std::clamp(grow, kShrinkMin, kGrowMax);
+  }
+
+ private:
+  double lerp(double a, double b, double t) const {
+    if (stats_.accepted == 0 || !(h_last_ > 0.0)) return b;
+    const double th = std::clamp((t - t_prev_) / h_last_, 0.0, 1.0);
+    return a + th * (b - a);
+  }
+
+  // The leap condition's ratio for the trial W (in trial_), the largest over the sites of two ratios to ε:
+  //   rates   κ |dv_i/dt| h / (1 + κ|W_i|), dv/dt from W and the previous step's rate over the mean of the two
+  //           steps' lengths: the change of the detachment rate over the step, relative to the site's rates
+  //   state   h (1 + κ|W_i| [τ_i > s_0]) at a site whose contacts move (A_i < 1, or τ_i > s_0) and whose contact
+  //           stress τ_i = |σ̄_i + ηW_i|/A_i is within kBand s_0 of the weakest threshold s_0: the step is a small
+  //           part of the time in which the site's counts relax, so that a fluctuation that takes τ across a
+  //           threshold and back (a site that re-sticks, or yields again) is seen by the law's yield test, as it
+  //           is at the small steps of the reference scheme
+  double leap_ratio(double h) const {
+    const double kappa = this->law_.params().kappa, eta = this->law_.params().eta;
+    const double span = h_last_ > 0.0 ? 0.5 * (h + h_last_) : h, scale = kappa * h / span;
+    double s0 = 0.0;
+    if constexpr (Law::hooks.yield_onset) s0 = this->law_.yield_onset();
+    const auto area = this->law_.contact_area(), sb = this->law_.sigma_bar();
+    double r = 0.0;
+    for (std::size_t i = 0; i < this->sites_; ++i) {
+      const double w = this->trial_[i], speed = kappa * std::abs(w);
+      r = std::max(r, scale * std::abs(w - w_prev_[i]) / (1.0 + speed));
+      const double tau = contact_stress(sb[i] + eta * w, area[i]);
+      if ((area[i] < 1.0 || tau > s0) && std::abs(tau - s0) <= kBand * s0) r = std::max(r, h * (1.0 + (tau > s0 ? speed : 0.0)));
+    }
+    return std::isfinite(r) ? r / opt_.leap_epsilon : std::numeric_limits<double>::infinity();
+  }
+
+  // The trial again, the law linearised at the trial's W (in trial_), which is also the iteration's first guess.
+  void resolve_at_trial(double t, double h) {
+    std::copy(this->trial_.begin(), this->trial_.begin() + static_cast<std::ptrdiff_t>(this->sites_), w_lin_.begin());
+    this->bulk_.implicit_solve(this->law_.linearisation(h), std::span<const double>(w_lin_), this->c0_, this->c1_, t, h,
+                               this->law_.params().eta, this->displacement(), this->V_, this->law_.sigma_bar(),
+                               this->trial_);
+    ++stats_.solves;
+    ++stats_.relinearised;
+  }
+
+  // Test 3: the earliest fraction of the trial at which a site with no overloaded contact reaches the
+  // weakest threshold s_0 (1: none). Its contact stress at the step's start, |σ̄ + ηW|/A, and at its end,
+  // |c0 + c1 W + ηW|/A' with A' = relax(A, 1, 1, h) (attach only), interpolated linearly.
+  double first_onset(double h) const {
+    const double s0 = this->law_.yield_onset(), eta = this->law_.params().eta;
+    const auto area = this->law_.contact_area(), sb = this->law_.sigma_bar();
+    const double e = std::exp(-h), w1 = relax_weight(1.0, h);
+    double frac = 1.0;
+    for (std::size_t i = 0; i < this->sites_; ++i) {
+      const double w = this->trial_[i], a = area[i];
+      const double start = contact_stress(sb[i] + eta * w, a);
+      if (!(start <= s0)) continue;  // already overloaded (or no contact attached)
+      const double end = contact_stress(this->c0_[i] + this->c1_[i] * w + eta * w, a * e + w1);
+      if (end > s0) frac = std::min(frac, (s0 - start) / (end - start));
+    }
+    return frac;
+  }
+
+  // The step [t, t + h] with the trial's W: remember the start for the dense output, then as an implicit
+  // (sub)step: u, V from W, the work over it, the law's own update with W.
+  void take(double t, double h) {
+    t_prev_ = t;
+    std::copy(this->u_.begin(), this->u_.end(), u0_.begin());
+    const auto area = this->law_.contact_area(), sb = this->law_.sigma_bar();
+    std::copy(area.begin(), area.end(), a0_.begin());
+    std::copy(sb.begin(), sb.end(), s0_.begin());
+    this->yielded_any_ = false;
+    this->vmax_step_ = 0.0;
+    const double u_edge = this->bulk_.edge_slip(this->displacement());
+    this->commit(h);
+    if (this->energy_) this->work_over_step(t, h, u_edge);
+    this->yielded_any_ = this->law_.advance(h, this->slip_rate()).any_yield;
+    this->t_ = (t_stop_ > t && h == t_stop_ - t) ? t_stop_ : t + h;
+    if (this->energy_) this->mechanical_now(this->t_);
+    ++this->steps_;
+    ++this->substeps_;
+    ++stats_.accepted;
+    h_last_ = h;
+    this->yielded_ = this->yielded_any_;
+    this->max_v_ = this->vmax_step_;
+    if (!std::isfinite(this->max_v_)) this->report_non_finite();
+  }
+
+  AdaptiveOptions opt_;
+  double t_prev_ = 0.0, h_next_, h_last_ = 0.0, t_stop_ = -1.0;
+  std::vector<double> u0_, a0_, s0_;  ///< u, A, σ̄ at the last step's start (dense output)
+  std::vector<double> w_prev_;        ///< the slip rates of the previous step (leap condition)
+  std::vector<double> w_lin_;         ///< the rates a re-solved trial is linearised at
+  LeapStats stats_;
+};
+
+}  // namespace slipfront::core

@@ -1,0 +1,115 @@
+// The step-controlled integrator of the stochastic and mean-field laws (core/leap.hpp, docs/numerics.md §9),
+// which time.integrator = adaptive runs them on:
+//   - quiet stretches cost a few steps: fig1 up to t = 20 (the stuck phase) in under 50 steps (the fixed implicit
+//     step of 0.02 takes 1000, the explicit scheme 14 000);
+//   - the located onset: the first yield t* of the count law is the adaptive continuum's to 1e-4 (the explicit
+//     scheme's is late by up to its step, 1.5e-3 here);
+//   - deterministic accuracy: the noise-off count law at w = 0 is the continuum law (docs/model.md §2 item 1), so
+//     on leap steps its fig1 events must be the continuum's on Rosenbrock steps: within 0.5 %;
+//   - statistical accuracy: fig1 events of the count law at N = 10⁴ over 12 seeds on leap steps against the
+//     explicit reference scheme's over 12 other seeds (two-sample KS on t^ and x_arrest, each at α = 0.01: a
+//     false alarm rate of 2 % for the pair).
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "compare/runner.hpp"
+#include "compare/scene.hpp"
+#include "tests/discrete_agent_helpers.hpp"
+#include "tests/scenes.hpp"
+
+using namespace slipfront;
+
+namespace {
+
+compare::ModelResult run_one(compare::Scene s) {
+  s.validate();
+  auto out = compare::run_scene(s, compare::RunControl{});
+  REQUIRE(!out.empty());
+  REQUIRE(out.back().status == compare::RunStatus::complete);
+  return std::move(out.back());
+}
+
+compare::Scene count_fig1(core::Integrator integ, long n, unsigned seed) {
+  compare::Scene s = testing::fig1_scene();
+  s.models = {"discrete"};
+  s.discrete.representation = "count";
+  s.discrete.contacts_per_site = n;
+  s.discrete.threshold = "delta";
+  s.discrete.width = 0.0;
+  s.discrete.seed = seed;
+  s.time.integrator = integ;
+  s.output.snapshot_dt = 0.0;
+  return s;
+}
+
+double rel(double a, double b) { return std::abs(a - b) / std::abs(b); }
+
+}  // namespace
+
+TEST_CASE("leap: the stuck phase of fig1 costs a few steps", "[leap]") {
+  compare::Scene s = count_fig1(core::Integrator::adaptive_rosenbrock, 1000, 1);
+  s.time.t_end = 20.0;  // before t* = 25.66: no contact is overloaded
+  const auto r = run_one(s);
+  CHECK(r.labels.at("integrator") == "leap");
+  CHECK(r.scalars.at("t_reached") == 20.0);
+  WARN("fig1 stuck phase [0, 20] on leap steps: " << r.scalars.at("steps") << " steps, "
+                                                  << r.scalars.at("trial_solves") << " trial solves");
+  CHECK(r.scalars.at("steps") < 50);
+}
+
+TEST_CASE("leap: the onset of yield is located (t* of the count law against the adaptive continuum)", "[leap]") {
+  compare::Scene c = testing::fig1_scene();
+  c.models = {"continuum"};
+  c.time.integrator = core::Integrator::adaptive_rosenbrock;
+  c.time.t_end = 40.0;
+  c.output.snapshot_dt = 0.0;
+  const auto cont = run_one(c);
+  compare::Scene d = count_fig1(core::Integrator::adaptive_rosenbrock, 10000, 3);
+  d.time.t_end = 40.0;
+  const auto leap = run_one(d);
+  WARN("t*: continuum (Rosenbrock) " << cont.events.t_star << ", count N = 1e4 (leap) " << leap.events.t_star);
+  CHECK(rel(leap.events.t_star, cont.events.t_star) < 1e-4);
+  CHECK(leap.scalars.at("located_onsets") > 0);
+}
+
+TEST_CASE("leap: the noise-off count law at w = 0 gives the continuum's fig1 events", "[leap]") {
+  compare::Scene c = testing::fig1_scene();
+  c.models = {"continuum"};
+  c.time.integrator = core::Integrator::adaptive_rosenbrock;
+  c.output.snapshot_dt = 0.0;
+  const auto cont = run_one(c);
+  compare::Scene d = count_fig1(core::Integrator::adaptive_rosenbrock, 1000, 1);
+  d.discrete.noise = false;
+  const auto leap = run_one(d);
+  WARN("fig1 continuum (Rosenbrock) vs noise-off count (leap, " << leap.scalars.at("steps") << " steps): t^ "
+                                                                 << cont.events.t_hat << " / " << leap.events.t_hat
+                                                                 << ", c_transient " << cont.events.c_transient << " / "
+                                                                 << leap.events.c_transient << ", x_arrest "
+                                                                 << cont.events.x_arrest << " / " << leap.events.x_arrest);
+  CHECK(rel(leap.events.t_star, cont.events.t_star) < 5e-3);
+  CHECK(rel(leap.events.t_hat, cont.events.t_hat) < 5e-3);
+  CHECK(rel(leap.events.c_transient, cont.events.c_transient) < 5e-3);
+  CHECK(rel(leap.events.x_arrest, cont.events.x_arrest) < 5e-3);
+}
+
+TEST_CASE("leap: fig1 events of the count law at N = 1e4 are distributed as on the explicit reference scheme",
+          "[leap][statistics]") {
+  // 12 seeds each, disjoint (1..12 leap, 101..112 explicit): two independent samples.
+  std::vector<double> th_l, th_e, xa_l, xa_e;
+  for (unsigned k = 1; k <= 12; ++k) {
+    const auto l = run_one(count_fig1(core::Integrator::adaptive_rosenbrock, 10000, k));
+    const auto e = run_one(count_fig1(core::Integrator::central_difference, 10000, 100 + k));
+    th_l.push_back(l.events.t_hat);
+    th_e.push_back(e.events.t_hat);
+    xa_l.push_back(std::isfinite(l.events.x_arrest) ? l.events.x_arrest : 1e9);  // no arrest: beyond every arrest
+    xa_e.push_back(std::isfinite(e.events.x_arrest) ? e.events.x_arrest : 1e9);
+  }
+  const auto ks_t = testing::ks_two_sample(th_l, th_e), ks_x = testing::ks_two_sample(xa_l, xa_e);
+  WARN("count N = 1e4, 12 + 12 seeds, leap vs explicit: t^ KS D = " << ks_t.d << " p = " << ks_t.p
+                                                                    << "; x_arrest KS D = " << ks_x.d << " p = " << ks_x.p);
+  CHECK(ks_t.p > 0.01);
+  CHECK(ks_x.p > 0.01);
+}

@@ -75,9 +75,17 @@ double median(std::vector<double> x) {
 
 struct Stat {
   double mean = 0, sd = 0;
+  int n = 0;
 };
-Stat stat(const std::vector<double>& x) {
+// Mean and standard deviation over the finite values (a run with no transient, or no arrest by t_end, has NaN),
+// and how many there were.
+Stat stat(const std::vector<double>& all) {
+  std::vector<double> x;
+  for (double v : all)
+    if (std::isfinite(v)) x.push_back(v);
   Stat s;
+  s.n = static_cast<int>(x.size());
+  if (x.empty()) return {NAN, NAN, 0};
   for (double v : x) s.mean += v / static_cast<double>(x.size());
   for (double v : x) s.sd += (v - s.mean) * (v - s.mean);
   s.sd = x.size() > 1 ? std::sqrt(s.sd / static_cast<double>(x.size() - 1)) : 0.0;
@@ -103,8 +111,8 @@ int main() {
   };
   std::printf("fig1%s, %d seeds per stochastic case; wall = median over seeds of the run's own clock (output excluded)\n",
               quick() ? " (quick: t_end = 60)" : "", S);
-  std::printf("%-30s %10s %12s %8s %8s %10s %8s %10s %8s\n", "case", "wall [s]", "vs continuum", "steps", "solves",
-              "t^ mean", "t^ sd", "x_arr mean", "x_arr sd");
+  std::printf("%-30s %10s %12s %8s %8s %10s %8s %10s %8s %6s\n", "case", "wall [s]", "vs continuum", "steps", "solves",
+              "t^ mean", "t^ sd", "x_arr mean", "x_arr sd", "runs");
   double base = NAN;
   for (const Case& c : cases) {
     const bool stochastic = std::string(c.model) == "discrete" && c.noise;
@@ -122,9 +130,10 @@ int main() {
     const double w = median(wall);
     if (std::isnan(base)) base = w;
     const Stat t = stat(th), x = stat(xa);
-    std::printf("%-30s %10.4f %12.2f %8.0f %8.0f %10.3f %8.3f %10.3f %8.3f\n", c.label, w, w / base, median(steps),
-                median(solves), t.mean, t.sd, x.mean, x.sd);
+    std::printf("%-30s %10.4f %12.2f %8.0f %8.0f %10.3f %8.3f %10.3f %8.3f %3d/%-2d\n", c.label, w, w / base,
+                median(steps), median(solves), t.mean, t.sd, x.mean, x.sd, x.n, reps);
   }
-  std::printf("ratios: each case's median wall over the adaptive continuum's, measured in this run\n");
+  std::printf("ratios: each case's median wall over the adaptive continuum's, measured in this run; means and sds over\n"
+              "the runs with the event (runs: those with an arrest by t_end, of all)\n");
   return 0;
 }

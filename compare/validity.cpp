@@ -52,7 +52,12 @@ double value_of(const Scene& s, const char* what) {
   if (std::string(what) == "N") return static_cast<double>(s.discrete.contacts_per_site);
   if (std::string(what) == "kappa") return s.interface.kappa;
   if (std::string(what) == "eta") return s.interface.eta;
-  return s.time.integrator == core::Integrator::implicit_trapezoidal ? s.time.dt : 0.0;
+  // "dt": the step setting of the discrete model's integrator — the fixed implicit step, the leap condition's ε of
+  // the step-controlled one (time.integrator = adaptive, docs/numerics.md §9; smaller is finer), 0 for the explicit
+  // reference scheme
+  if (s.time.integrator == core::Integrator::implicit_trapezoidal) return s.time.dt;
+  if (s.time.integrator == core::Integrator::adaptive_rosenbrock) return s.time.leap_epsilon;
+  return 0.0;
 }
 
 // Power-law fit of N* against α − 1 over the finite points: the collapse exponent.
@@ -539,7 +544,9 @@ void put_fig1_step_table(StudyReport& rep, const std::vector<Fig1Point>& points,
       "the continuum-like fraction at the study's step against a finer setting at the same alpha and N (dt_fine 0: "
       "the explicit reference integrator): difference and two-sided p-value of a two-proportion z test (large: the "
       "step's error is below the fraction's statistical error); c_continuum: the continuum's transient speed at both";
-  rep.definitions["validity_fig1_dt_pvalue"] = "the validity_fig1_step row of the finest implicit step";
+  rep.definitions["validity_fig1_dt_pvalue"] =
+      "the validity_fig1_step row of the finest step setting (dt: time.dt of the implicit integrator, or "
+      "time.leap_epsilon of the leap integrator under time.integrator = adaptive; 0: the explicit scheme)";
 }
 
 }  // namespace

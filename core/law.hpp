@@ -47,9 +47,11 @@ struct LawHooks {
   bool class_hazards = false;
   /// Checkpoints (core/archive.hpp): serialize(ar) names the whole state, random streams included.
   bool checkpoints = false;
-  /// The contact stress below which no contact of any site is overloaded, yield_onset(): the weakest
-  /// threshold. The step-controlled integrator (core/leap.hpp) ends a step where a site that had no
-  /// overloaded contact reaches it (a located onset of yield, docs/numerics.md §9).
+  /// The range of thresholds: yield_onset(), the contact stress below which no contact is overloaded (the
+  /// weakest threshold), and yield_saturation(), the one above which every contact is (the strongest; equal at
+  /// w = 0). The step-controlled integrator (core/leap.hpp) ends a step where a site that had no overloaded
+  /// contact reaches the first (a located onset of yield), and keeps its steps short where the contact stress
+  /// of a site whose contacts move is near the range (docs/numerics.md §9).
   bool yield_onset = false;
 };
 
@@ -106,6 +108,7 @@ concept HasContactHazard = requires(const L& cl, SiteState st) {
 template <class L>
 concept HasYieldOnset = requires(const L& cl) {
   { cl.yield_onset() } -> std::convertible_to<double>;
+  { cl.yield_saturation() } -> std::convertible_to<double>;
 };
 template <class L>
 concept HasClassHazards = requires(const L& cl, std::span<const double> n, std::span<double> out) {
@@ -135,7 +138,7 @@ consteval bool check_hooks() {
                 "LawHooks::class_hazards must be declared exactly when the law has prediction_classes(), attached_classes() "
                 "and class_rates(i, v, A, sigma_bar, n, hazard, total)");
   static_assert(h.yield_onset == HasYieldOnset<L>,
-                "LawHooks::yield_onset must be declared exactly when the law has yield_onset()");
+                "LawHooks::yield_onset must be declared exactly when the law has yield_onset() and yield_saturation()");
   static_assert(h.checkpoints == requires(L& law, Archive& ar) { law.serialize(ar); },
                 "LawHooks::checkpoints must be declared exactly when the law has serialize(ar)");
   return true;

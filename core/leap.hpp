@@ -14,8 +14,9 @@
 //               frozen, so the step keeps, with ε = time.leap_epsilon,
 //                   κ |dv_i/dt| h ≤ ε (1 + κ|v_i|)     the detachment rate changes by a fraction ε at most
 //                   h (1 + κ|v_i| [τ_i > s_0]) ≤ ε      at a site whose contacts move (A < 1, or τ_i > s_0) and
-//                                                      whose contact stress τ_i is within 20 % of the weakest
-//                                                      threshold s_0: the step is a fraction ε of the time in
+//                                                      whose contact stress τ_i is within 20 % of the range of
+//                                                      thresholds [s_0, s_1] (yield_onset, yield_saturation;
+//                                                      one value at w = 0): the step is a fraction ε of the time in
 //                                                      which its counts relax, so that a fluctuation that takes τ
 //                                                      across the threshold and back (a site that re-sticks) is
 //                                                      seen by the law's yield test
@@ -77,10 +78,11 @@ class LeapSimulation : public ImplicitSimulation<Law, B> {
   static constexpr double kGrowMax = 2.0, kShrinkMin = 0.2, kSafety = 0.9;
   /// At most this many trials per step (then the last one is taken).
   static constexpr int kMaxTrials = 40;
-  /// The band of contact stress about the weakest threshold, relative to it, in which a site whose contacts move
+  /// The band of contact stress about the range of thresholds, relative to its ends, in which a site whose contacts move
   /// keeps the step a fraction ε of its relaxation time (leap_ratio).
   static constexpr double kBand = 0.2;
-  /// A located step is at least this fraction of the trial: a site whose contact stress hovers at the threshold
+  /// A located step is at least this fraction of the step the leap condition and the defect allow (not of a
+  /// trial already shortened by a location, which would let the floor shrink with it): a site whose contact stress hovers at the threshold
   /// (its rise in σ̄ balanced by a fall of η W) cannot shrink the steps without end; its onset is then late by
   /// at most this fraction of a step.
   static constexpr double kLocateFloor = 0.01;
@@ -164,7 +166,7 @@ class LeapSimulation : public ImplicitSimulation<Law, B> {
       if constexpr (Law::hooks.yield_onset) {  // 3. onset
         const double frac = first_onset(h);
         if (frac < 1.0) {
-          const double h_loc = std::max(kLocateFloor * h, h * frac * (1.0 + 1e-6));
+          const double h_loc = std::max(kLocateFloor * h_wanted, h * frac * (1.0 + 1e-6));
           if (h_loc < h * (1.0 - 1e-3)) {
             ++stats_.located;
             h = h_loc;
@@ -192,22 +194,26 @@ class LeapSimulation : public ImplicitSimulation<Law, B> {
   //   rates   κ |dv_i/dt| h / (1 + κ|W_i|), dv/dt from W and the previous step's rate over the mean of the two
   //           steps' lengths: the change of the detachment rate over the step, relative to the site's rates
   //   state   h (1 + κ|W_i| [τ_i > s_0]) at a site whose contacts move (A_i < 1, or τ_i > s_0) and whose contact
-  //           stress τ_i = |σ̄_i + ηW_i|/A_i is within kBand s_0 of the weakest threshold s_0: the step is a small
+  //           stress τ_i = |σ̄_i + ηW_i|/A_i lies in the threshold range widened by kBand, (1 − kBand) s_0 ≤ τ_i ≤
+  //           (1 + kBand) s_1 (s_0, s_1 the weakest and strongest thresholds): the step is a small
   //           part of the time in which the site's counts relax, so that a fluctuation that takes τ across a
   //           threshold and back (a site that re-sticks, or yields again) is seen by the law's yield test, as it
   //           is at the small steps of the reference scheme
   double leap_ratio(double h) const {
     const double kappa = this->law_.params().kappa, eta = this->law_.params().eta;
     const double span = h_last_ > 0.0 ? 0.5 * (h + h_last_) : h, scale = kappa * h / span;
-    double s0 = 0.0;
-    if constexpr (Law::hooks.yield_onset) s0 = this->law_.yield_onset();
+    double s0 = 0.0, s1 = std::numeric_limits<double>::infinity();
+    if constexpr (Law::hooks.yield_onset) {
+      s0 = this->law_.yield_onset();
+      s1 = this->law_.yield_saturation();
+    }
     const auto area = this->law_.contact_area(), sb = this->law_.sigma_bar();
     double r = 0.0;
     for (std::size_t i = 0; i < this->sites_; ++i) {
       const double w = this->trial_[i], speed = kappa * std::abs(w);
       r = std::max(r, scale * std::abs(w - w_prev_[i]) / (1.0 + speed));
       const double tau = contact_stress(sb[i] + eta * w, area[i]);
-      if ((area[i] < 1.0 || tau > s0) && std::abs(tau - s0) <= kBand * s0) r = std::max(r, h * (1.0 + (tau > s0 ? speed : 0.0)));
+      if ((area[i] < 1.0 || tau > s0) && tau >= (1.0 - kBand) * s0 && tau <= (1.0 + kBand) * s1) r = std::max(r, h * (1.0 + (tau > s0 ? speed : 0.0)));
     }
     return std::isfinite(r) ? r / opt_.leap_epsilon : std::numeric_limits<double>::infinity();
   }

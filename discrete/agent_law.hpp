@@ -120,6 +120,8 @@ class AgentLaw {
   /// The lowest threshold g gives (its first bin edge; 1 when w = 0): below it no contact is overloaded
   /// (core::LawHooks::yield_onset).
   double yield_onset() const { return degenerate_ ? 1.0 : edges_.front(); }
+  /// The highest threshold g gives (its last bin edge, +∞ for an unbounded g; 1 when w = 0).
+  double yield_saturation() const { return degenerate_ ? 1.0 : edges_.back(); }
 
   /// Initial state of site i: n = round(A N) attached contacts with thresholds drawn from g (none
   /// drawn when w = 0) and age 0, the rest detached since now. Restarts the site's random stream, so

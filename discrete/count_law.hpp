@@ -91,6 +91,8 @@ class CountLaw {
 
   /// The weakest threshold s_0: below it no contact is overloaded (core::LawHooks::yield_onset).
   double yield_onset() const { return thresholds_.front(); }
+  /// The strongest threshold s_{B−1}: above it every contact is overloaded.
+  double yield_saturation() const { return thresholds_.back(); }
 
   // --- inspection ------------------------------------------------------------------------------
   const DiscreteParams& discrete_params() const { return dp_; }

@@ -67,6 +67,8 @@ class MeanFieldLaw {
 
   /// The weakest class threshold s_0: below it no class is overloaded (core::LawHooks::yield_onset).
   double yield_onset() const { return thresholds_.front(); }
+  /// The strongest class threshold: above it every class is overloaded.
+  double yield_saturation() const { return thresholds_.back(); }
 
   // --- inspection ------------------------------------------------------------------------------
   const ThresholdDistribution& distribution() const { return g_; }

@@ -113,3 +113,16 @@ TEST_CASE("leap: fig1 events of the count law at N = 1e4 are distributed as on t
   CHECK(ks_t.p > 0.01);
   CHECK(ks_x.p > 0.01);
 }
+
+TEST_CASE("leap: a site hovering at its threshold does not stall the run (fig1, alpha = 1.03, N = 100, seed 2)", "[leap]") {
+  // This run once took 7e5 located onsets in 2.5e4 steps (the floor of a located step shrank with the trial) and
+  // did not finish in minutes; a located step is now at least 1 % of the step the leap condition allows.
+  compare::Scene s = count_fig1(core::Integrator::adaptive_rosenbrock, 100, 2);
+  s.interface.alpha = 1.03;
+  const auto r = run_one(s);
+  WARN("alpha = 1.03, N = 100, seed 2: " << r.scalars.at("steps") << " steps, " << r.scalars.at("trial_solves")
+                                         << " solves, " << r.scalars.at("located_onsets") << " located onsets");
+  CHECK(r.scalars.at("t_reached") == 140.0);
+  CHECK(r.scalars.at("trial_solves") < 4.0 * r.scalars.at("steps"));
+  CHECK(r.scalars.at("located_onsets") < r.scalars.at("steps"));
+}

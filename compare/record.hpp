@@ -31,8 +31,11 @@ namespace slipfront::compare {
 namespace detail {
 
 inline void push(Columns& c, const char* name, double v) { c[name].push_back(v); }
-inline void append(Columns& c, const char* name, std::span<const double> v) {
+/// Append a row; the first row reserves room for `rows` of its length, so that a column of snapshots is
+/// allocated once (growing it by doubling copied and page-faulted ~3× the field data: docs/performance.md §14).
+inline void append(Columns& c, const char* name, std::span<const double> v, std::size_t rows = 0) {
   auto& col = c[name];
+  if (col.empty()) col.reserve(rows * v.size());
   col.insert(col.end(), v.begin(), v.end());
 }
 // The mean contact age of laws that carry it (core::LawHooks::ages, docs/model.md §7: FrictionLaw's age
@@ -170,7 +173,8 @@ class Recorder {
         series_every_(s.output.series_dt), snapshot_every_(one_d_ && s.output.snapshot_dt > 0 ? s.output.snapshot_dt : -1),
         bulk_every_(one_d_ && s.bulk.height != 0.0 && s.bulk_output.dt > 0 ? s.bulk_output.dt : -1),
         bulk_stride_(static_cast<std::size_t>(std::max(1, s.bulk_output.stride))), series_due_(series_every_),
-        snap_due_(snapshot_every_), bulk_due_(bulk_every_), r_(r) {}
+        snap_due_(snapshot_every_), bulk_due_(bulk_every_),
+        snapshot_rows_(snapshot_every_ > 0 ? static_cast<std::size_t>(s.time.t_end / snapshot_every_) + 2 : 0), r_(r) {}
 
   /// After a step [t0, t1] (or at the start, t0 = t1 = 0 with exact = false): every row due in it.
   /// state_at(t) gives the state view at t (any t in [t0, t1] when exact; t1 otherwise); tracker gives
@@ -231,13 +235,15 @@ class Recorder {
   /// contact age, docs/model.md §7) when the law carries it.
   template <class State>
   void snapshot(const State& st) {
+    const std::size_t rows = snapshot_rows_;
+    if (r_.snapshot_t.empty()) r_.snapshot_t.reserve(rows);
     r_.snapshot_t.push_back(st.t());
-    detail::append(r_.snapshots, "A", st.contact_area());
-    detail::append(r_.snapshots, "sigma_bar", st.sigma_bar());
-    detail::append(r_.snapshots, "v", st.slip_rate());
-    detail::append(r_.snapshots, "u", st.slip());
+    detail::append(r_.snapshots, "A", st.contact_area(), rows);
+    detail::append(r_.snapshots, "sigma_bar", st.sigma_bar(), rows);
+    detail::append(r_.snapshots, "v", st.slip_rate(), rows);
+    detail::append(r_.snapshots, "u", st.slip(), rows);
     age_.resize(st.contact_area().size());
-    if (st.mean_age(age_)) detail::append(r_.snapshots, "age", age_);
+    if (st.mean_age(age_)) detail::append(r_.snapshots, "age", age_, rows);
   }
 
   /// One bulk snapshot (docs/output.md /<model>/bulk/): u, tau_xz, tau_yz at the kept nodes
@@ -278,6 +284,7 @@ class Recorder {
   double series_every_, snapshot_every_, bulk_every_;
   std::size_t bulk_stride_;
   Cadence series_due_, snap_due_, bulk_due_;
+  std::size_t snapshot_rows_;  ///< the rows a run to t_end takes (reserved at the first snapshot)
   ModelResult& r_;
   std::vector<double> age_;  ///< scratch row of mean ages
 };

@@ -6,9 +6,11 @@
 #   3. write the report with every plot (out/report.md, out/figures/*.png) and check (check_report.py) that no
 #      verdict of its summary tests a model against a limit it is not supposed to reach, and that every plot
 #      it names exists and is not empty.
-# Takes 13 min 32 s on 2 cores with the program built (measured while the test suite ran alongside; 14 min CPU):
-# scenes ~2 min, studies ~10 min (validity_fig1 4.4, strip_height 1.4, fig2_strip 0.8, disorder_limit 0.7, the
-# rest ~3), c_min(H) ~20 s, report ~30 s; a first build adds ~5 min. A scene or study that fails still leaves its partial results and the rest goes on; the job then exits 1.
+# Takes 6 min 30 s on 2 idle cores with the program built (10 min 46 s CPU; 2026-11-24): scenes 58 s, steady
+# fronts and c_min(H) ~30 s, studies 4 min 15 s (validity_friction 55, validity_fig1 46, strip_height 40,
+# fig2_strip 28, front_spectrum 26, front_branch 22, disorder_limit 22, the rest ~35), report ~45 s; a first
+# build adds ~5 min. Each step prints its time. A scene or study that fails still leaves its partial results
+# and the rest goes on; the job then exits 1.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 bash scripts/build.sh slipfront strip_cmin_height
@@ -17,11 +19,14 @@ scenes=(fig1 friction_law velocity_step spring_block homogeneous_front steady_fr
 slipfront=build/apps/slipfront
 python=/usr/bin/python3 # Debian's python3, where python3-h5py/-matplotlib/-numpy are installed
 failed=()
+started=$SECONDS
+took() { echo "   ($1: $((SECONDS - $2)) s; $((SECONDS - started)) s since the start)"; }
 
 for scene in "${scenes[@]}"; do
   echo "== scene $scene: $slipfront run configs/$scene.toml --out out/$scene --force"
-  rc=0
+  rc=0 t0=$SECONDS
   "$slipfront" run "configs/$scene.toml" --out "out/$scene" --force || rc=$?
+  took "scene $scene" "$t0"
   ((rc == 0)) || failed+=("scene $scene: slipfront run exited with $rc")
 done
 
@@ -44,8 +49,9 @@ build/bench/strip_cmin_height --hmin 1 --hmax 1e6 --per-decade 2 --rows 12 --int
 for study in configs/studies/*.toml; do
   name=$(basename "$study" .toml)
   echo "== study $name: $slipfront study $study --out out/studies/$name --force"
-  rc=0
+  rc=0 t0=$SECONDS
   "$slipfront" study "$study" --out "out/studies/$name" --force || rc=$?
+  took "study $name" "$t0"
   ((rc == 0)) || failed+=("study $name: slipfront study exited with $rc")
 done
 

@@ -15,7 +15,7 @@ set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 bash scripts/build.sh slipfront strip_cmin_height
 
-scenes=(fig1 friction_law velocity_step spring_block homogeneous_front steady_front contacts contacts_disorder fig1_strip homogeneous_strip)
+scenes=(fig1 friction_law velocity_step spring_block homogeneous_front steady_front contacts contacts_disorder fig1_strip homogeneous_strip contacts_strip)
 slipfront=build/apps/slipfront
 python=/usr/bin/python3 # Debian's python3, where python3-h5py/-matplotlib/-numpy are installed
 failed=()

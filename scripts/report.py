@@ -190,6 +190,12 @@ def effect_row(parameter, observable, without, with_, difference, note, source):
             "difference": difference, "note": note, "source": source}
 
 
+def answer_row(question, answer):
+    """One line of the summary's answer to the paper's open 2D question (issue 20), from the numbers: shown
+    first, before the three tables."""
+    return {"kind": "answer", "question": question, "answer": answer}
+
+
 def measure_row(observable, c="", d="", diff="", note=""):
     """A measurement (neither a limit tested nor an effect): the report's former five columns."""
     return {"kind": "measure", "cells": (observable, c, d, diff, note)}
@@ -220,7 +226,15 @@ def summary_tables(rows):
     lim = [r for r in rows if r["kind"] == "limit"]
     eff = [r for r in rows if r["kind"] == "effect"]
     mea = [r for r in rows if r["kind"] == "measure"]
-    out = ["## Summary", "",
+    ans = [r for r in rows if r["kind"] == "answer"]
+    out = ["## Summary", ""]
+    if ans:
+        out += ["### The paper's open 2D question", "",
+                "\"We have not yet numerically studied our model in 2D\" (Bouchbinder et al. 2011): the answers in "
+                "a body of finite height H, from this run's numbers (docs/fronts.md §10.12, §10.16).", ""]
+        out += [f"- **{cell(r['question'])}** {cell(r['answer'])}" for r in ans]
+        out += [""]
+    out += [
            "Three tables (docs/studies.md, \"The report\"): **limits that must hold** are tested, each against the "
            "model or limit it is supposed to reach, with a statistic, its threshold and a verdict; **effects of a "
            "parameter** (threshold disorder w, N below the validity crossover, the strip height H) are differences "
@@ -555,6 +569,21 @@ def fig2_strip_study(st, outdir):
     fig.suptitle(st.title("Fig. 2 (right) in the strip: transient fronts against c_min(H)"), fontsize=9)
     save(fig, outdir, f"{st.stem}_fig2_right_strip.png", figs)
     chain = Hs.index(0.0) if 0.0 in Hs else None
+    parts = []
+    for k, H in enumerate(Hs):
+        sel = a["H"] == H
+        r = a["ratio_continuum"][sel]
+        r = r[np.isfinite(r)]
+        where = "chain" if H == 0 else f"H = {H:g} (H/l ~ {h['H_over_l_max'][k]:.2g})"
+        parts.append(f"{where}: slope "
+                     f"{h['slope_continuum'][k]:.2f}, c_transient/c_min {h['ratio_mean_continuum'][k]:.2f} "
+                     f"(scatter {100 * h['ratio_rsd_continuum'][k]:.0f} %), {int(np.sum(r < 1))} of {r.size} runs below c_min")
+    if parts:
+        rows.append(answer_row("Are transient fronts excitations of the steady front at c_min in a body of height H "
+                               "(Fig. 2 right in the strip)?",
+                               "; ".join(parts) + ". A slope of order one with the transients above c_min is the "
+                               "paper's picture; runs below c_min are transients slower than the slowest steady "
+                               "front of their own strip."))
     for k, H in enumerate(Hs):
         mean, rsd, sl = h["ratio_mean_continuum"][k], h["ratio_rsd_continuum"][k], h["slope_continuum"][k]
         note = (f"slope through the origin {sl:.3g}, scatter {100 * rsd:.0f} % over {int(h['measured_continuum'][k])} runs "
@@ -1283,7 +1312,9 @@ def strip_cmin_section(path, root, figdir):
         gap = f"no H > l_kappa = {lk:.4g}: large-H regime not reached (c_min/c_min,1D = {a['ratio'][big]:.3g} at H = {H[big]:.4g})"
     expo = (f"local exponent {a['expo'][0]:.3f} -> {a['expo'][-1]:.3f}" if len(a["expo"]) else "")
     rows = [measure_row(f"c_min(H) of the strip, H = {H[0]:.4g} .. {H[-1]:.4g}: does the 1D c_min hold?",
-                        f"{holds}; {cross}", "", gap, expo)]
+                        f"{holds}; {cross}", "", gap, expo),
+            answer_row("Does the minimal steady front speed vary smoothly from 1D to 2D as H grows?",
+                       f"c_min(H) at fixed strip material, H = {H[0]:.4g} .. {H[-1]:.4g}: {holds}; {cross}; {gap}.")]
     return figs, rows
 
 

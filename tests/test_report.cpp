@@ -264,6 +264,12 @@ TEST_CASE("report: the c_min(H) figure and its summary row come from the strip_c
   CHECK(md.find(row) != std::string::npos);
   CHECK(md.find("at H = 1e+06 (H/l_kappa = 43.8): eps = 0.541 vs eps_BM = 0.466 (gap +0.075; c_min = 1.27 x BM), "
                 "c_min/c_min,1D = 0.302") != std::string::npos);
+  // the same numbers answer the paper's 2D question at the top of the summary, before the three tables
+  const auto answer = md.find("### The paper's open 2D question");
+  REQUIRE(answer != std::string::npos);
+  CHECK(answer < md.find("### Limits that must hold"));
+  CHECK(md.find("- **Does the minimal steady front speed vary smoothly from 1D to 2D as H grows?** c_min(H) at fixed "
+                "strip material, H = 1 .. 1e+06: 1D c_min holds (within 1%) up to H = 3162 (H/l = 10.5)") > answer);
   CHECK(sh("/usr/bin/python3 " + src + "/scripts/check_report.py " + (dir / "report.md").string() + " > /dev/null") == 0);
 
   // the data changed: the row's numbers change with it
@@ -293,6 +299,7 @@ with open(sys.argv[1], "w", newline="") as f:
   const std::string empty = report();
   CHECK(figures(empty).empty());
   CHECK(empty.find("| c_min(H) of the strip") == std::string::npos);
+  CHECK(empty.find("### The paper's open 2D question") == std::string::npos);  // no numbers, no answer
 }
 
 namespace {

@@ -1,0 +1,89 @@
+#pragma once
+// Shared by the contact-statistics tests of whole fig1 scenes (test_contacts_fig1.cpp on the chain,
+// test_slow_contacts_strip.cpp on the strip): the summary of a /compare/contacts table and the prediction
+// of the agent's statistics from the agent's own fields (docs/contacts.md §5).
+#include <algorithm>
+#include <cstdio>
+
+#include "compare/alongside.hpp"
+#include "compare/dispatch.hpp"
+#include "compare/runner.hpp"
+#include "core/implicit.hpp"
+#include "discrete/agent_law.hpp"
+
+namespace slipfront::testing {
+
+struct ContactSummary {
+  double tested = 0, worst_p = 1, worst_p_before_arrest = 1;
+};
+
+/// Prints every row with contacts and returns the number of tested rows and their smallest p-values
+/// (overall, and before the arrest: phases 0-2).
+inline ContactSummary summarise_contacts(const compare::Comparison& c, const char* label) {
+  ContactSummary out;
+  const auto& k = c.contacts;
+  std::printf("%s:\n", label);
+  for (std::size_t i = 0; i < k.at("phase").size(); ++i) {
+    if (k.at("measured_total")[i] <= 0) continue;
+    const auto phase = static_cast<std::size_t>(k.at("phase")[i]);
+    const bool tested = k.at("tested")[i] != 0;
+    std::printf("  %s %-12s %-6s n = %10.0f predicted %12.1f KS %.4f X2 %8.1f dof %2.0f p %.3g%s\n",
+                k.at("statistic")[i] == 0 ? "lifetime" : "age     ", core::phase_name(phase),
+                core::region_name(static_cast<std::size_t>(k.at("region")[i])), k.at("measured_total")[i],
+                k.at("predicted_total")[i], k.at("ks_distance")[i], k.at("chi2")[i], k.at("dof")[i], k.at("p_value")[i],
+                tested ? "" : "  (not tested)");
+    if (!tested) continue;
+    out.tested += 1;
+    out.worst_p = std::min(out.worst_p, k.at("p_value")[i]);
+    if (phase < 3) out.worst_p_before_arrest = std::min(out.worst_p_before_arrest, k.at("p_value")[i]);
+  }
+  return out;
+}
+
+/// The agent run of scene s (implicit integrator, on the scene's body B) predicting its contact statistics from
+/// its own fields: the run's result goes to `agent`, the prediction is returned as the tables of a "continuum"
+/// result, ready for compare::compare_results(s, prediction, agent).
+template <core::Body B>
+compare::ModelResult self_prediction(const compare::Scene& s, compare::ModelResult& agent) {
+  using Law = discrete::AgentLaw;
+  const B probe = compare::make_body<B>(s, s.drive);
+  compare::ContactPredictionSetup self;
+  self.mode = compare::ContactPredictionSetup::Mode::on;
+  self.prefix = "self_";
+  compare::DynamicRun<Law, core::ImplicitSimulation<Law, B>> run(s, Law(s.interface, s.discrete, probe.sites()),
+                                                                  "discrete", self);
+  while (!run.done()) run.step();
+  agent = run.finish();
+  compare::ModelResult pred;
+  pred.model = "continuum";
+  for (auto it = agent.contacts.begin(); it != agent.contacts.end();)
+    if (it->first.rfind("self_", 0) == 0) {
+      pred.contacts[it->first.substr(5)] = it->second;
+      it = agent.contacts.erase(it);
+    } else {
+      ++it;
+    }
+  for (auto it = agent.contacts_2d.begin(); it != agent.contacts_2d.end();)
+    if (it->first.rfind("self_", 0) == 0) {
+      pred.contacts_2d[it->first.substr(5)] = it->second;
+      it = agent.contacts_2d.erase(it);
+    } else {
+      ++it;
+    }
+  return pred;
+}
+
+/// The continuum's prediction with its hazard scaled (a deliberately wrong prediction), on the scene's body B.
+template <core::Body B>
+compare::ModelResult scaled_hazard_prediction(const compare::Scene& s, double scale) {
+  const B probe = compare::make_body<B>(s, s.drive);
+  compare::ContactPredictionSetup wrong;
+  wrong.mode = compare::ContactPredictionSetup::Mode::on;
+  wrong.hazard_scale = scale;
+  compare::DynamicRun<continuum::FrictionLaw, core::ImplicitSimulation<continuum::FrictionLaw, B>> run(
+      s, continuum::FrictionLaw(s.interface, probe.sites()), "continuum", wrong);
+  while (!run.done()) run.step();
+  return run.finish();
+}
+
+}  // namespace slipfront::testing

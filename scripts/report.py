@@ -8,8 +8,10 @@ that must hold (each against the model or limit it is supposed to reach, with st
 effects of a parameter (differences, no verdict) and measurements (docs/studies.md, "The report").
 """
 import argparse
+import concurrent.futures
 import hashlib
 import math
+import multiprocessing
 import os
 import re
 import sys
@@ -1710,6 +1712,133 @@ def strip_fields_section(res, outdir):
     return figs
 
 
+class Context:
+    """What every report task needs: the results directory, the figure directory and the study files (the fronts
+    sections draw the time-dependent points of the front studies)."""
+
+    def __init__(self, root, figdir, studies):
+        self.root, self.figdir, self.studies = root, figdir, studies
+
+
+def report_jobs(tasks):
+    """Worker processes for the report: SLIPFRONT_REPORT_JOBS if set, else the cores this process may use (at most
+    the number of tasks, at least 1)."""
+    env = os.environ.get("SLIPFRONT_REPORT_JOBS", "")
+    try:
+        jobs = int(env) if env else len(os.sched_getaffinity(0))
+    except (ValueError, AttributeError):
+        jobs = os.cpu_count() or 1
+    return max(1, min(jobs, tasks))
+
+
+def run_task(task):
+    """(context, section function, path) -> (markdown lines, summary rows, unreadable files)."""
+    context, section, path = task
+    out = section(context, path)
+    plt.close("all")
+    return out
+
+
+def figure_lines(figs, root):
+    out = []
+    for w in figs:
+        out += [f"![{os.path.basename(w)}]({os.path.relpath(w, root)})", ""]
+    return out
+
+
+def scene_section(ctx, path):
+    """A results.h5: its plots, contact statistics and strip pictures, and its summary rows."""
+    root, figdir = ctx.root, ctx.figdir
+    lines, summary = [], []
+    try:
+        res = plot.Results(path)
+    except OSError as e:
+        return [], [], [f"{path}: {e}"]
+    written = []
+    with res.f:
+        scene_dir = figure_dir(figdir, root, path) if res.models else None
+        if res.models:
+            plot.PLOTTERS[res.kind()](res, scene_dir, written, 110)
+        source = os.path.relpath(path, root)
+        summary += scene_rows(res, source)
+        lines += [f"## Scene `{res.scene}`", "", f"{res.description}", "",
+                  f"File: `{os.path.relpath(path, root)}`, status {res.status}, models {', '.join(res.models)}.", ""]
+        cfigs, sfigs = [], []
+        if res.models:
+            cfigs, crows = contacts_section(res, scene_dir, source)
+            summary += crows
+            sfigs = strip_fields_section(res, scene_dir)
+    lines += figure_lines(written, root)
+    if cfigs:
+        lines += ["### Contact statistics", "",
+                  "Mean contact age maps (the continuum's age field, the agent's exact ages), lifetime and age "
+                  "histograms by phase and region with the continuum's prediction, and the thresholds of the "
+                  "attached contacts against the drawn ones (docs/contacts.md). Goodness of fit: "
+                  "`/compare/contacts` (chi-square on a uniform subsample of m contacts; KS distance of the whole "
+                  "population); one summary row per tested statistic and class.", ""]
+        lines += figure_lines(cfigs, root)
+    if sfigs:
+        lines += ["### The strip's body", "",
+                  "The displacement u and the shear stresses tau_xz, tau_yz of the strip over (x, y) (the interface at "
+                  "y = 0) at bulk snapshots bracketing t^: before it, during the transient and after its arrest "
+                  "(`/<model>/bulk/`, docs/output.md; colour scales shared by every model and time of a field, the "
+                  "stresses' scales clipped at the 99.5th percentile of |tau|).", ""]
+        lines += figure_lines(sfigs, root)
+    return lines, summary, []
+
+
+def fronts_section(ctx, path):
+    """A fronts.h5 (slipfront fronts) with the time-dependent points of the front studies."""
+    front_studies = [Study(p) for p in ctx.studies]
+    keep = [st for st in front_studies if st.kind in ("front_spectrum", "steady_fronts")]
+    for st in front_studies:
+        if st not in keep:
+            st.f.close()
+    try:
+        more, rows = fronts_file(path, ctx.root, ctx.figdir, keep)
+    finally:
+        for st in keep:
+            st.f.close()
+    return more, rows, []
+
+
+def cmin_section(ctx, path):
+    """A strip_cmin_height.csv: c_min(H) with its summary rows."""
+    root = ctx.root
+    figs, rows = strip_cmin_section(path, root, ctx.figdir)
+    lines = ["## c_min(H) of the strip at fixed material", "",
+             "The limiting front's speed c_min against the strip's height H (build/bench/strip_cmin_height, "
+             "docs/fronts.md §10.12): the 1D line, the paper's intermediate form and the Brener-Marchenko "
+             "large-H form, the lengths l and l_kappa; below, the local exponent against 1/2 and the paper's "
+             "exponents.", "", f"File: `{os.path.relpath(path, root)}`, {len(figs) and 'plotted' or 'no usable row'}.", ""]
+    return lines + figure_lines(figs, root), rows, []
+
+
+def study_section(ctx, path):
+    """A study.h5: its plots per kind, scalars with their intervals, notes and summary rows."""
+    root = ctx.root
+    st = Study(path)
+    try:
+        st.stem = f"{figure_key(root, path)}_{st.name}"
+        st.source = os.path.relpath(path, root)
+        figs, rows = STUDY_PLOTS.get(st.kind, lambda s, o: ([], []))(st, ctx.figdir)
+        lines = [f"## Study `{st.name}` ({st.kind})", "", st.description, "",
+                 f"{len(st.runs)} runs, {st.wall:.1f} s wall, status {st.status}.", ""]
+        for k, v in sorted(st.scalars.items()):
+            if "_ci_" in k or k.endswith("_points"):
+                continue
+            lo, hi = st.scalars.get(k + "_ci_low"), st.scalars.get(k + "_ci_high")
+            ci = f" (95% CI {lo:.3g} .. {hi:.3g})" if lo is not None and math.isfinite(lo) else ""
+            lines.append(f"- `{k}` = {v:.4g}{ci}: {st.definitions.get(k, '')}")
+        for n in st.notes:
+            lines.append(f"- note: {n}")
+        lines.append("")
+        lines += figure_lines(figs, root)
+    finally:
+        st.f.close()
+    return lines, rows, []
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description="Plots and report.md for the slipfront results under DIR.")
     ap.add_argument("dir")
@@ -1728,91 +1857,24 @@ def main(argv=None):
             fronts.append(os.path.join(d, "fronts.h5"))
         if CMIN_CSV in files:
             cmins.append(os.path.join(d, CMIN_CSV))
+    # One task per file, run in parallel (fork: matplotlib's Agg backend and h5py are opened in the workers only);
+    # their sections are joined in this fixed order, so the report does not depend on the number of workers.
+    tasks = ([(scene_section, path) for path in sorted(scenes)] + [(fronts_section, path) for path in sorted(fronts)]
+             + [(cmin_section, path) for path in sorted(cmins)] + [(study_section, path) for path in sorted(studies)])
+    context = Context(root, figdir, sorted(studies))
+    jobs = report_jobs(len(tasks))
+    if jobs > 1:
+        with concurrent.futures.ProcessPoolExecutor(max_workers=jobs,
+                                                    mp_context=multiprocessing.get_context("fork")) as pool:
+            parts = list(pool.map(run_task, [(context, f, p) for f, p in tasks]))
+    else:
+        parts = [run_task((context, f, p)) for f, p in tasks]
     lines = ["# slipfront report", "", f"Results under `{root}`.", ""]
-    summary = []
-    missing = []
-    for path in sorted(scenes):
-        try:
-            res = plot.Results(path)
-        except OSError as e:
-            missing.append(f"{path}: {e}")
-            continue
-        written = []
-        with res.f:
-            scene_dir = figure_dir(figdir, root, path) if res.models else None
-            if res.models:
-                plot.PLOTTERS[res.kind()](res, scene_dir, written, 110)
-            source = os.path.relpath(path, root)
-            summary += scene_rows(res, source)
-            lines += [f"## Scene `{res.scene}`", "", f"{res.description}", "",
-                      f"File: `{os.path.relpath(path, root)}`, status {res.status}, models {', '.join(res.models)}.", ""]
-            cfigs, sfigs = [], []
-            if res.models:
-                cfigs, crows = contacts_section(res, scene_dir, source)
-                summary += crows
-                sfigs = strip_fields_section(res, scene_dir)
-        for w in written:
-            lines.append(f"![{os.path.basename(w)}]({os.path.relpath(w, root)})")
-            lines.append("")
-        if cfigs:
-            lines += ["### Contact statistics", "",
-                      "Mean contact age maps (the continuum's age field, the agent's exact ages), lifetime and age "
-                      "histograms by phase and region with the continuum's prediction, and the thresholds of the "
-                      "attached contacts against the drawn ones (docs/contacts.md). Goodness of fit: "
-                      "`/compare/contacts` (chi-square on a uniform subsample of m contacts; KS distance of the whole "
-                      "population); one summary row per tested statistic and class.", ""]
-            for w in cfigs:
-                lines.append(f"![{os.path.basename(w)}]({os.path.relpath(w, root)})")
-                lines.append("")
-        if sfigs:
-            lines += ["### The strip's body", "",
-                      "The displacement u and the shear stresses tau_xz, tau_yz of the strip over (x, y) (the interface at "
-                      "y = 0) at bulk snapshots bracketing t^: before it, during the transient and after its arrest "
-                      "(`/<model>/bulk/`, docs/output.md; colour scales shared by every model and time of a field, the "
-                      "stresses' scales clipped at the 99.5th percentile of |tau|).", ""]
-            for w in sfigs:
-                lines.append(f"![{os.path.basename(w)}]({os.path.relpath(w, root)})")
-                lines.append("")
-    front_studies = [Study(p) for p in sorted(studies)]
-    front_studies = [st for st in front_studies if st.kind in ("front_spectrum", "steady_fronts")]
-    for path in sorted(fronts):
-        more, rows = fronts_file(path, root, figdir, front_studies)
+    summary, missing = [], []
+    for more, rows, miss in parts:
         lines += more
         summary += rows
-    for st in front_studies:
-        st.f.close()
-    for path in sorted(cmins):
-        figs, rows = strip_cmin_section(path, root, figdir)
-        summary += rows
-        lines += ["## c_min(H) of the strip at fixed material", "",
-                  "The limiting front's speed c_min against the strip's height H (build/bench/strip_cmin_height, "
-                  "docs/fronts.md §10.12): the 1D line, the paper's intermediate form and the Brener-Marchenko "
-                  "large-H form, the lengths l and l_kappa; below, the local exponent against 1/2 and the paper's "
-                  "exponents.", "", f"File: `{os.path.relpath(path, root)}`, {len(figs) and 'plotted' or 'no usable row'}.", ""]
-        for w in figs:
-            lines.append(f"![{os.path.basename(w)}]({os.path.relpath(w, root)})")
-            lines.append("")
-    for path in sorted(studies):
-        st = Study(path)
-        st.stem = f"{figure_key(root, path)}_{st.name}"
-        st.source = os.path.relpath(path, root)
-        figs, rows = STUDY_PLOTS.get(st.kind, lambda s, o: ([], []))(st, figdir)
-        summary += rows
-        lines += [f"## Study `{st.name}` ({st.kind})", "", st.description, "",
-                  f"{len(st.runs)} runs, {st.wall:.1f} s wall, status {st.status}.", ""]
-        for k, v in sorted(st.scalars.items()):
-            if "_ci_" in k or k.endswith("_points"):
-                continue
-            lo, hi = st.scalars.get(k + "_ci_low"), st.scalars.get(k + "_ci_high")
-            ci = f" (95% CI {lo:.3g} .. {hi:.3g})" if lo is not None and math.isfinite(lo) else ""
-            lines.append(f"- `{k}` = {v:.4g}{ci}: {st.definitions.get(k, '')}")
-        for n in st.notes:
-            lines.append(f"- note: {n}")
-        lines.append("")
-        for w in figs:
-            lines.append(f"![{os.path.basename(w)}]({os.path.relpath(w, root)})")
-            lines.append("")
-        st.f.close()
+        missing += miss
     lines[4:4] = summary_tables(summary)
     for m in missing:
         lines.append(f"- could not read {m}")

@@ -91,6 +91,13 @@ TEST_CASE("report: every plot named in report.md exists and is a non-empty PNG",
   CHECK(n >= 5);  // fig1 fronts + tip, the friction law, the study's error and Fig. 2 left
   // the checker the main job uses agrees
   CHECK(sh("/usr/bin/python3 " + src + "/scripts/check_report.py " + (dir / "report.md").string() + " > /dev/null") == 0);
+  // the files are reported in parallel (one worker process per core): one worker and three give this report byte
+  // for byte (its sections are joined in a fixed order)
+  for (const char* jobs : {"1", "3"}) {
+    INFO("SLIPFRONT_REPORT_JOBS=" << jobs);
+    REQUIRE(sh(std::string("SLIPFRONT_REPORT_JOBS=") + jobs + " " + bin + " report " + dir.string() + " > /dev/null") == 0);
+    CHECK(slipfront::testing::slurp(dir / "report.md") == md);
+  }
 }
 
 TEST_CASE("report: two runs of one scene in different directories never share figure files", "[report]") {

@@ -15,20 +15,37 @@ set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 bash scripts/build.sh slipfront strip_cmin_height
 
-scenes=(fig1 friction_law velocity_step spring_block homogeneous_front steady_front contacts contacts_disorder fig1_strip homogeneous_strip contacts_strip)
+# (the longest first: the scenes run side by side, one per core)
+scenes=(contacts_disorder contacts_strip fig1_strip homogeneous_strip contacts homogeneous_front steady_front fig1 friction_law
+  velocity_step spring_block)
 slipfront=build/apps/slipfront
 python=/usr/bin/python3 # Debian's python3, where python3-h5py/-matplotlib/-numpy are installed
 failed=()
 started=$SECONDS
 took() { echo "   ($1: $((SECONDS - $2)) s; $((SECONDS - started)) s since the start)"; }
 
-for scene in "${scenes[@]}"; do
-  echo "== scene $scene: $slipfront run configs/$scene.toml --out out/$scene --force"
-  rc=0 t0=$SECONDS
-  "$slipfront" run "configs/$scene.toml" --out "out/$scene" --force || rc=$?
-  took "scene $scene" "$t0"
+# The scenes, as many at a time as there are cores (each is one process on one core); each one's output is
+# printed when it ends, with its time.
+cores=$(nproc 2>/dev/null || echo 1)
+logs=$(mktemp -d)
+trap 'rm -rf "$logs"' EXIT
+declare -A scene_of=() start_of=()
+finish_one() {
+  local pid rc=0
+  wait -n -p pid || rc=$?
+  local scene=${scene_of[$pid]}
+  cat "$logs/$scene.log"
+  took "scene $scene" "${start_of[$pid]}"
   ((rc == 0)) || failed+=("scene $scene: slipfront run exited with $rc")
+  unset "scene_of[$pid]"
+}
+for scene in "${scenes[@]}"; do
+  while ((${#scene_of[@]} >= cores)); do finish_one; done
+  echo "== scene $scene: $slipfront run configs/$scene.toml --out out/$scene --force (started)"
+  "$slipfront" run "configs/$scene.toml" --out "out/$scene" --force > "$logs/$scene.log" 2>&1 &
+  scene_of[$!]=$scene start_of[$!]=$SECONDS
 done
+while ((${#scene_of[@]} > 0)); do finish_one; done
 
 echo "== steady fronts: $slipfront fronts configs/homogeneous_front.toml --scaling --out out/homogeneous_front --force"
 rc=0

@@ -232,9 +232,11 @@ bool run_strip_scaling(const Scene& s, const continuum::StripFront& scene_limiti
     return o;
   };
   continuum::StripFront limiting = scene_limiting;
-  if (follow_tip)
-    limiting = continuum::solve_strip_saddle_node_front(s.interface, s.bulk, options_for(s.interface, scene_limiting.c),
+  if (follow_tip) {  // (kept on the branch's meshes if this re-solve fails)
+    auto own = continuum::solve_strip_saddle_node_front(s.interface, s.bulk, options_for(s.interface, scene_limiting.c),
                                                         scene_limiting, scene_limiting.c);
+    if (own.status == continuum::FrontStatus::converged) limiting = std::move(own);
+  }
   const std::vector<std::string> names{"mu", "alpha", "eta", "kappa"};
   const std::vector<double> factors{0.5, 1.0, 2.0, 4.0};
   const double H = s.bulk.height;

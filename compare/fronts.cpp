@@ -216,8 +216,27 @@ bool solve_strip_profiles(const Scene& s, const continuum::StripBranch& branch,
 // per parameter the local exponent d ln c_min/d ln p (the 1D line: +1/2 for μ', α and −1/2 for η, κ) and
 // c_min = a sqrt(μ'H α/(ηκ)); pooled, the same line through every point. A poor collapse is a result (the
 // paper's 2D regimes), not a failure: nothing is refused.
-bool run_strip_scaling(const Scene& s, const continuum::StripFront& limiting, const continuum::StripFrontOptions& fo,
-                       const std::function<bool()>& stop, FrontsResult& r) {
+//
+// `follow_tip` (a branch started from the path in H, docs/fronts.md §10.19): every solve's meshes follow its
+// predicted tip zone ℓ_tip = c/(1 + κ v_m) as on that path (ξ spacing at the tip ℓ_tip/30, first row ℓ_tip/10),
+// the scene's limiting front first re-solved so, so that all 16 points have the same resolution of their own
+// front; otherwise the branch's meshes throughout (as before).
+bool run_strip_scaling(const Scene& s, const continuum::StripFront& scene_limiting, const continuum::StripFrontOptions& fo,
+                       bool follow_tip, const std::function<bool()>& stop, FrontsResult& r) {
+  auto options_for = [&](const core::InterfaceParams& ip, double c) {
+    continuum::StripFrontOptions o = fo;
+    if (!follow_tip) return o;
+    const double lt = continuum::strip_tip_zone(ip, c, continuum::steady_minimum_velocity(ip));
+    o.tip_spacing = lt / 30.0;
+    o.row_spacing = lt / 10.0;
+    return o;
+  };
+  continuum::StripFront limiting = scene_limiting;
+  if (follow_tip) {  // (kept on the branch's meshes if this re-solve fails)
+    auto own = continuum::solve_strip_saddle_node_front(s.interface, s.bulk, options_for(s.interface, scene_limiting.c),
+                                                        scene_limiting, scene_limiting.c);
+    if (own.status == continuum::FrontStatus::converged) limiting = std::move(own);
+  }
   const std::vector<std::string> names{"mu", "alpha", "eta", "kappa"};
   const std::vector<double> factors{0.5, 1.0, 2.0, 4.0};
   const double H = s.bulk.height;
@@ -243,7 +262,31 @@ bool run_strip_scaling(const Scene& s, const continuum::StripFront& limiting, co
       continuum::StripFront cur = limiting;
       double f = 1.0;
       const double step = target > 1.0 ? std::sqrt(2.0) : 1.0 / std::sqrt(2.0);
-      while (cur.status == continuum::FrontStatus::converged && std::abs(std::log(f / target)) > 1e-9) {
+      if (follow_tip) {
+        // as the path in H (docs/fronts.md §10.11): the predictor the secant in (ln p, ln c) through the last two
+        // fronts (the 1D exponent at the first step: at large H it is not the 1D one), a failed step halved in
+        // ln p down to a factor 1.01, the step grown by 1.5 (at most √2) after a success
+        const double h_max = std::log(std::sqrt(2.0)), h_min = std::log(1.01);
+        double h = h_max, f_prev = 0.0, c_prev = 0.0;
+        while (std::abs(std::log(f / target)) > 1e-9) {
+          const double fn = target > 1.0 ? std::min(target, f * std::exp(h)) : std::max(target, f * std::exp(-h));
+          const double slope = f_prev > 0.0 ? std::log(cur.c / c_prev) / std::log(f / f_prev)
+                                            : std::log(scale_of(fn) / scale_of(f)) / std::log(fn / f);
+          const double c_guess = cur.c * std::pow(fn / f, slope);
+          const auto [ip, b] = problem(fn);
+          auto next = continuum::solve_strip_saddle_node_front(ip, b, options_for(ip, c_guess), cur, c_guess);
+          if (next.status == continuum::FrontStatus::converged) {
+            f_prev = f, c_prev = cur.c;
+            cur = std::move(next);
+            f = fn;
+            h = std::min(h_max, 1.5 * h);
+          } else if ((h *= 0.5) < h_min) {
+            cur = std::move(next);
+            break;
+          }
+        }
+      }
+      while (!follow_tip && cur.status == continuum::FrontStatus::converged && std::abs(std::log(f / target)) > 1e-9) {
         const double fn = target > 1.0 ? std::min(target, f * step) : std::max(target, f * step);
         const auto [ip, b] = problem(fn);
         cur = continuum::solve_strip_saddle_node_front(ip, b, fo, cur, cur.c * scale_of(fn) / scale_of(f));
@@ -316,7 +359,42 @@ FrontsResult compute_strip_fronts(const Scene& s, bool scaling, const std::funct
   o.stop = stop;
   std::vector<continuum::StripFront> kept;
   o.on_front = [&](const continuum::StripFront& f) { kept.push_back(f); };
-  const auto branch = continuum::continue_strip_fronts(s.interface, s.bulk, o);  // (a) the branch
+  // (a) the branch. Its first front (docs/fronts.md §10.19, the rule at continuum::strip_start_needs_height_path):
+  // up to H = 10 ℓ the cold start as before, the path in H at the strip's material only if it finds no front;
+  // above, the path (then the cold start only if the path does not arrive). From the path, the branch and the
+  // scaling study work on meshes that follow the front's tip zone, as the path does.
+  const bool thick = continuum::strip_start_needs_height_path(s.bulk);
+  continuum::StripBranch branch;
+  std::string start = "cold start: the 1D front, the strip grown at fixed mu (docs/fronts.md §10.4)";
+  if (!thick) branch = continuum::continue_strip_fronts(s.interface, s.bulk, o);
+  const bool cold_failed = !thick && branch.points.empty() && branch.end != continuum::BranchEnd::stopped;
+  const std::string cold_reason = cold_failed ? branch.reason : std::string();
+  bool from_path = false;
+  continuum::StripPathStart path_start;
+  if ((thick || cold_failed) && !(stop && stop())) {
+    path_start = continuum::strip_start_from_height_path(s.interface, s.bulk, o);
+    if (path_start.front.status == continuum::FrontStatus::converged) {
+      kept.clear();
+      o.front = path_start.options;
+      o.start = &path_start.front;
+      branch = continuum::continue_strip_fronts(s.interface, s.bulk, o);
+      from_path = true;
+      start = (cold_failed ? "cold start found no front (" + cold_reason + "); " : std::string()) +
+              path_start.reason;
+    } else if (thick && !(stop && stop())) {
+      branch = continuum::continue_strip_fronts(s.interface, s.bulk, o);
+      start = "cold start, after the path in H failed: " + path_start.reason;
+    } else if (cold_failed) {
+      start += "; the path in H failed too: " + path_start.reason;
+    } else {
+      branch.end = continuum::BranchEnd::stopped;
+      branch.reason = "stopped on request in the path in H to the first front: " + path_start.reason;
+    }
+  } else if (thick) {
+    branch.end = continuum::BranchEnd::stopped;
+    branch.reason = "stopped on request before the first front";
+  }
+  r.labels["start"] = start;
   store_branch(s, branch, r);
   store_strip_scalars(s, branch.c_min, r);
   r.scalars["rows"] = settings.rows;
@@ -326,7 +404,7 @@ FrontsResult compute_strip_fronts(const Scene& s, bool scaling, const std::funct
   kept.clear();
   const bool has_branch = continuum::followed_to_end(branch.end) && branch.last.saddle_node_limit;
   bool scaling_done = false;
-  if (scaling && has_branch && profiles) scaling_done = run_strip_scaling(s, branch.last, o.front, stop, r);  // (c)
+  if (scaling && has_branch && profiles) scaling_done = run_strip_scaling(s, branch.last, o.front, from_path, stop, r);  // (c)
   judge(branch, nullptr, stopped || !profiles || (scaling && has_branch && profiles && !scaling_done), r);    // (d)
   if (scaling && !has_branch && r.status == RunStatus::failed) r.message += "; the scaling study was not run";
   return r;

@@ -1280,4 +1280,49 @@ StripHeightPath continue_strip_height_at_column(const core::InterfaceParams& law
       std::sqrt(column.mu / column.rho), 0.0, o);
 }
 
+bool strip_start_needs_height_path(const core::BulkParams& bulk) {
+  if (!(bulk.height > 0.0) || !(bulk.mu > 0.0)) return false;
+  return bulk.height > strip_path_start_ratio * (bulk.mu / bulk.height);  // H/ℓ, ℓ = μ'
+}
+
+// docs/fronts.md §10.19: the path at the strip's material from H/ℓ = 1/300 (the 1D regime, where the cold start
+// is exact to 2e-5 in c_min, §10.12) to the strip's H, at the branch's first σ_d.
+StripPathStart strip_start_from_height_path(const core::InterfaceParams& law, const core::BulkParams& bulk,
+                                            const StripContinuationOptions& o) {
+  StripPathStart out;
+  out.options = o.front;
+  if (!(bulk.height > 0.0) || !(bulk.mu > 0.0) || !(bulk.rho > 0.0)) {
+    out.reason = "the path in H needs bulk.height, bulk.mu and bulk.rho > 0";
+    return out;
+  }
+  const double H = bulk.height, mus = bulk.mu / H, rhos = bulk.rho / H;
+  out.first_height = std::min(mus / 300.0, 0.5 * H);
+  StripHeightOptions ho;
+  ho.heights = {out.first_height, H};
+  ho.limiting = false;
+  ho.sigma_d = o.sigma_start;
+  ho.front = o.front;
+  ho.front.max_newton = 12;
+  ho.stop = o.stop;
+  const StripHeightPath path = continue_strip_height(law, mus, rhos, ho, bulk.length);
+  out.steps = static_cast<int>(path.steps.size());
+  if (!path.complete || path.fronts.empty()) {
+    out.reason = "the path in H at mu' = " + core::format_number(mus) + " from H = " + core::format_number(out.first_height) +
+                 " did not reach H = " + core::format_number(H) + ": " + path.reason;
+    return out;
+  }
+  out.front = path.fronts.back();
+  // the branch's meshes: those of the path's last solve, taken from the front it found (the solver rebuilds the
+  // ξ mesh from these spacings, so the branch's first solve re-solves this front on them)
+  const double lt = strip_tip_zone(law, out.front.c, out.front.v_behind);
+  out.options.tip_spacing = lt / ho.tip_resolution;
+  out.options.row_spacing = lt / ho.row_resolution;
+  out.options.max_newton = 12;
+  out.reason = "path in H at mu' = " + core::format_number(mus) + ", rho' = " + core::format_number(rhos) + " from H = " +
+               core::format_number(out.first_height) + " (" + std::to_string(out.steps) + " steps) at sigma_d = " +
+               core::format_number(o.sigma_start) + ": c = " + core::format_number(out.front.c) +
+               "; meshes follow the tip zone " + core::format_number(lt) + " (docs/fronts.md §10.19)";
+  return out;
+}
+
 }  // namespace slipfront::continuum

@@ -201,4 +201,36 @@ StripHeightPath continue_strip_height_at_column(const core::InterfaceParams& law
 /// The tip zone c/(1 + κ v_b) of a front at speed c with sliding at v_b behind (the front's length scale).
 double strip_tip_zone(const core::InterfaceParams& law, double c, double v_behind);
 
+// ---------------------------------------------------------------------------------------------------
+// The first front of a thick strip's branch (docs/fronts.md §10.19). The cold start (§10.4: the 1D front, the
+// strip grown at fixed μ by doublings on fixed meshes) fails on thick strips (H = 1e5 at μ' = 300: no Newton
+// convergence at H = 65 536 after 274 s; μ' = 3, H = 1000: at H = 128), while the path in H at the strip's own
+// material with meshes that follow the front (continue_strip_height, §10.11) reaches H = 1e6. The rule:
+//   - H ≤ strip_path_start_ratio · ℓ (ℓ = μ' = μ/H, the paper's elastic length of the strip, §10.12): the cold
+//     start, as before (results there unchanged, bit for bit); only if it finds no first front, the path;
+//   - H > strip_path_start_ratio · ℓ: the path (and the cold start only if the path does not arrive).
+// The ratio 10 is past the crossover (§10.12: the exponent of c_min(H) leaves ½ by H ≈ 3ℓ), above every
+// height the cold start was used for in docs/fronts.md (§10.14, §10.18: H ≤ 3.3ℓ) and below the first failure
+// seen (H/ℓ = 43 at μ' = 3, 4 rows).
+inline constexpr double strip_path_start_ratio = 10.0;
+
+/// H > strip_path_start_ratio · ℓ, ℓ = μ' = bulk.mu/bulk.height: the branch is started from the path in H.
+bool strip_start_needs_height_path(const core::BulkParams& bulk);
+
+struct StripPathStart {
+  StripFront front;               ///< the front at sigma_start at the bulk's H (converged when the path arrived)
+  /// The options for the branch from it: `options.front` with the meshes of the path's last solve (ξ spacing
+  /// at the tip ℓ_tip/30, first row ℓ_tip/10, ℓ_tip = strip_tip_zone of this front) and max_newton 12.
+  StripFrontOptions options;
+  int steps = 0;                  ///< accepted steps of the path
+  double first_height = 0.0;      ///< where the path started (ℓ/300: H/ℓ = 1/300, the 1D regime)
+  std::string reason;             ///< how the front was obtained, or why the path stopped
+};
+
+/// The front at o.sigma_start of the strip `bulk` (its μ' = μ/H, ρ' = ρ/H, H) from the path in H at that
+/// material (continue_strip_height at σ_d = o.sigma_start, from H = ℓ/300 cold, o.front's rows, intervals,
+/// tolerance; o.stop polled), as the first front of continue_strip_fronts (StripContinuationOptions::start).
+StripPathStart strip_start_from_height_path(const core::InterfaceParams& law, const core::BulkParams& bulk,
+                                            const StripContinuationOptions& o);
+
 }  // namespace slipfront::continuum

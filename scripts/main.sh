@@ -6,11 +6,12 @@
 #   3. write the report with every plot (out/report.md, out/figures/*.png) and check (check_report.py) that no
 #      verdict of its summary tests a model against a limit it is not supposed to reach, and that every plot
 #      it names exists and is not empty.
-# Takes 6 min 30 s on 2 idle cores with the program built (10 min 46 s CPU; 2026-11-24): scenes 58 s, steady
-# fronts and c_min(H) ~30 s, studies 4 min 15 s (validity_friction 55, validity_fig1 46, strip_height 40,
-# fig2_strip 28, front_spectrum 26, front_branch 22, disorder_limit 22, the rest ~35), report ~45 s; a first
-# build adds ~5 min. Each step prints its time. A scene or study that fails still leaves its partial results
-# and the rest goes on; the job then exits 1.
+# Takes 5 min 51 s on 2 idle cores with the program built (11 min 11 s CPU; 2026-11-24): the scenes, two at a
+# time, 37 s; steady fronts, the strip collapses and c_min(H), side by side, 27 s; studies 4 min 29 s
+# (validity_friction 54, validity_fig1 45, strip_height 40, fig2_strip 28, front_spectrum 26, disorder_limit 23,
+# front_branch 21, the rest ~32); report 17 s; a first build adds ~5 min (docs/performance.md §17). Each step
+# prints its time. A scene or study that fails still leaves its partial results and the rest goes on; the job
+# then exits 1.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 bash scripts/build.sh slipfront strip_cmin_height
@@ -24,44 +25,63 @@ failed=()
 started=$SECONDS
 took() { echo "   ($1: $((SECONDS - $2)) s; $((SECONDS - started)) s since the start)"; }
 
-# The scenes, as many at a time as there are cores (each is one process on one core); each one's output is
-# printed when it ends, with its time.
+# Independent steps run side by side, as many at a time as there are cores (each is one process on one core):
+# `launch NAME COMMAND...` starts one (waiting for a free core), `drain` waits for all; each one's output is
+# printed when it ends, with its time, and a failure is recorded.
 cores=$(nproc 2>/dev/null || echo 1)
 logs=$(mktemp -d)
 trap 'rm -rf "$logs"' EXIT
-declare -A scene_of=() start_of=()
+declare -A name_of=() start_of=() log_of=()
+declare -i tasks=0
 finish_one() {
   local pid rc=0
   wait -n -p pid || rc=$?
-  local scene=${scene_of[$pid]}
-  cat "$logs/$scene.log"
-  took "scene $scene" "${start_of[$pid]}"
-  ((rc == 0)) || failed+=("scene $scene: slipfront run exited with $rc")
-  unset "scene_of[$pid]"
+  local name=${name_of[$pid]}
+  cat "${log_of[$pid]}"
+  took "$name" "${start_of[$pid]}"
+  ((rc == 0)) || failed+=("$name: exited with $rc")
+  unset "name_of[$pid]"
 }
+launch() {
+  local name=$1
+  shift
+  while ((${#name_of[@]} >= cores)); do finish_one; done
+  echo "== $name: $* (started)"
+  tasks+=1
+  "$@" > "$logs/task$tasks.log" 2>&1 &
+  name_of[$!]=$name start_of[$!]=$SECONDS log_of[$!]=$logs/task$tasks.log
+}
+drain() { while ((${#name_of[@]} > 0)); do finish_one; done; }
+
 for scene in "${scenes[@]}"; do
-  while ((${#scene_of[@]} >= cores)); do finish_one; done
-  echo "== scene $scene: $slipfront run configs/$scene.toml --out out/$scene --force (started)"
-  "$slipfront" run "configs/$scene.toml" --out "out/$scene" --force > "$logs/$scene.log" 2>&1 &
-  scene_of[$!]=$scene start_of[$!]=$SECONDS
+  launch "scene $scene" "$slipfront" run "configs/$scene.toml" --out "out/$scene" --force
 done
-while ((${#scene_of[@]} > 0)); do finish_one; done
+drain
 
-echo "== steady fronts: $slipfront fronts configs/homogeneous_front.toml --scaling --out out/homogeneous_front --force"
-rc=0
-"$slipfront" fronts configs/homogeneous_front.toml --scaling --out out/homogeneous_front --force || rc=$?
-((rc == 0)) || failed+=("fronts: slipfront fronts exited with $rc")
-
-# c_min(H) of the strip at fixed material over H = 1 .. 1e6 (docs/fronts.md §10.11-§10.12; `slipfront fronts` has
-# no H path): the driver's limiting fronts, 12 rows, 300 intervals, ~20 s. report.py draws it (any
-# strip_cmin_height.csv under out/).
+# The steady fronts (after the scenes: homogeneous_front's directory is shared):
+# - the 1D branch, c_min and its collapse over mu, alpha, eta, kappa;
+# - the strip's c_min collapse at a 1D-like (H = 16), a crossover (H = 1000) and a large height (H = 1e5, started
+#   from the path in H), at the material of docs/fronts.md §10.12 (mu' = 300, rho' = 1e-9: mu = 300 H, rho = 1e-9 H),
+#   8 rows and 200 intervals (within 2 % of the 12-row values of docs/fronts.md §10.18; 4, 5 and 27 s); the
+#   limits keys only lift the checks of a time-dependent run of these scenes (its cost estimate, the rows rule),
+#   which `fronts` validates although it does not run one;
+# - c_min(H) of the strip at fixed material over H = 1 .. 1e6 (docs/fronts.md §10.11-§10.12): the driver's limiting
+#   fronts, 12 rows, 300 intervals, ~6 s; report.py draws it (any strip_cmin_height.csv under out/).
+launch "strip collapse H = 100000" "$slipfront" fronts configs/steady_front_strip.toml --scaling --rows 8 --intervals 200 \
+  --set scene=steady_front_strip_H100000 --set "description=c_min collapse of the strip at H = 1e5 (H/l_kappa = 4.4)" \
+  --set bulk.height=1e5 --set bulk.mu=3e7 --set bulk.rho=1e-4 --set grid.dy=100 \
+  --set limits.max_hours=1000 --set limits.min_nodes_per_elastic_length=0 --out out/strip_collapse_H100000 --force
+launch "steady fronts" "$slipfront" fronts configs/homogeneous_front.toml --scaling --out out/homogeneous_front --force
+for h in 16 1000; do
+  launch "strip collapse H = $h" "$slipfront" fronts configs/steady_front_strip.toml --scaling --rows 8 --intervals 200 \
+    --set scene=steady_front_strip_H$h --set "description=c_min collapse of the strip at H = $h" --set bulk.height=$h --set bulk.mu=$((300 * h)) --set "bulk.rho=${h}e-9" \
+    --set limits.max_hours=1000 --set limits.min_nodes_per_elastic_length=0 --out "out/strip_collapse_H$h" --force
+done
 cmin_out=out/strip_cmin_height/strip_cmin_height.csv
-echo "== c_min(H): build/bench/strip_cmin_height --hmin 1 --hmax 1e6 --per-decade 2 --rows 12 --intervals 300 --no-branches --out $cmin_out"
 mkdir -p "$(dirname "$cmin_out")"
-rc=0
-build/bench/strip_cmin_height --hmin 1 --hmax 1e6 --per-decade 2 --rows 12 --intervals 300 --no-branches \
-  --out "$cmin_out" || rc=$?
-((rc == 0)) || failed+=("c_min(H): strip_cmin_height exited with $rc")
+launch "c_min(H)" build/bench/strip_cmin_height --hmin 1 --hmax 1e6 --per-decade 2 --rows 12 --intervals 300 \
+  --no-branches --out "$cmin_out"
+drain
 
 for study in configs/studies/*.toml; do
   name=$(basename "$study" .toml)

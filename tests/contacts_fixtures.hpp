@@ -2,6 +2,8 @@
 // Shared by the contact-statistics tests of whole fig1 scenes (test_contacts_fig1.cpp on the chain,
 // test_slow_contacts_strip.cpp on the strip): the summary of a /compare/contacts table and the prediction
 // of the agent's statistics from the agent's own fields (docs/contacts.md §5).
+#include <catch2/catch.hpp>
+
 #include <algorithm>
 #include <cstdio>
 
@@ -84,6 +86,39 @@ compare::ModelResult scaled_hazard_prediction(const compare::Scene& s, double sc
       s, continuum::FrictionLaw(s.interface, probe.sites()), "continuum", wrong);
   while (!run.done()) run.step();
   return run.finish();
+}
+
+/// The contact-level test of a whole scene (docs/contacts.md §5), each row a chi-square on a uniform subsample of
+/// m = 2000 contacts at the family-wise false-alarm rate 1e-3 (Bonferroni over the tested rows):
+/// 1. against the continuum's prediction every row before the arrest passes (the after-arrest rows are printed);
+/// 2. against the prediction from the agent's own fields every row passes — before the arrest only when
+///    `own_fields_after_arrest` is false (the rows are printed);
+/// 3. the continuum's prediction with the hazard × 1.2 is rejected before the arrest.
+template <core::Body B>
+void check_contact_scene(const compare::Scene& s, bool own_fields_after_arrest) {
+  const auto r = compare::run_scene_alongside(s, compare::RunControl{});
+  REQUIRE(r.models[1].status == compare::RunStatus::complete);
+  std::printf("%s: agent t^ = %.3f, t_arrest = %.3f; continuum t^ = %.3f, t_arrest = %.3f\n", s.name.c_str(),
+              r.models[1].events.t_hat, r.models[1].events.t_arrest, r.models[0].events.t_hat, r.models[0].events.t_arrest);
+  const auto cont = summarise_contacts(r.comparison, "agent vs the continuum's prediction");
+  std::printf("  %.0f rows tested; smallest p before the arrest %.3g, overall %.3g (Bonferroni threshold %.2g)\n",
+              cont.tested, cont.worst_p_before_arrest, cont.worst_p, 1e-3 / cont.tested);
+  CHECK(cont.tested >= 10);
+  CHECK(cont.worst_p_before_arrest > 1e-3 / cont.tested);
+
+  compare::ModelResult agent;
+  const compare::ModelResult own = self_prediction<B>(s, agent);
+  REQUIRE(agent.contacts_2d.at("class_lifetime_counts").data == r.models[1].contacts_2d.at("class_lifetime_counts").data);
+  const auto self = summarise_contacts(compare::compare_results(s, own, agent), "agent vs the prediction from its own fields");
+  std::printf("  %.0f rows tested; smallest p before the arrest %.3g, overall %.3g (Bonferroni threshold %.2g)\n",
+              self.tested, self.worst_p_before_arrest, self.worst_p, 1e-3 / self.tested);
+  CHECK(self.tested >= 10);
+  CHECK((own_fields_after_arrest ? self.worst_p : self.worst_p_before_arrest) > 1e-3 / self.tested);
+
+  const auto w = summarise_contacts(compare::compare_results(s, scaled_hazard_prediction<B>(s, 1.2), r.models[1]),
+                                    "agent vs kappa x 1.2");
+  std::printf("  kappa x 1.2: smallest p before the arrest %.3g\n", w.worst_p_before_arrest);
+  CHECK(w.worst_p_before_arrest < 1e-3 / w.tested);
 }
 
 }  // namespace slipfront::testing

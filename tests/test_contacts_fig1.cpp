@@ -47,28 +47,5 @@ compare::Scene contacts_scene() {
 
 TEST_CASE("fig1 contact statistics against the continuum's prediction and the agent's own fields",
           "[contacts][fig1]") {
-  const auto s = contacts_scene();
-  const auto r = compare::run_scene_alongside(s, compare::RunControl{});
-  REQUIRE(r.models[1].status == slipfront::compare::RunStatus::complete);
-  std::printf("agent t^ = %.3f, t_arrest = %.3f; continuum t^ = %.3f, t_arrest = %.3f\n", r.models[1].events.t_hat,
-              r.models[1].events.t_arrest, r.models[0].events.t_hat, r.models[0].events.t_arrest);
-  const auto cont = testing::summarise_contacts(r.comparison, "agent vs the continuum's prediction");
-  std::printf("  %.0f rows tested; smallest p before the arrest %.3g, overall %.3g (Bonferroni threshold %.2g)\n",
-              cont.tested, cont.worst_p_before_arrest, cont.worst_p, 1e-3 / cont.tested);
-  CHECK(cont.tested >= 10);
-  CHECK(cont.worst_p_before_arrest > 1e-3 / cont.tested);
-
-  compare::ModelResult agent;
-  const compare::ModelResult own = testing::self_prediction<core::Bulk>(s, agent);
-  REQUIRE(agent.contacts_2d.at("class_lifetime_counts").data == r.models[1].contacts_2d.at("class_lifetime_counts").data);
-  const auto self = testing::summarise_contacts(compare::compare_results(s, own, agent), "agent vs the prediction from its own fields");
-  std::printf("  %.0f rows tested; smallest p %.3g (Bonferroni threshold %.2g)\n", self.tested, self.worst_p,
-              1e-3 / self.tested);
-  CHECK(self.tested >= 10);
-  CHECK(self.worst_p > 1e-3 / self.tested);
-
-  const auto w = testing::summarise_contacts(
-      compare::compare_results(s, testing::scaled_hazard_prediction<core::Bulk>(s, 1.2), r.models[1]), "agent vs kappa x 1.2");
-  std::printf("  kappa x 1.2: smallest p before the arrest %.3g\n", w.worst_p_before_arrest);
-  CHECK(w.worst_p_before_arrest < 1e-3 / w.tested);
+  testing::check_contact_scene<core::Bulk>(contacts_scene(), /*own_fields_after_arrest=*/true);
 }

@@ -27,29 +27,5 @@ TEST_CASE("contacts on the strip H = 17 against the continuum's prediction and t
   const compare::Scene s = app::load_scene(std::filesystem::path(SLIPFRONT_SOURCE_DIR) / "configs" / "contacts_strip.toml", {});
   REQUIRE(s.bulk.height == 17.0);
   REQUIRE(s.discrete.representation == "agent");
-  const auto r = compare::run_scene_alongside(s, compare::RunControl{});
-  REQUIRE(r.models[1].status == compare::RunStatus::complete);
-  std::printf("agent t^ = %.3f, t_arrest = %.3f; continuum t^ = %.3f, t_arrest = %.3f\n", r.models[1].events.t_hat,
-              r.models[1].events.t_arrest, r.models[0].events.t_hat, r.models[0].events.t_arrest);
-  const auto cont = testing::summarise_contacts(r.comparison, "agent vs the continuum's prediction (strip)");
-  std::printf("  %.0f rows tested; smallest p before the arrest %.3g, overall %.3g (Bonferroni threshold %.2g)\n",
-              cont.tested, cont.worst_p_before_arrest, cont.worst_p, 1e-3 / cont.tested);
-  CHECK(cont.tested >= 10);
-  CHECK(cont.worst_p_before_arrest > 1e-3 / cont.tested);
-
-  compare::ModelResult agent;
-  const compare::ModelResult own = testing::self_prediction<core::Strip>(s, agent);
-  REQUIRE(agent.contacts_2d.at("class_lifetime_counts").data == r.models[1].contacts_2d.at("class_lifetime_counts").data);
-  const auto self = testing::summarise_contacts(compare::compare_results(s, own, agent),
-                                                "agent vs the prediction from its own fields (strip)");
-  std::printf("  %.0f rows tested; smallest p before the arrest %.3g, overall %.3g (Bonferroni threshold %.2g)\n",
-              self.tested, self.worst_p_before_arrest, self.worst_p, 1e-3 / self.tested);
-  CHECK(self.tested >= 10);
-  CHECK(self.worst_p_before_arrest > 1e-3 / self.tested);
-
-  const auto w = testing::summarise_contacts(
-      compare::compare_results(s, testing::scaled_hazard_prediction<core::Strip>(s, 1.2), r.models[1]),
-      "agent vs kappa x 1.2 (strip)");
-  std::printf("  kappa x 1.2: smallest p before the arrest %.3g\n", w.worst_p_before_arrest);
-  CHECK(w.worst_p_before_arrest < 1e-3 / w.tested);
+  testing::check_contact_scene<core::Strip>(s, /*own_fields_after_arrest=*/false);
 }

@@ -30,12 +30,13 @@
 #include "compare/runner.hpp"
 #include "compare/scene.hpp"
 #include "tests/scenes.hpp"
+#include "bench/scenes.hpp"
 
 using namespace slipfront;
 
 namespace {
 
-bool quick() { return std::getenv("SLIPFRONT_BENCH_QUICK") != nullptr; }
+using bench::quick;
 long contacts() { return std::getenv("SLIPFRONT_BENCH_N") ? std::atol(std::getenv("SLIPFRONT_BENCH_N")) : 1000; }
 
 bool beyond_guard(const compare::Scene& s) {

@@ -19,17 +19,14 @@
 #include "compare/runner.hpp"
 #include "compare/scene.hpp"
 #include "tests/scenes.hpp"
+#include "bench/scenes.hpp"
 
 using namespace slipfront;
 
 namespace {
 
-bool quick() { return std::getenv("SLIPFRONT_BENCH_QUICK") != nullptr; }
-int seeds() {
-  if (quick()) return 2;
-  const char* e = std::getenv("SLIPFRONT_BENCH_SEEDS");
-  return e ? std::max(2, std::atoi(e)) : 8;
-}
+using bench::quick;
+int seeds() { return bench::seeds(8, 2); }
 
 struct Case {
   const char* label;

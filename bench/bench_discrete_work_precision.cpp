@@ -28,17 +28,14 @@
 #include "compare/runner.hpp"
 #include "compare/scene.hpp"
 #include "tests/scenes.hpp"
+#include "bench/scenes.hpp"
 
 using namespace slipfront;
 
 namespace {
 
-bool quick() { return std::getenv("SLIPFRONT_BENCH_QUICK") != nullptr; }
-int seeds() {
-  if (quick()) return 2;
-  const char* e = std::getenv("SLIPFRONT_BENCH_SEEDS");
-  return e ? std::max(1, std::atoi(e)) : 4;
-}
+using bench::quick;
+int seeds() { return bench::seeds(4, 1); }
 
 compare::Scene friction_law() {
   compare::Scene s = testing::imposed_rate_scene();

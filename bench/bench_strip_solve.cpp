@@ -38,12 +38,13 @@
 #include <Eigen/SparseCholesky>
 
 #include "core/strip.hpp"
+#include "bench/scenes.hpp"
 
 namespace core = slipfront::core;
 
 namespace {
 
-bool quick() { return std::getenv("SLIPFRONT_BENCH_QUICK") != nullptr; }
+using slipfront::bench::quick;
 
 // Two series: "long", one body (H = 32, rows = 65) made longer (nx 1025 → 16385): n grows at fixed
 // physics; "diag", nx and rows both doubled (H grows 8 → 128, which changes the system: the interface

@@ -24,12 +24,13 @@
 #include "compare/runner.hpp"
 #include "compare/scene.hpp"
 #include "../tests/scenes.hpp"
+#include "bench/scenes.hpp"
 
 using namespace slipfront;
 
 namespace {
 
-bool quick() { return std::getenv("SLIPFRONT_BENCH_QUICK") != nullptr; }
+using bench::quick;
 
 compare::Scene base() {
   compare::Scene s = testing::fig1_scene();

@@ -95,10 +95,7 @@ class ImplicitSimulation : public StepperCore<Law, B> {
   }
 
   void step() {
-    if (this->energy_ && std::isnan(this->energy_->mechanical0)) {
-      mechanical_now();
-      this->energy_->mechanical0 = this->energy_->mechanical();
-    }
+    start_energy();
     yielded_any_ = false;
     vmax_step_ = 0.0;
     substep(this->t_, static_cast<double>(this->steps_ + 1) * dt_, 0);
@@ -126,9 +123,23 @@ class ImplicitSimulation : public StepperCore<Law, B> {
       }
       max_defect_ = std::max(max_defect_, defect);
     }
+    accept_trial(t, h, t_next);  // 4.
+  }
+
+  // The budget's reference energy, at the first step (a budget only when tracked).
+  void start_energy() {
+    if (this->energy_ && std::isnan(this->energy_->mechanical0)) {
+      mechanical_now();
+      this->energy_->mechanical0 = this->energy_->mechanical();
+    }
+  }
+
+  // The trial W (in trial_) taken as the (sub)step [t, t + h] ending at t_next: u, V from W, the work over it,
+  // the law's own update with W (its yield flag into yielded_any_), the energy at t_next.
+  void accept_trial(double t, double h, double t_next) {
     ++substeps_;
     const double u0 = this->bulk_.edge_slip(this->displacement());
-    commit(h);  // 4.
+    commit(h);
     if (this->energy_) work_over_step(t, h, u0);
     yielded_any_ |= this->law_.advance(h, this->slip_rate()).any_yield;
     if (this->energy_) mechanical_now(t_next);

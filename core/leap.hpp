@@ -129,10 +129,7 @@ class LeapSimulation : public ImplicitSimulation<Law, B> {
   // One accepted step: trials from the proposed size through tests 1–3 (the header), then the step is taken
   // as an implicit step (u, V from W, the law's own update) and the next size is proposed from the leap ratio.
   void step() {
-    if (this->energy_ && std::isnan(this->energy_->mechanical0)) {
-      this->mechanical_now();
-      this->energy_->mechanical0 = this->energy_->mechanical();
-    }
+    this->start_energy();
     const double t = this->t_;
     double h = std::min(h_next_, opt_.dt_max);
     if (t_stop_ > t && h >= t_stop_ - t) h = t_stop_ - t;
@@ -246,8 +243,8 @@ class LeapSimulation : public ImplicitSimulation<Law, B> {
     return frac;
   }
 
-  // The step [t, t + h] with the trial's W: remember the start for the dense output, then as an implicit
-  // (sub)step: u, V from W, the work over it, the law's own update with W.
+  // The step [t, t + h] with the trial's W: remember the start for the dense output, then taken as an implicit
+  // (sub)step (ImplicitSimulation::accept_trial).
   void take(double t, double h) {
     t_prev_ = t;
     std::copy(this->u_.begin(), this->u_.end(), u0_.begin());
@@ -256,14 +253,10 @@ class LeapSimulation : public ImplicitSimulation<Law, B> {
     std::copy(sb.begin(), sb.end(), s0_.begin());
     this->yielded_any_ = false;
     this->vmax_step_ = 0.0;
-    const double u_edge = this->bulk_.edge_slip(this->displacement());
-    this->commit(h);
-    if (this->energy_) this->work_over_step(t, h, u_edge);
-    this->yielded_any_ = this->law_.advance(h, this->slip_rate()).any_yield;
-    this->t_ = (t_stop_ > t && h == t_stop_ - t) ? t_stop_ : t + h;
-    if (this->energy_) this->mechanical_now(this->t_);
+    const double t_end = (t_stop_ > t && h == t_stop_ - t) ? t_stop_ : t + h;
+    this->accept_trial(t, h, t_end);
+    this->t_ = t_end;
     ++this->steps_;
-    ++this->substeps_;
     ++stats_.accepted;
     h_last_ = h;
     this->yielded_ = this->yielded_any_;

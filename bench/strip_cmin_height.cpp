@@ -108,11 +108,9 @@ int main(int argc, char** argv) {
       const continuum::StripFront* from = &last;
       for (const auto& f : solved)
         if (f.status == continuum::FrontStatus::converged && f.rows() <= v.rows && f.rows() > from->rows()) from = &f;
-      continuum::StripFrontOptions fo = o.front;
+      continuum::StripFrontOptions fo = continuum::following_tip(o.front, lt, v.tip_res, v.row_res);
       fo.rows = v.rows;
       fo.intervals = v.intervals;
-      fo.tip_spacing = lt / v.tip_res;
-      fo.row_spacing = lt / v.row_res;
       fo.decay_lengths = v.decay;
       fo.max_newton = 40;
       const auto tv = std::chrono::steady_clock::now();
@@ -158,8 +156,7 @@ int main(int argc, char** argv) {
       co.front.intervals = branch_intervals;
       co.front.max_newton = 12;
       const double lt = continuum::strip_tip_zone(law, start_path.fronts[k].c, start_path.fronts[k].v_behind);
-      co.front.tip_spacing = lt / o.tip_resolution;
-      co.front.row_spacing = lt / o.row_resolution;
+      co.front = continuum::following_tip(co.front, lt, o.tip_resolution, o.row_resolution);
       co.start = &start_path.fronts[k];
       const auto tb = std::chrono::steady_clock::now();
       const auto br = continuum::continue_strip_fronts(law, {rho * h, mu * h, 1000.0, h}, co);

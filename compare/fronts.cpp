@@ -224,12 +224,8 @@ bool solve_strip_profiles(const Scene& s, const continuum::StripBranch& branch,
 bool run_strip_scaling(const Scene& s, const continuum::StripFront& scene_limiting, const continuum::StripFrontOptions& fo,
                        bool follow_tip, const std::function<bool()>& stop, FrontsResult& r) {
   auto options_for = [&](const core::InterfaceParams& ip, double c) {
-    continuum::StripFrontOptions o = fo;
-    if (!follow_tip) return o;
-    const double lt = continuum::strip_tip_zone(ip, c, continuum::steady_minimum_velocity(ip));
-    o.tip_spacing = lt / 30.0;
-    o.row_spacing = lt / 10.0;
-    return o;
+    return follow_tip ? continuum::following_tip(fo, continuum::strip_tip_zone(ip, c, continuum::steady_minimum_velocity(ip)))
+                      : fo;
   };
   continuum::StripFront limiting = scene_limiting;
   if (follow_tip) {  // (kept on the branch's meshes if this re-solve fails)

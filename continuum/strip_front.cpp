@@ -1163,11 +1163,7 @@ StripHeightPath continue_height(const core::InterfaceParams& law, const std::fun
   const double sd = o.limiting ? sigma_c : o.sigma_d;
   const double vb = o.limiting ? steady_minimum_velocity(law) : strengthening_branch_velocity(law, sd);
   auto options_for = [&](double c) {
-    StripFrontOptions f = o.front;
-    const double lt = strip_tip_zone(law, c, vb);
-    if (o.tip_resolution > 0.0) f.tip_spacing = lt / o.tip_resolution;
-    if (o.row_resolution > 0.0) f.row_spacing = lt / o.row_resolution;
-    return f;
+    return following_tip(o.front, strip_tip_zone(law, c, vb), o.tip_resolution, o.row_resolution);
   };
   // One solve at H from `from` stretched by c_p/from.c, on meshes scaled with c_p.
   auto solve_at = [&](double H, double c_p, const StripFront& from) {
@@ -1315,8 +1311,7 @@ StripPathStart strip_start_from_height_path(const core::InterfaceParams& law, co
   // the branch's meshes: those of the path's last solve, taken from the front it found (the solver rebuilds the
   // ξ mesh from these spacings, so the branch's first solve re-solves this front on them)
   const double lt = strip_tip_zone(law, out.front.c, out.front.v_behind);
-  out.options.tip_spacing = lt / ho.tip_resolution;
-  out.options.row_spacing = lt / ho.row_resolution;
+  out.options = following_tip(out.options, lt, ho.tip_resolution, ho.row_resolution);
   out.options.max_newton = 12;
   out.reason = "path in H at mu' = " + core::format_number(mus) + ", rho' = " + core::format_number(rhos) + " from H = " +
                core::format_number(out.first_height) + " (" + std::to_string(out.steps) + " steps) at sigma_d = " +

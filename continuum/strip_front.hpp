@@ -153,6 +153,20 @@ StripBranch continue_strip_fronts(const core::InterfaceParams& law, const core::
 // H grown from the first of `heights` to the last, either at a fixed σ_d or for the limiting front at σ_c^d
 // (c_min(H) wherever the branch ends at the saddle-node with c monotone, as on every branch computed).
 
+/// The meshes that follow a front's own length (docs/fronts.md §10.11): the ξ spacing at the tip ℓ_tip/30 and the
+/// first row spacing ℓ_tip/10, ℓ_tip the tip zone (strip_tip_zone).
+inline constexpr double strip_tip_resolution = 30.0, strip_row_resolution = 10.0;
+
+/// `base` on the meshes of a front with tip zone `tip_zone`: tip_spacing = tip_zone/tip_resolution, row_spacing =
+/// tip_zone/row_resolution (a resolution ≤ 0 keeps base's spacing). The path in H, the branches started from it
+/// and the scaling study on thick strips use it.
+inline StripFrontOptions following_tip(StripFrontOptions base, double tip_zone, double tip_resolution = strip_tip_resolution,
+                                       double row_resolution = strip_row_resolution) {
+  if (tip_resolution > 0.0) base.tip_spacing = tip_zone / tip_resolution;
+  if (row_resolution > 0.0) base.row_spacing = tip_zone / row_resolution;
+  return base;
+}
+
 struct StripHeightOptions {
   std::vector<double> heights;    ///< increasing; the path stops at each (its front is returned)
   bool limiting = true;           ///< the limiting front at σ_c^d; false: the front at sigma_d
@@ -164,8 +178,8 @@ struct StripHeightOptions {
   /// The meshes follow the front's own length, the tip zone ℓ_tip = c/(1 + κ v_b) (c the predicted speed):
   /// the ξ spacing at the tip is ℓ_tip/tip_resolution and the first row spacing ℓ_tip/row_resolution
   /// (0: keep front.tip_spacing, front.row_spacing). L is automatic (docs/fronts.md §10.3) unless set.
-  double tip_resolution = 30.0;
-  double row_resolution = 10.0;
+  double tip_resolution = strip_tip_resolution;
+  double row_resolution = strip_row_resolution;
   StripFrontOptions front;        ///< rows, intervals, Newton settings of every solve (max_newton: 12 is plenty)
   /// The first front (at heights.front()); without it the first front is solved cold: the 1D front's
   /// branch is not needed, the strip's branch is (limiting) or solve_strip_front (fixed σ_d).

@@ -1721,7 +1721,17 @@ class Context:
     sections draw the time-dependent points of the front studies)."""
 
     def __init__(self, root, figdir, studies):
-        self.root, self.figdir, self.studies = root, figdir, studies
+        self.root, self.figdir = root, figdir
+        self.front_studies = [p for p in studies if study_kind(p) in FRONT_STUDY_KINDS]
+
+
+FRONT_STUDY_KINDS = ("front_spectrum", "steady_fronts")
+
+
+def study_kind(path):
+    """The kind of a study.h5, read without its tables."""
+    with h5py.File(path, "r") as f:
+        return plot.as_str(f["study"].attrs["kind"])
 
 
 def report_jobs(tasks):
@@ -1793,11 +1803,7 @@ def scene_section(ctx, path):
 
 def fronts_section(ctx, path):
     """A fronts.h5 (slipfront fronts) with the time-dependent points of the front studies."""
-    front_studies = [Study(p) for p in ctx.studies]
-    keep = [st for st in front_studies if st.kind in ("front_spectrum", "steady_fronts")]
-    for st in front_studies:
-        if st not in keep:
-            st.f.close()
+    keep = [Study(p) for p in ctx.front_studies]
     try:
         more, rows = fronts_file(path, ctx.root, ctx.figdir, keep)
     finally:

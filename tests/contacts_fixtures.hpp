@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <string>
+#include <utility>
 
 #include "compare/alongside.hpp"
 #include "compare/dispatch.hpp"
@@ -42,50 +44,54 @@ inline ContactSummary summarise_contacts(const compare::Comparison& c, const cha
   return out;
 }
 
+/// One model of scene s on the implicit integrator on the body B, alone, with contact predictions per `setup`;
+/// make_law(sites) builds its law.
+template <core::Body B, class MakeLaw>
+compare::ModelResult implicit_run(const compare::Scene& s, MakeLaw make_law, const char* model,
+                                  const compare::ContactPredictionSetup& setup) {
+  auto law = make_law(compare::make_body<B>(s, s.drive).sites());
+  using Law = decltype(law);
+  compare::DynamicRun<Law, core::ImplicitSimulation<Law, B>> run(s, std::move(law), model, setup);
+  while (!run.done()) run.step();
+  return run.finish();
+}
+
+/// Moves the tables of `from` whose names start with `prefix` to `to`, without the prefix.
+template <class Tables>
+void move_prefixed(Tables& from, Tables& to, const std::string& prefix) {
+  for (auto it = from.begin(); it != from.end();)
+    if (it->first.rfind(prefix, 0) == 0) {
+      to[it->first.substr(prefix.size())] = it->second;
+      it = from.erase(it);
+    } else {
+      ++it;
+    }
+}
+
 /// The agent run of scene s (implicit integrator, on the scene's body B) predicting its contact statistics from
 /// its own fields: the run's result goes to `agent`, the prediction is returned as the tables of a "continuum"
 /// result, ready for compare::compare_results(s, prediction, agent).
 template <core::Body B>
 compare::ModelResult self_prediction(const compare::Scene& s, compare::ModelResult& agent) {
-  using Law = discrete::AgentLaw;
-  const B probe = compare::make_body<B>(s, s.drive);
   compare::ContactPredictionSetup self;
   self.mode = compare::ContactPredictionSetup::Mode::on;
   self.prefix = "self_";
-  compare::DynamicRun<Law, core::ImplicitSimulation<Law, B>> run(s, Law(s.interface, s.discrete, probe.sites()),
-                                                                  "discrete", self);
-  while (!run.done()) run.step();
-  agent = run.finish();
+  agent = implicit_run<B>(s, [&](std::size_t n) { return discrete::AgentLaw(s.interface, s.discrete, n); }, "discrete",
+                          self);
   compare::ModelResult pred;
   pred.model = "continuum";
-  for (auto it = agent.contacts.begin(); it != agent.contacts.end();)
-    if (it->first.rfind("self_", 0) == 0) {
-      pred.contacts[it->first.substr(5)] = it->second;
-      it = agent.contacts.erase(it);
-    } else {
-      ++it;
-    }
-  for (auto it = agent.contacts_2d.begin(); it != agent.contacts_2d.end();)
-    if (it->first.rfind("self_", 0) == 0) {
-      pred.contacts_2d[it->first.substr(5)] = it->second;
-      it = agent.contacts_2d.erase(it);
-    } else {
-      ++it;
-    }
+  move_prefixed(agent.contacts, pred.contacts, self.prefix);
+  move_prefixed(agent.contacts_2d, pred.contacts_2d, self.prefix);
   return pred;
 }
 
 /// The continuum's prediction with its hazard scaled (a deliberately wrong prediction), on the scene's body B.
 template <core::Body B>
 compare::ModelResult scaled_hazard_prediction(const compare::Scene& s, double scale) {
-  const B probe = compare::make_body<B>(s, s.drive);
   compare::ContactPredictionSetup wrong;
   wrong.mode = compare::ContactPredictionSetup::Mode::on;
   wrong.hazard_scale = scale;
-  compare::DynamicRun<continuum::FrictionLaw, core::ImplicitSimulation<continuum::FrictionLaw, B>> run(
-      s, continuum::FrictionLaw(s.interface, probe.sites()), "continuum", wrong);
-  while (!run.done()) run.step();
-  return run.finish();
+  return implicit_run<B>(s, [&](std::size_t n) { return continuum::FrictionLaw(s.interface, n); }, "continuum", wrong);
 }
 
 /// The contact-level test of a whole scene (docs/contacts.md §5), each row a chi-square on a uniform subsample of

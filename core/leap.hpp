@@ -56,9 +56,10 @@ struct LeapStats {
   std::int64_t located = 0;        ///< trials shortened to end at an onset of yield (test 3)
   std::int64_t relinearised = 0;   ///< trials solved again at their own rates (test 1)
   std::int64_t solves = 0;         ///< trial solves
+  std::int64_t forced = 0;         ///< steps taken after kMaxTrials trials without passing every test
   template <class Ar>
   void serialize(Ar& ar) {
-    ar(accepted, defect_halvings, leap_rejected, located, relinearised, solves);
+    ar(accepted, defect_halvings, leap_rejected, located, relinearised, solves, forced);
   }
 };
 
@@ -76,7 +77,7 @@ class LeapSimulation : public ImplicitSimulation<Law, B> {
   static constexpr double kLeapReject = 2.0;
   /// Growth and shrink limits of the proposed next step, and the safety factor.
   static constexpr double kGrowMax = 2.0, kShrinkMin = 0.2, kSafety = 0.9;
-  /// At most this many trials per step (then the last one is taken).
+  /// At most this many trials per step (then the last one is taken and counted in LeapStats::forced).
   static constexpr int kMaxTrials = 40;
   /// The band of contact stress about the range of thresholds, relative to its ends, in which a site whose contacts move
   /// keeps the step a fraction ε of its relaxation time (leap_ratio).
@@ -136,9 +137,14 @@ class LeapSimulation : public ImplicitSimulation<Law, B> {
     double h_wanted = h, ratio = 0.0, defect = 0.0;
     std::copy(this->v_.begin(), this->v_.begin() + static_cast<std::ptrdiff_t>(this->sites_), w_prev_.begin());
     for (int trial = 1;; ++trial) {
+      if (h < opt_.dt_min)  // as the adaptive integrator: a failure, not a step taken on a test it failed
+        throw NumericalError(stats_.accepted, t, 0, "leap step below dt_min (" + format_number(h) + ")");
       this->solve_trial(t, h);
       ++stats_.solves;
-      if (trial == kMaxTrials || h <= opt_.dt_min) break;
+      if (trial == kMaxTrials) {
+        ++stats_.forced;
+        break;
+      }
       if (this->tol_ > 0.0) {  // 1. defect
         defect = this->linearisation_defect(h);
         for (int k = 0; k < kRelinearise && defect > this->tol_; ++k) {  // linearised again at the trial's own W

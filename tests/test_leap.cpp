@@ -17,6 +17,8 @@
 
 #include "compare/runner.hpp"
 #include "compare/scene.hpp"
+#include "core/leap.hpp"
+#include "discrete/count_law.hpp"
 #include "tests/discrete_agent_helpers.hpp"
 #include "tests/scenes.hpp"
 
@@ -125,4 +127,38 @@ TEST_CASE("leap: a site hovering at its threshold does not stall the run (fig1, 
   CHECK(r.scalars.at("t_reached") == 140.0);
   CHECK(r.scalars.at("trial_solves") < 4.0 * r.scalars.at("steps"));
   CHECK(r.scalars.at("located_onsets") < r.scalars.at("steps"));
+  CHECK(r.scalars.at("forced_steps") == 0.0);  // no step was taken on a failed test after the 40 trials
+}
+
+TEST_CASE("leap: a step that would fall below dt_min fails the run, as on the adaptive integrator", "[leap]") {
+  // With dt_min = dt_initial = dt_max = 0.5 every trial that is shortened (the located first yield near t* = 25.7,
+  // a halving or a leap rejection) is below dt_min: a NumericalError naming the step and time, never a step
+  // taken on a test it failed.
+  compare::Scene s = count_fig1(core::Integrator::adaptive_rosenbrock, 1000, 1);
+  s.time.t_end = 40.0;
+  s.validate();
+  core::Bulk bulk(s.bulk, s.drive, s.interface, s.grid.dx);
+  const std::size_t n = bulk.nodes();
+  core::AdaptiveOptions o = core::AdaptiveOptions::from(s.time);
+  o.dt_min = o.dt_initial = o.dt_max = 0.5;
+  core::LeapSimulation<discrete::CountLaw> sim(std::move(bulk), discrete::CountLaw(s.interface, s.discrete, n), o);
+  sim.set_stop_time(s.time.t_end);
+  bool failed = false;
+  try {
+    while (sim.time() < s.time.t_end) sim.step();
+  } catch (const core::NumericalError& e) {
+    failed = true;
+    CHECK(std::string(e.what()).find("leap step below dt_min") != std::string::npos);
+    WARN(e.what());
+  }
+  CHECK(failed);
+  CHECK(sim.time() < s.time.t_end);
+  // the same run with the default dt_min reaches t_end
+  core::Bulk bulk2(s.bulk, s.drive, s.interface, s.grid.dx);
+  core::LeapSimulation<discrete::CountLaw> ok(std::move(bulk2), discrete::CountLaw(s.interface, s.discrete, n),
+                                              core::AdaptiveOptions::from(s.time));
+  ok.set_stop_time(s.time.t_end);
+  while (ok.time() < s.time.t_end) ok.step();
+  CHECK(ok.time() == s.time.t_end);
+  CHECK(ok.stats().forced == 0);
 }

@@ -151,12 +151,15 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
     theta_prev_.assign(this->sites_, 0);
     if constexpr (!kChain) {
       const B& b = this->bulk_;
+      // The u system's mass in the mixed representation (Strip::to_mixed): row 0 the node masses, every mode of
+      // row j ≥ 1 ρ' wy(j) (the modes of M x / wx).
       mass_.resize(this->n_);
       for (std::size_t j = 0; j < b.rows(); ++j)
-        for (std::size_t i = 0; i < b.sites(); ++i) mass_[j * b.sites() + i] = b.node_mass(i, j);
-      inv_mass_.resize(this->n_);
-      for (std::size_t k = 0; k < this->n_; ++k) inv_mass_[k] = 1.0 / mass_[k];
+        for (std::size_t i = 0; i < b.sites(); ++i)
+          mass_[j * b.sites() + i] = j == 0 ? b.node_mass(i, 0) : b.node_mass(0, j) / b.interface_weight(0);
       urhs_.assign(this->n_, 0.0);
+      um_.assign(this->n_, 0.0);
+      vm_.assign(this->n_, 0.0);
       // The stage solves' interface iterations stop at a relative residual of 1e-4 rtol (docs/numerics.md §8.5):
       // the stage error they leave is far below what the step's error control admits.
       if constexpr (requires(B& mb) { mb.set_interface_tolerance(1e-3); })
@@ -170,6 +173,21 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
   void set_initial(std::size_t i, double u, double v) {
     Core::set_initial(i, u, v);
     f0_valid_ = false;
+    mixed_valid_ = false;
+  }
+  /// Displacement and velocity of every dof (node values; on the strip made from the mixed state when asked).
+  std::span<const double> displacement() const {
+    sync_bulk();
+    return this->u_;
+  }
+  std::span<const double> velocity() const {
+    sync_bulk();
+    return this->v_;
+  }
+  double drive_force() const {
+    if constexpr (kChain) return Core::drive_force();
+    else if (!mixed_valid_) return Core::drive_force();
+    else return this->bulk_.drive_force_at(this->t_, this->bulk_.mixed_edge_slip(um_));
   }
 
   // One accepted step, in named stages (docs/performance.md §2):
@@ -181,6 +199,7 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
   //   5. switch   flip Θ of every site that has crossed by the new t
   void step() {
     if (!started_) start();
+    else if constexpr (!kChain) if (!mixed_valid_) make_mixed();
     double h = std::min(h_next_, opt_.dt_max);
     const double h_wanted = h;
     if (t_stop_ > this->t_ && h >= t_stop_ - this->t_) h = t_stop_ - this->t_;
@@ -215,6 +234,33 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
   /// Dense output (order 2) of one field at t ∈ [previous_time(), time()], all nodes.
   /// out: the first out.size() values of the field (the sites; on the strip u and v of up to all dofs).
   void dense_state(double t, Field f, std::span<double> out) const {
+    if constexpr (!kChain) {
+      if (static_cast<std::size_t>(f) < 2 && out.size() > this->sites_ && mixed_valid_) {  // node values of the bulk
+        dense_mixed_.resize(this->n_);
+        dense_state_raw(t, f, dense_mixed_);
+        this->bulk_.from_mixed(dense_mixed_, dense_mixed_);
+        std::copy_n(dense_mixed_.begin(), std::min(out.size(), this->n_), out.begin());
+        return;
+      }
+    }
+    dense_state_raw(t, f, out);
+  }
+  /// Dense output of one value (inline: the runner's tip restriction calls it per node).
+  double dense_value(double t, Field f, std::size_t i) const {
+    if constexpr (!kChain) {
+      if (static_cast<std::size_t>(f) < 2 && i >= this->sites_ && mixed_valid_) {  // a bulk node: from its row's modes
+        const std::size_t m = this->sites_, j0 = (i / m) * m;
+        dense_mixed_.resize(m);
+        for (std::size_t k = 0; k < m; ++k) dense_mixed_[k] = dense_value_raw(t, f, j0 + k);
+        return this->bulk_.mode_row_value(dense_mixed_.data(), i - j0);
+      }
+    }
+    return dense_value_raw(t, f, i);
+  }
+
+ private:
+  // The dense output in the stepper's own representation (on the strip: mixed, Strip::to_mixed).
+  void dense_state_raw(double t, Field f, std::span<double> out) const {
     const std::size_t n = std::min(out.size(), block_size(static_cast<std::size_t>(f)));
     const std::size_t off = offset(static_cast<std::size_t>(f));
     if (stats_.accepted == 0 || h_prev_ <= 0.0) {
@@ -226,14 +272,15 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
     const double b1 = th * (1.0 - th) * kDenseScale * h_prev_, b2 = th * (th - 2.0 * kGamma) * kDenseScale * h_prev_;
     for (std::size_t i = 0; i < n; ++i) out[i] = y_prev_[off + i] + b1 * k1_prev_[off + i] + b2 * k2_prev_[off + i];
   }
-  /// Dense output of one value (inline: the runner's tip restriction calls it per node).
-  double dense_value(double t, Field f, std::size_t i) const {
+  double dense_value_raw(double t, Field f, std::size_t i) const {
     if (stats_.accepted == 0 || h_prev_ <= 0.0) return current(static_cast<std::size_t>(f))[i];
     const std::size_t j = offset(static_cast<std::size_t>(f)) + i;
     const double th = std::clamp((t - t_prev_) / h_prev_, 0.0, 1.0);
     const double b1 = th * (1.0 - th) * kDenseScale * h_prev_, b2 = th * (th - 2.0 * kGamma) * kDenseScale * h_prev_;
     return y_prev_[j] + b1 * k1_prev_[j] + b2 * k2_prev_[j];
   }
+
+ public:
   /// Bound on |target − y_i(t)| over the whole last step, from the dense output's coefficients:
   /// y(θ) = y_prev + h (θ(1 − θ) k1 + θ(θ − 2d) k2)/(1 − 2d), with max |θ(1 − θ)| = 1/4 and
   /// max |θ(θ − 2d)| = 1 − 2d on [0, 1].
@@ -246,10 +293,16 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
   const AdaptiveOptions& options() const { return opt_; }
   template <class Ar>
   void serialize(Ar& ar) {
-    ar.tag("adaptive");
+    ar.tag(kChain ? "adaptive" : "adaptive_strip_mixed");
+    sync_bulk();  // the node values the core writes are the state's
     this->serialize_core(ar);
     ar(t_prev_, h_next_, last_dt_, err_prev_, started_, f0_valid_, y_prev_, f0_, k1_prev_, k2_prev_, h_prev_, t_stop_,
        theta_, theta_prev_, stats_);
+    if constexpr (!kChain) {
+      ar(um_, vm_, mixed_valid_);
+      bulk_stale_ = false;
+      bulk_scale_valid_ = false;
+    }
   }
   /// A_i(t) and v_i(t) on the last step's dense output (area(t, i), slip_rate(t, i)).
   struct DenseSampler {
@@ -276,8 +329,13 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
   std::size_t block_size(std::size_t f) const { return f < 2 ? this->n_ : this->sites_; }
   // The current state, block f of [u | v | A | σ̄].
   const double* current(std::size_t f) const {
-    if (f == 0) return this->u_.data();
-    if (f == 1) return this->v_.data();
+    if constexpr (kChain) {
+      if (f == 0) return this->u_.data();
+      if (f == 1) return this->v_.data();
+    } else {
+      if (f == 0) return um_.data();
+      if (f == 1) return vm_.data();
+    }
     return fields_ptr() + (f - 2) * this->sites_;
   }
   double* current(std::size_t f) { return const_cast<double*>(std::as_const(*this).current(f)); }
@@ -286,6 +344,7 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
   // Θ from the initial state (docs/model.md §1: Θ = 1 iff |σ|/A > 1); then the overload is below
   // the band at every site, the invariant that every step starts from.
   void start() {
+    if constexpr (!kChain) make_mixed();
     const double* a = current(2);
     const double* s = current(3);
     for (std::size_t i = 0; i < this->sites_; ++i)
@@ -334,8 +393,8 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
       fs[i] = r.sigma_bar;
     }
   }
-  // The strip: u' = v, M v' = −S u + F(t) b + top wx σ_d − E wx (σ̄ + η v₀) (docs/model.md §9), the law's
-  // rates on the interface sites.
+  // The strip: u' = v, M v' = −S u + F(t) b + top wx σ_d − E wx (σ̄ + η v₀) (docs/model.md §9) in the mixed
+  // representation (Strip::mixed_accelerations; u, v mixed), the law's rates on the interface sites.
   void rhs_body(double t, const double* u, const double* v, const double* a, const double* s, std::vector<double>& f) {
     const std::size_t n = this->n_, m = this->sites_;
     const B& b = this->bulk_;
@@ -343,19 +402,12 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
     double* fv = fu + n;
     double* fa = fv + n;
     double* fs = fa + m;
-    const std::size_t top = b.rows() - 1;
-    const double sd = b.uniform_stress(), eta = this->law_.params().eta;
-    const double edge = b.drive_force(t, std::span<const double>(u, n)) / b.height();
-    const double* im = inv_mass_.data();
-    b.elastic_forces(std::span<const double>(u, n), [&](std::size_t j, std::size_t i, double force) {
-      const std::size_t k = j * m + i;
-      const double wx = b.interface_weight(i);
-      if (i == 0) force += edge * b.row_weight(j);
-      if (j == top) force += wx * sd;
-      if (j == 0) force -= wx * (s[i] + eta * v[i]);
-      fv[k] = force * im[k];
-    });
-    for (std::size_t k = 0; k < n; ++k) fu[k] = v[k];
+    const double eta = this->law_.params().eta;
+    double* traction = tmp_.data();
+    for (std::size_t i = 0; i < m; ++i) traction[i] = s[i] + eta * v[i];
+    const std::span<const double> us(u, n);
+    b.mixed_accelerations(us, b.drive_force_at(t, b.mixed_edge_slip(us)), traction, std::span<double>(fv, n));
+    std::copy_n(v, n, fu);
     const std::uint8_t* th = theta_.data();
     for (std::size_t i = 0; i < m; ++i) {
       const SiteRate r = this->law_.rate({v[i], a[i], s[i]}, th[i] != 0);
@@ -430,7 +482,8 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
   }
 
   // The strip's W solve: per site x_A = p_A + q_A x_v0, x_σ = p_σ + q_σ x_v0; x_v = (x_u − b_u)/c; then
-  //   [M/c + c(S + K b bᵀ) + E diag(wx d) Eᵀ] x_u = M b_v + (M/c) b_u + E wx (d b_u0 − c p_σ).
+  //   [M/c + c(S + K b bᵀ) + E diag(wx d) Eᵀ] x_u = M b_v + (M/c) b_u + E wx (d b_u0 − c p_σ),
+  // all in the mixed representation (Strip::solve_system_mixed: rows j ≥ 1 take the modes of the rhs over wx).
   void solve_body(std::vector<double>& x) {
     const std::size_t n = this->n_, m = this->sites_;
     B& b = this->bulk_;
@@ -448,7 +501,7 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
     const double* mass = mass_.data();
     for (std::size_t k = 0; k < n; ++k) r[k] = mass[k] * (xv[k] + inv_c * xu[k]);
     for (std::size_t i = 0; i < m; ++i) r[i] += b.interface_weight(i) * (d_coef_[i] * xu[i] - c * xs[i]);
-    b.solve_system(c, std::span<const double>(d_coef_.data(), m), urhs_, urhs_);
+    b.solve_system_mixed(c, std::span<const double>(d_coef_.data(), m), urhs_, urhs_);
     for (std::size_t k = 0; k < n; ++k) {
       const double uk = r[k];
       xv[k] = (uk - xu[k]) * inv_c;
@@ -542,20 +595,105 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
       k[n] += hdT;
     } else {
       if (hdT == 0.0) return;
-      for (std::size_t j = 0; j < this->bulk_.rows(); ++j) k[n + j * this->sites_] += hdT;
+      // Mixed: the node (0, 0), and in every mode of each row j ≥ 1 hdT/(2(nx−1)) (the modes of hdT δ_i0).
+      const std::size_t m = this->sites_;
+      k[n] += hdT;
+      const double hm = hdT / (2.0 * static_cast<double>(m - 1));
+      for (std::size_t q = n + m; q < 2 * n; ++q) k[q] += hm;
     }
   }
 
   // Weighted norm of the local error estimate h/6 (k1 − 2 k2 + k3), see ErrorNorm.
   double error_norm(double h) const {
+    if constexpr (!kChain) {
+      if (opt_.norm == ErrorNorm::field) return error_norm_mixed(h);
+      return error_norm_nodes(h);
+    }
+    return error_norm_generic(h, ynew_, k1_, k2_, k3_, [this](std::size_t f) { return current(f); });
+  }
+  // The strip, ErrorNorm::field, in the mixed representation without a transform: the interface row's node values
+  // exactly; for a row j ≥ 1 of u or v its largest node error bounded by |ê_0| + |ê_N| + 2 Σ_{0<k<N} |ê_k| (≥
+  // max_i |(C ê)_i|), and the field's scale taken over the nodes whose values the modes give without a transform
+  // (the interface row, and each row's ends i = 0 and nx − 1): a lower bound of the largest node value. Both make
+  // the norm at least the node-value norm: the step is no less accurate than with node values (docs/numerics.md
+  // §8.6).
+  double error_norm_mixed(double h) const {
+    const double rtol = opt_.rtol, atol = opt_.atol, h6 = h / 6.0;
+    const double *yn = ynew_.data(), *k1 = k1_.data(), *k2 = k2_.data(), *k3 = k3_.data();
+    const std::size_t m = this->sites_, N = m - 1;
+    if (!bulk_scale_valid_) {  // the rows' end values of the current state: once per step
+      for (std::size_t f = 0; f < 2; ++f) {
+        const double* y = current(f);
+        double sc = 0.0;
+        for (std::size_t r = m; r < this->n_; r += m)
+          sc = std::max({sc, std::abs(this->bulk_.mode_row_value(y + r, 0)), std::abs(this->bulk_.mode_row_value(y + r, N))});
+        bulk_scale_[f] = sc;
+      }
+      bulk_scale_valid_ = true;
+    }
+    double norm = 0.0, probe = 0.0;  // probe: the sum of every |error| (a NaN or infinity anywhere)
+    for (std::size_t f = 0; f < 4; ++f) {
+      const std::size_t j0 = offset(f), len = block_size(f);
+      const double* y = current(f);
+      double scale = f < 2 ? bulk_scale_[f] : 0.0, emax = 0.0;
+      for (std::size_t j = j0; j < j0 + std::min(len, m); ++j) {
+        scale = std::max(scale, std::max(std::abs(y[j - j0]), std::abs(yn[j])));
+        const double e = std::abs(k1[j] - 2.0 * k2[j] + k3[j]);
+        emax = std::max(emax, e);
+        probe += e;
+      }
+      for (std::size_t r = m; r < len; r += m) {  // rows j ≥ 1 of u and v: modes
+        const std::size_t q = j0 + r;
+        double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
+        std::size_t k = 1;
+        for (; k + 4 <= N; k += 4) {
+          s0 += std::abs(k1[q + k] - 2.0 * k2[q + k] + k3[q + k]);
+          s1 += std::abs(k1[q + k + 1] - 2.0 * k2[q + k + 1] + k3[q + k + 1]);
+          s2 += std::abs(k1[q + k + 2] - 2.0 * k2[q + k + 2] + k3[q + k + 2]);
+          s3 += std::abs(k1[q + k + 3] - 2.0 * k2[q + k + 3] + k3[q + k + 3]);
+        }
+        for (; k < N; ++k) s0 += std::abs(k1[q + k] - 2.0 * k2[q + k] + k3[q + k]);
+        const double bound = std::abs(k1[q] - 2.0 * k2[q] + k3[q]) + std::abs(k1[q + N] - 2.0 * k2[q + N] + k3[q + N]) +
+                             2.0 * ((s0 + s1) + (s2 + s3));
+        emax = std::max(emax, bound);
+        probe += bound;
+      }
+      norm = std::max(norm, h6 * emax / (atol + rtol * scale));
+    }
+    if (!std::isfinite(probe)) return std::numeric_limits<double>::infinity();
+    return std::isfinite(norm) ? norm : std::numeric_limits<double>::infinity();
+  }
+  // The strip, ErrorNorm::local or rms: the generic norm on node values (three transforms of u and v each).
+  double error_norm_nodes(double h) const {
+    nodes_.resize(6);
+    const std::size_t n = this->n_;
+    const B& b = this->bulk_;
+    for (auto& v : nodes_) v.resize(ynew_.size());
+    const std::vector<double>* src[4] = {&ynew_, &k1_, &k2_, &k3_};
+    for (std::size_t q = 0; q < 4; ++q) {
+      nodes_[q] = *src[q];
+      b.from_mixed(std::span<const double>(nodes_[q]).first(n), std::span<double>(nodes_[q]).first(n));
+      b.from_mixed(std::span<const double>(nodes_[q]).subspan(n, n), std::span<double>(nodes_[q]).subspan(n, n));
+    }
+    nodes_[4].resize(n);
+    nodes_[5].resize(n);
+    b.from_mixed(um_, nodes_[4]);
+    b.from_mixed(vm_, nodes_[5]);
+    return error_norm_generic(h, nodes_[0], nodes_[1], nodes_[2], nodes_[3], [this](std::size_t f) {
+      return f == 0 ? nodes_[4].data() : f == 1 ? nodes_[5].data() : current(f);
+    });
+  }
+  template <class Current>
+  double error_norm_generic(double h, const std::vector<double>& ynew, const std::vector<double>& k1v,
+                            const std::vector<double>& k2v, const std::vector<double>& k3v, Current&& cur) const {
     const double rtol = opt_.rtol, atol = opt_.atol, h6 = h / 6.0;
     double norm = 0.0, probe = 0.0;  // probe: a NaN or infinity anywhere (std::max would drop a NaN)
-    for (std::size_t j = 0; j < ynew_.size(); ++j) probe += ynew_[j] + k3_[j];
+    for (std::size_t j = 0; j < ynew.size(); ++j) probe += ynew[j] + k3v[j];
     if (!std::isfinite(probe)) return std::numeric_limits<double>::infinity();
-    const double *yn = ynew_.data(), *k1 = k1_.data(), *k2 = k2_.data(), *k3 = k3_.data();
+    const double *yn = ynew.data(), *k1 = k1v.data(), *k2 = k2v.data(), *k3 = k3v.data();
     for (std::size_t f = 0; f < 4; ++f) {
       const std::size_t j0 = offset(f), j1 = j0 + block_size(f);
-      const double* y = current(f);  // y[j − j0], j in [j0, j1)
+      const double* y = cur(f);  // y[j − j0], j in [j0, j1)
       if (opt_.norm == ErrorNorm::field) {  // one weight per field: atol + rtol · max over the grid
         double scale = 0.0, emax = 0.0;
         for (std::size_t j = j0; j < j1; ++j) {
@@ -575,7 +713,7 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
         }
       }
     }
-    if (opt_.norm == ErrorNorm::rms) norm = std::sqrt(norm / static_cast<double>(ynew_.size()));
+    if (opt_.norm == ErrorNorm::rms) norm = std::sqrt(norm / static_cast<double>(ynew.size()));
     return std::isfinite(norm) ? norm : std::numeric_limits<double>::infinity();
   }
 
@@ -712,8 +850,14 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
       }
     }
     const std::size_t ov = offset(1);
-    for (std::size_t i = 0; i < this->sites_; ++i)
-      vmax = std::max({vmax, std::abs(y_prev_[ov + i]), std::abs(this->v_[i])});
+    const double* vc = current(1);
+    for (std::size_t i = 0; i < this->sites_; ++i) vmax = std::max({vmax, std::abs(y_prev_[ov + i]), std::abs(vc[i])});
+    if constexpr (!kChain) {  // the interface row's node values at once, the rest when asked (sync_bulk)
+      std::copy_n(um_.data(), this->sites_, this->u_.data());
+      std::copy_n(vm_.data(), this->sites_, this->v_.data());
+      bulk_stale_ = true;
+      bulk_scale_valid_ = false;
+    }
     std::swap(f0_, f2_);  // FSAL: f at the new state, unless the step ended on the dense output
     std::swap(k1_prev_, k1_);
     std::swap(k2_prev_, k2_);
@@ -780,9 +924,9 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
     e.interfacial += h6 * (inter[0] + 4.0 * inter[1] + inter[2]);
     e.drive_work += h6 * (drive[0] + 4.0 * drive[1] + drive[2]);
     e.time = t1;
-    e.kinetic = this->kinetic_energy(this->v_);
-    e.elastic = b.elastic_energy(this->u_);
-    e.spring = b.spring_energy(t1, std::span<const double>(this->u_));
+    e.kinetic = this->kinetic_energy(velocity());
+    e.elastic = b.elastic_energy(displacement());
+    e.spring = b.spring_energy(t1, displacement());
   }
   void energy_over_step_chain() {
     EnergyBudget& e = *this->energy_;
@@ -832,8 +976,39 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
   double c_ = 0.0;
   std::vector<double> inv_a1_, q_area_, inv_s1_, c_alpha_v_, q_sigma_, d_coef_, thomas_c_, thomas_inv_;
   std::vector<double> en_v_, en_s_, en_u_;  // energy budget work arrays
-  std::vector<double> mass_, inv_mass_, urhs_;  // the strip: node masses, their inverses, the u system's rhs
+  // The strip's mixed representation (Strip::to_mixed, docs/numerics.md §8.6): um_, vm_ are the state (u_, v_ of
+  // the core hold the interface row at every step end and the rest when asked, sync_bulk); mass_ the u system's
+  // mass in it; urhs_ the system's right-hand side.
+  std::vector<double> mass_, urhs_, um_, vm_;
+  bool mixed_valid_ = false;
+  mutable bool bulk_stale_ = false;
+  mutable std::vector<double> dense_mixed_;
+  mutable double bulk_scale_[2] = {0.0, 0.0};  // error_norm_mixed: the scale of u and v from rows j ≥ 1
+  mutable bool bulk_scale_valid_ = false;
+  mutable std::vector<std::vector<double>> nodes_;
   AdaptiveStats stats_;
+
+  // The mixed state from the node values (at the start, and after set_initial).
+  void make_mixed() {
+    if constexpr (!kChain) {
+      this->bulk_.to_mixed(this->u_, um_);
+      this->bulk_.to_mixed(this->v_, vm_);
+      mixed_valid_ = true;
+      bulk_stale_ = false;
+      bulk_scale_valid_ = false;
+      f0_valid_ = false;
+    }
+  }
+  // The node values of the whole body from the mixed state, when they are behind it.
+  void sync_bulk() const {
+    if constexpr (!kChain) {
+      if (!bulk_stale_ || !mixed_valid_) return;
+      auto* self = const_cast<AdaptiveSimulation*>(this);
+      this->bulk_.from_mixed(um_, self->u_);
+      this->bulk_.from_mixed(vm_, self->v_);
+      bulk_stale_ = false;
+    }
+  }
 };
 
 }  // namespace slipfront::core

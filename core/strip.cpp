@@ -155,6 +155,21 @@ class CosineTransform {
   fftw_plan plan_ = nullptr;
 };
 
+// Σ_{a ≤ k < b} r[k] with four partial sums (a serial sum is one add per 4 cycles of latency; the order is fixed,
+// so the result is reproducible).
+double partial_sum(const double* r, std::size_t a, std::size_t b) {
+  double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
+  std::size_t k = a;
+  for (; k + 4 <= b; k += 4) {
+    s0 += r[k];
+    s1 += r[k + 1];
+    s2 += r[k + 2];
+    s3 += r[k + 3];
+  }
+  for (; k < b; ++k) s0 += r[k];
+  return (s0 + s1) + (s2 + s3);
+}
+
 // solve_system's interface system in cosine space (docs/performance.md §12): for ξ = the interface row's
 // modes (x₀ = C ξ, C: the DCT-I of one row, C² = 2(nx−1) I),
 //   B ξ = Wx ρ₀,   B = Wx diag(p) + Wx C diag(d) C / (2(nx−1))
@@ -288,6 +303,7 @@ struct Strip::Direct : InterfaceData {
   std::vector<double> psi, psi_d;  // the modes of ψ = A₀⁻¹ b (before the inverse transform), the d they hold for
   std::vector<double> spread;  // b_j = wy(j)/H, the edge column's spread
   std::vector<double> dstep;  // solve_step's d = η + c1/2 (StepSolver::direct)
+  std::vector<double> row_a, row_b;  // the mixed representation's one-row buffers (mixed_accelerations)
   double psi_c = -1.0, b_psi = 0.0;
   std::unique_ptr<CosineTransform> bulk_dct;  // every row
 
@@ -306,6 +322,8 @@ struct Strip::Direct : InterfaceData {
     spread.resize(s.rows());
     for (std::size_t j = 0; j < s.rows(); ++j) spread[j] = s.row_weight(j) / s.height();
     row.assign(nx, 0.0);
+    row_a.assign(nx, 0.0);
+    row_b.assign(nx, 0.0);
     row_dct = std::make_unique<CosineTransform>(nx, 1);
     bulk_dct = std::make_unique<CosineTransform>(nx, s.rows());
   }
@@ -708,7 +726,7 @@ void Strip::direct_factorise(double c) {
 // elimination, the interface system for row 0, back substitution upwards. rhs = nullptr: r = b, the spring's
 // spread, whose rows' DCT is b_j/(wx(0) 2(nx−1)) in every mode (the DCT-I of e_0 is all ones). Returns bᵀ C z
 // (bᵀ x for x the inverse transform of z). The rows are transformed one at a time and eliminated while in cache.
-double Strip::direct_modes(std::span<const double> d, const double* rhs, double* z) {
+double Strip::direct_modes(std::span<const double> d, const double* rhs, double* z, bool mixed) {
   Direct& D = direct();
   const std::size_t nx = nx_, ny = ny_;
   const double* iw = inv_wx_.data();
@@ -717,7 +735,16 @@ double Strip::direct_modes(std::span<const double> d, const double* rhs, double*
   // Row by row from the top: its transform, then its elimination by the row above (still in cache).
   for (std::size_t j = ny + 1; j-- > 0;) {
     double* zj = z + j * nx;
-    if (rhs != nullptr) {
+    if (rhs != nullptr && mixed && j > 0) {  // the row's modes given (solve_system_mixed)
+      const double* rj = rhs + j * nx;
+      if (j == ny) {
+        std::copy_n(rj, nx, zj);
+      } else {
+        const double* zn = zj + nx;
+        const double* iv = inv + (j + 1) * nx;
+        for (std::size_t k = 0; k < nx; ++k) zj[k] = rj[k] - o * iv[k] * zn[k];
+      }
+    } else if (rhs != nullptr) {
       const double* rj = rhs + j * nx;
       if (j == ny) {
         D.bulk_dct->row([rj, iw](std::size_t i) { return rj[i] * iw[i]; }, [zj](std::size_t k, double v) { zj[k] = v; });
@@ -773,11 +800,7 @@ double Strip::direct_modes(std::span<const double> d, const double* rhs, double*
   D.d = nullptr;
   // The rows above, from row 0's modes; bᵀ C z on the way (x_j0 = z_j0 + z_jN + 2 Σ_{0<k<N} z_jk: the DCT-I at
   // i = 0).
-  const auto edge = [nx](const double* r) {
-    double inner = 0.0;
-    for (std::size_t k = 1; k + 1 < nx; ++k) inner += r[k];
-    return r[0] + r[nx - 1] + 2.0 * inner;
-  };
+  const auto edge = [nx](const double* r) { return r[0] + r[nx - 1] + 2.0 * partial_sum(r, 1, nx - 1); };
   double functional = D.spread[0] * edge(z);
   for (std::size_t j = 1; j <= ny; ++j) {
     double* zj = z + j * nx;
@@ -789,22 +812,26 @@ double Strip::direct_modes(std::span<const double> d, const double* rhs, double*
   return functional;
 }
 
+// The spring's ψ = A₀⁻¹ b for (c, d), kept as its modes (solve_system, solve_system_mixed): then A⁻¹ r = A₀⁻¹ r − s ψ,
+// s = β bᵀA₀⁻¹r / (1 + β bᵀψ), β = c K (Sherman–Morrison). ψ costs one interface solve and two passes, no transform.
+void Strip::prepare_psi(double c, std::span<const double> d) {
+  Direct& D = direct();
+  if (!(spring_K_ > 0.0)) return;
+  if (D.psi_c != c || !std::equal(d.begin(), d.end(), D.psi_d.begin(), D.psi_d.end())) {
+    D.psi.resize(dofs());
+    D.b_psi = direct_modes(d, nullptr, D.psi.data());
+    D.psi_d.assign(d.begin(), d.end());
+    D.psi_c = c;
+  }
+}
+
 void Strip::solve_system(double c, std::span<const double> d, std::span<const double> rhs, std::span<double> x) {
   if (!(c > 0.0)) throw std::invalid_argument("Strip::solve_system: c must be > 0");
   direct_factorise(c);
   Direct& D = direct();
-  const std::size_t n = dofs(), nx = nx_;
+  const std::size_t nx = nx_;
   double s = 0.0;
-  if (spring_K_ > 0.0) {
-    // ψ = A₀⁻¹ b for this (c, d), kept as its modes; then A⁻¹ r = A₀⁻¹ r − s ψ, s = β bᵀA₀⁻¹r / (1 + β bᵀψ),
-    // β = c K (Sherman–Morrison). ψ costs one interface solve and two passes, no transform.
-    if (D.psi_c != c || !std::equal(d.begin(), d.end(), D.psi_d.begin(), D.psi_d.end())) {
-      D.psi.resize(n);
-      D.b_psi = direct_modes(d, nullptr, D.psi.data());
-      D.psi_d.assign(d.begin(), d.end());
-      D.psi_c = c;
-    }
-  }
+  prepare_psi(c, d);
   double* z = buf_;
   const double b_x = direct_modes(d, rhs.data(), z);
   double* xo = x.data();
@@ -817,6 +844,118 @@ void Strip::solve_system(double c, std::span<const double> d, std::span<const do
   } else {
     D.bulk_dct->run([z, nx](std::size_t j, std::size_t k) { return z[j * nx + k]; },
                     [xo, nx](std::size_t j, std::size_t i, double v) { xo[j * nx + i] = v; });
+  }
+}
+
+void Strip::solve_system_mixed(double c, std::span<const double> d, std::span<const double> rhs,
+                               std::span<double> x) {
+  if (!(c > 0.0)) throw std::invalid_argument("Strip::solve_system_mixed: c must be > 0");
+  direct_factorise(c);
+  Direct& D = direct();
+  const std::size_t n = dofs(), nx = nx_;
+  prepare_psi(c, d);
+  double* z = buf_;
+  const double b_x = direct_modes(d, rhs.data(), z, /*mixed=*/true);
+  double* xo = x.data();
+  if (spring_K_ > 0.0) {
+    const double beta = c * spring_K_;
+    const double s = beta * b_x / (1.0 + beta * D.b_psi);
+    const double* psi = D.psi.data();
+    for (std::size_t k = nx; k < n; ++k) xo[k] = z[k] - s * psi[k];
+    D.row_dct->row([z, psi, s](std::size_t k) { return z[k] - s * psi[k]; }, [xo](std::size_t i, double v) { xo[i] = v; });
+  } else {
+    std::copy(z + nx, z + n, xo + nx);
+    D.row_dct->row([z](std::size_t k) { return z[k]; }, [xo](std::size_t i, double v) { xo[i] = v; });
+  }
+}
+
+void Strip::to_mixed(std::span<const double> u, std::span<double> z) const {
+  Direct& D = const_cast<Strip*>(this)->direct();
+  const std::size_t nx = nx_;
+  const double nm = D.norm;
+  if (z.data() != u.data()) std::copy_n(u.data(), nx, z.data());
+  for (std::size_t j = 1; j <= ny_; ++j) {
+    const double* uj = u.data() + j * nx;
+    double* zj = z.data() + j * nx;
+    D.row_dct->row([uj, nm](std::size_t i) { return uj[i] * nm; }, [zj](std::size_t k, double v) { zj[k] = v; });
+  }
+}
+
+void Strip::from_mixed(std::span<const double> z, std::span<double> u) const {
+  Direct& D = const_cast<Strip*>(this)->direct();
+  const std::size_t nx = nx_;
+  if (z.data() != u.data()) std::copy_n(z.data(), nx, u.data());
+  for (std::size_t j = 1; j <= ny_; ++j) {
+    const double* zj = z.data() + j * nx;
+    double* uj = u.data() + j * nx;
+    D.row_dct->row([zj](std::size_t k) { return zj[k]; }, [uj](std::size_t i, double v) { uj[i] = v; });
+  }
+}
+
+// (C ẑ)_i = ẑ_0 + (−1)^i ẑ_N + 2 Σ_{0<k<N} ẑ_k cos(πik/N).
+double Strip::mode_row_value(const double* modes, std::size_t i) const {
+  const std::size_t N = nx_ - 1;
+  double inner = 0.0;
+  if (i == 0) {
+    inner = partial_sum(modes, 1, N);
+  } else if (i == N) {  // cos(πk) = (−1)^k
+    double even = 0.0, odd = 0.0;
+    for (std::size_t k = 1; k < N; k += 2) odd += modes[k];
+    for (std::size_t k = 2; k < N; k += 2) even += modes[k];
+    inner = even - odd;
+  } else {
+    const double w = std::numbers::pi * static_cast<double>(i) / static_cast<double>(N);
+    for (std::size_t k = 1; k < N; ++k) inner += modes[k] * std::cos(w * static_cast<double>(k));
+  }
+  return modes[0] + ((i % 2 == 0) ? modes[N] : -modes[N]) + 2.0 * inner;
+}
+
+double Strip::mixed_edge_slip(std::span<const double> z) const {
+  double s = row_weight(0) * z[0];
+  for (std::size_t j = 1; j <= ny_; ++j) s += row_weight(j) * mode_row_value(z.data() + j * nx_, 0);
+  return s / H_;
+}
+
+// Row 0 as rhs_body computes it (the elastic forces of elastic_forces, the edge force, the interface traction,
+// over the node mass), with row 1 brought to node values; every row j ≥ 1 in its modes:
+//   â_kj = (μ'/ρ') (−λ_k ẑ_kj + ((ẑ_k,j−1 − ẑ_kj) + (ẑ_k,j+1 − ẑ_kj))/(dy wy(j))) + F/(H ρ' wx(0)) / (2(nx−1))
+// (the edge column's force per unit mass, δ_i0, has the mode 1/(2(nx−1)) in every k), + σ_d/(ρ' wy(ny)) in the
+// mode k = 0 of the top row (a uniform traction), row 0's modes taken by one transform.
+void Strip::mixed_accelerations(std::span<const double> u, double drive_force, const double* traction,
+                                std::span<double> a) const {
+  Direct& D = const_cast<Strip*>(this)->direct();
+  const std::size_t nx = nx_, ny = ny_, e = nx - 1;
+  const double nm = D.norm;
+  const double* r = u.data();
+  double* u1 = D.row_a.data();  // row 1's node values
+  double* m0 = D.row_b.data();  // row 0's modes
+  D.row_dct->row([r, nx](std::size_t k) { return r[nx + k]; }, [u1](std::size_t i, double v) { u1[i] = v; });
+  D.row_dct->row([r, nm](std::size_t i) { return r[i] * nm; }, [m0](std::size_t k, double v) { m0[k] = v; });
+  const double edge = drive_force / H_;
+  {  // row 0: node values
+    const double cx = 0.5 * mu_p_ * dy_ / dx_, cy_in = mu_p_ * dx_ / dy_, cy_end = 0.5 * cy_in, wy0 = row_weight(0);
+    double* a0 = a.data();
+    const auto put = [&](std::size_t i, double force) { a0[i] = force * (1.0 / node_mass(i, 0)); };
+    put(0, cx * (r[1] - r[0]) + cy_end * (u1[0] - r[0]) + edge * wy0 - interface_weight(0) * traction[0]);
+    for (std::size_t i = 1; i < e; ++i)
+      put(i, cx * ((r[i - 1] - r[i]) + (r[i + 1] - r[i])) + cy_in * (u1[i] - r[i]) - dx_ * traction[i]);
+    put(e, cx * (r[e - 1] - r[e]) + cy_end * (u1[e] - r[e]) - interface_weight(e) * traction[e]);
+  }
+  const double mr = mu_p_ / rho_p_, load = edge / (rho_p_ * interface_weight(0)) * nm;
+  const double* lam = D.lam.data();
+  for (std::size_t j = 1; j <= ny; ++j) {
+    const double* zj = r + j * nx;
+    const double* dn = j == 1 ? m0 : zj - nx;
+    double* aj = a.data() + j * nx;
+    const double cy = mr / (dy_ * row_weight(j));
+    if (j < ny) {
+      const double* up = zj + nx;
+      for (std::size_t k = 0; k < nx; ++k)
+        aj[k] = -mr * lam[k] * zj[k] + cy * ((dn[k] - zj[k]) + (up[k] - zj[k])) + load;
+    } else {
+      for (std::size_t k = 0; k < nx; ++k) aj[k] = -mr * lam[k] * zj[k] + cy * (dn[k] - zj[k]) + load;
+      aj[0] += sigma_d_ / (rho_p_ * row_weight(ny));
+    }
   }
 }
 

@@ -145,6 +145,30 @@ class Strip {
   /// One solve costs two transforms of every row plus nx-sized interface iterations (two one-row transforms each).
   /// rhs and x may alias. Throws std::runtime_error when the interface solve does not converge.
   void solve_system(double c, std::span<const double> d, std::span<const double> rhs, std::span<double> x);
+
+  // --- The mixed representation of the adaptive integrator (docs/numerics.md §8.6) -------------------------
+  // A field of all dofs whose row 0 (the interface) holds node values and every row j ≥ 1 its cosine modes
+  // ẑ_j = C u_j / (2(nx−1)), so that u_j = C ẑ_j (C: the DCT-I of solve_system). M/c + c S is diagonal in these
+  // modes along x, so the bulk's right-hand side and solves need no transform of the rows j ≥ 1; only the interface
+  // row (where the law acts, site by site) is kept in node values, joined to row 1 by one-row transforms.
+  /// u (all dofs, node values) → z (mixed); may alias.
+  void to_mixed(std::span<const double> u, std::span<double> z) const;
+  /// z (mixed) → u (node values); may alias.
+  void from_mixed(std::span<const double> z, std::span<double> u) const;
+  /// The node value at column i of a row given by its modes (O(nx); i = 0: the sum without cosines).
+  double mode_row_value(const double* modes, std::size_t i) const;
+  /// ū0 of a mixed field.
+  double mixed_edge_slip(std::span<const double> z) const;
+  /// F(t) = K (v_d t − ū0) + F_r for a given ū0.
+  double drive_force_at(double t, double edge_slip) const { return spring_K_ * (v_d_ * t - edge_slip) + rear_traction_; }
+  /// a = M⁻¹ (−S u + F b + top wx σ_d − E wx traction) for u mixed, a mixed (F: the drive force F(t);
+  /// traction_i = σ̄_i + η v_i0 on the interface sites). Two one-row transforms; a and u must not alias.
+  void mixed_accelerations(std::span<const double> u, double drive_force, const double* traction,
+                           std::span<double> a) const;
+  /// solve_system in the mixed representation: row 0 of rhs its node values as in solve_system, each row j ≥ 1 the
+  /// modes of r_j / wx (r_j/wx = C q_j); x returned mixed. No transform of the rows j ≥ 1. rhs and x may alias.
+  void solve_system_mixed(double c, std::span<const double> d, std::span<const double> rhs, std::span<double> x);
+
   /// Relative residual at which solve_system's interface iterations stop (default 1e-13: the solve then agrees
   /// with a sparse LDLT to ~1e-13). The adaptive integrator loosens it with its rtol (docs/numerics.md §8.5).
   /// Throws std::invalid_argument outside [1e-13, 1).
@@ -177,7 +201,8 @@ class Strip {
   struct Direct;  // solve_system's workspace (strip.cpp), made on first use
   Direct& direct();
   void direct_factorise(double c);
-  double direct_modes(std::span<const double> d, const double* rhs, double* z);
+  double direct_modes(std::span<const double> d, const double* rhs, double* z, bool mixed = false);
+  void prepare_psi(double c, std::span<const double> d);
 
   std::vector<double> x_;
   std::size_t nx_ = 0, ny_ = 0;

@@ -5,6 +5,7 @@
 #include <cstdarg>
 #include <cstdio>
 
+#include "compare/study.hpp"
 #include "continuum/steady_front.hpp"
 
 namespace slipfront::compare {
@@ -155,6 +156,156 @@ std::string strip_cmin_csv(const std::vector<StripCminRow>& rows) {
                   r.H_over_l, r.H_over_l_kappa, r.c_min, r.c_min_over_s, r.c_min_over_cs, r.c_min_1d, r.ratio_to_1d,
                   r.local_exponent, r.branch_c_min, r.branch_sigma_d_at_c_min, r.branch_c_min_at_end, r.branch_points,
                   r.branch_folds, r.branch_end.c_str(), r.branch_seconds, r.rows, r.intervals, r.domain_length, r.tip_zone);
+  return out;
+}
+
+namespace {
+
+using core::KeyDomain;
+using K = core::KeyKind;
+constexpr KeyDomain path_domains[] = {
+    {"paths.hmin", K::number, 0.0, core::parameter_cap, true, false, false, "", "(the first target height)"},
+    {"paths.hmax", K::number, 0.0, core::parameter_cap, true, false, false, "", "(the last target height)"},
+    {"paths.per_decade", K::number, 0.0, 100.0, true, false, false, "", "(target heights per decade)"},
+    {"paths.rows", K::integer, 1.0, 256.0, false, false, false, "", "(as slipfront fronts --rows)"},
+    {"paths.intervals", K::integer, 8.0, 100000.0, false, false, false, "", "(as slipfront fronts --intervals)"},
+    {"paths.branches", K::boolean},
+    {"paths.branch_rows", K::integer, 1.0, 256.0, false, false, false, "", "(as slipfront fronts --rows)"},
+    {"paths.branch_intervals", K::integer, 8.0, 100000.0, false, false, false, "", "(as slipfront fronts --intervals)"},
+    {"paths.tolerance", K::number, 1e-15, 1e-3, false, false, false, "", "(Newton tolerance of every solve)"},
+    {"paths.max_factor", K::number, 1.01, 10.0, false, false, false, "", "(largest step H_{n+1}/H_n of the path)"},
+};
+
+// A numeric column of the rows.
+template <class T>
+std::vector<double> column(const std::vector<StripCminRow>& rows, T StripCminRow::*field) {
+  std::vector<double> v;
+  for (const auto& r : rows) v.push_back(static_cast<double>(r.*field));
+  return v;
+}
+
+}  // namespace
+
+std::span<const core::KeyDomain> strip_cmin_path_domains() { return path_domains; }
+
+void check_strip_cmin_paths(const StripCminHeightOptions& o) {
+  if (!(o.hmax > o.hmin))
+    throw core::ParamError("paths.hmax", "must be > paths.hmin = " + core::format_number(o.hmin) + ", got " +
+                                             core::format_number(o.hmax));
+  const double steps = std::round(o.per_decade * std::log10(o.hmax / o.hmin));
+  if (steps < 1.0)
+    throw core::ParamError("paths.per_decade",
+                           "gives one target height only: round(per_decade log10(hmax/hmin)) = round(" +
+                               core::format_number(o.per_decade) + " x " + core::format_number(std::log10(o.hmax / o.hmin), 4) +
+                               ") = 0; raise paths.per_decade or widen paths.hmin .. paths.hmax");
+  if (steps + 1.0 > strip_cmin_max_heights)
+    throw core::ParamError("paths.per_decade", "gives " + core::format_number(steps + 1.0) + " target heights, more than " +
+                                                   std::to_string(strip_cmin_max_heights) +
+                                                   "; lower paths.per_decade or narrow paths.hmin .. paths.hmax");
+}
+
+StripCminHeightOptions strip_cmin_study_options(const StudySpec& spec, const Scene& base) {
+  if (!(base.bulk.height > 0.0))
+    throw core::ParamError("scene", "the kind strip_cmin_height needs a strip scene (bulk.height > 0): its material is "
+                                    "mu' = bulk.mu/bulk.height, rho' = bulk.rho/bulk.height; " + spec.scene_file +
+                                    " is the 1D chain (bulk.height = 0)");
+  StripCminHeightOptions o = spec.paths;
+  o.law = base.interface;
+  o.mu_strip = base.bulk.mu / base.bulk.height;
+  o.rho_strip = base.bulk.rho / base.bulk.height;
+  check_strip_cmin_paths(o);
+  return o;
+}
+
+void check_strip_cmin_study(const StudySpec& spec, const Scene& base) { (void)strip_cmin_study_options(spec, base); }
+
+StudyOutcome strip_cmin_height_study(StudyReport& rep, const StudySpec& spec, const Scene& base, const StudyWork& work) {
+  StripCminHeightOptions o = strip_cmin_study_options(spec, base);
+  o.stop = work.stop;
+  o.log = work.log;
+  const StripCminHeight r = strip_cmin_height(o);
+  const double ell = o.mu_strip, ell_kappa = o.mu_strip * o.law.kappa / (o.law.eta * o.law.alpha);
+  rep.scalars["mu_strip"] = o.mu_strip;
+  rep.scalars["rho_strip"] = o.rho_strip;
+  rep.scalars["alpha"] = o.law.alpha;
+  rep.scalars["kappa"] = o.law.kappa;
+  rep.scalars["eta"] = o.law.eta;
+  rep.scalars["ell"] = ell;
+  rep.scalars["ell_kappa"] = ell_kappa;
+  rep.scalars["s"] = o.mu_strip / o.law.eta;
+  rep.scalars["c_s"] = std::sqrt(o.mu_strip / o.rho_strip);
+  rep.scalars["heights_target"] = static_cast<double>(strip_cmin_heights(o).size());
+  rep.scalars["heights_reached"] = static_cast<double>(r.rows.size());
+  rep.scalars["path_steps"] = static_cast<double>(r.path.steps.size());
+  rep.definitions["mu_strip"] = "the strip material mu' = bulk.mu/bulk.height of the base scene, held along the path in H";
+  rep.definitions["rho_strip"] = "rho' = bulk.rho/bulk.height of the base scene, held along the path";
+  rep.definitions["alpha"] = "interface.alpha of the base scene";
+  rep.definitions["kappa"] = "interface.kappa of the base scene";
+  rep.definitions["eta"] = "interface.eta of the base scene";
+  rep.definitions["ell"] = "the paper's elastic length of the strip, l = mu' (docs/fronts.md §10.12)";
+  rep.definitions["ell_kappa"] = "l_kappa = mu' kappa/(eta alpha)";
+  rep.definitions["s"] = "the paper's speed s = mu'/eta";
+  rep.definitions["c_s"] = "shear wave speed sqrt(mu'/rho')";
+  rep.definitions["heights_target"] = "target heights of [paths]: round(per_decade log10(hmax/hmin)) + 1";
+  rep.definitions["heights_reached"] = "target heights the limiting path reached (the table's rows)";
+  rep.definitions["path_steps"] = "accepted steps of the limiting path in H";
+
+  Columns t;
+  t["H"] = column(r.rows, &StripCminRow::H);
+  t["H_over_l"] = column(r.rows, &StripCminRow::H_over_l);
+  t["H_over_l_kappa"] = column(r.rows, &StripCminRow::H_over_l_kappa);
+  t["c_min"] = column(r.rows, &StripCminRow::c_min);
+  t["c_min_over_s"] = column(r.rows, &StripCminRow::c_min_over_s);
+  t["c_min_over_cs"] = column(r.rows, &StripCminRow::c_min_over_cs);
+  t["c_min_1d"] = column(r.rows, &StripCminRow::c_min_1d);
+  t["ratio_to_1d"] = column(r.rows, &StripCminRow::ratio_to_1d);
+  t["local_exponent"] = column(r.rows, &StripCminRow::local_exponent);
+  t["branch_c_min"] = column(r.rows, &StripCminRow::branch_c_min);
+  t["branch_sigma_d_at_c_min"] = column(r.rows, &StripCminRow::branch_sigma_d_at_c_min);
+  t["branch_c_min_at_end"] = column(r.rows, &StripCminRow::branch_c_min_at_end);
+  t["branch_points"] = column(r.rows, &StripCminRow::branch_points);
+  t["branch_folds"] = column(r.rows, &StripCminRow::branch_folds);
+  t["branch_seconds"] = column(r.rows, &StripCminRow::branch_seconds);
+  t["rows"] = column(r.rows, &StripCminRow::rows);
+  t["intervals"] = column(r.rows, &StripCminRow::intervals);
+  t["domain_length"] = column(r.rows, &StripCminRow::domain_length);
+  t["tip_zone"] = column(r.rows, &StripCminRow::tip_zone);
+  rep.tables["strip_cmin_height"] = t;
+  const std::map<std::string, std::string> defs = {
+      {"H", "strip height (a target height of [paths] the limiting path reached)"},
+      {"H_over_l", "H/l, l = mu'"},
+      {"H_over_l_kappa", "H/l_kappa, l_kappa = mu' kappa/(eta alpha)"},
+      {"c_min", "speed of the limiting front at sigma_c^d (the strip's c_min), continued in H at fixed mu', rho'"},
+      {"c_min_over_s", "c_min/s, s = mu'/eta"},
+      {"c_min_over_cs", "c_min/c_s, c_s = sqrt(mu'/rho')"},
+      {"c_min_1d", "c_min of the 1D chain of the same column stiffness mu = mu' H, rho = rho' H (end of its branch)"},
+      {"ratio_to_1d", "c_min/c_min_1d"},
+      {"local_exponent", "d ln c_min/d ln H to the next height (NaN at the last)"},
+      {"branch_c_min", "paths.branches: c_min of the branch c(sigma_d) from sigma_d = 0.8 to its end (NaN without)"},
+      {"branch_sigma_d_at_c_min", "paths.branches: sigma_d where the branch's c is least (NaN without)"},
+      {"branch_c_min_at_end", "paths.branches: 1 when the branch's c is monotone and least at its end (0 without)"},
+      {"branch_points", "paths.branches: continuation points of the branch (0 without)"},
+      {"branch_folds", "paths.branches: turning points of the branch (0 without)"},
+      {"branch_seconds", "paths.branches: wall time of the branch in s (0 without): the table's only timing column"},
+      {"rows", "row intervals across the height of the limiting front"},
+      {"intervals", "xi intervals of the limiting front's collocation mesh"},
+      {"domain_length", "length L of the limiting front's xi domain"},
+      {"tip_zone", "the front's tip zone c/(1 + kappa v_behind)"}};
+  for (const auto& [k, v] : defs) rep.definitions["strip_cmin_height/" + k] = v;
+  rep.files["strip_cmin_height.csv"] = strip_cmin_csv(r.rows);
+
+  StudyOutcome out;
+  const bool stopped = work.stop && work.stop();
+  if (!r.path.complete) {
+    out.status = stopped ? RunStatus::interrupted : RunStatus::failed;
+    out.message = "the limiting path reached " + std::to_string(r.rows.size()) + " of " +
+                  std::to_string(strip_cmin_heights(o).size()) + " target heights: " + r.path.reason;
+    rep.notes.push_back(out.message);
+  } else if (stopped) {
+    out.status = RunStatus::interrupted;
+    out.message = "stopped while the branches were continued: the limiting path is complete, the branches are not";
+    rep.notes.push_back(out.message);
+  }
   return out;
 }
 

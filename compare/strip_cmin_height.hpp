@@ -6,6 +6,7 @@
 // study kind "strip_cmin_height" (docs/studies.md) and of bench/strip_cmin_height (its command line). No files:
 // strip_cmin_csv gives the table's text.
 #include <functional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,12 @@
 #include "core/params.hpp"
 
 namespace slipfront::compare {
+
+struct Scene;
+struct StudySpec;
+struct StudyReport;
+struct StudyWork;
+struct StudyOutcome;
 
 struct StripCminHeightOptions {
   core::InterfaceParams law{1.05, 8.0, 0.1};
@@ -66,5 +73,29 @@ StripCminHeight strip_cmin_height(const StripCminHeightOptions& o);
 
 /// The table as CSV text (header line, one line per row; the columns of docs/fronts.md §10.12).
 std::string strip_cmin_csv(const std::vector<StripCminRow>& rows);
+
+// ---------------------------------------------------------------------------------------------------
+// The study kind "strip_cmin_height" (docs/studies.md): no scene runs; the law and the strip material of the
+// study's base scene, the path's settings in the study file's [paths].
+
+/// The domains of the [paths] keys ("paths.hmin", ...), as core::KeyDomain rows: rows and intervals bounded as
+/// `slipfront fronts --rows/--intervals`.
+std::span<const core::KeyDomain> strip_cmin_path_domains();
+
+/// The rules between [paths] keys (each key's own domain checked already): hmax > hmin, and between 2 and
+/// strip_cmin_max_heights target heights. Throws core::ParamError naming the key.
+inline constexpr int strip_cmin_max_heights = 1000;
+void check_strip_cmin_paths(const StripCminHeightOptions& o);
+
+/// The study's [paths] with the base scene's law and strip material: μ' = bulk.mu/bulk.height, ρ' =
+/// bulk.rho/bulk.height (docs/model.md §9.1). Throws core::ParamError (key "scene") unless the scene is a strip.
+StripCminHeightOptions strip_cmin_study_options(const StudySpec& spec, const Scene& base);
+/// The same, as the kind's check before any work (compare::StudyCheck).
+void check_strip_cmin_study(const StudySpec& spec, const Scene& base);
+
+/// The kind's computation (compare::StudyComputation): the table `strip_cmin_height` (the CSV's numeric columns),
+/// scalars (the material, ℓ, ℓ_κ, s, c_s, heights targeted and reached), notes, and the file
+/// strip_cmin_height.csv. Interrupted when work.stop ends it, failed when the path stops short otherwise.
+StudyOutcome strip_cmin_height_study(StudyReport& rep, const StudySpec& spec, const Scene& base, const StudyWork& work);
 
 }  // namespace slipfront::compare

@@ -614,7 +614,8 @@ compare::StudyEstimate check_study_size(const compare::StudySpec& spec, const st
 }
 
 // The kind's analysis needs its models in every run (compare::StudyKind::needs).
-void check_models(const compare::StudySpec& spec, const std::string& study_file, const compare::StudyRun& run,
+// (`what`: "run 0000", or "the base scene" of a kind without scene runs.)
+void check_models(const compare::StudySpec& spec, const std::string& study_file, const std::string& what,
                   const compare::Scene& scene) {
   const compare::StudyKind& kind = *compare::find_study_kind(spec.kind);
   const std::string missing = compare::missing_models(kind, scene);
@@ -622,8 +623,8 @@ void check_models(const compare::StudySpec& spec, const std::string& study_file,
   std::string listed;
   for (const auto& m : scene.models) listed += (listed.empty() ? "\"" : ", \"") + m + "\"";
   throw ConfigError(study_file, "kind",
-                    "the analysis of kind '" + spec.kind + "' needs " + compare::describe(kind.needs) + ", but run " +
-                        run.id + " has models = [" + listed + "] (no " + missing +
+                    "the analysis of kind '" + spec.kind + "' needs " + compare::describe(kind.needs) + ", but " + what +
+                        " has models = [" + listed + "] (no " + missing +
                         "): list the models it needs in the scene, or in the study's `set` (for example 'models=[\"continuum\",\"discrete\"]')");
 }
 
@@ -641,9 +642,7 @@ std::optional<Study> read_study(const StudyOptions& opts, std::ostream& err) {
       std::vector<std::string> overrides = study.spec.common;
       overrides.insert(overrides.end(), opts.overrides.begin(), opts.overrides.end());
       study.base = parse_scene(scene_text, study.spec.scene_file, overrides);
-      compare::StudyRun base_run;
-      base_run.id = "base scene";
-      check_models(study.spec, file, base_run, study.base);
+      check_models(study.spec, file, "the base scene", study.base);
       if (kind.check) {
         try {
           kind.check(study.spec, study.base);
@@ -659,7 +658,7 @@ std::optional<Study> read_study(const StudyOptions& opts, std::ostream& err) {
     for (auto& r : study.runs) {
       r.overrides.insert(r.overrides.end(), opts.overrides.begin(), opts.overrides.end());
       study.scenes.push_back(parse_scene(scene_text, study.spec.scene_file, r.overrides));
-      check_models(study.spec, file, r, study.scenes.back());
+      check_models(study.spec, file, "run " + r.id, study.scenes.back());
       study.resolved.push_back(to_toml(study.scenes.back()));
     }
   } catch (const ConfigError& e) {

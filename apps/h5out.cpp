@@ -734,6 +734,10 @@ void write_study(const std::filesystem::path& path, const compare::StudySpec& sp
   });
 }
 
+void write_text_file(const std::filesystem::path& path, const std::string& text) {
+  write_atomically(path, [&](const std::filesystem::path& tmp) { write_image_file(tmp, {text.data(), text.size()}); });
+}
+
 void write_fronts(const std::filesystem::path& path, const compare::Scene& scene, const std::string& resolved_toml,
                   const compare::FrontsResult& fronts, const RunMeta& meta) {
   write_atomically(path, [&](const std::filesystem::path& tmp) { write_fronts_file(tmp, scene, resolved_toml, fronts, meta); });

@@ -67,6 +67,11 @@ void write_study(const std::filesystem::path& path, const compare::StudySpec& sp
                  const std::vector<compare::StudyRun>& runs, const compare::StudyReport& report, const RunMeta& meta,
                  const StudyExecution& execution = {});
 
+/// Writes `text` to `path` atomically, as write_results writes its file (a temporary created exclusively, flushed,
+/// renamed onto `path`), without a checksum block: a text file for other programs (the CSV of a strip_cmin_height
+/// study, docs/studies.md).
+void write_text_file(const std::filesystem::path& path, const std::string& text);
+
 /// The hash stored in /meta `config_hash` of every results file: CRC-64/XZ (Boost.CRC) of the fully
 /// resolved configuration (`to_toml(scene)`, the text stored in /config `toml`), as
 /// "crc64-xz:<16 hex digits>". A resumed study compares it, and the text itself, with the run's.

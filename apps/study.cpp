@@ -226,6 +226,71 @@ compare::StudyLimits read_limits(const toml::node& n, const std::string& file) {
   return lim;
 }
 
+// [paths]: the path in H of a kind without scene runs (strip_cmin_height; docs/studies.md), each key checked
+// against its row of compare::strip_cmin_path_domains(), then the rules between keys.
+compare::StripCminHeightOptions read_paths(const toml::node& n, const std::string& file) {
+  std::string names;
+  for (const core::KeyDomain& d : compare::strip_cmin_path_domains())
+    names += (names.empty() ? "" : ", ") + std::string(d.key).substr(6);
+  const auto* t = n.as_table();
+  if (!t) throw ConfigError(file, "paths", "must be a table [paths] (keys: " + names + ")");
+  compare::StripCminHeightOptions o;
+  for (const auto& [k, v] : *t) {
+    const std::string key = "paths." + std::string(k.str());
+    const core::KeyDomain* d = core::find_key_domain(compare::strip_cmin_path_domains(), key);
+    if (!d) throw ConfigError(file, key, "unknown key (known keys of [paths]: " + names + ")");
+    if (d->kind == core::KeyKind::boolean) {
+      if (!v.is_boolean()) throw ConfigError(file, key, "expected true or false, got " + value_text(v));
+      o.branches = v.as_boolean()->get();
+      continue;
+    }
+    double x = 0.0;
+    if (d->kind == core::KeyKind::integer) {
+      x = static_cast<double>(checked_integer<std::int64_t>(v, file, key, IntegralFloats::refused));
+    } else {
+      if (!v.is_number()) throw ConfigError(file, key, "expected a number, got " + value_text(v));
+      x = v.value<double>().value_or(0.0);
+    }
+    try {
+      core::check_in_domain(*d, x);
+    } catch (const core::ParamError& e) {
+      throw ConfigError(file, key, e.reason);
+    }
+    const std::string_view name = k.str();
+    if (name == "hmin") o.hmin = x;
+    else if (name == "hmax") o.hmax = x;
+    else if (name == "per_decade") o.per_decade = x;
+    else if (name == "rows") o.rows = static_cast<int>(x);
+    else if (name == "intervals") o.intervals = static_cast<int>(x);
+    else if (name == "branch_rows") o.branch_rows = static_cast<int>(x);
+    else if (name == "branch_intervals") o.branch_intervals = static_cast<int>(x);
+    else if (name == "tolerance") o.tolerance = x;
+    else if (name == "max_factor") o.max_factor = x;
+  }
+  try {
+    compare::check_strip_cmin_paths(o);
+  } catch (const core::ParamError& e) {
+    throw ConfigError(file, e.key, e.reason);
+  }
+  return o;
+}
+
+// The keys of a study that runs scenes, refused in one that runs none (StudyKind::compute), and why.
+void refuse_run_keys(const toml::table& t, const std::string& file, const std::string& kind) {
+  static const std::pair<const char*, const char*> run_keys[] = {
+      {"group", "[[group]] varies the runs of a study"},
+      {"vary", "[vary] varies the runs of a study"},
+      {"seeds", "seeds multiply the runs of a study"},
+      {"fit_from", "fit_from bounds fits over runs"},
+      {"limits", "[limits] bounds the runs of a study ([paths] bounds this one: at most 1000 target heights)"}};
+  for (const auto& [key, why] : run_keys)
+    if (t.get(key))
+      throw ConfigError(file, key,
+                        std::string(why) + ", and the kind '" + kind +
+                            "' makes no runs: it computes from the base scene (with `set`) and [paths] only; remove it "
+                            "(vary the material with another study file or --set)");
+}
+
 }  // namespace
 
 compare::StudySpec load_study(const fs::path& file, std::string* text) {
@@ -233,13 +298,13 @@ compare::StudySpec load_study(const fs::path& file, std::string* text) {
   std::string file_text;
   const toml::table t = parse_study_file(file, file_text);
   if (text) *text = std::move(file_text);
-  static const std::set<std::string> known{"study", "kind",  "description", "scene",    "set",
-                                           "seeds", "vary",  "group",       "fit_from", "limits"};
+  static const std::set<std::string> known{"study", "kind",  "description", "scene",    "set",   "seeds",
+                                           "vary",  "group", "fit_from",    "limits",   "paths"};
   for (const auto& [k, v] : t)
     if (!known.count(std::string(k.str())))
       throw ConfigError(name, std::string(k.str()),
                         "unknown key (known: study, kind, description, scene, set, seeds, fit_from, vary, group, "
-                        "limits)");
+                        "limits, paths)");
   compare::StudySpec s;
   s.name = read_string(t, name, "study", true);
   check_directory_name(s.name, name, "study", "out/studies/<study>");
@@ -248,6 +313,15 @@ compare::StudySpec load_study(const fs::path& file, std::string* text) {
   const std::string scene = read_string(t, name, "scene", true);
   s.scene_file = (fs::path(scene).is_absolute() ? fs::path(scene) : file.parent_path() / scene).lexically_normal().string();
   check_kind(name, s.kind);
+  if (compare::find_study_kind(s.kind)->compute) {  // a kind without scene runs: [paths], no runs
+    refuse_run_keys(t, name, s.kind);
+    if (const auto* n = t.get("set")) s.common = read_common(*n, name);
+    if (const auto* n = t.get("paths")) s.paths = read_paths(*n, name);
+    return s;
+  }
+  if (t.get("paths"))
+    throw ConfigError(name, "paths",
+                      "only a kind without scene runs (strip_cmin_height) has [paths]; the kind '" + s.kind + "' runs scenes");
   if (const auto* n = t.get("seeds")) s.seeds = read_integer<int>(*n, name, "seeds");
   if (const auto* n = t.get("fit_from")) s.fit_from = read_number(*n, name, "fit_from");
   if (const auto* n = t.get("limits")) s.limits = read_limits(*n, name);
@@ -353,6 +427,22 @@ struct RunPlan {
   std::vector<std::string> untrusted;  ///< run files made again because their checksum fails, and why
 };
 
+// DIR/study.h5 is this study's (or absent, or --force): else refused, the reason printed.
+bool owns_study_file(const fs::path& dir, const compare::StudySpec& spec, bool force, std::ostream& err) {
+  if (!fs::exists(dir / "study.h5") || force) return true;
+  std::string other;
+  try {
+    other = read_study_name(dir / "study.h5");
+  } catch (const InputError&) {
+    other = "";
+  }
+  if (other == spec.name) return true;
+  err << "slipfront: error: '" << (dir / "study.h5").string() << "' belongs to "
+      << (other.empty() ? std::string("no readable study") : "the study '" + other + "'") << ", not to '" << spec.name
+      << "' (use --force to replace it, or --out for another directory)\n";
+  return false;
+}
+
 // Creates DIR/runs/ (each run's directory is created when the run starts: make_run), checks the files
 // already there (the table in docs/studies.md, "Resuming") and removes the temporaries of killed
 // writers. Nothing is touched when it refuses.
@@ -371,20 +461,7 @@ RunPlan plan_runs(const fs::path& dir, const compare::StudySpec& spec, const std
     err << "slipfront: error: cannot create the output directory '" << dir.string() << "': " << ec.message() << "\n";
     return refuse();
   }
-  if (fs::exists(dir / "study.h5") && !force) {
-    std::string other;
-    try {
-      other = read_study_name(dir / "study.h5");
-    } catch (const InputError&) {
-      other = "";
-    }
-    if (other != spec.name) {
-      err << "slipfront: error: '" << (dir / "study.h5").string() << "' belongs to "
-          << (other.empty() ? std::string("no readable study") : "the study '" + other + "'") << ", not to '"
-          << spec.name << "' (use --force to replace it, or --out for another directory)\n";
-      return refuse();
-    }
-  }
+  if (!owns_study_file(dir, spec, force, err)) return refuse();
   std::vector<std::string> other_config;
   for (std::size_t i = 0; i < runs.size(); ++i) {
     const fs::path run_dir = dir / "runs" / runs[i].id;
@@ -431,6 +508,7 @@ struct Study {
   std::vector<compare::Scene> scenes;  ///< per run
   std::vector<std::string> resolved;   ///< per run: the scene's resolved TOML
   compare::StudyEstimate estimate;     ///< what the study holds in its own process (checked against its [limits])
+  compare::Scene base;                 ///< a kind without scene runs: the base scene (with `set` and --set)
   fs::path dir;
   fs::path run_file(std::size_t i) const { return dir / "runs" / runs[i].id / "results.h5"; }
 };
@@ -536,7 +614,8 @@ compare::StudyEstimate check_study_size(const compare::StudySpec& spec, const st
 }
 
 // The kind's analysis needs its models in every run (compare::StudyKind::needs).
-void check_models(const compare::StudySpec& spec, const std::string& study_file, const compare::StudyRun& run,
+// (`what`: "run 0000", or "the base scene" of a kind without scene runs.)
+void check_models(const compare::StudySpec& spec, const std::string& study_file, const std::string& what,
                   const compare::Scene& scene) {
   const compare::StudyKind& kind = *compare::find_study_kind(spec.kind);
   const std::string missing = compare::missing_models(kind, scene);
@@ -544,8 +623,8 @@ void check_models(const compare::StudySpec& spec, const std::string& study_file,
   std::string listed;
   for (const auto& m : scene.models) listed += (listed.empty() ? "\"" : ", \"") + m + "\"";
   throw ConfigError(study_file, "kind",
-                    "the analysis of kind '" + spec.kind + "' needs " + compare::describe(kind.needs) + ", but run " +
-                        run.id + " has models = [" + listed + "] (no " + missing +
+                    "the analysis of kind '" + spec.kind + "' needs " + compare::describe(kind.needs) + ", but " + what +
+                        " has models = [" + listed + "] (no " + missing +
                         "): list the models it needs in the scene, or in the study's `set` (for example 'models=[\"continuum\",\"discrete\"]')");
 }
 
@@ -558,12 +637,28 @@ std::optional<Study> read_study(const StudyOptions& opts, std::ostream& err) {
   try {
     study.spec = load_study(opts.study, &study.spec_toml);
     const std::string scene_text = read_scene_text(study.spec, file);
+    if (const compare::StudyKind& kind = *compare::find_study_kind(study.spec.kind); kind.compute) {
+      // no runs: the base scene with the study's `set` and --set, checked for the kind's computation
+      std::vector<std::string> overrides = study.spec.common;
+      overrides.insert(overrides.end(), opts.overrides.begin(), opts.overrides.end());
+      study.base = parse_scene(scene_text, study.spec.scene_file, overrides);
+      check_models(study.spec, file, "the base scene", study.base);
+      if (kind.check) {
+        try {
+          kind.check(study.spec, study.base);
+        } catch (const core::ParamError& e) {
+          throw ConfigError(file, e.key, e.reason);
+        }
+      }
+      study.dir = opts.out.empty() ? fs::path("out") / "studies" / study.spec.name : opts.out;
+      return study;
+    }
     study.estimate = check_study_size(study.spec, file, scene_text, opts.overrides);
     study.runs = compare::expand(study.spec);
     for (auto& r : study.runs) {
       r.overrides.insert(r.overrides.end(), opts.overrides.begin(), opts.overrides.end());
       study.scenes.push_back(parse_scene(scene_text, study.spec.scene_file, r.overrides));
-      check_models(study.spec, file, r, study.scenes.back());
+      check_models(study.spec, file, "run " + r.id, study.scenes.back());
       study.resolved.push_back(to_toml(study.scenes.back()));
     }
   } catch (const ConfigError& e) {
@@ -918,6 +1013,86 @@ int share_exit_code(MpiEngine& mpi, int code, bool root_stopped) {
   return code;
 }
 
+// A kind without scene runs (compare::StudyKind::compute), on rank 0: its computation from the base scene, stoppable
+// by SIGINT/SIGTERM, its files and DIR/study.h5 written (as a study's: temporary and rename, /meta status complete,
+// interrupted or failed), the summary printed; the exit code.
+int compute_study(const StudyOptions& opts, const Study& study, const Engine& engine, Clock::time_point wall0,
+                  std::ostream& out, std::ostream& err) {
+  const compare::StudyKind& kind = *compare::find_study_kind(study.spec.kind);
+  std::error_code ec;
+  fs::create_directories(study.dir, ec);
+  if (ec) {
+    err << "slipfront: error: cannot create the output directory '" << study.dir.string() << "': " << ec.message() << "\n";
+    return exit_code::usage;
+  }
+  if (!owns_study_file(study.dir, study.spec, opts.force, err)) return exit_code::usage;
+  const std::string tag = "[study " + study.spec.name + "] ";
+  if (!opts.quiet)
+    err << "slipfront: study " << study.spec.name << " (" << study.spec.kind << "): no runs, computed from "
+        << study.spec.scene_file << " and [paths] -> " << study.dir.string() << "\n";
+  const StudySignals signals;
+  // Progress: the kind's lines as they come; on a terminal also the solves so far and the elapsed time.
+  const bool tty = !opts.quiet && ::isatty(STDERR_FILENO);
+  long long solves = 0;
+  double shown = -1.0;
+  bool open_line = false;
+  compare::StudyWork work;
+  work.stop = [&] {
+    ++solves;
+    const double el = std::chrono::duration<double>(Clock::now() - wall0).count();
+    if (tty && el - shown >= 0.25) {
+      err << "\r" << tag << solves << " solves, elapsed " << static_cast<int>(el) << " s   " << std::flush;
+      shown = el;
+      open_line = true;
+    }
+    return stop_signal.load();
+  };
+  work.log = [&](const std::string& line) {
+    if (opts.quiet) return;
+    if (open_line) err << "\n";
+    open_line = false;
+    err << tag << line << "\n";
+  };
+  compare::StudyReport report;
+  report.notes = study.spec.notes;
+  RunMeta meta;
+  meta.command_line = opts.command_line;
+  try {
+    const compare::StudyOutcome o = kind.compute(report, study.spec, study.base, work);
+    meta.status = o.status;
+    meta.message = o.message;
+  } catch (const std::exception& e) {
+    meta.status = compare::RunStatus::failed;
+    meta.message = std::string("computation: ") + e.what();
+  }
+  if (open_line) err << "\n";
+  meta.wall_seconds = std::chrono::duration<double>(Clock::now() - wall0).count();
+  try {
+    for (const auto& [name, text] : report.files) write_text_file(study.dir / name, text);
+    const StudyExecution exec{engine.name(), 1, 0, {}, {}};
+    write_study(study.dir / "study.h5", study.spec, study.spec_toml, {}, report, meta, exec);
+  } catch (const std::exception& e) {
+    err << "slipfront: error: cannot write the results of " << study.spec.name << " in " << study.dir.string() << ": "
+        << e.what() << "\n";
+    return exit_code::failed;
+  }
+  out << study.spec.name << " (" << study.spec.kind << "): " << compare::to_string(meta.status) << ", no runs, "
+      << static_cast<int>(meta.wall_seconds * 10) / 10.0 << " s -> " << (study.dir / "study.h5").string();
+  for (const auto& [name, text] : report.files) out << ", " << (study.dir / name).string();
+  out << "\n";
+  for (const auto& [k, v] : report.scalars) out << "  " << k << " = " << v << "\n";
+  for (const auto& note : report.notes) out << "  note: " << note << "\n";
+  if (meta.status == compare::RunStatus::interrupted) {
+    err << "slipfront: " << meta.message << "\n";
+    return exit_code::interrupted;
+  }
+  if (meta.status != compare::RunStatus::complete) {
+    err << "slipfront: error: " << study.spec.name << ": " << meta.message << "\n";
+    return exit_code::failed;
+  }
+  return exit_code::ok;
+}
+
 }  // namespace
 
 int study_command(const StudyOptions& opts, std::ostream& out_all, std::ostream& err_all) {
@@ -932,6 +1107,11 @@ int study_command(const StudyOptions& opts, std::ostream& out_all, std::ostream&
   // (b)–(c) the study read, every run validated, the plan shared, before any work
   const std::optional<Study> study = read_study(opts, err);
   if (!study) return exit_code::usage;
+  if (compare::find_study_kind(study->spec.kind)->compute) {  // no runs: rank 0 computes, the others wait for its code
+    int code = engine.root ? compute_study(opts, *study, engine, wall0, out, err) : exit_code::ok;
+    if (engine.mpi) code = share_exit_code(*engine.mpi, code, false);
+    return code;
+  }
   const Schedule schedule = share_plan(*study, opts.force, engine, err);
   if (schedule.code != 0) return schedule.code;
   engine.threads = threads_per_process(opts.threads, engine.mpi.get(), err);

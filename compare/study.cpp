@@ -10,6 +10,7 @@
 #include "compare/fig2_cmin.hpp"
 #include "compare/fit.hpp"
 #include "compare/fronts.hpp"
+#include "compare/strip_cmin_height.hpp"
 #include "compare/strip_height.hpp"
 #include "compare/validity.hpp"
 #include "continuum/friction_law.hpp"
@@ -489,6 +490,9 @@ constexpr StudyKind study_kind_table[] = {
     {"disorder_limit", "threshold disorder w: the discrete model -> mean_field as N grows at each w, and mean_field -> "
      "the continuum as w -> 0 with the w of a 1 % departure, on fig1's events or the steady law", continuum_mean_field,
      analyse_disorder_limit},
+    {"strip_cmin_height", "no scene runs: c_min(H) of the strip at the base scene's material (mu' = bulk.mu/bulk.height) "
+     "over the heights of [paths], the limiting front continued in H, against the 1D c_min of mu' H (docs/fronts.md "
+     "§10.12); also strip_cmin_height.csv", continuum_model, nullptr, strip_cmin_height_study, check_strip_cmin_study},
     {"runs", "no analysis: just run every point", any_model, nullptr}};
 
 // The domains of the study file's numeric keys (docs/studies.md, "Study files").

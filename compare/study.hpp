@@ -3,6 +3,7 @@
 // of varied keys (cartesian product inside a group, union over groups) × seeds. Each run is an
 // independent scene run; the analysis of a study kind turns the runs' results into tables and
 // fitted rates, each with its definition. Nothing here reads or writes files.
+#include <functional>
 #include <map>
 #include <span>
 #include <string>
@@ -11,6 +12,7 @@
 
 #include "compare/result.hpp"
 #include "compare/scene.hpp"
+#include "compare/strip_cmin_height.hpp"
 
 namespace slipfront::compare {
 
@@ -37,6 +39,9 @@ struct StudySpec {
   /// the mean-field regime (below it small N re-sticks: a bias, not the N^(-1/2) random error).
   double fit_from = 0.0;
   StudyLimits limits;
+  /// [paths] of a kind without scene runs (strip_cmin_height): the path in H; its law and material are the
+  /// base scene's (strip_cmin_study_options), stop and log the caller's.
+  StripCminHeightOptions paths;
   std::vector<std::string> notes;    ///< what loading the file changed (repeated vary values collapsed)
 };
 
@@ -69,6 +74,7 @@ struct StudyReport {
   std::map<std::string, double> scalars;
   std::map<std::string, std::string> definitions;  ///< "table/column" or scalar name -> definition
   std::vector<std::string> notes;
+  std::map<std::string, std::string> files;  ///< text files written beside study.h5: name -> text (strip_cmin_height.csv)
 };
 
 /// The analysis of one study kind: adds its tables, scalars, definitions and notes to `rep`
@@ -86,13 +92,36 @@ struct ModelsNeeded {
 /// "the continuum and the discrete model", "the continuum model", ..., "any model".
 std::string describe(ModelsNeeded needs);
 
+/// What the caller gives a kind without scene runs: a stop request (polled before every solve) and progress
+/// lines (without the newline).
+struct StudyWork {
+  std::function<bool()> stop;
+  std::function<void(const std::string&)> log;
+};
+
+/// How such a kind's computation ended (complete; interrupted by a stop; failed, with the reason).
+struct StudyOutcome {
+  RunStatus status = RunStatus::complete;
+  std::string message;
+};
+
+/// The computation of a kind without scene runs: from the study's base scene (after `set` and --set) and its
+/// own keys ([paths]), adds tables, scalars, definitions, notes and files to `rep`.
+using StudyComputation = StudyOutcome (*)(StudyReport& rep, const StudySpec& spec, const Scene& base,
+                                          const StudyWork& work);
+/// Its checks of the base scene with the study's own keys, before any work (throws core::ParamError naming the key).
+using StudyCheck = void (*)(const StudySpec& spec, const Scene& base);
+
 /// One study kind: the name a study file gives as `kind`, what it analyses, the models its analysis
-/// needs, and its analysis (nullptr: none, the kind "runs").
+/// needs, and its analysis (nullptr: none, the kind "runs"); or, for a kind that runs no scene (no
+/// [[group]], vary, seeds: refused at load), its computation instead.
 struct StudyKind {
   std::string_view name;
   std::string_view description;
   ModelsNeeded needs;
   StudyAnalysis analyse = nullptr;
+  StudyComputation compute = nullptr;
+  StudyCheck check = nullptr;  ///< (with compute)
 };
 
 /// The models `kind` needs that `scene` does not list ("" when it lists them all), e.g. "continuum".

@@ -7,14 +7,15 @@
 #      verdict of its summary tests a model against a limit it is not supposed to reach, and that every plot
 #      it names exists and is not empty.
 # Takes 5 min 51 s on 2 idle cores with the program built (11 min 11 s CPU; 2026-11-24): the scenes, two at a
-# time, 37 s; steady fronts, the strip collapses and c_min(H), side by side, 27 s; studies 4 min 29 s
-# (validity_friction 54, validity_fig1 45, strip_height 40, fig2_strip 28, front_spectrum 26, disorder_limit 23,
-# front_branch 21, the rest ~32); report 17 s; a first build adds ~5 min (docs/performance.md §17). Each step
+# time, 37 s; steady fronts and the strip collapses, side by side, 27 s (then with c_min(H), now a study); studies
+# 4 min 29 s (validity_friction 54, validity_fig1 45, strip_height 40, fig2_strip 28, front_spectrum 26,
+# disorder_limit 23, front_branch 21, the rest ~32; strip_cmin_height, c_min(H) of the strip, adds 6-8 s);
+# report 17 s; a first build adds ~5 min (docs/performance.md §17). Each step
 # prints its time. A scene or study that fails still leaves its partial results and the rest goes on; the job
 # then exits 1.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
-bash scripts/build.sh slipfront strip_cmin_height
+bash scripts/build.sh slipfront
 
 # (the longest first: the scenes run side by side, one per core)
 scenes=(contacts_disorder contacts_strip fig1_strip homogeneous_strip contacts homogeneous_front steady_front fig1 friction_law
@@ -64,9 +65,10 @@ drain
 #   from the path in H), at the material of docs/fronts.md §10.12 (mu' = 300, rho' = 1e-9: mu = 300 H, rho = 1e-9 H),
 #   8 rows and 200 intervals (within 2 % of the 12-row values of docs/fronts.md §10.18; 4, 5 and 27 s); the
 #   limits keys only lift the checks of a time-dependent run of these scenes (its cost estimate, the rows rule),
-#   which `fronts` validates although it does not run one;
-# - c_min(H) of the strip at fixed material over H = 1 .. 1e6 (docs/fronts.md §10.11-§10.12): the driver's limiting
-#   fronts, 12 rows, 300 intervals, ~6 s; report.py draws it (any strip_cmin_height.csv under out/).
+#   which `fronts` validates although it does not run one.
+# (c_min(H) of the strip at fixed material over H = 1 .. 1e6, docs/fronts.md §10.11-§10.12, is the study
+# configs/studies/strip_cmin_height.toml below: out/studies/strip_cmin_height/strip_cmin_height.csv, which report.py
+# draws.)
 launch "strip collapse H = 100000" "$slipfront" fronts configs/steady_front_strip.toml --scaling --rows 8 --intervals 200 \
   --set scene=steady_front_strip_H100000 --set "description=c_min collapse of the strip at H = 1e5 (H/l_kappa = 4.4)" \
   --set bulk.height=1e5 --set bulk.mu=3e7 --set bulk.rho=1e-4 --set grid.dy=100 \
@@ -77,11 +79,12 @@ for h in 16 1000; do
     --set scene=steady_front_strip_H$h --set "description=c_min collapse of the strip at H = $h" --set bulk.height=$h --set bulk.mu=$((300 * h)) --set "bulk.rho=${h}e-9" \
     --set limits.max_hours=1000 --set limits.min_nodes_per_elastic_length=0 --out "out/strip_collapse_H$h" --force
 done
-cmin_out=out/strip_cmin_height/strip_cmin_height.csv
-mkdir -p "$(dirname "$cmin_out")"
-launch "c_min(H)" build/bench/strip_cmin_height --hmin 1 --hmax 1e6 --per-decade 2 --rows 12 --intervals 300 \
-  --no-branches --out "$cmin_out"
 drain
+
+# report.py draws every strip_cmin_height.csv under out/: the copy the bench driver wrote here before c_min(H)
+# became a study would be drawn a second time, stale
+rm -f out/strip_cmin_height/strip_cmin_height.csv
+rmdir out/strip_cmin_height 2> /dev/null || true
 
 for study in configs/studies/*.toml; do
   name=$(basename "$study" .toml)

@@ -1150,7 +1150,8 @@ def disorder_limit_study(st, outdir):
     return figs, rows
 
 
-# ---- c_min(H) of the strip at fixed material (docs/fronts.md §10.12; CSV of build/bench/strip_cmin_height) ----
+# ---- c_min(H) of the strip at fixed material (docs/fronts.md §10.12; CSV of the study kind strip_cmin_height, or of
+# build/bench/strip_cmin_height) ----
 
 CMIN_CSV = "strip_cmin_height.csv"
 CMIN_1D_TOL = 0.01  # "the 1D regime holds": c_min within 1 % of the 1D c_min at mu = mu' H
@@ -1817,7 +1818,7 @@ def cmin_section(ctx, path):
     root = ctx.root
     figs, rows = strip_cmin_section(path, root, ctx.figdir)
     lines = ["## c_min(H) of the strip at fixed material", "",
-             "The limiting front's speed c_min against the strip's height H (build/bench/strip_cmin_height, "
+             "The limiting front's speed c_min against the strip's height H (the study strip_cmin_height, "
              "docs/fronts.md §10.12): the 1D line, the paper's intermediate form and the Brener-Marchenko "
              "large-H form, the lengths l and l_kappa; below, the local exponent against 1/2 and the paper's "
              "exponents.", "", f"File: `{os.path.relpath(path, root)}`, {len(figs) and 'plotted' or 'no usable row'}.", ""]

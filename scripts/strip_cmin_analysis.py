@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """c_min(H) of the strip against the paper's 2D argument (docs/fronts.md §10.12), from the CSV written by
-build/bench/strip_cmin_height. Per H: c/s, the local exponent, the 1D ratio; the paper's intermediate regime
+build/bench/strip_cmin_height or the study strip_cmin_height. Per H: c/s, the local exponent, the 1D ratio; the paper's intermediate regime
 c/s ~ sqrt(H/l_k) (l/H)^(eps/2) with tan(pi eps/2) = c/s (eps from the measured c/s; its prefactor taken from
 the 1D line, 0.576 sqrt(H/l_k) = c_min_1D/s in the 1D regime) and its local exponent 1/2 - eps/2; the large-H
 (Brener-Marchenko) eps_BM = ln(H/l_k)/ln(H/l) against eps = (2/pi) atan(c/s). Usage: strip_cmin_analysis.py CSV"""

@@ -165,8 +165,10 @@ TEST_CASE("study inputs: a kind whose analysis needs a model the runs do not lis
       const Timed t = run_timed({bin, "study", "k.toml", "--out", "out"}, dir.path);
       INFO(t.o.err);
       CHECK(t.o.code == 2);
+      // (a kind without scene runs checks its base scene)
+      const std::string who = k.compute ? "the base scene" : "run 0000";
       CHECK(contains(t.o.err, "slipfront: error: k.toml: kind: the analysis of kind '" + std::string(k.name) +
-                                  "' needs " + compare::describe(k.needs) + ", but run 0000 has models = [\"" + model +
+                                  "' needs " + compare::describe(k.needs) + ", but " + who + " has models = [\"" + model +
                                   "\"]"));
       CHECK_FALSE(fs::exists(dir.path / "out"));
       ++refused;

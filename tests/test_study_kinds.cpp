@@ -42,7 +42,8 @@ std::string digest(const compare::StudyReport& r) {
 
 }  // namespace
 
-TEST_CASE("study kinds: one row per kind, named once, described, and only `runs` without an analysis",
+TEST_CASE("study kinds: one row per kind, named once, described, and only `runs` and the kinds without scene runs "
+          "without an analysis",
           "[study][kinds]") {
   const auto kinds = compare::study_kinds();
   REQUIRE(kinds.size() >= 2);
@@ -52,7 +53,8 @@ TEST_CASE("study kinds: one row per kind, named once, described, and only `runs`
     CHECK(!k.name.empty());
     CHECK(!k.description.empty());
     CHECK(names.insert(std::string(k.name)).second);
-    CHECK((k.analyse == nullptr) == (k.name == "runs"));
+    CHECK((k.analyse == nullptr) == (k.name == "runs" || k.compute != nullptr));
+    CHECK((k.compute == nullptr) == (k.check == nullptr));  // a computation is checked before any work
     REQUIRE(compare::find_study_kind(k.name) == &k);
   }
   CHECK(names.count("runs") == 1);

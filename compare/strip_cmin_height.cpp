@@ -1,0 +1,312 @@
+#include "compare/strip_cmin_height.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdarg>
+#include <cstdio>
+
+#include "compare/study.hpp"
+#include "continuum/steady_front.hpp"
+
+namespace slipfront::compare {
+namespace {
+
+namespace continuum = slipfront::continuum;
+
+// printf into a string (the table's and the log's formats are the bench's, kept byte for byte).
+std::string format(const char* fmt, ...) __attribute__((format(printf, 1, 2)));
+std::string format(const char* fmt, ...) {
+  va_list a, b;
+  va_start(a, fmt);
+  va_copy(b, a);
+  const int n = std::vsnprintf(nullptr, 0, fmt, a);
+  va_end(a);
+  std::string s(static_cast<std::size_t>(n > 0 ? n : 0), '\0');
+  if (n > 0) std::vsnprintf(s.data(), s.size() + 1, fmt, b);
+  va_end(b);
+  return s;
+}
+
+void say(const StripCminHeightOptions& o, const std::string& line) {
+  if (o.log) o.log(line);
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+std::vector<double> strip_cmin_heights(const StripCminHeightOptions& o) {
+  std::vector<double> H;
+  const int n = static_cast<int>(std::lround(o.per_decade * std::log10(o.hmax / o.hmin)));
+  for (int k = 0; k <= n; ++k) H.push_back(o.hmin * std::pow(o.hmax / o.hmin, static_cast<double>(k) / n));
+  return H;
+}
+
+continuum::StripHeightOptions strip_cmin_path_options(const StripCminHeightOptions& o) {
+  continuum::StripHeightOptions p;
+  p.heights = strip_cmin_heights(o);
+  p.front.rows = o.rows;
+  p.front.intervals = o.intervals;
+  p.front.max_newton = 12;
+  p.front.tolerance = o.tolerance;
+  p.max_factor = o.max_factor;
+  p.stop = o.stop;
+  return p;
+}
+
+continuum::StripHeightPath strip_cmin_limiting_path(const StripCminHeightOptions& o) {
+  const double mu = o.mu_strip, rho = o.rho_strip;
+  const auto& law = o.law;
+  say(o, format("material mu' = %g rho' = %g (c_s = %g), alpha = %g kappa = %g eta = %g: l = %g, l_kappa = %g, s = %g", mu,
+                rho, std::sqrt(mu / rho), law.alpha, law.kappa, law.eta, mu, mu * law.kappa / (law.eta * law.alpha),
+                mu / law.eta));
+  const auto t0 = std::chrono::steady_clock::now();
+  auto path = continuum::continue_strip_height(law, mu, rho, strip_cmin_path_options(o));
+  say(o, format("limiting path: %zu fronts, %zu steps, %.1f s%s%s", path.fronts.size(), path.steps.size(), seconds_since(t0),
+                path.complete ? "" : ", incomplete: ", path.reason.c_str()));
+  for (const auto& st : path.steps)
+    say(o, format("  step H = %-12.6g c = %-12.8g predicted %-12.8g (%+.2e) newton %d rejected %d", st.height, st.c,
+                  st.c_predicted, st.c_predicted / st.c - 1.0, st.newton_iterations, st.rejected));
+  return path;
+}
+
+std::vector<StripCminRow> strip_cmin_rows(const StripCminHeightOptions& o, const continuum::StripHeightPath& path) {
+  const double mu = o.mu_strip, rho = o.rho_strip;
+  const auto& law = o.law;
+  const double ell = mu, ell_kappa = mu * law.kappa / (law.eta * law.alpha), s = mu / law.eta, cs = std::sqrt(mu / rho);
+  const continuum::StripHeightOptions po = strip_cmin_path_options(o);
+  continuum::StripHeightPath start_path;
+  if (o.branches) {
+    continuum::StripHeightOptions os = po;
+    os.limiting = false;
+    os.sigma_d = 0.8;
+    os.front.rows = o.branch_rows;
+    os.front.intervals = o.branch_intervals;
+    start_path = continuum::continue_strip_height(law, mu, rho, os);
+    say(o, format("sigma_d = 0.8 path: %zu fronts%s%s", start_path.fronts.size(), start_path.complete ? "" : ", incomplete: ",
+                  start_path.reason.c_str()));
+  }
+  std::vector<StripCminRow> rows;
+  for (std::size_t k = 0; k < path.fronts.size(); ++k) {
+    const auto& fr = path.fronts[k];
+    const double h = fr.bulk.height;
+    const auto b1 = continuum::continue_steady_fronts(law, {rho * h, mu * h, 1000.0, 0.0});
+    StripCminRow r;
+    r.H = h;
+    r.H_over_l = h / ell;
+    r.H_over_l_kappa = h / ell_kappa;
+    r.c_min = fr.c;
+    r.c_min_over_s = fr.c / s;
+    r.c_min_over_cs = fr.c / cs;
+    r.c_min_1d = b1.c_min;
+    r.ratio_to_1d = fr.c / b1.c_min;
+    r.local_exponent = std::nan("");
+    if (k + 1 < path.fronts.size())
+      r.local_exponent = std::log(path.fronts[k + 1].c / fr.c) / std::log(path.fronts[k + 1].bulk.height / h);
+    r.branch_c_min = r.branch_sigma_d_at_c_min = std::nan("");
+    if (o.branches && k < start_path.fronts.size()) {
+      continuum::StripContinuationOptions co;
+      co.sigma_start = 0.8;
+      co.front = po.front;
+      co.front.rows = o.branch_rows;
+      co.front.intervals = o.branch_intervals;
+      co.front.max_newton = 12;
+      const double lt = continuum::strip_tip_zone(law, start_path.fronts[k].c, start_path.fronts[k].v_behind);
+      co.front = continuum::following_tip(co.front, lt, po.tip_resolution, po.row_resolution);
+      co.start = &start_path.fronts[k];
+      co.stop = o.stop;
+      const auto tb = std::chrono::steady_clock::now();
+      const auto br = continuum::continue_strip_fronts(law, {rho * h, mu * h, 1000.0, h}, co);
+      r.branch_seconds = seconds_since(tb);
+      r.branch_c_min = br.c_min;
+      r.branch_sigma_d_at_c_min = br.sigma_d_at_c_min;
+      r.branch_c_min_at_end = br.c_min_at_end ? 1 : 0;
+      r.branch_points = static_cast<int>(br.points.size());
+      r.branch_folds = static_cast<int>(br.folds.size());
+      r.branch_end = continuum::to_string(br.end);
+      say(o, format("  branch H = %g: %d points, end %s, c_min %.8g (path %.8g, %+.2e), %.1f s: %s", h, r.branch_points,
+                    r.branch_end.c_str(), r.branch_c_min, fr.c, r.branch_c_min / fr.c - 1.0, r.branch_seconds,
+                    br.reason.c_str()));
+    }
+    r.rows = fr.rows();
+    r.intervals = static_cast<int>(fr.xi.size()) - 1;
+    r.domain_length = fr.domain_length;
+    r.tip_zone = continuum::strip_tip_zone(law, fr.c, fr.v_behind);
+    rows.push_back(std::move(r));
+  }
+  return rows;
+}
+
+StripCminHeight strip_cmin_height(const StripCminHeightOptions& o) {
+  StripCminHeight out;
+  out.path = strip_cmin_limiting_path(o);
+  out.rows = strip_cmin_rows(o, out.path);
+  return out;
+}
+
+std::string strip_cmin_csv(const std::vector<StripCminRow>& rows) {
+  std::string out =
+      "H,H_over_l,H_over_l_kappa,c_min,c_min_over_s,c_min_over_cs,c_min_1d,ratio_to_1d,local_exponent,"
+      "branch_c_min,branch_sigma_d_at_c_min,branch_c_min_at_end,branch_points,branch_folds,branch_end,"
+      "branch_seconds,rows,intervals,domain_length,tip_zone\n";
+  for (const auto& r : rows)
+    out += format("%.9g,%.6g,%.6g,%.10g,%.6g,%.6g,%.10g,%.8g,%.6g,%.10g,%.8g,%d,%d,%d,%s,%.2f,%d,%d,%.6g,%.6g\n", r.H,
+                  r.H_over_l, r.H_over_l_kappa, r.c_min, r.c_min_over_s, r.c_min_over_cs, r.c_min_1d, r.ratio_to_1d,
+                  r.local_exponent, r.branch_c_min, r.branch_sigma_d_at_c_min, r.branch_c_min_at_end, r.branch_points,
+                  r.branch_folds, r.branch_end.c_str(), r.branch_seconds, r.rows, r.intervals, r.domain_length, r.tip_zone);
+  return out;
+}
+
+namespace {
+
+using core::KeyDomain;
+using K = core::KeyKind;
+constexpr KeyDomain path_domains[] = {
+    {"paths.hmin", K::number, 0.0, core::parameter_cap, true, false, false, "", "(the first target height)"},
+    {"paths.hmax", K::number, 0.0, core::parameter_cap, true, false, false, "", "(the last target height)"},
+    {"paths.per_decade", K::number, 0.0, 100.0, true, false, false, "", "(target heights per decade)"},
+    {"paths.rows", K::integer, 1.0, 256.0, false, false, false, "", "(as slipfront fronts --rows)"},
+    {"paths.intervals", K::integer, 8.0, 100000.0, false, false, false, "", "(as slipfront fronts --intervals)"},
+    {"paths.branches", K::boolean},
+    {"paths.branch_rows", K::integer, 1.0, 256.0, false, false, false, "", "(as slipfront fronts --rows)"},
+    {"paths.branch_intervals", K::integer, 8.0, 100000.0, false, false, false, "", "(as slipfront fronts --intervals)"},
+    {"paths.tolerance", K::number, 1e-15, 1e-3, false, false, false, "", "(Newton tolerance of every solve)"},
+    {"paths.max_factor", K::number, 1.01, 10.0, false, false, false, "", "(largest step H_{n+1}/H_n of the path)"},
+};
+
+// A numeric column of the rows.
+template <class T>
+std::vector<double> column(const std::vector<StripCminRow>& rows, T StripCminRow::*field) {
+  std::vector<double> v;
+  for (const auto& r : rows) v.push_back(static_cast<double>(r.*field));
+  return v;
+}
+
+}  // namespace
+
+std::span<const core::KeyDomain> strip_cmin_path_domains() { return path_domains; }
+
+void check_strip_cmin_paths(const StripCminHeightOptions& o) {
+  if (!(o.hmax > o.hmin))
+    throw core::ParamError("paths.hmax", "must be > paths.hmin = " + core::format_number(o.hmin) + ", got " +
+                                             core::format_number(o.hmax));
+  const double steps = std::round(o.per_decade * std::log10(o.hmax / o.hmin));
+  if (steps < 1.0)
+    throw core::ParamError("paths.per_decade",
+                           "gives one target height only: round(per_decade log10(hmax/hmin)) = round(" +
+                               core::format_number(o.per_decade) + " x " + core::format_number(std::log10(o.hmax / o.hmin), 4) +
+                               ") = 0; raise paths.per_decade or widen paths.hmin .. paths.hmax");
+  if (steps + 1.0 > strip_cmin_max_heights)
+    throw core::ParamError("paths.per_decade", "gives " + core::format_number(steps + 1.0) + " target heights, more than " +
+                                                   std::to_string(strip_cmin_max_heights) +
+                                                   "; lower paths.per_decade or narrow paths.hmin .. paths.hmax");
+}
+
+StripCminHeightOptions strip_cmin_study_options(const StudySpec& spec, const Scene& base) {
+  if (!(base.bulk.height > 0.0))
+    throw core::ParamError("scene", "the kind strip_cmin_height needs a strip scene (bulk.height > 0): its material is "
+                                    "mu' = bulk.mu/bulk.height, rho' = bulk.rho/bulk.height; " + spec.scene_file +
+                                    " is the 1D chain (bulk.height = 0)");
+  StripCminHeightOptions o = spec.paths;
+  o.law = base.interface;
+  o.mu_strip = base.bulk.mu / base.bulk.height;
+  o.rho_strip = base.bulk.rho / base.bulk.height;
+  check_strip_cmin_paths(o);
+  return o;
+}
+
+void check_strip_cmin_study(const StudySpec& spec, const Scene& base) { (void)strip_cmin_study_options(spec, base); }
+
+StudyOutcome strip_cmin_height_study(StudyReport& rep, const StudySpec& spec, const Scene& base, const StudyWork& work) {
+  StripCminHeightOptions o = strip_cmin_study_options(spec, base);
+  o.stop = work.stop;
+  o.log = work.log;
+  const StripCminHeight r = strip_cmin_height(o);
+  const double ell = o.mu_strip, ell_kappa = o.mu_strip * o.law.kappa / (o.law.eta * o.law.alpha);
+  rep.scalars["mu_strip"] = o.mu_strip;
+  rep.scalars["rho_strip"] = o.rho_strip;
+  rep.scalars["alpha"] = o.law.alpha;
+  rep.scalars["kappa"] = o.law.kappa;
+  rep.scalars["eta"] = o.law.eta;
+  rep.scalars["ell"] = ell;
+  rep.scalars["ell_kappa"] = ell_kappa;
+  rep.scalars["s"] = o.mu_strip / o.law.eta;
+  rep.scalars["c_s"] = std::sqrt(o.mu_strip / o.rho_strip);
+  rep.scalars["heights_target"] = static_cast<double>(strip_cmin_heights(o).size());
+  rep.scalars["heights_reached"] = static_cast<double>(r.rows.size());
+  rep.scalars["path_steps"] = static_cast<double>(r.path.steps.size());
+  rep.definitions["mu_strip"] = "the strip material mu' = bulk.mu/bulk.height of the base scene, held along the path in H";
+  rep.definitions["rho_strip"] = "rho' = bulk.rho/bulk.height of the base scene, held along the path";
+  rep.definitions["alpha"] = "interface.alpha of the base scene";
+  rep.definitions["kappa"] = "interface.kappa of the base scene";
+  rep.definitions["eta"] = "interface.eta of the base scene";
+  rep.definitions["ell"] = "the paper's elastic length of the strip, l = mu' (docs/fronts.md §10.12)";
+  rep.definitions["ell_kappa"] = "l_kappa = mu' kappa/(eta alpha)";
+  rep.definitions["s"] = "the paper's speed s = mu'/eta";
+  rep.definitions["c_s"] = "shear wave speed sqrt(mu'/rho')";
+  rep.definitions["heights_target"] = "target heights of [paths]: round(per_decade log10(hmax/hmin)) + 1";
+  rep.definitions["heights_reached"] = "target heights the limiting path reached (the table's rows)";
+  rep.definitions["path_steps"] = "accepted steps of the limiting path in H";
+
+  Columns t;
+  t["H"] = column(r.rows, &StripCminRow::H);
+  t["H_over_l"] = column(r.rows, &StripCminRow::H_over_l);
+  t["H_over_l_kappa"] = column(r.rows, &StripCminRow::H_over_l_kappa);
+  t["c_min"] = column(r.rows, &StripCminRow::c_min);
+  t["c_min_over_s"] = column(r.rows, &StripCminRow::c_min_over_s);
+  t["c_min_over_cs"] = column(r.rows, &StripCminRow::c_min_over_cs);
+  t["c_min_1d"] = column(r.rows, &StripCminRow::c_min_1d);
+  t["ratio_to_1d"] = column(r.rows, &StripCminRow::ratio_to_1d);
+  t["local_exponent"] = column(r.rows, &StripCminRow::local_exponent);
+  t["branch_c_min"] = column(r.rows, &StripCminRow::branch_c_min);
+  t["branch_sigma_d_at_c_min"] = column(r.rows, &StripCminRow::branch_sigma_d_at_c_min);
+  t["branch_c_min_at_end"] = column(r.rows, &StripCminRow::branch_c_min_at_end);
+  t["branch_points"] = column(r.rows, &StripCminRow::branch_points);
+  t["branch_folds"] = column(r.rows, &StripCminRow::branch_folds);
+  t["branch_seconds"] = column(r.rows, &StripCminRow::branch_seconds);
+  t["rows"] = column(r.rows, &StripCminRow::rows);
+  t["intervals"] = column(r.rows, &StripCminRow::intervals);
+  t["domain_length"] = column(r.rows, &StripCminRow::domain_length);
+  t["tip_zone"] = column(r.rows, &StripCminRow::tip_zone);
+  rep.tables["strip_cmin_height"] = t;
+  const std::map<std::string, std::string> defs = {
+      {"H", "strip height (a target height of [paths] the limiting path reached)"},
+      {"H_over_l", "H/l, l = mu'"},
+      {"H_over_l_kappa", "H/l_kappa, l_kappa = mu' kappa/(eta alpha)"},
+      {"c_min", "speed of the limiting front at sigma_c^d (the strip's c_min), continued in H at fixed mu', rho'"},
+      {"c_min_over_s", "c_min/s, s = mu'/eta"},
+      {"c_min_over_cs", "c_min/c_s, c_s = sqrt(mu'/rho')"},
+      {"c_min_1d", "c_min of the 1D chain of the same column stiffness mu = mu' H, rho = rho' H (end of its branch)"},
+      {"ratio_to_1d", "c_min/c_min_1d"},
+      {"local_exponent", "d ln c_min/d ln H to the next height (NaN at the last)"},
+      {"branch_c_min", "paths.branches: c_min of the branch c(sigma_d) from sigma_d = 0.8 to its end (NaN without)"},
+      {"branch_sigma_d_at_c_min", "paths.branches: sigma_d where the branch's c is least (NaN without)"},
+      {"branch_c_min_at_end", "paths.branches: 1 when the branch's c is monotone and least at its end (0 without)"},
+      {"branch_points", "paths.branches: continuation points of the branch (0 without)"},
+      {"branch_folds", "paths.branches: turning points of the branch (0 without)"},
+      {"branch_seconds", "paths.branches: wall time of the branch in s (0 without): the table's only timing column"},
+      {"rows", "row intervals across the height of the limiting front"},
+      {"intervals", "xi intervals of the limiting front's collocation mesh"},
+      {"domain_length", "length L of the limiting front's xi domain"},
+      {"tip_zone", "the front's tip zone c/(1 + kappa v_behind)"}};
+  for (const auto& [k, v] : defs) rep.definitions["strip_cmin_height/" + k] = v;
+  rep.files["strip_cmin_height.csv"] = strip_cmin_csv(r.rows);
+
+  StudyOutcome out;
+  const bool stopped = work.stop && work.stop();
+  if (!r.path.complete) {
+    out.status = stopped ? RunStatus::interrupted : RunStatus::failed;
+    out.message = "the limiting path reached " + std::to_string(r.rows.size()) + " of " +
+                  std::to_string(strip_cmin_heights(o).size()) + " target heights: " + r.path.reason;
+    rep.notes.push_back(out.message);
+  } else if (stopped) {
+    out.status = RunStatus::interrupted;
+    out.message = "stopped while the branches were continued: the limiting path is complete, the branches are not";
+    rep.notes.push_back(out.message);
+  }
+  return out;
+}
+
+}  // namespace slipfront::compare

@@ -1,0 +1,101 @@
+#pragma once
+// c_min(H) of the antiplane strip at a fixed strip material (issue 20 items 1, 2; docs/fronts.md §10.11–§10.13):
+// the limiting front at σ_c^d continued in H (continuum::continue_strip_height), at every target H optionally the
+// branch c(σ_d) from σ_d = 0.8 to its end (started from a second path at σ_d = 0.8), the 1D c_min of the same
+// column stiffness μ = μ'H, and the paper's lengths ℓ = μ', ℓ_κ = μ'κ/(ηα), s = μ'/η. The computation of the
+// study kind "strip_cmin_height" (docs/studies.md) and of bench/strip_cmin_height (its command line). No files:
+// strip_cmin_csv gives the table's text.
+#include <functional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "continuum/strip_front.hpp"
+#include "core/params.hpp"
+
+namespace slipfront::compare {
+
+struct Scene;
+struct StudySpec;
+struct StudyReport;
+struct StudyWork;
+struct StudyOutcome;
+
+struct StripCminHeightOptions {
+  core::InterfaceParams law{1.05, 8.0, 0.1};
+  double mu_strip = 300.0;    ///< μ' = μ/H, held along the path
+  double rho_strip = 1e-9;    ///< ρ' = ρ/H (1e-9: the quasi-static material of docs/fronts.md §10.12)
+  double hmin = 1.0, hmax = 1e6;
+  double per_decade = 2.0;    ///< target heights per decade: round(per_decade · log10(hmax/hmin)) + 1 of them
+  int rows = 16, intervals = 400;               ///< the limiting path's mesh
+  bool branches = true;                         ///< also the branch c(σ_d) at every target H
+  int branch_rows = 8, branch_intervals = 300;  ///< the branches' mesh
+  double tolerance = 1e-11;   ///< Newton tolerance of every solve
+  double max_factor = 2.0;    ///< largest step H_{n+1}/H_n of the paths
+  std::function<bool()> stop;                       ///< polled before every solve (empty: never)
+  std::function<void(const std::string&)> log;      ///< progress lines, without the newline (empty: none)
+};
+
+/// The target heights: hmin · (hmax/hmin)^(k/n), k = 0..n, n = round(per_decade · log10(hmax/hmin)).
+std::vector<double> strip_cmin_heights(const StripCminHeightOptions& o);
+
+/// The options of the limiting path (continue_strip_height) for `o`: its heights, rows, intervals, 12 Newton
+/// iterations, tolerance, max_factor.
+continuum::StripHeightOptions strip_cmin_path_options(const StripCminHeightOptions& o);
+
+/// One row of the table: one target height the limiting path reached.
+struct StripCminRow {
+  double H = 0, H_over_l = 0, H_over_l_kappa = 0;
+  double c_min = 0, c_min_over_s = 0, c_min_over_cs = 0;
+  double c_min_1d = 0, ratio_to_1d = 0;
+  double local_exponent = 0;        ///< d ln c_min/d ln H to the next height (NaN at the last)
+  double branch_c_min = 0, branch_sigma_d_at_c_min = 0;  ///< NaN without branches
+  int branch_c_min_at_end = 0, branch_points = 0, branch_folds = 0;
+  std::string branch_end = "none";
+  double branch_seconds = 0;        ///< wall time of the branch (0 without): the table's only timing column
+  int rows = 0, intervals = 0;
+  double domain_length = 0, tip_zone = 0;
+};
+
+/// The limiting path of `o` (log: the material line, the path's summary and one line per step).
+continuum::StripHeightPath strip_cmin_limiting_path(const StripCminHeightOptions& o);
+
+/// The table's rows from a limiting path of `o` (with o.branches, each target H's branch; log: one line each).
+std::vector<StripCminRow> strip_cmin_rows(const StripCminHeightOptions& o, const continuum::StripHeightPath& path);
+
+struct StripCminHeight {
+  continuum::StripHeightPath path;
+  std::vector<StripCminRow> rows;
+};
+
+/// Both: the limiting path, then the rows.
+StripCminHeight strip_cmin_height(const StripCminHeightOptions& o);
+
+/// The table as CSV text (header line, one line per row; the columns of docs/fronts.md §10.12).
+std::string strip_cmin_csv(const std::vector<StripCminRow>& rows);
+
+// ---------------------------------------------------------------------------------------------------
+// The study kind "strip_cmin_height" (docs/studies.md): no scene runs; the law and the strip material of the
+// study's base scene, the path's settings in the study file's [paths].
+
+/// The domains of the [paths] keys ("paths.hmin", ...), as core::KeyDomain rows: rows and intervals bounded as
+/// `slipfront fronts --rows/--intervals`.
+std::span<const core::KeyDomain> strip_cmin_path_domains();
+
+/// The rules between [paths] keys (each key's own domain checked already): hmax > hmin, and between 2 and
+/// strip_cmin_max_heights target heights. Throws core::ParamError naming the key.
+inline constexpr int strip_cmin_max_heights = 1000;
+void check_strip_cmin_paths(const StripCminHeightOptions& o);
+
+/// The study's [paths] with the base scene's law and strip material: μ' = bulk.mu/bulk.height, ρ' =
+/// bulk.rho/bulk.height (docs/model.md §9.1). Throws core::ParamError (key "scene") unless the scene is a strip.
+StripCminHeightOptions strip_cmin_study_options(const StudySpec& spec, const Scene& base);
+/// The same, as the kind's check before any work (compare::StudyCheck).
+void check_strip_cmin_study(const StudySpec& spec, const Scene& base);
+
+/// The kind's computation (compare::StudyComputation): the table `strip_cmin_height` (the CSV's numeric columns),
+/// scalars (the material, ℓ, ℓ_κ, s, c_s, heights targeted and reached), notes, and the file
+/// strip_cmin_height.csv. Interrupted when work.stop ends it, failed when the path stops short otherwise.
+StudyOutcome strip_cmin_height_study(StudyReport& rep, const StudySpec& spec, const Scene& base, const StudyWork& work);
+
+}  // namespace slipfront::compare

@@ -1,0 +1,180 @@
+// The study kind strip_cmin_height (issue 20, docs/studies.md): c_min(H) of the strip at the base scene's material,
+// no scene runs. `slipfront study` on a small range (H = 1 .. 10, one per decade, 6 rows, 150 intervals: ~1 s) writes
+// a complete study.h5 whose table is the library's (compare::strip_cmin_height) bit for bit, and the same CSV; the
+// smallest H is the 1D c_min of the same column stiffness within the path's own test bound
+// (tests/test_strip_front.cpp: 0 < c_min/c_min,1D - 1 < 1e-3). Hostile study files are refused before any work
+// with the file, the key and the reason, and nothing is created.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "compare/strip_cmin_height.hpp"
+#include "continuum/steady_front.hpp"
+#include "h5content.hpp"
+#include "process.hpp"
+#include "scenes.hpp"
+
+namespace fs = std::filesystem;
+using namespace slipfront;
+using namespace slipfront::testing;
+
+namespace {
+
+const std::string bin = SLIPFRONT_BINARY;
+
+// The strip of configs/steady_front_strip.toml (H = 16, mu = 4800: mu' = 300; the paper's law) at rho = 16e-9
+// (rho' = 1e-9, the quasi-static material of docs/fronts.md §10.12), written here so that the test does not follow
+// edits of configs/. The limits keys lift the checks of a time-dependent run that loading the scene makes.
+void write_strip_scene(const fs::path& dir) {
+  write_text(dir / "strip.toml", R"(scene = "strip"
+models = ["continuum"]
+[interface]
+alpha = 1.05
+kappa = 8.0
+eta = 0.1
+[bulk]
+rho = 16e-9
+mu = 4800.0
+length = 1000.0
+height = 16.0
+[drive]
+loading = "homogeneous"
+sigma_d = 0.5
+nucleation_length = 150.0
+[grid]
+dx = 0.5
+dy = 0.5
+[time]
+t_end = 15.0
+cfl = 0.5
+[limits]
+max_hours = 1000
+min_nodes_per_elastic_length = 0
+)");
+}
+
+const char* const small_paths = "[paths]\nhmin = 1.0\nhmax = 10.0\nper_decade = 1.0\nrows = 6\nintervals = 150\nbranches = false\n";
+
+fs::path write_study(const fs::path& dir, const std::string& name, const std::string& body) {
+  const fs::path f = dir / (name + ".toml");
+  write_text(f, "study = \"" + name + "\"\nkind = \"strip_cmin_height\"\nscene = \"strip.toml\"\n" + body);
+  return f;
+}
+
+}  // namespace
+
+TEST_CASE("study strip_cmin_height: slipfront study writes a complete study.h5 whose c_min(H) is the library's bit for "
+          "bit, the same CSV, and the 1D c_min at the smallest H",
+          "[study][strip][cmin]") {
+  const TempDir dir("study-cmin");
+  write_strip_scene(dir.path);
+  const fs::path study = write_study(dir.path, "cmin", small_paths);
+  const Output o = run({bin, "study", study.string(), "--out", (dir.path / "out").string()}, dir.path, {}, {}, 60.0);
+  INFO(o.out << o.err);
+  REQUIRE(o.code == 0);
+  CHECK(contains(o.err, "[study cmin] limiting path: 2 fronts"));  // progress lines on stderr
+  REQUIRE(fs::exists(dir.path / "out" / "study.h5"));
+  CHECK(!fs::exists(dir.path / "out" / "runs"));  // no scene runs
+
+  // The library called directly with the scene's material and the study's [paths].
+  compare::StripCminHeightOptions lib;
+  lib.law = {1.05, 8.0, 0.1};
+  lib.mu_strip = 300.0;
+  lib.rho_strip = 1e-9;
+  lib.hmin = 1.0;
+  lib.hmax = 10.0;
+  lib.per_decade = 1.0;
+  lib.rows = 6;
+  lib.intervals = 150;
+  lib.branches = false;
+  const auto direct = compare::strip_cmin_height(lib);
+  REQUIRE(direct.path.complete);
+  REQUIRE(direct.rows.size() == 2);
+
+  const H5Content h = read_h5(dir.path / "out" / "study.h5");
+  CHECK(h.strings.at("/meta@status") == "complete");
+  CHECK(h.strings.at("/study@kind") == "strip_cmin_height");
+  CHECK(h.strings.at("/study@name") == "cmin");
+  CHECK(h.strings.at("/study/runs@runs").empty());
+  const std::string table = "/study/tables/strip_cmin_height/";
+  std::vector<double> c_min, H, c_1d;
+  for (const auto& r : direct.rows) {
+    c_min.push_back(r.c_min);
+    H.push_back(r.H);
+    c_1d.push_back(r.c_min_1d);
+  }
+  CHECK(same_bits(h.datasets.at(table + "c_min"), c_min));
+  CHECK(same_bits(h.datasets.at(table + "H"), H));
+  CHECK(same_bits(h.datasets.at(table + "c_min_1d"), c_1d));
+  CHECK(h.numbers.at("/study/scalars@mu_strip") == 300.0);
+  CHECK(h.numbers.at("/study/scalars@rho_strip") == 1e-9);
+  CHECK(h.numbers.at("/study/scalars@heights_reached") == 2.0);
+  // The CSV beside it: the library's text, byte for byte (no branches: no timing column differs).
+  CHECK(slurp(dir.path / "out" / "strip_cmin_height.csv") == compare::strip_cmin_csv(direct.rows));
+
+  // The smallest H against the 1D c_min of mu = mu' H, rho = rho' H, solved here on its own.
+  const auto b1 = continuum::continue_steady_fronts(lib.law, {1e-9 * 1.0, 300.0 * 1.0, 1000.0, 0.0});
+  INFO("c_min(H = 1) = " << c_min[0] << ", 1D " << b1.c_min);
+  CHECK(c_min[0] / b1.c_min - 1.0 > 0.0);
+  CHECK(c_min[0] / b1.c_min - 1.0 < 1e-3);
+
+  // A second invocation without --force replaces the study's own study.h5; another study's is refused.
+  const fs::path other = write_study(dir.path, "other", small_paths);
+  const Output o2 = run({bin, "study", other.string(), "--out", (dir.path / "out").string()}, dir.path, {}, {}, 60.0);
+  CHECK(o2.code == 2);
+  CHECK(contains(o2.err, "belongs to the study 'cmin'"));
+}
+
+TEST_CASE("study strip_cmin_height: hostile study files are refused before any work, naming the file, the key and the "
+          "reason",
+          "[study][strip][cmin][hostile]") {
+  const TempDir dir("study-cmin-hostile");
+  write_strip_scene(dir.path);
+  write_text(dir.path / "chain.toml", minimal_config());
+  struct Case {
+    std::string name, body, key, reason;
+  };
+  const std::vector<Case> cases{
+      {"hmax_below_hmin", "[paths]\nhmin = 10.0\nhmax = 5.0\n", "paths.hmax", "must be > paths.hmin = 10, got 5"},
+      {"rows_zero", "[paths]\nrows = 0\n", "paths.rows", "must be in [1, 256]"},
+      {"intervals_huge", "[paths]\nintervals = 10000000\n", "paths.intervals", "must be in [8, 100000]"},
+      {"hmin_zero", "[paths]\nhmin = 0.0\n", "paths.hmin", "must be > 0 (the first target height), got 0"},
+      {"one_height", "[paths]\nhmin = 1.0\nhmax = 2.0\nper_decade = 1.0\n", "paths.per_decade", "one target height only"},
+      {"rows_float", "[paths]\nrows = 12.0\n", "paths.rows", "expected an integer, got a float"},
+      {"branches_number", "[paths]\nbranches = 1\n", "paths.branches", "expected true or false"},
+      {"unknown_path_key", "[paths]\nhmn = 1.0\n", "paths.hmn", "unknown key (known keys of [paths]: hmin, hmax"},
+      {"unknown_key", "color = \"red\"\n", "color", "unknown key (known: study, kind"},
+      {"group", "[[group]]\nname = \"mu\"\nvary = { \"bulk.mu\" = [4800.0, 9600.0] }\n", "group",
+       "the kind 'strip_cmin_height' makes no runs"},
+      {"vary", "[vary]\n\"bulk.mu\" = [4800.0]\n", "vary", "the kind 'strip_cmin_height' makes no runs"},
+      {"seeds", "seeds = 3\n", "seeds", "the kind 'strip_cmin_height' makes no runs"},
+      {"chain", "", "scene", "needs a strip scene (bulk.height > 0)"},
+  };
+  for (const Case& c : cases) {
+    INFO(c.name);
+    std::string body = c.body;
+    fs::path file;
+    if (c.name == "chain") {
+      file = dir.path / "chain_study.toml";
+      write_text(file, "study = \"chain\"\nkind = \"strip_cmin_height\"\nscene = \"chain.toml\"\n");
+    } else {
+      file = write_study(dir.path, c.name, body);
+    }
+    const fs::path out = dir.path / ("out_" + c.name);
+    const Output o = run({bin, "study", file.string(), "--out", out.string()}, dir.path, {}, {}, 20.0);
+    INFO(o.err);
+    CHECK(o.code == 2);
+    CHECK(contains(o.err, file.filename().string() + ": " + c.key + ": "));
+    CHECK(contains(o.err, c.reason));
+    CHECK(!fs::exists(out));  // nothing created
+  }
+  // [paths] in a kind that runs scenes
+  const fs::path fig2 = dir.path / "fig2.toml";
+  write_text(fig2, "study = \"f\"\nkind = \"fig2\"\nscene = \"chain.toml\"\n[paths]\nrows = 4\n");
+  const Output o = run({bin, "study", fig2.string(), "--out", (dir.path / "out_fig2").string()}, dir.path, {}, {}, 20.0);
+  CHECK(o.code == 2);
+  CHECK(contains(o.err, "fig2.toml: paths: only a kind without scene runs (strip_cmin_height) has [paths]"));
+}

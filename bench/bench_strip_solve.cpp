@@ -12,6 +12,8 @@
 //                 changes every step, so each step also makes the spring's ψ (one more interface solve)
 //   direct_stage  Strip::solve_system with another right-hand side on the same (c, d): what a Rosenbrock
 //                 stage costs (docs/performance.md §13); the "iterations" column: interface CG iterations
+//   mixed_stage   Strip::solve_stage_mixed: the adaptive integrator's stage solve since its state is mixed (rows
+//                 j ≥ 1 in cosine modes, docs/numerics.md §8.6): no transform of the bulk
 // Each solve starts from W = 0 with random u, V, σ̄, c0 and c1 ∈ [0, 2] (η = 0.1, dt = 0.02, dx = dy = 0.5,
 // fig1's ρ = 0.01, μ = 300, edge loading K = 2.5): a cold start with high-frequency data, the hardest case
 // (a time step warm-starts from the previous W).
@@ -197,6 +199,39 @@ void bm_direct(benchmark::State& state, bool stage, const char* name) {
        // solve_system's own: the mode factors and ψ (n each; the transforms' buffers are one row long)
        static_cast<double>(p.strip.workspace_bytes() + 2 * n * sizeof(double)) / static_cast<double>(n), n};
 }
+// The adaptive integrator's stage solve in the mixed representation (Strip::solve_stage_mixed, docs/numerics.md
+// §8.6): the rhs of the rows j ≥ 1 formed from (xu, xv) in their modes, no transform but row 0's.
+void bm_mixed_stage(benchmark::State& state) {
+  Problem p(sizes()[static_cast<std::size_t>(state.range(0))]);
+  const std::size_t n = p.strip.dofs(), nx = p.strip.sites();
+  std::vector<double> d(nx), r0(nx), xu0(n), xv0(n), xu(n), xv(n);
+  for (std::size_t i = 0; i < nx; ++i) {
+    d[i] = eta + 0.5 * p.c1[i];
+    r0[i] = p.u[i];
+  }
+  p.strip.to_mixed(p.u, xu0);
+  p.strip.to_mixed(p.V, xv0);
+  xu = xu0;
+  xv = xv0;
+  p.strip.solve_stage_mixed(0.5 * dt, d, r0.data(), xu.data(), xv.data());  // factors and ψ outside the timing
+  double total = 0.0, its = 0.0;
+  std::int64_t count = 0;
+  for (auto _ : state) {
+    std::copy(xu0.begin(), xu0.end(), xu.begin());
+    std::copy(xv0.begin(), xv0.end(), xv.begin());
+    const auto t0 = Clock::now();
+    p.strip.solve_stage_mixed(0.5 * dt, d, r0.data(), xu.data(), xv.data());
+    total += std::chrono::duration<double>(Clock::now() - t0).count();
+    its += p.strip.last_interface_iterations();
+    ++count;
+    benchmark::DoNotOptimize(xu.data());
+  }
+  state.counters["iterations"] = its / static_cast<double>(count);
+  state.counters["nodes"] = static_cast<double>(n);
+  Record& r = records()[std::string("mixed_stage/") + sizes()[static_cast<std::size_t>(state.range(0))].series][n];
+  r = {total / static_cast<double>(count), its / static_cast<double>(count),
+       static_cast<double>(p.strip.workspace_bytes() + 2 * n * sizeof(double)) / static_cast<double>(n), n};
+}
 void bm_direct_step(benchmark::State& s) { bm_direct(s, false, "direct"); }
 void bm_direct_stage(benchmark::State& s) { bm_direct(s, true, "direct_stage"); }
 
@@ -285,6 +320,7 @@ void register_all() {
   add("cg_ichol", bm_cg_ichol);
   add("direct", bm_direct_step);
   add("direct_stage", bm_direct_stage);
+  add("mixed_stage", bm_mixed_stage);
 }
 
 // Least-squares slope of log t against log n.
@@ -332,7 +368,7 @@ void summary() {
       std::printf("\n");
     }
   }
-  for (const char* name : {"cg_dct_mean/long", "direct/long", "direct_stage/long"}) {
+  for (const char* name : {"cg_dct_mean/long", "direct/long", "direct_stage/long", "mixed_stage/long"}) {
     const double e = exponent(records()[name]);
     std::printf("\n%s exponent (one body made longer) %.3f (%s 1.1)", name, e, e <= 1.1 ? "<=" : "ABOVE");
   }

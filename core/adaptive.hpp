@@ -249,10 +249,15 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
   double dense_value(double t, Field f, std::size_t i) const {
     if constexpr (!kChain) {
       if (static_cast<std::size_t>(f) < 2 && i >= this->sites_ && mixed_valid_) {  // a bulk node: from its row's modes
-        const std::size_t m = this->sites_, j0 = (i / m) * m;
-        dense_mixed_.resize(m);
-        for (std::size_t k = 0; k < m; ++k) dense_mixed_[k] = dense_value_raw(t, f, j0 + k);
-        return this->bulk_.mode_row_value(dense_mixed_.data(), i - j0);
+        // the dense output is linear in the modes: the row's node value of y_prev, k1 and k2, combined
+        const std::size_t m = this->sites_, j0 = (i / m) * m, col = i - j0;
+        const B& b = this->bulk_;
+        if (stats_.accepted == 0 || h_prev_ <= 0.0) return b.mode_row_value(current(static_cast<std::size_t>(f)) + j0, col);
+        const std::size_t q = offset(static_cast<std::size_t>(f)) + j0;
+        const double th = std::clamp((t - t_prev_) / h_prev_, 0.0, 1.0);
+        const double b1 = th * (1.0 - th) * kDenseScale * h_prev_, b2 = th * (th - 2.0 * kGamma) * kDenseScale * h_prev_;
+        return b.mode_row_value(y_prev_.data() + q, col) + b1 * b.mode_row_value(k1_prev_.data() + q, col) +
+               b2 * b.mode_row_value(k2_prev_.data() + q, col);
       }
     }
     return dense_value_raw(t, f, i);
@@ -499,14 +504,9 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
     }
     double* r = urhs_.data();
     const double* mass = mass_.data();
-    for (std::size_t k = 0; k < n; ++k) r[k] = mass[k] * (xv[k] + inv_c * xu[k]);
-    for (std::size_t i = 0; i < m; ++i) r[i] += b.interface_weight(i) * (d_coef_[i] * xu[i] - c * xs[i]);
-    b.solve_system_mixed(c, std::span<const double>(d_coef_.data(), m), urhs_, urhs_);
-    for (std::size_t k = 0; k < n; ++k) {
-      const double uk = r[k];
-      xv[k] = (uk - xu[k]) * inv_c;
-      xu[k] = uk;
-    }
+    for (std::size_t i = 0; i < m; ++i)
+      r[i] = mass[i] * (xv[i] + inv_c * xu[i]) + b.interface_weight(i) * (d_coef_[i] * xu[i] - c * xs[i]);
+    b.solve_stage_mixed(c, std::span<const double>(d_coef_.data(), m), r, xu, xv);  // rows j ≥ 1's rhs formed there
     for (std::size_t i = 0; i < m; ++i) {
       xa[i] += q_area_[i] * xv[i];
       xs[i] += q_sigma_[i] * xv[i];

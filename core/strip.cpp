@@ -726,7 +726,13 @@ void Strip::direct_factorise(double c) {
 // elimination, the interface system for row 0, back substitution upwards. rhs = nullptr: r = b, the spring's
 // spread, whose rows' DCT is b_j/(wx(0) 2(nx−1)) in every mode (the DCT-I of e_0 is all ones). Returns bᵀ C z
 // (bᵀ x for x the inverse transform of z). The rows are transformed one at a time and eliminated while in cache.
-double Strip::direct_modes(std::span<const double> d, const double* rhs, double* z, bool mixed) {
+struct Strip::StageRhs {
+  const double* xu;
+  const double* xv;
+  double inv_c;
+};
+
+double Strip::direct_modes(std::span<const double> d, const double* rhs, double* z, bool mixed, const StageRhs* stage) {
   Direct& D = direct();
   const std::size_t nx = nx_, ny = ny_;
   const double* iw = inv_wx_.data();
@@ -735,7 +741,18 @@ double Strip::direct_modes(std::span<const double> d, const double* rhs, double*
   // Row by row from the top: its transform, then its elimination by the row above (still in cache).
   for (std::size_t j = ny + 1; j-- > 0;) {
     double* zj = z + j * nx;
-    if (rhs != nullptr && mixed && j > 0) {  // the row's modes given (solve_system_mixed)
+    if (stage != nullptr && j > 0) {  // the row's modes formed from the stage (solve_stage_mixed)
+      const double* xu = stage->xu + j * nx;
+      const double* xv = stage->xv + j * nx;
+      const double mj = rho_p_ * row_weight(j), ic = stage->inv_c;
+      if (j == ny) {
+        for (std::size_t k = 0; k < nx; ++k) zj[k] = mj * (xv[k] + ic * xu[k]);
+      } else {
+        const double* zn = zj + nx;
+        const double* iv = inv + (j + 1) * nx;
+        for (std::size_t k = 0; k < nx; ++k) zj[k] = mj * (xv[k] + ic * xu[k]) - o * iv[k] * zn[k];
+      }
+    } else if (rhs != nullptr && mixed && j > 0) {  // the row's modes given (solve_system_mixed)
       const double* rj = rhs + j * nx;
       if (j == ny) {
         std::copy_n(rj, nx, zj);
@@ -867,6 +884,38 @@ void Strip::solve_system_mixed(double c, std::span<const double> d, std::span<co
     std::copy(z + nx, z + n, xo + nx);
     D.row_dct->row([z](std::size_t k) { return z[k]; }, [xo](std::size_t i, double v) { xo[i] = v; });
   }
+}
+
+void Strip::solve_stage_mixed(double c, std::span<const double> d, const double* r0, double* xu, double* xv) {
+  if (!(c > 0.0)) throw std::invalid_argument("Strip::solve_stage_mixed: c must be > 0");
+  direct_factorise(c);
+  Direct& D = direct();
+  const std::size_t n = dofs(), nx = nx_;
+  prepare_psi(c, d);
+  double* z = buf_;
+  const StageRhs stage{xu, xv, 1.0 / c};
+  const double b_x = direct_modes(d, r0, z, /*mixed=*/true, &stage);
+  const double inv_c = 1.0 / c;
+  const double s = spring_K_ > 0.0 ? c * spring_K_ * b_x / (1.0 + c * spring_K_ * D.b_psi) : 0.0;
+  const double* psi = spring_K_ > 0.0 ? D.psi.data() : nullptr;
+  if (psi != nullptr) {
+    for (std::size_t k = nx; k < n; ++k) {
+      const double x = z[k] - s * psi[k];
+      xv[k] = (x - xu[k]) * inv_c;
+      xu[k] = x;
+    }
+  } else {
+    for (std::size_t k = nx; k < n; ++k) {
+      const double x = z[k];
+      xv[k] = (x - xu[k]) * inv_c;
+      xu[k] = x;
+    }
+  }
+  D.row_dct->row([z, psi, s](std::size_t k) { return psi != nullptr ? z[k] - s * psi[k] : z[k]; },
+                 [xu, xv, inv_c](std::size_t i, double x) {
+                   xv[i] = (x - xu[i]) * inv_c;
+                   xu[i] = x;
+                 });
 }
 
 void Strip::to_mixed(std::span<const double> u, std::span<double> z) const {

@@ -129,6 +129,85 @@ TEST_CASE("strip: solve_system (capacitance) matches a sparse LDLT of the assemb
   CHECK(indefinite_d > 0);
 }
 
+TEST_CASE("strip: the mixed representation (interface row in node values, rows above in cosine modes) is exact",
+          "[strip][adaptive]") {
+  // docs/numerics.md §8.6: to_mixed/from_mixed invert each other; mixed_accelerations is M⁻¹(−S u + F b + top σ_d −
+  // E wx traction) of the assembled stiffness; mixed_edge_slip is edge_slip; solve_stage_mixed solves the assembled
+  // A(c, d) (sparse LDLT) for the rhs M xv + M xu / c + E r0' and returns xu ← x, xv ← (x − xu)/c. All to round-off.
+  std::mt19937 g(86);
+  struct Shape {
+    std::size_t nx, rows;
+  };
+  for (const Shape sh : {Shape{17, 5}, Shape{64, 2}, Shape{33, 9}, Shape{3, 3}})
+    for (const bool edge : {true, false}) {
+      INFO("nx " << sh.nx << " rows " << sh.rows << (edge ? " edge" : " homogeneous"));
+      const Setup st = setup(sh.nx, sh.rows, edge);
+      core::Strip s(st.bulk, st.drive, st.law, 0.5, 0.25);
+      const std::size_t n = s.dofs(), nx = s.sites();
+      const auto u = random_vector(n, g, -1.0, 1.0);
+      std::vector<double> z(n), back(n);
+      s.to_mixed(u, z);
+      s.from_mixed(z, back);
+      CHECK((view(back) - view(u)).norm() / view(u).norm() < 1e-14);
+      CHECK(std::equal(u.begin(), u.begin() + static_cast<std::ptrdiff_t>(nx), z.begin()));  // row 0: node values
+      CHECK(std::abs(s.mixed_edge_slip(z) - s.edge_slip(u)) < 1e-14 * (1.0 + std::abs(s.edge_slip(u))));
+      for (std::size_t j = 1; j < s.rows(); ++j)
+        for (const std::size_t i : {std::size_t{0}, nx / 2, nx - 1})
+          CHECK(std::abs(s.mode_row_value(z.data() + j * nx, i) - u[j * nx + i]) < 1e-13);
+
+      // accelerations against the assembled stiffness and the loads of docs/model.md §9
+      const double F = 0.7;
+      const auto trac = random_vector(nx, g, -1.0, 1.0);
+      std::vector<double> am(n), a(n);
+      s.mixed_accelerations(z, F, trac.data(), am);
+      s.from_mixed(am, a);
+      const Eigen::VectorXd Su = s.stiffness_matrix() * view(u);
+      double err = 0.0, size = 0.0;
+      for (std::size_t j = 0; j < s.rows(); ++j)
+        for (std::size_t i = 0; i < nx; ++i) {
+          double force = -Su[static_cast<Eigen::Index>(j * nx + i)];
+          if (i == 0) force += F * s.row_weight(j) / s.height();
+          if (j + 1 == s.rows()) force += s.interface_weight(i) * s.uniform_stress();
+          if (j == 0) force -= s.interface_weight(i) * trac[i];
+          const double ref = force / s.node_mass(i, j);
+          err = std::max(err, std::abs(a[j * nx + i] - ref));
+          size = std::max(size, std::abs(ref));
+        }
+      CHECK(err < 1e-12 * size);
+
+      // the fused stage solve
+      for (const double c : {0.004, 0.3}) {
+        const auto d = random_vector(nx, g, 0.0, 2.0);
+        const auto xu = random_vector(n, g, -1.0, 1.0), xv = random_vector(n, g, -1.0, 1.0);
+        const auto r0 = random_vector(nx, g, -1.0, 1.0);  // row 0's rhs as given (node values)
+        Eigen::VectorXd rhs(static_cast<Eigen::Index>(n));
+        for (std::size_t j = 0; j < s.rows(); ++j)
+          for (std::size_t i = 0; i < nx; ++i) {
+            const std::size_t k = j * nx + i;
+            rhs[static_cast<Eigen::Index>(k)] = j == 0 ? r0[i] : s.node_mass(i, j) * (xv[k] + xu[k] / c);
+          }
+        Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(assemble(s, c, d));
+        REQUIRE(ldlt.info() == Eigen::Success);
+        const Eigen::VectorXd x = ldlt.solve(rhs);
+        std::vector<double> mu(n), mv(n), nu(n), nv(n);
+        s.to_mixed(xu, mu);
+        s.to_mixed(xv, mv);
+        s.solve_stage_mixed(c, d, r0.data(), mu.data(), mv.data());
+        s.from_mixed(mu, nu);
+        s.from_mixed(mv, nv);
+        double ex = 0.0, ev = 0.0, vs = 0.0;
+        for (std::size_t k = 0; k < n; ++k) {
+          ex = std::max(ex, std::abs(nu[k] - x[static_cast<Eigen::Index>(k)]));
+          const double vref = (x[static_cast<Eigen::Index>(k)] - xu[k]) / c;
+          ev = std::max(ev, std::abs(nv[k] - vref));
+          vs = std::max(vs, std::abs(vref));
+        }
+        CHECK(ex < 1e-11 * x.lpNorm<Eigen::Infinity>());
+        CHECK(ev < 1e-10 * vs);
+      }
+    }
+}
+
 TEST_CASE("strip: the trapezoidal step by the direct solve is the CG's step", "[strip][adaptive]") {
   std::mt19937 g(7);
   for (const bool edge : {true, false}) {

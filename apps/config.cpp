@@ -183,6 +183,8 @@ const std::vector<Section>& schema() {
            {"rtol", at<&Scene::time, &TimeParams::rtol>, adaptive, "with time.integrator = adaptive"},
            {"atol", at<&Scene::time, &TimeParams::atol>, adaptive, "with time.integrator = adaptive"},
            {"dt_max", at<&Scene::time, &TimeParams::dt_max>, adaptive, "with time.integrator = adaptive"},
+           {"group_switchings", at<&Scene::time, &TimeParams::group_switchings>, adaptive,
+            "with time.integrator = adaptive"},
            {"leap_epsilon", at<&Scene::time, &TimeParams::leap_epsilon>, leap_stepped,
             "with time.integrator = adaptive and the discrete or mean_field model"},
            {"stop_at_arrest", at<&Scene::time, &TimeParams::stop_at_arrest>, edge_loaded, "with drive.loading = edge"},

@@ -12,6 +12,7 @@
 //   SLIPFRONT_BENCH_QUICK=1 build/bench/bench_strip_work_precision  H = 4 (9 rows), to t = 60: a smoke test
 //   SLIPFRONT_BENCH_REPEAT=3 …   every run (not the reference) three times, best wall and CPU times
 //   SLIPFRONT_BENCH_ONLY=3e-2 …  one adaptive run at rtol 3e-2 (=x1: one explicit run at cfl 1), for perf
+//   SLIPFRONT_BENCH_GROUP=1 …    with SLIPFRONT_BENCH_ONLY: time.group_switchings for that run
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -97,6 +98,7 @@ int main() {
     compare::Scene s = base();
     s.time.integrator = core::Integrator::adaptive_rosenbrock;
     s.time.rtol = std::atof(only);
+    if (const char* g = std::getenv("SLIPFRONT_BENCH_GROUP")) s.time.group_switchings = std::atof(g);
     if (only[0] == 'x') {
       s.time.integrator = core::Integrator::central_difference;
       s.time.cfl = std::atof(only + 1);
@@ -107,6 +109,10 @@ int main() {
     std::printf("%s: %.0f steps, wall %.3f s, cpu %.3f s; t* %.9g t^ %.9g c_transient %.9g x_arrest %.9g\n", only,
                 x.r.scalars.at("steps"), x.wall, x.cpu, x.r.events.t_star, x.r.events.t_hat, x.r.events.c_transient,
                 x.r.events.x_arrest);
+    if (x.r.scalars.count("event_steps"))
+      std::printf("  rejected %.0f, ended on a switching %.0f, switchings %.0f, rhs %.0f, stage solves %.0f\n",
+                  x.r.scalars.at("rejected_steps"), x.r.scalars.at("event_steps"), x.r.scalars.at("switchings"),
+                  x.r.scalars.at("rhs_evaluations"), x.r.scalars.at("stage_solves"));
     return 0;
   }
   compare::Scene ref_scene = base();
@@ -121,13 +127,24 @@ int main() {
     s.time.cfl = cfl;
     runs.push_back(run("explicit cfl " + std::to_string(cfl).substr(0, 4), s));
   }
-  for (const double rtol : {1e-1, 3e-2, 1e-2, 3e-3, 1e-3}) {
+  for (const double rtol : {1e-1, 5e-2, 3e-2, 1e-2, 3e-3, 1e-3}) {
     compare::Scene s = base();
     s.time.integrator = core::Integrator::adaptive_rosenbrock;
     s.time.rtol = rtol;
     s.time.atol = rtol / 100.0;
     char label[64];
     std::snprintf(label, sizeof label, "adaptive rtol %.0e", rtol);
+    runs.push_back(run(label, s));
+  }
+  // Switchings grouped under the error control (time.group_switchings = 1, docs/numerics.md §8.7).
+  for (const double rtol : {1e-1, 5e-2, 3e-2, 1e-2}) {
+    compare::Scene s = base();
+    s.time.integrator = core::Integrator::adaptive_rosenbrock;
+    s.time.rtol = rtol;
+    s.time.atol = rtol / 100.0;
+    s.time.group_switchings = 1.0;
+    char label[64];
+    std::snprintf(label, sizeof label, "adaptive grouped %.0e", rtol);
     runs.push_back(run(label, s));
   }
   {

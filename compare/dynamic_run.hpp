@@ -218,6 +218,14 @@ class DynamicRun {
       r_.scalars["substeps"] = static_cast<double>(sim_.substeps());
       r_.scalars["max_linearisation_defect"] = sim_.max_defect();
     }
+    if constexpr (requires { sim_.stats().event_steps; }) {  // the Rosenbrock integrator (core/adaptive.hpp)
+      const auto& st = sim_.stats();
+      r_.scalars["rejected_steps"] = static_cast<double>(st.rejected);
+      r_.scalars["event_steps"] = static_cast<double>(st.event_steps);
+      r_.scalars["switchings"] = static_cast<double>(st.switchings);
+      r_.scalars["rhs_evaluations"] = static_cast<double>(st.rhs);
+      r_.scalars["stage_solves"] = static_cast<double>(st.solves);
+    }
     if constexpr (requires { sim_.stats().leap_rejected; }) {  // the step-controlled integrator (core/leap.hpp)
       const auto& st = sim_.stats();
       r_.scalars["trial_solves"] = static_cast<double>(st.solves);

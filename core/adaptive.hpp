@@ -69,6 +69,11 @@ struct AdaptiveOptions {
   /// switching within event_window (time) of the first, flipping all of them there: each switching
   /// is then late by up to event_window (an O(event_window) error the error estimate does not see).
   double event_window = 0.0;
+  /// Switchings grouped under the error control (docs/numerics.md §8.7): a step that would end at its first
+  /// switching ends at a later one when every site crossing in between, flipped late by δ_i, leaves a local error
+  /// δ_i |Δ rate_i| (the jump of its A' and σ̄' at its switching) within group_fraction of the step's tolerance
+  /// (atol + rtol · the field's scale, as in the error norm). 0: every switching ends a step (exact).
+  double group_fraction = 0.0;
   /// Hysteresis of the Θ switching: a stuck site starts sliding when |σ|/A crosses 1 + band, a
   /// sliding one sticks when it crosses 1 − band (each step ends there, so the band is all the
   /// delay there is: ~band/(d(|σ|/A)/dt), 1e-8 time units for fig1).
@@ -86,6 +91,7 @@ struct AdaptiveOptions {
     o.dt_max = t.dt_max;
     o.leap_epsilon = t.leap_epsilon;
     o.defect_tolerance = t.implicit_tolerance;
+    o.group_fraction = t.group_switchings;
     return o;
   }
 };
@@ -158,8 +164,7 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
         for (std::size_t i = 0; i < b.sites(); ++i)
           mass_[j * b.sites() + i] = j == 0 ? b.node_mass(i, 0) : b.node_mass(0, j) / b.interface_weight(0);
       urhs_.assign(this->n_, 0.0);
-      um_.assign(this->n_, 0.0);
-      vm_.assign(this->n_, 0.0);
+      ystate_.assign(2 * this->n_ + 2 * this->sites_, 0.0);
       // The stage solves' interface iterations stop at a relative residual of 1e-4 rtol (docs/numerics.md §8.5):
       // the stage error they leave is far below what the step's error control admits.
       if constexpr (requires(B& mb) { mb.set_interface_tolerance(1e-3); })
@@ -187,7 +192,7 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
   double drive_force() const {
     if constexpr (kChain) return Core::drive_force();
     else if (!mixed_valid_) return Core::drive_force();
-    else return this->bulk_.drive_force_at(this->t_, this->bulk_.mixed_edge_slip(um_));
+    else return this->bulk_.drive_force_at(this->t_, this->bulk_.mixed_edge_slip(mixed_u()));
   }
 
   // One accepted step, in named stages (docs/performance.md §2):
@@ -304,7 +309,7 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
     ar(t_prev_, h_next_, last_dt_, err_prev_, started_, f0_valid_, y_prev_, f0_, k1_prev_, k2_prev_, h_prev_, t_stop_,
        theta_, theta_prev_, stats_);
     if constexpr (!kChain) {
-      ar(um_, vm_, mixed_valid_);
+      ar(ystate_, mixed_valid_);
       bulk_stale_ = false;
       bulk_scale_valid_ = false;
     }
@@ -338,8 +343,7 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
       if (f == 0) return this->u_.data();
       if (f == 1) return this->v_.data();
     } else {
-      if (f == 0) return um_.data();
-      if (f == 1) return vm_.data();
+      if (f < 2) return ystate_.data() + f * this->n_;
     }
     return fields_ptr() + (f - 2) * this->sites_;
   }
@@ -513,6 +517,53 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
     }
   }
 
+  // The strip's W solve with the stage arithmetic around it fused into the strip's sweeps (no pass of its own over
+  // the rows j ≥ 1): out = W⁻¹ (b − sub + hdT e_drive) (+ sub when add_back). The same arithmetic as
+  // "out = b − sub; add_time_derivative; solve(out); out += sub" in another order of operations.
+  void solve_fused(std::vector<double>& out, const std::vector<double>& b, const std::vector<double>* sub, bool add_back,
+                   double hdT) {
+    ++stats_.solves;
+    const std::size_t n = this->n_, m = this->sites_;
+    B& body = this->bulk_;
+    const double* sb = sub != nullptr ? sub->data() : nullptr;
+    // row 0 of u and v and the sites' blocks: the right-hand side itself
+    for (const std::size_t o : {std::size_t{0}, n, 2 * n, 2 * n + m})
+      for (std::size_t i = 0; i < m; ++i) out[o + i] = sb != nullptr ? b[o + i] - sb[o + i] : b[o + i];
+    if (body.has_drive_spring()) out[n] += hdT;
+    double* xu = out.data();
+    double* xv = xu + n;
+    double* xa = xv + n;
+    double* xs = xa + m;
+    const double c = c_, inv_c = 1.0 / c;
+    for (std::size_t i = 0; i < m; ++i) {
+      const double pa = xa[i] * inv_a1_[i];
+      xa[i] = pa;
+      xs[i] = (xs[i] + c_alpha_v_[i] * pa) * inv_s1_[i];
+    }
+    double* r = urhs_.data();
+    const double* mass = mass_.data();
+    for (std::size_t i = 0; i < m; ++i)
+      r[i] = mass[i] * (xv[i] + inv_c * xu[i]) + body.interface_weight(i) * (d_coef_[i] * xu[i] - c * xs[i]);
+    typename B::StageInput in{b.data(), b.data() + n};
+    if (sb != nullptr) {
+      in.sub_u = sb;
+      in.sub_v = sb + n;
+    }
+    if (add_back) {
+      in.add_u = sb;
+      in.add_v = sb + n;
+    }
+    in.shift_v = body.has_drive_spring() ? hdT / (2.0 * static_cast<double>(m - 1)) : 0.0;
+    body.solve_stage_mixed(c, std::span<const double>(d_coef_.data(), m), r, in, xu, xv);
+    for (std::size_t i = 0; i < m; ++i) {
+      xa[i] += q_area_[i] * xv[i];
+      xs[i] += q_sigma_[i] * xv[i];
+    }
+    if (add_back)
+      for (const std::size_t o : {std::size_t{0}, n, 2 * n, 2 * n + m})
+        for (std::size_t i = 0; i < m; ++i) out[o + i] += sb[o + i];
+  }
+
   void solve(std::vector<double>& x) {  // in place: x ← W⁻¹ x
     ++stats_.solves;
     if constexpr (kChain) solve_chain(x);
@@ -572,14 +623,22 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
     // the v row of every node (0, j).)
     const double hdT =
         b.has_drive_spring() ? kGamma * h * b.spring_K() * b.driver_velocity() / (b.rho() * b.interface_weight(0)) : 0.0;
-    for (std::size_t j = 0; j < m; ++j) k1_[j] = f0_[j];
-    add_time_derivative(k1_, hdT);
-    solve(k1_);
+    if constexpr (kChain) {
+      for (std::size_t j = 0; j < m; ++j) k1_[j] = f0_[j];
+      add_time_derivative(k1_, hdT);
+      solve(k1_);
+    } else {
+      solve_fused(k1_, f0_, nullptr, false, hdT);  // k1 = W⁻¹ (f0 + h d ∂f/∂t)
+    }
     stage(0.5 * h, k1_, ynew_);
     rhs_stage(this->t_ + 0.5 * h, ynew_, f1_);
-    for (std::size_t j = 0; j < m; ++j) k2_[j] = f1_[j] - k1_[j];
-    solve(k2_);
-    for (std::size_t j = 0; j < m; ++j) k2_[j] += k1_[j];
+    if constexpr (kChain) {
+      for (std::size_t j = 0; j < m; ++j) k2_[j] = f1_[j] - k1_[j];
+      solve(k2_);
+      for (std::size_t j = 0; j < m; ++j) k2_[j] += k1_[j];
+    } else {
+      solve_fused(k2_, f1_, &k1_, true, 0.0);  // k2 = W⁻¹ (f1 − k1) + k1
+    }
     stage(h, k2_, ynew_);
     rhs_stage(this->t_ + h, ynew_, f2_);
     for (std::size_t j = 0; j < m; ++j)
@@ -677,8 +736,8 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
     }
     nodes_[4].resize(n);
     nodes_[5].resize(n);
-    b.from_mixed(um_, nodes_[4]);
-    b.from_mixed(vm_, nodes_[5]);
+    b.from_mixed(mixed_u(), nodes_[4]);
+    b.from_mixed(mixed_v(), nodes_[5]);
     return error_norm_generic(h, nodes_[0], nodes_[1], nodes_[2], nodes_[3], [this](std::size_t f) {
       return f == 0 ? nodes_[4].data() : f == 1 ? nodes_[5].data() : current(f);
     });
@@ -810,16 +869,58 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
     const double* a = ynew_.data() + offset(2);
     const double* s = ynew_.data() + offset(3);
     crossings_.clear();
+    groups_.clear();
+    group_scales_valid_ = false;
     for (std::size_t i = 0; i < n; ++i)
-      if (switch_function(i, {v[i], a[i], s[i]}) > 0.0) crossings_.push_back(event_fraction(i, h));
+      if (switch_function(i, {v[i], a[i], s[i]}) > 0.0) {
+        const double th = event_fraction(i, h);
+        crossings_.push_back(th);
+        if (opt_.group_fraction > 0.0) groups_.emplace_back(th, group_allowance(i, th, h));
+      }
     if (crossings_.empty()) return 2.0;
     double frac = *std::min_element(crossings_.begin(), crossings_.end());
     if (opt_.event_window > 0.0) {
       const double limit = frac + opt_.event_window / h;
       for (double c : crossings_)
         if (c <= limit) frac = std::max(frac, c);
+    } else if (opt_.group_fraction > 0.0 && groups_.size() > 1) {
+      // The latest θ_c such that every crossing θ_i ≤ θ_c is within its allowance: θ_c ≤ min_{i ≤ c} (θ_i + a_i).
+      std::sort(groups_.begin(), groups_.end());
+      double limit = groups_[0].first + groups_[0].second;
+      for (const auto& [th, allow] : groups_) {
+        if (th > limit) break;
+        frac = th;
+        limit = std::min(limit, th + allow);
+      }
     }
     return frac;
+  }
+  // How late (as a fraction of h) site i, crossing at θ, may flip: group_fraction (atol + rtol · scale_f)/|Δ rate_f|
+  // for f = A, σ̄, the jump of the site's rates at its switching (both Θ at the crossing's dense state), the scales
+  // the field norm's (the largest |A|, |σ̄| over the sites, of the step's start and of the trial's end).
+  double group_allowance(std::size_t i, double th, double h) {
+    if (!group_scales_valid_) {
+      const std::size_t m = this->sites_;
+      double sa = 0.0, ss = 0.0;
+      const double *a0 = current(2), *s0 = current(3), *a1 = ynew_.data() + offset(2), *s1 = ynew_.data() + offset(3);
+      for (std::size_t k = 0; k < m; ++k) {
+        sa = std::max({sa, std::abs(a0[k]), std::abs(a1[k])});
+        ss = std::max({ss, std::abs(s0[k]), std::abs(s1[k])});
+      }
+      group_tol_[0] = opt_.atol + opt_.rtol * sa;
+      group_tol_[1] = opt_.atol + opt_.rtol * ss;
+      group_scales_valid_ = true;
+    }
+    const std::size_t iv = offset(1) + i, ia = offset(2) + i, is = offset(3) + i;
+    const double b1 = th * (1.0 - th) * kDenseScale * h, b2 = th * (th - 2.0 * kGamma) * kDenseScale * h;
+    const SiteState st{current(1)[i] + b1 * k1_[iv] + b2 * k2_[iv], current(2)[i] + b1 * k1_[ia] + b2 * k2_[ia],
+                       current(3)[i] + b1 * k1_[is] + b2 * k2_[is]};
+    const SiteRate now = this->law_.rate(st, theta_[i] != 0), flipped = this->law_.rate(st, theta_[i] == 0);
+    const double ja = std::abs(flipped.area - now.area), js = std::abs(flipped.sigma_bar - now.sigma_bar);
+    double allow = std::numeric_limits<double>::infinity();
+    if (ja > 0.0) allow = std::min(allow, group_tol_[0] / ja);
+    if (js > 0.0) allow = std::min(allow, group_tol_[1] / js);
+    return opt_.group_fraction * allow / h;
   }
 
   // Stage 3 (interpolate): the end state is the dense output of the trial step at θ = frac.
@@ -840,7 +941,17 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
   // stop time.
   bool accept(double h, double h_dense, bool f_end_valid) {
     double vmax = 0.0;
-    for (std::size_t f = 0; f < 4; ++f) {
+    if constexpr (!kChain) {
+      // The strip: the stage vectors rotate (y_prev ← the state, the state ← ynew) instead of being copied; only
+      // the law's A and σ̄, which live in the law, are copied.
+      const std::size_t oa = offset(2), m2 = 2 * this->sites_;
+      double* fields = const_cast<double*>(fields_ptr());
+      std::copy_n(fields, m2, ystate_.data() + oa);
+      std::swap(y_prev_, ystate_);
+      std::swap(ystate_, ynew_);
+      std::copy_n(ystate_.data() + oa, m2, fields);
+    } else {
+      for (std::size_t f = 0; f < 4; ++f) {
       double* y = current(f);
       const std::size_t o = offset(f), n = block_size(f);
       for (std::size_t i = 0; i < n; ++i) {
@@ -848,13 +959,14 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
         y_prev_[j] = y[i];
         y[i] = ynew_[j];
       }
+      }
     }
     const std::size_t ov = offset(1);
     const double* vc = current(1);
     for (std::size_t i = 0; i < this->sites_; ++i) vmax = std::max({vmax, std::abs(y_prev_[ov + i]), std::abs(vc[i])});
     if constexpr (!kChain) {  // the interface row's node values at once, the rest when asked (sync_bulk)
-      std::copy_n(um_.data(), this->sites_, this->u_.data());
-      std::copy_n(vm_.data(), this->sites_, this->v_.data());
+      std::copy_n(mixed_u().data(), this->sites_, this->u_.data());
+      std::copy_n(mixed_v().data(), this->sites_, this->v_.data());
       bulk_stale_ = true;
       bulk_scale_valid_ = false;
     }
@@ -972,14 +1084,20 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
   double h_prev_ = 0.0, t_stop_ = -1.0;
   std::vector<std::uint8_t> theta_, theta_prev_;
   std::vector<double> crossings_;
+  std::vector<std::pair<double, double>> groups_;  // (θ_i, allowance_i) of the crossings, for group_fraction
+  double group_tol_[2] = {0.0, 0.0};               // the tolerances of A and σ̄ of the current trial
+  bool group_scales_valid_ = false;
   // W factorization: node elimination coefficients and the Thomas factors of the u system.
   double c_ = 0.0;
   std::vector<double> inv_a1_, q_area_, inv_s1_, c_alpha_v_, q_sigma_, d_coef_, thomas_c_, thomas_inv_;
   std::vector<double> en_v_, en_s_, en_u_;  // energy budget work arrays
-  // The strip's mixed representation (Strip::to_mixed, docs/numerics.md §8.6): um_, vm_ are the state (u_, v_ of
+  // The strip's mixed representation (Strip::to_mixed, docs/numerics.md §8.6): the first 2 dofs() of ystate_ are the
+  // state [u | v] (its tail is the stage rotation's room for A, σ̄: accept); u_, v_ of
   // the core hold the interface row at every step end and the rest when asked, sync_bulk); mass_ the u system's
   // mass in it; urhs_ the system's right-hand side.
-  std::vector<double> mass_, urhs_, um_, vm_;
+  std::vector<double> mass_, urhs_, ystate_;
+  std::span<const double> mixed_u() const { return std::span<const double>(ystate_).first(this->n_); }
+  std::span<const double> mixed_v() const { return std::span<const double>(ystate_).subspan(this->n_, this->n_); }
   bool mixed_valid_ = false;
   mutable bool bulk_stale_ = false;
   mutable std::vector<double> dense_mixed_;
@@ -991,8 +1109,8 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
   // The mixed state from the node values (at the start, and after set_initial).
   void make_mixed() {
     if constexpr (!kChain) {
-      this->bulk_.to_mixed(this->u_, um_);
-      this->bulk_.to_mixed(this->v_, vm_);
+      this->bulk_.to_mixed(this->u_, std::span<double>(ystate_).first(this->n_));
+      this->bulk_.to_mixed(this->v_, std::span<double>(ystate_).subspan(this->n_, this->n_));
       mixed_valid_ = true;
       bulk_stale_ = false;
       bulk_scale_valid_ = false;
@@ -1004,8 +1122,8 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
     if constexpr (!kChain) {
       if (!bulk_stale_ || !mixed_valid_) return;
       auto* self = const_cast<AdaptiveSimulation*>(this);
-      this->bulk_.from_mixed(um_, self->u_);
-      this->bulk_.from_mixed(vm_, self->v_);
+      this->bulk_.from_mixed(mixed_u(), self->u_);
+      this->bulk_.from_mixed(mixed_v(), self->v_);
       bulk_stale_ = false;
     }
   }

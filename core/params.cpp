@@ -64,6 +64,8 @@ const KeyDomain continuum_domains[] = {
     {"time.atol", K::number, 0.0, cap, true},
     {"time.dt_max", K::number, 0.0, cap, true},
     {"time.leap_epsilon", K::number, 0.0, 1.0, true, false, false, "", "(relative change of a site's rates per step)"},
+    {"time.group_switchings", K::number, 0.0, 1.0, false, false, false, "",
+     "(0: every switching ends a step; f: late flips within f of the step's tolerance)"},
     {"measure.A_tip", K::number, 0.0, 1.0, true, true},
     {"measure.A_tip_alt", K::number, 0.0, 1.0, true, true},
     {"measure.v_event", K::number, 0.0, cap, true},
@@ -303,6 +305,7 @@ void TimeParams::validate(Loading l) const {
     check_in_domain("time.dt_max", dt_max);
     check_in_domain("time.leap_epsilon", leap_epsilon);
     check_in_domain("time.implicit_tolerance", implicit_tolerance);
+    check_in_domain("time.group_switchings", group_switchings);
   }
   if (l == Loading::imposed_rate) {
     check_in_domain("time.slip_end", slip_end);

@@ -152,6 +152,10 @@ struct TimeParams {
   /// adaptive, the discrete and mean-field laws (core/leap.hpp, docs/numerics.md §9): the leap condition's
   /// bound on the change of a site's relaxation rate 1 + κ|v| over one step, relative to the rate.
   double leap_epsilon = 0.2;
+  /// adaptive, the continuum law (core/adaptive.hpp, docs/numerics.md §8.7): 0 ends a step at every switching
+  /// (exact); f in (0, 1] groups the switchings of a step whose late flips leave a local error within f of the
+  /// step's tolerance.
+  double group_switchings = 0.0;
   /// implicit: error control around switchings (core/implicit.hpp, docs/numerics.md §7): a step
   /// whose linearisation defect exceeds implicit_tolerance (stress units) is halved, at most
   /// implicit_max_halvings times; 0 turns it off.

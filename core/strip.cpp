@@ -727,8 +727,7 @@ void Strip::direct_factorise(double c) {
 // spread, whose rows' DCT is b_j/(wx(0) 2(nx−1)) in every mode (the DCT-I of e_0 is all ones). Returns bᵀ C z
 // (bᵀ x for x the inverse transform of z). The rows are transformed one at a time and eliminated while in cache.
 struct Strip::StageRhs {
-  const double* xu;
-  const double* xv;
+  const StageInput* in;
   double inv_c;
 };
 
@@ -742,15 +741,25 @@ double Strip::direct_modes(std::span<const double> d, const double* rhs, double*
   for (std::size_t j = ny + 1; j-- > 0;) {
     double* zj = z + j * nx;
     if (stage != nullptr && j > 0) {  // the row's modes formed from the stage (solve_stage_mixed)
-      const double* xu = stage->xu + j * nx;
-      const double* xv = stage->xv + j * nx;
-      const double mj = rho_p_ * row_weight(j), ic = stage->inv_c;
-      if (j == ny) {
-        for (std::size_t k = 0; k < nx; ++k) zj[k] = mj * (xv[k] + ic * xu[k]);
+      const StageInput& in = *stage->in;
+      const double* bu = in.bu + j * nx;
+      const double* bv = in.bv + j * nx;
+      const double mj = rho_p_ * row_weight(j), ic = stage->inv_c, sh = in.shift_v;
+      const double* iv = inv + (j + 1) * nx;  // (rows j < ny: the row above)
+      const double* zn = zj + nx;
+      if (in.sub_u != nullptr) {
+        const double* su = in.sub_u + j * nx;
+        const double* sv = in.sub_v + j * nx;
+        if (j == ny) {
+          for (std::size_t k = 0; k < nx; ++k) zj[k] = mj * ((bv[k] - sv[k] + sh) + ic * (bu[k] - su[k]));
+        } else {
+          for (std::size_t k = 0; k < nx; ++k)
+            zj[k] = mj * ((bv[k] - sv[k] + sh) + ic * (bu[k] - su[k])) - o * iv[k] * zn[k];
+        }
+      } else if (j == ny) {
+        for (std::size_t k = 0; k < nx; ++k) zj[k] = mj * ((bv[k] + sh) + ic * bu[k]);
       } else {
-        const double* zn = zj + nx;
-        const double* iv = inv + (j + 1) * nx;
-        for (std::size_t k = 0; k < nx; ++k) zj[k] = mj * (xv[k] + ic * xu[k]) - o * iv[k] * zn[k];
+        for (std::size_t k = 0; k < nx; ++k) zj[k] = mj * ((bv[k] + sh) + ic * bu[k]) - o * iv[k] * zn[k];
       }
     } else if (rhs != nullptr && mixed && j > 0) {  // the row's modes given (solve_system_mixed)
       const double* rj = rhs + j * nx;
@@ -887,29 +896,33 @@ void Strip::solve_system_mixed(double c, std::span<const double> d, std::span<co
 }
 
 void Strip::solve_stage_mixed(double c, std::span<const double> d, const double* r0, double* xu, double* xv) {
+  solve_stage_mixed(c, d, r0, StageInput{xu, xv}, xu, xv);
+}
+
+void Strip::solve_stage_mixed(double c, std::span<const double> d, const double* r0, const StageInput& in, double* xu,
+                              double* xv) {
   if (!(c > 0.0)) throw std::invalid_argument("Strip::solve_stage_mixed: c must be > 0");
   direct_factorise(c);
   Direct& D = direct();
   const std::size_t n = dofs(), nx = nx_;
   prepare_psi(c, d);
   double* z = buf_;
-  const StageRhs stage{xu, xv, 1.0 / c};
-  const double b_x = direct_modes(d, r0, z, /*mixed=*/true, &stage);
   const double inv_c = 1.0 / c;
+  const StageRhs stage{&in, inv_c};
+  const double b_x = direct_modes(d, r0, z, /*mixed=*/true, &stage);
   const double s = spring_K_ > 0.0 ? c * spring_K_ * b_x / (1.0 + c * spring_K_ * D.b_psi) : 0.0;
   const double* psi = spring_K_ > 0.0 ? D.psi.data() : nullptr;
-  if (psi != nullptr) {
-    for (std::size_t k = nx; k < n; ++k) {
-      const double x = z[k] - s * psi[k];
-      xv[k] = (x - xu[k]) * inv_c;
-      xu[k] = x;
-    }
-  } else {
-    for (std::size_t k = nx; k < n; ++k) {
-      const double x = z[k];
-      xv[k] = (x - xu[k]) * inv_c;
-      xu[k] = x;
-    }
+  const double* bu = in.bu;
+  const double* su = in.sub_u;
+  const double* au = in.add_u;
+  const double* av = in.add_v;
+  // rows j ≥ 1: x = z − s ψ, xv = (x − b_u)/c (+ add), xu = x (+ add); each element read before it is written
+  for (std::size_t k = nx; k < n; ++k) {
+    const double x = psi != nullptr ? z[k] - s * psi[k] : z[k];
+    const double b = su != nullptr ? bu[k] - su[k] : bu[k];
+    const double v = (x - b) * inv_c;
+    xv[k] = av != nullptr ? v + av[k] : v;
+    xu[k] = au != nullptr ? x + au[k] : x;
   }
   D.row_dct->row([z, psi, s](std::size_t k) { return psi != nullptr ? z[k] - s * psi[k] : z[k]; },
                  [xu, xv, inv_c](std::size_t i, double x) {
@@ -948,10 +961,16 @@ double Strip::mode_row_value(const double* modes, std::size_t i) const {
   if (i == 0) {
     inner = partial_sum(modes, 1, N);
   } else if (i == N) {  // cos(πk) = (−1)^k
-    double even = 0.0, odd = 0.0;
-    for (std::size_t k = 1; k < N; k += 2) odd += modes[k];
-    for (std::size_t k = 2; k < N; k += 2) even += modes[k];
-    inner = even - odd;
+    double e0 = 0.0, e1 = 0.0, o0 = 0.0, o1 = 0.0;  // four partial sums (partial_sum)
+    std::size_t k = 1;
+    for (; k + 4 <= N; k += 4) {
+      o0 += modes[k];
+      e0 += modes[k + 1];
+      o1 += modes[k + 2];
+      e1 += modes[k + 3];
+    }
+    for (; k < N; ++k) (k % 2 == 0 ? e0 : o0) += modes[k];
+    inner = (e0 + e1) - (o0 + o1);
   } else {
     const double w = std::numbers::pi * static_cast<double>(i) / static_cast<double>(N);
     for (std::size_t k = 1; k < N; ++k) inner += modes[k] * std::cos(w * static_cast<double>(k));

@@ -172,6 +172,21 @@ class Strip {
   /// rhs of rows j ≥ 1 formed here, ρ' wy(j) (xv_j + xu_j/c) (the modes of (M xv + M xu/c)/wx), row 0's given as
   /// r0 (node values, sites()); then x = A(c, d)⁻¹ r and xu ← x, xv ← (x − xu)/c (mixed, dofs() each).
   void solve_stage_mixed(double c, std::span<const double> d, const double* r0, double* xu, double* xv);
+  /// The same with the stage's right-hand side of the rows j ≥ 1 given apart (the Rosenbrock stages' arithmetic fused
+  /// into the sweeps): b_u = bu − sub_u, b_v = bv − sub_v + shift_v (sub_* may be null), and after the solve
+  /// xu ← x + add_u, xv ← (x − b_u)/c + add_v on the rows j ≥ 1 (add_* may be null). Row 0 as above: xu, xv hold its
+  /// b_u, b_v on entry and x, (x − b_u)/c on return (no add). xu, xv may alias bu, bv.
+  struct StageInput {
+    const double* bu;
+    const double* bv;
+    const double* sub_u = nullptr;
+    const double* sub_v = nullptr;
+    double shift_v = 0.0;
+    const double* add_u = nullptr;
+    const double* add_v = nullptr;
+  };
+  void solve_stage_mixed(double c, std::span<const double> d, const double* r0, const StageInput& in, double* xu,
+                         double* xv);
 
   /// Relative residual at which solve_system's interface iterations stop (default 1e-13: the solve then agrees
   /// with a sparse LDLT to ~1e-13). The adaptive integrator loosens it with its rtol (docs/numerics.md §8.5).

@@ -492,31 +492,7 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
 
   // The strip's W solve: per site x_A = p_A + q_A x_v0, x_σ = p_σ + q_σ x_v0; x_v = (x_u − b_u)/c; then
   //   [M/c + c(S + K b bᵀ) + E diag(wx d) Eᵀ] x_u = M b_v + (M/c) b_u + E wx (d b_u0 − c p_σ),
-  // all in the mixed representation (Strip::solve_system_mixed: rows j ≥ 1 take the modes of the rhs over wx).
-  void solve_body(std::vector<double>& x) {
-    const std::size_t n = this->n_, m = this->sites_;
-    B& b = this->bulk_;
-    double* xu = x.data();
-    double* xv = xu + n;
-    double* xa = xv + n;
-    double* xs = xa + m;
-    const double c = c_, inv_c = 1.0 / c;
-    for (std::size_t i = 0; i < m; ++i) {
-      const double pa = xa[i] * inv_a1_[i];
-      xa[i] = pa;
-      xs[i] = (xs[i] + c_alpha_v_[i] * pa) * inv_s1_[i];
-    }
-    double* r = urhs_.data();
-    const double* mass = mass_.data();
-    for (std::size_t i = 0; i < m; ++i)
-      r[i] = mass[i] * (xv[i] + inv_c * xu[i]) + b.interface_weight(i) * (d_coef_[i] * xu[i] - c * xs[i]);
-    b.solve_stage_mixed(c, std::span<const double>(d_coef_.data(), m), r, xu, xv);  // rows j ≥ 1's rhs formed there
-    for (std::size_t i = 0; i < m; ++i) {
-      xa[i] += q_area_[i] * xv[i];
-      xs[i] += q_sigma_[i] * xv[i];
-    }
-  }
-
+  // all in the mixed representation (Strip::solve_stage_mixed: rows j ≥ 1 take the modes of the rhs over wx).
   // The strip's W solve with the stage arithmetic around it fused into the strip's sweeps (no pass of its own over
   // the rows j ≥ 1): out = W⁻¹ (b − sub + hdT e_drive) (+ sub when add_back). The same arithmetic as
   // "out = b − sub; add_time_derivative; solve(out); out += sub" in another order of operations.
@@ -565,9 +541,9 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
   }
 
   void solve(std::vector<double>& x) {  // in place: x ← W⁻¹ x
-    ++stats_.solves;
+    if constexpr (kChain) ++stats_.solves;  // (solve_fused counts its own)
     if constexpr (kChain) solve_chain(x);
-    else solve_body(x);
+    else solve_fused(x, x, nullptr, false, 0.0);
   }
   void solve_chain(std::vector<double>& x) {
     const std::size_t n = this->n_;

@@ -15,6 +15,8 @@
 //   mixed_stage   Strip::solve_stage_mixed: the adaptive integrator's stage solve since its state is mixed (rows
 //                 j ≥ 1 in cosine modes, docs/numerics.md §8.6): no transform of the bulk
 //   mixed_stage_run  the same at the interface tolerance the adaptive integrator uses (1e-6 at rtol 1e-2)
+//   stream        the memory traffic of mixed_stage's sweeps as plain streaming loops: the baseline whose ratio to
+//                 mixed_stage_run divides the memory hierarchy out of the exponent
 // Each solve starts from W = 0 with random u, V, σ̄, c0 and c1 ∈ [0, 2] (η = 0.1, dt = 0.02, dx = dy = 0.5,
 // fig1's ρ = 0.01, μ = 300, edge loading K = 2.5): a cold start with high-frequency data, the hardest case
 // (a time step warm-starts from the previous W).
@@ -238,6 +240,33 @@ void bm_mixed_stage_at(benchmark::State& state, double interface_tolerance, cons
 // AdaptiveSimulation::kStageSolveTolerance, docs/numerics.md §8.5) instead of 1e-13.
 void bm_mixed_stage(benchmark::State& s) { bm_mixed_stage_at(s, 1e-13, "mixed_stage"); }
 void bm_mixed_stage_run(benchmark::State& s) { bm_mixed_stage_at(s, 1e-6, "mixed_stage_run"); }
+// The memory traffic of mixed_stage's three sweeps without their arithmetic dependencies (the baseline its cost per
+// node is measured against, docs/performance.md §12): forward 3 reads + 1 write, back 2 + 1, final 3 + 2 of
+// dofs-long arrays, as independent streaming loops.
+void bm_stream(benchmark::State& state) {
+  Problem p(sizes()[static_cast<std::size_t>(state.range(0))]);
+  const std::size_t n = p.strip.dofs();
+  std::vector<double> bu(p.u), bv(p.V), inv(n, 0.5), z(n, 0.0), psi(n, 0.25), xu(n), xv(n);
+  double total = 0.0;
+  std::int64_t count = 0;
+  for (auto _ : state) {
+    const auto t0 = Clock::now();
+    for (std::size_t k = 0; k < n; ++k) z[k] = 0.3 * (bv[k] + 2.0 * bu[k]) - 0.1 * inv[k];
+    for (std::size_t k = 0; k < n; ++k) z[k] = (z[k] - 0.2) * inv[k];
+    for (std::size_t k = 0; k < n; ++k) {
+      const double x = z[k] - 0.1 * psi[k];
+      xv[k] = (x - bu[k]) * 3.0;
+      xu[k] = x;
+    }
+    total += std::chrono::duration<double>(Clock::now() - t0).count();
+    ++count;
+    benchmark::DoNotOptimize(xu.data());
+    benchmark::DoNotOptimize(xv.data());
+  }
+  state.counters["nodes"] = static_cast<double>(n);
+  records()[std::string("stream/") + sizes()[static_cast<std::size_t>(state.range(0))].series][n] = {
+      total / static_cast<double>(count), 0.0, 7.0 * sizeof(double), n};
+}
 void bm_direct_step(benchmark::State& s) { bm_direct(s, false, "direct"); }
 void bm_direct_stage(benchmark::State& s) { bm_direct(s, true, "direct_stage"); }
 
@@ -328,6 +357,7 @@ void register_all() {
   add("direct_stage", bm_direct_stage);
   add("mixed_stage", bm_mixed_stage);
   add("mixed_stage_run", bm_mixed_stage_run);
+  add("stream", bm_stream);
 }
 
 // Least-squares slope of log t against log n.
@@ -381,6 +411,20 @@ void summary() {
     std::printf("\n%s exponent (one body made longer) %.3f (%s 1.1)", name, e, e <= 1.1 ? "<=" : "ABOVE");
   }
   std::printf("\n");
+  // The stage solve's cost against the streaming of the same arrays: the exponent of the ratio is the algorithm's
+  // own growth with the nodes, the memory hierarchy divided out.
+  for (const char* series : {"long", "diag"}) {
+    const auto& a = records()[std::string("mixed_stage_run/") + series];
+    const auto& b = records()[std::string("stream/") + series];
+    std::map<std::size_t, Record> ratio;
+    for (const auto& [n, r] : a)
+      if (const auto it = b.find(n); it != b.end() && it->second.seconds > 0.0)
+        ratio[n] = {r.seconds / it->second.seconds, 0.0, 0.0, n};
+    std::printf("mixed_stage_run / stream, series %s:", series);
+    for (const auto& [n, r] : ratio) std::printf(" %zu: %.2f", n, r.seconds);
+    std::printf("; exponents: stream %.3f, mixed_stage_run %.3f, their ratio %.3f (%s 0.1 above linear)\n",
+                exponent(b), exponent(a), exponent(ratio), exponent(ratio) <= 0.1 ? "<=" : "ABOVE");
+  }
 }
 
 }  // namespace

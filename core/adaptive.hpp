@@ -157,13 +157,10 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
     theta_prev_.assign(this->sites_, 0);
     if constexpr (!kChain) {
       const B& b = this->bulk_;
-      // The u system's mass in the mixed representation (Strip::to_mixed): row 0 the node masses, every mode of
-      // row j ≥ 1 ρ' wy(j) (the modes of M x / wx).
-      mass_.resize(this->n_);
-      for (std::size_t j = 0; j < b.rows(); ++j)
-        for (std::size_t i = 0; i < b.sites(); ++i)
-          mass_[j * b.sites() + i] = j == 0 ? b.node_mass(i, 0) : b.node_mass(0, j) / b.interface_weight(0);
-      urhs_.assign(this->n_, 0.0);
+      // The interface row's node masses (the rows above: Strip::solve_stage_mixed forms their right-hand side).
+      mass_.resize(this->sites_);
+      for (std::size_t i = 0; i < this->sites_; ++i) mass_[i] = b.node_mass(i, 0);
+      urhs_.assign(this->sites_, 0.0);
       ystate_.assign(2 * this->n_ + 2 * this->sites_, 0.0);
       // The stage solves' interface iterations stop at a relative residual of 1e-4 rtol (docs/numerics.md §8.5):
       // the stage error they leave is far below what the step's error control admits.
@@ -1069,8 +1066,8 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
   std::vector<double> en_v_, en_s_, en_u_;  // energy budget work arrays
   // The strip's mixed representation (Strip::to_mixed, docs/numerics.md §8.6): the first 2 dofs() of ystate_ are the
   // state [u | v] (its tail is the stage rotation's room for A, σ̄: accept); u_, v_ of
-  // the core hold the interface row at every step end and the rest when asked, sync_bulk); mass_ the u system's
-  // mass in it; urhs_ the system's right-hand side.
+  // the core hold the interface row at every step end and the rest when asked, sync_bulk); mass_ and urhs_ the
+  // interface row's node masses and its row of the u system's right-hand side (solve_fused).
   std::vector<double> mass_, urhs_, ystate_;
   std::span<const double> mixed_u() const { return std::span<const double>(ystate_).first(this->n_); }
   std::span<const double> mixed_v() const { return std::span<const double>(ystate_).subspan(this->n_, this->n_); }

@@ -726,12 +726,14 @@ void Strip::direct_factorise(double c) {
 // elimination, the interface system for row 0, back substitution upwards. rhs = nullptr: r = b, the spring's
 // spread, whose rows' DCT is b_j/(wx(0) 2(nx−1)) in every mode (the DCT-I of e_0 is all ones). Returns bᵀ C z
 // (bᵀ x for x the inverse transform of z). The rows are transformed one at a time and eliminated while in cache.
+// With a stage (solve_stage_mixed) the rows j ≥ 1 are formed in their modes from it, without a transform, and rhs is
+// row 0's node values only.
 struct Strip::StageRhs {
   const StageInput* in;
   double inv_c;
 };
 
-double Strip::direct_modes(std::span<const double> d, const double* rhs, double* z, bool mixed, const StageRhs* stage) {
+double Strip::direct_modes(std::span<const double> d, const double* rhs, double* z, const StageRhs* stage) {
   Direct& D = direct();
   const std::size_t nx = nx_, ny = ny_;
   const double* iw = inv_wx_.data();
@@ -761,16 +763,7 @@ double Strip::direct_modes(std::span<const double> d, const double* rhs, double*
       } else {
         for (std::size_t k = 0; k < nx; ++k) zj[k] = mj * ((bv[k] + sh) + ic * bu[k]) - o * iv[k] * zn[k];
       }
-    } else if (rhs != nullptr && mixed && j > 0) {  // the row's modes given (solve_system_mixed)
-      const double* rj = rhs + j * nx;
-      if (j == ny) {
-        std::copy_n(rj, nx, zj);
-      } else {
-        const double* zn = zj + nx;
-        const double* iv = inv + (j + 1) * nx;
-        for (std::size_t k = 0; k < nx; ++k) zj[k] = rj[k] - o * iv[k] * zn[k];
-      }
-    } else if (rhs != nullptr) {
+    } else if (rhs != nullptr) {  // (with a stage: row 0's node values)
       const double* rj = rhs + j * nx;
       if (j == ny) {
         D.bulk_dct->row([rj, iw](std::size_t i) { return rj[i] * iw[i]; }, [zj](std::size_t k, double v) { zj[k] = v; });
@@ -838,7 +831,7 @@ double Strip::direct_modes(std::span<const double> d, const double* rhs, double*
   return functional;
 }
 
-// The spring's ψ = A₀⁻¹ b for (c, d), kept as its modes (solve_system, solve_system_mixed): then A⁻¹ r = A₀⁻¹ r − s ψ,
+// The spring's ψ = A₀⁻¹ b for (c, d), kept as its modes (solve_system, solve_stage_mixed): then A⁻¹ r = A₀⁻¹ r − s ψ,
 // s = β bᵀA₀⁻¹r / (1 + β bᵀψ), β = c K (Sherman–Morrison). ψ costs one interface solve and two passes, no transform.
 void Strip::prepare_psi(double c, std::span<const double> d) {
   Direct& D = direct();
@@ -873,28 +866,6 @@ void Strip::solve_system(double c, std::span<const double> d, std::span<const do
   }
 }
 
-void Strip::solve_system_mixed(double c, std::span<const double> d, std::span<const double> rhs,
-                               std::span<double> x) {
-  if (!(c > 0.0)) throw std::invalid_argument("Strip::solve_system_mixed: c must be > 0");
-  direct_factorise(c);
-  Direct& D = direct();
-  const std::size_t n = dofs(), nx = nx_;
-  prepare_psi(c, d);
-  double* z = buf_;
-  const double b_x = direct_modes(d, rhs.data(), z, /*mixed=*/true);
-  double* xo = x.data();
-  if (spring_K_ > 0.0) {
-    const double beta = c * spring_K_;
-    const double s = beta * b_x / (1.0 + beta * D.b_psi);
-    const double* psi = D.psi.data();
-    for (std::size_t k = nx; k < n; ++k) xo[k] = z[k] - s * psi[k];
-    D.row_dct->row([z, psi, s](std::size_t k) { return z[k] - s * psi[k]; }, [xo](std::size_t i, double v) { xo[i] = v; });
-  } else {
-    std::copy(z + nx, z + n, xo + nx);
-    D.row_dct->row([z](std::size_t k) { return z[k]; }, [xo](std::size_t i, double v) { xo[i] = v; });
-  }
-}
-
 void Strip::solve_stage_mixed(double c, std::span<const double> d, const double* r0, double* xu, double* xv) {
   solve_stage_mixed(c, d, r0, StageInput{xu, xv}, xu, xv);
 }
@@ -909,7 +880,7 @@ void Strip::solve_stage_mixed(double c, std::span<const double> d, const double*
   double* z = buf_;
   const double inv_c = 1.0 / c;
   const StageRhs stage{&in, inv_c};
-  const double b_x = direct_modes(d, r0, z, /*mixed=*/true, &stage);
+  const double b_x = direct_modes(d, r0, z, &stage);
   const double s = spring_K_ > 0.0 ? c * spring_K_ * b_x / (1.0 + c * spring_K_ * D.b_psi) : 0.0;
   const double* psi = spring_K_ > 0.0 ? D.psi.data() : nullptr;
   const double* bu = in.bu;

@@ -165,10 +165,7 @@ class Strip {
   /// traction_i = σ̄_i + η v_i0 on the interface sites). Two one-row transforms; a and u must not alias.
   void mixed_accelerations(std::span<const double> u, double drive_force, const double* traction,
                            std::span<double> a) const;
-  /// solve_system in the mixed representation: row 0 of rhs its node values as in solve_system, each row j ≥ 1 the
-  /// modes of r_j / wx (r_j/wx = C q_j); x returned mixed. No transform of the rows j ≥ 1. rhs and x may alias.
-  void solve_system_mixed(double c, std::span<const double> d, std::span<const double> rhs, std::span<double> x);
-  /// The adaptive integrator's stage solve in the mixed representation, fused (core/adaptive.hpp solve_body): the
+  /// The adaptive integrator's stage solve in the mixed representation, fused (core/adaptive.hpp solve_fused): the
   /// rhs of rows j ≥ 1 formed here, ρ' wy(j) (xv_j + xu_j/c) (the modes of (M xv + M xu/c)/wx), row 0's given as
   /// r0 (node values, sites()); then x = A(c, d)⁻¹ r and xu ← x, xv ← (x − xu)/c (mixed, dofs() each).
   void solve_stage_mixed(double c, std::span<const double> d, const double* r0, double* xu, double* xv);
@@ -221,8 +218,7 @@ class Strip {
   Direct& direct();
   void direct_factorise(double c);
   struct StageRhs;  // solve_stage_mixed's rows j ≥ 1 (strip.cpp)
-  double direct_modes(std::span<const double> d, const double* rhs, double* z, bool mixed = false,
-                      const StageRhs* stage = nullptr);
+  double direct_modes(std::span<const double> d, const double* rhs, double* z, const StageRhs* stage = nullptr);
   void prepare_psi(double c, std::span<const double> d);
 
   std::vector<double> x_;

@@ -183,7 +183,11 @@ std::string description_of(const std::string& group, const std::string& name) {
       {"contacts/contact_snapshots_per_phase", "number of contact snapshots taken in each phase [4]"},
       {"contacts/class_threshold_counts",
        "yield thresholds of the attached contacts summed over the contact snapshots [12, nt] (rows as "
-       "class_lifetime_counts, edges threshold_hist_edges)"},
+       "class_lifetime_counts, edges threshold_hist_edges); mean_field (continuum at w = 0): expected counts, each "
+       "threshold class spread over its quantile interval of g"},
+      {"contacts/region_threshold_counts",
+       "yield thresholds of the attached contacts at each contact snapshot by region [ns, 3 nt] (behind | tip | ahead, "
+       "nt bins each, edges threshold_hist_edges); mean_field (continuum at w = 0): expected counts"},
       {"contacts/threshold_drawn_counts", "every threshold drawn from g (w > 0), on threshold_hist_edges [nt]"},
       {"contacts/detachments_total_per_site", "detachments per site over the whole run [nx] (continuum: expected)"},
       {"contacts/attachments_total_per_site", "attachments per site over the whole run [nx] (continuum: expected)"},

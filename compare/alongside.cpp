@@ -182,16 +182,31 @@ void compare_contacts(const ModelResult& c, const ModelResult& d, Comparison& cm
       }
     }
   }
-  for (const char* stat : {"lifetime", "age"}) {
-    const bool age = std::string(stat) == "age";
-    const std::string name = std::string("class_") + stat + "_counts";
-    if (age ? age_measured.data.empty() : (!c.contacts_2d.count(name) || !d.contacts_2d.count(name))) continue;
-    const Table2D& measured = age ? age_measured : d.contacts_2d.at(name);
-    const Table2D& predicted = age ? age_predicted : c.contacts_2d.at(name);
+  // Thresholds of the attached contacts: sampled at the same snapshots, matched the same way (a class has contacts
+  // in its threshold rows exactly when it has them in its age rows).
+  // On other edges (a prediction at another w than the agent's, without its edges) they are not compared.
+  const auto edges_m = d.contacts.find("threshold_hist_edges"), edges_p = c.contacts.find("threshold_hist_edges");
+  const bool same_edges = edges_m != d.contacts.end() && edges_p != c.contacts.end() && edges_m->second == edges_p->second;
+  const auto [threshold_measured, threshold_predicted] =
+      same_edges ? matched_tables(d, c, "region_threshold_counts") : std::pair<Table2D, Table2D>{};
+  for (const char* stat : {"lifetime", "age", "threshold"}) {
+    const std::string st = stat;
+    const bool snapshots = st != "lifetime";
+    const std::string name = "class_" + st + "_counts";
+    const Table2D none;
+    auto table = [&](const ModelResult& r, const Table2D& matched_age, const Table2D& matched_threshold) -> const Table2D& {
+      if (st == "age") return matched_age;
+      if (st == "threshold") return matched_threshold;
+      const auto it = r.contacts_2d.find(name);
+      return it == r.contacts_2d.end() ? none : it->second;
+    };
+    const Table2D& measured = table(d, age_measured, threshold_measured);
+    const Table2D& predicted = table(c, age_predicted, threshold_predicted);
+    if (measured.data.empty() || predicted.data.empty()) continue;
     for (ContactFit f : contact_fit(stat, measured, predicted)) {
-      if (age && age_snapshots[f.phase * core::FrontClasses::regions + f.region] < 3.0) f.tested = false;
+      if (snapshots && age_snapshots[f.phase * core::FrontClasses::regions + f.region] < 3.0) f.tested = false;
       auto& col = cmp.contacts;
-      detail::push(col, "statistic", std::string(stat) == "lifetime" ? 0.0 : 1.0);
+      detail::push(col, "statistic", st == "lifetime" ? 0.0 : st == "age" ? 1.0 : 2.0);
       detail::push(col, "phase", static_cast<double>(f.phase));
       detail::push(col, "region", static_cast<double>(f.region));
       detail::push(col, "measured_total", f.measured_total);
@@ -219,20 +234,22 @@ void compare_contacts(const ModelResult& c, const ModelResult& d, Comparison& cm
                          "Bonferroni over contacts_tested rows for the family)"},
       {"contacts_max_ks_distance", "largest ks_distance over the tested rows of contacts/"},
       {"contacts/statistic", "0: lifetimes of completed attachments (classed at the detachment); 1: ages of attached contacts "
-                             "at the contact snapshots at which both models were in the same phase (docs/model.md §7.2)"},
+                             "at the contact snapshots at which both models were in the same phase (docs/model.md §7.2); "
+                             "2: yield thresholds of the attached contacts at the same snapshots (threshold_hist_edges)"},
       {"contacts/phase", "0 before first yield, 1 slow front, 2 transient, 3 after arrest (each model's own events)"},
       {"contacts/region", "0 behind the front, 1 in the tip band (|x - x_f| <= measure.tip_band), 2 ahead (x_f: the "
                           "A_tip_alt tip of each model)"},
       {"contacts/measured_total", "contacts counted by the agent in this statistic and class"},
       {"contacts/predicted_total", "expected count predicted from the " + c.model + " fields (N x the expected fraction)"},
-      {"contacts/ks_distance", "max over the class_time_edges of |F_measured - F_predicted| (whole population, binned CDFs)"},
+      {"contacts/ks_distance", "max over the class_time_edges (thresholds: threshold_hist_edges) of |F_measured - F_predicted| "
+                               "(whole population, binned CDFs)"},
       {"contacts/thinned_size", "m: size of the uniform subsample of the measured contacts tested (min(2000, measured_total))"},
       {"contacts/chi2", "Pearson X^2 of the subsample against the predicted proportions, bins merged until each expects >= 5"},
       {"contacts/dof", "merged bins - 1"},
       {"contacts/p_value", "P(chi^2_dof >= chi2) (Boost.Math): false-alarm rate alpha when the measured population has the "
                            "predicted distribution; resolution ~1/sqrt(m)"},
-      {"contacts/tested", "1 when the row is tested: measured_total >= 500, dof >= 1, and for ages at least 3 matched "
-                          "contact snapshots with contacts in the class in both models"}};
+      {"contacts/tested", "1 when the row is tested: measured_total >= 500, dof >= 1, and for ages and thresholds at least "
+                          "3 matched contact snapshots with contacts in the class in both models"}};
   for (const auto& [k, v] : defs) cmp.definitions[k] = v;
 }
 

@@ -310,10 +310,50 @@ void ContactPrediction::compact(std::size_t i, double t) {
   compacted_size_[i] = w;
 }
 
+void ContactPrediction::set_thresholds(std::vector<double> edges, std::vector<double> spread) {
+  if (edges.size() < 2 || spread.size() != classes_ * (edges.size() - 1))
+    throw std::invalid_argument("ContactPrediction::set_thresholds: the spread is not [classes x threshold bins]");
+  threshold_edges_ = std::move(edges);
+  spread_ = std::move(spread);
+  class_threshold_.assign(core::FrontClasses::count * (threshold_edges_.size() - 1), 0.0);
+}
+
+void ContactPrediction::snapshot_thresholds(bool classed) {
+  const std::size_t nt = threshold_edges_.size() - 1, regions = core::FrontClasses::regions, B = classes_;
+  const std::size_t first = region_threshold_rows_.size();
+  region_threshold_rows_.resize(first + regions * nt, 0.0);
+  if (!classed) return;  // phase next_event: rows of zeros, as the agent's
+  // the attached mass per (region, class); a shared tail counts once for each of its classes [tail_, B): added
+  // at tail_ to a running sum over the classes (tail)
+  std::vector<double> mass(regions * B, 0.0), tail(regions * B, 0.0);
+  for (std::size_t k = 0; k < cohorts_.size(); ++k) {
+    const std::size_t i = k / B, b = k % B;
+    double m = 0.0;
+    for (const Cohort& c : cohorts_[k]) m += c.mass;
+    if (m == 0.0) continue;
+    const std::size_t r = front_.class_of(i) % regions;
+    (b == tail_[i] ? tail : mass)[r * B + b] += m * n_contacts_;
+  }
+  double* rows = region_threshold_rows_.data() + first;
+  double* cls_rows = class_threshold_.data() + regions * front_.phase * nt;
+  for (std::size_t r = 0; r < regions; ++r) {
+    double run = 0.0;
+    for (std::size_t b = 0; b < B; ++b) {
+      run += tail[r * B + b];
+      const double m = mass[r * B + b] + run;
+      if (m == 0.0) continue;
+      const double* w = spread_.data() + b * nt;
+      for (std::size_t j = 0; j < nt; ++j) rows[r * nt + j] += m * w[j];
+    }
+    for (std::size_t j = 0; j < nt; ++j) cls_rows[r * nt + j] += rows[r * nt + j];
+  }
+}
+
 void ContactPrediction::snapshot() {
   const double t = clock_;
   snapshot_t_.push_back(t);
   snapshot_phase_.push_back(static_cast<double>(front_.phase));
+  if (!spread_.empty()) snapshot_thresholds(front_.classed());
   if (!front_.classed()) {  // phase next_event: a snapshot with no classed ages (rows of zeros, as the agent's)
     region_age_rows_.insert(region_age_rows_.end(), core::FrontClasses::regions * bins_, 0.0);
     return;
@@ -368,10 +408,39 @@ core::ContactTables ContactPrediction::tables() const {
   out.tables["region_age_counts"] = {core::FrontClasses::regions * bins_, region_age_rows_};
   c["snapshot_t"] = snapshot_t_;
   c["contact_snapshot_phase"] = snapshot_phase_;
+  if (!spread_.empty()) {
+    const std::size_t nt = threshold_edges_.size() - 1;
+    c["threshold_hist_edges"] = threshold_edges_;
+    out.tables["class_threshold_counts"] = {nt, class_threshold_};
+    out.tables["region_threshold_counts"] = {core::FrontClasses::regions * nt, region_threshold_rows_};
+  }
   return out;
 }
 
-std::pair<Table2D, Table2D> matched_age_tables(const ModelResult& measured, const ModelResult& predicted) {
+std::vector<double> threshold_spread(const discrete::ThresholdDistribution& g, std::size_t classes,
+                                     const std::vector<double>& edges) {
+  const std::size_t nt = edges.size() - 1, B = classes;
+  std::vector<double> out(B * nt, 0.0);
+  if (g.degenerate()) {
+    const std::size_t j = discrete::Histogram(edges).bin(1.0);
+    for (std::size_t b = 0; b < B; ++b) out[b * nt + j] = 1.0;
+    return out;
+  }
+  std::vector<double> G(nt + 1);
+  for (std::size_t j = 0; j <= nt; ++j) G[j] = std::isfinite(edges[j]) ? g.cdf(edges[j]) : 1.0;
+  G.front() = 0.0;  // every support is s ≥ 0 (discrete/thresholds.hpp); the last bin is [s_max, ∞)
+  G.back() = 1.0;
+  const double nb = static_cast<double>(B);
+  for (std::size_t b = 0; b < B; ++b) {
+    const double lo = static_cast<double>(b) / nb, hi = static_cast<double>(b + 1) / nb;
+    for (std::size_t j = 0; j < nt; ++j)
+      out[b * nt + j] = nb * std::max(0.0, std::min(G[j + 1], hi) - std::max(G[j], lo));
+  }
+  return out;
+}
+
+std::pair<Table2D, Table2D> matched_tables(const ModelResult& measured, const ModelResult& predicted,
+                                           const std::string& table) {
   std::pair<Table2D, Table2D> out;
   const auto find_col = [](const ModelResult& r, const char* name) -> const std::vector<double>* {
     const auto it = r.contacts.find(name);
@@ -381,7 +450,7 @@ std::pair<Table2D, Table2D> matched_age_tables(const ModelResult& measured, cons
   const auto* tp = find_col(predicted, "snapshot_t");
   const auto* pm = find_col(measured, "contact_snapshot_phase");
   const auto* pp = find_col(predicted, "contact_snapshot_phase");
-  const auto am = measured.contacts_2d.find("region_age_counts"), ap = predicted.contacts_2d.find("region_age_counts");
+  const auto am = measured.contacts_2d.find(table), ap = predicted.contacts_2d.find(table);
   if (!tm || !tp || !pm || !pp || am == measured.contacts_2d.end() || ap == predicted.contacts_2d.end()) return out;
   const std::size_t ns = tm->size(), cols = am->second.cols, regions = core::FrontClasses::regions;
   if (tp->size() != ns || pm->size() != ns || pp->size() != ns || ap->second.cols != cols || cols % regions != 0 ||

@@ -29,6 +29,14 @@
 // law's own n_b(u); everything else is per sub-population as above, and the classes of a site share its
 // region and phase, so the tables are those of the site's contacts whatever their threshold.
 //
+// Thresholds (set_thresholds): a class b of the mean-field law stands for the thresholds of g in its quantile
+// interval [b/B, (b + 1)/B), drawn from g restricted to it (both renewals: a contact that forms in class b has a
+// threshold of that interval with g's density, and the law treats the class as one). At each contact snapshot the
+// attached mass of each (site, class) is spread over the agent's threshold edges with those weights
+// (threshold_spread), into the site's region and phase: the expected thresholds of the attached contacts
+// (class_threshold_counts, region_threshold_counts). Within a class the agent removes the contacts below τ first,
+// the law all at once at τ > s_b: the prediction's resolution is the class width (1/B of g's mass).
+//
 // The goodness of fit (contact_fit): per class, the measured histogram against the predicted one on the
 // class edges (docs/contacts.md §4): bins merged from the small end until each predicted probability is
 // at least 5/m (the rest joins the last group); the measured population thinned to a uniform subsample
@@ -46,6 +54,7 @@
 
 #include "compare/result.hpp"
 #include "discrete/contact_stats.hpp"
+#include "discrete/thresholds.hpp"
 
 namespace slipfront::compare {
 
@@ -59,6 +68,10 @@ class ContactPrediction {
   /// The state at t = 0: every attached contact has age 0. `areas` [sites × classes]: the attached fraction
   /// of each class of each site (class fastest).
   void start(std::span<const double> areas);
+  /// The threshold prediction: `edges` the agent's threshold edges [nt + 1], `spread` [classes × nt] the
+  /// fraction of class b's contacts in each threshold bin (threshold_spread; each row sums to 1). Without it
+  /// tables() has no threshold tables.
+  void set_thresholds(std::vector<double> edges, std::vector<double> spread);
   /// Where the sites are relative to the continuum's front, and its phase (docs/model.md §7.2).
   void set_front(const core::FrontClasses& f) { front_ = f; }
   /// One step of length dt of the continuum run: A at its start and the hazard Θκ|v| frozen over it
@@ -76,7 +89,8 @@ class ContactPrediction {
   double mean_age(std::size_t i) const;
   double attached_mass(std::size_t i) const;
   /// The expected counts under the agent's table names (class_time_edges, class_lifetime_counts,
-  /// class_age_counts, region_age_counts, snapshot_t, contact_snapshot_phase,
+  /// class_age_counts, region_age_counts, snapshot_t, contact_snapshot_phase, with set_thresholds
+  /// threshold_hist_edges, class_threshold_counts and region_threshold_counts,
   /// contact_snapshots_per_phase, detachments_total_per_site, attachments_total_per_site,
   /// lifetime_total).
   core::ContactTables tables() const;
@@ -90,6 +104,7 @@ class ContactPrediction {
     ar(n_contacts_, scale_, width_, age_cap_, clock_, front_, edges_, bins_, cohorts_, compacted_size_, lifetime_, age_,
        detach_total_, attach_total_, snapshots_per_phase_, snapshot_t_, snapshot_phase_, region_age_rows_, max_cohorts_,
        classes_, tail_);
+    ar(threshold_edges_, spread_, class_threshold_, region_threshold_rows_);
   }
 
  private:
@@ -146,6 +161,9 @@ class ContactPrediction {
   std::vector<std::size_t> compacted_size_;
   std::vector<double> lifetime_, age_, detach_total_, attach_total_, snapshots_per_phase_;
   std::vector<double> snapshot_t_, snapshot_phase_, region_age_rows_;  ///< per contact snapshot
+  std::vector<double> threshold_edges_, spread_;                       ///< set_thresholds
+  std::vector<double> class_threshold_, region_threshold_rows_;       ///< [12 × nt], [snapshots × 3 · nt]
+  void snapshot_thresholds(bool classed);
   std::size_t max_cohorts_ = 0;
   // The shared tail of each site: classes [tail_[i], B) have had bit for bit the same inputs (attached fraction,
   // hazard, total) at every step so far — at a site the front has not reached, every class; behind it, the
@@ -162,7 +180,13 @@ class ContactPrediction {
   }
 };
 
-/// One row of the goodness of fit: a statistic ("lifetime" or "age") of one class.
+/// For each class b of `classes` quantile bins of g ([b/B, (b + 1)/B)), the fraction of its thresholds in each bin
+/// of `edges` [B × (edges.size() − 1)]: B (min(G(e_{j+1}), (b+1)/B) − max(G(e_j), b/B))⁺; a degenerate g (every
+/// threshold 1): all in the bin of 1.
+std::vector<double> threshold_spread(const discrete::ThresholdDistribution& g, std::size_t classes,
+                                     const std::vector<double>& edges);
+
+/// One row of the goodness of fit: a statistic ("lifetime", "age" or "threshold") of one class.
 struct ContactFit {
   std::string statistic;
   std::size_t phase = 0, region = 0;
@@ -175,10 +199,15 @@ struct ContactFit {
   bool tested = false;      ///< enough contacts (measured_total ≥ min_total) and dof ≥ 1
 };
 
-/// Ages by class summed over the contact snapshots at which both models were in the same phase (rows
-/// of region_age_counts [ns, 3 · nb] with their phases): {measured, predicted} as [12, nb] tables.
-/// Empty tables when the snapshots of the two do not match in number and time.
-std::pair<Table2D, Table2D> matched_age_tables(const ModelResult& measured, const ModelResult& predicted);
+/// A per-snapshot region table (`table`: region_age_counts or region_threshold_counts [ns, 3 · nb]) by class,
+/// summed over the contact snapshots at which both models were in the same phase: {measured, predicted} as
+/// [12, nb] tables. Empty tables when either lacks the table or the snapshots of the two do not match in
+/// number and time.
+std::pair<Table2D, Table2D> matched_tables(const ModelResult& measured, const ModelResult& predicted,
+                                           const std::string& table);
+inline std::pair<Table2D, Table2D> matched_age_tables(const ModelResult& measured, const ModelResult& predicted) {
+  return matched_tables(measured, predicted, "region_age_counts");
+}
 
 /// The goodness of fit of every class of one statistic: measured [12, nb] and predicted [12, nb]
 /// counts on the same edges; classes with fewer than min_total measured contacts are not tested.

@@ -97,10 +97,13 @@ double sample_tips_dense(const S& sim, FrontTracker& tracker, std::span<const do
 /// contact_prediction_for in compare/runner.hpp; or the agent's prediction from its own fields);
 /// hazard_scale ≠ 1 gives a deliberately wrong prediction (tests); the tables are stored under
 /// prefix + their names.
+/// threshold_edges: the edges of the threshold prediction (empty: discrete::threshold_edges at the scene's w, the
+/// agent's; a test that predicts at another w gives the agent's here, so that the tables compare).
 struct ContactPredictionSetup {
   enum class Mode { off, on } mode = Mode::off;
   double hazard_scale = 1.0;
   std::string prefix;
+  std::vector<double> threshold_edges;
 };
 
 template <class Law, class Stepper = core::ExplicitSimulation<Law>>
@@ -306,10 +309,21 @@ class DynamicRun {
       predict_.emplace(r_.x.size(), n_contacts, setup.hazard_scale);
       predict_->start(sim_.law().contact_area());
       predict_prefix_ = setup.prefix;
+      // thresholds: the continuum's contacts all have the threshold 1, a prediction only when the scene's are too
+      const discrete::ThresholdDistribution g(s_.discrete.threshold, s_.discrete.width);
+      if (g.degenerate()) {
+        auto edges = setup.threshold_edges.empty() ? discrete::threshold_edges(s_.discrete.width) : setup.threshold_edges;
+        auto spread = threshold_spread(g, 1, edges);
+        predict_->set_thresholds(std::move(edges), std::move(spread));
+      }
     } else if constexpr (Law::hooks.class_hazards && FrozenRateSteps<Stepper>) {
       predict_.emplace(r_.x.size(), n_contacts, setup.hazard_scale, 0.1, 1e4, sim_.law().prediction_classes());
       predict_->start(sim_.law().attached_classes());
       predict_prefix_ = setup.prefix;
+      auto edges = setup.threshold_edges.empty() ? discrete::threshold_edges(s_.discrete.width)  // the agent's
+                                                 : setup.threshold_edges;
+      auto spread = threshold_spread(sim_.law().distribution(), sim_.law().prediction_classes(), edges);
+      predict_->set_thresholds(std::move(edges), std::move(spread));
     } else {
       throw std::invalid_argument("a contact prediction needs a law with a detachment hazard "
                                   "(core::LawHooks::contact_hazard or class_hazards) on an integrator with frozen-rate steps (not the Rosenbrock one)");

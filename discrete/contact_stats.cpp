@@ -65,6 +65,8 @@ std::vector<double> linear_edges(double s_max, int n) {
   return e;
 }
 
+std::vector<double> threshold_edges(double width) { return linear_edges(std::max(2.0, 1.0 + 8.0 * width), 100); }
+
 std::vector<double> class_time_edges() {
   const std::vector<double> fine = log_time_edges();  // fine[k] = 1e-6 · 10^{(k−1)/10}, k ≥ 1
   std::vector<double> e{0.0};
@@ -80,9 +82,9 @@ std::vector<std::size_t> coarse_bin_map(const std::vector<double>& fine, const s
   return map;
 }
 
-ContactStats::ContactStats(std::size_t sites, double threshold_max)
+ContactStats::ContactStats(std::size_t sites, std::vector<double> threshold_edges)
     : enabled_(true), sites_(sites), lifetime_(log_time_edges()), detached_(log_time_edges()),
-      age_(log_time_edges()), threshold_(linear_edges(threshold_max, 100)), drawn_(linear_edges(threshold_max, 100)),
+      age_(log_time_edges()), threshold_(threshold_edges), drawn_(std::move(threshold_edges)),
       class_bin_(coarse_bin_map(log_time_edges(), class_time_edges())), class_edges_(class_time_edges()),
       snapshots_per_phase_(core::FrontClasses::phases, 0.0), detach_total_(sites, 0), attach_total_(sites, 0),
       detach_count_(sites, 0), attach_count_(sites, 0) {
@@ -91,6 +93,7 @@ ContactStats::ContactStats(std::size_t sites, double threshold_max)
   class_age_.assign(core::FrontClasses::count * class_bins_, 0.0);
   class_threshold_.assign(core::FrontClasses::count * threshold_.bins(), 0.0);
   region_age_row_.assign(core::FrontClasses::regions * class_bins_, 0.0);
+  region_threshold_row_.assign(core::FrontClasses::regions * threshold_.bins(), 0.0);
 }
 
 void ContactStats::begin_snapshot(double t) {
@@ -98,12 +101,14 @@ void ContactStats::begin_snapshot(double t) {
   if (front_.classed()) snapshots_per_phase_[front_.phase] += 1.0;
   snapshot_phase_.push_back(static_cast<double>(front_.phase));
   std::fill(region_age_row_.begin(), region_age_row_.end(), 0.0);
+  std::fill(region_threshold_row_.begin(), region_threshold_row_.end(), 0.0);
   age_.clear();
   threshold_.clear();
 }
 
 void ContactStats::end_snapshot() {
   region_age_rows_.insert(region_age_rows_.end(), region_age_row_.begin(), region_age_row_.end());
+  region_threshold_rows_.insert(region_threshold_rows_.end(), region_threshold_row_.begin(), region_threshold_row_.end());
   age_rows_.insert(age_rows_.end(), age_.counts().begin(), age_.counts().end());
   threshold_rows_.insert(threshold_rows_.end(), threshold_.counts().begin(), threshold_.counts().end());
   for (std::size_t i = 0; i < sites_; ++i) {
@@ -145,6 +150,7 @@ core::ContactTables ContactStats::tables() const {
   c["contact_snapshots_per_phase"] = snapshots_per_phase_;
   c["contact_snapshot_phase"] = snapshot_phase_;
   out.tables["region_age_counts"] = {core::FrontClasses::regions * class_bins_, region_age_rows_};
+  out.tables["region_threshold_counts"] = {core::FrontClasses::regions * threshold_.bins(), region_threshold_rows_};
   auto& dt = c["detachments_total_per_site"];
   auto& at = c["attachments_total_per_site"];
   for (std::size_t i = 0; i < sites_; ++i) {

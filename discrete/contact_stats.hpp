@@ -31,6 +31,7 @@
 //   class_threshold_counts [12, nt]                         thresholds of attached contacts, likewise
 //   region_age_counts [ns, 3 · nc]                          ages at each contact snapshot by region
 //                                                           (behind | tip | ahead, nc bins each)
+//   region_threshold_counts [ns, 3 · nt]                    thresholds at each contact snapshot by region
 //   contact_snapshot_phase [ns]                             the phase at each contact snapshot
 //   threshold_drawn_counts [nt]                             every threshold drawn from g (w > 0)
 //   contact_snapshots_per_phase [4]                         contact snapshots taken in each phase
@@ -81,6 +82,9 @@ class Histogram {
 std::vector<double> log_time_edges(double lo = 1e-6, double hi = 1e6, int per_decade = 10);
 /// Edges {0, s_max/n, ..., s_max, +∞}: thresholds.
 std::vector<double> linear_edges(double s_max, int n);
+/// The threshold edges of the contact statistics for relative width w: linear_edges(max(2, 1 + 8w), 100) (the
+/// agent's histograms and the mean-field prediction of them, compare/contacts.hpp).
+std::vector<double> threshold_edges(double width);
 /// Edges of the class tables: {0, 1e-3, 1e-3·10^{1/5}, …, 1e4, +∞}, each (but 0 and ∞) an edge of
 /// log_time_edges() (the same doubles), so every bin of those lies inside one class bin.
 std::vector<double> class_time_edges();
@@ -94,8 +98,8 @@ class ContactStats {
   static constexpr std::size_t raw_cap = 100000;
 
   ContactStats() = default;  ///< disabled: every call is a no-op
-  /// Enabled, for `sites` sites; thresholds histogrammed on [0, threshold_max] (+ overflow).
-  ContactStats(std::size_t sites, double threshold_max);
+  /// Enabled, for `sites` sites; thresholds histogrammed on `threshold_edges` (threshold_edges(w)).
+  ContactStats(std::size_t sites, std::vector<double> threshold_edges);
 
   bool enabled() const { return enabled_; }
 
@@ -145,7 +149,9 @@ class ContactStats {
   void attached_threshold(std::size_t cls, double threshold, double count = 1.0) {
     const std::size_t b = threshold_.bin(threshold);
     threshold_.add_to(b, count);
-    if (cls < core::FrontClasses::count) class_threshold_[cls * threshold_.bins() + b] += count;
+    if (cls >= core::FrontClasses::count) return;  // phase next_event: not classed
+    class_threshold_[cls * threshold_.bins() + b] += count;
+    region_threshold_row_[(cls % core::FrontClasses::regions) * threshold_.bins() + b] += count;
   }
   void attached(std::size_t cls, double age, double threshold) {
     attached_age(cls, age);
@@ -175,7 +181,8 @@ class ContactStats {
        detach_rows_, attach_rows_);
     // by region and phase (docs/model.md §7.2)
     ar(drawn_, front_, class_bin_, class_bins_, class_edges_, class_lifetime_, class_age_, class_threshold_,
-       snapshots_per_phase_, snapshot_phase_, region_age_row_, region_age_rows_, detach_total_, attach_total_);
+       snapshots_per_phase_, snapshot_phase_, region_age_row_, region_age_rows_, detach_total_, attach_total_,
+       region_threshold_row_, region_threshold_rows_);
   }
 
  private:
@@ -189,6 +196,7 @@ class ContactStats {
   std::size_t class_bins_ = 0;
   std::vector<double> class_edges_, class_lifetime_, class_age_, class_threshold_;  ///< [12 × bins]
   std::vector<double> snapshots_per_phase_, snapshot_phase_, region_age_row_, region_age_rows_;
+  std::vector<double> region_threshold_row_, region_threshold_rows_;  ///< [3 × nt], per snapshot
   std::vector<std::uint64_t> detach_total_, attach_total_;  ///< [sites] over the run
   std::size_t n_lifetimes_ = 0, n_detached_ = 0;
   std::vector<double> lifetimes_, lifetime_start_, detached_durations_, detached_start_;

@@ -45,7 +45,7 @@ class NaiveAgentLaw {
     n_att_.assign(sites, 0);
     area_.assign(sites, 1.0);
     sigma_bar_.assign(sites, 0.0);
-    if (dp.contact_statistics) stats_ = ContactStats(sites, std::max(2.0, 1.0 + 8.0 * dp.width));
+    if (dp.contact_statistics) stats_ = ContactStats(sites, threshold_edges(dp.width));
     for (std::size_t i = 0; i < sites; ++i) {
       core::poll_stop();
       set_site(i, 1.0, 0.0);

@@ -1429,13 +1429,14 @@ def _contacts(res):
     return None
 
 
-def _matched_ages(c, d):
-    """Ages by class summed over the contact snapshots at which both models were in the same phase
-    (as compare::matched_age_tables); (measured, predicted) [12, nb] or None."""
-    need = ("region_age_counts", "contact_snapshot_phase", "snapshot_t")
+def _matched(c, d, table="region_age_counts"):
+    """A per-snapshot region table (region_age_counts or region_threshold_counts) by class, summed over the contact
+    snapshots at which both models were in the same phase (as compare::matched_tables); (measured, predicted)
+    [12, nb] or None."""
+    need = (table, "contact_snapshot_phase", "snapshot_t")
     if not all(k in c and k in d for k in need):
         return None
-    rm, rp = d["region_age_counts"][()], c["region_age_counts"][()]
+    rm, rp = d[table][()], c[table][()]
     pm, pp = d["contact_snapshot_phase"][()], c["contact_snapshot_phase"][()]
     if rm.shape != rp.shape or len(pm) != len(pp):
         return None
@@ -1553,14 +1554,19 @@ def contacts_section(res, outdir, source=""):
     # 2. lifetimes, 3. ages (at the snapshots where both models share a phase)
     _class_grid(res, outdir, figs, "lifetimes", "lifetime of completed attachments", d["class_lifetime_counts"][()],
                 c["class_lifetime_counts"][()], edges, fits, 0, ref)
-    matched = _matched_ages(c, d)
+    matched = _matched(c, d)
     if matched is not None:
         _class_grid(res, outdir, figs, "age_histograms", "age of attached contacts", matched[0], matched[1], edges,
                     fits, 1, ref)
-    # 4. surviving thresholds: attached contacts by class against the drawn ones
+    # 4. surviving thresholds: attached contacts by class against the drawn ones and, when the reference predicts
+    # them (mean_field at the scene's w, or the continuum at w = 0: threshold_hist_edges on the agent's edges), against
+    # the prediction at the snapshots both models share a phase (statistic 2 of /compare/contacts)
     if "class_threshold_counts" in d and "threshold_hist_edges" in d:
-        th = d["class_threshold_counts"][()]
         te = d["threshold_hist_edges"][()]
+        predicted = None
+        if "threshold_hist_edges" in c and np.array_equal(c["threshold_hist_edges"][()], te):
+            predicted = _matched(c, d, "region_threshold_counts")
+        th = predicted[0] if predicted is not None else d["class_threshold_counts"][()]
         drawn = d["threshold_drawn_counts"][()] if "threshold_drawn_counts" in d else np.zeros(th.shape[1])
         mid = 0.5 * (te[:-1] + np.where(np.isfinite(te[1:]), te[1:], te[:-1]))
         width = float(plot.as_float(res.param("discrete", "width", 0.0)) or 0.0)
@@ -1568,6 +1574,7 @@ def contacts_section(res, outdir, source=""):
         fig, axes = plt.subplots(max(1, len(prow)), 3, figsize=(13, 3 * max(1, len(prow)) + 1), squeeze=False,
                                  constrained_layout=True)
         dm = float((drawn * mid).sum() / drawn.sum()) if drawn.sum() > 0 else 1.0
+        stair_edges = te[:-1].tolist() + [te[-2] + (te[-2] - te[-3])]
         for i, ph in enumerate(prow):
             for r in range(3):
                 ax = axes[i, r]
@@ -1575,25 +1582,40 @@ def contacts_section(res, outdir, source=""):
                 if row.sum() <= 0:
                     plot.no_data(ax, "no contacts")
                 else:
-                    ax.stairs(row / row.sum(), te[:-1].tolist() + [te[-2] + (te[-2] - te[-3])], fill=True, color="C3",
-                              alpha=0.45, label=f"attached (mean {(row * mid).sum() / row.sum():.3f})")
+                    am = float((row * mid).sum() / row.sum())
+                    ax.stairs(row / row.sum(), stair_edges, fill=True, color="C3", alpha=0.45,
+                              label=f"attached (mean {am:.3f})")
                     if drawn.sum() > 0:
-                        ax.stairs(drawn / drawn.sum(), te[:-1].tolist() + [te[-2] + (te[-2] - te[-3])], color="k",
-                                  lw=1.2, label=f"drawn from g (mean {dm:.3f})")
+                        ax.stairs(drawn / drawn.sum(), stair_edges, color="k", lw=1.0, ls=":",
+                                  label=f"drawn from g (mean {dm:.3f})")
+                    pm_mean = None
+                    if predicted is not None and predicted[1][3 * ph + r].sum() > 0:
+                        prow_p = predicted[1][3 * ph + r]
+                        pm_mean = float((prow_p * mid).sum() / prow_p.sum())
+                        ax.stairs(prow_p / prow_p.sum(), stair_edges, color="C0", lw=1.4,
+                                  label=f"{ref} prediction (mean {pm_mean:.3f})")
+                        fit = [f for f in fits if f["statistic"] == 2 and int(f["phase"]) == ph and int(f["region"]) == r]
+                        if fit:
+                            f = fit[0]
+                            tag = f"KS {f['ks_distance']:.4f}, p {f['p_value']:.2g}" + ("" if f["tested"] else " (not tested)")
+                            ax.text(0.02, 0.95, tag, transform=ax.transAxes, fontsize=7, va="top")
                     ax.set_xlim(0, max(2.0, 1 + 4 * width))
-                    ax.legend(fontsize=6)
+                    ax.legend(fontsize=6, loc="upper right")
                     if ph > 0 and width > 0:
-                        am = float((row * mid).sum() / row.sum())
                         rows.append(effect_row(f"threshold disorder w = {width:g} (the front keeps the strong contacts)",
                                                f"{res.scene}: surviving thresholds, {PHASES[ph]}, {REGIONS[r]}",
                                                f"drawn mean {dm:.4f}", f"attached mean {am:.4f}", f"{am / dm - 1:+.2%}",
-                                               "thresholds of the attached contacts against those drawn from g", source))
+                                               "thresholds of the attached contacts against those drawn from g"
+                                               + ("" if pm_mean is None else f" ({ref} predicts {pm_mean / dm - 1:+.2%})"),
+                                               source))
                 ax.set_title(f"{PHASES[ph]}, {REGIONS[r]}", fontsize=9)
                 ax.set_xlabel("threshold s")
         if not prow:
             plot.no_data(axes[0, 0], "no threshold statistics")
         note = "" if width > 0 else "   (w = 0: every threshold is 1)"
-        fig.suptitle(res.title("thresholds of the attached contacts vs drawn" + note, fig), fontsize=9)
+        what = "at the snapshots both models share a phase" if predicted is not None else "all contact snapshots"
+        fig.suptitle(res.title(f"thresholds of the attached contacts vs drawn and predicted ({what}){note}", fig),
+                     fontsize=9)
         save(fig, outdir, f"{res.scene}_thresholds.png", figs)
     # the goodness of fit: a limit that must hold when the prediction is from the ensemble's own N -> infinity
     # limit at its w (mean_field, or the continuum at w = 0), each row at the family false-alarm rate
@@ -1602,7 +1624,7 @@ def contacts_section(res, outdir, source=""):
     tested = [f for f in fits if f.get("tested")]
     alpha_row = CONTACTS_FAMILY_ALPHA / max(1, len(tested))
     for f in tested:
-        stat = "lifetimes" if f["statistic"] == 0 else "ages"
+        stat = ("lifetimes", "ages", "thresholds")[int(f["statistic"])]
         ph, r = PHASES[int(f["phase"])], REGIONS[int(f["region"])]
         rel = f["measured_total"] / f["predicted_total"] - 1 if f["predicted_total"] > 0 else math.nan
         fit = (f"KS distance {f['ks_distance']:.4f}; X2 {f['chi2']:.1f}/{f['dof']:.0f}, p = {f['p_value']:.2g} "
@@ -1786,9 +1808,10 @@ def scene_section(ctx, path):
     lines += figure_lines(written, root)
     if cfigs:
         lines += ["### Contact statistics", "",
-                  "Mean contact age maps (the continuum's age field, the agent's exact ages), lifetime and age "
-                  "histograms by phase and region with the continuum's prediction, and the thresholds of the "
-                  "attached contacts against the drawn ones (docs/contacts.md). Goodness of fit: "
+                  "Mean contact age maps (the reference's age field, the agent's exact ages), lifetime and age "
+                  "histograms by phase and region with the reference's prediction (the continuum's, or mean_field's "
+                  "at the scene's w), and the thresholds of the attached contacts against the drawn ones and the "
+                  "predicted ones (docs/contacts.md). Goodness of fit: "
                   "`/compare/contacts` (chi-square on a uniform subsample of m contacts; KS distance of the whole "
                   "population); one summary row per tested statistic and class.", ""]
         lines += figure_lines(cfigs, root)

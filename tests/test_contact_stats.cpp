@@ -264,6 +264,28 @@ TEST_CASE("contact statistics with threshold disorder: the front keeps the stron
   CHECK(std::abs(ahead - drawn_mean) < 0.02);
   CHECK(behind > drawn_mean + (quenched ? 0.015 : 0.05));
   bias[quenched ? 1 : 0] = behind - drawn_mean;
+  // per snapshot by region (region_threshold_counts [ns, 3 nt]): the three regions of a classed snapshot add up to
+  // its threshold histogram, and summed over the snapshots of a phase they are that phase's class rows
+  const auto& regions = d.contacts_2d.at("region_threshold_counts");
+  const auto& hist = d.contacts_2d.at("threshold_hist_counts");
+  const auto& phase = d.contacts.at("contact_snapshot_phase");
+  const std::size_t nt = tab.cols, ns = phase.size();
+  REQUIRE(regions.cols == 3 * nt);
+  REQUIRE(regions.data.size() == ns * 3 * nt);
+  std::vector<double> by_class(12 * nt, 0.0);
+  std::size_t classed = 0;
+  for (std::size_t k = 0; k < ns; ++k) {
+    if (phase[k] >= 4.0) continue;
+    ++classed;
+    const auto ph = static_cast<std::size_t>(phase[k]);
+    for (std::size_t j = 0; j < nt; ++j) {
+      const double* row = regions.data.data() + k * 3 * nt;
+      CHECK(row[j] + row[nt + j] + row[2 * nt + j] == hist.data[k * nt + j]);
+      for (std::size_t r = 0; r < 3; ++r) by_class[(3 * ph + r) * nt + j] += row[r * nt + j];
+    }
+  }
+  CHECK(classed >= 3);
+  CHECK(by_class == tab.data);
   }
   CHECK(bias[0] > 2.0 * bias[1]);
 }

@@ -18,6 +18,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <numeric>
 #include <string>
 #include <vector>
 
@@ -299,6 +300,102 @@ TEST_CASE("mean_field: the contact prediction by threshold class keeps the law's
     for (const double x : t.tables.at("class_lifetime_counts").data) lifetimes += x;
     CHECK(lifetimes == Approx(det).epsilon(1e-9));
   }
+}
+
+TEST_CASE("mean_field: the threshold prediction spreads each class over its quantile interval of g",
+          "[mean_field][contacts][thresholds]") {
+  // threshold_spread (compare/contacts.hpp): each class's row sums to 1, its mean (bin midpoints) is the class's
+  // conditional mean s_b within half a bin, and the classes together are g binned (B · 1/B of each bin's G-mass);
+  // degenerate g: everything in the bin of 1. Then the prediction of one site after a sliding history (w = 0.3,
+  // 16 classes, fresh renewal): its snapshot's threshold row is Σ_b N n_b (spread row b) — the law's own classes —
+  // in the site's region, the class table's row of that phase equals it, and the weak classes are depleted (the
+  // attached mean threshold above g's mean 1 by more than 0.05). Up to the cohorts the prediction drops (bound below).
+  for (const char* kind : {"uniform", "gaussian", "weibull"}) {
+    INFO(kind);
+    const discrete::ThresholdDistribution g(kind, 0.3);
+    const auto edges = discrete::threshold_edges(0.3);
+    const std::size_t B = 16, nt = edges.size() - 1;
+    const auto spread = compare::threshold_spread(g, B, edges);
+    REQUIRE(spread.size() == B * nt);
+    std::vector<double> all(nt, 0.0);
+    for (std::size_t b = 0; b < B; ++b) {
+      double sum = 0.0, mean = 0.0;
+      for (std::size_t j = 0; j < nt; ++j) {
+        const double w = spread[b * nt + j], mid = std::isfinite(edges[j + 1]) ? 0.5 * (edges[j] + edges[j + 1]) : edges[j];
+        CHECK(w >= 0.0);
+        sum += w;
+        mean += w * mid;
+        all[j] += w / static_cast<double>(B);
+      }
+      CHECK(sum == Approx(1.0).epsilon(1e-12));
+      const double s_b = g.conditional_mean(static_cast<double>(b) / B, static_cast<double>(b + 1) / B);
+      // the overflow bin [s_max, ∞) is counted at s_max: only weibull's last class reaches it
+      if (spread[b * nt + nt - 1] == 0.0) CHECK(std::abs(mean - s_b) <= 0.5 * (edges[1] - edges[0]));
+    }
+    for (std::size_t j = 0; j < nt; ++j) {
+      const double G1 = std::isfinite(edges[j + 1]) ? g.cdf(edges[j + 1]) : 1.0;
+      CHECK(all[j] == Approx(G1 - g.cdf(edges[j])).margin(1e-12));
+    }
+  }
+  {
+    const discrete::ThresholdDistribution delta("delta", 0.0);
+    const auto edges = discrete::threshold_edges(0.0);
+    const auto spread = compare::threshold_spread(delta, 1, edges);
+    const std::size_t j = discrete::Histogram(edges).bin(1.0);
+    CHECK(spread[j] == 1.0);
+    CHECK(std::accumulate(spread.begin(), spread.end(), 0.0) == 1.0);
+  }
+  discrete::DiscreteParams d;
+  d.threshold = "uniform";
+  d.width = 0.3;
+  d.bins = 16;
+  discrete::MeanFieldLaw law(testing::paper_interface(), d, 1);
+  const std::size_t B = law.prediction_classes();
+  compare::ContactPrediction p(1, 1000.0, 1.0, 0.1, 1e4, B);
+  auto edges = discrete::threshold_edges(d.width);
+  const std::size_t nt = edges.size() - 1;
+  const auto spread = compare::threshold_spread(law.distribution(), B, edges);
+  p.set_thresholds(edges, spread);
+  p.start(law.attached_classes());
+  core::FrontClasses f;
+  f.phase = 1;  // slow front; the site is ahead (behind_end = tip_end = 0)
+  p.set_front(f);
+  std::vector<double> n0, hazard(B), total(B);
+  for (int k = 0; k < 2000; ++k) {
+    const double v = k < 1000 ? 3.0 : 0.5, a0 = law.contact_area()[0], sb0 = law.sigma_bar()[0];
+    n0.assign(law.attached_classes().begin(), law.attached_classes().end());
+    law.class_rates(0, v, a0, sb0, n0, hazard, total);
+    const double vv[1] = {v};
+    law.advance(0.01, vv);
+    p.step(0.01, n0, hazard, total);
+  }
+  p.snapshot();
+  const auto t = p.tables();
+  const auto& rows = t.tables.at("region_threshold_counts");
+  REQUIRE(rows.cols == 3 * nt);
+  REQUIRE(rows.data.size() == 3 * nt);
+  const auto& cls = t.tables.at("class_threshold_counts");
+  REQUIRE(cls.data.size() == 12 * nt);
+  CHECK(t.columns.at("threshold_hist_edges") == edges);
+  double total_count = 0.0, mean = 0.0, worst = 0.0;
+  for (std::size_t j = 0; j < nt; ++j) {
+    double expect = 0.0;
+    for (std::size_t b = 0; b < B; ++b) expect += 1000.0 * law.attached(0)[b] * spread[b * nt + j];
+    INFO("bin " << j);
+    worst = std::max(worst, std::abs(rows.data[2 * nt + j] - expect));
+    CHECK(rows.data[j] == 0.0);       // behind: no site
+    CHECK(rows.data[nt + j] == 0.0);  // tip: no site
+    CHECK(cls.data[(3 * 1 + 2) * nt + j] == rows.data[2 * nt + j]);
+    total_count += rows.data[2 * nt + j];
+    mean += rows.data[2 * nt + j] * (std::isfinite(edges[j + 1]) ? 0.5 * (edges[j] + edges[j + 1]) : edges[j]);
+  }
+  // the prediction's class masses are the law's n_b up to the cohorts it drops (below 1e-14 of a site, at most one
+  // per class and step: 2000 × 1e-14 of N per class, the earlier test's bound)
+  std::printf("mean-field threshold prediction after sliding: attached mean threshold %.4f (g: 1); max |row - "
+              "sum_b N n_b spread_b| = %.3g\n", mean / total_count, worst);
+  CHECK(worst < 1000.0 * 2000 * 1e-14);
+  CHECK(total_count == Approx(1000.0 * law.contact_area()[0]).margin(1000.0 * 2000 * 16 * 1e-14));
+  CHECK(mean / total_count > 1.05);
 }
 
 TEST_CASE("mean_field: the law's state, classes and overloaded fraction", "[mean_field]") {

@@ -15,7 +15,9 @@
 //     over the tested rows, its KS distance is smaller, and it fails fewer rows at the family rate;
 //   - a deliberately wrong width (w × 1.5 = 0.3) is rejected: its smallest p-value is below the family threshold;
 //   - every tested row before the arrest (before yield, slow front, transient) passes against the mean-field prediction
-//     at the family rate (family-wise false-alarm rate 0.01).
+//     at the family rate (family-wise false-alarm rate 0.01);
+//   - the surviving thresholds (the attached contacts' thresholds by region and phase, statistic 2, all phases) pass
+//     against the mean-field prediction at the family rate, and the wrong width fails at least one of them.
 // What is printed, not asserted (a finding, docs/contacts.md §3): the after-arrest rows, which compare the two models'
 // different field histories (the agent's cycle at N = 1e4), not the renewal law.
 #include <catch2/catch.hpp>
@@ -59,6 +61,7 @@ compare::Scene contacts_disorder() {
 struct Rows {
   double tested = 0, failed = 0, ks_sum = 0, min_p = 1;
   double tested_before_arrest = 0, failed_before_arrest = 0;  // phases 0–2
+  double threshold_tested = 0, threshold_failed = 0, threshold_min_p = 1;  // statistic 2: surviving thresholds
 };
 Rows rows(const compare::Comparison& c, const char* who) {
   Rows r;
@@ -75,8 +78,14 @@ Rows rows(const compare::Comparison& c, const char* who) {
       r.tested_before_arrest += 1;
       r.failed_before_arrest += fail ? 1 : 0;
     }
+    const double stat = col.at("statistic")[k];
+    if (stat == 2.0) {
+      r.threshold_tested += 1;
+      r.threshold_failed += fail ? 1 : 0;
+      r.threshold_min_p = std::min(r.threshold_min_p, col.at("p_value")[k]);
+    }
     std::printf("  %-10s %s phase %.0f region %.0f: measured %.4g predicted %.4g KS %.4f X2 %.1f/%.0f p %.3g%s\n", who,
-                col.at("statistic")[k] == 0.0 ? "lifetime" : "age     ", col.at("phase")[k], col.at("region")[k],
+                stat == 0.0 ? "lifetime " : stat == 1.0 ? "age      " : "threshold", col.at("phase")[k], col.at("region")[k],
                 col.at("measured_total")[k], col.at("predicted_total")[k], col.at("ks_distance")[k], col.at("chi2")[k],
                 col.at("dof")[k], col.at("p_value")[k], fail ? "  FAIL" : "");
   }
@@ -99,8 +108,16 @@ TEST_CASE("mean_field (slow): the agent's contact statistics at w = 0.2 against 
   // a wrong width: the mean-field prediction at w = 0.3 (its own run: the agent is not run again)
   compare::Scene wrong = s;
   wrong.discrete.width = 0.3;
-  auto make = [&](std::size_t n) { return compare::mean_field_law(wrong, n); };
-  const auto mf_wrong = compare::run_model<discrete::MeanFieldLaw>(wrong, make, "mean_field", {});
+  // (its threshold prediction on the agent's edges, those of w = 0.2, so that the thresholds compare too)
+  compare::ContactPredictionSetup setup = compare::contact_prediction_for(wrong, "mean_field");
+  REQUIRE(setup.mode == compare::ContactPredictionSetup::Mode::on);
+  setup.threshold_edges = discrete::threshold_edges(s.discrete.width);
+  const core::Bulk probe(wrong.bulk, wrong.drive, wrong.interface, wrong.grid.dx);
+  const auto mf_wrong = compare::with_integrator(wrong, [&](auto tag) {
+    using Stepper = typename decltype(tag)::template stepper<discrete::MeanFieldLaw>;
+    return compare::run_dynamic<discrete::MeanFieldLaw, Stepper>(wrong, compare::mean_field_law(wrong, probe.nodes()),
+                                                                  "mean_field", {}, {}, nullptr, setup);
+  });
   REQUIRE(mf_wrong.contacts_2d.count("class_lifetime_counts") == 1);
   const Rows with_wrong = rows(compare::compare_results(s, mf_wrong, d, &mf_wrong), "w x 1.5");
   std::printf("rows failed at the family rate 0.01 (of tested): mean_field %.0f/%.0f, continuum %.0f/%.0f, w x 1.5 "
@@ -117,6 +134,15 @@ TEST_CASE("mean_field (slow): the agent's contact statistics at w = 0.2 against 
               with_wrong.tested_before_arrest);
   CHECK(with_mf.tested_before_arrest >= 8);
   CHECK(with_mf.failed_before_arrest == 0);
+  // the surviving thresholds (statistic 2): every tested row passes, in every phase — they depend on which classes
+  // were overloaded, not on when the agent's cycle detached them — and the wrong width fails them
+  std::printf("surviving thresholds: mean_field %.0f of %.0f tested rows fail (smallest p %.3g), w x 1.5 %.0f of %.0f "
+              "(smallest p %.3g)\n", with_mf.threshold_failed, with_mf.threshold_tested, with_mf.threshold_min_p,
+              with_wrong.threshold_failed, with_wrong.threshold_tested, with_wrong.threshold_min_p);
+  CHECK(with_mf.threshold_tested >= 6);
+  CHECK(with_mf.threshold_failed == 0);
+  CHECK(with_wrong.threshold_tested >= 3);  // fewer: its events differ, so fewer snapshots share a phase
+  CHECK(with_wrong.threshold_min_p < 0.01 / with_wrong.tested);
 }
 
 // docs/model.md §7.2: the after-arrest phase of the contact statistics ends at the earliest next instability of the

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <atomic>
-#include <boost/random/binomial_distribution.hpp>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -17,21 +16,14 @@ namespace slipfront::discrete {
 
 namespace detail {
 
-// Binomial(n, p) from the site's stream; n is a whole number held in a double. No draw when the
-// outcome is certain (n = 0, p = 0 or p = 1): a draw is spent only where the scene needs one.
-inline double binomial(Engine& e, double n, double p) {
-  if (n <= 0.0 || p <= 0.0) return 0.0;
-  if (p >= 1.0) return n;
-  boost::random::binomial_distribution<std::int64_t, double> dist(static_cast<std::int64_t>(n), p);
-  return static_cast<double>(dist(e));
-}
 
 // Spread x contacts uniformly over the bins [lo, hi) (a multinomial with equal probabilities, as
-// successive binomials), adding them to counts[b].
-inline void spread_uniform(Engine& e, double x, double* counts, std::size_t lo, std::size_t hi) {
+// successive binomials), adding them to counts[b]. `share[m]`: BinomialRate(1/m) (m ≥ 2).
+inline void spread_uniform(Engine& e, double x, double* counts, std::size_t lo, std::size_t hi,
+                           const std::vector<BinomialRate>& share) {
   for (std::size_t b = lo; b < hi && x > 0.0; ++b) {
     const std::size_t left = hi - b;
-    const double y = left == 1 ? x : binomial(e, x, 1.0 / static_cast<double>(left));
+    const double y = left == 1 ? x : binomial(e, x, share[left]);
     counts[b] += y;
     x -= y;
   }
@@ -136,6 +128,8 @@ CountLaw::CountLaw(const core::InterfaceParams& ip, const DiscreteParams& dp, st
   n_contacts_ = static_cast<double>(dp.contacts_per_site);
   // Quantile bins [b/B, (b+1)/B) of g, each represented by its conditional mean (ascending).
   thresholds_.resize(nbins_);
+  share_.resize(nbins_ + 1);
+  for (std::size_t m = 2; m <= nbins_; ++m) share_[m] = detail::BinomialRate(1.0 / static_cast<double>(m));
   for (std::size_t b = 0; b < nbins_; ++b) {
     const double B = static_cast<double>(nbins_);
     thresholds_[b] = g_.conditional_mean(static_cast<double>(b) / B, static_cast<double>(b + 1) / B);
@@ -304,20 +298,23 @@ double CountLaw::step_contacts_sampled(std::size_t i, std::size_t k, double n_ov
     const double x_over = binomial(e, m_over, over_tr.become_attached);
     const double x_free = binomial(e, n_det - m_over, free_tr.become_attached);
     double left = 0.0;
-    if (detach > 0.0)
+    if (detach > 0.0 && k > 0) {
+      const detail::BinomialRate leave(leave_p);  // one rate for every overloaded bin
       for (std::size_t b = 0; b < k; ++b) {
-        const double x = binomial(e, at[b], leave_p);
+        const double x = binomial(e, at[b], leave);
         at[b] -= x;
         left += x;
       }
-    detail::spread_uniform(e, x_over, at, 0, k);
-    detail::spread_uniform(e, x_free, at, k, B);
+    }
+    detail::spread_uniform(e, x_over, at, 0, k, share_);
+    detail::spread_uniform(e, x_free, at, k, B, share_);
     de[0] = n_det - x_over - x_free + left;
   } else {
+    const detail::BinomialRate leave(leave_p), attach_over(over_tr.become_attached), attach_free(free_tr.become_attached);
     for (std::size_t b = 0; b < B; ++b) {
       const bool over = b < k;
-      const double out = over ? binomial(e, at[b], leave_p) : 0.0;
-      const double in = binomial(e, de[b], over ? over_tr.become_attached : free_tr.become_attached);
+      const double out = over ? binomial(e, at[b], leave) : 0.0;
+      const double in = binomial(e, de[b], over ? attach_over : attach_free);
       at[b] += in - out;
       de[b] += out - in;
     }

@@ -29,6 +29,7 @@
 #include "core/exact_update.hpp"
 #include "core/law.hpp"
 #include "core/params.hpp"
+#include "discrete/binomial.hpp"
 #include "discrete/params.hpp"
 #include "discrete/streams.hpp"
 #include "discrete/thresholds.hpp"
@@ -152,6 +153,7 @@ class CountLaw {
   std::vector<double> area_;       ///< [sites] A = n_att / N
   std::vector<double> sigma_bar_;  ///< [sites]
   std::vector<Engine> engines_;    ///< [sites] site_engine(seed, i)
+  std::vector<detail::BinomialRate> share_;  ///< [B + 1]: share_[m] = 1/m, the uniform spread's successive rates
 
   double cached_dt_ = -1.0;        ///< two-state transition of a non-overloaded bin for cached_dt_
   core::TwoStateTransition attach_only_{1.0, 0.0};

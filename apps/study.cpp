@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <future>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -33,6 +34,7 @@
 #include "apps/study_mpi.hpp"
 #include "apps/toml_integer.hpp"
 #include "compare/alongside.hpp"
+#include "compare/runner.hpp"
 #include "compare/estimate.hpp"
 #include "compare/pool.hpp"
 #include "core/interrupt.hpp"
@@ -282,6 +284,7 @@ void refuse_run_keys(const toml::table& t, const std::string& file, const std::s
       {"vary", "[vary] varies the runs of a study"},
       {"seeds", "seeds multiply the runs of a study"},
       {"fit_from", "fit_from bounds fits over runs"},
+      {"share_continuum", "share_continuum shares the continuum among runs"},
       {"limits", "[limits] bounds the runs of a study ([paths] bounds this one: at most 1000 target heights)"}};
   for (const auto& [key, why] : run_keys)
     if (t.get(key))
@@ -298,13 +301,13 @@ compare::StudySpec load_study(const fs::path& file, std::string* text) {
   std::string file_text;
   const toml::table t = parse_study_file(file, file_text);
   if (text) *text = std::move(file_text);
-  static const std::set<std::string> known{"study", "kind",  "description", "scene",    "set",   "seeds",
-                                           "vary",  "group", "fit_from",    "limits",   "paths"};
+  static const std::set<std::string> known{"study", "kind",   "description", "scene",  "set",   "seeds",
+                                           "vary",  "group",  "fit_from",    "limits", "paths", "share_continuum"};
   for (const auto& [k, v] : t)
     if (!known.count(std::string(k.str())))
       throw ConfigError(name, std::string(k.str()),
                         "unknown key (known: study, kind, description, scene, set, seeds, fit_from, vary, group, "
-                        "limits, paths)");
+                        "limits, paths, share_continuum)");
   compare::StudySpec s;
   s.name = read_string(t, name, "study", true);
   check_directory_name(s.name, name, "study", "out/studies/<study>");
@@ -324,6 +327,11 @@ compare::StudySpec load_study(const fs::path& file, std::string* text) {
                       "only a kind without scene runs (strip_cmin_height) has [paths]; the kind '" + s.kind + "' runs scenes");
   if (const auto* n = t.get("seeds")) s.seeds = read_integer<int>(*n, name, "seeds");
   if (const auto* n = t.get("fit_from")) s.fit_from = read_number(*n, name, "fit_from");
+  if (const auto* n = t.get("share_continuum")) {
+    const auto* b = n->as_boolean();
+    if (!b) throw ConfigError(name, "share_continuum", "must be true or false (a TOML boolean, not a string or number)");
+    s.share_continuum = b->get();
+  }
   if (const auto* n = t.get("limits")) s.limits = read_limits(*n, name);
   if (const auto* n = t.get("set")) s.common = read_common(*n, name);
   s.groups = read_groups(t, name, s.notes);
@@ -775,6 +783,52 @@ struct StudyProgress {
   }
 };
 
+// The shared continuum (docs/studies.md): for the runs of a study whose scenes are compare::continuum_shareable,
+// the continuum is run once per distinct continuum scene — the runs' group and their overrides without the
+// discrete.* ones (the seed is discrete.seed) — by the first run that needs it, while the other runs of this process
+// that need it wait; every run's file holds a copy (label shared_from_run: the run that computed it). Under MPI each
+// rank computes its own. A continuum that fails or is interrupted is handed to its runs as it is, as each run's
+// own would have been (the continuum is deterministic).
+class SharedContinuum {
+ public:
+  using Result = std::shared_ptr<const compare::ModelResult>;
+  Result get(const Study& study, std::size_t i, const compare::RunControl& ctl) {
+    std::string key = study.runs[i].group;
+    for (const auto& o : study.runs[i].overrides)
+      if (o.rfind("discrete.", 0) != 0) key += "\n" + o;
+    std::promise<Result> mine;
+    std::shared_future<Result> f;
+    bool compute = false;
+    {
+      std::lock_guard lock(m_);
+      const auto it = cache_.find(key);
+      if (it != cache_.end()) {
+        f = it->second;
+      } else {
+        f = mine.get_future().share();
+        cache_.emplace(key, f);
+        compute = true;
+      }
+    }
+    if (compute) {
+      try {
+        compare::Scene alone = study.scenes[i];
+        alone.models = {"continuum"};
+        auto r = compare::run_scene(alone, ctl);
+        r.at(0).labels["shared_from_run"] = study.runs[i].id;
+        mine.set_value(std::make_shared<const compare::ModelResult>(std::move(r.at(0))));
+      } catch (...) {
+        mine.set_exception(std::current_exception());
+      }
+    }
+    return f.get();
+  }
+
+ private:
+  std::mutex m_;
+  std::map<std::string, std::shared_future<Result>> cache_;
+};
+
 // One run made and written to its file (a write error is reported on `err_all`, under `io`); its
 // results come back without the fields: the analysis needs events, series and tables.
 struct MadeRun {
@@ -784,7 +838,7 @@ struct MadeRun {
 };
 
 MadeRun make_run(const Study& study, std::size_t i, StopRequests& stop, const std::string& command_line,
-                 const MpiEngine* mpi, std::mutex& io, std::ostream& err_all) {
+                 const MpiEngine* mpi, std::mutex& io, std::ostream& err_all, SharedContinuum* shared) {
   const auto t0 = Clock::now();
   compare::RunControl ctl;
   ctl.stop = [&stop] { return stop(); };
@@ -795,7 +849,10 @@ MadeRun make_run(const Study& study, std::size_t i, StopRequests& stop, const st
                       (mpi ? ", MPI rank " + std::to_string(mpi->rank()) + " of " + std::to_string(mpi->size()) : "") +
                       "]";
   try {
-    compare::SceneResult sr = compare::run_scene_alongside(study.scenes[i], ctl);
+    const compare::Scene& scene = study.scenes[i];
+    compare::SceneResult sr = shared && study.spec.share_continuum && compare::continuum_shareable(scene)
+                                  ? compare::run_scene_with_continuum(scene, *shared->get(study, i, ctl), ctl)
+                                  : compare::run_scene_alongside(scene, ctl);
     made.models = std::move(sr.models);
     cmp = std::move(sr.comparison);
   } catch (const core::Interrupted& e) {
@@ -835,10 +892,11 @@ RunsMade run_points(const Study& study, const std::vector<std::size_t>& todo, co
                     std::ostream& err_all) {
   MpiEngine* const mpi = engine.mpi.get();
   RunsMade made(study.runs.size());
+  SharedContinuum shared;
   std::mutex io;
   std::size_t done = 0;
   auto job = [&](std::size_t i) {
-    MadeRun run = make_run(study, i, stop, command_line, mpi, io, err_all);
+    MadeRun run = make_run(study, i, stop, command_line, mpi, io, err_all, &shared);
     made.results[i] = std::move(run.models);
     std::lock_guard lock(io);
     made.in_memory[i] = 1;

@@ -313,6 +313,24 @@ Comparison compare_results(const Scene& s, const ModelResult& c, const ModelResu
   return cmp;
 }
 
+bool continuum_shareable(const Scene& s) {
+  const bool pair = s.models.size() == 2 && s.lists("continuum") && s.lists("discrete");
+  return pair && !runs_in_lockstep(s) && !s.discrete.contact_statistics;
+}
+
+SceneResult run_scene_with_continuum(const Scene& s, const ModelResult& continuum, const RunControl& ctl) {
+  if (!continuum_shareable(s) || continuum.model != "continuum")
+    throw std::invalid_argument("run_scene_with_continuum: the scene's continuum cannot be shared (continuum_shareable)");
+  Scene alone = s;
+  alone.models = {"discrete"};
+  std::vector<ModelResult> d = run_scene(alone, ctl);
+  SceneResult out;
+  for (const auto& m : s.models) out.models.push_back(m == "continuum" ? continuum : std::move(d.at(0)));
+  const ModelResult& disc = s.models[0] == "discrete" ? out.models[0] : out.models[1];
+  out.comparison = compare_results(s, continuum, disc, &continuum);
+  return out;
+}
+
 SceneResult run_scene_alongside(const Scene& s, const RunControl& ctl) {
   auto separately = [&] {
     // One model, 0D imposed-rate scenes (no bulk to share), or the adaptive continuum integrator (no

@@ -20,6 +20,16 @@ namespace slipfront::compare {
 /// else the continuum; compare_results), when the discrete model and a reference run.
 SceneResult run_scene_alongside(const Scene& s, const RunControl& ctl);
 
+/// Whether the continuum of `s` can be computed once for several runs (a study's shared continuum, docs/studies.md):
+/// the scene lists exactly the continuum and the discrete model, runs them one after the other (not in lockstep:
+/// the adaptive integrator, an imposed slip rate: no field distances), and predicts no contact statistics (the
+/// prediction reads discrete.contacts_per_site). The continuum run then reads no discrete.* key: its result is the
+/// same for every discrete.* setting and seed.
+bool continuum_shareable(const Scene& s);
+/// run_scene_alongside of a continuum_shareable scene with its continuum given (`continuum`: run_scene of the scene
+/// with models = {"continuum"}): the discrete model alone, compared with it. Bit-identical to run_scene_alongside.
+SceneResult run_scene_with_continuum(const Scene& s, const ModelResult& continuum, const RunControl& ctl);
+
 /// The end-of-run comparison of the discrete model's results with its reference's (events, series, friction
 /// law): the reference is mean_field when the scene lists it (docs/model.md §2.2: the ensemble's own N → ∞
 /// limit at its w), else the continuum; fields are compared online by run_scene_alongside and merged in. The

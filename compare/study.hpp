@@ -42,6 +42,9 @@ struct StudySpec {
   /// [paths] of a kind without scene runs (strip_cmin_height): the path in H; its law and material are the
   /// base scene's (strip_cmin_study_options), stop and log the caller's.
   StripCminHeightOptions paths;
+  /// The continuum of runs that differ only in discrete.* keys and the seed is run once and shared
+  /// (compare::continuum_shareable scenes; docs/studies.md "The shared continuum"); false: every run its own.
+  bool share_continuum = true;
   std::vector<std::string> notes;    ///< what loading the file changed (repeated vary values collapsed)
 };
 

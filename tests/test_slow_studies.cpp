@@ -163,16 +163,19 @@ TEST_CASE("slow studies: nucleated fronts lie on the solved branch and stop at t
 }
 
 TEST_CASE("slow studies: fronts started from the solved branch keep its speed, kicked or not, both models", "[slow][studies]") {
-  // front_branch (docs/model.md §6): at sigma_d from 0.22 (just above the branch's end) to 0.7, a run started
-  // from the solved front keeps the solved speed within 0.2% (dx = 0.5; the scheme's first-order switching
-  // error is 7e-4..1e-3), the discrete model (N = 1e4) too, and a slip-rate kick of -0.5 or +2 behind the tip
-  // changes the measured speed by less than 5e-4: every part of the branch tried is stable.
+  // front_branch (docs/model.md §6), on the adaptive integrator at rtol 1e-3 (docs/fronts.md §8a): at sigma_d from
+  // 0.22 (just above the branch's end) to 0.7, a run started from the solved front keeps the solved speed — the
+  // unkicked continuum within 1e-4 (measured 2e-5: with its switchings located the explicit scheme's first-order
+  // switching error of 7e-4..1e-3 is gone), every run within 0.2 % (the discrete model, N = 1e4 on leap steps:
+  // 3-8e-4) — and a slip-rate kick of -0.5 or +2 behind the tip changes the measured speed by less than 5e-4
+  // (measured 4.0e-4): every part of the branch tried is stable.
   const auto r = run("front_branch");
   const auto& t = r.tables.at("steady_fronts");
   REQUIRE(t.at("sigma_d").size() == 18);
   for (std::size_t k = 0; k < t.at("sigma_d").size(); ++k) {
     INFO("sigma_d = " << t.at("sigma_d")[k] << ", kick " << t.at("kick_dv")[k]);
     CHECK(std::abs(t.at("rel_continuum")[k]) < 2e-3);
+    if (t.at("kick_dv")[k] == 0.0) CHECK(std::abs(t.at("rel_continuum")[k]) < 1e-4);
     CHECK(std::abs(t.at("rel_discrete")[k]) < 2e-3);
     CHECK(std::abs(t.at("sigma_ss_error_continuum")[k]) < 1e-3);
   }

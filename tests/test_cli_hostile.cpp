@@ -168,3 +168,26 @@ TEST_CASE("cli hostile: empty --out, '--set =' and out-of-range integers are ref
   CHECK(array.code == 2);
   CHECK(contains(array.err, "not a valid TOML value"));
 }
+
+TEST_CASE("cli hostile: the program loads no shared library from the directory it is run in", "[cli][hostile]") {
+  // The build once gave the program the run path "/usr/lib/x86_64-linux-gnu/hdf5/serial:" — its empty last entry
+  // is the current directory, so a file named like one of its libraries in the working directory was loaded (a
+  // planted library runs its code) or, not an ELF file, stopped the program at start ("libxxhash.so.0: file too
+  // short", exit 127). Files with the names of every library it needs, in the directory it runs in, must not be
+  // touched: the program starts and runs a scene. (Deterministic; failed before apps/CMakeLists.txt dropped the
+  // build run path.)
+  const TempDir dir("clih-libs");
+  for (const char* lib : {"libxxhash.so.0", "libfftw3.so.3", "libtomlplusplus.so.3", "libhdf5_serial.so.103",
+                          "libstdc++.so.6", "libm.so.6", "libgcc_s.so.1", "libc.so.6", "libcurl.so.4", "libz.so.1",
+                          "libsz.so.2", "libcrypto.so.3"})
+    write_text(dir.path / lib, "not a library\n");
+  write_text(dir.path / "tiny.toml", tiny);
+  const Result version = run_slipfront(dir.path, "--version");
+  INFO(version.out << version.err);
+  CHECK(version.code == 0);
+  CHECK(contains(version.out, "slipfront"));
+  const Result r = run_slipfront(dir.path, "run tiny.toml --out out -q");
+  INFO(r.out << r.err);
+  CHECK(r.code == 0);
+  CHECK(fs::is_regular_file(dir.path / "out" / "results.h5"));
+}

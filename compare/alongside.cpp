@@ -39,6 +39,17 @@ class FieldComparison {
   Columns c_;
 };
 
+// The definitions of the field distances of a lockstep run against the reference model `r`.
+void define_fields(Comparison& c, const std::string& r) {
+  const std::pair<const char*, std::string> defs[] = {
+      {"fields/A_distance", "||A_discrete - A_" + r + "||_2 / ||A_" + r + "||_2 over the nodes at time t"},
+      {"fields/sigma_bar_distance", "the same relative L2 distance for sigma_bar"},
+      {"fields/v_distance", "the same relative L2 distance for the slip rate v"},
+      {"fields/u_distance", "the same relative L2 distance for the slip u"},
+      {"fields/t", "comparison times: the first step at or after each multiple of output.compare_dt"}};
+  for (const auto& [k, v] : defs) c.definitions[k] = v;
+}
+
 // The models of a scene in lockstep (a SteppedRun, compare/run_loop.hpp): the continuum, the mean-field and
 // the discrete run, each present when the scene lists it (at least two). Each step advances every present run
 // (a model that has ended, failed or been interrupted stays where it is) and compares the discrete model's
@@ -139,14 +150,7 @@ SceneResult lockstep(const Scene& s, std::optional<LawD> discrete_law, const Run
     const ModelResult& ref = done[rm ? "mean_field" : "continuum"];
     out.comparison = compare_results(s, ref, done["discrete"], &ref);
     out.comparison.fields = all.take_fields();
-    const std::string r = ref.model;
-    const std::pair<const char*, std::string> defs[] = {
-        {"fields/A_distance", "||A_discrete - A_" + r + "||_2 / ||A_" + r + "||_2 over the nodes at time t"},
-        {"fields/sigma_bar_distance", "the same relative L2 distance for sigma_bar"},
-        {"fields/v_distance", "the same relative L2 distance for the slip rate v"},
-        {"fields/u_distance", "the same relative L2 distance for the slip u"},
-        {"fields/t", "comparison times: the first step at or after each multiple of output.compare_dt"}};
-    for (const auto& [k, v] : defs) out.comparison.definitions[k] = v;
+    define_fields(out.comparison, ref.model);
   }
   if (rm) label_mean_field(s, done["mean_field"]);
   if (rd) label_discrete(s, done["discrete"]);
@@ -314,20 +318,32 @@ Comparison compare_results(const Scene& s, const ModelResult& c, const ModelResu
 }
 
 bool continuum_shareable(const Scene& s) {
-  const bool pair = s.models.size() == 2 && s.lists("continuum") && s.lists("discrete");
-  return pair && !runs_in_lockstep(s) && !s.discrete.contact_statistics;
+  if (!s.lists("continuum") || s.models.size() < 2 || s.discrete.contact_statistics) return false;
+  // in lockstep the fields of the discrete model are compared online with its reference: the continuum's only
+  // when mean_field does not run, and only at output.compare_dt > 0
+  const bool compared_online = runs_in_lockstep(s) && s.lists("discrete") && !s.lists("mean_field") &&
+                               s.output.compare_dt > 0.0;
+  return !compared_online;
 }
 
 SceneResult run_scene_with_continuum(const Scene& s, const ModelResult& continuum, const RunControl& ctl) {
   if (!continuum_shareable(s) || continuum.model != "continuum")
     throw std::invalid_argument("run_scene_with_continuum: the scene's continuum cannot be shared (continuum_shareable)");
-  Scene alone = s;
-  alone.models = {"discrete"};
-  std::vector<ModelResult> d = run_scene(alone, ctl);
+  Scene rest = s;
+  std::erase(rest.models, std::string("continuum"));
+  // the other models as run_scene_alongside runs them (each model's result is the one it gives alone, in lockstep
+  // or not); their comparison is the discrete model's with mean_field when it runs
+  SceneResult others = rest.models.size() >= 2 ? run_scene_alongside(rest, ctl) : SceneResult{run_scene(rest, ctl), {}};
   SceneResult out;
-  for (const auto& m : s.models) out.models.push_back(m == "continuum" ? continuum : std::move(d.at(0)));
-  const ModelResult& disc = s.models[0] == "discrete" ? out.models[0] : out.models[1];
-  out.comparison = compare_results(s, continuum, disc, &continuum);
+  out.comparison = std::move(others.comparison);
+  std::size_t k = 0;
+  for (const auto& m : s.models) out.models.push_back(m == "continuum" ? continuum : std::move(others.models.at(k++)));
+  if (!s.lists("mean_field") && s.lists("discrete")) {  // the discrete model's reference is the continuum
+    const ModelResult& disc = *std::find_if(out.models.begin(), out.models.end(),
+                                            [](const ModelResult& r) { return r.model == "discrete"; });
+    out.comparison = compare_results(s, continuum, disc, &continuum);
+    if (runs_in_lockstep(s)) define_fields(out.comparison, "continuum");  // as the lockstep run (no rows: compare_dt 0)
+  }
   return out;
 }
 

@@ -21,13 +21,15 @@ namespace slipfront::compare {
 SceneResult run_scene_alongside(const Scene& s, const RunControl& ctl);
 
 /// Whether the continuum of `s` can be computed once for several runs (a study's shared continuum, docs/studies.md):
-/// the scene lists exactly the continuum and the discrete model, runs them one after the other (not in lockstep:
-/// the adaptive integrator, an imposed slip rate: no field distances), and predicts no contact statistics (the
-/// prediction reads discrete.contacts_per_site). The continuum run then reads no discrete.* key: its result is the
-/// same for every discrete.* setting and seed.
+/// the scene lists the continuum and another model, predicts no contact statistics (the prediction reads
+/// discrete.contacts_per_site), and does not compare the continuum's fields online (in lockstep the discrete model's
+/// fields are compared with its reference: the continuum's only when mean_field does not run and
+/// output.compare_dt > 0). Then the continuum run reads no discrete.* key and no other model's state: its result is
+/// the same for every discrete.* setting and seed, and each other model's is the one it gives alone.
 bool continuum_shareable(const Scene& s);
 /// run_scene_alongside of a continuum_shareable scene with its continuum given (`continuum`: run_scene of the scene
-/// with models = {"continuum"}): the discrete model alone, compared with it. Bit-identical to run_scene_alongside.
+/// with models = {"continuum"}): the other models as run_scene_alongside runs them, the continuum's result put in
+/// its place, the discrete model compared with its reference. Bit-identical to run_scene_alongside.
 SceneResult run_scene_with_continuum(const Scene& s, const ModelResult& continuum, const RunControl& ctl);
 
 /// The end-of-run comparison of the discrete model's results with its reference's (events, series, friction

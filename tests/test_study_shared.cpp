@@ -1,15 +1,17 @@
 // The shared continuum of a study (docs/studies.md "The shared continuum", issue 22 item 3: skip work no run
 // needs): runs whose scenes differ only in discrete.* keys and the seed, and that run their models one after the
-// other (the adaptive integrator, an imposed slip rate), run the continuum once. Runs the real program.
+// other or whose continuum is not compared online, run the continuum once. Runs the real program.
 //
 // Asserted, on a small front study (fig1's edge loading, L = 150, t_end = 80, N = 300 and 1000, 3 seeds: 6 runs) on
-// the adaptive integrator and on an imposed-rate sweep (friction_law, 6 runs), each with share_continuum = true
-// (the default) and false:
+// the adaptive integrator, on the implicit one (in lockstep) without and with online field comparisons, with the
+// three models, and on an imposed-rate sweep (friction_law, 6 runs), each with share_continuum = true (the default)
+// and false:
 //   - the two study.h5 agree bit for bit (tables, scalars, definitions, notes; not the study file's text);
 //   - every run file agrees bit for bit but for the label /continuum@shared_from_run and the wall times;
 //   - with sharing, every run's continuum names the one run that computed it (one continuum scene: one run);
 //     without it, none does;
-//   - on the fixed-step implicit integrator (the models in lockstep: field distances) nothing is shared.
+//   - where the discrete model's fields are compared online with the continuum's (in lockstep, no mean_field,
+//     output.compare_dt > 0) nothing is shared; with mean_field (their reference) the continuum is.
 // Deterministic: no false-alarm rate.
 #include <catch2/catch.hpp>
 
@@ -99,9 +101,22 @@ TEST_CASE("study: the shared continuum gives the study and the run files of ever
     const TempDir dir("shared-sweep");
     check_shared(dir.path, write_sweep_study(dir.path), "", true);
   }
-  SECTION("the implicit integrator: the models in lockstep, nothing shared") {
+  SECTION("the implicit integrator, the models in lockstep with no field comparison (output.compare_dt = 0)") {
     const TempDir dir("shared-implicit");
-    check_shared(dir.path, write_front_study(dir.path), "set = [\"time.integrator=implicit\", \"time.dt=0.02\"]\n",
-                 false);
+    check_shared(dir.path, write_front_study(dir.path),
+                 "set = [\"time.integrator=implicit\", \"time.dt=0.02\", \"output.compare_dt=0\"]\n", true);
+  }
+  SECTION("in lockstep with the discrete fields compared online against the continuum: nothing shared") {
+    const TempDir dir("shared-compared");
+    check_shared(dir.path, write_front_study(dir.path),
+                 "set = [\"time.integrator=implicit\", \"time.dt=0.02\", \"output.compare_dt=5\"]\n", false);
+  }
+  SECTION("three models in lockstep, the discrete fields compared online against mean_field: the continuum shared") {
+    const TempDir dir("shared-three");
+    check_shared(dir.path, write_front_study(dir.path),
+                 "set = [\"time.integrator=implicit\", \"time.dt=0.02\", \"output.compare_dt=5\", "
+                 "'models=[\"continuum\",\"mean_field\",\"discrete\"]', \"discrete.threshold=uniform\", "
+                 "\"discrete.width=0.2\"]\n",
+                 true);
   }
 }

@@ -6,7 +6,7 @@
 // Both draw the same numbers (tests/test_discrete_count.cpp); the ratio is the cost of boost's set-up (its pow)
 // per draw.
 //
-//   ./bench_binomial          prints, per N, ns per site-step of each and the ratio baseline / cached
+//   ./bench_binomial          prints, per N, ns per site-step of each and the ratios to the baseline
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -25,7 +25,7 @@ using namespace slipfront;
 namespace {
 
 constexpr std::size_t B = 64, k = 32;  // bins, overloaded bins (τ inside g's support)
-std::map<std::pair<int, bool>, double> ns_per_step;
+std::map<std::pair<int, int>, double> ns_per_step;
 
 double boost_draw(discrete::Engine& e, double n, double p) {
   if (n <= 0.0 || p <= 0.0) return 0.0;
@@ -34,8 +34,9 @@ double boost_draw(discrete::Engine& e, double n, double p) {
   return static_cast<double>(d(e));
 }
 
-template <bool cached>
+template <int mode>  // 0 boost per draw, 1 cached rates, 2 cached rates and the sparse spread by placement
 void BM_site_step(benchmark::State& state) {
+  constexpr bool cached = mode >= 1;
   // validity_friction's sweep (configs/studies/validity_friction.toml): 13 rates v = 0.02 … 10 (log), each with its
   // step dt = (t_end + slip_end/v)/steps = (20 + 40/v)/3000 and the steady state A = 1/(1 + κv) (κ = 8); an
   // iteration is one site-step at each of the 13 rates
@@ -66,6 +67,10 @@ void BM_site_step(benchmark::State& state) {
       double n_det = N;
       for (double v : at) n_det -= v;
       double x = cached ? discrete::detail::binomial(e, n_det, rt.attach_p) : boost_draw(e, n_det, rt.attach_p);
+      if (mode == 2 && x < 8.0 * B) {  // count_law.cpp spread_uniform: each contact's bin drawn
+        for (auto j = static_cast<std::int64_t>(x); j > 0; --j) at[discrete::detail::uniform_below(e, B)] += 1.0;
+        x = 0.0;
+      }
       for (std::size_t b = 0; b < B && x > 0.0; ++b) {
         const std::size_t left = B - b;
         const double y = left == 1 ? x : cached ? discrete::detail::binomial(e, x, share[left])
@@ -79,8 +84,9 @@ void BM_site_step(benchmark::State& state) {
   }
   state.SetItemsProcessed(steps);
 }
-BENCHMARK_TEMPLATE(BM_site_step, false)->Arg(1000)->Arg(10000)->Arg(100000);
-BENCHMARK_TEMPLATE(BM_site_step, true)->Arg(1000)->Arg(10000)->Arg(100000);
+BENCHMARK_TEMPLATE(BM_site_step, 0)->Arg(100)->Arg(1000)->Arg(10000)->Arg(100000);
+BENCHMARK_TEMPLATE(BM_site_step, 1)->Arg(100)->Arg(1000)->Arg(10000)->Arg(100000);
+BENCHMARK_TEMPLATE(BM_site_step, 2)->Arg(100)->Arg(1000)->Arg(10000)->Arg(100000);
 
 class Collect : public benchmark::ConsoleReporter {
  public:
@@ -88,9 +94,9 @@ class Collect : public benchmark::ConsoleReporter {
     ConsoleReporter::ReportRuns(runs);
     for (const Run& r : runs) {
       const std::string name = r.benchmark_name();
-      const bool cached = name.find("<true>") != std::string::npos;
+      const int mode = name.find("<2>") != std::string::npos ? 2 : name.find("<1>") != std::string::npos ? 1 : 0;
       const int n = std::stoi(name.substr(name.rfind('/') + 1));
-      ns_per_step[{n, cached}] = r.GetAdjustedRealTime();
+      ns_per_step[{n, mode}] = r.GetAdjustedRealTime();
     }
   }
 };
@@ -101,10 +107,12 @@ int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
   Collect reporter;
   benchmark::RunSpecifiedBenchmarks(&reporter);
-  std::printf("\none disordered site-step at each of the 13 rates (64 bins, 32 overloaded): boost per draw vs cached rate\n");
-  for (const int n : {1000, 10000, 100000}) {
-    const auto a = ns_per_step.find({n, false}), b = ns_per_step.find({n, true});
-    if (a == ns_per_step.end() || b == ns_per_step.end()) continue;
-    std::printf("N = %6d: boost %8.1f ns, cached %8.1f ns, ratio %.2f\n", n, a->second, b->second, a->second / b->second);
+  std::printf("\none disordered site-step at each of the 13 rates (64 bins, 32 overloaded): boost per draw (the baseline), "
+              "cached rates, cached rates + the sparse spread by placement (count_law.cpp)\n");
+  for (const int n : {100, 1000, 10000, 100000}) {
+    const auto a = ns_per_step.find({n, 0}), b = ns_per_step.find({n, 1}), c = ns_per_step.find({n, 2});
+    if (a == ns_per_step.end() || b == ns_per_step.end() || c == ns_per_step.end()) continue;
+    std::printf("N = %6d: boost %8.1f ns, cached %8.1f ns (ratio %.2f), + placement %8.1f ns (ratio %.2f)\n", n,
+                a->second, b->second, a->second / b->second, c->second, a->second / c->second);
   }
 }

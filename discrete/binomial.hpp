@@ -3,6 +3,7 @@
 #include <boost/random/binomial_distribution.hpp>
 #include <boost/random/uniform_01.hpp>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 
@@ -30,7 +31,7 @@ inline double binomial(Engine& e, double n, const BinomialRate& r) {
   if (n <= 0.0 || r.p <= 0.0) return 0.0;
   if (r.p >= 1.0) return n;
   const auto t = static_cast<std::int64_t>(n);
-  if (static_cast<std::int64_t>((t + 1) * r.small) >= 11) {  // boost's BTRD (use_inversion() is m < 11)
+  if (static_cast<std::int64_t>(static_cast<double>(t + 1) * r.small) >= 11) {  // boost's BTRD (use_inversion() is m < 11)
     boost::random::binomial_distribution<std::int64_t, double> dist(t, r.p);
     return static_cast<double>(dist(e));
   }
@@ -50,5 +51,22 @@ inline double binomial(Engine& e, double n, const BinomialRate& r) {
   return static_cast<double>(0.5 < r.p ? t - x : x);
 }
 inline double binomial(Engine& e, double n, double p) { return binomial(e, n, BinomialRate(p)); }
+
+// A uniform integer in [0, m), m ≥ 1, from one engine call (rarely more): Lemire's multiply-and-reject (ACM TOMACS
+// 2019), exact for every m. Written by hand: boost's uniform_int_distribution divides twice per draw.
+__extension__ using uint128 = unsigned __int128;
+inline std::size_t uniform_below(Engine& e, std::uint64_t m) {
+  static_assert(Engine::word_size == 64, "a full 64-bit engine: every value of e() equally likely in [0, 2^64)");
+  uint128 p = static_cast<uint128>(e()) * m;
+  auto low = static_cast<std::uint64_t>(p);
+  if (low < m) {
+    const std::uint64_t reject_below = (0 - m) % m;  // 2^64 mod m
+    while (low < reject_below) {
+      p = static_cast<uint128>(e()) * m;
+      low = static_cast<std::uint64_t>(p);
+    }
+  }
+  return static_cast<std::size_t>(p >> 64);
+}
 
 }  // namespace slipfront::discrete::detail

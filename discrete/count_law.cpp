@@ -17,10 +17,23 @@ namespace slipfront::discrete {
 namespace detail {
 
 
-// Spread x contacts uniformly over the bins [lo, hi) (a multinomial with equal probabilities, as
-// successive binomials), adding them to counts[b]. `share[m]`: BinomialRate(1/m) (m ≥ 2).
+// Spread x contacts uniformly over the bins [lo, hi) (a multinomial with equal probabilities), adding them to
+// counts[b]. Sparse (x < 8 per bin): each contact's bin drawn uniformly, x draws; dense: successive binomials
+// 1/(hi − b), at most hi − lo draws (`share[m]`: BinomialRate(1/m), m ≥ 2). The same multinomial either way; the
+// sparse draw costs one engine call per contact where the binomials cost an inversion each (docs/performance.md
+// §17: the disordered validity_friction runs at N ≤ 10^4 held mostly empty bins).
 inline void spread_uniform(Engine& e, double x, double* counts, std::size_t lo, std::size_t hi,
                            const std::vector<BinomialRate>& share) {
+  const std::size_t m = hi - lo;
+  if (m == 0 || !(x > 0.0)) return;
+  if (m == 1) {  // one bin (w = 0, or one class overloaded): no draw
+    counts[lo] += x;
+    return;
+  }
+  if (x < 8.0 * static_cast<double>(m)) {
+    for (auto j = static_cast<std::int64_t>(x); j > 0; --j) counts[lo + uniform_below(e, m)] += 1.0;
+    return;
+  }
   for (std::size_t b = lo; b < hi && x > 0.0; ++b) {
     const std::size_t left = hi - b;
     const double y = left == 1 ? x : binomial(e, x, share[left]);

@@ -281,7 +281,7 @@ TEST_CASE("contact statistics with threshold disorder: the front keeps the stron
     for (std::size_t j = 0; j < nt; ++j) {
       const double* row = regions.data.data() + k * 3 * nt;
       CHECK(row[j] + row[nt + j] + row[2 * nt + j] == hist.data[k * nt + j]);
-      for (std::size_t r = 0; r < 3; ++r) by_class[(3 * ph + r) * nt + j] += row[r * nt + j];
+      for (std::size_t reg = 0; reg < 3; ++reg) by_class[(3 * ph + reg) * nt + j] += row[reg * nt + j];
     }
   }
   CHECK(classed >= 3);

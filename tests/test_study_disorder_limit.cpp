@@ -6,6 +6,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <string>
 #include <thread>
@@ -199,16 +200,19 @@ TEST_CASE("disorder_limit: a tiny steady-law study: the discrete model approache
                          "set = [\"drive.points=7\", \"time.steps=1000\", \"discrete.threshold=uniform\"]\n"
                          "[[group]]\nname = \"N\"\nvary = { models = [[\"continuum\", \"mean_field\", \"discrete\"]], "
                          "\"discrete.width\" = [0.2], \"discrete.contacts_per_site\" = [100, 1000, 10000, 100000], "
-                         "\"discrete.seed\" = [1, 2] }\n"
+                         "\"discrete.seed\" = [1, 2, 3, 4, 5, 6, 7, 8] }\n"
                          "[[group]]\nname = \"w\"\nvary = { models = [[\"continuum\", \"mean_field\"]], "
                          "\"discrete.width\" = [0.01, 0.05, 0.1, 0.3] }\n";
   const auto rep = run_study(file);
   INFO(notes(rep));
   const auto& tn = rep.tables.at("disorder_limit_N");
   REQUIRE(tn.at("N") == std::vector<double>{100, 1000, 10000, 100000});
-  CHECK(tn.at("seeds") == std::vector<double>{2, 2, 2, 2});
+  CHECK(tn.at("seeds") == std::vector<double>{8, 8, 8, 8});
   // the noisy ensemble approaches its own N -> inf limit: the distance falls by more than 10x over 3 decades of N
+  // (16 seeds: 13x, as N^-0.37; with 2 seeds, as this test had, the ratio of the two RMS values scattered over
+  // 8.7-12.4 between two realisations of the count law's draws — 8 seeds keep it well above 10)
   const auto& d = tn.at("sigma_rms_rel");
+  std::printf("sigma_rms_rel: %g %g %g %g\n", d[0], d[1], d[2], d[3]);
   CHECK(d[3] < d[0] / 10);
   REQUIRE(rep.scalars.count("disorder_N_sigma_uniform_fresh_w0.2_exponent") == 1);
   CHECK(rep.scalars.at("disorder_N_sigma_uniform_fresh_w0.2_exponent_ci_high") < 0.0);
@@ -266,7 +270,7 @@ TEST_CASE("disorder_limit: the report draws the kind's two figures and tells its
                           "set = [\"drive.points=7\", \"time.steps=1000\", \"discrete.threshold=uniform\"]\n"
                           "[[group]]\nname = \"N\"\nvary = { models = [[\"continuum\", \"mean_field\", \"discrete\"]], "
                           "\"discrete.width\" = [0.2], \"discrete.contacts_per_site\" = [100, 1000, 10000], "
-                          "\"discrete.seed\" = [1, 2] }\n"
+                          "\"discrete.seed\" = [1, 2, 3, 4, 5, 6, 7, 8] }\n"
                           "[[group]]\nname = \"w\"\nvary = { models = [[\"continuum\", \"mean_field\"]], "
                           "\"discrete.width\" = [0.01, 0.03, 0.05, 0.1] }\n");
   const auto st = testing::run({bin, "study", "d.toml", "--out", "out/studies/tiny", "-q"}, dir.path);

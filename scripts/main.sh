@@ -6,11 +6,10 @@
 #   3. write the report with every plot (out/report.md, out/figures/*.png) and check (check_report.py) that no
 #      verdict of its summary tests a model against a limit it is not supposed to reach, and that every plot
 #      it names exists and is not empty.
-# Takes 5 min 51 s on 2 idle cores with the program built (11 min 11 s CPU; 2026-11-24): the scenes, two at a
-# time, 37 s; steady fronts and the strip collapses, side by side, 27 s (then with c_min(H), now a study); studies
-# 4 min 29 s (validity_friction 54, validity_fig1 45, strip_height 40, fig2_strip 28, front_spectrum 26,
-# disorder_limit 23, front_branch 21, the rest ~32; strip_cmin_height, c_min(H) of the strip, adds 6-8 s);
-# report 17 s; a first build adds ~5 min (docs/performance.md §17). Each step
+# Takes 4 min 29 s on 2 idle cores with the program built (2026-11-24): the scenes, two at a time, 39 s; steady fronts
+# and the strip collapses, side by side, 26 s; studies 3 min 6 s (strip_height 42, validity_friction 37, validity_fig1
+# 34, fig2_strip 20, disorder_limit 15, front_speeds_N 9, the rest ~30); report ~18 s; a first build adds ~5 min
+# (docs/performance.md §17; the 1D part alone: scripts/time_1d_part.sh). Each step
 # prints its time. A scene or study that fails still leaves its partial results and the rest goes on; the job
 # then exits 1.
 set -euo pipefail

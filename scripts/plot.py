@@ -296,7 +296,8 @@ def plot_1d(res: Results, outdir, written, dpi):
             mark_times(ax, ev)
             if finite(t_formula):
                 ax.axvline(t_formula, color="0.5", lw=0.8, ls="-.", label=f"t* formula = {t_formula:.4g}")
-            ax.legend(fontsize=8, loc="best")
+            if ax.get_legend_handles_labels()[0]:  # homogeneous loading: no event marked, nothing to list
+                ax.legend(fontsize=8, loc="best")
         else:
             no_data(ax, f"no series/{key}")
         ax.set_title(f"{m}: {'drive force' if key == 'drive_force' else 'max slip rate'}")
@@ -341,7 +342,7 @@ def plot_1d(res: Results, outdir, written, dpi):
             ax.set_xlabel("x")
             ax.set_ylabel("t")
             ax.set_title(f"{m}: {name}")
-            if i == 1:
+            if i == 1 and ax.get_legend_handles_labels()[0]:  # (no tip, no arrest: no legend)
                 leg = ax.legend(fontsize=8, loc="upper right", framealpha=0.6)
                 leg.get_frame().set_facecolor("0.8")
     fig.suptitle(res.title("fronts (x horizontal, t upward)", fig), fontsize=11)

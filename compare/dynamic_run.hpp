@@ -311,23 +311,24 @@ class DynamicRun {
       predict_prefix_ = setup.prefix;
       // thresholds: the continuum's contacts all have the threshold 1, a prediction only when the scene's are too
       const discrete::ThresholdDistribution g(s_.discrete.threshold, s_.discrete.width);
-      if (g.degenerate()) {
-        auto edges = setup.threshold_edges.empty() ? discrete::threshold_edges(s_.discrete.width) : setup.threshold_edges;
-        auto spread = threshold_spread(g, 1, edges);
-        predict_->set_thresholds(std::move(edges), std::move(spread));
-      }
+      if (g.degenerate()) predict_thresholds(setup, g, 1);
     } else if constexpr (Law::hooks.class_hazards && FrozenRateSteps<Stepper>) {
       predict_.emplace(r_.x.size(), n_contacts, setup.hazard_scale, 0.1, 1e4, sim_.law().prediction_classes());
       predict_->start(sim_.law().attached_classes());
       predict_prefix_ = setup.prefix;
-      auto edges = setup.threshold_edges.empty() ? discrete::threshold_edges(s_.discrete.width)  // the agent's
-                                                 : setup.threshold_edges;
-      auto spread = threshold_spread(sim_.law().distribution(), sim_.law().prediction_classes(), edges);
-      predict_->set_thresholds(std::move(edges), std::move(spread));
+      predict_thresholds(setup, sim_.law().distribution(), sim_.law().prediction_classes());
     } else {
       throw std::invalid_argument("a contact prediction needs a law with a detachment hazard "
                                   "(core::LawHooks::contact_hazard or class_hazards) on an integrator with frozen-rate steps (not the Rosenbrock one)");
     }
+  }
+  // The threshold prediction of `classes` quantile classes of g, on the agent's edges for the scene's w (or the
+  // setup's): compare/contacts.hpp, threshold_spread.
+  void predict_thresholds(const ContactPredictionSetup& setup, const discrete::ThresholdDistribution& g,
+                          std::size_t classes) {
+    auto edges = setup.threshold_edges.empty() ? discrete::threshold_edges(s_.discrete.width) : setup.threshold_edges;
+    auto spread = threshold_spread(g, classes, edges);
+    predict_->set_thresholds(std::move(edges), std::move(spread));
   }
   void remember_start() {
     const auto a = sim_.law().contact_area(), sb = sim_.law().sigma_bar();

@@ -82,9 +82,9 @@ std::vector<std::size_t> coarse_bin_map(const std::vector<double>& fine, const s
   return map;
 }
 
-ContactStats::ContactStats(std::size_t sites, std::vector<double> threshold_edges)
+ContactStats::ContactStats(std::size_t sites, std::vector<double> edges)
     : enabled_(true), sites_(sites), lifetime_(log_time_edges()), detached_(log_time_edges()),
-      age_(log_time_edges()), threshold_(threshold_edges), drawn_(std::move(threshold_edges)),
+      age_(log_time_edges()), threshold_(edges), drawn_(std::move(edges)),
       class_bin_(coarse_bin_map(log_time_edges(), class_time_edges())), class_edges_(class_time_edges()),
       snapshots_per_phase_(core::FrontClasses::phases, 0.0), detach_total_(sites, 0), attach_total_(sites, 0),
       detach_count_(sites, 0), attach_count_(sites, 0) {

@@ -98,8 +98,8 @@ class ContactStats {
   static constexpr std::size_t raw_cap = 100000;
 
   ContactStats() = default;  ///< disabled: every call is a no-op
-  /// Enabled, for `sites` sites; thresholds histogrammed on `threshold_edges` (threshold_edges(w)).
-  ContactStats(std::size_t sites, std::vector<double> threshold_edges);
+  /// Enabled, for `sites` sites; thresholds histogrammed on `edges` (threshold_edges(w)).
+  ContactStats(std::size_t sites, std::vector<double> edges);
 
   bool enabled() const { return enabled_; }
 

@@ -284,7 +284,8 @@ void refuse_run_keys(const toml::table& t, const std::string& file, const std::s
       {"vary", "[vary] varies the runs of a study"},
       {"seeds", "seeds multiply the runs of a study"},
       {"fit_from", "fit_from bounds fits over runs"},
-      {"share_continuum", "share_continuum shares the continuum among runs"},
+      {"share_references", "share_references shares the continuum and mean_field among runs"},
+      {"share_continuum", "share_continuum shares the continuum and mean_field among runs"},
       {"limits", "[limits] bounds the runs of a study ([paths] bounds this one: at most 1000 target heights)"}};
   for (const auto& [key, why] : run_keys)
     if (t.get(key))
@@ -302,12 +303,13 @@ compare::StudySpec load_study(const fs::path& file, std::string* text) {
   const toml::table t = parse_study_file(file, file_text);
   if (text) *text = std::move(file_text);
   static const std::set<std::string> known{"study", "kind",   "description", "scene",  "set",   "seeds",
-                                           "vary",  "group",  "fit_from",    "limits", "paths", "share_continuum"};
+                                           "vary",  "group",  "fit_from",    "limits", "paths", "share_references",
+                                           "share_continuum"};
   for (const auto& [k, v] : t)
     if (!known.count(std::string(k.str())))
       throw ConfigError(name, std::string(k.str()),
                         "unknown key (known: study, kind, description, scene, set, seeds, fit_from, vary, group, "
-                        "limits, paths, share_continuum)");
+                        "limits, paths, share_references)");
   compare::StudySpec s;
   s.name = read_string(t, name, "study", true);
   check_directory_name(s.name, name, "study", "out/studies/<study>");
@@ -327,11 +329,15 @@ compare::StudySpec load_study(const fs::path& file, std::string* text) {
                       "only a kind without scene runs (strip_cmin_height) has [paths]; the kind '" + s.kind + "' runs scenes");
   if (const auto* n = t.get("seeds")) s.seeds = read_integer<int>(*n, name, "seeds");
   if (const auto* n = t.get("fit_from")) s.fit_from = read_number(*n, name, "fit_from");
-  if (const auto* n = t.get("share_continuum")) {
-    const auto* b = n->as_boolean();
-    if (!b) throw ConfigError(name, "share_continuum", "must be true or false (a TOML boolean, not a string or number)");
-    s.share_continuum = b->get();
-  }
+  if (t.get("share_references") && t.get("share_continuum"))
+    throw ConfigError(name, "share_continuum",
+                      "is the earlier name of share_references, and both are given: keep share_references");
+  for (const char* key : {"share_references", "share_continuum"})  // (share_continuum: the earlier name)
+    if (const auto* n = t.get(key)) {
+      const auto* b = n->as_boolean();
+      if (!b) throw ConfigError(name, key, "must be true or false (a TOML boolean, not a string or number)");
+      s.share_references = b->get();
+    }
   if (const auto* n = t.get("limits")) s.limits = read_limits(*n, name);
   if (const auto* n = t.get("set")) s.common = read_common(*n, name);
   s.groups = read_groups(t, name, s.notes);
@@ -783,19 +789,19 @@ struct StudyProgress {
   }
 };
 
-// The shared continuum (docs/studies.md): for the runs of a study whose scenes are compare::continuum_shareable,
-// the continuum is run once per distinct continuum scene — the runs' group and their overrides without the
-// discrete.* ones (the seed is discrete.seed) — by the first run that needs it, while the other runs of this process
-// that need it wait; every run's file holds a copy (label shared_from_run: the run that computed it). Under MPI each
-// rank computes its own. A continuum that fails or is interrupted is handed to its runs as it is, as each run's
-// own would have been (the continuum is deterministic).
-class SharedContinuum {
+// The shared references (docs/studies.md): for each model of compare::shareable_references of a run's scene (the
+// continuum, mean_field), the model is run once per distinct scene of that model — the run's group and its
+// overrides without the keys the model does not read (compare::reference_ignores: the seed, N, ...) — by the first
+// run that needs it, while the other runs of this process that need it wait; every run's file holds a copy (label
+// shared_from_run: the run that computed it). Under MPI each rank computes its own. A model that fails or is
+// interrupted is handed to its runs as it is, as each run's own would have been (both are deterministic).
+class SharedReferences {
  public:
   using Result = std::shared_ptr<const compare::ModelResult>;
-  Result get(const Study& study, std::size_t i, const compare::RunControl& ctl) {
-    std::string key = study.runs[i].group;
+  Result get(const Study& study, std::size_t i, const std::string& model, const compare::RunControl& ctl) {
+    std::string key = model + "\n" + study.runs[i].group;
     for (const auto& o : study.runs[i].overrides)
-      if (o.rfind("discrete.", 0) != 0) key += "\n" + o;
+      if (!compare::reference_ignores(model, o.substr(0, o.find('=')))) key += "\n" + o;
     std::promise<Result> mine;
     std::shared_future<Result> f;
     bool compute = false;
@@ -813,7 +819,7 @@ class SharedContinuum {
     if (compute) {
       try {
         compare::Scene alone = study.scenes[i];
-        alone.models = {"continuum"};
+        alone.models = {model};
         auto r = compare::run_scene(alone, ctl);
         r.at(0).labels["shared_from_run"] = study.runs[i].id;
         mine.set_value(std::make_shared<const compare::ModelResult>(std::move(r.at(0))));
@@ -838,7 +844,7 @@ struct MadeRun {
 };
 
 MadeRun make_run(const Study& study, std::size_t i, StopRequests& stop, const std::string& command_line,
-                 const MpiEngine* mpi, std::mutex& io, std::ostream& err_all, SharedContinuum* shared) {
+                 const MpiEngine* mpi, std::mutex& io, std::ostream& err_all, SharedReferences* shared) {
   const auto t0 = Clock::now();
   compare::RunControl ctl;
   ctl.stop = [&stop] { return stop(); };
@@ -850,9 +856,12 @@ MadeRun make_run(const Study& study, std::size_t i, StopRequests& stop, const st
                       "]";
   try {
     const compare::Scene& scene = study.scenes[i];
-    compare::SceneResult sr = shared && study.spec.share_continuum && compare::continuum_shareable(scene)
-                                  ? compare::run_scene_with_continuum(scene, *shared->get(study, i, ctl), ctl)
-                                  : compare::run_scene_alongside(scene, ctl);
+    std::vector<SharedReferences::Result> held;
+    std::map<std::string, const compare::ModelResult*> given;
+    if (shared && study.spec.share_references)
+      for (const auto& m : compare::shareable_references(scene)) given[m] = held.emplace_back(shared->get(study, i, m, ctl)).get();
+    compare::SceneResult sr =
+        given.empty() ? compare::run_scene_alongside(scene, ctl) : compare::run_scene_with_references(scene, given, ctl);
     made.models = std::move(sr.models);
     cmp = std::move(sr.comparison);
   } catch (const core::Interrupted& e) {
@@ -892,7 +901,7 @@ RunsMade run_points(const Study& study, const std::vector<std::size_t>& todo, co
                     std::ostream& err_all) {
   MpiEngine* const mpi = engine.mpi.get();
   RunsMade made(study.runs.size());
-  SharedContinuum shared;
+  SharedReferences shared;
   std::mutex io;
   std::size_t done = 0;
   auto job = [&](std::size_t i) {

@@ -317,32 +317,51 @@ Comparison compare_results(const Scene& s, const ModelResult& c, const ModelResu
   return cmp;
 }
 
-bool continuum_shareable(const Scene& s) {
-  if (!s.lists("continuum") || s.models.size() < 2 || s.discrete.contact_statistics) return false;
-  // in lockstep the fields of the discrete model are compared online with its reference: the continuum's only
-  // when mean_field does not run, and only at output.compare_dt > 0
-  const bool compared_online = runs_in_lockstep(s) && s.lists("discrete") && !s.lists("mean_field") &&
-                               s.output.compare_dt > 0.0;
-  return !compared_online;
+std::vector<std::string> shareable_references(const Scene& s) {
+  if (s.models.size() < 2 || s.discrete.contact_statistics) return {};
+  // in lockstep the fields of the discrete model are compared online with its reference, at output.compare_dt > 0
+  const std::string reference = s.lists("mean_field") ? "mean_field" : "continuum";
+  const bool compared_online = runs_in_lockstep(s) && s.lists("discrete") && s.output.compare_dt > 0.0;
+  std::vector<std::string> out;
+  for (const char* m : {"continuum", "mean_field"})
+    if (s.lists(m) && !(compared_online && m == reference)) out.emplace_back(m);
+  return out;
 }
 
-SceneResult run_scene_with_continuum(const Scene& s, const ModelResult& continuum, const RunControl& ctl) {
-  if (!continuum_shareable(s) || continuum.model != "continuum")
-    throw std::invalid_argument("run_scene_with_continuum: the scene's continuum cannot be shared (continuum_shareable)");
+bool reference_ignores(const std::string& model, const std::string& key) {
+  if (key.rfind("discrete.", 0) != 0) return false;
+  if (model == "continuum") return true;
+  if (model == "mean_field")  // discrete::MeanFieldLaw: the threshold law, its width, the renewal and the bins
+    return key != "discrete.threshold" && key != "discrete.width" && key != "discrete.renewal" &&
+           key != "discrete.bins";
+  return false;
+}
+
+SceneResult run_scene_with_references(const Scene& s, const std::map<std::string, const ModelResult*>& given,
+                                      const RunControl& ctl) {
+  const auto ok = shareable_references(s);
+  for (const auto& [m, r] : given)
+    if (std::find(ok.begin(), ok.end(), m) == ok.end() || !r || r->model != m)
+      throw std::invalid_argument("run_scene_with_references: the scene's " + m +
+                                  " cannot be given (shareable_references)");
   Scene rest = s;
-  std::erase(rest.models, std::string("continuum"));
+  std::erase_if(rest.models, [&](const std::string& m) { return given.count(m) > 0; });
   // the other models as run_scene_alongside runs them (each model's result is the one it gives alone, in lockstep
-  // or not); their comparison is the discrete model's with mean_field when it runs
-  SceneResult others = rest.models.size() >= 2 ? run_scene_alongside(rest, ctl) : SceneResult{run_scene(rest, ctl), {}};
+  // or not), with their comparison when the reference is among them
+  SceneResult others = rest.models.size() >= 2 ? run_scene_alongside(rest, ctl)
+                       : rest.models.empty()   ? SceneResult{}
+                                               : SceneResult{run_scene(rest, ctl), {}};
   SceneResult out;
   out.comparison = std::move(others.comparison);
   std::size_t k = 0;
-  for (const auto& m : s.models) out.models.push_back(m == "continuum" ? continuum : std::move(others.models.at(k++)));
-  if (!s.lists("mean_field") && s.lists("discrete")) {  // the discrete model's reference is the continuum
+  for (const auto& m : s.models) out.models.push_back(given.count(m) ? *given.at(m) : std::move(others.models.at(k++)));
+  const std::string reference = s.lists("mean_field") ? "mean_field" : "continuum";
+  if (s.lists("discrete") && given.count(reference)) {  // the discrete model's reference was given
+    const ModelResult& ref = *given.at(reference);
     const ModelResult& disc = *std::find_if(out.models.begin(), out.models.end(),
                                             [](const ModelResult& r) { return r.model == "discrete"; });
-    out.comparison = compare_results(s, continuum, disc, &continuum);
-    if (runs_in_lockstep(s)) define_fields(out.comparison, "continuum");  // as the lockstep run (no rows: compare_dt 0)
+    out.comparison = compare_results(s, ref, disc, &ref);
+    if (runs_in_lockstep(s)) define_fields(out.comparison, reference);  // as the lockstep run (no rows: compare_dt 0)
   }
   return out;
 }

@@ -20,17 +20,24 @@ namespace slipfront::compare {
 /// else the continuum; compare_results), when the discrete model and a reference run.
 SceneResult run_scene_alongside(const Scene& s, const RunControl& ctl);
 
-/// Whether the continuum of `s` can be computed once for several runs (a study's shared continuum, docs/studies.md):
-/// the scene lists the continuum and another model, predicts no contact statistics (the prediction reads
-/// discrete.contacts_per_site), and does not compare the continuum's fields online (in lockstep the discrete model's
-/// fields are compared with its reference: the continuum's only when mean_field does not run and
-/// output.compare_dt > 0). Then the continuum run reads no discrete.* key and no other model's state: its result is
-/// the same for every discrete.* setting and seed, and each other model's is the one it gives alone.
-bool continuum_shareable(const Scene& s);
-/// run_scene_alongside of a continuum_shareable scene with its continuum given (`continuum`: run_scene of the scene
-/// with models = {"continuum"}): the other models as run_scene_alongside runs them, the continuum's result put in
-/// its place, the discrete model compared with its reference. Bit-identical to run_scene_alongside.
-SceneResult run_scene_with_continuum(const Scene& s, const ModelResult& continuum, const RunControl& ctl);
+/// The models of `s` whose results a study can compute once for several runs (its shared references,
+/// docs/studies.md): the continuum and mean_field, each when the scene lists it and another model, predicts no
+/// contact statistics (the prediction reads discrete.contacts_per_site), and does not compare the model's fields
+/// online (in lockstep the discrete model's fields are compared at output.compare_dt > 0 with its reference:
+/// mean_field when it runs, else the continuum). Such a model reads no other model's state, so its result is the
+/// one it gives alone, and it reads none of the keys reference_ignores names.
+std::vector<std::string> shareable_references(const Scene& s);
+/// Whether the scene key `key` (dotted, as in an override "key=value") leaves `model`'s result unchanged: the
+/// continuum reads no discrete.* key; mean_field reads discrete.threshold, width, renewal and bins and no other
+/// discrete.* key (docs/model.md §2.2). Every other key counts (false).
+bool reference_ignores(const std::string& model, const std::string& key);
+/// run_scene_alongside of `s` with the results of some of shareable_references(s) given (`given`: model → its
+/// result, run_scene of the scene with that model alone): the other models as run_scene_alongside runs them, the
+/// given results put in their places, the discrete model compared with its reference (mean_field when listed,
+/// else the continuum). Bit-identical to run_scene_alongside. Throws std::invalid_argument for a given model that
+/// is not shareable or a result of another model.
+SceneResult run_scene_with_references(const Scene& s, const std::map<std::string, const ModelResult*>& given,
+                                      const RunControl& ctl);
 
 /// The end-of-run comparison of the discrete model's results with its reference's (events, series, friction
 /// law): the reference is mean_field when the scene lists it (docs/model.md §2.2: the ensemble's own N → ∞

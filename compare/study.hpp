@@ -42,9 +42,11 @@ struct StudySpec {
   /// [paths] of a kind without scene runs (strip_cmin_height): the path in H; its law and material are the
   /// base scene's (strip_cmin_study_options), stop and log the caller's.
   StripCminHeightOptions paths;
-  /// The continuum of runs that differ only in discrete.* keys and the seed is run once and shared
-  /// (compare::continuum_shareable scenes; docs/studies.md "The shared continuum"); false: every run its own.
-  bool share_continuum = true;
+  /// The deterministic references (the continuum, mean_field) of runs that differ only in keys they do not read
+  /// (compare::reference_ignores: the seed, N, ...) are run once and shared (compare::shareable_references;
+  /// docs/studies.md "The shared references"); false: every run its own. Study key share_references (or its
+  /// earlier name share_continuum).
+  bool share_references = true;
   std::vector<std::string> notes;    ///< what loading the file changed (repeated vary values collapsed)
 };
 

@@ -186,9 +186,12 @@ TEST_CASE("inputs: study files are refused key by key where the issue found them
       {"study = \"s\"\n" + head + "seeds = \"4\"\n", "seeds", "expected an integer, got the string \"4\""},
       {"study = \"s\"\n" + head + "fit_from = nan\n", "fit_from", "must be"},
       {"study = \"s\"\n" + head + "fit_from = -1\n", "fit_from", "must be"},
-      // share_continuum: a TOML boolean
+      // share_references (and its earlier name share_continuum): a TOML boolean, one of the two
+      {"study = \"s\"\n" + head + "share_references = \"yes\"\n", "share_references", "must be true or false"},
       {"study = \"s\"\n" + head + "share_continuum = \"yes\"\n", "share_continuum", "must be true or false"},
       {"study = \"s\"\n" + head + "share_continuum = 1\n", "share_continuum", "must be true or false"},
+      {"study = \"s\"\n" + head + "share_references = true\nshare_continuum = false\n", "share_continuum",
+       "earlier name of share_references, and both are given"},
       // the name obeys the scene-name rule: it names out/studies/<study>
       {"study = \"../../../escape\"\n" + head, "study", "must be a relative name without '..'"},
       {"study = \"/tmp/escape\"\n" + head, "study", "must be a relative name without '..'"},
@@ -224,8 +227,9 @@ TEST_CASE("inputs: study files are refused key by key where the issue found them
   CHECK(ok.name == "nested/name");
   CHECK(ok.limits.max_runs == 7.0);
   CHECK(ok.limits.max_memory_gib == 2.0);
-  CHECK(ok.share_continuum);  // the default
-  CHECK(!app::load_study(study("study = \"s\"\n" + head + "share_continuum = false\n")).share_continuum);
+  CHECK(ok.share_references);  // the default
+  CHECK(!app::load_study(study("study = \"s\"\n" + head + "share_references = false\n")).share_references);
+  CHECK(!app::load_study(study("study = \"s\"\n" + head + "share_continuum = false\n")).share_references);
   CHECK(compare::count_runs(ok) == 2147483647.0);  // counted, not expanded
 }
 

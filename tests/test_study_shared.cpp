@@ -1,24 +1,27 @@
-// The shared continuum of a study (docs/studies.md "The shared continuum", issue 22 item 3: skip work no run
-// needs): runs whose scenes differ only in discrete.* keys and the seed, and that run their models one after the
-// other or whose continuum is not compared online, run the continuum once. Runs the real program.
+// The shared references of a study (docs/studies.md "The shared references", issue 22 item 3: skip work no run
+// needs): runs whose scenes differ only in keys the continuum (discrete.*) or mean_field (the seed, N, the
+// representation, ...) does not read, and that run their models one after the other or do not compare that model's
+// fields online, run it once. Runs the real program.
 //
 // Asserted, on a small front study (fig1's edge loading, L = 150, t_end = 80, N = 300 and 1000, 3 seeds: 6 runs) on
 // the adaptive integrator, on the implicit one (in lockstep) without and with online field comparisons, with the
-// three models, and on an imposed-rate sweep (friction_law, 6 runs), each with share_continuum = true (the default)
-// and false:
+// three models, and on an imposed-rate sweep (friction_law, 6 runs), each with share_references = true (the default)
+// and false (its earlier name share_continuum once):
 //   - the two study.h5 agree bit for bit (tables, scalars, definitions, notes; not the study file's text);
-//   - every run file agrees bit for bit but for the label /continuum@shared_from_run and the wall times;
-//   - with sharing, every run's continuum names the one run that computed it (one continuum scene: one run);
-//     without it, none does;
-//   - where the discrete model's fields are compared online with the continuum's (in lockstep, no mean_field,
-//     output.compare_dt > 0) nothing is shared; with mean_field (their reference) the continuum is.
+//   - every run file agrees bit for bit but for the labels /<model>@shared_from_run and the wall times;
+//   - with sharing, every run's shared model names the one run that computed it (one scene of that model: one
+//     run); without it, none does;
+//   - where the discrete model's fields are compared online with its reference (in lockstep, output.compare_dt > 0:
+//     mean_field when it runs, else the continuum) that reference is not shared; the other one is.
 // Deterministic: no false-alarm rate.
 #include <catch2/catch.hpp>
 
 #include <fstream>
+#include <map>
 #include <set>
 #include <string>
 
+#include "compare/alongside.hpp"
 #include "h5content.hpp"
 #include "process.hpp"
 #include "scenes.hpp"
@@ -50,9 +53,10 @@ std::vector<std::string> run_ids(const fs::path& dir) {
   return ids;
 }
 
-void check_shared(const fs::path& dir, const fs::path& study, const std::string& set_line, bool expect_sharing) {
+void check_shared(const fs::path& dir, const fs::path& study, const std::string& set_line,
+                  const std::set<std::string>& expect_shared, const std::string& off_key = "share_references") {
   const fs::path on = variant(study, "on.toml", set_line);
-  const fs::path off = variant(study, "off.toml", set_line + "share_continuum = false\n");
+  const fs::path off = variant(study, "off.toml", set_line + off_key + " = false\n");
   const Output a = run({bin, "study", on.string(), "--out", "on", "-j", "2", "-q"}, dir);
   INFO(a.err);
   REQUIRE(a.code == 0);
@@ -61,55 +65,60 @@ void check_shared(const fs::path& dir, const fs::path& study, const std::string&
   REQUIRE(b.code == 0);
   const fs::path sa = dir / "on", sb = dir / "off";
   auto sd = study_differences(sa / "study.h5", sb / "study.h5");
-  std::erase(sd, std::string("/study@toml differs"));  // the study files differ in share_continuum
+  std::erase(sd, std::string("/study@toml differs"));  // the study files differ in share_references
   for (const auto& k : sd) UNSCOPED_INFO(k);
   CHECK(sd.empty());
   const auto ids = run_ids(sa);
   REQUIRE(ids == run_ids(sb));
   REQUIRE(ids.size() == 6);
-  std::set<std::string> computed_by;
+  std::map<std::string, std::set<std::string>> computed_by;  // model -> the runs that computed it
   for (const auto& id : ids) {
     INFO("run " << id);
     const auto ca = read_h5(sa / "runs" / id / "results.h5"), cb = read_h5(sb / "runs" / id / "results.h5");
     const auto d = differences(ca, cb, [](const std::string& k) {
       if (k.size() >= 13 && k.compare(k.size() - 13, 13, "@wall_seconds") == 0) return true;
-      return k == "/continuum@shared_from_run" ||
+      return k == "/continuum@shared_from_run" || k == "/mean_field@shared_from_run" ||
              (k.rfind("/meta@", 0) == 0 && k != "/meta@status" && k != "/meta@config_hash");
     });
     for (const auto& k : d) UNSCOPED_INFO(k);
     CHECK(d.empty());
-    CHECK(cb.strings.count("/continuum@shared_from_run") == 0);
-    const auto it = ca.strings.find("/continuum@shared_from_run");
-    CHECK((it != ca.strings.end()) == expect_sharing);
-    if (it != ca.strings.end()) computed_by.insert(it->second);
+    for (const std::string model : {"continuum", "mean_field"}) {
+      INFO(model);
+      const std::string label = "/" + model + "@shared_from_run";
+      CHECK(cb.strings.count(label) == 0);
+      const auto it = ca.strings.find(label);
+      CHECK((it != ca.strings.end()) == (expect_shared.count(model) > 0));
+      if (it != ca.strings.end()) computed_by[model].insert(it->second);
+    }
   }
-  if (expect_sharing) {
-    REQUIRE(computed_by.size() == 1);  // one continuum scene in the study: computed once, by one of its runs
-    CHECK(std::count(ids.begin(), ids.end(), *computed_by.begin()) == 1);
+  for (const auto& model : expect_shared) {
+    INFO(model);
+    REQUIRE(computed_by[model].size() == 1);  // one scene of the model in the study: computed once, by one run
+    CHECK(std::count(ids.begin(), ids.end(), *computed_by[model].begin()) == 1);
   }
 }
 
 }  // namespace
 
-TEST_CASE("study: the shared continuum gives the study and the run files of every run computing its own",
+TEST_CASE("study: the shared references give the study and the run files of every run computing its own",
           "[study][shared]") {
   SECTION("fig1's edge loading on the adaptive integrator") {
     const TempDir dir("shared-adaptive");
-    check_shared(dir.path, write_front_study(dir.path), "set = [\"time.integrator=adaptive\"]\n", true);
+    check_shared(dir.path, write_front_study(dir.path), "set = [\"time.integrator=adaptive\"]\n", {"continuum"});
   }
   SECTION("an imposed-rate sweep") {
     const TempDir dir("shared-sweep");
-    check_shared(dir.path, write_sweep_study(dir.path), "", true);
+    check_shared(dir.path, write_sweep_study(dir.path), "", {"continuum"}, "share_continuum");
   }
   SECTION("the implicit integrator, the models in lockstep with no field comparison (output.compare_dt = 0)") {
     const TempDir dir("shared-implicit");
     check_shared(dir.path, write_front_study(dir.path),
-                 "set = [\"time.integrator=implicit\", \"time.dt=0.02\", \"output.compare_dt=0\"]\n", true);
+                 "set = [\"time.integrator=implicit\", \"time.dt=0.02\", \"output.compare_dt=0\"]\n", {"continuum"});
   }
   SECTION("in lockstep with the discrete fields compared online against the continuum: nothing shared") {
     const TempDir dir("shared-compared");
     check_shared(dir.path, write_front_study(dir.path),
-                 "set = [\"time.integrator=implicit\", \"time.dt=0.02\", \"output.compare_dt=5\"]\n", false);
+                 "set = [\"time.integrator=implicit\", \"time.dt=0.02\", \"output.compare_dt=5\"]\n", {});
   }
   SECTION("three models in lockstep, the discrete fields compared online against mean_field: the continuum shared") {
     const TempDir dir("shared-three");
@@ -117,6 +126,68 @@ TEST_CASE("study: the shared continuum gives the study and the run files of ever
                  "set = [\"time.integrator=implicit\", \"time.dt=0.02\", \"output.compare_dt=5\", "
                  "'models=[\"continuum\",\"mean_field\",\"discrete\"]', \"discrete.threshold=uniform\", "
                  "\"discrete.width=0.2\"]\n",
-                 true);
+                 {"continuum"});
   }
+  SECTION("three models in lockstep without field comparisons: the continuum and mean_field shared") {
+    const TempDir dir("shared-three-off");
+    check_shared(dir.path, write_front_study(dir.path),
+                 "set = [\"time.integrator=implicit\", \"time.dt=0.02\", \"output.compare_dt=0\", "
+                 "'models=[\"continuum\",\"mean_field\",\"discrete\"]', \"discrete.threshold=uniform\", "
+                 "\"discrete.width=0.2\"]\n",
+                 {"continuum", "mean_field"});
+  }
+  SECTION("three models on the adaptive integrator, gaussian thresholds: the continuum and mean_field shared") {
+    const TempDir dir("shared-three-adaptive");
+    check_shared(dir.path, write_front_study(dir.path),
+                 "set = [\"time.integrator=adaptive\", 'models=[\"continuum\",\"mean_field\",\"discrete\"]', "
+                 "\"discrete.threshold=gaussian\", \"discrete.width=0.1\"]\n",
+                 {"continuum", "mean_field"});
+  }
+}
+
+// Which models are shared and which keys they read: the decisions the sharing rests on (compare/alongside.hpp).
+TEST_CASE("study: shareable_references and reference_ignores", "[study][shared]") {
+  using slipfront::compare::reference_ignores;
+  using slipfront::compare::shareable_references;
+  using V = std::vector<std::string>;
+  // the continuum reads no discrete.* key; mean_field the threshold law, width, renewal and bins
+  for (const char* k : {"discrete.seed", "discrete.contacts_per_site", "discrete.representation", "discrete.noise",
+                        "discrete.threads", "discrete.contact_statistics"}) {
+    INFO(k);
+    CHECK(reference_ignores("continuum", k));
+    CHECK(reference_ignores("mean_field", k));
+  }
+  for (const char* k : {"discrete.threshold", "discrete.width", "discrete.renewal", "discrete.bins"}) {
+    INFO(k);
+    CHECK(reference_ignores("continuum", k));
+    CHECK(!reference_ignores("mean_field", k));
+  }
+  for (const char* m : {"continuum", "mean_field", "discrete"}) {
+    INFO(m);
+    CHECK(!reference_ignores(m, "bulk.length"));
+    CHECK(!reference_ignores(m, "models"));
+    CHECK(!reference_ignores(m, "time.dt"));
+  }
+  CHECK(!reference_ignores("discrete", "discrete.seed"));  // the discrete model is never shared
+
+  slipfront::compare::Scene s = fig1_scene();  // a fixed-step integrator: the models in lockstep
+  s.time.integrator = slipfront::core::Integrator::central_difference;
+  s.models = {"continuum", "discrete"};
+  s.output.compare_dt = 1.0;
+  CHECK(shareable_references(s) == V{});  // the continuum's fields are compared online
+  s.output.compare_dt = 0.0;
+  CHECK(shareable_references(s) == V{"continuum"});
+  s.models = {"continuum", "mean_field", "discrete"};
+  s.output.compare_dt = 1.0;
+  CHECK(shareable_references(s) == V{"continuum"});  // mean_field is the reference compared online
+  s.output.compare_dt = 0.0;
+  CHECK(shareable_references(s) == V{"continuum", "mean_field"});
+  s.discrete.contact_statistics = true;  // the prediction reads discrete.contacts_per_site
+  CHECK(shareable_references(s) == V{});
+  s.discrete.contact_statistics = false;
+  s.models = {"mean_field"};  // alone: nothing to share it with
+  CHECK(shareable_references(s) == V{});
+  s.models = {"continuum", "mean_field"};
+  s.output.compare_dt = 1.0;  // no discrete model: no field comparison
+  CHECK(shareable_references(s) == V{"continuum", "mean_field"});
 }

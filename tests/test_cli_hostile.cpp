@@ -191,3 +191,26 @@ TEST_CASE("cli hostile: the program loads no shared library from the directory i
   CHECK(r.code == 0);
   CHECK(fs::is_regular_file(dir.path / "out" / "results.h5"));
 }
+
+TEST_CASE("cli hostile: with the static HDF5 the program needs neither libhdf5 nor libcurl and its TLS libraries",
+          "[cli][hostile]") {
+  // Debian's shared libhdf5 needs libcurl, and through it ~30 libraries (TLS, LDAP, Kerberos) for its S3 driver:
+  // ~3 ms of every start (docs/performance.md §14). Built with SLIPFRONT_STATIC_HDF5 (the default), the program's
+  // dynamic section names none of them. (Deterministic.)
+  if (!SLIPFRONT_STATIC_HDF5) {
+    WARN("built with SLIPFRONT_STATIC_HDF5=OFF: nothing to check");
+    return;
+  }
+  if (slipfront::testing::find_program("readelf").empty()) {
+    WARN("readelf not installed: the check is skipped");
+    return;
+  }
+  const TempDir dir("clih-static");
+  const auto elf = slipfront::testing::run({"readelf", "-d", SLIPFRONT_BINARY}, dir.path);
+  REQUIRE(elf.code == 0);
+  CHECK(contains(elf.out, "libxxhash"));  // the listing is the right one
+  for (const char* lib : {"libhdf5", "libcurl", "libcrypto", "libssl", "libgnutls", "libldap", "libkrb5"}) {
+    INFO(lib);
+    CHECK(!contains(elf.out, lib));
+  }
+}

@@ -1,25 +1,38 @@
 #!/usr/bin/env bash
 # The main job: install what is missing, build, then
-#   1. run every scene with both models alongside (out/<scene>/results.h5, with /compare),
+#   1. run every scene with both models alongside (out/<scene>/results.h5, with /compare), the steady fronts
+#      (out/homogeneous_front, out/strip_collapse_H*),
 #   2. run every convergence study in configs/studies/ (out/studies/<study>/study.h5 and one
 #      results.h5 per run),
 #   3. write the report with every plot (out/report.md, out/figures/*.png) and check (check_report.py) that no
 #      verdict of its summary tests a model against a limit it is not supposed to reach, and that every plot
 #      it names exists and is not empty.
-# Takes 4 min 29 s on 2 idle cores with the program built (2026-11-24): the scenes, two at a time, 39 s; steady fronts
-# and the strip collapses, side by side, 26 s; studies 3 min 6 s (strip_height 42, validity_friction 37, validity_fig1
-# 34, fig2_strip 20, disorder_limit 15, front_speeds_N 9, the rest ~30); report ~18 s; a first build adds ~5 min
-# (docs/performance.md §17; the 1D part alone: scripts/time_1d_part.sh). Each step
-# prints its time. A scene or study that fails still leaves its partial results and the rest goes on; the job
-# then exits 1.
+# Scenes, fronts and studies are independent steps in one queue, longest first, as many at a time as there are cores
+# (each one process on one core; a study on one thread: its runs do not depend on the threads). Takes ~4 min 10 s on
+# 2 idle cores with the program built (2026-11-24; docs/performance.md §17); a first build adds ~1.5 min. Each step
+# prints its time. A scene or study that fails still leaves its partial results and the rest goes on; the job then
+# exits 1.
+#
+#   bash scripts/main.sh [--part all|1d] [--out DIR]
+#     --part 1d   only the 1D part: the steps whose scene or study name has no "strip" in it (issue 22's "1D part")
+#     --out DIR   write there instead of out/ (the report too)
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
+part=all
+out=out
+while (($# > 0)); do
+  case $1 in
+    --part) part=${2:?--part needs all or 1d}; shift 2 ;;
+    --out) out=${2:?--out needs a directory}; shift 2 ;;
+    -h | --help) sed -n '2,20p' "$0"; exit 0 ;;
+    *) echo "main.sh: unknown argument '$1' (known: --part all|1d, --out DIR)" >&2; exit 2 ;;
+  esac
+done
+[[ $part == all || $part == 1d ]] || { echo "main.sh: --part must be all or 1d, not '$part'" >&2; exit 2; }
+out=$(realpath -m "$out")
 bash scripts/build.sh slipfront
 
-# (the longest first: the scenes run side by side, one per core)
-scenes=(contacts_disorder contacts_strip fig1_strip homogeneous_strip contacts homogeneous_front steady_front fig1 friction_law
-  velocity_step spring_block)
-slipfront=build/apps/slipfront
+slipfront=$PWD/build/apps/slipfront
 python=/usr/bin/python3 # Debian's python3, where python3-h5py/-matplotlib/-numpy are installed
 failed=()
 started=$SECONDS
@@ -52,59 +65,97 @@ launch() {
   name_of[$!]=$name start_of[$!]=$SECONDS log_of[$!]=$logs/task$tasks.log
 }
 drain() { while ((${#name_of[@]} > 0)); do finish_one; done; }
+wanted() { [[ $part == all || $1 != *strip* ]]; }  # wanted NAME: whether the step belongs to --part
 
-for scene in "${scenes[@]}"; do
-  launch "scene $scene" "$slipfront" run "configs/$scene.toml" --out "out/$scene" --force
+# The steps, each a function of its name, listed longest first (CPU seconds on this machine, 2026-11-24, in
+# brackets; what is not listed runs after, in name order, so a new scene or study needs no entry here).
+scene() { "$slipfront" run "configs/$1.toml" --out "$out/$1" --force; }
+study() { "$slipfront" study "configs/studies/$1.toml" --out "$out/studies/$1" --force -j 1; }
+# The strip's c_min collapse at a 1D-like (H = 16), a crossover (H = 1000) and a large height (H = 1e5, started from
+# the path in H), at the material of docs/fronts.md §10.12 (mu' = 300, rho' = 1e-9: mu = 300 H, rho = 1e-9 H), 8 rows
+# and 200 intervals (within 2 % of the 12-row values of docs/fronts.md §10.18); the limits keys only lift the checks
+# of a time-dependent run of these scenes (its cost estimate, the rows rule), which `fronts` validates although it
+# does not run one. (c_min(H) of the strip at fixed material over H = 1 .. 1e6, docs/fronts.md §10.11-§10.12, is the
+# study configs/studies/strip_cmin_height.toml: out/studies/strip_cmin_height/strip_cmin_height.csv.)
+collapse() {
+  local h=$1 mu rho dy="" about="c_min collapse of the strip at H = $1"
+  if ((h == 100000)); then
+    mu=3e7 rho=1e-4 dy="--set grid.dy=100" about="c_min collapse of the strip at H = 1e5 (H/l_kappa = 4.4)"
+  else
+    mu=$((300 * h)) rho=${h}e-9
+  fi
+  # shellcheck disable=SC2086
+  "$slipfront" fronts configs/steady_front_strip.toml --scaling --rows 8 --intervals 200 \
+    --set "scene=steady_front_strip_H$h" --set "description=$about" \
+    --set "bulk.height=$h" --set "bulk.mu=$mu" --set "bulk.rho=$rho" $dy \
+    --set limits.max_hours=1000 --set limits.min_nodes_per_elastic_length=0 --out "$out/strip_collapse_H$h" --force
+}
+# homogeneous_front's scene, then the 1D steady fronts in its directory (the branch, c_min and its collapse over mu,
+# alpha, eta, kappa): one step, so the fronts never start before the scene they share the directory with
+homogeneous_front() { scene homogeneous_front && "$slipfront" fronts configs/homogeneous_front.toml --scaling --out "$out/homogeneous_front" --force; }
+
+longest_first=(
+  "study strip_height"          # (80)
+  "study validity_friction"     # (72)
+  "study validity_fig1"         # (68)
+  "study fig2_strip"            # (38)
+  "collapse 100000"             # (27)
+  "scene contacts_strip"        # (22)
+  "scene contacts_disorder"     # (21)
+  "study disorder_limit_fig1"   # (20)
+  "study front_speeds_N"        # (18)
+  "study strip_cmin_height"     # (16)
+  "study front_branch"          # (14)
+  "study front_spectrum"        # (14)
+  "study steady_front_N"        # (12)
+  "scene fig1_strip"            # (11)
+  "scene homogeneous_strip"     # (7)
+  "homogeneous_front"           # (3 + 4)
+  "study fig2_sweep"            # (6)
+  "study disorder_limit_law"    # (6)
+  "scene contacts"              # (5)
+  "collapse 1000"               # (5)
+  "collapse 16"                 # (4)
+)
+steps=("${longest_first[@]}")
+for f in configs/*.toml; do  # every scene of configs/, the steady-front configurations aside (run by `fronts`)
+  n=$(basename "$f" .toml)
+  [[ $n == steady_front_strip || $n == homogeneous_front ]] && continue
+  [[ " ${steps[*]} " == *" scene $n "* ]] || steps+=("scene $n")
 done
-drain
-
-# The steady fronts (after the scenes: homogeneous_front's directory is shared):
-# - the 1D branch, c_min and its collapse over mu, alpha, eta, kappa;
-# - the strip's c_min collapse at a 1D-like (H = 16), a crossover (H = 1000) and a large height (H = 1e5, started
-#   from the path in H), at the material of docs/fronts.md §10.12 (mu' = 300, rho' = 1e-9: mu = 300 H, rho = 1e-9 H),
-#   8 rows and 200 intervals (within 2 % of the 12-row values of docs/fronts.md §10.18; 4, 5 and 27 s); the
-#   limits keys only lift the checks of a time-dependent run of these scenes (its cost estimate, the rows rule),
-#   which `fronts` validates although it does not run one.
-# (c_min(H) of the strip at fixed material over H = 1 .. 1e6, docs/fronts.md §10.11-§10.12, is the study
-# configs/studies/strip_cmin_height.toml below: out/studies/strip_cmin_height/strip_cmin_height.csv, which report.py
-# draws.)
-launch "strip collapse H = 100000" "$slipfront" fronts configs/steady_front_strip.toml --scaling --rows 8 --intervals 200 \
-  --set scene=steady_front_strip_H100000 --set "description=c_min collapse of the strip at H = 1e5 (H/l_kappa = 4.4)" \
-  --set bulk.height=1e5 --set bulk.mu=3e7 --set bulk.rho=1e-4 --set grid.dy=100 \
-  --set limits.max_hours=1000 --set limits.min_nodes_per_elastic_length=0 --out out/strip_collapse_H100000 --force
-launch "steady fronts" "$slipfront" fronts configs/homogeneous_front.toml --scaling --out out/homogeneous_front --force
-for h in 16 1000; do
-  launch "strip collapse H = $h" "$slipfront" fronts configs/steady_front_strip.toml --scaling --rows 8 --intervals 200 \
-    --set scene=steady_front_strip_H$h --set "description=c_min collapse of the strip at H = $h" --set bulk.height=$h --set bulk.mu=$((300 * h)) --set "bulk.rho=${h}e-9" \
-    --set limits.max_hours=1000 --set limits.min_nodes_per_elastic_length=0 --out "out/strip_collapse_H$h" --force
+for f in configs/studies/*.toml; do
+  n=$(basename "$f" .toml)
+  [[ " ${steps[*]} " == *" study $n "* ]] || steps+=("study $n")
+done
+mkdir -p "$out/studies"
+for s in "${steps[@]}"; do
+  read -r kind name <<< "$s"
+  case $kind in
+    scene | study) wanted "$name" || continue ;;
+    collapse) wanted strip || continue ;;
+    homogeneous_front) name="" ;;
+  esac
+  launch "$kind${name:+ $name}" "$kind" ${name:+"$name"}
 done
 drain
 
 # report.py draws every strip_cmin_height.csv under out/: the copy the bench driver wrote here before c_min(H)
 # became a study would be drawn a second time, stale
-rm -f out/strip_cmin_height/strip_cmin_height.csv
-rmdir out/strip_cmin_height 2> /dev/null || true
+rm -f "$out/strip_cmin_height/strip_cmin_height.csv"
+rmdir "$out/strip_cmin_height" 2> /dev/null || true
 
-for study in configs/studies/*.toml; do
-  name=$(basename "$study" .toml)
-  echo "== study $name: $slipfront study $study --out out/studies/$name --force"
-  rc=0 t0=$SECONDS
-  "$slipfront" study "$study" --out "out/studies/$name" --force || rc=$?
-  took "study $name" "$t0"
-  ((rc == 0)) || failed+=("study $name: slipfront study exited with $rc")
-done
-
-echo "== report: $slipfront report out"
-rc=0
-"$slipfront" report out || rc=$?
+echo "== report: $slipfront report $out"
+rc=0 t0=$SECONDS
+"$slipfront" report "$out" || rc=$?
+took report "$t0"
 ((rc == 0)) || failed+=("report: slipfront report exited with $rc")
 rc=0
-"$python" scripts/check_report.py out/report.md || rc=$?
-((rc == 0)) || failed+=("report: check_report.py failed on out/report.md (a plot missing or empty, or a verdict against a limit the model is not supposed to reach)")
+"$python" scripts/check_report.py "$out/report.md" || rc=$?
+((rc == 0)) || failed+=("report: check_report.py failed on $out/report.md (a plot missing or empty, or a verdict against a limit the model is not supposed to reach)")
 
 echo
-echo "Results: $PWD/out/<scene>/results.h5 and $PWD/out/studies/<study>/study.h5 (layout: docs/output.md)"
-echo "Report:  $PWD/out/report.md (figures in $PWD/out/figures/)"
+echo "Results: $out/<scene>/results.h5 and $out/studies/<study>/study.h5 (layout: docs/output.md)"
+echo "Report:  $out/report.md (figures in $out/figures/)"
 if ((${#failed[@]} != 0)); then
   echo
   echo "FAILED:" >&2

@@ -5,25 +5,38 @@
 # No `set -euo pipefail` here: a sourced file would change the options of the shell that sources it;
 # the calling scripts set them.
 
-SLIPFRONT_DEPS=(
+# What the program and the main job need (scripts/main.sh installs only these: build.sh --program-only) ...
+SLIPFRONT_DEPS_PROGRAM=(
   build-essential cmake ninja-build git      # toolchain
   libeigen3-dev libboost-random-dev          # numerics, reproducible random streams
   libhdf5-dev libtomlplusplus-dev libcli11-dev  # results file, configs, command line
   libxxhash-dev pkg-config                   # checksums of checkpoints and run files
   libfftw3-dev                               # the strip's cosine transform
+  python3-matplotlib python3-h5py python3-numpy  # scripts/plot.py
+)
+# ... and what the tests and benchmarks add (125 more packages on a fresh machine: SUNDIALS brings Open MPI and
+# gfortran; ~11 s of apt-get there, measured by reinstalling them, docs/performance.md §17)
+SLIPFRONT_DEPS_TESTS=(
   catch2 libbenchmark-dev                    # tests, benchmarks
   libsundials-dev                            # reference ODE integrator
   libopenmpi-dev openmpi-bin                 # optional at run time: studies on MPI (mpirun -n K slipfront study)
-  python3-matplotlib python3-h5py python3-numpy  # scripts/plot.py
 )
+# The packages ensure_deps installs (scripts may narrow or extend it first, e.g. build.sh --program-only, fuzz.sh).
+SLIPFRONT_DEPS=("${SLIPFRONT_DEPS_PROGRAM[@]}" "${SLIPFRONT_DEPS_TESTS[@]}")
+
+# Whether every package named as an argument is installed.
+installed() {
+  local p
+  for p in "$@"; do
+    [[ "$(dpkg-query -W -f='${Status}' "$p" 2>/dev/null || true)" == "install ok installed" ]] || return 1
+  done
+}
 
 # The packages of SLIPFRONT_DEPS that are not installed, one per line.
 missing_deps() {
   local p
   for p in "${SLIPFRONT_DEPS[@]}"; do
-    if [[ "$(dpkg-query -W -f='${Status}' "$p" 2>/dev/null || true)" != "install ok installed" ]]; then
-      echo "$p"
-    fi
+    installed "$p" || echo "$p"
   done
 }
 

@@ -30,7 +30,7 @@ while (($# > 0)); do
 done
 [[ $part == all || $part == 1d ]] || { echo "main.sh: --part must be all or 1d, not '$part'" >&2; exit 2; }
 out=$(realpath -m "$out")
-bash scripts/build.sh slipfront
+bash scripts/build.sh --program-only slipfront
 
 slipfront=$PWD/build/apps/slipfront
 python=/usr/bin/python3 # Debian's python3, where python3-h5py/-matplotlib/-numpy are installed

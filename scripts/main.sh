@@ -8,7 +8,7 @@
 #      verdict of its summary tests a model against a limit it is not supposed to reach, and that every plot
 #      it names exists and is not empty.
 # Scenes, fronts and studies are independent steps in one queue, longest first, as many at a time as there are cores
-# (each one process on one core; a study on one thread: its runs do not depend on the threads). Takes ~4 min 10 s on
+# (each one process on one core; a study on one thread: its runs do not depend on the threads). Takes 4 min 15 s on
 # 2 idle cores with the program built (2026-11-24; docs/performance.md §17); a first build adds ~1.5 min. Each step
 # prints its time. A scene or study that fails still leaves its partial results and the rest goes on; the job then
 # exits 1.

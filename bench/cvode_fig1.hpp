@@ -20,6 +20,7 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "compare/measure.hpp"
@@ -146,8 +147,7 @@ class DenseObserver {
     constexpr bool lazy = requires { sim.dense_value(t1, Field::contact_area, std::size_t{0}); };
     std::size_t m_tip = n_, m_alt = n_;
     if constexpr (lazy) {
-      m_tip = compare::tip_nodes(sim, n_, p_.A_tip);
-      m_alt = compare::tip_nodes(sim, n_, p_.A_tip_alt);
+      std::tie(m_tip, m_alt) = compare::tip_nodes(sim, n_, p_.A_tip, p_.A_tip_alt);
     }
     for (;;) {
       const double tk = static_cast<double>(next_k_) * p_.sample_dt;

@@ -12,6 +12,7 @@
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "compare/cadence.hpp"
@@ -50,17 +51,19 @@ inline core::FrontClasses front_classes(std::span<const double> x, double front,
 }
 
 /// Dense steppers, after a step [t0, t1]: how many leading nodes the tip samples of that step need
-/// for `threshold` (docs/model.md §3 tip: the largest x with A < threshold). Nodes beyond the last one
-/// whose A may fall below the threshold during the step stay above it throughout. The bound on
-/// |1 − A_i(t)| over the step is the stepper's dense_deviation_bound when it has one, else 1.25 × the
-/// largest of |1 − A_i| at the start, middle and end (a quadratic interpolant: the Lebesgue constant of
-/// three equispaced points). Returns that node + 2 (one more for the tip's interpolation; at most the
-/// node count), or 1 when every node stays above.
+/// for each of two thresholds (docs/model.md §3 tip: the largest x with A < threshold; the A_tip and A_tip_alt of
+/// the measurements). Nodes beyond the last one whose A may fall below a threshold during the step stay above it
+/// throughout. The bound on |1 − A_i(t)| over the step is the stepper's dense_deviation_bound when it has one, else
+/// 1.25 × the largest of |1 − A_i| at the start, middle and end (a quadratic interpolant: the Lebesgue constant of
+/// three equispaced points). Returns, per threshold, that node + 2 (one more for the tip's interpolation; at most
+/// the node count), or 1 when every node stays above. One pass from the last node for both thresholds: each node's
+/// bound is computed once (the scan covers every node ahead of the front, at every step).
 template <class S>
   requires requires(const S& sim, double t, std::size_t i) { sim.dense_value(t, core::Field::contact_area, i); }
-std::size_t tip_nodes(const S& sim, std::size_t nodes, double threshold) {
+std::pair<std::size_t, std::size_t> tip_nodes(const S& sim, std::size_t nodes, double threshold_a, double threshold_b) {
   using core::Field;
-  const double t0 = sim.previous_time(), t1 = sim.time(), margin = 1.0 - threshold;
+  const double t0 = sim.previous_time(), t1 = sim.time(), margin_a = 1.0 - threshold_a, margin_b = 1.0 - threshold_b;
+  std::size_t a = 0, b = 0;  // 0: not found yet
   for (std::size_t i = nodes; i-- > 0;) {
     double bound;
     if constexpr (requires { sim.dense_deviation_bound(Field::contact_area, i, 1.0); }) {
@@ -70,9 +73,11 @@ std::size_t tip_nodes(const S& sim, std::size_t nodes, double threshold) {
                                std::abs(1.0 - sim.dense_value(0.5 * (t0 + t1), Field::contact_area, i)),
                                std::abs(1.0 - sim.dense_value(t1, Field::contact_area, i))});
     }
-    if (!(bound < margin)) return std::min(nodes, i + 2);
+    if (a == 0 && !(bound < margin_a)) a = std::min(nodes, i + 2);
+    if (b == 0 && !(bound < margin_b)) b = std::min(nodes, i + 2);
+    if (a != 0 && b != 0) break;
   }
-  return 1;
+  return {a == 0 ? 1 : a, b == 0 ? 1 : b};
 }
 
 /// Dense steppers: record the tips at time t inside the last step, each searched lazily over the
@@ -393,7 +398,7 @@ class DynamicRun {
     if (!one_d_) cycles_.observe(t1, sim_.drive_force(), sim_.slip_rate()[0], r_.cycles);
     if (!one_d_) return;
     // Per threshold, the nodes whose A can be below it during the step; beyond them A stays above.
-    const std::size_t m_tip = tip_nodes(sim_, n, s_.measure.A_tip), m_alt = tip_nodes(sim_, n, s_.measure.A_tip_alt);
+    const auto [m_tip, m_alt] = tip_nodes(sim_, n, s_.measure.A_tip, s_.measure.A_tip_alt);
     multiples_in(t0, t1, s_.measure.sample_dt, [&](double t) {
       const double tip = sample_tips_dense(sim_, tracker_, r_.x, s_.measure, t, m_tip, m_alt);
       observe_front();

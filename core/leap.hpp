@@ -120,6 +120,17 @@ class LeapSimulation : public ImplicitSimulation<Law, B> {
     return 0.0;
   }
 
+  /// Bound on |target − y_i(t)| over the whole last step: every field's dense output is linear in t (slip:
+  /// u0 + (t − t_prev) v; A and σ̄: lerp), so its distance from target is largest at an end of the step; the
+  /// margin covers the rounding of the interpolation (a few ulps of the larger end). Cheaper and tighter than
+  /// sampling the output three times (compare::tip_nodes scans every node ahead of the front at every step).
+  double dense_deviation_bound(Field f, std::size_t i, double target) const {
+    const double y0 = dense_value(t_prev_, f, i), y1 = dense_value(this->t_, f, i);
+    constexpr double eps = std::numeric_limits<double>::epsilon();
+    return std::max(std::abs(target - y0), std::abs(target - y1)) +
+           4.0 * eps * (std::abs(target) + std::max(std::abs(y0), std::abs(y1)));
+  }
+
   template <class Ar>
   void serialize(Ar& ar) {
     ar.tag("leap");

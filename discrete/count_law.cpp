@@ -152,7 +152,7 @@ CountLaw::CountLaw(const core::InterfaceParams& ip, const DiscreteParams& dp, st
   n_att_.assign(sites, 0.0);
   area_.assign(sites, 1.0);
   sigma_bar_.assign(sites, 0.0);
-  engines_ = site_engines(dp.seed, sites);
+  engines_.assign(sites, std::nullopt);  // seeded at each site's first draw (engine_at)
   for (std::size_t i = 0; i < sites; ++i) {
     core::poll_stop();
     set_site(i, 1.0, 0.0);
@@ -303,7 +303,7 @@ double CountLaw::step_contacts_sampled(std::size_t i, std::size_t k, double n_ov
   const core::TwoStateTransition free_tr = attach_only_;
   const core::TwoStateTransition over_tr = k > 0 ? core::two_state_transition(1.0, detach, dt) : free_tr;
   const double leave_p = detach * over_tr.become_attached;  // 1 − P(att→att) = d (1 − e^{−rΔt})/r
-  Engine& e = engines_[i];
+  Engine& e = engine_at(i);
   if (!quenched_) {
     // Fresh thresholds: a detached contact falls in each bin with probability 1/B, so k/B of the
     // pool meets the overloaded rates (multinomial over bins, drawn as successive binomials).
@@ -380,7 +380,7 @@ std::string CountLaw::save_state() const {
     put(sigma_bar_[i]);
     for (double x : attached(i)) put(x);
     for (double x : detached(i)) put(x);
-    os << '\n' << discrete::save_state(engines_[i]) << '\n';
+    os << '\n' << discrete::save_state(engine_at(i)) << '\n';  // (an unused engine: its seeded state)
   }
   return os.str();
 }
@@ -413,7 +413,7 @@ void CountLaw::load_state(const std::string& text) {
     area_[i] = area_of(total);
     std::string line;
     std::getline(is >> std::ws, line);
-    discrete::load_state(engines_[i], line);
+    discrete::load_state(engines_[i].emplace(), line);
   }
   if (!is) throw std::invalid_argument("CountLaw::load_state: truncated state");
   cached_dt_ = -1.0;

@@ -22,6 +22,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -110,7 +111,7 @@ class CountLaw {
   /// Y_i: the overloaded fraction of the attached contacts of site i at slip rate v, now.
   double overloaded_fraction(std::size_t i, double v) const;
   /// The random stream of site i (site_engine(seed, i) advanced by the draws so far).
-  const Engine& engine(std::size_t i) const { return engines_[i]; }
+  const Engine& engine(std::size_t i) const { return engine_at(i); }
 
   /// Whole state (counts, σ̄, engines) as text; load_state() restores it bit for bit into a law
   /// built with the same parameters and size (throws std::invalid_argument otherwise).
@@ -152,7 +153,15 @@ class CountLaw {
   std::vector<double> n_att_;      ///< [sites] Σ_b att
   std::vector<double> area_;       ///< [sites] A = n_att / N
   std::vector<double> sigma_bar_;  ///< [sites]
-  std::vector<Engine> engines_;    ///< [sites] site_engine(seed, i)
+  /// [sites] site_engine(seed, i), seeded at the site's first draw (engine_at): a site that never draws — stuck ahead
+  /// of a front, or noise off — costs no seeding (~5 µs each: 6 % of a validity_fig1 run, docs/performance.md §17).
+  /// The same stream either way: the engine is a function of (seed, i) until it draws.
+  mutable std::vector<std::optional<Engine>> engines_;
+  Engine& engine_at(std::size_t i) const {  // (only site i's own step touches engines_[i]: threads over sites are safe)
+    auto& e = engines_[i];
+    if (!e) e.emplace(site_engine(dp_.seed, i));
+    return *e;
+  }
   std::vector<detail::BinomialRate> share_;  ///< [B + 1]: share_[m] = 1/m, the uniform spread's successive rates
 
   double cached_dt_ = -1.0;        ///< two-state transition of a non-overloaded bin for cached_dt_

@@ -8,7 +8,7 @@
 #      verdict of its summary tests a model against a limit it is not supposed to reach, and that every plot
 #      it names exists and is not empty.
 # Scenes, fronts and studies are independent steps in one queue, longest first, as many at a time as there are cores
-# (each one process on one core; a study on one thread: its runs do not depend on the threads). Takes 4 min 15 s on
+# (each one process on one core; a study on one thread: its runs do not depend on the threads). Takes 3 min 48 s on
 # 2 idle cores with the program built (2026-11-24; docs/performance.md §17); a first build adds ~1.5 min. Each step
 # prints its time. A scene or study that fails still leaves its partial results and the rest goes on; the job then
 # exits 1.
@@ -95,27 +95,27 @@ collapse() {
 homogeneous_front() { scene homogeneous_front && "$slipfront" fronts configs/homogeneous_front.toml --scaling --out "$out/homogeneous_front" --force; }
 
 longest_first=(
-  "study strip_height"          # (80)
   "study validity_friction"     # (72)
-  "study validity_fig1"         # (68)
-  "study fig2_strip"            # (38)
+  "study validity_fig1"         # (66)
+  "study strip_height"          # (46)
+  "study fig2_strip"            # (32)
   "collapse 100000"             # (27)
-  "scene contacts_strip"        # (22)
-  "scene contacts_disorder"     # (21)
-  "study disorder_limit_fig1"   # (20)
-  "study front_speeds_N"        # (18)
-  "study strip_cmin_height"     # (16)
-  "study front_branch"          # (14)
-  "study front_spectrum"        # (14)
+  "scene contacts_strip"        # (24)
+  "scene contacts_disorder"     # (23)
+  "study disorder_limit_fig1"   # (19)
+  "study front_speeds_N"        # (17)
+  "study front_branch"          # (13)
+  "study front_spectrum"        # (13)
   "study steady_front_N"        # (12)
-  "scene fig1_strip"            # (11)
-  "scene homogeneous_strip"     # (7)
-  "homogeneous_front"           # (3 + 4)
-  "study fig2_sweep"            # (6)
+  "homogeneous_front"           # (3 + 4, 10 beside another step)
+  "study strip_cmin_height"     # (9)
   "study disorder_limit_law"    # (6)
+  "scene fig1_strip"            # (5)
+  "scene homogeneous_strip"     # (5)
   "scene contacts"              # (5)
   "collapse 1000"               # (5)
   "collapse 16"                 # (4)
+  "study fig2_sweep"            # (4)
 )
 steps=("${longest_first[@]}")
 for f in configs/*.toml; do  # every scene of configs/, the steady-front configurations aside (run by `fronts`)

@@ -147,7 +147,7 @@ SceneResult lockstep(const Scene& s, std::optional<LawD> discrete_law, const Run
   if (rd) done["discrete"] = rd->finish();
   SceneResult out;
   if (rd && (rc || rm)) {
-    const ModelResult& ref = done[rm ? "mean_field" : "continuum"];
+    const ModelResult& ref = done[discrete_reference(s)];
     out.comparison = compare_results(s, ref, done["discrete"], &ref);
     out.comparison.fields = all.take_fields();
     define_fields(out.comparison, ref.model);
@@ -320,7 +320,7 @@ Comparison compare_results(const Scene& s, const ModelResult& c, const ModelResu
 std::vector<std::string> shareable_references(const Scene& s) {
   if (s.models.size() < 2 || s.discrete.contact_statistics) return {};
   // in lockstep the fields of the discrete model are compared online with its reference, at output.compare_dt > 0
-  const std::string reference = s.lists("mean_field") ? "mean_field" : "continuum";
+  const std::string reference = discrete_reference(s);
   const bool compared_online = runs_in_lockstep(s) && s.lists("discrete") && s.output.compare_dt > 0.0;
   std::vector<std::string> out;
   for (const char* m : {"continuum", "mean_field"})
@@ -331,9 +331,7 @@ std::vector<std::string> shareable_references(const Scene& s) {
 bool reference_ignores(const std::string& model, const std::string& key) {
   if (key.rfind("discrete.", 0) != 0) return false;
   if (model == "continuum") return true;
-  if (model == "mean_field")  // discrete::MeanFieldLaw: the threshold law, its width, the renewal and the bins
-    return key != "discrete.threshold" && key != "discrete.width" && key != "discrete.renewal" &&
-           key != "discrete.bins";
+  if (model == "mean_field") return std::find(mean_field_keys.begin(), mean_field_keys.end(), key) == mean_field_keys.end();
   return false;
 }
 
@@ -355,7 +353,7 @@ SceneResult run_scene_with_references(const Scene& s, const std::map<std::string
   out.comparison = std::move(others.comparison);
   std::size_t k = 0;
   for (const auto& m : s.models) out.models.push_back(given.count(m) ? *given.at(m) : std::move(others.models.at(k++)));
-  const std::string reference = s.lists("mean_field") ? "mean_field" : "continuum";
+  const std::string reference = discrete_reference(s);
   if (s.lists("discrete") && given.count(reference)) {  // the discrete model's reference was given
     const ModelResult& ref = *given.at(reference);
     const ModelResult& disc = *std::find_if(out.models.begin(), out.models.end(),
@@ -372,15 +370,13 @@ SceneResult run_scene_alongside(const Scene& s, const RunControl& ctl) {
     // common step): the models run one after the other and are compared at the end (no field distances).
     SceneResult out;
     out.models = run_scene(s, ctl);
-    const ModelResult* c = nullptr;
-    const ModelResult* m = nullptr;
+    const ModelResult* ref = nullptr;
     const ModelResult* d = nullptr;
     for (const auto& r : out.models) {
-      if (r.model == "continuum") c = &r;
-      if (r.model == "mean_field") m = &r;
+      if (r.model == discrete_reference(s)) ref = &r;
       if (r.model == "discrete") d = &r;
     }
-    if (d && (m || c)) out.comparison = compare_results(s, m ? *m : *c, *d, m ? m : c);
+    if (d && ref) out.comparison = compare_results(s, *ref, *d, ref);
     return out;
   };
   if (!runs_in_lockstep(s)) return separately();

@@ -2,7 +2,9 @@
 // The one place that turns a scene's [discrete] section into an interface law type: every runner
 // (run_scene, run_scene_alongside) dispatches through with_discrete_law, and builds the mean-field law
 // (model mean_field, docs/model.md §2.2) with mean_field_law.
+#include <array>
 #include <string>
+#include <string_view>
 
 #include "compare/result.hpp"
 #include "compare/scene.hpp"
@@ -40,8 +42,13 @@ inline void label_discrete(const Scene& s, ModelResult& r) {
   if (d.representation == "count") r.scalars["bins"] = d.width > 0.0 ? d.bins : 1.0;
 }
 
+/// The discrete.* keys mean_field reads (discrete::MeanFieldLaw; label_mean_field stores them): a study shares one
+/// mean_field among runs that differ in the others only (compare::reference_ignores).
+inline constexpr std::array<std::string_view, 4> mean_field_keys{"discrete.threshold", "discrete.width",
+                                                                 "discrete.renewal", "discrete.bins"};
+
 /// The model mean_field (docs/model.md §2.2): the population balance at the scene's threshold law, width,
-/// renewal and binning (discrete.threshold, width, renewal, bins).
+/// renewal and binning (mean_field_keys).
 inline discrete::MeanFieldLaw mean_field_law(const Scene& s, std::size_t sites) {
   return discrete::MeanFieldLaw(s.interface, s.discrete, sites);
 }

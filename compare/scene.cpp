@@ -178,6 +178,8 @@ double strip_max_row_spacing(double mu, double alpha, double height) {
 
 bool Scene::lists(std::string_view model) const { return std::find(models.begin(), models.end(), model) != models.end(); }
 
+const char* discrete_reference(const Scene& s) { return s.lists("mean_field") ? "mean_field" : "continuum"; }
+
 bool runs_in_lockstep(const Scene& s) {
   const int listed = s.lists("continuum") + s.lists("mean_field") + s.lists("discrete");
   return listed >= 2 && s.drive.loading != core::Loading::imposed_rate &&

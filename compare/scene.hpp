@@ -91,4 +91,9 @@ std::vector<double> sweep_rates(const core::DriveParams& d);
 /// at once (the estimate) and their fields compared as they go.
 bool runs_in_lockstep(const Scene& s);
 
+/// The discrete model's reference (docs/model.md §2.2): mean_field, the ensemble's own N → ∞ limit at its w, when the
+/// scene lists it, else the continuum. Its fields are compared with the discrete model's, its contact statistics
+/// predicted (compare/alongside.hpp).
+const char* discrete_reference(const Scene& s);
+
 }  // namespace slipfront::compare

@@ -547,6 +547,16 @@ Eigen::SparseMatrix<double> Strip::stiffness_matrix() const {
 #else
 #define SLIPFRONT_AVX2_CLONE
 #endif
+namespace {
+// v^{n+1/2} of one node from v^{n−1/2}, its force f and mass m: v + dt f/m, and on the interface row (`Interface`)
+// η v centred: (v (m − damp) + dt (f − wx σ̄))/(m + damp), damp = wx η dt/2.
+template <bool Interface>
+inline double kicked(double vo, double f, double m, double dt, double wx, double damp, double sb) {
+  if constexpr (Interface) return (vo * (m - damp) + dt * (f - wx * sb)) / (m + damp);
+  else return vo + dt * f / m;
+}
+}  // namespace
+
 SLIPFRONT_AVX2_CLONE void Strip::kick(double dt, double eta, double edge_force, std::span<const double> u,
                  std::span<const double> sigma_bar, std::span<const double> v_old, std::span<double> v_new) const {
   const std::size_t nx = nx_, ny = ny_;
@@ -561,12 +571,8 @@ SLIPFRONT_AVX2_CLONE void Strip::kick(double dt, double eta, double edge_force, 
     const double wx = interface_weight(i), m = rho_p_ * wx * row_weight(j);
     if (i == 0) f += edge_per_height * row_weight(j);
     if (j == ny) f += wx * sd;
-    if (j == 0) {
-      const double damp = wx * half_eta_dt;
-      vn[k] = (vo[k] * (m - damp) + dt * (f - wx * sb[i])) / (m + damp);
-    } else {
-      vn[k] = vo[k] + dt * f / m;
-    }
+    const double damp = wx * half_eta_dt;
+    vn[k] = j == 0 ? kicked<true>(vo[k], f, m, dt, wx, damp, sb[i]) : kicked<false>(vo[k], f, m, dt, wx, damp, 0.0);
   };
   // The nodes 0 < i < nx − 1 of row j: node()'s arithmetic, operation for operation, in one loop without branches
   // (wx = dx, m = ρ' dx wy(j) for all of them), which the compiler vectorises: the explicit scheme on the strip
@@ -574,18 +580,13 @@ SLIPFRONT_AVX2_CLONE void Strip::kick(double dt, double eta, double edge_force, 
   const double cx_in = mu_p_ * dy_ / dx_, cy_in = mu_p_ * dx_ / dy_;
   auto interior = [&](std::size_t j, const double* r, const double* dn, const double* up, double cx, auto interface,
                       auto top) {
-    const double wx = interface_weight(1), m = rho_p_ * wx * row_weight(j), add = wx * sd;
-    const double damp = wx * half_eta_dt, m_minus = m - damp, m_plus = m + damp;
+    const double wx = interface_weight(1), m = rho_p_ * wx * row_weight(j), add = wx * sd, damp = wx * half_eta_dt;
     const double* vo_r = vo + j * nx;
     double* vn_r = vn + j * nx;
     for (std::size_t i = 1; i + 1 < nx; ++i) {
       double f = cx * ((r[i - 1] - r[i]) + (r[i + 1] - r[i])) + cy_in * ((dn[i] - r[i]) + (up[i] - r[i]));
       if constexpr (decltype(top)::value) f += add;
-      if constexpr (decltype(interface)::value) {
-        vn_r[i] = (vo_r[i] * m_minus + dt * (f - wx * sb[i])) / m_plus;
-      } else {
-        vn_r[i] = vo_r[i] + dt * f / m;
-      }
+      vn_r[i] = kicked<decltype(interface)::value>(vo_r[i], f, m, dt, wx, damp, decltype(interface)::value ? sb[i] : 0.0);
     }
   };
   using yes = std::true_type;

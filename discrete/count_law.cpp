@@ -16,7 +16,6 @@ namespace slipfront::discrete {
 
 namespace detail {
 
-
 // Spread x contacts uniformly over the bins [lo, hi) (a multinomial with equal probabilities), adding them to
 // counts[b]. Sparse (x < 8 per bin): each contact's bin drawn uniformly, x draws; dense: successive binomials
 // 1/(hi − b), at most hi − lo draws (`share[m]`: BinomialRate(1/m), m ≥ 2). The same multinomial either way; the

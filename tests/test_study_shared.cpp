@@ -120,21 +120,19 @@ TEST_CASE("study: the shared references give the study and the run files of ever
     check_shared(dir.path, write_front_study(dir.path),
                  "set = [\"time.integrator=implicit\", \"time.dt=0.02\", \"output.compare_dt=5\"]\n", {});
   }
+  // the three models in lockstep (implicit dt = 0.02, uniform thresholds w = 0.2), fields compared at compare_dt
+  auto three_in_lockstep = [](const char* compare_dt) {
+    return std::string("set = [\"time.integrator=implicit\", \"time.dt=0.02\", \"output.compare_dt=") + compare_dt +
+           "\", 'models=[\"continuum\",\"mean_field\",\"discrete\"]', \"discrete.threshold=uniform\", "
+           "\"discrete.width=0.2\"]\n";
+  };
   SECTION("three models in lockstep, the discrete fields compared online against mean_field: the continuum shared") {
     const TempDir dir("shared-three");
-    check_shared(dir.path, write_front_study(dir.path),
-                 "set = [\"time.integrator=implicit\", \"time.dt=0.02\", \"output.compare_dt=5\", "
-                 "'models=[\"continuum\",\"mean_field\",\"discrete\"]', \"discrete.threshold=uniform\", "
-                 "\"discrete.width=0.2\"]\n",
-                 {"continuum"});
+    check_shared(dir.path, write_front_study(dir.path), three_in_lockstep("5"), {"continuum"});
   }
   SECTION("three models in lockstep without field comparisons: the continuum and mean_field shared") {
     const TempDir dir("shared-three-off");
-    check_shared(dir.path, write_front_study(dir.path),
-                 "set = [\"time.integrator=implicit\", \"time.dt=0.02\", \"output.compare_dt=0\", "
-                 "'models=[\"continuum\",\"mean_field\",\"discrete\"]', \"discrete.threshold=uniform\", "
-                 "\"discrete.width=0.2\"]\n",
-                 {"continuum", "mean_field"});
+    check_shared(dir.path, write_front_study(dir.path), three_in_lockstep("0"), {"continuum", "mean_field"});
   }
   SECTION("three models on the adaptive integrator, gaussian thresholds: the continuum and mean_field shared") {
     const TempDir dir("shared-three-adaptive");

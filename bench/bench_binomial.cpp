@@ -6,6 +6,12 @@
 // Both draw the same numbers (tests/test_discrete_count.cpp); the ratio is the cost of boost's set-up (its pow)
 // per draw.
 //
+// Second, the count law itself (discrete::CountLaw) on the same sweep with uniform thresholds w = 0.05 (64 bins,
+// fresh renewal, α = 1.05): one step at each of the 13 rates from the steady state, with the unspread arrivals
+// (docs/discrete.md: a sliding site has every bin overloaded, k = B, and its new attachments wait unspread) against
+// the baseline of the same law with its bins read after every step, which spreads them at every step as the law did
+// before. What each costs per step is what validity_friction's disordered group spends.
+//
 //   ./bench_binomial          prints, per N, ns per site-step of each and the ratios to the baseline
 #include <benchmark/benchmark.h>
 
@@ -18,6 +24,7 @@
 #include <vector>
 
 #include "discrete/binomial.hpp"
+#include "discrete/count_law.hpp"
 #include "discrete/streams.hpp"
 
 using namespace slipfront;
@@ -25,7 +32,7 @@ using namespace slipfront;
 namespace {
 
 constexpr std::size_t B = 64, k = 32;  // bins, overloaded bins (τ inside g's support)
-std::map<std::pair<int, int>, double> ns_per_step;
+std::map<std::pair<int, int>, double> ns_per_step;  // (N, mode): 0–2 the draws, 3 the law settled each step, 4 unspread
 
 double boost_draw(discrete::Engine& e, double n, double p) {
   if (n <= 0.0 || p <= 0.0) return 0.0;
@@ -88,13 +95,61 @@ BENCHMARK_TEMPLATE(BM_site_step, 0)->Arg(100)->Arg(1000)->Arg(10000)->Arg(100000
 BENCHMARK_TEMPLATE(BM_site_step, 1)->Arg(100)->Arg(1000)->Arg(10000)->Arg(100000);
 BENCHMARK_TEMPLATE(BM_site_step, 2)->Arg(100)->Arg(1000)->Arg(10000)->Arg(100000);
 
+template <bool unspread>  // false: the bins read (so spread) after every step, the baseline
+void BM_count_law(benchmark::State& state) {
+  core::InterfaceParams ip;
+  ip.alpha = 1.05;
+  ip.kappa = 8.0;
+  ip.eta = 0.1;
+  discrete::DiscreteParams p;
+  p.contacts_per_site = state.range(0);
+  p.threshold = "uniform";
+  p.width = 0.05;
+  p.bins = 64;
+  p.seed = 7;
+  struct Point {
+    discrete::CountLaw law;
+    double v, dt;
+  };
+  std::vector<Point> points;
+  for (int j = 0; j < 13; ++j) {  // validity_friction's rates and steps, as above, each from its steady state
+    const double v = 0.02 * std::pow(500.0, j / 12.0), dt = (20.0 + 40.0 / v) / 3000.0;
+    const double a = 1.0 / (1.0 + ip.kappa * v);
+    points.push_back({discrete::CountLaw(ip, p, 1), v, dt});
+    points.back().law.set_site(0, a, ip.alpha * a);
+  }
+  auto step = [&] {
+    double area = 0.0;
+    for (Point& pt : points) {
+      const double vv[1] = {pt.v};
+      pt.law.advance(pt.dt, vv);
+      if (!unspread) benchmark::DoNotOptimize(pt.law.attached(0).data());
+      area += pt.law.contact_area()[0];
+    }
+    return area;
+  };
+  for (int n = 0; n < 300; ++n) step();  // settle into the steady state
+  std::int64_t steps = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(step());
+    ++steps;
+  }
+  state.SetItemsProcessed(steps);
+}
+BENCHMARK_TEMPLATE(BM_count_law, false)->Arg(100)->Arg(1000)->Arg(10000)->Arg(100000);
+BENCHMARK_TEMPLATE(BM_count_law, true)->Arg(100)->Arg(1000)->Arg(10000)->Arg(100000);
+
 class Collect : public benchmark::ConsoleReporter {
  public:
   void ReportRuns(const std::vector<Run>& runs) override {
     ConsoleReporter::ReportRuns(runs);
     for (const Run& r : runs) {
       const std::string name = r.benchmark_name();
-      const int mode = name.find("<2>") != std::string::npos ? 2 : name.find("<1>") != std::string::npos ? 1 : 0;
+      const bool law = name.find("BM_count_law") != std::string::npos;
+      const int mode = law ? (name.find("<true>") != std::string::npos ? 4 : 3)
+                       : name.find("<2>") != std::string::npos ? 2
+                       : name.find("<1>") != std::string::npos ? 1
+                                                                 : 0;
       const int n = std::stoi(name.substr(name.rfind('/') + 1));
       ns_per_step[{n, mode}] = r.GetAdjustedRealTime();
     }
@@ -114,5 +169,13 @@ int main(int argc, char** argv) {
     if (a == ns_per_step.end() || b == ns_per_step.end() || c == ns_per_step.end()) continue;
     std::printf("N = %6d: boost %8.1f ns, cached %8.1f ns (ratio %.2f), + placement %8.1f ns (ratio %.2f)\n", n,
                 a->second, b->second, a->second / b->second, c->second, a->second / c->second);
+  }
+  std::printf("\nthe count law, one step at each of the 13 rates (w = 0.05, 64 bins, fresh): bins spread at every step "
+              "(the baseline) against the unspread arrivals\n");
+  for (const int n : {100, 1000, 10000, 100000}) {
+    const auto a = ns_per_step.find({n, 3}), b = ns_per_step.find({n, 4});
+    if (a == ns_per_step.end() || b == ns_per_step.end()) continue;
+    std::printf("N = %6d: spread each step %8.1f ns, unspread %8.1f ns (ratio %.2f)\n", n, a->second, b->second,
+                a->second / b->second);
   }
 }

@@ -147,6 +147,7 @@ CountLaw::CountLaw(const core::InterfaceParams& ip, const DiscreteParams& dp, st
     thresholds_[b] = g_.conditional_mean(static_cast<double>(b) / B, static_cast<double>(b + 1) / B);
   }
   att_.assign(sites * nbins_, 0.0);
+  if (noise_ && !quenched_ && nbins_ > 1) unspread_.assign(sites, 0.0);
   det_.assign(sites * det_stride_, 0.0);
   n_att_.assign(sites, 0.0);
   area_.assign(sites, 1.0);
@@ -182,6 +183,7 @@ detail::PoolHandle::PoolHandle(PoolHandle&&) noexcept = default;
 detail::PoolHandle& detail::PoolHandle::operator=(PoolHandle&&) noexcept = default;
 
 std::span<const double> CountLaw::attached(std::size_t i) const {
+  settle(i);
   return std::span<const double>(att_).subspan(i * nbins_, nbins_);
 }
 std::span<const double> CountLaw::detached(std::size_t i) const {
@@ -190,6 +192,7 @@ std::span<const double> CountLaw::detached(std::size_t i) const {
 
 void CountLaw::set_site(std::size_t i, double area, double sigma_bar) {
   if (!(area >= 0.0 && area <= 1.0)) throw std::invalid_argument("CountLaw::set_site: A must lie in [0, 1]");
+  if (!unspread_.empty()) unspread_[i] = 0.0;
   double* a = att(i);
   double* d = det(i);
   const double B = static_cast<double>(nbins_);
@@ -232,13 +235,21 @@ std::size_t CountLaw::overloaded_bins(double tau) const {
   return static_cast<std::size_t>(std::lower_bound(thresholds_.begin(), thresholds_.end(), tau) - thresholds_.begin());
 }
 
+// The unspread arrivals are wholly overloaded at k = B and wholly not at k = 0; in between they are settled first.
 double CountLaw::overloaded_fraction(std::size_t i, double v) const {
   const double tau = core::contact_stress(sigma_bar_[i] + ip_.eta * v, area_[i]);
   const std::size_t k = overloaded_bins(tau);
   if (!(n_att_[i] > 0.0)) return 1.0;
-  double over = 0.0;
+  if (k > 0 && k < nbins_) settle(i);
+  double over = k == nbins_ ? unspread(i) : 0.0;
   for (std::size_t b = 0; b < k; ++b) over += att_[i * nbins_ + b];
   return over / n_att_[i];
+}
+
+void CountLaw::settle(std::size_t i) const {
+  if (unspread_.empty() || !(unspread_[i] > 0.0)) return;
+  detail::spread_uniform(engine_at(i), unspread_[i], att_.data() + i * nbins_, 0, nbins_, share_);
+  unspread_[i] = 0.0;
 }
 
 core::LawStepInfo CountLaw::advance(double dt, std::span<const double> v) {
@@ -275,7 +286,8 @@ bool CountLaw::advance_sites(std::size_t lo, std::size_t hi, double dt, const do
     }
     double* at = att_.data() + i * B;
     const std::size_t k = overloaded_bins(tau);
-    double n_over = 0.0;
+    if (k > 0 && k < B) settle(i);  // the bins now differ in fate: the unspread arrivals need theirs
+    double n_over = k == B ? unspread(i) : 0.0;
     for (std::size_t b = 0; b < k; ++b) n_over += at[b];
     const double n_att = n_att_[i];
     const double y = n_att > 0.0 ? n_over / n_att : 1.0;
@@ -303,7 +315,25 @@ double CountLaw::step_contacts_sampled(std::size_t i, std::size_t k, double n_ov
   const core::TwoStateTransition over_tr = k > 0 ? core::two_state_transition(1.0, detach, dt) : free_tr;
   const double leave_p = detach * over_tr.become_attached;  // 1 − P(att→att) = d (1 − e^{−rΔt})/r
   Engine& e = engine_at(i);
-  if (!quenched_) {
+  if (!unspread_.empty() && (k == 0 || k == B)) {
+    // Every bin shares one fate (docs/discrete.md, "Unspread arrivals"): the attaching contacts join the unspread
+    // ones instead of being spread over the bins, and the unspread ones detach as one class.
+    const double x = binomial(e, n_det, k == B ? over_tr.become_attached : free_tr.become_attached);
+    double left = 0.0;
+    if (detach > 0.0 && k == B) {
+      const detail::BinomialRate leave(leave_p);
+      for (std::size_t b = 0; b < B; ++b) {
+        const double y = binomial(e, at[b], leave);
+        at[b] -= y;
+        left += y;
+      }
+      const double y = binomial(e, unspread_[i], leave);
+      unspread_[i] -= y;
+      left += y;
+    }
+    unspread_[i] += x;
+    de[0] = n_det - x + left;
+  } else if (!quenched_) {
     // Fresh thresholds: a detached contact falls in each bin with probability 1/B, so k/B of the
     // pool meets the overloaded rates (multinomial over bins, drawn as successive binomials).
     const double m_over = k == 0 ? 0.0 : k == B ? n_det : binomial(e, n_det, static_cast<double>(k) / static_cast<double>(B));
@@ -331,7 +361,7 @@ double CountLaw::step_contacts_sampled(std::size_t i, std::size_t k, double n_ov
       de[b] += out - in;
     }
   }
-  double n_new = 0.0;
+  double n_new = unspread(i);
   for (std::size_t b = 0; b < B; ++b) n_new += at[b];
   n_att_[i] = n_new;
   return area_[i] = area_of(n_new);
@@ -368,7 +398,9 @@ double CountLaw::step_contacts_mean(std::size_t i, std::size_t k, double detach,
 
 std::string CountLaw::save_state() const {
   std::ostringstream os;
-  os << "slipfront-count-law 1 " << size() << ' ' << nbins_ << ' ' << det_stride_ << ' ' << dp_.contacts_per_site
+  // Version 2 adds each site's unspread arrivals after its bins (saved as they are: saving does not settle them,
+  // so a run that writes checkpoints draws what one that does not draws); version 1 (no unspread) still loads.
+  os << "slipfront-count-law 2 " << size() << ' ' << nbins_ << ' ' << det_stride_ << ' ' << dp_.contacts_per_site
      << ' ' << (noise_ ? 1 : 0) << '\n';
   char buf[40];
   auto put = [&](double x) {
@@ -377,7 +409,8 @@ std::string CountLaw::save_state() const {
   };
   for (std::size_t i = 0; i < size(); ++i) {
     put(sigma_bar_[i]);
-    for (double x : attached(i)) put(x);
+    for (double x : std::span<const double>(att_).subspan(i * nbins_, nbins_)) put(x);
+    put(unspread(i));
     for (double x : detached(i)) put(x);
     os << '\n' << discrete::save_state(engine_at(i)) << '\n';  // (an unused engine: its seeded state)
   }
@@ -392,7 +425,7 @@ void CountLaw::load_state(const std::string& text) {
   long n = 0;
   int noise = 0;
   is >> magic >> version >> sites >> nb >> stride >> n >> noise;
-  if (!is || magic != "slipfront-count-law" || version != 1 || sites != size() || nb != nbins_ ||
+  if (!is || magic != "slipfront-count-law" || (version != 1 && version != 2) || sites != size() || nb != nbins_ ||
       stride != det_stride_ || n != dp_.contacts_per_site || (noise != 0) != noise_)
     throw std::invalid_argument("CountLaw::load_state: state of a different law");
   auto get = [&]() {
@@ -407,6 +440,11 @@ void CountLaw::load_state(const std::string& text) {
     sigma_bar_[i] = get();
     double total = 0.0;
     for (std::size_t b = 0; b < nbins_; ++b) total += (att(i)[b] = get());
+    const double unspread = version >= 2 ? get() : 0.0;
+    if (unspread != 0.0 && unspread_.empty())
+      throw std::invalid_argument("CountLaw::load_state: unspread contacts in a law that keeps none");
+    if (!unspread_.empty()) unspread_[i] = unspread;
+    total += unspread;
     for (std::size_t b = 0; b < det_stride_; ++b) det(i)[b] = get();
     n_att_[i] = total;
     area_[i] = area_of(total);

@@ -14,7 +14,10 @@
 //                  no random draw, no exponential (the stuck majority of a front costs a few flops)
 //   3. contacts    exact two-state transition per bin (a = 1, d = κ|v_i| if overloaded else 0):
 //                  binomial draws from the site's own stream; noise off: their expectations, as
-//                  fractions of the site, evaluated with relax() at every site (no idle skip)
+//                  fractions of the site, evaluated with relax() at every site (no idle skip). Fresh
+//                  renewal, B > 1, noise on: at k = 0 or k = B the attaching contacts stay unspread (one
+//                  count per site, one class), spread over the bins at the first step with 0 < k < B
+//                  (exact: docs/discrete.md, "Unspread arrivals")
 //   4. stress      σ̄_i' = relax(σ̄_i, α Ā_i v_i, Y_i |v_i|, Δt),  Ā = (A + A')/2,
 //                  Y_i = overloaded fraction of the attached contacts at t (1 when none attached)
 // With w = 0 and noise off this is, operation for operation, FrictionLaw::advance (docs/model.md §2 item 1):
@@ -103,8 +106,13 @@ class CountLaw {
   /// Representative threshold s_b of each bin (conditional mean of g on its quantile interval).
   std::span<const double> thresholds() const { return thresholds_; }
   double contacts_per_site() const { return n_contacts_; }
-  /// Attached counts of site i per bin [B] (noise off: expected counts as fractions of the site's N).
+  /// Attached counts of site i per bin [B] (noise off: expected counts as fractions of the site's N). With noise
+  /// on and fresh renewal this first settles the site's unspread arrivals (settle below): a read draws from the
+  /// site's stream, so reading per-bin counts mid-run changes the run's random stream (not its law).
   std::span<const double> attached(std::size_t i) const;
+  /// Attached contacts of site i not yet spread over the bins (noise on, fresh renewal, B > 1; else 0): they joined
+  /// while every bin shared one fate (none overloaded, or all), so their bins did not matter yet.
+  double unspread(std::size_t i) const { return unspread_.empty() ? 0.0 : unspread_[i]; }
   /// Detached counts of site i: [1] (fresh renewal) or per bin [B] (quenched); units as attached().
   std::span<const double> detached(std::size_t i) const;
   double attached_total(std::size_t i) const { return n_att_[i]; }  ///< Σ_b attached(i)
@@ -134,6 +142,9 @@ class CountLaw {
   double step_contacts_sampled(std::size_t i, std::size_t k, double n_over, double detach, double dt);
   double step_contacts_mean(std::size_t i, std::size_t k, double detach, double dt);
   std::size_t overloaded_bins(double tau) const;
+  /// Spread site i's unspread arrivals over the bins (a uniform multinomial from the site's stream; exact: each of
+  /// them fell in a uniform bin independently of what it went through since). Logically const (docs/discrete.md).
+  void settle(std::size_t i) const;
   int pool_threads() const;
   double area_of(double attached_total) const;
   double* att(std::size_t i) { return att_.data() + i * nbins_; }
@@ -148,9 +159,14 @@ class CountLaw {
   bool quenched_ = false, noise_ = true;
 
   // Counts are whole numbers held in doubles (noise on), or real fractions of the site (noise off).
-  std::vector<double> att_;        ///< [sites × B] attached counts
+  // att_ and unspread_ are mutable for settle(), which a const reader of the bins calls.
+  mutable std::vector<double> att_;   ///< [sites × B] attached counts, the unspread ones (unspread_) excepted
+  /// [sites] (noise on, fresh renewal, B > 1; else empty) attached contacts that joined while every bin shared one
+  /// fate, each in a uniform bin not drawn yet: a step with k = 0 or k = B costs two or three draws instead of
+  /// one per bin (docs/discrete.md, "Unspread arrivals").
+  mutable std::vector<double> unspread_;
   std::vector<double> det_;        ///< [sites × (1 | B)] detached counts
-  std::vector<double> n_att_;      ///< [sites] Σ_b att
+  std::vector<double> n_att_;      ///< [sites] Σ_b att + unspread
   std::vector<double> area_;       ///< [sites] A = n_att / N
   std::vector<double> sigma_bar_;  ///< [sites]
   /// [sites] site_engine(seed, i), seeded at the site's first draw (engine_at): a site that never draws — stuck ahead

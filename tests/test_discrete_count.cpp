@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <sstream>
 #include <vector>
 
 #include "compare/runner.hpp"
@@ -20,6 +21,7 @@
 #include "continuum/friction_law.hpp"
 #include "discrete/binomial.hpp"
 #include "discrete/count_law.hpp"
+#include "discrete_agent_helpers.hpp"
 #include "discrete/streams.hpp"
 #include "scenes.hpp"
 
@@ -238,6 +240,103 @@ TEST_CASE("discrete count: one step, w > 0: every bin's marginal law (fresh and 
   }
 }
 
+TEST_CASE("discrete count: one step with every bin overloaded or none: the unspread arrivals", "[discrete][count]") {
+  // Fresh renewal, uniform w = 0.2, B = 4, N = 80, A = 0.5 (10 attached per bin, 40 detached), v = 1, Δt = 0.05,
+  // 20000 steps from the same state. With τ above the strongest threshold (k = B) or below the weakest (k = 0) the
+  // attaching contacts are not spread over the bins at the step (they wait as unspread arrivals, docs/discrete.md);
+  // reading the bins spreads them. The bins read must follow the law of the spread-at-once step:
+  //   n_b' ~ Bin(10, P_b(att→att)) + Bin(40, P_b(det→att)/B),
+  // rates d = κv in every bin (k = B) or in none (k = 0). Four bins at 1e-3/4 each (Bonferroni): false-alarm rate
+  // ≤ 1e-3 per case. Also: the step leaves arrivals unspread, and a read spreads them all, keeping the total.
+  const double alpha = 1e-3 / 4, v = 1.0, dt = 0.05, area = 0.5;
+  const int trials = 20000;
+  const bool all_over = GENERATE(true, false);
+  auto p = params(80, "uniform", 0.2);
+  p.bins = 4;
+  CountLaw law(paper, p, 1);
+  REQUIRE(law.bins() == 4);
+  // τ = (σ̄ + ηv)/A: 1.5 (above s_3 ≈ 1.26) or 0.5 (below s_0 ≈ 0.74)
+  const double tau = all_over ? 1.5 : 0.5, sigma_bar = tau * area - paper.eta * v;
+  law.set_site(0, area, sigma_bar);
+  REQUIRE(law.overloaded_fraction(0, v) == (all_over ? 1.0 : 0.0));
+  const double vv[1] = {v};
+  law.advance(dt, vv);
+  CHECK(law.unspread(0) > 0.0);
+  const double total = law.attached_total(0);
+  double read = 0.0;
+  for (const double n : law.attached(0)) read += n;
+  CHECK(law.unspread(0) == 0.0);
+  CHECK(read == total);
+  const auto tr = core::two_state_transition(1.0, all_over ? paper.kappa * v : 0.0, dt);
+  for (int b = 0; b < 4; ++b) {
+    const auto h = one_step_histogram(law, area, sigma_bar, v, dt, b, trials);
+    const auto pmf = convolve(binomial_pmf(10, tr.stay_attached), binomial_pmf(40, tr.become_attached / 4.0));
+    std::vector<double> full(81, 0.0);
+    std::copy(pmf.begin(), pmf.end(), full.begin());
+    const auto c = chi_square(h, full, trials, alpha);
+    const std::string what = std::string(all_over ? "k = B" : "k = 0") + " bin " + std::to_string(b);
+    report(what.c_str(), c, alpha);
+    CHECK(c.stat < c.critical);
+  }
+}
+
+namespace {
+// A sliding site from the stuck state: fresh uniform thresholds w = 0.2, B = 8, N = 400, imposed v, Δt = 0.05,
+// 200 steps from A = 1, τ = 1.05: the bins part overloaded; then, as contacts detach and τ rises, every bin (k = B,
+// arrivals unspread, for ~100 steps); then σ̄ relaxes, k falls below B (the arrivals are spread) and the site
+// re-sticks (A grows, k = 0 again with arrivals unspread). `read_every_step` reads the bins after each step, so that no arrival stays unspread
+// (the bins then evolve as when every arrival was spread at its step); otherwise they are read once, at the end.
+struct SlidingEnd {
+  std::vector<double> area, sigma, bin_low, bin_high;
+};
+SlidingEnd sliding_from_stuck(bool read_every_step, double v, int trials, std::uint64_t seed0) {
+  SlidingEnd r;
+  for (int t = 0; t < trials; ++t) {
+    auto p = params(400, "uniform", 0.2);
+    p.bins = 8;
+    p.seed = seed0 + static_cast<std::uint64_t>(t);
+    CountLaw law(paper, p, 1);
+    law.set_site(0, 1.0, 1.05 - paper.eta * v);
+    const double vv[1] = {v};
+    for (int n = 0; n < 200; ++n) {
+      law.advance(0.05, vv);
+      if (read_every_step) (void)law.attached(0);
+    }
+    const auto bins = law.attached(0);
+    r.area.push_back(law.contact_area()[0]);
+    r.sigma.push_back(law.sigma_bar()[0]);
+    r.bin_low.push_back(bins[0]);
+    r.bin_high.push_back(bins[7]);
+  }
+  return r;
+}
+}  // namespace
+
+TEST_CASE("discrete count: unspread arrivals leave the law of a sliding site unchanged", "[discrete][count]") {
+  // sliding_from_stuck, 1500 seeds each way, v = 0.5: two-sample KS on A, σ̄ and the counts of the weakest and the
+  // strongest bin at the end, each at 1e-3/4 (Bonferroni; family false-alarm rate ≤ 1e-3; KS is conservative on the
+  // tied counts). Power: the tests on A, σ̄ and the strongest bin reject, at the same level, the run at v = 0.55 (a
+  // 10 % change of the detach rate), so they would see an error of that size in the unspread bookkeeping (the
+  // weakest bin's end count hardly depends on v: ~7.5 contacts either way).
+  const int trials = 1500;
+  const double alpha = 1e-3 / 4;
+  const auto lazy = sliding_from_stuck(false, 0.5, trials, 1000);
+  const auto eager = sliding_from_stuck(true, 0.5, trials, 900000);
+  const auto faster = sliding_from_stuck(true, 0.55, trials, 900000);
+  const std::pair<const char*, std::vector<double> SlidingEnd::*> what[] = {
+      {"A", &SlidingEnd::area}, {"sigma_bar", &SlidingEnd::sigma}, {"bin 0", &SlidingEnd::bin_low},
+      {"bin 7", &SlidingEnd::bin_high}};
+  for (const auto& [name, field] : what) {
+    const auto same = testing::ks_two_sample(lazy.*field, eager.*field);
+    const auto other = testing::ks_two_sample(lazy.*field, faster.*field);
+    std::printf("unspread vs spread each step, %-9s: KS D = %.4f p = %.3g; vs v x 1.1: D = %.4f p = %.3g\n", name,
+                same.d, same.p, other.d, other.p);
+    INFO(name);
+    CHECK(same.p > alpha);
+    if (field != &SlidingEnd::bin_low) CHECK(other.p < alpha);
+  }
+}
+
 TEST_CASE("discrete count: noise off: one step equals the closed forms", "[discrete][count]") {
   // Exact (bitwise) against relax() of core/exact_update.hpp, which is how the expectation is
   // evaluated; and to 1e-15 relative (a few ulps) against the two-state form
@@ -384,6 +483,58 @@ TEST_CASE("discrete count: save_state / load_state continue bit for bit", "[disc
     CountLaw wrong(paper, params(400), 3);
     CHECK_THROWS_AS(wrong.load_state(saved), std::invalid_argument);
   }
+}
+
+TEST_CASE("discrete count: a saved state keeps the unspread arrivals, and a version-1 state still loads", "[discrete][count]") {
+  // Fresh uniform thresholds, B = 8, every bin overloaded (τ ≈ 1.5): after a few steps the site holds unspread
+  // arrivals. Saving must not spread them (it would draw), and the loaded law continues bit for bit, spreading them
+  // at the same step. A version-1 text (this state with its unspread field removed, settled first) loads.
+  auto p = params(400, "uniform", 0.2);
+  p.bins = 8;
+  CountLaw law(paper, p, 2);
+  for (std::size_t i = 0; i < 2; ++i) law.set_site(i, 0.5, 0.7);
+  const double v[2] = {1.0, 1.0};
+  for (int n = 0; n < 5; ++n) law.advance(0.01, v);
+  REQUIRE(law.unspread(0) > 0.0);
+  const auto engine_before = law.engine(0);
+  const std::string saved = law.save_state();
+  CHECK(law.engine(0) == engine_before);  // saving drew nothing
+  CHECK(saved.rfind("slipfront-count-law 2 ", 0) == 0);
+  CountLaw other(paper, p, 2);
+  other.load_state(saved);
+  CHECK(other.unspread(0) == law.unspread(0));
+  CHECK(other.save_state() == saved);
+  const double slow[2] = {0.05, 0.05};  // σ̄ relaxes below the strongest threshold: the arrivals get spread
+  bool spread = false;
+  for (int n = 0; n < 400; ++n) {
+    const bool held = law.unspread(0) > 0.0;
+    law.advance(0.01, n < 50 ? v : slow);
+    other.advance(0.01, n < 50 ? v : slow);
+    spread |= held && law.unspread(0) == 0.0;
+  }
+  CHECK(spread);
+  CHECK(other.save_state() == law.save_state());
+
+  // version 1: every site settled (a read spreads), then each site's unspread field (after its 8 bins) removed
+  for (std::size_t i = 0; i < 2; ++i) (void)law.attached(i);
+  std::istringstream in(law.save_state());
+  std::string header, out;
+  std::getline(in, header);
+  REQUIRE(header.rfind("slipfront-count-law 2 ", 0) == 0);
+  out = "slipfront-count-law 1 " + header.substr(22) + "\n";
+  for (std::string numbers, engine; std::getline(in, numbers) && std::getline(in, engine);) {
+    std::istringstream tok(numbers);
+    std::vector<std::string> t;
+    for (std::string x; tok >> x;) t.push_back(x);
+    REQUIRE(t.size() == 1 + 8 + 1 + 1);  // σ̄, the bins, unspread, the detached pool
+    REQUIRE(std::strtod(t[9].c_str(), nullptr) == 0.0);
+    t.erase(t.begin() + 9);
+    for (const auto& x : t) out += x + " ";
+    out += "\n" + engine + "\n";
+  }
+  CountLaw old(paper, p, 2);
+  old.load_state(out);
+  CHECK(old.save_state() == law.save_state());
 }
 
 TEST_CASE("discrete count: bad parameters are refused, naming the key", "[discrete][count]") {

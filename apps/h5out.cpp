@@ -446,8 +446,10 @@ void write_image_file(const std::filesystem::path& tmp, std::span<const char> im
   if (::close(fd) != 0) throw OutputError("cannot close " + tmp.string() + ": " + errno_text(errno));
 }
 
-// The image HDF5 holds (which starts at its superblock, after any user block) written to `tmp`; a file
-// created checksummed gets its user block in front: the checksum of the image (checksum_block).
+// The in-memory file written to `tmp` from the driver's own buffer (no copy of the image: for fig1's 5.5 MB that copy
+// cost ~1400 page faults and a memcpy, docs/performance.md §14). The core driver holds the file from address 0, any
+// user block included (HDF5 never writes it); a file created checksummed gets the checksum of the rest, the image
+// H5Fget_file_image would return, written into its user block (checksum_block).
 void save_image(Hid& file, const std::filesystem::path& tmp) {
   check(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), "flush the file image of " + tmp.string());
   const auto block = static_cast<std::size_t>(user_block_of(file.get(), tmp));
@@ -455,18 +457,16 @@ void save_image(Hid& file, const std::filesystem::path& tmp) {
     throw OutputError("HDF5: unexpected user block of " + std::to_string(block) + " bytes in " + tmp.string());
   const ssize_t size = H5Fget_file_image(file.get(), nullptr, 0);
   if (size < 0) throw OutputError("HDF5: cannot get the file image of " + tmp.string());
-  // Left uninitialised (new char[], not a vector): HDF5 fills every byte, and zeroing 5 MB of fresh pages
-  // first cost ~2 ms of fig1's write.
-  const std::size_t total = block + static_cast<std::size_t>(size);
-  const std::unique_ptr<char[]> image(new char[total]);
-  if (H5Fget_file_image(file.get(), image.get() + block, static_cast<std::size_t>(size)) != size)
-    throw OutputError("HDF5: cannot copy the file image of " + tmp.string());
-  file.close("close the in-memory file " + tmp.string());
+  void* handle = nullptr;  // the core driver's handle: the address of its buffer pointer
+  check(H5Fget_vfd_handle(file.get(), H5P_DEFAULT, &handle), "get the in-memory buffer of " + tmp.string());
+  char* mem = handle ? *static_cast<char**>(handle) : nullptr;
+  if (mem == nullptr) throw OutputError("HDF5: no in-memory buffer for " + tmp.string());
   if (block != 0) {
-    const std::string b = checksum_block({image.get() + block, static_cast<std::size_t>(size)});
-    std::copy(b.begin(), b.end(), image.get());
+    const std::string b = checksum_block({mem + block, static_cast<std::size_t>(size)});
+    std::copy(b.begin(), b.end(), mem);
   }
-  write_image_file(tmp, {image.get(), total});
+  write_image_file(tmp, {mem, block + static_cast<std::size_t>(size)});
+  file.close("close the in-memory file " + tmp.string());
 }
 
 void write_file(const std::filesystem::path& tmp, const compare::Scene& scene, const std::string& resolved_toml,

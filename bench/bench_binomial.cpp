@@ -1,6 +1,7 @@
 // The count representation's binomial draws (discrete/binomial.hpp) against boost's binomial_distribution built
 // per draw, the baseline, in one process: the draw pattern of one disordered site-step with fresh renewal, 64 bins
-// (discrete/count_law.cpp: step_contacts_sampled) — k = 32 overloaded bins lose contacts at one shared rate, then
+// (discrete/count_law.cpp: step_contacts_sampled, as it was written for τ inside g's support; the study's sites turned
+// out to sit at k = B, see the law below) — k = 32 overloaded bins lose contacts at one shared rate, then
 // the new attachments are spread over the bins by successive binomials 1/(B − b) — at the rates and steps of
 // validity_friction's sweep, N = 10^3 … 10^5 contacts per site.
 // Both draw the same numbers (tests/test_discrete_count.cpp); the ratio is the cost of boost's set-up (its pow)

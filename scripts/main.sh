@@ -67,7 +67,7 @@ launch() {
 drain() { while ((${#name_of[@]} > 0)); do finish_one; done; }
 wanted() { [[ $part == all || $1 != *strip* ]]; }  # wanted NAME: whether the step belongs to --part
 
-# The steps, each a function of its name, listed longest first (CPU seconds on this machine, 2026-11-24, in
+# The steps, each a function of its name, listed longest first (CPU seconds on this machine, 2026-11-25, in
 # brackets; what is not listed runs after, in name order, so a new scene or study needs no entry here).
 scene() { "$slipfront" run "configs/$1.toml" --out "$out/$1" --force; }
 study() { "$slipfront" study "configs/studies/$1.toml" --out "$out/studies/$1" --force -j 1; }
@@ -95,26 +95,26 @@ collapse() {
 homogeneous_front() { scene homogeneous_front && "$slipfront" fronts configs/homogeneous_front.toml --scaling --out "$out/homogeneous_front" --force; }
 
 longest_first=(
-  "study validity_friction"     # (72)
-  "study validity_fig1"         # (66)
-  "study strip_height"          # (46)
+  "study validity_fig1"         # (64)
+  "study strip_height"          # (47)
+  "collapse 100000"             # (34)
   "study fig2_strip"            # (32)
-  "collapse 100000"             # (27)
   "scene contacts_strip"        # (24)
-  "scene contacts_disorder"     # (23)
+  "scene contacts_disorder"     # (24)
   "study disorder_limit_fig1"   # (19)
-  "study front_speeds_N"        # (17)
-  "study front_branch"          # (13)
+  "study validity_friction"     # (18)
+  "study front_speeds_N"        # (18)
+  "study front_branch"          # (14)
   "study front_spectrum"        # (13)
   "study steady_front_N"        # (12)
-  "homogeneous_front"           # (3 + 4, 10 beside another step)
   "study strip_cmin_height"     # (9)
-  "study disorder_limit_law"    # (6)
-  "scene fig1_strip"            # (5)
-  "scene homogeneous_strip"     # (5)
-  "scene contacts"              # (5)
-  "collapse 1000"               # (5)
-  "collapse 16"                 # (4)
+  "homogeneous_front"           # (3 + 4, 8 beside another step)
+  "scene contacts"              # (7)
+  "scene fig1_strip"            # (6)
+  "scene homogeneous_strip"     # (6)
+  "collapse 1000"               # (6)
+  "collapse 16"                 # (6)
+  "study disorder_limit_law"    # (5)
   "study fig2_sweep"            # (4)
 )
 steps=("${longest_first[@]}")

@@ -14,6 +14,7 @@
 // before. What each costs per step is what validity_friction's disordered group spends.
 //
 //   ./bench_binomial          prints, per N, ns per site-step of each and the ratios to the baseline
+//   SLIPFRONT_BENCH_QUICK=1 ./bench_binomial    the same tables, each case timed for 10 ms (the default test tier)
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -21,6 +22,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <map>
 #include <vector>
 
@@ -160,7 +162,12 @@ class Collect : public benchmark::ConsoleReporter {
 }  // namespace
 
 int main(int argc, char** argv) {
-  benchmark::Initialize(&argc, argv);
+  // SLIPFRONT_BENCH_QUICK=1 (the default test tier): each case timed for 10 ms instead of 0.5 s, a smoke test of the tables
+  std::vector<char*> args(argv, argv + argc);
+  char quick_time[] = "--benchmark_min_time=0.01";
+  if (std::getenv("SLIPFRONT_BENCH_QUICK") != nullptr) args.push_back(quick_time);
+  int nargs = static_cast<int>(args.size());
+  benchmark::Initialize(&nargs, args.data());
   Collect reporter;
   benchmark::RunSpecifiedBenchmarks(&reporter);
   std::printf("\none disordered site-step at each of the 13 rates (64 bins, 32 overloaded): boost per draw (the baseline), "

@@ -106,12 +106,18 @@ TEST_CASE("estimate: memory grows with what the run keeps until the end", "[esti
   agent.discrete.representation = "agent";
   agent.discrete.contacts_per_site = 100000;
   CHECK(compare::estimate(agent).memory_bytes - base.memory_bytes > 601.0 * 100000 * 16.0);
-  // the count representation: one random stream (2.5 kB) per site, and its bins
+  // the count representation: one random stream (2.5 kB) per site, and its bins (with fresh renewal, the default,
+  // one more double per site: the unspread arrivals; quenched keeps a detached count per bin instead)
   Scene bins = s;
   bins.discrete.threshold = "uniform";
   bins.discrete.width = 0.1;
   bins.discrete.bins = 4096;
-  CHECK(item(compare::estimate(bins), "count law") - item(base, "count law") == Approx(601.0 * 8.0 * 4095).epsilon(1e-9));
+  CHECK(item(compare::estimate(bins), "count law") - item(base, "count law") ==
+        Approx(601.0 * 8.0 * (4095 + 1)).epsilon(1e-9));
+  Scene quenched = bins;
+  quenched.discrete.renewal = "quenched";
+  CHECK(item(compare::estimate(quenched), "count law") - item(base, "count law") ==
+        Approx(601.0 * 8.0 * (2 * 4095)).epsilon(1e-9));
   CHECK(item(base, "count law") > 601.0 * 2500.0);
   // threads: a stack each (8 threads: 601 sites are 10 chunks of 64)
   Scene threads = s;

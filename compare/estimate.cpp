@@ -20,7 +20,9 @@ using core::ParamError;
 constexpr double KiB = 1024.0, MiB = KiB * KiB, GiB = MiB * KiB;
 constexpr double word = 8.0;                   // a double
 constexpr double growth = 2.0;                 // a vector grown by push_back holds up to twice its size
-constexpr double base_bytes = 32.0 * MiB;      // the program, its libraries and HDF5 (measured: 31.5 MiB for a 0D sweep)
+// the program, its libraries and HDF5: 11.7 MiB measured for a 0D sweep (31.5 before HDF5 was linked statically), with
+// a margin for what the terms below leave out (fig1 at L = 3000 peaks 2.3 MiB above them with 12)
+constexpr double base_bytes = 16.0 * MiB;
 constexpr double engine_bytes = static_cast<double>(sizeof(discrete::Engine));  // one stream per site: 2.5 kB
 constexpr double engine_text_bytes = 6.4 * KiB;  // one stream in a checkpoint: its state as text (312 numbers)
 constexpr double thread_bytes = 256.0 * KiB;   // resident part of a worker thread (stack pages touched, TLS)
@@ -399,7 +401,7 @@ const StepCosts& step_costs() {
       .adaptive_bulk = 100.0,
       .count_idle = 1.0,
       .count_active = 100.0,
-      .count_bin = 60.0,
+      .count_bin = 4.0,
       .count_mean = 20.0,
       .count_mean_bin = 1.3,
       .agent_site = 5.0,

@@ -44,19 +44,32 @@ double boost_draw(discrete::Engine& e, double n, double p) {
   return static_cast<double>(d(e));
 }
 
+// validity_friction's sweep (configs/studies/validity_friction.toml): 13 rates v = 0.02 … 10 (log), each with its
+// step dt = (t_end + slip_end/v)/steps = (20 + 40/v)/3000
+struct SweepPoint {
+  double v, dt;
+};
+std::vector<SweepPoint> validity_friction_sweep() {
+  std::vector<SweepPoint> out;
+  for (int j = 0; j < 13; ++j) {
+    const double v = 0.02 * std::pow(500.0, j / 12.0);
+    out.push_back({v, (20.0 + 40.0 / v) / 3000.0});
+  }
+  return out;
+}
+
 template <int mode>  // 0 boost per draw, 1 cached rates, 2 cached rates and the sparse spread by placement
 void BM_site_step(benchmark::State& state) {
   constexpr bool cached = mode >= 1;
-  // validity_friction's sweep (configs/studies/validity_friction.toml): 13 rates v = 0.02 … 10 (log), each with its
-  // step dt = (t_end + slip_end/v)/steps = (20 + 40/v)/3000 and the steady state A = 1/(1 + κv) (κ = 8); an
-  // iteration is one site-step at each of the 13 rates
+  // validity_friction_sweep(), each rate from the steady state A = 1/(1 + κv) (κ = 8); an iteration is one site-step
+  // at each of the 13 rates
   const double N = static_cast<double>(state.range(0)), kappa = 8.0;
   struct Rate {
     double leave_p, attach_p, area;
   };
   std::vector<Rate> rates;
-  for (int j = 0; j < 13; ++j) {
-    const double v = 0.02 * std::pow(500.0, j / 12.0), dt = (20.0 + 40.0 / v) / 3000.0, d = kappa * v, r = 1.0 + d;
+  for (const auto [v, dt] : validity_friction_sweep()) {
+    const double d = kappa * v, r = 1.0 + d;
     rates.push_back({d * -std::expm1(-r * dt) / r, -std::expm1(-dt), 1.0 / r});
   }
   discrete::Engine e = discrete::site_engine(3, 0);
@@ -115,8 +128,7 @@ void BM_count_law(benchmark::State& state) {
     double v, dt;
   };
   std::vector<Point> points;
-  for (int j = 0; j < 13; ++j) {  // validity_friction's rates and steps, as above, each from its steady state
-    const double v = 0.02 * std::pow(500.0, j / 12.0), dt = (20.0 + 40.0 / v) / 3000.0;
+  for (const auto [v, dt] : validity_friction_sweep()) {  // each from its steady state
     const double a = 1.0 / (1.0 + ip.kappa * v);
     points.push_back({discrete::CountLaw(ip, p, 1), v, dt});
     points.back().law.set_site(0, a, ip.alpha * a);

@@ -7,6 +7,7 @@
 
 #include "continuum/friction_law.hpp"
 #include "core/strip.hpp"
+#include "discrete/count_law.hpp"
 #include "discrete/streams.hpp"
 
 namespace slipfront::compare {
@@ -128,7 +129,7 @@ LawCost law_cost(const Scene& s, const std::string& model, double steps) {
   const double n = static_cast<double>(d.contacts_per_site), f = active_fraction(s.drive.loading);
   if (d.representation == "count") {
     const double b = count_bins(d), det = d.renewal == "quenched" ? b : 1.0;
-    const double unspread = d.noise && d.renewal != "quenched" && b > 1.0 ? 1.0 : 0.0;  // CountLaw::unspread
+    const double unspread = discrete::CountLaw::keeps_unspread(d, static_cast<std::size_t>(b)) ? 1.0 : 0.0;
     out.bytes_per_site = word * (b + det + 3.0 + unspread) + engine_bytes;
     out.ns_per_site_step = d.noise ? c.count_idle + f * (c.count_active + (b > 1.0 ? c.count_bin * b : 0.0))
                                    : c.count_mean + c.count_mean_bin * b;

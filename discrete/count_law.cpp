@@ -147,7 +147,7 @@ CountLaw::CountLaw(const core::InterfaceParams& ip, const DiscreteParams& dp, st
     thresholds_[b] = g_.conditional_mean(static_cast<double>(b) / B, static_cast<double>(b + 1) / B);
   }
   att_.assign(sites * nbins_, 0.0);
-  if (noise_ && !quenched_ && nbins_ > 1) unspread_.assign(sites, 0.0);
+  if (keeps_unspread(dp_, nbins_)) unspread_.assign(sites, 0.0);
   det_.assign(sites * det_stride_, 0.0);
   n_att_.assign(sites, 0.0);
   area_.assign(sites, 1.0);
@@ -235,15 +235,20 @@ std::size_t CountLaw::overloaded_bins(double tau) const {
   return static_cast<std::size_t>(std::lower_bound(thresholds_.begin(), thresholds_.end(), tau) - thresholds_.begin());
 }
 
-// The unspread arrivals are wholly overloaded at k = B and wholly not at k = 0; in between they are settled first.
+// The unspread arrivals are wholly overloaded at k = B and wholly not at k = 0; in between (the bins now differ in
+// fate) they are settled first.
+double CountLaw::overloaded_count(std::size_t i, std::size_t k) const {
+  if (k > 0 && k < nbins_) settle(i);
+  double over = k == nbins_ ? unspread(i) : 0.0;
+  for (std::size_t b = 0; b < k; ++b) over += att_[i * nbins_ + b];
+  return over;
+}
+
 double CountLaw::overloaded_fraction(std::size_t i, double v) const {
   const double tau = core::contact_stress(sigma_bar_[i] + ip_.eta * v, area_[i]);
   const std::size_t k = overloaded_bins(tau);
   if (!(n_att_[i] > 0.0)) return 1.0;
-  if (k > 0 && k < nbins_) settle(i);
-  double over = k == nbins_ ? unspread(i) : 0.0;
-  for (std::size_t b = 0; b < k; ++b) over += att_[i * nbins_ + b];
-  return over / n_att_[i];
+  return overloaded_count(i, k) / n_att_[i];
 }
 
 void CountLaw::settle(std::size_t i) const {
@@ -268,7 +273,6 @@ core::LawStepInfo CountLaw::advance(double dt, std::span<const double> v) {
 
 bool CountLaw::advance_sites(std::size_t lo, std::size_t hi, double dt, const double* v) {
   const double alpha = ip_.alpha, kappa = ip_.kappa, eta = ip_.eta;
-  const std::size_t B = nbins_;
   bool any = false;
   for (std::size_t i = lo; i < hi; ++i) {
     const double vi = v[i], speed = std::abs(vi), a0 = area_[i], sb = sigma_bar_[i];
@@ -284,11 +288,8 @@ bool CountLaw::advance_sites(std::size_t lo, std::size_t hi, double dt, const do
       sigma_bar_[i] = detail::relax_stress(sb, alpha * 0.5 * (a0 + a0) * vi, 0.0 * speed, dt);
       continue;
     }
-    double* at = att_.data() + i * B;
     const std::size_t k = overloaded_bins(tau);
-    if (k > 0 && k < B) settle(i);  // the bins now differ in fate: the unspread arrivals need theirs
-    double n_over = k == B ? unspread(i) : 0.0;
-    for (std::size_t b = 0; b < k; ++b) n_over += at[b];
+    const double n_over = overloaded_count(i, k);
     const double n_att = n_att_[i];
     const double y = n_att > 0.0 ? n_over / n_att : 1.0;
     any |= speed > 0.0 && (n_over > 0.0 || !(n_att > 0.0));
@@ -315,30 +316,15 @@ double CountLaw::step_contacts_sampled(std::size_t i, std::size_t k, double n_ov
   const core::TwoStateTransition over_tr = k > 0 ? core::two_state_transition(1.0, detach, dt) : free_tr;
   const double leave_p = detach * over_tr.become_attached;  // 1 − P(att→att) = d (1 − e^{−rΔt})/r
   Engine& e = engine_at(i);
-  if (!unspread_.empty() && (k == 0 || k == B)) {
-    // Every bin shares one fate (docs/discrete.md, "Unspread arrivals"): the attaching contacts join the unspread
-    // ones instead of being spread over the bins, and the unspread ones detach as one class.
-    const double x = binomial(e, n_det, k == B ? over_tr.become_attached : free_tr.become_attached);
-    double left = 0.0;
-    if (detach > 0.0 && k == B) {
-      const detail::BinomialRate leave(leave_p);
-      for (std::size_t b = 0; b < B; ++b) {
-        const double y = binomial(e, at[b], leave);
-        at[b] -= y;
-        left += y;
-      }
-      const double y = binomial(e, unspread_[i], leave);
-      unspread_[i] -= y;
-      left += y;
-    }
-    unspread_[i] += x;
-    de[0] = n_det - x + left;
-  } else if (!quenched_) {
+  if (!quenched_) {
     // Fresh thresholds: a detached contact falls in each bin with probability 1/B, so k/B of the
     // pool meets the overloaded rates (multinomial over bins, drawn as successive binomials).
     const double m_over = k == 0 ? 0.0 : k == B ? n_det : binomial(e, n_det, static_cast<double>(k) / static_cast<double>(B));
     const double x_over = binomial(e, m_over, over_tr.become_attached);
     const double x_free = binomial(e, n_det - m_over, free_tr.become_attached);
+    // Every bin sharing one fate (k = 0 or B; docs/discrete.md, "Unspread arrivals"), the unspread arrivals are one
+    // class: they detach together, and the attaching contacts join them instead of being spread over the bins.
+    const bool unspread = !unspread_.empty() && (k == 0 || k == B);
     double left = 0.0;
     if (detach > 0.0 && k > 0) {
       const detail::BinomialRate leave(leave_p);  // one rate for every overloaded bin
@@ -347,9 +333,18 @@ double CountLaw::step_contacts_sampled(std::size_t i, std::size_t k, double n_ov
         at[b] -= x;
         left += x;
       }
+      if (unspread) {
+        const double x = binomial(e, unspread_[i], leave);
+        unspread_[i] -= x;
+        left += x;
+      }
     }
-    detail::spread_uniform(e, x_over, at, 0, k, share_);
-    detail::spread_uniform(e, x_free, at, k, B, share_);
+    if (unspread) {
+      unspread_[i] += x_over + x_free;  // (one of them is 0)
+    } else {
+      detail::spread_uniform(e, x_over, at, 0, k, share_);
+      detail::spread_uniform(e, x_free, at, k, B, share_);
+    }
     de[0] = n_det - x_over - x_free + left;
   } else {
     const detail::BinomialRate leave(leave_p), attach_over(over_tr.become_attached), attach_free(free_tr.become_attached);

@@ -113,6 +113,11 @@ class CountLaw {
   /// Attached contacts of site i not yet spread over the bins (noise on, fresh renewal, B > 1; else 0): they joined
   /// while every bin shared one fate (none overloaded, or all), so their bins did not matter yet.
   double unspread(std::size_t i) const { return unspread_.empty() ? 0.0 : unspread_[i]; }
+  /// Whether a law with these parameters and `bins` threshold bins keeps unspread arrivals: noise on, fresh renewal,
+  /// more than one bin (the memory estimate counts them by this too).
+  static bool keeps_unspread(const DiscreteParams& dp, std::size_t bins) {
+    return dp.noise && dp.renewal != "quenched" && bins > 1;
+  }
   /// Detached counts of site i: [1] (fresh renewal) or per bin [B] (quenched); units as attached().
   std::span<const double> detached(std::size_t i) const;
   double attached_total(std::size_t i) const { return n_att_[i]; }  ///< Σ_b attached(i)
@@ -142,6 +147,9 @@ class CountLaw {
   double step_contacts_sampled(std::size_t i, std::size_t k, double n_over, double detach, double dt);
   double step_contacts_mean(std::size_t i, std::size_t k, double detach, double dt);
   std::size_t overloaded_bins(double tau) const;
+  /// Attached contacts of site i in the overloaded bins [0, k), the unspread ones included (settled first when
+  /// 0 < k < B).
+  double overloaded_count(std::size_t i, std::size_t k) const;
   /// Spread site i's unspread arrivals over the bins (a uniform multinomial from the site's stream; exact: each of
   /// them fell in a uniform bin independently of what it went through since). Logically const (docs/discrete.md).
   void settle(std::size_t i) const;

@@ -4,7 +4,8 @@
 // method-of-lines ODE:
 //   explicit          the reference scheme (core/stepper.hpp) at several cfl
 //   adaptive          core::AdaptiveSimulation at several rtol (atol = rtol/100), and the
-//                     variant that recomputes event steps (adaptive_retake)
+//                     variant that recomputes event steps (adaptive_retake), and the one that groups
+//                     switchings under the error control (adaptive_grouped: group_switchings = 1)
 //   cvode, cvode_roots  the SUNDIALS CVODE peer (BDF order ≤ 2, banded DQ Jacobian), Θ inside the RHS
 //                     or switched at located roots, atol = rtol/100 and atol = rtol
 // Errors against a reference = the time-converged solution of the same ODE: the adaptive integrator
@@ -174,9 +175,11 @@ struct Study {
         snaps(fig1 ? std::vector<double>{60, 110, 130} : std::vector<double>{5, 10}),
         bulk(scene.bulk, scene.drive, scene.interface, scene.grid.dx) {}
 
-  bench::RunRecord adaptive(double rtol, core::EventEnd end = core::EventEnd::interpolate, double window = -1.0) const {
+  bench::RunRecord adaptive(double rtol, core::EventEnd end = core::EventEnd::interpolate, double window = -1.0,
+                            double group = 0.0) const {
     core::AdaptiveOptions o;
     o.event_window = window >= 0.0 ? window : opt.event_window;
+    o.group_fraction = group;
     o.rtol = rtol;
     o.atol = rtol * 1e-2;
     o.event_end = end;
@@ -243,6 +246,7 @@ std::vector<Row> run_sweeps(const Study& s, const bench::RunRecord& ref) {
   for (double t : rtols) add("adaptive", [&] { return s.adaptive(t); });
   const std::vector<double> retake = quick ? std::vector<double>{1e-2} : std::vector<double>{1e-1, 1e-2, 1e-3, 1e-4, 1e-5};
   for (double t : retake) add("adaptive_retake", [&] { return s.adaptive(t, core::EventEnd::retake); });
+  for (double t : rtols) add("adaptive_grouped", [&] { return s.adaptive(t, core::EventEnd::interpolate, -1.0, 1.0); });
   const std::vector<double> ctols = quick ? std::vector<double>{1e-3, 1e-4}
                                           : std::vector<double>{1e-2, 1e-3, 1e-4, 1e-5, 1e-6};
   for (double t : ctols) add("cvode", [&] { return s.cvode(t, 1e-2, false); });

@@ -73,7 +73,7 @@ struct AdaptiveOptions {
   /// switching ends at a later one when every site crossing in between, flipped late by δ_i, leaves a local error
   /// δ_i |Δ rate_i| (the jump of its A' and σ̄' at its switching) within group_fraction of the step's tolerance
   /// (atol + rtol · the field's scale, as in the error norm). 0: every switching ends a step (exact).
-  double group_fraction = 0.0;
+  double group_fraction = TimeParams{}.group_switchings;
   /// Hysteresis of the Θ switching: a stuck site starts sliding when |σ|/A crosses 1 + band, a
   /// sliding one sticks when it crosses 1 − band (each step ends there, so the band is all the
   /// delay there is: ~band/(d(|σ|/A)/dt), 1e-8 time units for fig1).

@@ -17,8 +17,9 @@
 //   - Θ piecewise constant inside every step, switched by event location: the zeros of
 //     g_i = law.load = |σ̄_i + η v_i| against A_i (|σ|/A = 1) are located on the dense output of each accepted
 //     step (Illinois regula falsi to 1e-13 in time) and the step ends at the first one, where Θ_i flips
-//     (with every other site that has crossed by then). A hysteresis band (switch_band, relative
-//     1e-9) keeps a site that just flipped from flipping back at once.
+//     (with every other site that has crossed by then) — or, by default (group_fraction = 1, time.group_switchings),
+//     at a later one when the sites flipped late leave a local error within the step's tolerance (docs/numerics.md
+//     §8.7). A hysteresis band (switch_band, relative 1e-9) keeps a site that just flipped from flipping back at once.
 // The state is where it belongs: u and v in the stepper core, A and σ̄ in the law (law.fields(),
 // advanced in place); the work vectors hold stages [u | v | A | σ̄] (4 blocks of n).
 // The explicit scheme stays the reference; this one buys speed at a stated tolerance.

@@ -130,7 +130,7 @@ TEST_CASE("adaptive (slow): at 1 % error, >= 10x less wall time than CVODE and >
 TEST_CASE("adaptive (slow): homogeneous front speed agrees with the explicit scheme", "[adaptive][slow]") {
   // docs/model.md §4 homogeneous_front (σ_d = 0.5, ℓ_n = 150, L = 1000, t_end = 15): a front runs at ~61
   // from the start, switching a site every 0.008 time units, so nothing is quiet and the adaptive
-  // integrator is bounded by the switchings (~1 step each). Tolerance: c_front within 0.5 % of the
+  // integrator is bounded by the switchings (~1 step each with exact switchings; fewer grouped, the default). Tolerance: c_front within 0.5 % of the
   // explicit scheme (cfl 0.5; observed 0.08 %) at rtol 1e-3 and 1 % at 1e-2, with fewer steps.
   const auto s = bench::homogeneous_front_scene();
   const auto e = bench::run_explicit(s, 0.5, {});

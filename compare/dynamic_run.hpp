@@ -240,6 +240,7 @@ class DynamicRun {
       r_.scalars["defect_halvings"] = static_cast<double>(st.defect_halvings);
       r_.scalars["leap_rejected"] = static_cast<double>(st.leap_rejected);
       r_.scalars["located_onsets"] = static_cast<double>(st.located);
+      r_.scalars["relinearised_solves"] = static_cast<double>(st.relinearised);
       r_.scalars["forced_steps"] = static_cast<double>(st.forced);
     }
     r_.scalars["t_reached"] = sim_.time();

@@ -53,6 +53,9 @@ inline KsResult ks_one_sample(std::vector<double> x, const std::function<double(
 /// Two-sample KS test. With ties (e.g. A = n/N) the asymptotic p-value is conservative.
 inline KsResult ks_two_sample(std::vector<double> a, std::vector<double> b) {
   if (a.empty() || b.empty()) throw std::invalid_argument("ks_two_sample: no data");
+  const auto nan = [](double x) { return std::isnan(x); };  // (the merge below would not end on one)
+  if (std::any_of(a.begin(), a.end(), nan) || std::any_of(b.begin(), b.end(), nan))
+    throw std::invalid_argument("ks_two_sample: NaN in the data (map a missing event to a value first)");
   std::sort(a.begin(), a.end());
   std::sort(b.begin(), b.end());
   const double na = static_cast<double>(a.size()), nb = static_cast<double>(b.size());

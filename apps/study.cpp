@@ -793,15 +793,15 @@ struct StudyProgress {
 // continuum, mean_field), the model is run once per distinct scene of that model — the run's group and its
 // overrides without the keys the model does not read (compare::reference_ignores: the seed, N, ...) — by the first
 // run that needs it, while the other runs of this process that need it wait; every run's file holds a copy (label
-// shared_from_run: the run that computed it). Under MPI each rank computes its own. A model that fails or is
+// shared_from_run: the study's first run, in its order, that shares it — not the run that happened to compute it,
+// which depends on the workers' timing: the files are then the same whatever the scheduling, -j and resumes
+// included). Under MPI each rank computes its own. A model that fails or is
 // interrupted is handed to its runs as it is, as each run's own would have been (both are deterministic).
 class SharedReferences {
  public:
   using Result = std::shared_ptr<const compare::ModelResult>;
   Result get(const Study& study, std::size_t i, const std::string& model, const compare::RunControl& ctl) {
-    std::string key = model + "\n" + study.runs[i].group;
-    for (const auto& o : study.runs[i].overrides)
-      if (!compare::reference_ignores(model, o.substr(0, o.find('=')))) key += "\n" + o;
+    const std::string key = key_of(study, i, model);
     std::promise<Result> mine;
     std::shared_future<Result> f;
     bool compute = false;
@@ -821,7 +821,9 @@ class SharedReferences {
         compare::Scene alone = study.scenes[i];
         alone.models = {model};
         auto r = compare::run_scene(alone, ctl);
-        r.at(0).labels["shared_from_run"] = study.runs[i].id;
+        std::size_t first = 0;  // the first run sharing it (i at the latest)
+        while (first < i && key_of(study, first, model) != key) ++first;
+        r.at(0).labels["shared_from_run"] = study.runs[first].id;
         mine.set_value(std::make_shared<const compare::ModelResult>(std::move(r.at(0))));
       } catch (...) {
         mine.set_exception(std::current_exception());
@@ -831,6 +833,13 @@ class SharedReferences {
   }
 
  private:
+  // The model's scene in run i: its group and its overrides without the keys the model does not read.
+  static std::string key_of(const Study& study, std::size_t i, const std::string& model) {
+    std::string key = model + "\n" + study.runs[i].group;
+    for (const auto& o : study.runs[i].overrides)
+      if (!compare::reference_ignores(model, o.substr(0, o.find('=')))) key += "\n" + o;
+    return key;
+  }
   std::mutex m_;
   std::map<std::string, std::shared_future<Result>> cache_;
 };

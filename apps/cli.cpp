@@ -19,6 +19,7 @@
 #include <sstream>
 
 #include "apps/build_info.hpp"
+#include "apps/check_resolution.hpp"
 #include "apps/checkpoint.hpp"
 #include "apps/config.hpp"
 #include "apps/h5out.hpp"
@@ -728,6 +729,7 @@ struct Verbs {
   std::vector<std::string> check_overrides;
   StudyOptions study;
   FrontsOptions fronts;
+  ResolutionCheckOptions resolution;
   fs::path report_dir;
   std::string python = "/usr/bin/python3";
 };
@@ -854,6 +856,7 @@ int main_cli(int argc, char** argv) {
   CLI::App* const study = add_study_verb(app, v.study);
   CLI::App* const fronts = add_fronts_verb(app, v.fronts);
   CLI::App* const report = add_report_verb(app, v.report_dir, v.python);
+  CLI::App* const check_resolution = add_check_resolution_verb(app, v.resolution);
 
   try {
     app.parse(argc, argv);
@@ -863,7 +866,8 @@ int main_cli(int argc, char** argv) {
     return exit_code::usage;
   }
   // An empty --out would silently mean the default directory: refuse it.
-  for (const auto& [sub, dir] : {std::pair{run, &v.run.out}, std::pair{study, &v.study.out}})
+  for (const auto& [sub, dir] : {std::pair{run, &v.run.out}, std::pair{study, &v.study.out},
+                                  std::pair{check_resolution, &v.resolution.out}})
     if (*sub && sub->count("--out") > 0 && dir->empty()) {
       print_error(std::cerr, std::string(sub->get_name()) +
                                  ": --out: the output directory is empty; give a directory, or omit --out for the "
@@ -883,6 +887,10 @@ int main_cli(int argc, char** argv) {
     return study_command(v.study, std::cout, std::cerr);
   }
   if (*report) return report_command(v.report_dir, v.python, std::cerr);
+  if (*check_resolution) {
+    v.resolution.command_line = command_line_of(argc, argv);
+    return check_resolution_command(v.resolution, std::cout, std::cerr);
+  }
   if (*fronts) {
     v.fronts.command_line = command_line_of(argc, argv);
     return fronts_command(v.fronts, std::cout, std::cerr);

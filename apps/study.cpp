@@ -109,11 +109,9 @@ std::vector<std::pair<std::string, std::vector<std::string>>> read_vary(const to
   return out;
 }
 
-// The study file parsed, and its text (errors: ConfigError naming the file, and the line and column of
-// a syntax error). Read by read_config_file: a regular file of at most max_config_bytes.
-toml::table parse_study_file(const fs::path& file, std::string& text) {
+// The study file's text parsed (errors: ConfigError naming the file, and the line and column of a syntax error).
+toml::table parse_study_file(const fs::path& file, const std::string& text) {
   const std::string name = file.string();
-  text = read_config_file(file);
   try {
     return toml::parse(text, name);
   } catch (const toml::parse_error& e) {
@@ -277,6 +275,43 @@ compare::StripCminHeightOptions read_paths(const toml::node& n, const std::strin
   return o;
 }
 
+// [resolution]: the levels and the tolerance of the kind resolution (docs/studies.md), each key checked against its
+// row of compare::resolution_key_domains(), then the rules between keys.
+compare::ResolutionOptions read_resolution(const toml::node& n, const std::string& file) {
+  const auto* t = n.as_table();
+  if (!t) throw ConfigError(file, "resolution", "must be a table [resolution] (keys: levels, coarser, ratio, tolerance, "
+                                                "tolerance_order, seeds)");
+  compare::ResolutionOptions o;
+  for (const auto& [k, v] : *t) {
+    const std::string key = "resolution." + std::string(k.str());
+    const core::KeyDomain* d = core::find_key_domain(compare::resolution_key_domains(), key);
+    if (!d) throw ConfigError(file, key, "unknown key (known keys of [resolution]: levels, coarser, ratio, tolerance, "
+                                         "tolerance_order, seeds)");
+    const bool integer = d->kind == core::KeyKind::integer;
+    if (!integer && !v.is_number()) throw ConfigError(file, key, "expected a number, got " + value_text(v));
+    const double x = integer ? static_cast<double>(checked_integer<std::int64_t>(v, file, key, IntegralFloats::refused))
+                             : v.value<double>().value_or(0.0);
+    try {
+      core::check_in_domain(*d, x);
+    } catch (const core::ParamError& e) {
+      throw ConfigError(file, key, e.reason);
+    }
+    const std::string_view name = k.str();
+    if (name == "levels") o.levels = static_cast<int>(x);
+    else if (name == "coarser") o.coarser = static_cast<int>(x);
+    else if (name == "ratio") o.ratio = x;
+    else if (name == "tolerance") o.tolerance = x;
+    else if (name == "tolerance_order") o.tolerance_order = x;
+    else if (name == "seeds") o.seeds = static_cast<int>(x);
+  }
+  try {
+    compare::check_resolution_options(o);
+  } catch (const core::ParamError& e) {
+    throw ConfigError(file, e.key, e.reason);
+  }
+  return o;
+}
+
 // The keys of a study that runs scenes, refused in one that runs none (StudyKind::compute), and why.
 void refuse_run_keys(const toml::table& t, const std::string& file, const std::string& kind) {
   static const std::pair<const char*, const char*> run_keys[] = {
@@ -298,18 +333,23 @@ void refuse_run_keys(const toml::table& t, const std::string& file, const std::s
 }  // namespace
 
 compare::StudySpec load_study(const fs::path& file, std::string* text) {
-  const std::string name = file.string();
-  std::string file_text;
-  const toml::table t = parse_study_file(file, file_text);
+  std::string file_text = read_config_file(file);
+  compare::StudySpec s = load_study_text(file, file_text);
   if (text) *text = std::move(file_text);
+  return s;
+}
+
+compare::StudySpec load_study_text(const fs::path& file, const std::string& text) {
+  const std::string name = file.string();
+  const toml::table t = parse_study_file(file, text);
   static const std::set<std::string> known{"study", "kind",   "description", "scene",  "set",   "seeds",
                                            "vary",  "group",  "fit_from",    "limits", "paths", "share_references",
-                                           "share_continuum"};
+                                           "share_continuum", "resolution"};
   for (const auto& [k, v] : t)
     if (!known.count(std::string(k.str())))
       throw ConfigError(name, std::string(k.str()),
                         "unknown key (known: study, kind, description, scene, set, seeds, fit_from, vary, group, "
-                        "limits, paths, share_references)");
+                        "limits, paths, share_references, resolution)");
   compare::StudySpec s;
   s.name = read_string(t, name, "study", true);
   check_directory_name(s.name, name, "study", "out/studies/<study>");
@@ -324,6 +364,16 @@ compare::StudySpec load_study(const fs::path& file, std::string* text) {
     if (const auto* n = t.get("paths")) s.paths = read_paths(*n, name);
     return s;
   }
+  if (const auto* n = t.get("resolution")) {
+    if (!compare::find_study_kind(s.kind)->plan)
+      throw ConfigError(name, "resolution", "only the kind resolution has [resolution]; the kind '" + s.kind + "' has none");
+    s.resolution = read_resolution(*n, name);
+  }
+  if (compare::find_study_kind(s.kind)->plan)  // the kind plans its runs from the base scene
+    for (const char* key : {"group", "vary", "seeds"})
+      if (t.get(key))
+        throw ConfigError(name, key, std::string("the kind '") + s.kind + "' plans its runs from the base scene and " +
+                                         "[resolution] (levels, seeds): remove `" + key + "`");
   if (t.get("paths"))
     throw ConfigError(name, "paths",
                       "only a kind without scene runs (strip_cmin_height) has [paths]; the kind '" + s.kind + "' runs scenes");
@@ -642,6 +692,21 @@ void check_models(const compare::StudySpec& spec, const std::string& study_file,
                         "): list the models it needs in the scene, or in the study's `set` (for example 'models=[\"continuum\",\"discrete\"]')");
 }
 
+// A kind that plans its runs (resolution): its checks of the base scene (with `set` and --set), then its groups;
+// --set joins the study's `set`: it makes the base scene the levels refine.
+void plan_groups(compare::StudySpec& spec, const std::string& scene_text, const std::vector<std::string>& extra,
+                 const std::string& study_file) {
+  spec.common.insert(spec.common.end(), extra.begin(), extra.end());
+  const compare::Scene base = parse_scene(scene_text, spec.scene_file, spec.common);
+  const compare::StudyKind& kind = *compare::find_study_kind(spec.kind);
+  try {
+    if (kind.check) kind.check(spec, base);
+    spec.groups = kind.plan(spec, base);
+  } catch (const core::ParamError& e) {
+    throw ConfigError(study_file, e.key, e.reason);
+  }
+}
+
 // (b) The study read and every run validated before any work (every rank does the same): its size
 // within the study's [limits] before any run is expanded, then every run's scene and the models its
 // kind needs. Nothing (the reason printed) on a configuration error.
@@ -649,8 +714,18 @@ std::optional<Study> read_study(const StudyOptions& opts, std::ostream& err) {
   Study study;
   const std::string file = opts.study.string();
   try {
-    study.spec = load_study(opts.study, &study.spec_toml);
+    if (opts.study_text.empty()) {
+      study.spec = load_study(opts.study, &study.spec_toml);
+    } else {
+      study.spec = load_study_text(opts.study, opts.study_text);
+      study.spec_toml = opts.study_text;
+    }
     const std::string scene_text = read_scene_text(study.spec, file);
+    std::vector<std::string> extra = opts.overrides;  // --set, after the study's own overrides in every run
+    if (compare::find_study_kind(study.spec.kind)->plan) {  // ... but before the levels a kind plans from the base scene
+      plan_groups(study.spec, scene_text, extra, file);
+      extra.clear();
+    }
     if (const compare::StudyKind& kind = *compare::find_study_kind(study.spec.kind); kind.compute) {
       // no runs: the base scene with the study's `set` and --set, checked for the kind's computation
       std::vector<std::string> overrides = study.spec.common;
@@ -667,10 +742,10 @@ std::optional<Study> read_study(const StudyOptions& opts, std::ostream& err) {
       study.dir = opts.out.empty() ? fs::path("out") / "studies" / study.spec.name : opts.out;
       return study;
     }
-    study.estimate = check_study_size(study.spec, file, scene_text, opts.overrides);
+    study.estimate = check_study_size(study.spec, file, scene_text, extra);
     study.runs = compare::expand(study.spec);
     for (auto& r : study.runs) {
-      r.overrides.insert(r.overrides.end(), opts.overrides.begin(), opts.overrides.end());
+      r.overrides.insert(r.overrides.end(), extra.begin(), extra.end());
       study.scenes.push_back(parse_scene(scene_text, study.spec.scene_file, r.overrides));
       check_models(study.spec, file, "run " + r.id, study.scenes.back());
       study.resolved.push_back(to_toml(study.scenes.back()));
@@ -1044,8 +1119,9 @@ void print_summary(std::ostream& out, const Study& study, const RunMeta& meta, c
     out << "; " << t.complete << " complete, " << t.interrupted << " interrupted, " << t.failed << " failed, "
         << (t.lost ? std::to_string(t.lost) + " without a results file, " : "") << t.not_started << " not started";
   out << "\n";
+  for (const auto& line : report.summary) out << line << "\n";
   for (const auto& [k, v] : report.scalars)
-    if (k.find("_ci_") == std::string::npos && k.find("_points") == std::string::npos) {
+    if (report.summary.empty() && k.find("_ci_") == std::string::npos && k.find("_points") == std::string::npos) {
       out << "  " << k << " = " << v;
       const auto lo = report.scalars.find(k + "_ci_low"), hi = report.scalars.find(k + "_ci_high");
       if (lo != report.scalars.end() && hi != report.scalars.end())

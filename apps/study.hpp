@@ -18,9 +18,12 @@ namespace slipfront::app {
 /// regular file of at most 1 MiB). The scene path in the returned spec is resolved relative to the
 /// study file; repeated vary values are kept once, with a note in spec.notes. `text`: the file's text.
 compare::StudySpec load_study(const std::filesystem::path& file, std::string* text = nullptr);
+/// The same from a study file's text (`file` names it in messages and anchors a relative `scene`).
+compare::StudySpec load_study_text(const std::filesystem::path& file, const std::string& text);
 
 struct StudyOptions {
   std::filesystem::path study;
+  std::string study_text;              ///< non-empty: the study file's text (generated: check-resolution), named `study`
   std::vector<std::string> overrides;  ///< --set, applied to every run after the study's own
   std::filesystem::path out;           ///< empty: out/studies/<study name>
   unsigned threads = 0;                ///< 0: hardware concurrency (under mpirun: per rank, 0 = 1)

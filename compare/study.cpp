@@ -10,6 +10,7 @@
 #include "compare/fig2_cmin.hpp"
 #include "compare/fit.hpp"
 #include "compare/fronts.hpp"
+#include "compare/resolution.hpp"
 #include "compare/strip_cmin_height.hpp"
 #include "compare/strip_height.hpp"
 #include "compare/validity.hpp"
@@ -493,6 +494,9 @@ constexpr StudyKind study_kind_table[] = {
     {"strip_cmin_height", "no scene runs: c_min(H) of the strip at the base scene's material (mu' = bulk.mu/bulk.height) "
      "over the heights of [paths], the limiting front continued in H, against the 1D c_min of mu' H (docs/fronts.md "
      "§10.12); also strip_cmin_height.csv", continuum_model, nullptr, strip_cmin_height_study, check_strip_cmin_study},
+    {"resolution", "the scene at its own resolution and refined ones ([resolution]): each event's discretisation error "
+     "(Richardson) and observed order against a tolerance; a stochastic model on its noise-off skeleton, its seeds apart "
+     "(docs/studies.md)", any_model, analyse_resolution, nullptr, check_resolution_scene, resolution_groups},
     {"runs", "no analysis: just run every point", any_model, nullptr}};
 
 // The domains of the study file's numeric keys (docs/studies.md, "Study files").

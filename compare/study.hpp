@@ -10,6 +10,7 @@
 #include <string_view>
 #include <vector>
 
+#include "compare/resolution.hpp"
 #include "compare/result.hpp"
 #include "compare/scene.hpp"
 #include "compare/strip_cmin_height.hpp"
@@ -42,6 +43,8 @@ struct StudySpec {
   /// [paths] of a kind without scene runs (strip_cmin_height): the path in H; its law and material are the
   /// base scene's (strip_cmin_study_options), stop and log the caller's.
   StripCminHeightOptions paths;
+  /// [resolution] of the kind resolution (compare/resolution.hpp): its levels are planned from the base scene.
+  ResolutionOptions resolution;
   /// The deterministic references (the continuum, mean_field) of runs that differ only in keys they do not read
   /// (compare::reference_ignores: the seed, N, ...) are run once and shared (compare::shareable_references;
   /// docs/studies.md "The shared references"); false: every run its own. Study key share_references (or its
@@ -80,6 +83,7 @@ struct StudyReport {
   std::map<std::string, std::string> definitions;  ///< "table/column" or scalar name -> definition
   std::vector<std::string> notes;
   std::map<std::string, std::string> files;  ///< text files written beside study.h5: name -> text (strip_cmin_height.csv)
+  std::vector<std::string> summary;  ///< a kind's own terminal table (resolution), printed instead of the scalars
 };
 
 /// The analysis of one study kind: adds its tables, scalars, definitions and notes to `rep`
@@ -116,6 +120,8 @@ using StudyComputation = StudyOutcome (*)(StudyReport& rep, const StudySpec& spe
                                           const StudyWork& work);
 /// Its checks of the base scene with the study's own keys, before any work (throws core::ParamError naming the key).
 using StudyCheck = void (*)(const StudySpec& spec, const Scene& base);
+/// The groups of a kind that plans its runs from the base scene (resolution: the levels), instead of [vary]/[[group]].
+using StudyPlan = std::vector<StudyGroup> (*)(const StudySpec& spec, const Scene& base);
 
 /// One study kind: the name a study file gives as `kind`, what it analyses, the models its analysis
 /// needs, and its analysis (nullptr: none, the kind "runs"); or, for a kind that runs no scene (no
@@ -126,7 +132,8 @@ struct StudyKind {
   ModelsNeeded needs;
   StudyAnalysis analyse = nullptr;
   StudyComputation compute = nullptr;
-  StudyCheck check = nullptr;  ///< (with compute)
+  StudyCheck check = nullptr;  ///< (with compute or plan)
+  StudyPlan plan = nullptr;    ///< its runs' groups, from the base scene (no [[group]], vary, seeds in the file)
 };
 
 /// The models `kind` needs that `scene` does not list ("" when it lists them all), e.g. "continuum".

@@ -54,7 +54,9 @@ TEST_CASE("study kinds: one row per kind, named once, described, and only `runs`
     CHECK(!k.description.empty());
     CHECK(names.insert(std::string(k.name)).second);
     CHECK((k.analyse == nullptr) == (k.name == "runs" || k.compute != nullptr));
-    CHECK((k.compute == nullptr) == (k.check == nullptr));  // a computation is checked before any work
+    // a computation, and a plan of runs from the base scene (resolution), are checked before any work
+    CHECK((k.compute == nullptr && k.plan == nullptr) == (k.check == nullptr));
+    CHECK((k.plan == nullptr) == (k.name != "resolution"));
     REQUIRE(compare::find_study_kind(k.name) == &k);
   }
   CHECK(names.count("runs") == 1);

@@ -56,6 +56,11 @@ std::string number_text(double x) {
 
 bool stochastic(const Scene& s) { return s.lists("discrete") && s.discrete.noise; }
 
+// A scene on a grid (edge or homogeneous loading: the chain or the strip), not a 0D one.
+bool one_dimensional(const Scene& s) {
+  return s.drive.loading == core::Loading::edge || s.drive.loading == core::Loading::homogeneous;
+}
+
 // The overrides that make level k (h = r^-k of the scene's) from the base scene: the grid refined by r^k, the fixed
 // step with it (explicit with time.cfl: the step follows dx through the stability limit; 0D: cfl itself), the
 // integrator's tolerances by r^(q k).
@@ -64,7 +69,7 @@ std::vector<std::pair<std::string, std::vector<std::string>>> level_overrides(co
   const double f = std::pow(o.ratio, k), ft = std::pow(o.ratio, o.tolerance_order * k);
   std::vector<std::pair<std::string, std::vector<std::string>>> v;
   const auto set = [&](const char* key, double x) { v.push_back({key, {number_text(x)}}); };
-  const bool bulk = s.drive.loading == core::Loading::edge || s.drive.loading == core::Loading::homogeneous;
+  const bool bulk = one_dimensional(s);
   if (bulk) set("grid.dx", s.grid.dx / f);
   if (bulk && s.bulk.height > 0.0) set("grid.dy", s.grid.row_spacing() / f);
   const bool ensemble = s.lists("discrete") || s.lists("mean_field");
@@ -348,7 +353,7 @@ void put_levels(StudyReport& rep, const Levels& levels) {
   for (const auto& [k, l] : levels) {
     t["level"].push_back(k);
     t["h"].push_back(l.h);
-    t["dx"].push_back(l.scene->grid.dx);
+    t["dx"].push_back(one_dimensional(*l.scene) ? l.scene->grid.dx : nan);
     t["dy"].push_back(l.scene->bulk.height > 0.0 ? l.scene->grid.row_spacing() : nan);
     t["dt"].push_back(l.dt);
     t["rtol"].push_back(l.scene->time.integrator == core::Integrator::adaptive_rosenbrock ? l.scene->time.rtol : nan);
@@ -368,8 +373,9 @@ std::string levels_line(const Levels& levels, const ResolutionOptions& o) {
     dt += (dt.empty() ? "" : ", ") + (std::isfinite(l.dt) ? core::format_number(l.dt, 4)
                                                            : "rtol " + core::format_number(l.scene->time.rtol, 3));
   }
-  return "resolution check: " + std::to_string(levels.size()) + " levels, h = " + h + " of the scene's (dx = " + dx +
-         "; step " + dt + "), ratio " + core::format_number(o.ratio) + "; tolerance " + percent(o.tolerance) +
+  const bool grid = one_dimensional(*levels.begin()->second.scene);
+  return "resolution check: " + std::to_string(levels.size()) + " levels, h = " + h + " of the scene's (" +
+         (grid ? "dx = " + dx + "; " : std::string()) + "step " + dt + "), ratio " + core::format_number(o.ratio) + "; tolerance " + percent(o.tolerance) +
          " relative per event";
 }
 

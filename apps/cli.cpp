@@ -1,8 +1,6 @@
 #include "apps/cli.hpp"
 
 #include <fcntl.h>
-#include <sys/file.h>
-#include <sys/stat.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -23,6 +21,7 @@
 #include "apps/checkpoint.hpp"
 #include "apps/config.hpp"
 #include "apps/h5out.hpp"
+#include "apps/paths.hpp"
 #include "apps/study.hpp"
 #include "compare/alongside.hpp"
 #include "compare/estimate.hpp"
@@ -131,82 +130,12 @@ class Progress {
 
 void print_error(std::ostream& err, const std::string& message) { err << "slipfront: error: " << message << "\n"; }
 
-// One run at a time in an output directory (issue 18): an advisory lock (flock) on DIR/.slipfront.lock,
-// taken before anything in DIR is looked at and held until the results are renamed into place. The file
-// holds the holder's pid (named when a second run is refused); its holder removes it on release. A run
-// killed with SIGKILL leaves the file but not the lock (the kernel drops it): the next run takes it.
-// Taking the lock checks that the file locked is still the one at the path (its holder may have removed
-// it in between), so that two runs never hold two different files.
-class OutputLock {
- public:
-  OutputLock() = default;
-  ~OutputLock() { release(); }
-  OutputLock(const OutputLock&) = delete;
-  OutputLock& operator=(const OutputLock&) = delete;
-
-  /// Takes the lock of `dir` (an existing directory): "" when held, else why not.
-  std::string acquire(const fs::path& dir) {
-    path_ = dir / ".slipfront.lock";
-    for (int attempt = 0; attempt < 16; ++attempt) {
-      const int fd = ::open(path_.c_str(), O_RDWR | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0644);
-      if (fd < 0) return "cannot lock the output directory '" + dir.string() + "' (" + path_.string() + "): " + std::strerror(errno);
-      if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
-        const int e = errno;
-        const std::string holder = holder_of(fd);
-        ::close(fd);
-        if (e == EWOULDBLOCK)
-          return "the output directory '" + dir.string() + "' is in use by another slipfront run (" + holder +
-                 ", holding " + path_.string() + "); wait for it to end, or choose another --out";
-        return "cannot lock the output directory '" + dir.string() + "' (" + path_.string() + "): " + std::strerror(e);
-      }
-      struct stat held {}, now {};
-      if (::fstat(fd, &held) == 0 && ::lstat(path_.c_str(), &now) == 0 && held.st_dev == now.st_dev &&
-          held.st_ino == now.st_ino) {
-        const std::string pid = std::to_string(::getpid()) + "\n";
-        if (::ftruncate(fd, 0) != 0 || ::pwrite(fd, pid.data(), pid.size(), 0) != static_cast<ssize_t>(pid.size())) {
-          const std::string why = std::strerror(errno);
-          ::close(fd);
-          return "cannot lock the output directory '" + dir.string() + "' (" + path_.string() + "): " + why;
-        }
-        fd_ = fd;
-        return "";
-      }
-      ::close(fd);  // removed or replaced by its previous holder: lock the file now at the path
-    }
-    return "cannot lock the output directory '" + dir.string() + "': " + path_.string() + " keeps being replaced";
-  }
-
-  /// Removes the file and drops the lock (removed first, while still held: see acquire).
-  void release() {
-    if (fd_ < 0) return;
-    ::unlink(path_.c_str());
-    ::close(fd_);
-    fd_ = -1;
-  }
-
- private:
-  // "pid N" from the lock file of another run (it writes its pid right after taking the lock).
-  static std::string holder_of(int fd) {
-    char buf[24] = {};
-    const ssize_t n = ::pread(fd, buf, sizeof buf - 1, 0);
-    std::string pid(buf, n > 0 ? static_cast<std::size_t>(n) : 0);
-    pid = pid.substr(0, pid.find('\n'));
-    if (pid.empty() || pid.size() > 10 || pid.find_first_not_of("0123456789") != std::string::npos) return "pid unknown";
-    return "pid " + pid;
-  }
-  fs::path path_;
-  int fd_ = -1;
-};
-
 // (c) The output directory: created and locked, free of results.h5 (unless --force) and writable, before any
 // work; the temporaries of killed runs removed (results, checkpoints, probes). Returns an error message,
 // or "" if the directory is usable (and `lock` holds it).
 std::string prepare_output_dir(const fs::path& dir, bool force, OutputLock& lock) {
+  if (std::string problem = create_and_lock(dir, lock); !problem.empty()) return problem;
   std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec) return "cannot create the output directory '" + dir.string() + "': " + ec.message();
-  if (!fs::is_directory(dir, ec)) return "the output path '" + dir.string() + "' is not a directory";
-  if (std::string problem = lock.acquire(dir); !problem.empty()) return problem;
   const fs::path file = dir / "results.h5";
   if (fs::exists(fs::symlink_status(file, ec))) {
     if (!force) return "'" + file.string() + "' already exists (use --force to overwrite it)";
@@ -593,11 +522,11 @@ std::optional<compare::Scene> load_fronts_scene(const FrontsOptions& opts, std::
   }
 }
 
-// (b) DIR/fronts.h5: the directory created, an existing file refused unless --force. "" when usable.
-std::string prepare_fronts_file(const fs::path& dir, const fs::path& file, bool force) {
+// (b) DIR/fronts.h5: the directory created and locked (as `run`'s: one writer at a time, apps/paths.hpp), an
+// existing file refused unless --force. "" when usable (and `lock` holds DIR).
+std::string prepare_fronts_file(const fs::path& dir, const fs::path& file, bool force, OutputLock& lock) {
+  if (std::string problem = create_and_lock(dir, lock); !problem.empty()) return problem;
   std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec) return "cannot create the output directory '" + dir.string() + "': " + ec.message();
   if (fs::exists(fs::symlink_status(file, ec)) && !force)
     return "'" + file.string() + "' already exists (use --force to overwrite it)";
   return "";
@@ -675,10 +604,11 @@ int fronts_command(const FrontsOptions& opts, std::ostream& out, std::ostream& e
   const std::optional<compare::Scene> scene = load_fronts_scene(opts, err);
   if (!scene) return exit_code::usage;
 
-  // (b) the output file, before any work
+  // (b) the output file, before any work; DIR held by this process until fronts.h5 is in place
   const fs::path dir = opts.out.empty() ? fs::path("out") / scene->name : opts.out;
   const fs::path file = dir / "fronts.h5";
-  if (const std::string problem = prepare_fronts_file(dir, file, opts.force); !problem.empty()) {
+  OutputLock lock;
+  if (const std::string problem = prepare_fronts_file(dir, file, opts.force, lock); !problem.empty()) {
     print_error(err, problem);
     return exit_code::usage;
   }
@@ -792,6 +722,8 @@ CLI::App* add_study_verb(CLI::App& app, StudyOptions& opts) {
       "Resuming: the same command again skips the runs whose results file is complete and was made with\n"
       "the same configuration (/meta config_hash and /config toml), reruns partial ones, and refuses (exit 2)\n"
       "files made with another configuration unless --force. Ctrl-C stops every run (status interrupted).\n"
+      "DIR is held by one invocation at a time (DIR/.slipfront.lock, as for run and fronts): a second one\n"
+      "into it is refused (exit code 2) before any work.\n"
       "MPI: `mpirun -n K slipfront study STUDY.toml` spreads the runs over K processes, rank 0 included;\n"
       "the results are the same bit for bit (docs/studies.md).");
   return study;
@@ -815,7 +747,9 @@ CLI::App* add_fronts_verb(CLI::App& app, FrontsOptions& opts) {
   fronts->footer(
       "The traveling waves of docs/model.md §6 solved directly (collocation + Newton, docs/fronts.md): the\n"
       "branch c(sigma_d) continued down to where it ends (and why), c_min, profiles A, sigma_bar, v, u along it.\n"
-      "Layout of fronts.h5: docs/output.md. Takes seconds (the scaling study: 16 more continuations).");
+      "Layout of fronts.h5: docs/output.md. Takes seconds (the scaling study: 16 more continuations).\n"
+      "DIR is held by one invocation at a time (DIR/.slipfront.lock, as for run and study): a second one\n"
+      "into it is refused (exit code 2) before any work.");
   return fronts;
 }
 

@@ -348,6 +348,15 @@ std::string read_study_name(const fs::path& path) {
   });
 }
 
+StudyHeader read_study_header(const fs::path& path) {
+  return with_file(path, [](hid_t file) {
+    if (!has_link(file, "study")) throw InputError("not a study file (no /study)");
+    Hid g(H5Gopen2(file, "study", H5P_DEFAULT), H5Gclose, "open group /study");
+    return StudyHeader{attr_string(g.get(), "name", "/study"), attr_string(g.get(), "kind", "/study"),
+                       attr_string(g.get(), "toml", "/study")};
+  });
+}
+
 ResultsFile read_results(const fs::path& path, const ReadOptions& options) {
   if (options.verified) {
     const ChecksumCheck c = verify_checksum(path);

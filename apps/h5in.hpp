@@ -68,4 +68,11 @@ ResultsFile read_results(const std::filesystem::path& path, const ReadOptions& o
 /// The study a study.h5 belongs to (/study attribute `name`). Throws InputError.
 std::string read_study_name(const std::filesystem::path& path);
 
+/// What a study.h5 says of the study that wrote it: /study attributes `name`, `kind` and `toml` (the study
+/// file's text). Throws InputError.
+struct StudyHeader {
+  std::string name, kind, toml;
+};
+StudyHeader read_study_header(const std::filesystem::path& path);
+
 }  // namespace slipfront::app

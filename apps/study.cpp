@@ -491,27 +491,46 @@ struct RunPlan {
   std::vector<std::string> untrusted;  ///< run files made again because their checksum fails, and why
 };
 
-// DIR/study.h5 is this study's (or absent, or --force): else refused, the reason printed.
-bool owns_study_file(const fs::path& dir, const compare::StudySpec& spec, bool force, std::ostream& err) {
+// DIR/study.h5 is this study's (or absent, or --force): else refused, the reason printed. Another study's
+// name is refused. A kind without scene runs (strip_cmin_height) has no run files whose configurations
+// would tell another study of the same name (plan_runs): its study.h5 and files are recomputed whole, so
+// where either study is of such a kind, a study.h5 of another kind or another study file (`spec_toml`, the
+// text study.h5 keeps) is refused too.
+bool owns_study_file(const fs::path& dir, const compare::StudySpec& spec, const std::string& spec_toml, bool force,
+                     std::ostream& err) {
   if (!fs::exists(dir / "study.h5") || force) return true;
-  std::string other;
+  StudyHeader other;
   try {
-    other = read_study_name(dir / "study.h5");
+    other = read_study_header(dir / "study.h5");
   } catch (const InputError&) {
-    other = "";
+    other = {};
   }
-  if (other == spec.name) return true;
-  err << "slipfront: error: '" << (dir / "study.h5").string() << "' belongs to "
-      << (other.empty() ? std::string("no readable study") : "the study '" + other + "'") << ", not to '" << spec.name
-      << "' (use --force to replace it, or --out for another directory)\n";
-  return false;
+  const auto refuse = [&](const std::string& why) {
+    err << "slipfront: error: '" << (dir / "study.h5").string() << "' belongs to " << why
+        << " (use --force to replace it, or --out for another directory)\n";
+    return false;
+  };
+  if (other.name != spec.name)
+    return refuse((other.name.empty() ? std::string("no readable study") : "the study '" + other.name + "'") +
+                  ", not to '" + spec.name + "'");
+  const auto computed = [](const std::string& kind) {
+    const compare::StudyKind* k = compare::find_study_kind(kind);
+    return k != nullptr && k->compute != nullptr;
+  };
+  if (!computed(spec.kind) && !computed(other.kind)) return true;  // the run files are checked one by one
+  if (other.kind != spec.kind)
+    return refuse("the study '" + other.name + "' of kind '" + other.kind + "', not '" + spec.kind + "'");
+  if (other.toml != spec_toml)
+    return refuse("the study '" + other.name + "' made from another study file (" + first_difference(other.toml, spec_toml) + ")");
+  return true;
 }
 
 // Creates DIR/runs/ (each run's directory is created when the run starts: make_run), checks the files
 // already there (the table in docs/studies.md, "Resuming") and removes the temporaries of killed
 // writers. Nothing is touched when it refuses.
-RunPlan plan_runs(const fs::path& dir, const compare::StudySpec& spec, const std::vector<compare::StudyRun>& runs,
-                  const std::vector<std::string>& resolved, bool force, std::ostream& err) {
+RunPlan plan_runs(const fs::path& dir, const compare::StudySpec& spec, const std::string& spec_toml,
+                  const std::vector<compare::StudyRun>& runs, const std::vector<std::string>& resolved, bool force,
+                  std::ostream& err) {
   RunPlan p;
   p.skip.assign(runs.size(), 0);
   const auto refuse = [] {
@@ -525,7 +544,7 @@ RunPlan plan_runs(const fs::path& dir, const compare::StudySpec& spec, const std
     err << "slipfront: error: cannot create the output directory '" << dir.string() << "': " << ec.message() << "\n";
     return refuse();
   }
-  if (!owns_study_file(dir, spec, force, err)) return refuse();
+  if (!owns_study_file(dir, spec, spec_toml, force, err)) return refuse();
   std::vector<std::string> other_config;
   for (std::size_t i = 0; i < runs.size(); ++i) {
     const fs::path run_dir = dir / "runs" / runs[i].id;
@@ -760,14 +779,21 @@ std::optional<Study> read_study(const StudyOptions& opts, std::ostream& err) {
   return study;
 }
 
-// (c) The plan (rank 0, then sent to every rank): which runs are complete already (resume).
-Schedule share_plan(const Study& study, bool force, const Engine& engine, std::ostream& err) {
+// (c) The plan (rank 0, then sent to every rank): DIR held by rank 0 (`lock`, until study.h5 is in place: one
+// writer at a time, apps/paths.hpp), then which runs are complete already (resume).
+Schedule share_plan(const Study& study, bool force, const Engine& engine, OutputLock& lock, std::ostream& err) {
   const std::size_t n = study.runs.size();
   // plan[0]: 0 to go on, else the exit code; plan[1 + i]: 1 if run i is skipped.
   std::vector<char> plan(1 + n, 0);
   Schedule s;
   if (engine.root) {
-    const RunPlan p = plan_runs(study.dir, study.spec, study.runs, study.resolved, force, err);
+    RunPlan p;
+    if (const std::string problem = create_and_lock(study.dir, lock); !problem.empty()) {
+      err << "slipfront: error: " << problem << "\n";
+      p.code = exit_code::usage;
+    } else {
+      p = plan_runs(study.dir, study.spec, study.spec_toml, study.runs, study.resolved, force, err);
+    }
     plan[0] = static_cast<char>(p.code);
     std::copy(p.skip.begin(), p.skip.end(), plan.begin() + 1);
     s.rerun = p.rerun;
@@ -1171,13 +1197,12 @@ int share_exit_code(MpiEngine& mpi, int code, bool root_stopped) {
 int compute_study(const StudyOptions& opts, const Study& study, const Engine& engine, Clock::time_point wall0,
                   std::ostream& out, std::ostream& err) {
   const compare::StudyKind& kind = *compare::find_study_kind(study.spec.kind);
-  std::error_code ec;
-  fs::create_directories(study.dir, ec);
-  if (ec) {
-    err << "slipfront: error: cannot create the output directory '" << study.dir.string() << "': " << ec.message() << "\n";
+  OutputLock lock;  // DIR held until study.h5 is in place (apps/paths.hpp)
+  if (const std::string problem = create_and_lock(study.dir, lock); !problem.empty()) {
+    err << "slipfront: error: " << problem << "\n";
     return exit_code::usage;
   }
-  if (!owns_study_file(study.dir, study.spec, opts.force, err)) return exit_code::usage;
+  if (!owns_study_file(study.dir, study.spec, study.spec_toml, opts.force, err)) return exit_code::usage;
   const std::string tag = "[study " + study.spec.name + "] ";
   if (!opts.quiet)
     err << "slipfront: study " << study.spec.name << " (" << study.spec.kind << "): no runs, computed from "
@@ -1264,7 +1289,8 @@ int study_command(const StudyOptions& opts, std::ostream& out_all, std::ostream&
     if (engine.mpi) code = share_exit_code(*engine.mpi, code, false);
     return code;
   }
-  const Schedule schedule = share_plan(*study, opts.force, engine, err);
+  OutputLock lock;  // rank 0: DIR held from the plan until study.h5 is in place
+  const Schedule schedule = share_plan(*study, opts.force, engine, lock, err);
   if (schedule.code != 0) return schedule.code;
   engine.threads = threads_per_process(opts.threads, engine.mpi.get(), err);
   if (!opts.quiet) print_start(err, *study, schedule, engine);

@@ -166,6 +166,33 @@ double adaptive_steps(const Scene& s, double sites) {
   return std::ceil(t_end / s.time.dt_max) + sites + 8.0 * t_end * std::pow(1e-3 / s.time.rtol, 0.77);
 }
 
+// The leap integrator's steps (the discrete and mean_field models under time.integrator = adaptive, core/leap.hpp):
+// an estimate, not a bound (docs/robustness.md §3), the largest of three limits fitted on the shipped scenes
+// (fig1, homogeneous_front, spring_block; the chain and fig1_strip take the same steps):
+//   quiet stretches and located onsets   t_end/dt_max + nodes (as the adaptive integrator's)
+//   the leap condition, steps ∝ 1/ε     R t_end/ε, R the rate at which sites cross their thresholds: edge 5 v_d
+//                                        (fig1: 1.53 at v_d = 0.3, 2.6 at 0.6, for ε = 0.01 ... 0.02), spring block
+//                                        1.5 v_d (0.42), homogeneous 18 (homogeneous_front at σ_d = 0.45 and 0.5)
+//   the linearisation defect            20 t_end (1e-8/tol)^0.18 (fig1 at time.implicit_tolerance 1e-4 ... 1e-16)
+double leap_steps(const Scene& s, double sites) {
+  const double t_end = s.time.t_end, eps = s.time.leap_epsilon, tol = s.time.implicit_tolerance;
+  double rate = 18.0;
+  if (s.drive.loading == Loading::edge) rate = 5.0 * s.drive.v_d;
+  if (s.drive.loading == Loading::spring_block) rate = 1.5 * s.drive.v_d;
+  const double quiet = std::ceil(t_end / s.time.dt_max) + sites;
+  const double defect = tol > 0.0 ? 20.0 * t_end * std::pow(1e-8 / tol, 0.18) : 0.0;
+  return std::max({quiet, rate * t_end / eps, defect});
+}
+
+// The implicit integrator's error control (time.implicit_tolerance, core/implicit.hpp): a step whose defect
+// exceeds it is redone as two halves, at most time.implicit_max_halvings deep. Its substeps per step, an estimate:
+// 1 + 1.08 (1e-6/tol)^0.65, at most 2^halvings (fig1 at dt = 0.02: 1.006, 2.08 and 51.6 at tol 1e-3, 1e-6, 1e-9).
+double implicit_substeps_per_step(const Scene& s) {
+  const double tol = s.time.implicit_tolerance;
+  if (!(tol > 0.0) || s.time.implicit_max_halvings <= 0) return 1.0;
+  return std::min(std::ldexp(1.0, s.time.implicit_max_halvings), 1.0 + 1.08 * std::pow(1e-6 / tol, 0.65));
+}
+
 // Steps of an imposed-rate history (steps aligned with the switch times, as the runner does).
 double history_steps(const Scene& s) {
   const auto& vs = s.drive.v;
@@ -224,17 +251,31 @@ Stepping imposed_stepping(const Scene& s, const std::string& model, ModelEstimat
   return {0.0, step_costs().law_step};
 }
 
-// A bulk scene: adaptive steps (the continuum only: the discrete model runs explicit), or fixed steps of
-// time.dt or time.cfl times the explicit stability limit.
+// A bulk scene: adaptive steps (the continuum on the Rosenbrock integrator, the discrete and mean_field models on
+// the leap integrator), or fixed steps of time.dt or time.cfl times the explicit stability limit.
 Stepping bulk_stepping(const Scene& s, const std::string& model, double sites, ModelEstimate& m) {
   const StepCosts& c = step_costs();
   const double t_end = s.time.t_end;
   const double stable = explicit_stable_dt(s);
-  Integrator integ = s.time.integrator;
-  if (model == "discrete" && integ == Integrator::adaptive_rosenbrock) integ = Integrator::central_difference;
+  const Integrator integ = s.time.integrator;
+  if (integ == Integrator::adaptive_rosenbrock && model != "continuum") {
+    m.integrator = "leap";
+    m.steps = leap_steps(s, sites);
+    // below a tolerance of 1e-5 about twice the solves a step (the trials solved again at their own rates; fig1:
+    // 1.6 ... 2.5 x the time a step at 1e-6 ... 1e-14)
+    const double tol = s.time.implicit_tolerance;
+    m.work_steps = m.steps * (tol > 0.0 && tol < 1e-5 ? 2.0 : 1.0);
+    m.steps_basis = "leap: max(t_end/dt_max + nodes, R t_end/time.leap_epsilon, 20 t_end (1e-8/time.implicit_tolerance)^0.18)"
+                    " with time.leap_epsilon = " + format_number(s.time.leap_epsilon) + ", time.implicit_tolerance = " +
+                    format_number(s.time.implicit_tolerance) + ", an estimate";
+    // the implicit step's fields and its trial solves (about 1.6 a step), the leap tests; the strip's bulk per node
+    if (s.bulk.height != 0.0) return {10.0, c.leap_bulk, c.strip_leap, 12.0};
+    return {12.0, c.leap_bulk};
+  }
   if (integ == Integrator::adaptive_rosenbrock) {
     m.integrator = "adaptive";
     m.steps = adaptive_steps(s, sites);
+    m.work_steps = m.steps;
     m.steps_basis = "adaptive: t_end/dt_max + nodes + 8 t_end (rtol/1e-3)^-0.77, an estimate";
     // the strip: the law and the interface's elimination per site, the bulk per node (u, v, their ten stage
     // vectors, the masses and the u system's rhs, Strip::solve_system's workspace: docs/performance.md §13)
@@ -248,6 +289,12 @@ Stepping bulk_stepping(const Scene& s, const std::string& model, double sites, M
   m.dt = t_end / m.steps;
   m.steps_basis = "time.t_end / dt = " + format_number(t_end) + " / " + format_number(m.dt) +
                   (s.time.dt > 0 ? " (time.dt)" : " (time.cfl x the stability limit " + format_number(stable) + ")");
+  // the implicit integrator's halvings: each halved step is first solved whole, so ~2 x substeps - 1 solves a step
+  const double substeps = implicit ? implicit_substeps_per_step(s) : 1.0;
+  m.work_steps = m.steps * (2.0 * substeps - 1.0);
+  if (substeps >= 1.5)
+    m.steps_basis += "; with time.implicit_tolerance = " + format_number(s.time.implicit_tolerance) + " ~" +
+                     format_number(substeps, 3) + " substeps a step (halvings, at most 2^time.implicit_max_halvings)";
   if (s.bulk.height != 0.0)  // the strip: the law per site, the bulk per node (u, v; implicit: V + 3 + 6 solve vectors)
     return {6.0, c.explicit_bulk, implicit ? c.strip_implicit : c.strip_explicit, implicit ? 12.0 : 3.0};
   return {implicit ? 10.0 : 8.0, implicit ? c.implicit_bulk : c.explicit_bulk};
@@ -259,14 +306,15 @@ using MemoryItems = std::vector<std::pair<std::string, double>>;
 // Run time and state of one model: the bulk's and the law's cost per site-step and, on a bulk scene, the
 // cost of each step; the fields, the law's state and the count law's worker threads.
 void put_cost(const Scene& s, const Stepping& st, double sites, double bulk_nodes, ModelEstimate& m, MemoryItems& items) {
-  const LawCost law = law_cost(s, m.model, m.steps);
-  m.site_steps = m.steps * sites;
+  if (!(m.work_steps > 0.0)) m.work_steps = m.steps;
+  const LawCost law = law_cost(s, m.model, m.work_steps);
+  m.site_steps = m.work_steps * sites;
   m.ns_per_site_step = st.bulk_ns + law.ns_per_site_step;
   const bool imposed = s.drive.loading == Loading::imposed_rate;
   const double nodes = st.strip_node_ns > 0.0 ? bulk_nodes : 0.0;  // the strip's bulk, costed per node
-  m.node_steps = m.steps * nodes;
+  m.node_steps = m.work_steps * nodes;
   m.seconds = m.site_steps * m.ns_per_site_step * 1e-9 + m.node_steps * st.strip_node_ns * 1e-9 +
-              (imposed ? 0.0 : m.steps * step_costs().step * 1e-9);
+              (imposed ? 0.0 : m.work_steps * step_costs().step * 1e-9);
   const double threads = m.model == "discrete" && s.discrete.representation == "count" && s.discrete.threads > 1
                              ? std::min<double>(s.discrete.threads, std::ceil(sites / 64.0))
                              : 0.0;
@@ -296,7 +344,7 @@ double record_bytes(const Scene& s, const ModelEstimate& m, double sites, Memory
     return rec;
   }
   const bool one_d = core::is_one_dimensional(s.drive.loading);
-  const bool dense = m.integrator == "adaptive";  // records at exact times, not bounded by the steps
+  const bool dense = m.integrator == "adaptive" || m.integrator == "leap";  // records at exact times, not bounded by the steps
   const double cap = dense ? std::max(m.steps, t_end / std::max(1e-300, std::min({s.output.series_dt > 0 ? s.output.series_dt : t_end,
                                                                                    s.output.snapshot_dt > 0 ? s.output.snapshot_dt : t_end,
                                                                                    s.measure.sample_dt}))) + 1.0
@@ -400,6 +448,7 @@ const StepCosts& step_costs() {
       .explicit_bulk = 9.0,
       .implicit_bulk = 22.0,
       .adaptive_bulk = 100.0,
+      .leap_bulk = 150.0,
       .count_idle = 1.0,
       .count_active = 100.0,
       .count_bin = 4.0,
@@ -413,6 +462,7 @@ const StepCosts& step_costs() {
       .strip_explicit = 2.0,
       .strip_implicit = 50.0,
       .strip_adaptive = 80.0,
+      .strip_leap = 450.0,
       .checkpoint = 7e6,
       .checkpoint_byte = 2.0,
   };
@@ -480,7 +530,9 @@ void check_limits(const Scene& s, const Estimate& e) {
     throw ParamError("limits.max_steps",
                      "the run would take " + count(e.steps) + " time steps (" + longest->model + ", " + longest->integrator +
                          ": " + longest->steps_basis + "), more than limits.max_steps = " + format_number(lim.max_steps) +
-                         "; shorten time.t_end, take a larger step, or raise limits.max_steps");
+                         "; shorten time.t_end, take a larger step" +
+                         (longest->integrator == "leap" ? " (time.leap_epsilon, time.implicit_tolerance)" : "") +
+                         ", or raise limits.max_steps");
   if (!(e.memory_bytes <= lim.max_memory_gib * GiB)) {
     std::string what;
     for (std::size_t k = 0; k < e.memory_items.size() && k < 3; ++k)
@@ -496,7 +548,11 @@ void check_limits(const Scene& s, const Estimate& e) {
                      "the run would take about " + duration(e.seconds) + " (" + slowest->model + ", " + slowest->integrator +
                          ": " + count(slowest->site_steps) + " site-steps at ~" + format_number(slowest->ns_per_site_step) +
                          " ns each), more than limits.max_hours = " + format_number(lim.max_hours) +
-                         "; shorten time.t_end, coarsen the grid or the step, or raise limits.max_hours");
+                         "; shorten time.t_end, coarsen the grid or the step" +
+                         (slowest->integrator == "leap"       ? " (time.leap_epsilon, time.implicit_tolerance)"
+                          : slowest->integrator == "implicit" ? " (time.dt, time.implicit_tolerance)"
+                                                              : "") +
+                         ", or raise limits.max_hours");
 }
 
 CheckpointEstimate estimate_checkpoints(const Scene& s, const Estimate& e, double every) {

@@ -15,12 +15,14 @@ namespace slipfront::compare {
 
 struct ModelEstimate {
   std::string model;        ///< continuum | discrete
-  std::string integrator;   ///< explicit | implicit | adaptive | exact (imposed slip rate: the law alone)
+  std::string integrator;   ///< explicit | implicit | adaptive | leap | exact (imposed slip rate: the law alone)
   double dt = 0.0;          ///< fixed step (0: adaptive, or a sweep with one step per point)
   double steps = 0.0;       ///< time steps (a sweep: all points together)
+  double work_steps = 0.0;  ///< the steps the cost is counted on: `steps`, or the implicit integrator's solves with
+                            ///< its error control's halvings (time.implicit_tolerance; an estimate)
   std::string steps_basis;  ///< how `steps` was obtained
-  double site_steps = 0.0;  ///< steps × sites
-  double node_steps = 0.0;  ///< the strip: steps × bulk nodes (its bulk's cost; 0 on the chain)
+  double site_steps = 0.0;  ///< work_steps × sites
+  double node_steps = 0.0;  ///< the strip: work_steps × bulk nodes (its bulk's cost; 0 on the chain)
   double ns_per_site_step = 0.0;  ///< the calibrated cost used
   double seconds = 0.0;     ///< run time
   double state_bytes = 0.0; ///< integrator and interface-law state
@@ -94,6 +96,7 @@ struct StepCosts {
   double explicit_bulk;   ///< per site-step: bulk + continuum law, explicit central differences
   double implicit_bulk;   ///< per site-step: bulk + continuum law, implicit trapezoidal
   double adaptive_bulk;   ///< per site-step: bulk + continuum law, one adaptive Rosenbrock step
+  double leap_bulk;       ///< per site-step: the leap integrator's implicit trial solves and tests (law apart)
   double count_idle;      ///< count representation, per site-step of a stuck site (noise on)
   double count_active;    ///< count representation, per active site-step (binomial draws; noise on)
   double count_bin;       ///< count representation, per threshold bin of an active site-step (noise on, w > 0)
@@ -107,6 +110,7 @@ struct StepCosts {
   double strip_explicit;  ///< the strip (docs/model.md §9): per node-step of its bulk, explicit kick and drift
   double strip_implicit;  ///< the strip: per node-step of its bulk, the implicit step's preconditioned CG solve
   double strip_adaptive;  ///< the strip: per node-step of its bulk, the adaptive step (rhs, four direct solves)
+  double strip_leap;      ///< the strip: per node-step of its bulk, the leap step's trial solves (CG at large steps)
   double checkpoint;      ///< one checkpoint: create, sync and rename the file
   double checkpoint_byte; ///< per byte of a checkpoint: archive the state, checksum and write it
 };

@@ -56,14 +56,20 @@ const KeyDomain continuum_domains[] = {
     {"time.slip_end", K::number, 0.0, cap},
     {"time.steps", K::integer, 1.0, 1e9, false, false, false, "", "(steps per sweep point or history)"},
     {"time.integrator", K::choice, 0, 0, false, false, false, "explicit|implicit|adaptive"},
-    {"time.implicit_tolerance", K::number, 0.0, cap, false, false, false, "", "(0: no error control)"},
+    {"time.implicit_tolerance", K::number, 1e-12, cap, false, false, true, "",
+     "(stress units; 0: no error control; below 1e-12 the linearisation defect nears the rounding of the stress: "
+     "the leap integrator forces steps that fail it and the implicit one halves every step to "
+     "time.implicit_max_halvings, docs/robustness.md §3)"},
     {"time.implicit_max_halvings", K::integer, 0.0, 30.0},
     {"time.implicit_resolution_check", K::boolean},
     {"time.stop_at_arrest", K::boolean},
     {"time.rtol", K::number, 0.0, 1.0, true, true},
     {"time.atol", K::number, 0.0, cap, true},
     {"time.dt_max", K::number, 0.0, cap, true},
-    {"time.leap_epsilon", K::number, 0.0, 1.0, true, false, false, "", "(relative change of a site's rates per step)"},
+    {"time.leap_epsilon", K::number, 1e-6, 1.0, false, false, false, "",
+     "(relative change of a site's rates per step; below 1e-6 the leap steps, a fraction epsilon of a site's "
+     "relaxation time, near the integrator's smallest step 1e-12 and cost more than time.integrator = explicit: "
+     "docs/robustness.md §3)"},
     {"time.group_switchings", K::number, 0.0, 1.0, false, false, false, "",
      "(0: every switching ends a step; f: late flips within f of the step's tolerance)"},
     {"measure.A_tip", K::number, 0.0, 1.0, true, true},

@@ -27,6 +27,17 @@ const KeyDomain discrete_domains[] = {
      "(threads over sites, in chunks of 64 sites)"},
 };
 
+// One bin holds every threshold at the law's conditional mean over [0, 1] of the quantiles, the mean 1
+// (docs/discrete.md, "Bins"): with w > 0 that is the delta law bit for bit, while the run is labelled with the
+// width. B >= 2 keeps the CDF within 1/B of g's.
+void check_bins(const DiscreteParams& d) {
+  if (d.bins == 1 && d.threshold != "delta" && d.width > 0.0)
+    throw core::ParamError("discrete.bins",
+                           "1 bin represents every threshold by the mean 1: the delta law, whatever discrete.width (" +
+                               core::format_number(d.width) + "); use bins >= 2 (the count law's CDF is then within 1/bins "
+                               "of the " + d.threshold + " law's), or threshold = \"delta\"");
+}
+
 bool one_of(const std::string& value, const char* choices) {
   std::string_view c(choices);
   for (std::size_t start = 0;;) {
@@ -60,6 +71,7 @@ void DiscreteParams::validate() const {
   if (seed > static_cast<std::uint64_t>(INT64_MAX))  // (as a double 2^63 - 1 and 2^63 are the same number)
     throw ParamError("discrete.seed", "must be <= 2^63 - 1 = 9223372036854775807 (a TOML integer), got " + std::to_string(seed));
   core::check_in_domain(domain("discrete.bins"), bins);
+  check_bins(*this);
   core::check_in_domain(domain("discrete.threads"), threads);
 }
 
@@ -76,6 +88,7 @@ void DiscreteParams::validate_threshold_law() const {
   if (!one_of(renewal, domain("discrete.renewal").choices))
     throw ParamError("discrete.renewal", "unknown renewal '" + renewal + "' (expected fresh or quenched)");
   core::check_in_domain(domain("discrete.bins"), bins);
+  check_bins(*this);
 }
 
 }  // namespace slipfront::discrete

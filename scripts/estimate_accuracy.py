@@ -51,6 +51,23 @@ CASES = [
     ("friction_law agent N=1e3", "configs/friction_law.toml",
      ['models=["discrete"]', "discrete.representation=agent", "discrete.contacts_per_site=1000"]),
     ("velocity_step (history)", "configs/velocity_step.toml", []),
+    # the leap integrator (the discrete and mean_field models under time.integrator = adaptive) and the implicit
+    # integrator's error control (issue 36: time.leap_epsilon and time.implicit_tolerance in the estimate)
+    ("fig1 discrete leap", "configs/fig1.toml", ['models=["discrete"]', "time.integrator=adaptive"]),
+    ("fig1 discrete leap eps 0.02", "configs/fig1.toml",
+     ['models=["discrete"]', "time.integrator=adaptive", "time.leap_epsilon=0.02"]),
+    ("fig1 discrete leap tol 1e-10", "configs/fig1.toml",
+     ['models=["discrete"]', "time.integrator=adaptive", "time.implicit_tolerance=1e-10"]),
+    ("fig1 mean_field leap w=0.1", "configs/fig1.toml",
+     ['models=["mean_field"]', "time.integrator=adaptive", "discrete.threshold=uniform", "discrete.width=0.1"]),
+    ("homogeneous_front discrete leap", "configs/homogeneous_front.toml",
+     ['models=["discrete"]', "time.integrator=adaptive"]),
+    ("homogeneous_front discrete leap eps 0.05", "configs/homogeneous_front.toml",
+     ['models=["discrete"]', "time.integrator=adaptive", "time.leap_epsilon=0.05"]),
+    ("spring_block discrete leap", "configs/spring_block.toml", ['models=["discrete"]', "time.integrator=adaptive"]),
+    ("fig1_strip discrete leap", "configs/fig1_strip.toml", ['models=["discrete"]', "time.integrator=adaptive"]),
+    ("fig1 implicit dt 0.02 tol 1e-6", "configs/fig1.toml",
+     ['models=["continuum"]', "time.integrator=implicit", "time.dt=0.02", "time.implicit_tolerance=1e-6"]),
 ]
 QUICK = {"fig1 continuum explicit", "fig1 continuum adaptive", "spring_block", "friction_law (sweep)",
          "homogeneous_front"}
@@ -64,7 +81,7 @@ def estimate(slipfront, config, overrides):
     out = subprocess.run(args, capture_output=True, text=True, check=True).stdout
     steps, seconds, memory = {}, None, None
     for line in out.splitlines():
-        m = re.match(r"#\s+(continuum|discrete): (\S+) steps .*~([\d.e+]+) (s|min|h)$", line)
+        m = re.match(r"#\s+(continuum|discrete|mean_field): (\S+) steps .*~([\d.e+]+) (s|min|h)$", line)
         if m:
             steps[m.group(1)] = float(m.group(2))
         m = re.match(r"#\s+memory: ~([\d.e+]+) (KiB|MiB|GiB) peak", line)
@@ -85,7 +102,8 @@ def measure(slipfront, config, overrides, out):
     rss = float(r.stderr.strip().splitlines()[-1]) * 1024.0
     with h5py.File(os.path.join(out, "results.h5"), "r") as f:
         wall = float(f["meta"].attrs["wall_seconds"])
-        steps = {m: float(f[m].attrs["steps"]) for m in ("continuum", "discrete") if m in f and "steps" in f[m].attrs}
+        steps = {m: float(f[m].attrs["steps"]) for m in ("continuum", "discrete", "mean_field")
+                 if m in f and "steps" in f[m].attrs}
     return steps, rss, wall
 
 
@@ -93,13 +111,14 @@ def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--slipfront", default=os.path.join(ROOT, "build", "apps", "slipfront"))
     p.add_argument("--quick", action="store_true", help="five fast cases only")
+    p.add_argument("--only", default="", help="only the cases whose name contains this text (e.g. 'leap')")
     a = p.parse_args()
     print(f"{'case':38s} {'model':9s} {'steps est':>10s} {'measured':>10s} {'ratio':>6s}   "
           f"{'mem est':>9s} {'peak RSS':>9s} {'ratio':>6s}   {'time est':>8s} {'wall':>8s} {'ratio':>6s}")
     ratios = {"steps": [], "memory": [], "time": []}
     with tempfile.TemporaryDirectory() as tmp:
         for name, config, overrides in CASES:
-            if a.quick and name not in QUICK:
+            if (a.quick and name not in QUICK) or a.only not in name:
                 continue
             cfg = os.path.join(ROOT, config)
             est_steps, est_mem, est_s = estimate(a.slipfront, cfg, overrides)

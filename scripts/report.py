@@ -1748,13 +1748,32 @@ class Context:
         self.front_studies = [p for p in studies if study_kind(p) in FRONT_STUDY_KINDS]
 
 
+# What a damaged file raises when it is opened or read: h5py's OSError (empty, truncated, not HDF5), a KeyError for a
+# group or attribute it lacks. Such a file is listed under "could not read" with its path and the reason; the rest of
+# the report is written (issue 36). Reading a study.h5's header (Study) may also raise a ValueError or TypeError for
+# an attribute of the wrong shape or type (STUDY_UNREADABLE); the plots are not guarded by either (a plotting error
+# is a bug, not a bad file).
+UNREADABLE = (OSError, KeyError)
+STUDY_UNREADABLE = UNREADABLE + (ValueError, TypeError)
+
+
+def unreadable(path, e):
+    """The "could not read" line of a file that raised `e`: the path and the reason (h5py's KeyError says what is
+    missing, e.g. "Unable to open object (object 'study' doesn't exist)", quoted: unquoted here)."""
+    why = str(e).strip('"') if isinstance(e, KeyError) else str(e)
+    return f"{path}: {why or type(e).__name__}"
+
+
 FRONT_STUDY_KINDS = ("front_spectrum", "steady_fronts")
 
 
 def study_kind(path):
-    """The kind of a study.h5, read without its tables."""
-    with h5py.File(path, "r") as f:
-        return plot.as_str(f["study"].attrs["kind"])
+    """The kind of a study.h5, read without its tables ("" if the file cannot be read: its own section lists it)."""
+    try:
+        with h5py.File(path, "r") as f:
+            return plot.as_str(f["study"].attrs["kind"])
+    except STUDY_UNREADABLE:
+        return ""
 
 
 def report_jobs(tasks):
@@ -1826,10 +1845,18 @@ def scene_section(ctx, path):
 
 
 def fronts_section(ctx, path):
-    """A fronts.h5 (slipfront fronts) with the time-dependent points of the front studies."""
-    keep = [Study(p) for p in ctx.front_studies]
+    """A fronts.h5 (slipfront fronts) with the time-dependent points of the front studies; a file that cannot be
+    read is listed instead."""
+    keep = []
+    for p in ctx.front_studies:
+        try:
+            keep.append(Study(p))
+        except STUDY_UNREADABLE:
+            pass  # its own section lists it
     try:
         more, rows = fronts_file(path, ctx.root, ctx.figdir, keep)
+    except UNREADABLE as e:
+        return [], [], [unreadable(path, e)]
     finally:
         for st in keep:
             st.f.close()
@@ -1851,7 +1878,10 @@ def cmin_section(ctx, path):
 def study_section(ctx, path):
     """A study.h5: its plots per kind, scalars with their intervals, notes and summary rows."""
     root = ctx.root
-    st = Study(path)
+    try:
+        st = Study(path)
+    except STUDY_UNREADABLE as e:
+        return [], [], [unreadable(path, e)]
     try:
         st.stem = f"{figure_key(root, path)}_{st.name}"
         st.source = os.path.relpath(path, root)

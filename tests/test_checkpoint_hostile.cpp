@@ -32,6 +32,7 @@
 #include "h5content.hpp"
 #include "process.hpp"
 #include "scenes.hpp"
+#include "study_fixtures.hpp"
 
 namespace fs = std::filesystem;
 using namespace slipfront;
@@ -381,4 +382,77 @@ TEST_CASE("checkpoint hostile: two runs into one --out: the second is refused wh
   INFO(third.err);
   CHECK(third.code == 0);
   CHECK_FALSE(fs::exists(lock));
+}
+
+namespace {
+// The first of two invocations into `out` (args, from dir) stopped (SIGSTOP) once it holds the directory, the second
+// run while it does, then the first continued to its end. The first must hold DIR/.slipfront.lock (its pid in it)
+// within 20 s, or the test fails.
+struct TwoWriters {
+  testing::ShellResult second;
+  int first_code = -1;
+  std::string first_pid;
+};
+TwoWriters second_while_first_holds(const fs::path& dir, const std::vector<std::string>& first_args,
+                                    const std::string& second_args) {
+  const fs::path lock = dir / "out" / ".slipfront.lock";
+  const testing::Child first = testing::spawn(first_args, dir, dir / "first.out", dir / "first.err");
+  const std::string pid = std::to_string(first.pid);
+  for (int k = 0; k < 20000 && testing::slurp(lock) != pid + "\n"; ++k) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  ::kill(first.pid, SIGSTOP);
+  const bool held = testing::slurp(lock) == pid + "\n";
+  const auto second = testing::run_in_shell(dir, SLIPFRONT_BINARY, second_args);
+  ::kill(first.pid, SIGCONT);
+  const int code = testing::wait_for(first, 300.0);
+  INFO(testing::slurp(dir / "first.err"));
+  REQUIRE(held);
+  return {second, code, pid};
+}
+
+std::string in_use(const std::string& pid) {
+  return "slipfront: error: the output directory 'out' is in use by another slipfront run (pid " + pid +
+         ", holding out/.slipfront.lock); wait for it to end, or choose another --out";
+}
+}  // namespace
+
+TEST_CASE("checkpoint hostile: two studies into one --out: the second is refused while the first holds it (issue 36)",
+          "[checkpoint][hostile][cli][study]") {
+  // Was: both ended `complete`, exit 0; one study lost, the surviving study.h5 describing run files that held the
+  // other study's parameters. Now the second is refused before any work and the first completes intact.
+  const TempDir dir("ckh-study-lock");
+  const fs::path study = testing::write_sweep_study(dir.path);
+  const TwoWriters w = second_while_first_holds(
+      dir.path, {SLIPFRONT_BINARY, "study", study.string(), "--out", "out", "-q", "-j", "1"},
+      "study " + study.string() + " --out out -q -j 1 --set time.steps=600");
+  INFO(w.second.err);
+  CHECK(w.second.code == 2);
+  CHECK(contains(w.second.err, in_use(w.first_pid)));
+  CHECK(w.first_code == 0);
+  // the first study's files, whole: every run made with its configuration (steps = 500), none with the second's
+  const auto files = testing::run_files(dir.path / "out");
+  CHECK(files.size() == 6);
+  for (const auto& f : files) {
+    const std::string toml = testing::read_h5(f).strings.at("/config@toml");
+    CHECK(contains(toml, "steps = 500"));
+    CHECK_FALSE(contains(toml, "steps = 600"));
+  }
+  CHECK(testing::read_h5(dir.path / "out" / "study.h5").strings.at("/meta@status") == "complete");
+  CHECK_FALSE(fs::exists(dir.path / "out" / ".slipfront.lock"));
+}
+
+TEST_CASE("checkpoint hostile: two fronts into one --out: the second is refused while the first holds it (issue 36)",
+          "[checkpoint][hostile][cli][fronts]") {
+  // Was: one fronts.h5 silently lost. Now the second is refused, naming the directory and the holder.
+  const TempDir dir("ckh-fronts-lock");
+  const std::string cfg = std::string(SLIPFRONT_SOURCE_DIR) + "/configs/homogeneous_front.toml";
+  const TwoWriters w = second_while_first_holds(dir.path, {SLIPFRONT_BINARY, "fronts", cfg, "--out", "out"},
+                                                "fronts " + cfg + " --out out --force --set drive.sigma_d=0.45");
+  INFO(w.second.err);
+  CHECK(w.second.code == 2);
+  CHECK(contains(w.second.err, in_use(w.first_pid)));
+  CHECK(w.first_code == 0);
+  const auto h5 = testing::read_h5(dir.path / "out" / "fronts.h5");
+  CHECK(h5.strings.at("/meta@status") == "complete");
+  CHECK(contains(h5.strings.at("/config@toml"), "sigma_d = 0.5"));
+  CHECK_FALSE(fs::exists(dir.path / "out" / ".slipfront.lock"));
 }

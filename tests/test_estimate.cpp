@@ -7,7 +7,9 @@
 #include <chrono>
 #include <cmath>
 #include <string>
+#include <vector>
 
+#include "apps/config.hpp"
 #include "compare/estimate.hpp"
 #include "compare/runner.hpp"
 #include "core/bulk.hpp"
@@ -154,4 +156,84 @@ TEST_CASE("estimate: refusals name the limit, the estimate and what drives it, a
   CHECK(lines[0].rfind("continuum: ", 0) == 0);
   CHECK(lines[1].rfind("memory: ", 0) == 0);
   CHECK(lines[2].rfind("run time: ", 0) == 0);
+}
+
+TEST_CASE("estimate (issue 36): the leap integrator's steps follow time.leap_epsilon and time.implicit_tolerance, "
+          "within a factor 3 of real runs",
+          "[estimate]") {
+  // Was: the discrete model under time.integrator = adaptive was estimated as the explicit scheme, whatever
+  // leap_epsilon (1e-9: 0.17 s estimated, ~45 h projected). Stated basis (docs/robustness.md §3):
+  // max(t_end/dt_max + nodes, R t_end/eps, 20 t_end (1e-8/tol)^0.18), R = 5 v_d on edge loading.
+  Scene s = testing::fig1_scene();
+  s.models = {"discrete"};
+  s.bulk.length = 60.0;
+  s.grid.dx = 1.0;
+  s.time.t_end = 60.0;
+  s.time.integrator = core::Integrator::adaptive_rosenbrock;
+  s.output.snapshot_dt = 0.0;
+  for (const double eps : {0.2, 0.02}) {
+    s.time.leap_epsilon = eps;
+    s.validate();
+    const auto e = compare::estimate(s);
+    CHECK(e.models.at(0).integrator == "leap");
+    const double estimated = e.models.at(0).steps;
+    const double taken = steps_of(compare::run_scene(s, compare::RunControl{}).at(0));
+    INFO("leap_epsilon " << eps << ": estimated " << estimated << ", taken " << taken);
+    CHECK(estimated / taken > 1.0 / 3.0);
+    CHECK(estimated / taken < 3.0);
+  }
+  // the leap condition: steps ∝ 1/eps once it limits them; the defect: more steps at a tighter tolerance
+  s.time.leap_epsilon = 1e-3;
+  const double at_1e3 = compare::estimate(s).models.at(0).steps;
+  s.time.leap_epsilon = 1e-5;
+  CHECK(compare::estimate(s).models.at(0).steps == Approx(100.0 * at_1e3).epsilon(1e-9));
+  s.time.leap_epsilon = 0.2;
+  const double loose = compare::estimate(s).models.at(0).steps;
+  s.time.implicit_tolerance = 1e-12;
+  CHECK(compare::estimate(s).models.at(0).steps > 5.0 * loose);
+}
+
+TEST_CASE("estimate (issue 36): the implicit integrator's halvings (time.implicit_tolerance) are in its run time",
+          "[estimate]") {
+  Scene s = testing::fig1_scene();
+  s.models = {"continuum"};
+  s.time.integrator = core::Integrator::implicit_trapezoidal;
+  s.time.dt = 0.02;
+  const auto loose = compare::estimate(s);
+  s.time.implicit_tolerance = 1e-9;
+  const auto tight = compare::estimate(s);
+  CHECK(tight.models.at(0).steps == loose.models.at(0).steps);  // the runner's steps, exactly
+  CHECK(tight.models.at(0).work_steps > 20.0 * loose.models.at(0).work_steps);  // fig1: 51.6 substeps a step at 1e-9
+  CHECK(tight.models.at(0).work_steps <= 2047.0 * tight.models.at(0).steps);  // solves: at most 2 x 2^halvings - 1
+  CHECK(tight.seconds > 20.0 * loose.seconds);
+}
+
+TEST_CASE("estimate (issue 36): leap_epsilon and implicit_tolerance outside their domain are refused at load, a costly "
+          "leap_epsilon by [limits]",
+          "[estimate][hostile]") {
+  const std::string text = "models = [\"discrete\"]\n" + testing::minimal_config();
+  auto refusal = [&](std::vector<std::string> overrides) {
+    overrides.insert(overrides.begin(), "time.integrator=adaptive");
+    try {
+      (void)app::parse_scene(text, "leap.toml", overrides);
+    } catch (const app::ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  // was: 1e-300 accepted, then exit 1 at step 0 ("leap step below dt_min")
+  for (const char* eps : {"1e-300", "1e-9", "9.9e-7", "0"})
+    CHECK(refusal({std::string("time.leap_epsilon=") + eps}).find("time.leap_epsilon: must be in [1e-06, 1]") !=
+          std::string::npos);
+  CHECK(refusal({"time.leap_epsilon=1e-6"}).empty());
+  for (const char* tol : {"1e-300", "1e-13"})
+    CHECK(refusal({std::string("time.implicit_tolerance=") + tol}).find("time.implicit_tolerance: must be 0 or >= 1e-12") !=
+          std::string::npos);
+  CHECK(refusal({"time.implicit_tolerance=0"}).empty());
+  CHECK(refusal({"time.implicit_tolerance=1e-12"}).empty());
+  // within the domain, the estimate refuses what would not end in time
+  const std::string slow = refusal({"time.leap_epsilon=1e-6", "time.t_end=1e6", "limits.max_steps=1e15"});
+  CHECK(slow.find("limits.max_hours") != std::string::npos);
+  CHECK(slow.find("(discrete, leap: ") != std::string::npos);
+  CHECK(slow.find("coarsen the grid or the step (time.leap_epsilon, time.implicit_tolerance)") != std::string::npos);
 }

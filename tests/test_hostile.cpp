@@ -472,3 +472,21 @@ TEST_CASE("hostile: asking for records a representation does not carry is refuse
       compare::estimate(parse_scene(fig1_text, "fig1.toml", {"output.ages=true", "discrete.representation=agent"}));
   for (const auto& n : with_agent.notes) CHECK_FALSE(contains(n, "output.ages"));
 }
+
+TEST_CASE("hostile reproducers (issue 36): one threshold bin with a width is refused, not the delta law labelled w",
+          "[hostile]") {
+  // Was: discrete.bins = 1 with width > 0 ran the delta law bit for bit (one bin holds every threshold at the
+  // law's mean 1, docs/discrete.md "Bins") while the file said w. Refused for every model that reads the bins.
+  for (const char* law : {"uniform", "gaussian", "weibull"})
+    for (const char* models : {"models=[\"discrete\"]", "models=[\"mean_field\"]", "models=[\"continuum\", \"discrete\"]"}) {
+      INFO(law << " " << models);
+      const std::string r =
+          refusal({models, std::string("discrete.threshold=") + law, "discrete.width=0.1", "discrete.bins=1"});
+      CHECK(contains(r, "discrete.bins: 1 bin represents every threshold by the mean 1: the delta law, whatever "
+                        "discrete.width (0.1); use bins >= 2"));
+      CHECK(refusal({models, std::string("discrete.threshold=") + law, "discrete.width=0.1", "discrete.bins=2"}).empty());
+    }
+  // the delta law (or w = 0) has one bin anyway: accepted
+  CHECK(refusal({"discrete.bins=1"}).empty());
+  CHECK(refusal({"discrete.threshold=uniform", "discrete.width=0", "discrete.bins=1"}).empty());
+}

@@ -443,3 +443,44 @@ TEST_CASE("report: check_report.py rejects a verdict row testing a disordered di
   // the same planted row without a verdict (n/a) is not a test: accepted
   CHECK(check(replace(md, row + "\n", row + "\n" + replace(planted, planted.find("| pass |") != std::string::npos ? "| pass |" : "| FAIL |", "| n/a |") + "\n")).code == 0);
 }
+
+TEST_CASE("report: an empty or truncated study.h5 or fronts.h5 is listed as unreadable, the rest of the report written "
+          "(issue 36)",
+          "[report]") {
+  // Was: an h5py traceback naming no file, exit 1, no report: one bad file blocked the whole report (a bad
+  // results.h5 was already listed and skipped). Now each bad file is listed with its path and the reason.
+  const slipfront::testing::TempDir scratch("report-unreadable");
+  const fs::path& dir = scratch.path;
+  run_friction_law(dir / "fl", 9);
+  const std::string src = SLIPFRONT_SOURCE_DIR;
+  REQUIRE(sh(std::string(SLIPFRONT_BINARY) + " fronts " + src + "/configs/homogeneous_front.toml --out " +
+             (dir / "fronts").string() + " > /dev/null") == 0);
+  const std::string whole = slipfront::testing::slurp(dir / "fronts" / "fronts.h5");
+  REQUIRE(whole.size() > 8192);
+  const std::map<std::string, std::string> bad = {
+      {"empty_study/study.h5", ""},
+      {"truncated_study/study.h5", whole.substr(0, 4096)},
+      {"not_a_study/study.h5", slipfront::testing::slurp(dir / "fl" / "results.h5")},  // HDF5 without /study
+      {"empty_fronts/fronts.h5", ""},
+      {"truncated_fronts/fronts.h5", whole.substr(0, whole.size() / 2)},
+  };
+  for (const auto& [name, bytes] : bad) {
+    fs::create_directories((dir / name).parent_path());
+    slipfront::testing::write_text(dir / name, bytes);
+  }
+  const auto r = slipfront::testing::run({SLIPFRONT_BINARY, "report", dir.string()}, dir);
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  const std::string md = slipfront::testing::slurp(dir / "report.md");
+  CHECK(md.find("## Scene `friction_law`") != std::string::npos);  // the rest of the report
+  CHECK(md.find("## Steady fronts `homogeneous_front`") != std::string::npos);
+  for (const auto& [name, bytes] : bad) {
+    INFO(name);
+    const std::string line = "- could not read " + (dir / name).string() + ": ";
+    const std::size_t at = md.find(line);
+    REQUIRE(at != std::string::npos);
+    const std::string why = md.substr(at + line.size(), md.find('\n', at) - at - line.size());
+    CHECK(why.size() > 5);  // a reason, e.g. "Unable to open file (file signature not found)"
+  }
+  CHECK(md.find("not_a_study/study.h5: Unable to open object (object 'study' doesn't exist)") != std::string::npos);
+}

@@ -128,6 +128,35 @@ TEST_CASE("study strip_cmin_height: slipfront study writes a complete study.h5 w
   CHECK(contains(o2.err, "belongs to the study 'cmin'"));
 }
 
+TEST_CASE("study strip_cmin_height: a study.h5 of the same study name made from another study file is refused "
+          "without --force (issue 36)",
+          "[study][strip][cmin][hostile]") {
+  // Was: silently replaced (a kind without scene runs has no run files whose configurations would tell the two
+  // apart). Now refused naming the first line that differs; the same study again, or --force, replaces it.
+  const TempDir dir("study-cmin-other-text");
+  write_strip_scene(dir.path);
+  const fs::path out = dir.path / "out";
+  const fs::path study = write_study(dir.path, "cmin", small_paths);
+  REQUIRE(run({bin, "study", study.string(), "--out", out.string(), "-q"}, dir.path, {}, {}, 60.0).code == 0);
+  const std::string first = slurp(out / "study.h5");
+  std::string changed = small_paths;
+  changed.replace(changed.find("intervals = 150"), 15, "intervals = 160");
+  write_study(dir.path, "cmin", changed);  // the same name, another [paths]
+  const Output refused = run({bin, "study", study.string(), "--out", out.string(), "-q"}, dir.path, {}, {}, 60.0);
+  INFO(refused.err);
+  CHECK(refused.code == 2);
+  CHECK(contains(refused.err, "belongs to the study 'cmin' made from another study file (line "));
+  CHECK(contains(refused.err, "`intervals = 150` in the file, `intervals = 160` now"));
+  CHECK(contains(refused.err, "--force"));
+  CHECK(slurp(out / "study.h5") == first);  // untouched
+  const Output forced = run({bin, "study", study.string(), "--out", out.string(), "-q", "--force"}, dir.path, {}, {}, 60.0);
+  INFO(forced.err);
+  CHECK(forced.code == 0);
+  CHECK(contains(read_h5(out / "study.h5").strings.at("/study@toml"), "intervals = 160"));
+  // the same study again (the same text): recomputed, not refused
+  CHECK(run({bin, "study", study.string(), "--out", out.string(), "-q"}, dir.path, {}, {}, 60.0).code == 0);
+}
+
 TEST_CASE("study strip_cmin_height: hostile study files are refused before any work, naming the file, the key and the "
           "reason",
           "[study][strip][cmin][hostile]") {

@@ -14,10 +14,11 @@ from .files import ChecksumError, Fronts, Model, Results, Study, Table, open
 from .scene import Check, ConfigError, Scene
 
 try:
-    from ._slipfront import Simulation  # noqa: F401  (built with pybind11: python/CMakeLists.txt)
-    from ._slipfront import commit as _commit  # noqa: F401
+    from .inprocess import Simulation  # noqa: F401  (the pybind11 module, when it was built: python/CMakeLists.txt)
 except ImportError:
-    pass
+    import pathlib as _pathlib
+    if list(_pathlib.Path(__file__).parent.glob("_slipfront*.so")):
+        raise  # built but not loadable: say why
 
-__all__ = ["Scene", "Check", "ConfigError", "ChecksumError", "RunError", "Results", "Model", "Study", "Fronts",
+__all__ = ["Simulation"] * ("Simulation" in globals()) + ["Scene", "Check", "ConfigError", "ChecksumError", "RunError", "Results", "Model", "Study", "Fronts",
            "Table", "run", "resume", "study", "fronts", "report", "open"]

@@ -9,6 +9,8 @@
 #include <string>
 #include <string_view>
 
+#include "apps/config.hpp"
+
 namespace slipfront::app {
 
 class JsonProgress {
@@ -22,33 +24,16 @@ class JsonProgress {
     const bool first = model != model_;
     if (!first && !due()) return;
     model_ = model;
-    emit("\"scene\":" + quoted(scene) + ",\"model\":" + quoted(model) + ",\"t\":" + number(t) +
-         ",\"t_end\":" + number(t_end));
+    emit("\"scene\":" + quoted_string(std::string(scene)) + ",\"model\":" + quoted_string(std::string(model)) +
+         ",\"t\":" + number(t) + ",\"t_end\":" + number(t_end));
   }
   /// A study: {"slipfront":"progress","study":S,"runs_done":K,"runs":N,"elapsed":W}
   void study(std::string_view name, std::size_t done, std::size_t total) {
     if (!on_) return;
     const std::lock_guard lock(mutex_);
     if (done < total && !due()) return;
-    emit("\"study\":" + quoted(name) + ",\"runs_done\":" + std::to_string(done) + ",\"runs\":" + std::to_string(total));
-  }
-
-  /// A JSON string (RFC 8259: quote, backslash and control characters escaped).
-  static std::string quoted(std::string_view s) {
-    std::string out = "\"";
-    for (const char c : s) {
-      if (c == '"' || c == '\\') {
-        out += '\\';
-        out += c;
-      } else if (static_cast<unsigned char>(c) < 0x20) {
-        char buf[8];
-        std::snprintf(buf, sizeof buf, "\\u%04x", static_cast<unsigned>(static_cast<unsigned char>(c)));
-        out += buf;
-      } else {
-        out += c;
-      }
-    }
-    return out + "\"";
+    emit("\"study\":" + quoted_string(std::string(name)) + ",\"runs_done\":" + std::to_string(done) +
+         ",\"runs\":" + std::to_string(total));
   }
 
  private:

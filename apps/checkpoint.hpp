@@ -36,6 +36,12 @@ struct Checkpoint {
 /// memory; `slipfront run` passes its limits.max_memory_gib instead).
 inline constexpr std::uint64_t default_max_checkpoint_bytes = std::uint64_t{16} << 30;
 
+/// The bytes of a checkpoint (the format above) of the run state `state` at simulated time `time`.
+std::string checkpoint_bytes(std::string_view resolved_toml, double time, std::string_view state);
+/// Verifies and reads checkpoint bytes (format 2, checksum, this build's commit, sizes); throws CheckpointError
+/// "<source>: not a usable checkpoint: <why>".
+Checkpoint parse_checkpoint(std::string_view bytes, const std::string& source);
+
 /// Writes `path` atomically (".<name>.tmp.<pid>", app::temporary_path, created exclusively, synced,
 /// then renamed): the resolved configuration and the state at simulated time `time`. Throws
 /// CheckpointError.

@@ -21,6 +21,7 @@
 #include "apps/checkpoint.hpp"
 #include "apps/config.hpp"
 #include "apps/h5out.hpp"
+#include "apps/json_progress.hpp"
 #include "apps/paths.hpp"
 #include "apps/study.hpp"
 #include "compare/alongside.hpp"
@@ -361,10 +362,15 @@ RunOutcome run_scene_stoppable(const RunOptions& opts, const compare::Scene& sce
                                const fs::path& checkpoint_file, std::string restart_state, std::ostream& err) {
   RunOutcome run;
   run.meta.command_line = opts.command_line;
-  Progress progress(err, scene.name, !opts.quiet && ::isatty(STDERR_FILENO));
+  const bool json = opts.progress == "json";
+  Progress progress(err, scene.name, !json && !opts.quiet && ::isatty(STDERR_FILENO));
+  JsonProgress json_progress(err, json);
   compare::RunControl control;
   control.stop = [] { return StopSignals::requested(); };
-  control.progress = [&](const std::string& model, double t, double t_end) { progress.update(model, t, t_end); };
+  control.progress = [&](const std::string& model, double t, double t_end) {
+    progress.update(model, t, t_end);
+    json_progress.run(scene.name, model, t, t_end);
+  };
   control.checkpoint_every = opts.checkpoint_every;
   if (opts.checkpoint_every > 0.0)
     control.checkpoint = [&](const std::string& state, double t) {
@@ -676,6 +682,11 @@ CLI::App* add_run_verb(CLI::App& app, RunOptions& opts) {
       ->type_name("SECTION.KEY=VALUE");
   run->add_flag("-f,--force", opts.force, "Overwrite an existing DIR/results.h5");
   run->add_flag("-q,--quiet", opts.quiet, "No progress line and no notes on stderr (errors still shown)");
+  run->add_option("--progress", opts.progress,
+                  "line: a progress line when stderr is a terminal (the default); json: one JSON object per line on "
+                  "stderr, at most 10 a second, for a program driving slipfront (docs/cli.md)")
+      ->check(CLI::IsMember({"line", "json"}))
+      ->type_name("line|json");
   run->add_option("--checkpoint-every", opts.checkpoint_every,
                   "Write DIR/checkpoint.bin (atomically) every T of simulated time and when stopped (bulk scenes); "
                   "removed when the run completes")
@@ -716,6 +727,11 @@ CLI::App* add_study_verb(CLI::App& app, StudyOptions& opts) {
   study->add_flag("-f,--force", opts.force,
                   "Rerun every run, even those already complete in DIR, and replace study.h5 whatever it holds");
   study->add_flag("-q,--quiet", opts.quiet, "No progress line and no start line");
+  study->add_option("--progress", opts.progress,
+                    "line: a progress line on a terminal (the default); json: one JSON object per line on stderr "
+                    "(runs done of this invocation's), for a program driving slipfront (docs/cli.md)")
+      ->check(CLI::IsMember({"line", "json"}))
+      ->type_name("line|json");
   study->footer(
       "Every run is validated before any work. Each run writes DIR/runs/<id>/results.h5; the analysis\n"
       "(tables, fitted rates with 95% intervals, each with its definition) goes to DIR/study.h5.\n"

@@ -21,6 +21,7 @@ struct RunOptions {
   std::filesystem::path out;           ///< empty: out/<scene name>
   bool force = false;
   bool quiet = false;
+  std::string progress = "line";       ///< --progress: "line" (on a terminal) or "json" (apps/json_progress.hpp)
   double checkpoint_every = 0.0;       ///< > 0: write DIR/checkpoint.bin every this much simulated time
   std::filesystem::path restart;       ///< non-empty: continue from this checkpoint
   std::string command_line;            ///< recorded in /meta

@@ -739,6 +739,8 @@ std::string format_value(Target t) {
 
 }  // namespace
 
+std::string quoted_string(const std::string& s) { return format_string(s); }
+
 Scene parse_scene(const std::string& toml_text, const std::string& source_name,
                   const std::vector<std::string>& overrides, std::vector<std::string>* notes) {
   toml::table root;

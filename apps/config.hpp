@@ -59,6 +59,10 @@ compare::Scene parse_scene(const std::string& toml_text, const std::string& sour
 /// in shortest round-trip form) for every s returned by load_scene.
 std::string to_toml(const compare::Scene& scene);
 
+/// `s` as a TOML basic string, quoted and escaped as to_toml() writes it (quote, backslash and control
+/// characters): also a valid JSON string (apps/json_progress.hpp).
+std::string quoted_string(const std::string& s);
+
 /// Every key of the schema, dotted ("bulk.rho"; top-level keys bare), in schema order.
 std::vector<std::string> schema_keys();
 

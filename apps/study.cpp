@@ -30,6 +30,7 @@
 #include "apps/config.hpp"
 #include "apps/h5in.hpp"
 #include "apps/h5out.hpp"
+#include "apps/json_progress.hpp"
 #include "apps/paths.hpp"
 #include "apps/study_mpi.hpp"
 #include "apps/toml_integer.hpp"
@@ -876,8 +877,10 @@ struct StudyProgress {
   std::string name;
   std::size_t total;
   Clock::time_point start;
+  JsonProgress* json = nullptr;  // --progress json (rank 0)
 
   void update(std::size_t finished) const {
+    if (json) json->study(name, finished, total);
     if (!on) return;
     const double el = std::chrono::duration<double>(Clock::now() - start).count();
     err << "\r[study " << name << "] " << finished << "/" << total << " runs, elapsed " << static_cast<int>(el)
@@ -1298,8 +1301,10 @@ int study_command(const StudyOptions& opts, std::ostream& out_all, std::ostream&
   // (d)–(e) the runs, stoppable by SIGINT/SIGTERM (the handlers stay until study.h5 is written)
   const StudySignals signals;
   StopRequests stop(engine.mpi.get());
-  const StudyProgress progress{err, engine.root && !opts.quiet && ::isatty(STDERR_FILENO), study->spec.name,
-                               schedule.todo.size(), wall0};
+  const bool json = opts.progress == "json";
+  JsonProgress json_progress(err, json && engine.root);
+  const StudyProgress progress{err, !json && engine.root && !opts.quiet && ::isatty(STDERR_FILENO), study->spec.name,
+                               schedule.todo.size(), wall0, json ? &json_progress : nullptr};
   RunsMade made = run_points(*study, schedule.todo, engine, stop, opts.command_line, progress, err_all);
   const RunsEnd end = end_runs(made, schedule.todo.size(), engine);
 

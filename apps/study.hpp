@@ -29,6 +29,7 @@ struct StudyOptions {
   unsigned threads = 0;                ///< 0: hardware concurrency (under mpirun: per rank, 0 = 1)
   bool force = false;                  ///< rerun every run, replace study.h5
   bool quiet = false;
+  std::string progress = "line";       ///< --progress: "line" (on a terminal) or "json" (apps/json_progress.hpp)
   std::string command_line;
 };
 

@@ -123,6 +123,7 @@ class ImposedHistory {
   }
   bool done() const { return r_.status != RunStatus::complete || k_ >= s_.drive.v.size(); }
   double time() const { return t_; }
+  const Law& law() const { return law_; }  ///< the site's state (the Python module's views, docs/python.md)
   double end() const { return s_.time.t_end; }
   void step() {
     const double v[1] = {s_.drive.v[k_]};

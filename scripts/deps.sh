@@ -15,11 +15,14 @@ SLIPFRONT_DEPS_PROGRAM=(
   python3-matplotlib python3-h5py python3-numpy  # scripts/plot.py
 )
 # ... and what the tests and benchmarks add (125 more packages on a fresh machine: SUNDIALS brings Open MPI and
-# gfortran; ~11 s of apt-get there, measured by reinstalling them, docs/performance.md §17)
+# gfortran; ~11 s of apt-get there, measured by reinstalling them, docs/performance.md §17; the two Python lines add 12
+# packages, measured on this machine with apt-get install)
 SLIPFRONT_DEPS_TESTS=(
   catch2 libbenchmark-dev                    # tests, benchmarks
   libsundials-dev                            # reference ODE integrator
   libopenmpi-dev openmpi-bin                 # optional at run time: studies on MPI (mpirun -n K slipfront study)
+  pybind11-dev python3-pytest python3-xarray # the Python package (docs/python.md): in-process module, its tests
+  python3-tqdm python3-pandas                # ... its optional progress bars and tables (tests skip without them)
 )
 # The packages ensure_deps installs (scripts may narrow or extend it first, e.g. build.sh --program-only, fuzz.sh).
 SLIPFRONT_DEPS=("${SLIPFRONT_DEPS_PROGRAM[@]}" "${SLIPFRONT_DEPS_TESTS[@]}")

@@ -31,7 +31,7 @@
 #include "compare/runner.hpp"
 #include "compare/scene.hpp"
 #include "tests/discrete_agent_helpers.hpp"
-#include "tests/scenes.hpp"
+#include "tests/leap_scenes.hpp"
 
 using namespace slipfront;
 
@@ -44,16 +44,8 @@ struct Events {
 };
 
 compare::Scene count_fig1(core::Integrator integ, long n, unsigned seed, double cfl) {
-  compare::Scene s = testing::fig1_scene();
-  s.models = {"discrete"};
-  s.discrete.representation = "count";
-  s.discrete.contacts_per_site = n;
-  s.discrete.threshold = "delta";
-  s.discrete.width = 0.0;
-  s.discrete.seed = seed;
-  s.time.integrator = integ;
+  compare::Scene s = testing::count_fig1_scene(integ, n, seed);
   s.time.cfl = cfl;
-  s.output.snapshot_dt = 0.0;
   return s;
 }
 

@@ -4,7 +4,7 @@
 // The reference is stored (tests/data/leap_fig1_reference.csv, the command that made it in its header): the count law
 // at N = 10³ on the explicit scheme at cfl = 0.125 (seeds 1–288, ~2 s a run) and at N = 10⁴ at cfl = 0.25 (seeds
 // 101–148). Its first run of each N is computed again here and must match the file (else the file is stale: remake
-// it). The leap runs use other seeds (1001–1288 at N = 10³, 1–96 at N = 10⁴): independent samples. ~3 min.
+// it). The leap runs use other seeds (1001–1288 at N = 10³, 1–96 at N = 10⁴): independent samples. ~75 s (2 cores, loaded).
 //
 // At N = 10³ fig1 is bimodal (docs/numerics.md §9.1: an early transient, c_transient < 20, or a late one), and the
 // leap integrator once put the late mode's t^ 3.5 ± 0.7 later than the reference (§9.4). The battery, each test at

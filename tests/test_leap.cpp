@@ -20,7 +20,7 @@
 #include "core/leap.hpp"
 #include "discrete/count_law.hpp"
 #include "tests/discrete_agent_helpers.hpp"
-#include "tests/scenes.hpp"
+#include "tests/leap_scenes.hpp"
 
 using namespace slipfront;
 
@@ -34,18 +34,7 @@ compare::ModelResult run_one(compare::Scene s) {
   return std::move(out.back());
 }
 
-compare::Scene count_fig1(core::Integrator integ, long n, unsigned seed) {
-  compare::Scene s = testing::fig1_scene();
-  s.models = {"discrete"};
-  s.discrete.representation = "count";
-  s.discrete.contacts_per_site = n;
-  s.discrete.threshold = "delta";
-  s.discrete.width = 0.0;
-  s.discrete.seed = seed;
-  s.time.integrator = integ;
-  s.output.snapshot_dt = 0.0;
-  return s;
-}
+compare::Scene count_fig1(core::Integrator integ, long n, unsigned seed) { return testing::count_fig1_scene(integ, n, seed); }
 
 double rel(double a, double b) { return std::abs(a - b) / std::abs(b); }
 

@@ -163,7 +163,7 @@ TEST_CASE("estimate (issue 36): the leap integrator's steps follow time.leap_eps
           "[estimate]") {
   // Was: the discrete model under time.integrator = adaptive was estimated as the explicit scheme, whatever
   // leap_epsilon (1e-9: 0.17 s estimated, ~45 h projected). Stated basis (docs/robustness.md §3):
-  // max(t_end/dt_max + nodes, R t_end/eps, 20 t_end (1e-8/tol)^0.18), R = 5 v_d on edge loading.
+  // max(t_end/dt_max + nodes, R t_end/eps, 20 t_end (1e-8/tol)^0.18), R = 20 v_d on edge loading.
   Scene s = testing::fig1_scene();
   s.models = {"discrete"};
   s.bulk.length = 60.0;
@@ -189,8 +189,16 @@ TEST_CASE("estimate (issue 36): the leap integrator's steps follow time.leap_eps
   CHECK(compare::estimate(s).models.at(0).steps == Approx(100.0 * at_1e3).epsilon(1e-9));
   s.time.leap_epsilon = 0.2;
   const double loose = compare::estimate(s).models.at(0).steps;
+  // fig1 (t_end = 140, N = 10³) since the sliding sites' ε/4: 4 214 steps at tolerance 1e-3, 17 280 at 1e-12 (4.1x);
+  // the estimate follows the real run there too
   s.time.implicit_tolerance = 1e-12;
-  CHECK(compare::estimate(s).models.at(0).steps > 5.0 * loose);
+  s.validate();
+  const double tight = compare::estimate(s).models.at(0).steps;
+  const double tight_taken = steps_of(compare::run_scene(s, compare::RunControl{}).at(0));
+  INFO("implicit_tolerance 1e-12: estimated " << tight << ", taken " << tight_taken << "; at 1e-3 estimated " << loose);
+  CHECK(tight > 2.0 * loose);
+  CHECK(tight / tight_taken > 1.0 / 3.0);
+  CHECK(tight / tight_taken < 3.0);
 }
 
 TEST_CASE("estimate (issue 36): the implicit integrator's halvings (time.implicit_tolerance) are in its run time",

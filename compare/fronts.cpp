@@ -505,8 +505,8 @@ StripBranchRun strip_branch(const Scene& s, const continuum::StripFrontOptions& 
 // The choice of the meshes by the tolerance (docs/fronts.md §10.20): the control fronts (the branch's first
 // front, the scene's front, the limiting front) re-solved with the rows doubled (same grading) until the
 // Richardson estimate |c_2M − c_M|/(2^p − 1) of the finer one is below 0.9 rtol·c for all of them, then the
-// intervals doubled until the ξ estimate (every other node) is below 0.1 rtol·c; each from the last, one Newton
-// solve each. Returns the meshes and one line saying how they were chosen (and where the budget stopped it).
+// intervals doubled until the ξ estimate (twice the intervals) is below 0.1 rtol·c; each from the last, one Newton
+// solve each (the ξ check re-solves on half the rows). Returns the meshes and one line saying how they were chosen (and where the budget stopped it).
 std::pair<continuum::StripFrontOptions, std::string> choose_meshes(const Scene& s, const StripBranchRun& pilot,
                                                                    const StripFrontsSettings& st) {
   const double H = s.bulk.height, rtol = st.rtol, two_p = std::pow(2.0, continuum::strip_row_order);
@@ -541,19 +541,18 @@ std::pair<continuum::StripFrontOptions, std::string> choose_meshes(const Scene& 
     if (met) break;
   }
   how += ", intervals " + std::to_string(fo.intervals);
-  for (;;) {  // the intervals (4th order: the every-other-node estimate of the solve)
+  for (;;) {  // the intervals: the ξ part of each control front's estimate (twice the intervals, on half the rows)
     bool met = true;
-    for (auto& f : control) {
-      continuum::StripFrontOptions e = fo;
-      e.estimate_error = true;
-      const auto g = resolve_on(f, e);
-      if (g.status == continuum::FrontStatus::converged && g.speed_error > 0.1 * rtol * g.c) met = false;
+    for (const auto& f : control) {
+      const auto e = continuum::estimate_strip_speed_error(f, fo);
+      if (std::isfinite(e.xi) && e.xi > 0.1 * rtol * f.c) met = false;
     }
     if (met) break;
     if (2 * fo.intervals > st.max_intervals ||
         continuum::strip_solve_cost(fo.rows, 2 * fo.intervals).iteration_seconds > continuum::strip_max_iteration_seconds)
       return {fo, how + " (budget: max " + std::to_string(st.max_intervals) + " intervals, or the Newton iteration limit)"};
     fo.intervals *= 2;
+    for (auto& f : control) f = resolve_on(f, fo);
     how += " -> " + std::to_string(fo.intervals);
   }
   return {fo, how};

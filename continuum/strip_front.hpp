@@ -115,9 +115,9 @@ StripFront solve_strip_front(const core::InterfaceParams& law, const core::BulkP
                              const StripFrontOptions& options = {}, const StripFront* guess = nullptr);
 
 /// The error of a solved front's speed (docs/fronts.md §10.20), from the same front re-solved on every other
-/// row (M/2, the same grading, guess: the front itself; M = 1: on 2M rows instead) with the every-other-node
-/// estimate of the ξ part: rows = |c_M − c_{M/2}|/(2^p − 1), p = strip_row_order (M = 1: |c_1 − c_2| 2^p/(2^p − 1)),
-/// xi = that solve's speed_error; total = rows + xi. NaN with `note` when the re-solve does not converge.
+/// row (M/2, the same grading, guess: the front itself; M = 1: on 2M rows instead), then that on twice the
+/// intervals: rows = |c_M − c_{M/2}|/(2^p − 1), p = strip_row_order (M = 1: |c_1 − c_2| 2^p/(2^p − 1)),
+/// xi = |c_N − c_2N| 8/7 (order 3 assumed, 4 proven); total = rows + xi. NaN with `note` when a re-solve fails.
 struct StripSpeedError {
   double rows = std::numeric_limits<double>::quiet_NaN(), xi = std::numeric_limits<double>::quiet_NaN();
   double total = std::numeric_limits<double>::quiet_NaN();

@@ -228,7 +228,8 @@ continuum::StripFront strip_front_at(const Scene& s, double sigma_d, const std::
 }
 
 // The same front on `fo` (other rows or intervals), from itself.
-continuum::StripFront resolve_on(const continuum::StripFront& f, const continuum::StripFrontOptions& fo) {
+continuum::StripFront resolve_on(const continuum::StripFront& f, continuum::StripFrontOptions fo) {
+  fo.max_newton = std::max(fo.max_newton, 40);  // from other rows: more than a continuation step needs (the path's 12)
   return f.saddle_node_limit ? continuum::solve_strip_saddle_node_front(f.law, f.bulk, fo, f)
                              : continuum::solve_strip_front(f.law, f.bulk, f.sigma_d, fo, &f);
 }

@@ -909,6 +909,7 @@ StripSpeedError estimate_strip_speed_error(const StripFront& f, const StripFront
   o.row_grading = f.row_grading;
   if (!(o.row_grading > 0.0)) o.row_spacing = std::numeric_limits<double>::infinity();
   o.rows = other;
+  o.max_newton = std::max(o.max_newton, 40);  // from other rows: more than a continuation step (the path's 12)
   const StripFront g = f.saddle_node_limit ? solve_strip_saddle_node_front(f.law, f.bulk, o, f)
                                            : solve_strip_front(f.law, f.bulk, f.sigma_d, o, &f);
   e.other_rows = other;

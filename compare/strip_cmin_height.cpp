@@ -204,6 +204,22 @@ std::vector<double> column(const std::vector<StripCminRow>& rows, T StripCminRow
   return v;
 }
 
+// Every row's note (why a number is NaN) into the notes, the largest relative c_min estimate as a scalar; a
+// message counting the rows with a NaN ("" when none).
+std::string note_errors(const std::vector<StripCminRow>& rows, StudyReport& rep) {
+  int without = 0;
+  double worst = 0.0;
+  for (const auto& row : rows) {
+    if (!row.note.empty()) rep.notes.push_back(row.note), ++without;
+    if (std::isfinite(row.c_min_error)) worst = std::max(worst, row.c_min_error / row.c_min);
+  }
+  rep.scalars["c_min_largest_relative_error"] = worst;
+  rep.definitions["c_min_largest_relative_error"] = "largest c_min_error/c_min over the table (docs/fronts.md §10.20)";
+  if (without == 0) return "";
+  return std::to_string(without) + " of " + std::to_string(rows.size()) +
+         " heights have a NaN (c_min_1d, ratio_to_1d or an error estimate): see the notes";
+}
+
 }  // namespace
 
 std::span<const core::KeyDomain> strip_cmin_path_domains() { return path_domains; }
@@ -322,17 +338,7 @@ StudyOutcome strip_cmin_height_study(StudyReport& rep, const StudySpec& spec, co
   rep.files["strip_cmin_height.csv"] = strip_cmin_csv(r.rows);
 
   StudyOutcome out;
-  int without = 0;
-  double worst = 0.0;
-  for (const auto& row : r.rows) {
-    if (!row.note.empty()) rep.notes.push_back(row.note), ++without;
-    if (std::isfinite(row.c_min_error)) worst = std::max(worst, row.c_min_error / row.c_min);
-  }
-  rep.scalars["c_min_largest_relative_error"] = worst;
-  rep.definitions["c_min_largest_relative_error"] = "largest c_min_error/c_min over the table (docs/fronts.md §10.20)";
-  if (without > 0)
-    out.message = std::to_string(without) + " of " + std::to_string(r.rows.size()) +
-                  " heights have a NaN (c_min_1d, ratio_to_1d or an error estimate): see the notes";
+  out.message = note_errors(r.rows, rep);
   const bool stopped = work.stop && work.stop();
   if (!r.path.complete) {
     out.status = stopped ? RunStatus::interrupted : RunStatus::failed;

@@ -564,10 +564,16 @@ std::string scaling_line(const compare::FrontsResult& fr) {
 std::string strip_scaling_line(const compare::FrontsResult& fr) {
   const auto& fits = fr.scaling_fits;
   if (!fits.count("parameter_index") || fits.at("parameter_index").empty()) return "  scaling: not run\n";
+  const int fitted = static_cast<int>(fits.at("points").back()), tried = static_cast<int>(fits.at("tried").back());
+  std::string dropped = fr.labels.count("scaling_dropped") ? fr.labels.at("scaling_dropped") : std::string();
+  while (!dropped.empty() && dropped.back() == '\n') dropped.pop_back();
+  for (auto& ch : dropped)
+    if (ch == '\n') ch = ';';
   std::string line = "  scaling (strip): c_min = " + format_number(fits.at("prefactor").back()) +
-                     " sqrt(mu' H alpha/(eta kappa)), largest deviation " +
-                     core::format_number(100.0 * fits.at("spread").back(), 3) + " % over " +
-                     std::to_string(static_cast<int>(fits.at("points").back())) + " points; exponents";
+                     " sqrt(mu' H alpha/(eta kappa)), fitted to " + std::to_string(fitted) + " of " + std::to_string(tried) +
+                     " points" + (dropped.empty() ? std::string() : " (dropped: " + dropped + ")") + "; largest deviation " +
+                     core::format_number(100.0 * fits.at("spread").back(), 3) + " % over those " + std::to_string(fitted) +
+                     " points; exponents";
   for (std::size_t k = 0; k + 1 < fits.at("parameter_index").size(); ++k)
     line += " " + fr.scaling_parameters[static_cast<std::size_t>(fits.at("parameter_index")[k])] + " " +
             format_number(fits.at("exponent")[k]);
@@ -580,23 +586,32 @@ void print_fronts_summary(std::ostream& out, const compare::Scene& scene, const 
                           const RunMeta& meta, bool scaling, const fs::path& file) {
   auto get = [&](const char* k) { return fr.scalars.count(k) ? fr.scalars.at(k) : std::nan(""); };
   auto label = [&](const char* k) { return fr.labels.count(k) ? fr.labels.at(k) : std::string(); };
+  auto with_error = [&](const std::string& k) {  // "value ± error", or "value (no error estimate)"
+    const double v = get(k.c_str()), e = get((k + "_error").c_str());
+    if (!std::isfinite(v)) return format_number(v);
+    return format_number(v) + (std::isfinite(e) ? " ± " + core::format_number(e, 2) : std::string(" (no error estimate)"));
+  };
   const auto sd = fr.branch.find("sigma_d");
   const std::size_t n = sd == fr.branch.end() ? 0 : sd->second.size();
   out << scene.name << ": steady fronts " << compare::to_string(meta.status) << " in " << format_seconds(meta.wall_seconds)
       << " -> " << file.string() << "\n"
       << "  branch: " << n << " fronts, ends at sigma_d = " << format_number(n ? sd->second.back() : std::nan("")) << " ("
       << label("end") << ": " << label("reason") << ")\n"
-      << "  c_min = " << format_number(get("c_min")) << " at sigma_d = " << format_number(get("sigma_d_at_c_min"))
+      << "  c_min = " << with_error("c_min") << " at sigma_d = " << format_number(get("sigma_d_at_c_min"))
       << " (sigma_c^d = " << format_number(get("sigma_c_d")) << "); c_min / sqrt(mu alpha/(eta kappa)) = "
-      << format_number(get("c_min_over_scale")) << "\n"
+      << with_error("c_min_over_scale") << "\n"
       << "  at the scene's sigma_d = " << format_number(get("scene_sigma_d")) << ": "
-      << (std::isfinite(get("c_at_scene_sigma_d")) ? "c = " + format_number(get("c_at_scene_sigma_d")) + " (profile 0)"
+      << (std::isfinite(get("c_at_scene_sigma_d")) ? "c = " + with_error("c_at_scene_sigma_d") + " (profile 0)"
                                                     : "no steady front (" + label("scene_front") + ")")
       << "\n";
+  if (!label("accuracy").empty())
+    out << "  accuracy (estimated errors, docs/fronts.md §10.20): rtol " << label("accuracy") << "; resolution "
+        << label("resolution") << "\n";
   if (get("height") > 0.0)
     out << "  strip H = " << format_number(get("height")) << " (mu' = " << format_number(get("mu_strip")) << ", l_kappa = "
         << format_number(get("ell_kappa")) << ", s = " << format_number(get("s")) << "): c_min / c_min(1D, mu = mu' H) = "
-        << format_number(get("c_min_over_1d")) << " (1D: " << format_number(get("c_min_1d")) << "); "
+        << with_error("c_min_over_1d") << " (1D: " << with_error("c_min_1d")
+        << (label("c_min_1d").empty() ? "" : ", " + label("c_min_1d")) << "); "
         << format_number(get("rows")) << " rows, " << format_number(get("intervals")) << " intervals\n";
   if (scaling && get("height") > 0.0) out << strip_scaling_line(fr);
   else if (scaling) out << scaling_line(fr);
@@ -610,7 +625,14 @@ int fronts_command(const FrontsOptions& opts, std::ostream& out, std::ostream& e
   const std::optional<compare::Scene> scene = load_fronts_scene(opts, err);
   if (!scene) return exit_code::usage;
 
-  // (b) the output file, before any work; DIR held by this process until fronts.h5 is in place
+  // (b) the mesh refused before any work when it cannot fit; the output file, DIR held by this process until
+  //     fronts.h5 is in place
+  const compare::StripFrontsSettings strip{opts.rows, opts.intervals, opts.rtol};
+  if (scene->bulk.height > 0.0)
+    if (const std::string refused = compare::strip_fronts_refusal(strip, scene->limits.max_memory_gib); !refused.empty()) {
+      print_error(err, opts.config.string() + ": " + refused);
+      return exit_code::usage;
+    }
   const fs::path dir = opts.out.empty() ? fs::path("out") / scene->name : opts.out;
   const fs::path file = dir / "fronts.h5";
   OutputLock lock;
@@ -626,8 +648,7 @@ int fronts_command(const FrontsOptions& opts, std::ostream& out, std::ostream& e
   meta.command_line = opts.command_line;
   compare::FrontsResult fr;
   try {
-    fr = compare::compute_fronts(*scene, opts.scaling, [] { return StopSignals::requested(); },
-                                 compare::StripFrontsSettings{opts.rows, opts.intervals});
+    fr = compare::compute_fronts(*scene, opts.scaling, [] { return StopSignals::requested(); }, strip);
     meta.status = fr.status;
     meta.message = fr.message;
   } catch (const std::exception& e) {
@@ -756,10 +777,16 @@ CLI::App* add_fronts_verb(CLI::App& app, FrontsOptions& opts) {
   fronts->add_flag("--scaling", opts.scaling,
                    "Also the minimal-speed scaling study: c_min varying each of mu, alpha, eta, kappa (4 values each)");
   fronts->add_flag("-f,--force", opts.force, "Overwrite an existing DIR/fronts.h5");
-  fronts->add_option("--rows", opts.rows, "Strip scenes (bulk.height): row intervals across the height (default 8)")
+  fronts->add_option("--rows", opts.rows,
+                     "Strip scenes (bulk.height): row intervals across the height (default: chosen by --rtol from 8)")
       ->check(CLI::Range(1, 256));
-  fronts->add_option("--intervals", opts.intervals, "Strip scenes: xi intervals of the collocation mesh (default 300)")
+  fronts->add_option("--intervals", opts.intervals,
+                     "Strip scenes: xi intervals of the collocation mesh (default: chosen by --rtol from 300)")
       ->check(CLI::Range(8, 100000));
+  fronts->add_option("--rtol", opts.rtol,
+                     "Target relative error of every speed reported (estimated, stored beside it; default 1e-3): "
+                     "the strip's rows and intervals are refined until the estimate meets it")
+      ->check(CLI::Range(1e-8, 0.5));
   fronts->footer(
       "The traveling waves of docs/model.md §6 solved directly (collocation + Newton, docs/fronts.md): the\n"
       "branch c(sigma_d) continued down to where it ends (and why), c_min, profiles A, sigma_bar, v, u along it.\n"

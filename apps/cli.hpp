@@ -41,8 +41,9 @@ struct FrontsOptions {
   bool scaling = false;
   bool force = false;
   std::string command_line;
-  int rows = 8;          ///< the strip (bulk.height > 0): row intervals across the height
-  int intervals = 300;   ///< the strip: ξ intervals
+  int rows = 0;          ///< the strip (bulk.height > 0): row intervals across the height; 0: chosen by rtol
+  int intervals = 0;     ///< the strip: ξ intervals; 0: chosen by rtol
+  double rtol = 1e-3;    ///< the target relative error of every reported speed (docs/fronts.md §10.20)
 };
 /// `slipfront fronts`: the steady fronts of a homogeneous scene to DIR/fronts.h5 (docs/model.md §6).
 int fronts_command(const FrontsOptions& opts, std::ostream& out, std::ostream& err);

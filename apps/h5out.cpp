@@ -642,7 +642,8 @@ void write_fronts_file(const std::filesystem::path& tmp, const compare::Scene& s
       {"min_slip_rate", "min slip rate over the profile"},
       {"stable_eigenvalue", "decaying eigenvalue of the sliding state behind (-> 0 at the saddle-node end)"},
       {"residual_norm", "max-norm of the discrete traveling-wave equations at the solution"},
-      {"speed_error", "estimated error of c (Richardson, 4th order)"}};
+      {"speed_error", "estimated error of c (docs/fronts.md §10.20): the chain's Richardson in xi (4th order); the "
+                      "strip's from the front re-solved on every other row (order 1.5 assumed) plus its xi part"}};
   {
     Hid g = make_group(file.get(), "branch", "/branch");
     attr_string(g.get(), "description", "the branch c(sigma_d) of steady fronts by continuation (docs/fronts.md)");
@@ -662,6 +663,7 @@ void write_fronts_file(const std::filesystem::path& tmp, const compare::Scene& s
       Hid pg = make_group(g.get(), name, where);
       attr_double(pg.get(), "sigma_d", p.sigma_d);
       attr_double(pg.get(), "c", p.c);
+      attr_double(pg.get(), "c_error", p.c_error);
       attr_double(pg.get(), "v_tip", p.v_tip);
       attr_double(pg.get(), "v_behind", p.v_behind);
       attr_int(pg.get(), "limiting", p.limiting ? 1 : 0);

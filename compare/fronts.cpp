@@ -19,6 +19,7 @@ FrontProfile interface_profile(const Front& f) {
   p.v_tip = f.v_tip;
   p.v_behind = f.v_behind;
   p.limiting = f.saddle_node_limit;
+  p.c_error = f.speed_error;
   p.fields["xi"] = f.xi;
   p.fields["A"] = f.area;
   p.fields["sigma_bar"] = f.sigma_bar;
@@ -30,6 +31,14 @@ FrontProfile interface_profile(const Front& f) {
 FrontProfile profile_of(const continuum::SteadyFront& f) { return interface_profile(f); }
 
 constexpr double nan_value = std::numeric_limits<double>::quiet_NaN();
+
+// The estimate of a branch's c_min: its point's speed_error (NaN when there is no c_min).
+template <class Branch>
+double min_point_error(const Branch& b) {
+  for (const auto& p : b.points)
+    if (std::isfinite(b.c_min) && p.c == b.c_min) return p.speed_error;
+  return nan_value;
+}
 
 // (a) The branch: its points as columns, c_min and the law's numbers as scalars, its end and reason. What
 // was not computed (c_min of a branch not followed to its end) stays NaN.
@@ -79,6 +88,7 @@ bool solve_profiles(const Scene& s, const continuum::FrontBranch& branch, const 
     const bool converged = f.status == continuum::FrontStatus::converged;
     if (k == 0) {
       r.scalars["c_at_scene_sigma_d"] = converged ? f.c : nan_value;
+      r.scalars["c_at_scene_sigma_d_error"] = converged ? f.speed_error : nan_value;
       r.labels["scene_front"] = converged ? std::string("converged")
                                           : std::string(continuum::to_string(f.status)) + ": " + f.reason;
     }
@@ -86,6 +96,35 @@ bool solve_profiles(const Scene& s, const continuum::FrontBranch& branch, const 
   }
   if (branch.last.saddle_node_limit) r.profiles.push_back(profile_of(branch.last));
   return true;
+}
+
+// The 1D chain's estimates (its own: every solve re-solved on every other node, docs/fronts.md §3): c_min's is
+// its point's; the tolerance checked over every speed reported (the mesh is fixed, 600 intervals).
+void store_chain_accuracy(const continuum::FrontBranch& branch, double rtol, FrontsResult& r) {
+  auto& sc = r.scalars;
+  sc["c_min_error"] = min_point_error(branch);
+  sc["c_min_over_scale_error"] = sc["c_min_error"] / sc["scale"];
+  double worst = 0.0;
+  int missing = 0, checked = 0;
+  auto add = [&](double c, double e) {
+    ++checked;
+    if (!std::isfinite(e)) ++missing;
+    else worst = std::max(worst, e / c);
+  };
+  for (const auto& p : branch.points) add(p.c, p.speed_error);
+  for (const auto& p : r.profiles) add(p.c, p.c_error);
+  if (r.scaling_points.count("c_min"))
+    for (std::size_t k = 0; k < r.scaling_points["c_min"].size(); ++k)
+      if (std::isfinite(r.scaling_points["c_min"][k])) add(r.scaling_points["c_min"][k], r.scaling_points["c_min_error"][k]);
+  const bool met = missing == 0 && checked > 0 && worst <= rtol;
+  sc["rtol"] = rtol;
+  sc["rtol_met"] = met ? 1.0 : 0.0;
+  sc["largest_relative_error"] = checked > missing ? worst : nan_value;
+  r.labels["resolution"] = "fixed: the 1D solver's mesh, 600 intervals (docs/fronts.md §3)";
+  r.labels["accuracy"] = std::string(met ? "met" : "NOT met") + ": largest estimated error " +
+                         core::format_number(100.0 * worst, 3) + " % of c over " + std::to_string(checked - missing) +
+                         " speeds (rtol " + core::format_number(100.0 * rtol, 3) + " %)" +
+                         (missing ? "; " + std::to_string(missing) + " without an estimate" : std::string());
 }
 
 // (c) The minimal-speed scaling study: every point (c_min NaN where its branch has none), every fit with
@@ -106,6 +145,7 @@ continuum::ScalingStudy run_scaling(const Scene& s, const std::function<bool()>&
     r.scaling_points["c_min"].push_back(p.c_min);
     r.scaling_points["sigma_d_at_c_min"].push_back(p.sigma_d_at_c_min);
     r.scaling_points["scale"].push_back(p.scale);
+    r.scaling_points["c_min_error"].push_back(p.c_min_error);
   }
   for (const auto& f : study.fits) {
     r.scaling_fits["parameter_index"].push_back(f.parameter == "all" ? -1.0 : index(f.parameter));
@@ -155,6 +195,45 @@ void judge(const Branch& branch, const continuum::ScalingStudy* study, bool stop
 // ---------------------------------------------------------------------------------------------------
 // The strip (bulk.height > 0, docs/fronts.md §10.14): the same stages with continuum/strip_front.hpp.
 
+// Every reported speed's estimate (docs/fronts.md §10.20): each branch point, profile and scaling point
+// re-solved on every other row (continuum::estimate_strip_speed_error). Counts the numbers over rtol·c and
+// those without an estimate (with the first reason).
+struct Accuracy {
+  int over = 0, missing = 0, checked = 0;
+  std::string first_missing;
+  double worst = 0.0;  // largest error/c
+  void add(double c, double err, const std::string& why) {
+    ++checked;
+    if (!std::isfinite(err)) {
+      if (missing++ == 0) first_missing = why;
+      return;
+    }
+    worst = std::max(worst, err / c);
+  }
+};
+
+double error_of(const continuum::StripFront& f, const continuum::StripFrontOptions& fo, Accuracy& acc) {
+  const auto e = continuum::estimate_strip_speed_error(f, fo);
+  acc.add(f.c, e.total, e.note);
+  return e.total;
+}
+
+// The front nearest to σ_d among `kept` (not the limiting one), re-solved at σ_d on `fo`.
+continuum::StripFront strip_front_at(const Scene& s, double sigma_d, const std::vector<continuum::StripFront>& kept,
+                                     const continuum::StripFrontOptions& fo) {
+  const continuum::StripFront* guess = nullptr;
+  for (const auto& f : kept)
+    if (!f.saddle_node_limit && (!guess || std::abs(f.sigma_d - sigma_d) < std::abs(guess->sigma_d - sigma_d))) guess = &f;
+  return continuum::solve_strip_front(s.interface, s.bulk, sigma_d, fo, guess);
+}
+
+// The same front on `fo` (other rows or intervals), from itself.
+continuum::StripFront resolve_on(const continuum::StripFront& f, continuum::StripFrontOptions fo) {
+  fo.max_newton = std::max(fo.max_newton, 40);  // from other rows: more than a continuation step needs (the path's 12)
+  return f.saddle_node_limit ? continuum::solve_strip_saddle_node_front(f.law, f.bulk, fo, f)
+                             : continuum::solve_strip_front(f.law, f.bulk, f.sigma_d, fo, &f);
+}
+
 FrontProfile profile_of(const continuum::StripFront& f) {
   FrontProfile p = interface_profile(f);
   p.fields["tau"] = f.traction;
@@ -165,7 +244,7 @@ FrontProfile profile_of(const continuum::StripFront& f) {
 }
 
 // The strip's lengths and speeds of the paper's 2D argument, and the 1D c_min of the same column stiffness.
-void store_strip_scalars(const Scene& s, double c_min, FrontsResult& r) {
+void store_strip_scalars(const Scene& s, double c_min, const std::function<bool()>& stop, FrontsResult& r) {
   const auto& ip = s.interface;
   const double H = s.bulk.height, mus = s.bulk.mu / H;
   r.scalars["height"] = H;
@@ -174,40 +253,48 @@ void store_strip_scalars(const Scene& s, double c_min, FrontsResult& r) {
   r.scalars["ell"] = mus;
   r.scalars["ell_kappa"] = mus * ip.kappa / (ip.eta * ip.alpha);
   r.scalars["s"] = mus / ip.eta;
-  const auto b1 = continuum::continue_steady_fronts(ip, {s.bulk.rho, s.bulk.mu, s.bulk.length, 0.0});
+  continuum::ContinuationOptions co;
+  co.stop = stop;
+  const auto b1 = continuum::continue_steady_fronts(ip, {s.bulk.rho, s.bulk.mu, s.bulk.length, 0.0}, co);
   r.scalars["c_min_1d"] = b1.c_min;
+  r.scalars["c_min_1d_error"] = min_point_error(b1);
   r.scalars["c_min_over_1d"] = c_min / b1.c_min;
+  if (!std::isfinite(b1.c_min)) r.labels["c_min_1d"] = std::string("not computed: ") + continuum::to_string(b1.end) + ": " + b1.reason;
 }
 
 // Profiles of the strip: at each wanted σ_d one Newton solve from the branch's front nearest to it (the
-// branch's fronts are kept by on_front); the limiting front as it is.
+// branch's fronts are kept by on_front); the limiting front as it is. Each with its speed's estimate.
 bool solve_strip_profiles(const Scene& s, const continuum::StripBranch& branch,
                           const std::vector<continuum::StripFront>& kept, const continuum::StripFrontOptions& fo,
-                          const std::function<bool()>& stop, FrontsResult& r) {
-  const auto& ip = s.interface;
+                          const std::function<bool()>& stop, Accuracy& acc, FrontsResult& r) {
   std::vector<double> wanted{s.drive.sigma_d};
   const double lo = r.scalars["sigma_c_d"];
   if (!branch.points.empty())
     for (double f : {0.01, 0.05, 0.15, 0.35, 0.6}) wanted.push_back(lo + f * (0.99 - lo));
   r.scalars["scene_sigma_d"] = s.drive.sigma_d;
   r.scalars["c_at_scene_sigma_d"] = nan_value;
+  r.scalars["c_at_scene_sigma_d_error"] = nan_value;
   r.labels["scene_front"] = "not solved (stopped)";
+  auto add = [&](const continuum::StripFront& f) {
+    r.profiles.push_back(profile_of(f));
+    r.profiles.back().c_error = error_of(f, fo, acc);
+    return r.profiles.back().c_error;
+  };
   for (std::size_t k = 0; k < wanted.size(); ++k) {
     if (stop && stop()) return false;
-    const continuum::StripFront* guess = nullptr;
-    for (const auto& f : kept)
-      if (!f.saddle_node_limit && (!guess || std::abs(f.sigma_d - wanted[k]) < std::abs(guess->sigma_d - wanted[k]))) guess = &f;
-    const auto f = continuum::solve_strip_front(ip, s.bulk, wanted[k], fo, guess);
+    const auto f = strip_front_at(s, wanted[k], kept, fo);
+    if (f.status == continuum::FrontStatus::stopped) return false;
     const bool converged = f.status == continuum::FrontStatus::converged;
+    const double err = converged ? add(f) : nan_value;
     if (k == 0) {
       r.scalars["c_at_scene_sigma_d"] = converged ? f.c : nan_value;
+      r.scalars["c_at_scene_sigma_d_error"] = err;
       r.labels["scene_front"] = converged ? std::string("converged")
                                           : std::string(continuum::to_string(f.status)) + ": " + f.reason;
     }
-    if (converged) r.profiles.push_back(profile_of(f));
   }
-  if (branch.last.saddle_node_limit) r.profiles.push_back(profile_of(branch.last));
-  return true;
+  if (branch.last.saddle_node_limit) add(branch.last);
+  return !(stop && stop());
 }
 
 // The strip's collapse at the scene's H (--scaling): μ' (bulk.mu at fixed H), α, η, κ each at four values
@@ -222,7 +309,7 @@ bool solve_strip_profiles(const Scene& s, const continuum::StripBranch& branch,
 // the scene's limiting front first re-solved so, so that all 16 points have the same resolution of their own
 // front; otherwise the branch's meshes throughout (as before).
 bool run_strip_scaling(const Scene& s, const continuum::StripFront& scene_limiting, const continuum::StripFrontOptions& fo,
-                       bool follow_tip, const std::function<bool()>& stop, FrontsResult& r) {
+                       bool follow_tip, const std::function<bool()>& stop, Accuracy& acc, FrontsResult& r) {
   auto options_for = [&](const core::InterfaceParams& ip, double c) {
     return follow_tip ? continuum::following_tip(fo, continuum::strip_tip_zone(ip, c, continuum::steady_minimum_velocity(ip)))
                       : fo;
@@ -234,8 +321,10 @@ bool run_strip_scaling(const Scene& s, const continuum::StripFront& scene_limiti
     if (own.status == continuum::FrontStatus::converged) limiting = std::move(own);
   }
   const std::vector<std::string> names{"mu", "alpha", "eta", "kappa"};
-  const std::vector<double> factors{0.5, 1.0, 2.0, 4.0};
+  // α stays in its domain α ≥ 1 (core/params.cpp): below 2 the four values are × 1, √2, 2, 2√2 instead
+  const std::vector<double> factors{0.5, 1.0, 2.0, 4.0}, alpha_factors{1.0, std::sqrt(2.0), 2.0, 2.0 * std::sqrt(2.0)};
   const double H = s.bulk.height;
+  std::string dropped;
   std::vector<double> all_c, all_scale;
   for (std::size_t p = 0; p < names.size(); ++p) {
     r.scaling_parameters.push_back(names[p]);
@@ -253,9 +342,10 @@ bool run_strip_scaling(const Scene& s, const continuum::StripFront& scene_limiti
       const auto [ip, b] = problem(f);
       return std::sqrt(b.mu * ip.alpha / (ip.eta * ip.kappa));
     };
-    for (double target : factors) {
+    for (double target : p == 1 && 0.5 * s.interface.alpha < 1.0 ? alpha_factors : factors) {
       if (stop && stop()) return false;
       continuum::StripFront cur = limiting;
+      continuum::StripFrontOptions used = fo;
       double f = 1.0;
       const double step = target > 1.0 ? std::sqrt(2.0) : 1.0 / std::sqrt(2.0);
       if (follow_tip) {
@@ -270,7 +360,8 @@ bool run_strip_scaling(const Scene& s, const continuum::StripFront& scene_limiti
                                             : std::log(scale_of(fn) / scale_of(f)) / std::log(fn / f);
           const double c_guess = cur.c * std::pow(fn / f, slope);
           const auto [ip, b] = problem(fn);
-          auto next = continuum::solve_strip_saddle_node_front(ip, b, options_for(ip, c_guess), cur, c_guess);
+          used = options_for(ip, c_guess);
+          auto next = continuum::solve_strip_saddle_node_front(ip, b, used, cur, c_guess);
           if (next.status == continuum::FrontStatus::converged) {
             f_prev = f, c_prev = cur.c;
             cur = std::move(next);
@@ -288,8 +379,13 @@ bool run_strip_scaling(const Scene& s, const continuum::StripFront& scene_limiti
         cur = continuum::solve_strip_saddle_node_front(ip, b, fo, cur, cur.c * scale_of(fn) / scale_of(f));
         f = fn;
       }
+      if (cur.status == continuum::FrontStatus::stopped) return false;
       const bool ok = cur.status == continuum::FrontStatus::converged;
       const auto [ip, b] = problem(target);
+      if (!ok)
+        dropped += names[p] + " = " + core::format_number(p == 0 ? b.mu / H : p == 1 ? ip.alpha : p == 2 ? ip.eta : ip.kappa) +
+                   ": no limiting front (" + continuum::to_string(cur.status) + ": " + cur.reason + ")\n";
+      r.scaling_points["c_min_error"].push_back(ok ? error_of(cur, used, acc) : nan_value);
       r.scaling_points["parameter_index"].push_back(static_cast<double>(p));
       r.scaling_points["value"].push_back(p == 0 ? b.mu / H : p == 1 ? ip.alpha : p == 2 ? ip.eta : ip.kappa);
       r.scaling_points["c_min"].push_back(ok ? cur.c : nan_value);
@@ -322,6 +418,7 @@ bool run_strip_scaling(const Scene& s, const continuum::StripFront& scene_limiti
       r.scaling_fits["exponent"].push_back(exponent);
       r.scaling_refused.push_back(c.size() < 2 ? "fewer than two points with a limiting front" : "");
     };
+    r.labels["scaling_dropped"] = dropped;
     double exponent = nan_value;
     if (lx.size() >= 2) {  // least-squares slope of ln c_min against ln p
       double mx = 0.0, my = 0.0, sxx = 0.0, sxy = 0.0;
@@ -346,42 +443,54 @@ bool run_strip_scaling(const Scene& s, const continuum::StripFront& scene_limiti
   return true;
 }
 
-FrontsResult compute_strip_fronts(const Scene& s, bool scaling, const std::function<bool()>& stop,
-                                  const StripFrontsSettings& settings) {
-  FrontsResult r;
-  continuum::StripContinuationOptions o;
-  o.front.rows = settings.rows;
-  o.front.intervals = settings.intervals;
-  o.stop = stop;
-  std::vector<continuum::StripFront> kept;
-  o.on_front = [&](const continuum::StripFront& f) { kept.push_back(f); };
-  // (a) the branch. Its first front (docs/fronts.md §10.19, the rule at continuum::strip_start_needs_height_path):
-  // up to H = 10 ℓ the cold start as before, the path in H at the strip's material only if it finds no front;
-  // above, the path (then the cold start only if the path does not arrive). From the path, the branch and the
-  // scaling study work on meshes that follow the front's tip zone, as the path does.
-  const bool thick = continuum::strip_start_needs_height_path(s.bulk);
+// (a) The strip's branch on the meshes `front` (rows, intervals, grading). Its first front (docs/fronts.md §10.19,
+// the rule at continuum::strip_start_needs_height_path): up to H = 10 ℓ the cold start, the path in H at the
+// strip's material only if it finds no front; above, the path (then the cold start only if the path does not
+// arrive). From the path, the branch and the scaling study work on meshes that follow the front's tip zone, as
+// the path does. With `start` (a front of the same problem on other meshes) neither: the branch starts from it.
+struct StripBranchRun {
   continuum::StripBranch branch;
-  std::string start = "cold start: the 1D front, the strip grown at fixed mu (docs/fronts.md §10.4)";
+  std::vector<continuum::StripFront> kept;  // the branch's fronts, one per point
+  continuum::StripFrontOptions front;       // the meshes the branch was solved on
+  std::string start;
+  bool from_path = false;
+};
+
+StripBranchRun strip_branch(const Scene& s, const continuum::StripFrontOptions& front, const std::function<bool()>& stop,
+                            const continuum::StripFront* start = nullptr, const std::string& start_label = "") {
+  StripBranchRun out;
+  continuum::StripContinuationOptions o;
+  o.front = front;
+  o.front.stop = stop;
+  o.stop = stop;
+  o.on_front = [&](const continuum::StripFront& f) { out.kept.push_back(f); };
+  if (start) {
+    o.start = start;
+    out.branch = continuum::continue_strip_fronts(s.interface, s.bulk, o);
+    out.front = o.front;
+    out.start = start_label;
+    return out;
+  }
+  const bool thick = continuum::strip_start_needs_height_path(s.bulk);
+  auto& branch = out.branch;
+  out.start = "cold start: the 1D front, the strip grown at fixed mu (docs/fronts.md §10.4)";
   if (!thick) branch = continuum::continue_strip_fronts(s.interface, s.bulk, o);
   const bool cold_failed = !thick && branch.points.empty() && branch.end != continuum::BranchEnd::stopped;
   const std::string cold_reason = cold_failed ? branch.reason : std::string();
-  bool from_path = false;
-  continuum::StripPathStart path_start;
   if ((thick || cold_failed) && !(stop && stop())) {
-    path_start = continuum::strip_start_from_height_path(s.interface, s.bulk, o);
+    const continuum::StripPathStart path_start = continuum::strip_start_from_height_path(s.interface, s.bulk, o);
     if (path_start.front.status == continuum::FrontStatus::converged) {
-      kept.clear();
+      out.kept.clear();
       o.front = path_start.options;
       o.start = &path_start.front;
       branch = continuum::continue_strip_fronts(s.interface, s.bulk, o);
-      from_path = true;
-      start = (cold_failed ? "cold start found no front (" + cold_reason + "); " : std::string()) +
-              path_start.reason;
+      out.from_path = true;
+      out.start = (cold_failed ? "cold start found no front (" + cold_reason + "); " : std::string()) + path_start.reason;
     } else if (thick && !(stop && stop())) {
       branch = continuum::continue_strip_fronts(s.interface, s.bulk, o);
-      start = "cold start, after the path in H failed: " + path_start.reason;
+      out.start = "cold start, after the path in H failed: " + path_start.reason;
     } else if (cold_failed) {
-      start += "; the path in H failed too: " + path_start.reason;
+      out.start += "; the path in H failed too: " + path_start.reason;
     } else {
       branch.end = continuum::BranchEnd::stopped;
       branch.reason = "stopped on request in the path in H to the first front: " + path_start.reason;
@@ -390,22 +499,158 @@ FrontsResult compute_strip_fronts(const Scene& s, bool scaling, const std::funct
     branch.end = continuum::BranchEnd::stopped;
     branch.reason = "stopped on request before the first front";
   }
-  r.labels["start"] = start;
+  out.front = o.front;
+  return out;
+}
+
+// The choice of the meshes by the tolerance (docs/fronts.md §10.20): the control fronts (the branch's first
+// front, the scene's front, the limiting front) re-solved with the rows doubled (same grading) until the
+// Richardson estimate |c_2M − c_M|/(2^p − 1) of the finer one is below 0.9 rtol·c for all of them, then the
+// intervals doubled until the ξ estimate (twice the intervals) is below 0.1 rtol·c; each from the last, one Newton
+// solve each (the ξ check re-solves on half the rows). Returns the meshes and one line saying how they were chosen (and where the budget stopped it).
+std::pair<continuum::StripFrontOptions, std::string> choose_meshes(const Scene& s, const StripBranchRun& pilot,
+                                                                   const StripFrontsSettings& st) {
+  const double H = s.bulk.height, rtol = st.rtol, two_p = std::pow(2.0, continuum::strip_row_order);
+  std::vector<continuum::StripFront> control{pilot.branch.first, strip_front_at(s, s.drive.sigma_d, pilot.kept, pilot.front)};
+  if (pilot.branch.last.saddle_node_limit) control.push_back(pilot.branch.last);
+  std::erase_if(control, [](const continuum::StripFront& f) { return f.status != continuum::FrontStatus::converged; });
+  continuum::StripFrontOptions fo = pilot.front;
+  std::string how = "rows " + std::to_string(fo.rows);
+  if (control.empty()) return {fo, "no control front converged: the first meshes kept"};
+  for (;;) {  // the rows
+    if (fo.stop && fo.stop()) return {fo, how + " (stopped)"};
+    const int next = 2 * fo.rows;
+    if (next > st.max_rows) return {fo, how + " (budget: max " + std::to_string(st.max_rows) + " rows)"};
+    if (continuum::strip_solve_cost(next, fo.intervals).iteration_seconds > continuum::strip_max_iteration_seconds)
+      return {fo, how + " (budget: " + std::to_string(next) + " rows exceed the Newton iteration limit)"};
+    const continuum::StripFrontOptions fine = continuum::with_rows(H, fo, next);
+    bool met = true, ok = true;
+    std::vector<continuum::StripFront> refined;
+    for (const auto& f : control) {
+      refined.push_back(resolve_on(f, fine));
+      const auto& g = refined.back();
+      if (g.status != continuum::FrontStatus::converged) {
+        ok = false;
+        break;
+      }
+      if (std::abs(g.c - f.c) / (two_p - 1.0) > 0.9 * rtol * g.c) met = false;
+    }
+    if (!ok) return {fo, how + " (no convergence on " + std::to_string(next) + " rows)"};
+    fo = fine;
+    control = std::move(refined);
+    how += " -> " + std::to_string(next);
+    if (met) break;
+  }
+  how += ", intervals " + std::to_string(fo.intervals);
+  for (;;) {  // the intervals: the ξ part of each control front's estimate (twice the intervals, on half the rows)
+    bool met = true;
+    for (const auto& f : control) {
+      const auto e = continuum::estimate_strip_speed_error(f, fo);
+      if (std::isfinite(e.xi) && e.xi > 0.1 * rtol * f.c) met = false;
+    }
+    if (met) break;
+    if (2 * fo.intervals > st.max_intervals ||
+        continuum::strip_solve_cost(fo.rows, 2 * fo.intervals).iteration_seconds > continuum::strip_max_iteration_seconds)
+      return {fo, how + " (budget: max " + std::to_string(st.max_intervals) + " intervals, or the Newton iteration limit)"};
+    fo.intervals *= 2;
+    for (auto& f : control) f = resolve_on(f, fo);
+    how += " -> " + std::to_string(fo.intervals);
+  }
+  return {fo, how};
+}
+
+// The branch's estimates: each point's front (kept in order) on every other row; c_min's is its point's.
+void store_strip_errors(const StripBranchRun& run, FrontsResult& r, Accuracy& acc) {
+  std::vector<double> err;
+  for (const auto& f : run.kept) err.push_back(error_of(f, run.front, acc));
+  auto& sc = r.scalars;
+  if (err.size() == run.branch.points.size() && !err.empty()) r.branch["speed_error"] = err;
+  sc["c_min_error"] = nan_value;
+  for (std::size_t k = 0; k < run.kept.size() && k < err.size(); ++k)
+    if (std::isfinite(sc["c_min"]) && run.kept[k].c == sc["c_min"]) sc["c_min_error"] = err[k];
+  sc["c_min_over_scale_error"] = sc["c_min_error"] / sc["scale"];
+  sc["c_min_over_1d_error"] = sc["c_min_over_1d"] * (sc["c_min_error"] / sc["c_min"] + sc["c_min_1d_error"] / sc["c_min_1d"]);
+}
+
+// The verdict on the tolerance: met when every speed has an estimate within rtol·c.
+void judge_accuracy(const Accuracy& acc, double rtol, const std::string& how, bool chosen, FrontsResult& r) {
+  const bool met = acc.missing == 0 && acc.worst <= rtol && acc.checked > 0;
+  r.scalars["rtol"] = rtol;
+  r.scalars["rtol_met"] = met ? 1.0 : 0.0;
+  r.scalars["largest_relative_error"] = acc.checked > acc.missing ? acc.worst : nan_value;
+  r.labels["resolution"] = (chosen ? "chosen by rtol: " : "given: ") + how;
+  std::string v = met ? "met" : "NOT met";
+  v += ": largest estimated error " + core::format_number(100.0 * acc.worst, 3) + " % of c over " +
+       std::to_string(acc.checked - acc.missing) + " speeds (rtol " + core::format_number(100.0 * rtol, 3) + " %)";
+  if (acc.missing > 0)
+    v += "; " + std::to_string(acc.missing) + " without an estimate (" + acc.first_missing + ")";
+  if (!met && chosen) v += "; the choice stopped at " + how;
+  if (!met && !chosen) v += "; refine --rows/--intervals, or leave them to --rtol";
+  r.labels["accuracy"] = v;
+}
+
+FrontsResult compute_strip_fronts(const Scene& s, bool scaling, const std::function<bool()>& stop,
+                                  const StripFrontsSettings& settings) {
+  FrontsResult r;
+  const bool chosen = settings.rows <= 0 || settings.intervals <= 0;
+  continuum::StripFrontOptions first;
+  first.rows = settings.rows > 0 ? settings.rows : settings.first_rows;
+  first.intervals = settings.intervals > 0 ? settings.intervals : settings.first_intervals;
+  StripBranchRun run = strip_branch(s, first, stop);  // (a) the branch, on the first meshes
+  std::string how = "rows " + std::to_string(run.front.rows) + ", intervals " + std::to_string(run.front.intervals);
+  if (chosen && continuum::followed_to_end(run.branch.end) && !(stop && stop())) {
+    StripFrontsSettings st = settings;
+    if (settings.rows > 0) st.max_rows = settings.rows;            // a given count is kept
+    if (settings.intervals > 0) st.max_intervals = settings.intervals;
+    auto [fo, line] = choose_meshes(s, run, st);
+    how = line;
+    if ((fo.rows != run.front.rows || fo.intervals != run.front.intervals) && !(stop && stop())) {
+      const continuum::StripFront start = run.branch.first;
+      const std::string label = run.start + "; re-solved on the chosen meshes from that front";
+      const bool from_path = run.from_path;
+      run = strip_branch(s, fo, stop, &start, label);
+      run.from_path = from_path;
+    }
+  }
+  r.labels["start"] = run.start;
+  const auto& branch = run.branch;
   store_branch(s, branch, r);
-  store_strip_scalars(s, branch.c_min, r);
-  r.scalars["rows"] = settings.rows;
-  r.scalars["intervals"] = settings.intervals;
+  store_strip_scalars(s, branch.c_min, stop, r);
+  r.scalars["rows"] = run.front.rows;
+  r.scalars["intervals"] = run.front.intervals;
+  r.scalars["row_grading"] = continuum::strip_row_grading(s.bulk.height, run.front);
   const bool stopped = branch.end == continuum::BranchEnd::stopped;
-  const bool profiles = !stopped && solve_strip_profiles(s, branch, kept, o.front, stop, r);  // (b) profiles
-  kept.clear();
+  Accuracy acc;
+  const bool profiles = !stopped && solve_strip_profiles(s, branch, run.kept, run.front, stop, acc, r);  // (b) profiles
+  if (profiles) store_strip_errors(run, r, acc);
   const bool has_branch = continuum::followed_to_end(branch.end) && branch.last.saddle_node_limit;
   bool scaling_done = false;
-  if (scaling && has_branch && profiles) scaling_done = run_strip_scaling(s, branch.last, o.front, from_path, stop, r);  // (c)
-  judge(branch, nullptr, stopped || !profiles || (scaling && has_branch && profiles && !scaling_done), r);    // (d)
+  if (scaling && has_branch && profiles)
+    scaling_done = run_strip_scaling(s, branch.last, run.front, run.from_path, stop, acc, r);  // (c)
+  judge_accuracy(acc, settings.rtol, how, chosen, r);
+  judge(branch, nullptr, stopped || !profiles || (scaling && has_branch && profiles && !scaling_done) || (stop && stop()),
+        r);  // (d)
   if (scaling && !has_branch && r.status == RunStatus::failed) r.message += "; the scaling study was not run";
   return r;
 }
 }  // namespace
+
+std::string strip_fronts_refusal(const StripFrontsSettings& st, double max_memory_gib) {
+  const int rows = st.rows > 0 ? st.rows : st.first_rows, intervals = st.intervals > 0 ? st.intervals : st.first_intervals;
+  const auto cost = continuum::strip_solve_cost(rows, intervals);
+  const std::string key = st.rows > 0 ? "--rows" : "--intervals";
+  const std::string mesh = std::to_string(rows) + " rows and " + std::to_string(intervals) + " intervals";
+  if (cost.iteration_seconds > continuum::strip_max_iteration_seconds)
+    return key + ": one Newton iteration of the strip solve on " + mesh + " is estimated at " +
+           core::format_number(cost.iteration_seconds, 3) + " s, more than " +
+           core::format_number(continuum::strip_max_iteration_seconds) +
+           " s (a stop request is seen between iterations; cost ~ intervals (2 rows + 4)^2, docs/fronts.md §10.20); "
+           "use fewer rows or intervals, or leave them to --rtol";
+  if (cost.memory_bytes > max_memory_gib * 1073741824.0)
+    return key + ": the strip solve on " + mesh + " needs about " + core::format_number(cost.memory_bytes / 1073741824.0, 3) +
+           " GiB, more than limits.max_memory_gib = " + core::format_number(max_memory_gib) + "; use fewer rows or intervals";
+  return "";
+}
 
 double solved_front_speed(const Scene& s, double sigma_d) {
   const auto f = continuum::solve_steady_front(s.interface, s.bulk, sigma_d);
@@ -433,6 +678,7 @@ FrontsResult compute_fronts(const Scene& s, bool scaling, const std::function<bo
   const bool scaling_skipped = scaling && has_branch && profiles && stop && stop();
   std::optional<continuum::ScalingStudy> study;
   if (scaling && has_branch && profiles && !scaling_skipped) study = run_scaling(s, stop, r);  // (c) scaling
+  store_chain_accuracy(branch, strip.rtol, r);
   judge(branch, study ? &*study : nullptr, stopped || !profiles || scaling_skipped, r);   // (d) the status
   if (scaling && !study && r.status == RunStatus::failed) r.message += "; the scaling study was not run";
   r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();

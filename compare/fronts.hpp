@@ -17,6 +17,7 @@ namespace slipfront::compare {
 
 struct FrontProfile {
   double sigma_d = 0.0, c = 0.0, v_tip = 0.0, v_behind = 0.0;
+  double c_error = 0.0;   ///< estimated |c − c_converged| (docs/fronts.md §10.20; NaN: no estimate)
   bool limiting = false;  ///< the limiting front at the end of the branch
   Columns fields;         ///< xi, A, sigma_bar, v, u on the solver's mesh (tip at xi = 0); the strip adds tau
   /// The strip (bulk.height > 0): the rows y_0 = 0 < … < y_M = H and the bulk fields on xi × y, node-major
@@ -24,11 +25,17 @@ struct FrontProfile {
   std::vector<double> y, u_xy, lift_xy;
 };
 
-/// The strip solver's discretisation for `slipfront fronts` on a scene with bulk.height (docs/fronts.md §10.14).
+/// The strip solver's discretisation for `slipfront fronts` on a scene with bulk.height (docs/fronts.md §10.14,
+/// §10.20): chosen by the tolerance `rtol` on c unless given.
 struct StripFrontsSettings {
-  int rows = 8;          ///< row intervals across the height (graded toward the interface)
-  int intervals = 300;   ///< ξ intervals on [−L, 0]
+  int rows = 0;          ///< row intervals across the height (graded toward the interface); 0: chosen by rtol
+  int intervals = 0;     ///< ξ intervals on [−L, 0]; 0: chosen by rtol
+  double rtol = 1e-3;    ///< the target: every reported c within rtol·c of the converged value (its estimate)
+  int first_rows = 8, first_intervals = 300;   ///< where the choice starts
+  int max_rows = 64, max_intervals = 2400;     ///< the budget of the choice (strip_max_iteration_seconds)
 };
+/// The 1D chain's tolerance check (its mesh is fixed: 600 intervals, error ~1e−10 relative).
+inline constexpr double default_fronts_rtol = 1e-3;
 
 struct FrontsResult {
   /// complete: the branch followed to its end (and, with scaling, the pooled fit made); failed: no front,
@@ -59,6 +66,11 @@ struct FrontsResult {
 /// sqrt(μα/(ηκ)) with μ = μ'H (docs/fronts.md §10.14).
 FrontsResult compute_fronts(const Scene& s, bool scaling, const std::function<bool()>& stop = {},
                             const StripFrontsSettings& strip = {});
+
+/// "" when `fronts` may solve the strip with these settings, else why not (the option to change): one Newton
+/// iteration above continuum::strip_max_iteration_seconds (a stop is seen between iterations) or the
+/// solver's memory above `max_memory_gib`.
+std::string strip_fronts_refusal(const StripFrontsSettings& strip, double max_memory_gib);
 
 /// c of the solved steady front at σ_d (NaN where there is none).
 double solved_front_speed(const Scene& s, double sigma_d);

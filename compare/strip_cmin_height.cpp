@@ -53,6 +53,7 @@ continuum::StripHeightOptions strip_cmin_path_options(const StripCminHeightOptio
   p.front.tolerance = o.tolerance;
   p.max_factor = o.max_factor;
   p.stop = o.stop;
+  p.front.stop = o.stop;  // polled inside every solve too (docs/fronts.md §10.20)
   return p;
 }
 
@@ -90,10 +91,27 @@ std::vector<StripCminRow> strip_cmin_rows(const StripCminHeightOptions& o, const
   }
   std::vector<StripCminRow> rows;
   for (std::size_t k = 0; k < path.fronts.size(); ++k) {
+    if (o.stop && o.stop()) break;
     const auto& fr = path.fronts[k];
     const double h = fr.bulk.height;
-    const auto b1 = continuum::continue_steady_fronts(law, {rho * h, mu * h, 1000.0, 0.0});
+    continuum::ContinuationOptions c1;
+    c1.stop = o.stop;  // the 1D pass stops with the study (it took ~60 s per height unpolled)
+    const auto b1 = continuum::continue_steady_fronts(law, {rho * h, mu * h, 1000.0, 0.0}, c1);
     StripCminRow r;
+    if (!std::isfinite(b1.c_min))
+      r.note = "c_min_1d and ratio_to_1d not computed at H = " + format("%g", h) + ": the 1D branch (mu = " +
+               format("%g", mu * h) + ", rho = " + format("%g", rho * h) + ") ended " + continuum::to_string(b1.end) + ": " +
+               b1.reason;
+    r.c_min_1d_error = std::nan("");
+    for (const auto& q : b1.points)
+      if (std::isfinite(b1.c_min) && q.c == b1.c_min) r.c_min_1d_error = q.speed_error;
+    continuum::StripFrontOptions eo = po.front;
+    eo.stop = o.stop;
+    eo = continuum::following_tip(eo, continuum::strip_tip_zone(law, fr.c, fr.v_behind), po.tip_resolution, po.row_resolution);
+    const auto err = continuum::estimate_strip_speed_error(fr, eo);
+    r.c_min_error = err.total;
+    if (!err.note.empty() && !std::isfinite(err.total))
+      r.note += std::string(r.note.empty() ? "" : "; ") + "c_min_error not estimated at H = " + format("%g", h) + ": " + err.note;
     r.H = h;
     r.H_over_l = h / ell;
     r.H_over_l_kappa = h / ell_kappa;
@@ -102,6 +120,7 @@ std::vector<StripCminRow> strip_cmin_rows(const StripCminHeightOptions& o, const
     r.c_min_over_cs = fr.c / cs;
     r.c_min_1d = b1.c_min;
     r.ratio_to_1d = fr.c / b1.c_min;
+    r.ratio_to_1d_error = r.ratio_to_1d * (r.c_min_error / fr.c + r.c_min_1d_error / b1.c_min);
     r.local_exponent = std::nan("");
     if (k + 1 < path.fronts.size())
       r.local_exponent = std::log(path.fronts[k + 1].c / fr.c) / std::log(path.fronts[k + 1].bulk.height / h);
@@ -150,12 +169,13 @@ std::string strip_cmin_csv(const std::vector<StripCminRow>& rows) {
   std::string out =
       "H,H_over_l,H_over_l_kappa,c_min,c_min_over_s,c_min_over_cs,c_min_1d,ratio_to_1d,local_exponent,"
       "branch_c_min,branch_sigma_d_at_c_min,branch_c_min_at_end,branch_points,branch_folds,branch_end,"
-      "branch_seconds,rows,intervals,domain_length,tip_zone\n";
+      "branch_seconds,rows,intervals,domain_length,tip_zone,c_min_error,c_min_1d_error,ratio_to_1d_error\n";
   for (const auto& r : rows)
-    out += format("%.9g,%.6g,%.6g,%.10g,%.6g,%.6g,%.10g,%.8g,%.6g,%.10g,%.8g,%d,%d,%d,%s,%.2f,%d,%d,%.6g,%.6g\n", r.H,
-                  r.H_over_l, r.H_over_l_kappa, r.c_min, r.c_min_over_s, r.c_min_over_cs, r.c_min_1d, r.ratio_to_1d,
+    out += format("%.9g,%.6g,%.6g,%.10g,%.6g,%.6g,%.10g,%.8g,%.6g,%.10g,%.8g,%d,%d,%d,%s,%.2f,%d,%d,%.6g,%.6g,%.3g,%.3g,%.3g\n",
+                  r.H, r.H_over_l, r.H_over_l_kappa, r.c_min, r.c_min_over_s, r.c_min_over_cs, r.c_min_1d, r.ratio_to_1d,
                   r.local_exponent, r.branch_c_min, r.branch_sigma_d_at_c_min, r.branch_c_min_at_end, r.branch_points,
-                  r.branch_folds, r.branch_end.c_str(), r.branch_seconds, r.rows, r.intervals, r.domain_length, r.tip_zone);
+                  r.branch_folds, r.branch_end.c_str(), r.branch_seconds, r.rows, r.intervals, r.domain_length, r.tip_zone,
+                  r.c_min_error, r.c_min_1d_error, r.ratio_to_1d_error);
   return out;
 }
 
@@ -182,6 +202,22 @@ std::vector<double> column(const std::vector<StripCminRow>& rows, T StripCminRow
   std::vector<double> v;
   for (const auto& r : rows) v.push_back(static_cast<double>(r.*field));
   return v;
+}
+
+// Every row's note (why a number is NaN) into the notes, the largest relative c_min estimate as a scalar; a
+// message counting the rows with a NaN ("" when none).
+std::string note_errors(const std::vector<StripCminRow>& rows, StudyReport& rep) {
+  int without = 0;
+  double worst = 0.0;
+  for (const auto& row : rows) {
+    if (!row.note.empty()) rep.notes.push_back(row.note), ++without;
+    if (std::isfinite(row.c_min_error)) worst = std::max(worst, row.c_min_error / row.c_min);
+  }
+  rep.scalars["c_min_largest_relative_error"] = worst;
+  rep.definitions["c_min_largest_relative_error"] = "largest c_min_error/c_min over the table (docs/fronts.md §10.20)";
+  if (without == 0) return "";
+  return std::to_string(without) + " of " + std::to_string(rows.size()) +
+         " heights have a NaN (c_min_1d, ratio_to_1d or an error estimate): see the notes";
 }
 
 }  // namespace
@@ -270,6 +306,9 @@ StudyOutcome strip_cmin_height_study(StudyReport& rep, const StudySpec& spec, co
   t["intervals"] = column(r.rows, &StripCminRow::intervals);
   t["domain_length"] = column(r.rows, &StripCminRow::domain_length);
   t["tip_zone"] = column(r.rows, &StripCminRow::tip_zone);
+  t["c_min_error"] = column(r.rows, &StripCminRow::c_min_error);
+  t["c_min_1d_error"] = column(r.rows, &StripCminRow::c_min_1d_error);
+  t["ratio_to_1d_error"] = column(r.rows, &StripCminRow::ratio_to_1d_error);
   rep.tables["strip_cmin_height"] = t;
   const std::map<std::string, std::string> defs = {
       {"H", "strip height (a target height of [paths] the limiting path reached)"},
@@ -290,11 +329,16 @@ StudyOutcome strip_cmin_height_study(StudyReport& rep, const StudySpec& spec, co
       {"rows", "row intervals across the height of the limiting front"},
       {"intervals", "xi intervals of the limiting front's collocation mesh"},
       {"domain_length", "length L of the limiting front's xi domain"},
-      {"tip_zone", "the front's tip zone c/(1 + kappa v_behind)"}};
+      {"tip_zone", "the front's tip zone c/(1 + kappa v_behind)"},
+      {"c_min_error", "estimated error of c_min (docs/fronts.md §10.20): re-solved on every other row (order 1.5 "
+                      "assumed) plus the xi part; NaN: not estimated (see the notes)"},
+      {"c_min_1d_error", "estimated error of c_min_1d (the 1D solver's Richardson in xi); NaN: no c_min_1d (see the notes)"},
+      {"ratio_to_1d_error", "estimated error of ratio_to_1d: ratio x (both relative errors summed)"}};
   for (const auto& [k, v] : defs) rep.definitions["strip_cmin_height/" + k] = v;
   rep.files["strip_cmin_height.csv"] = strip_cmin_csv(r.rows);
 
   StudyOutcome out;
+  out.message = note_errors(r.rows, rep);
   const bool stopped = work.stop && work.stop();
   if (!r.path.complete) {
     out.status = stopped ? RunStatus::interrupted : RunStatus::failed;

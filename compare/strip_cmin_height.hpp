@@ -48,6 +48,10 @@ struct StripCminRow {
   double H = 0, H_over_l = 0, H_over_l_kappa = 0;
   double c_min = 0, c_min_over_s = 0, c_min_over_cs = 0;
   double c_min_1d = 0, ratio_to_1d = 0;
+  /// Estimated errors (docs/fronts.md §10.20): c_min's from the front re-solved on every other row (rows) plus its
+  /// ξ part, c_min_1d's the 1D solver's own, ratio_to_1d's both relative errors summed; NaN with `note`.
+  double c_min_error = 0, c_min_1d_error = 0, ratio_to_1d_error = 0;
+  std::string note;                 ///< why a number of this row is NaN ("" when none is)
   double local_exponent = 0;        ///< d ln c_min/d ln H to the next height (NaN at the last)
   double branch_c_min = 0, branch_sigma_d_at_c_min = 0;  ///< NaN without branches
   int branch_c_min_at_end = 0, branch_points = 0, branch_folds = 0;

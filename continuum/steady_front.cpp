@@ -23,6 +23,7 @@ const char* to_string(FrontStatus s) {
     case FrontStatus::resticks: return "resticks";
     case FrontStatus::reverse_slip: return "reverse_slip";
     case FrontStatus::not_a_saddle: return "not_a_saddle";
+    case FrontStatus::stopped: return "stopped";
   }
   return "?";
 }
@@ -1066,8 +1067,11 @@ ScalingStudy minimal_speed_scaling(const core::InterfaceParams& law, const core:
     const FrontBranch br = continue_steady_fronts(l, b, co);
     if (br.end == BranchEnd::stopped) return false;
     const double scale = std::sqrt(b.mu * l.alpha / (l.eta * l.kappa));
+    double c_min_error = std::numeric_limits<double>::quiet_NaN();
+    for (const auto& q : br.points)
+      if (std::isfinite(br.c_min) && q.c == br.c_min) c_min_error = q.speed_error;
     study.points.push_back({p, value, br.c_min, br.sigma_d_at_c_min, scale, br.end,
-                            std::isfinite(br.c_min) ? std::string() : br.reason});
+                            std::isfinite(br.c_min) ? std::string() : br.reason, c_min_error});
     return true;
   };
   for (const auto& [name, values] : sweeps) {

@@ -50,6 +50,7 @@ enum class FrontStatus {
   resticks,        ///< |σ|/A − 1 ≤ 0 somewhere behind the tip: Θ = 1 is violated (re-sticking)
   reverse_slip,    ///< v ≤ 0 somewhere behind the tip
   not_a_saddle,    ///< the sliding state behind has not one decaying and two growing modes
+  stopped,         ///< a stop was requested during the solve (the strip's StripFrontOptions::stop)
 };
 const char* to_string(FrontStatus s);
 
@@ -180,6 +181,7 @@ struct ScalingPoint {
   double scale;            ///< sqrt(μ α/(η κ))
   BranchEnd end;
   std::string reason;      ///< the branch's reason (why there is no c_min, when there is none)
+  double c_min_error = std::numeric_limits<double>::quiet_NaN();  ///< the c_min point's speed_error (NaN: none)
 };
 /// A fit needs at least this many points with a c_min: through one point the line c = a·scale passes
 /// exactly (deviation 0), which tests nothing. The pooled fit also needs this many in every parameter

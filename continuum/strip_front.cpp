@@ -30,6 +30,7 @@ struct Model {
   double mu_s, rho_s, H, alpha, kappa, eta, cs2;
   std::vector<double> y, k, w;
   int M;
+  double gamma = 0.0;  // the rows' grading (0: uniform)
   bool saddle_node = false;
   core::InterfaceParams law() const { return {alpha, kappa, eta}; }
   int ns() const { return 2 * (M + 1) + 2; }
@@ -42,18 +43,20 @@ struct Model {
 };
 
 // Rows graded toward the interface: y_j = H (e^{γ j/M} − 1)/(e^γ − 1), γ from the first spacing (TOMS 748);
-// uniform when H/M ≤ first spacing.
-std::vector<double> make_rows(double H, int M, double first, double grading) {
+// uniform (γ = 0) when H/M ≤ first spacing.
+double row_grading_of(double H, int M, double first, double grading) {
+  if (grading > 0.0) return grading;
+  if (!(first > 0.0) || !(H / M > first)) return 0.0;
+  auto spacing = [&](double gm) { return std::log(H * std::expm1(gm / M) / std::expm1(gm)) - std::log(first); };
+  double hi = 1.0;
+  while (spacing(hi) > 0.0) hi *= 2.0;
+  std::uintmax_t iters = 200;
+  const auto br = boost::math::tools::toms748_solve(spacing, 1e-9, hi, boost::math::tools::eps_tolerance<double>(50), iters);
+  return 0.5 * (br.first + br.second);
+}
+
+std::vector<double> make_rows(double H, int M, double g) {
   std::vector<double> y(static_cast<std::size_t>(M) + 1);
-  double g = grading;
-  if (g <= 0.0 && first > 0.0 && H / M > first) {
-    auto spacing = [&](double gm) { return std::log(H * std::expm1(gm / M) / std::expm1(gm)) - std::log(first); };
-    double hi = 1.0;
-    while (spacing(hi) > 0.0) hi *= 2.0;
-    std::uintmax_t iters = 200;
-    const auto br = boost::math::tools::toms748_solve(spacing, 1e-9, hi, boost::math::tools::eps_tolerance<double>(50), iters);
-    g = 0.5 * (br.first + br.second);
-  }
   for (int j = 0; j <= M; ++j) {
     const double s = static_cast<double>(j) / M;
     y[static_cast<std::size_t>(j)] = g > 0.0 ? H * std::expm1(g * s) / std::expm1(g) : H * s;
@@ -72,7 +75,8 @@ Model make_model(const core::InterfaceParams& law, const core::BulkParams& bulk,
   m.kappa = law.kappa;
   m.eta = law.eta;
   m.M = std::max(1, o.rows);
-  m.y = make_rows(m.H, m.M, o.row_spacing, o.row_grading);
+  m.gamma = row_grading_of(m.H, m.M, o.row_spacing, o.row_grading);
+  m.y = make_rows(m.H, m.M, m.gamma);
   m.k.resize(static_cast<std::size_t>(m.M));
   m.w.assign(static_cast<std::size_t>(m.M) + 1, 0.0);
   for (int j = 0; j < m.M; ++j) {
@@ -448,13 +452,14 @@ class Collocation {
 
 struct NewtonResult {
   bool converged = false;
+  bool stopped = false;
   int iterations = 0;
   double residual = nan_value;
   std::string failure;
 };
 
 // Damped Newton with Eigen's SparseLU (COLAMD), as in the 1D solver (docs/fronts.md §3).
-NewtonResult newton(const Collocation& col, Vec& x, double tol, int max_iter) {
+NewtonResult newton(const Collocation& col, Vec& x, double tol, int max_iter, const std::function<bool()>& stop = {}) {
   NewtonResult out;
   Vec F, Ft;
   Eigen::SparseMatrix<double> J;
@@ -472,6 +477,11 @@ NewtonResult newton(const Collocation& col, Vec& x, double tol, int max_iter) {
   constexpr double floor_tolerance = 1e-6;
   for (int it = 1; it <= max_iter; ++it) {
     out.iterations = it;
+    if (stop && stop()) {
+      out.failure = "stopped on request (Newton iteration " + std::to_string(it) + ")";
+      out.stopped = true;
+      return out;
+    }
     if (!analysed) {
       lu.analyzePattern(J);
       analysed = true;
@@ -684,6 +694,7 @@ void finish(const Collocation& col, const Vec& x, StripFront& f) {
   f.xi = col.xi();
   f.y = m.y;
   f.domain_length = -f.xi.front();
+  f.row_grading = m.gamma;
   const std::size_t ro = m.y.size();
   f.u.resize(static_cast<std::size_t>(n) * ro);
   f.strain.resize(f.u.size());
@@ -767,11 +778,12 @@ StripFront solve_on_mesh(const core::InterfaceParams& law, const core::BulkParam
   Vec x = start(col);
   x[col.c_index()] = c_guess;
   if (arc) x[col.c_index() + 1] = sd;
-  const auto nr = newton(col, x, o.tolerance, o.max_newton);
+  const auto nr = newton(col, x, o.tolerance, o.max_newton, o.stop);
   f.newton_iterations = nr.iterations;
   f.domain_length = L;
   if (!nr.converged) {
-    f.status = col.c_of(x) >= 0.999 * m.sound_speed() ? FrontStatus::sonic : FrontStatus::newton_failed;
+    f.status = nr.stopped ? FrontStatus::stopped
+                          : col.c_of(x) >= 0.999 * m.sound_speed() ? FrontStatus::sonic : FrontStatus::newton_failed;
     f.reason = nr.failure;
     f.c = col.c_of(x);
     f.sigma_d = col.sigma_of(x);
@@ -789,7 +801,7 @@ StripFront solve_on_mesh(const core::InterfaceParams& law, const core::BulkParam
     }
     xc[xc.size() - 1] = f.c;
     const Collocation coarse(m, std::move(coarse_xi), f.c, f.sigma_d, std::nullopt);
-    const auto nc = newton(coarse, xc, o.tolerance, o.max_newton);
+    const auto nc = newton(coarse, xc, o.tolerance, o.max_newton, o.stop);
     f.speed_error = nc.converged ? std::abs(coarse.c_of(xc) - f.c) / 15.0 : std::numeric_limits<double>::infinity();
   }
   return f;
@@ -833,6 +845,11 @@ StripFront solve_strip_front(const core::InterfaceParams& law, const core::BulkP
   StripFront g = solve_on_mesh(law, b, m0, o, sigma_d, f1.c, std::nullopt,
                                [&](const Collocation& col) { return from_one_dimensional(col, f1); });
   while (g.status == FrontStatus::converged && b.height < bulk.height) {
+    if (o.stop && o.stop()) {
+      g.status = FrontStatus::stopped;
+      g.reason = "cold start: stopped on request at H = " + core::format_number(b.height);
+      break;
+    }
     b.height = std::min(bulk.height, b.height * o.height_factor);
     const Model m = make_model(law, b, o);
     StripFront next = solve_on_mesh(law, b, m, o, sigma_d, g.c, std::nullopt,
@@ -856,6 +873,66 @@ StripFront solve_strip_saddle_node_front(const core::InterfaceParams& law, const
     });
   return solve_on_mesh(law, bulk, m, o, sigma_c, guess.c, std::nullopt,
                        [&](const Collocation& col) { return transfer(col, guess, sigma_c); });
+}
+
+double strip_row_grading(double H, const StripFrontOptions& o) {
+  return strip_detail::row_grading_of(H, std::max(1, o.rows), o.row_spacing, o.row_grading);
+}
+
+StripFrontOptions with_rows(double H, const StripFrontOptions& o, int rows) {
+  StripFrontOptions r = o;
+  r.row_grading = strip_row_grading(H, o);
+  if (!(r.row_grading > 0.0)) r.row_spacing = std::numeric_limits<double>::infinity();  // uniform stays uniform
+  r.rows = rows;
+  return r;
+}
+
+// Calibrated (docs/fronts.md §10.20) on the reference machine, 2 cores shared: per ξ interval three right-hand
+// sides with their (2M + 4)² Jacobians, two dense block products and SparseLU's factorisation, all ∝ (2M + 4)²
+// over rows 8 … 96 and intervals 300 … 30 000 (measured 6–7.5e−7 s and ~80 bytes per interval and ns²).
+StripSolveCost strip_solve_cost(int rows, int intervals) {
+  const double ns = 2.0 * (std::max(1, rows) + 1) + 2.0, n = std::max(1, intervals);
+  StripSolveCost c;
+  c.iteration_seconds = 8.0e-7 * n * ns * ns;
+  c.memory_bytes = 80.0 * n * ns * ns + 64.0e6;
+  return c;
+}
+
+StripSpeedError estimate_strip_speed_error(const StripFront& f, const StripFrontOptions& options) {
+  StripSpeedError e;
+  if (f.status != FrontStatus::converged) {
+    e.note = "no converged front to estimate";
+    return e;
+  }
+  const int M = f.rows(), other = M >= 2 ? M / 2 : 2 * M;
+  StripFrontOptions o = options;
+  o.row_grading = f.row_grading;
+  if (!(o.row_grading > 0.0)) o.row_spacing = std::numeric_limits<double>::infinity();
+  o.rows = other;
+  o.max_newton = std::max(o.max_newton, 40);  // from other rows: more than a continuation step (the path's 12)
+  const StripFront g = f.saddle_node_limit ? solve_strip_saddle_node_front(f.law, f.bulk, o, f)
+                                           : solve_strip_front(f.law, f.bulk, f.sigma_d, o, &f);
+  e.other_rows = other;
+  if (g.status != FrontStatus::converged) {
+    e.note = "the re-solve on " + std::to_string(other) + " rows did not converge (" + to_string(g.status) + ": " + g.reason + ")";
+    return e;
+  }
+  const double two_p = std::pow(2.0, strip_row_order), d = std::abs(g.c - f.c);
+  e.c_other = g.c;
+  e.rows = M >= 2 ? d / (two_p - 1.0) : d * two_p / (two_p - 1.0);
+  // The ξ part: the same rows on twice the intervals (refining, not coarsening: on few intervals the every-other-
+  // node difference can vanish by accident), |c_N − c_2N| 2^q/(2^q − 1) with q = 3 assumed (the scheme's is 4).
+  o.intervals = 2 * std::max(1, options.intervals);
+  const StripFront h = f.saddle_node_limit ? solve_strip_saddle_node_front(f.law, f.bulk, o, g)
+                                           : solve_strip_front(f.law, f.bulk, f.sigma_d, o, &g);
+  if (h.status != FrontStatus::converged) {
+    e.note = "the re-solve on " + std::to_string(o.intervals) + " intervals did not converge (" + to_string(h.status) +
+             ": " + h.reason + ")";
+    return e;
+  }
+  e.xi = std::abs(h.c - g.c) * 8.0 / 7.0;
+  e.total = e.rows + e.xi;
+  return e;
 }
 
 StripFrontSample sample_strip_front(const StripFront& f, std::span<const double> xs) {
@@ -955,6 +1032,7 @@ BranchEnd end_of(FrontStatus s) {
     case FrontStatus::sonic: return BranchEnd::sonic;
     case FrontStatus::no_front_state:
     case FrontStatus::not_a_saddle: return BranchEnd::saddle_node;
+    case FrontStatus::stopped: return BranchEnd::stopped;
     default: return BranchEnd::newton_failure;
   }
 }
@@ -1068,7 +1146,7 @@ StripFront StripContinuation::predict_and_correct(double t_sigma, double t_c) {
     const Arclength arc{cur_.sigma_d, cur_.c, t_sigma, t_c, ds_, cs_};
     next = solve_on_mesh(law_, bulk_, m, o_.front, sigma_p, c_p, arc,
                          [&](const Collocation& col) { return transfer(col, cur_, sigma_p); });
-    if (next.status == FrontStatus::converged) break;
+    if (next.status == FrontStatus::converged || next.status == FrontStatus::stopped) break;
     ds_ *= 0.5;
     if (ds_ < o_.min_step) break;
   }
@@ -1087,6 +1165,11 @@ void StripContinuation::follow() {
     }
     if (stop_requested()) break;
     StripFront next = predict_and_correct(t_sigma, t_c);
+    if (next.status == FrontStatus::stopped) {
+      stop(BranchEnd::stopped, "stopped on request in a solve after " + std::to_string(br_.points.size()) +
+                                   " fronts: the branch is partial, c_min not computed");
+      break;
+    }
     if (next.status != FrontStatus::converged) {
       stop(end_of(next.status), "continuation stalls at sigma_d = " + core::format_number(cur_.sigma_d) +
                                     " (step < min_step): " + std::string(to_string(next.status)) + ": " + next.reason);

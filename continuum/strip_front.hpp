@@ -46,7 +46,28 @@ struct StripFrontOptions {
   double thin_height = 0.5;
   double height_factor = 2.0;
   bool estimate_error = false;    ///< also solve on every other ξ node: speed_error = |c_2h − c_h|/15
+  /// Polled before every Newton iteration (and every step of the cold start): true ends the solve with
+  /// status `stopped` within one iteration (strip_newton_iteration_seconds bounds its length). Empty: never.
+  std::function<bool()> stop;
 };
+
+/// The row grading γ of `o` at height H (make_rows: y_j = H (e^{γj/M} − 1)/(e^γ − 1)): o.row_grading if set,
+/// else the γ that gives the first spacing o.row_spacing; 0 for uniform rows (H/M ≤ row_spacing).
+double strip_row_grading(double H, const StripFrontOptions& o);
+/// `o` with `rows` row intervals on the same grading (γ fixed: every spacing scales as 1/rows), the
+/// refinement of docs/fronts.md §10.20 (rows × 2 halves every spacing; rows / 2 keeps every other row).
+StripFrontOptions with_rows(double H, const StripFrontOptions& o, int rows);
+
+/// What one Newton iteration of a strip solve costs (docs/fronts.md §10.20): the Jacobian's dense blocks
+/// (2 per ξ interval, (2M + 4)² each) and SparseLU's factorisation, calibrated on the reference machine.
+struct StripSolveCost {
+  double iteration_seconds = 0.0;  ///< one Newton iteration (assembly, four far-field eigenproblems, SparseLU)
+  double memory_bytes = 0.0;       ///< the Jacobian, its triplets and the LU factors
+};
+StripSolveCost strip_solve_cost(int rows, int intervals);
+/// A stop request is seen between Newton iterations: a mesh whose iteration is estimated above this is
+/// refused up front (`slipfront fronts --rows/--intervals`), so that a stop is always prompt.
+inline constexpr double strip_max_iteration_seconds = 5.0;
 
 /// One steady front in the strip at one σ_d. Fields on the nodes ξ_0 = −L < … < ξ_N = 0 (tip) and the
 /// rows 0 = y_0 < … < y_M = H; bulk fields node-major, index i·(M + 1) + j.
@@ -69,7 +90,8 @@ struct StripFront {
   std::vector<double> lift;       ///< u(ξ_i, y_j) − u(ξ_i, 0): the solver's unknowns for j ≥ 1 (not rounded by u's size)
 
   double residual_norm = 0.0;     ///< max-norm of the discrete equations at the returned solution
-  double speed_error = std::numeric_limits<double>::quiet_NaN();
+  double speed_error = std::numeric_limits<double>::quiet_NaN();  ///< the ξ part (options.estimate_error)
+  double row_grading = 0.0;       ///< γ of the rows (0: uniform)
   int newton_iterations = 0;
   double domain_length = 0.0;
   double overstress_margin = 0.0; ///< min of |σ|/A − 1 behind the tip (interior minima and far end)
@@ -91,6 +113,22 @@ struct StripFront {
 /// continuation); without it, a cold start from the 1D front (options.thin_height).
 StripFront solve_strip_front(const core::InterfaceParams& law, const core::BulkParams& bulk, double sigma_d,
                              const StripFrontOptions& options = {}, const StripFront* guess = nullptr);
+
+/// The error of a solved front's speed (docs/fronts.md §10.20), from the same front re-solved on every other
+/// row (M/2, the same grading, guess: the front itself; M = 1: on 2M rows instead), then that on twice the
+/// intervals: rows = |c_M − c_{M/2}|/(2^p − 1), p = strip_row_order (M = 1: |c_1 − c_2| 2^p/(2^p − 1)),
+/// xi = |c_N − c_2N| 8/7 (order 3 assumed, 4 proven); total = rows + xi. NaN with `note` when a re-solve fails.
+struct StripSpeedError {
+  double rows = std::numeric_limits<double>::quiet_NaN(), xi = std::numeric_limits<double>::quiet_NaN();
+  double total = std::numeric_limits<double>::quiet_NaN();
+  double c_other = std::numeric_limits<double>::quiet_NaN();  ///< c on the other rows
+  int other_rows = 0;
+  std::string note;               ///< why there is no estimate ("" when there is)
+};
+/// The order assumed across the rows: observed 1.8–2.5 (docs/fronts.md §10.5, §10.13, §10.20); the lower
+/// value makes the estimate larger than the error it estimates.
+inline constexpr double strip_row_order = 1.5;
+StripSpeedError estimate_strip_speed_error(const StripFront& front, const StripFrontOptions& options);
 
 /// The limiting front at σ_d = σ_c^d (v_b = v_m, the null mode of the saddle-node behind). Needs a guess;
 /// with c_guess > 0 the guess is stretched in ξ and y by c_guess/guess.c (a neighbouring problem whose front

@@ -695,7 +695,9 @@ def fronts_file(path, root, figdir, studies):
         else:
             plot.no_data(ax, f"no steady front ({status})")
         if math.isfinite(c_min):
-            ax.plot([sd_min], [c_min], "k*", ms=12, label=f"c_min = {c_min:.4g}")
+            err = ba.get("c_min_error", math.nan)
+            ax.plot([sd_min], [c_min], "k*", ms=12,
+                    label=f"c_min = {c_min:.4g}" + (f" ± {err:.2g}" if math.isfinite(err) else " (no error estimate)"))
         if math.isfinite(ba.get("sigma_c_d", math.nan)):
             ax.axvline(ba["sigma_c_d"], color="gray", ls=":", label="sigma_c^d")
         for st in studies:
@@ -728,8 +730,12 @@ def fronts_file(path, root, figdir, studies):
             ax.legend(fontsize=7)
         fig.suptitle(f"{scene}: steady fronts, the branch and its profiles (docs/fronts.md)   [{status}]", fontsize=9)
         save(fig, outdir, f"{stem}_{scene}_fronts_branch.png", figs)
-        rows.append(measure_row(f"{scene}: minimal steady front speed c_min (solved)", f"{c_min:.5g}", "", "",
-                     f"at sigma_d = {sd_min:.5g}; branch end: {ba.get('end', '')}; status {status}"))
+        c_err = ba.get("c_min_error", math.nan)  # the estimate beside the number (docs/fronts.md §10.20)
+        c_txt = f"{c_min:.5g} ± {c_err:.2g}" if math.isfinite(c_err) else f"{c_min:.5g} (no error estimate)"
+        acc = plot.as_str(ba.get("accuracy", ""))
+        rows.append(measure_row(f"{scene}: minimal steady front speed c_min (solved)", c_txt, "", "",
+                     f"at sigma_d = {sd_min:.5g}; branch end: {ba.get('end', '')}; status {status}"
+                     + (f"; accuracy {acc}" if acc else "")))
         if "scaling" in f and "points" in f["scaling"] and "c_min" in f["scaling"]["points"]:
             sc = f["scaling"]
             names = plot.as_str(sc.attrs["parameters"]).split(",")
@@ -1174,6 +1180,8 @@ def read_cmin_csv(path):
         except (TypeError, ValueError):
             return math.nan
     t = {k: np.array([num(r.get(k)) for r in rows]) for k in need}
+    # the estimate beside each c_min (docs/fronts.md §10.20; NaN in a CSV written before it existed)
+    t["c_min_error"] = np.array([num(r.get("c_min_error")) for r in rows])
     ok = np.isfinite(t["H"]) & (t["H"] > 0) & np.isfinite(t["c_min"]) & (t["c_min"] > 0)
     order = np.argsort(t["H"][ok])
     t = {k: v[ok][order] for k, v in t.items()}
@@ -1314,8 +1322,15 @@ def strip_cmin_section(path, root, figdir):
     else:
         gap = f"no H > l_kappa = {lk:.4g}: large-H regime not reached (c_min/c_min,1D = {a['ratio'][big]:.3g} at H = {H[big]:.4g})"
     expo = (f"local exponent {a['expo'][0]:.3f} -> {a['expo'][-1]:.3f}" if len(a["expo"]) else "")
+    rel = t["c_min_error"] / t["c_min"]
+    if np.isfinite(rel).any():
+        w = int(np.nanargmax(rel))
+        errs = (f"; c_min carries its estimated error: largest {100 * rel[w]:.2g} % "
+                f"(c_min = {t['c_min'][w]:.6g} ± {t['c_min_error'][w]:.2g} at H = {H[w]:.4g})")
+    else:
+        errs = "; no error estimates in this CSV (written before docs/fronts.md §10.20)"
     rows = [measure_row(f"c_min(H) of the strip, H = {H[0]:.4g} .. {H[-1]:.4g}: does the 1D c_min hold?",
-                        f"{holds}; {cross}", "", gap, expo),
+                        f"{holds}; {cross}", "", gap, expo + errs),
             answer_row("Does the minimal steady front speed vary smoothly from 1D to 2D as H grows?",
                        f"c_min(H) at fixed strip material, H = {H[0]:.4g} .. {H[-1]:.4g}: {holds}; {cross}; {gap}.")]
     return figs, rows

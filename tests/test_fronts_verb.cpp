@@ -127,7 +127,10 @@ TEST_CASE("fronts verb: the front at the scene's sigma_d is solved and reported,
   CHECK(number(at, "/profiles/0@c") == number(at, "/branch@c_at_scene_sigma_d"));
   CHECK(number(at, "/profiles/0@sigma_d") == 0.5);
   CHECK(text(at, "/branch@scene_front") == "converged");
-  CHECK(at.out.find("at the scene's sigma_d = 0.5: c = 61.4748 (profile 0)") != std::string::npos);
+  CHECK(at.out.find("at the scene's sigma_d = 0.5: c = 61.4748 ± ") != std::string::npos);  // with its estimate
+  CHECK(number(at, "/branch@c_at_scene_sigma_d_error") > 0.0);
+  CHECK(number(at, "/branch@c_at_scene_sigma_d_error") < 1e-6);  // the 1D mesh: ~1e-9 (docs/fronts.md §3)
+  CHECK(number(at, "/branch@rtol_met") == 1.0);
 
   const Fronts below = run_fronts(dir, "below", {"drive.sigma_d=0.2"});
   CHECK(below.code == 0);

@@ -220,7 +220,8 @@ double error_of(const continuum::StripFront& f, const continuum::StripFrontOptio
 
 // The front nearest to σ_d among `kept` (not the limiting one), re-solved at σ_d on `fo`.
 continuum::StripFront strip_front_at(const Scene& s, double sigma_d, const std::vector<continuum::StripFront>& kept,
-                                     const continuum::StripFrontOptions& fo) {
+                                     continuum::StripFrontOptions fo) {
+  fo.max_newton = std::max(fo.max_newton, 40);  // from a neighbour far in sigma_d (the path's meshes allow 12)
   const continuum::StripFront* guess = nullptr;
   for (const auto& f : kept)
     if (!f.saddle_node_limit && (!guess || std::abs(f.sigma_d - sigma_d) < std::abs(guess->sigma_d - sigma_d))) guess = &f;
@@ -286,6 +287,8 @@ bool solve_strip_profiles(const Scene& s, const continuum::StripBranch& branch,
     if (f.status == continuum::FrontStatus::stopped) return false;
     const bool converged = f.status == continuum::FrontStatus::converged;
     const double err = converged ? add(f) : nan_value;
+    if (f.status == continuum::FrontStatus::newton_failed)  // a front that should exist: a speed without estimate
+      acc.add(1.0, nan_value, "no convergence at sigma_d = " + core::format_number(wanted[k]) + ": " + f.reason);
     if (k == 0) {
       r.scalars["c_at_scene_sigma_d"] = converged ? f.c : nan_value;
       r.scalars["c_at_scene_sigma_d_error"] = err;

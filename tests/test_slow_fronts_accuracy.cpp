@@ -4,7 +4,9 @@
 // is ~1e-9 of c here): c_min, the front at the scene's sigma_d and every profile (each at a fixed sigma_d, so the
 // two runs compare point for point). Also the issue's example: at H = 50 the scene's front is within 1e-3 of the
 // converged value 48.032 (the fixed-grading Richardson limit of 8 ... 64 rows, docs/fronts.md §10.20), where the
-// old default (8 rows) was 0.75 % off. Slow: the reference at H = 50 is a branch on 64 rows.
+// old default (8 rows) was 0.75 % off. Slow: the reference at H = 50 is a branch on 64 rows. H = 200 is not here:
+// its default chooses 64 rows (40 min on the shared machine, docs/fronts.md §10.20) and twice that (128 rows,
+// ~16 s per Newton iteration) is above the iteration limit: its check is what remains of issue 36 item 1.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -14,9 +16,9 @@
 
 namespace compare = slipfront::compare;
 
-TEST_CASE("slow fronts accuracy: default fronts at H = 17, 50, 200 are within their estimates of twice the rows",
+TEST_CASE("slow fronts accuracy: default fronts at H = 17, 50 are within their estimates of twice the rows",
           "[fronts][strip][slow]") {
-  for (double H : {17.0, 50.0, 200.0}) {
+  for (double H : {17.0, 50.0}) {
     compare::Scene s = slipfront::testing::homogeneous_scene(0.5, 150.0, 20.0);
     s.bulk.height = H;
     const compare::FrontsResult r = compare::compute_fronts(s, false);

@@ -1,13 +1,13 @@
 #pragma once
 // `slipfront check-resolution CONFIG`: the resolution check of one scene (issue 36; docs/cli.md). It writes the study
-// of kind resolution for the scene (compare/resolution.hpp; the study file's text is kept in DIR/study.h5) and runs it
+// of kind resolution for the scene (studies/resolution.hpp; the study file's text is kept in DIR/study.h5) and runs it
 // on the study engine (apps/study.hpp): its runs, resume, progress, stop and DIR/study.h5 are a study's.
 #include <filesystem>
 #include <iosfwd>
 #include <string>
 #include <vector>
 
-#include "compare/resolution.hpp"
+#include "studies/resolution.hpp"
 
 namespace CLI {
 class App;

@@ -738,7 +738,7 @@ CLI::App* add_check_verb(CLI::App& app, fs::path& config, std::vector<std::strin
 
 CLI::App* add_study_verb(CLI::App& app, StudyOptions& opts) {
   auto* study = app.add_subcommand("study", "Run a convergence study (many runs on threads or MPI ranks) and analyse it");
-  study->add_option("study", opts.study, "Study file (TOML; see docs/studies.md)")->required();
+  study->add_option("study", opts.study, "Study file (TOML; see docs/studies.md); required unless --list-kinds");
   study->add_option("-o,--out", opts.out, "Output directory (default: out/studies/<study name>)");
   study->add_option("-s,--set", opts.overrides, "Override one scene key in every run; repeatable")
       ->allow_extra_args(false)
@@ -753,6 +753,9 @@ CLI::App* add_study_verb(CLI::App& app, StudyOptions& opts) {
                     "(runs done of this invocation's), for a program driving slipfront (docs/cli.md)")
       ->check(CLI::IsMember({"line", "json"}))
       ->type_name("line|json");
+  auto* list = study->add_flag("--list-kinds", opts.list_kinds,
+                               "Print the study kinds (name, models, what it runs, description), then exit");
+  study->add_flag("--json", opts.json, "With --list-kinds: the kinds as one JSON object (docs/cli.md)")->needs(list);
   study->footer(
       "Every run is validated before any work. Each run writes DIR/runs/<id>/results.h5; the analysis\n"
       "(tables, fitted rates with 95% intervals, each with its definition) goes to DIR/study.h5.\n"

@@ -9,7 +9,7 @@
 #include "compare/fronts.hpp"
 #include "compare/result.hpp"
 #include "compare/scene.hpp"
-#include "compare/study.hpp"
+#include "studies/study.hpp"
 
 namespace slipfront::app {
 

@@ -39,6 +39,8 @@
 #include "compare/estimate.hpp"
 #include "compare/pool.hpp"
 #include "core/interrupt.hpp"
+#include "studies/resolution.hpp"
+#include "studies/strip_cmin_height.hpp"
 
 extern char** environ;
 
@@ -362,13 +364,13 @@ compare::StudySpec load_study_text(const fs::path& file, const std::string& text
   if (compare::find_study_kind(s.kind)->compute) {  // a kind without scene runs: [paths], no runs
     refuse_run_keys(t, name, s.kind);
     if (const auto* n = t.get("set")) s.common = read_common(*n, name);
-    if (const auto* n = t.get("paths")) s.paths = read_paths(*n, name);
+    if (const auto* n = t.get("paths")) s.kind_options = read_paths(*n, name);
     return s;
   }
   if (const auto* n = t.get("resolution")) {
     if (!compare::find_study_kind(s.kind)->plan)
       throw ConfigError(name, "resolution", "only the kind resolution has [resolution]; the kind '" + s.kind + "' has none");
-    s.resolution = read_resolution(*n, name);
+    s.kind_options = read_resolution(*n, name);
   }
   if (compare::find_study_kind(s.kind)->plan)  // the kind plans its runs from the base scene
     for (const char* key : {"group", "vary", "seeds"})
@@ -1275,7 +1277,42 @@ int compute_study(const StudyOptions& opts, const Study& study, const Engine& en
 
 }  // namespace
 
+namespace {
+
+// What a kind runs: "scenes" (the study file's groups x seeds), "planned" (runs planned from the base scene), "none"
+// (a computation from the base scene, no scene runs).
+const char* runs_of(const compare::StudyKind& k) { return k.compute ? "none" : k.plan ? "planned" : "scenes"; }
+
+// `slipfront study --list-kinds [--json]`: the table, as text (one paragraph a kind) or JSON.
+int list_kinds(const StudyOptions& opts, std::ostream& out) {
+  if (opts.json) {
+    out << study_kinds_json() << "\n";
+    return exit_code::ok;
+  }
+  for (const compare::StudyKind& k : compare::study_kinds())
+    out << k.name << " (" << compare::describe(k.needs) << "; runs: " << runs_of(k) << ")\n  " << k.description << "\n";
+  return exit_code::ok;
+}
+
+}  // namespace
+
+std::string study_kinds_json() {
+  std::string json = "{\"kinds\": [";
+  for (const compare::StudyKind& k : compare::study_kinds()) {
+    json += (json.back() == '[' ? "\n  " : ",\n  ");
+    json += "{\"name\": " + quoted_string(std::string(k.name)) + ", \"description\": " +
+            quoted_string(std::string(k.description)) + ", \"models\": " + quoted_string(compare::describe(k.needs)) +
+            ", \"runs\": \"" + runs_of(k) + "\", \"analysis\": " + (k.analyse || k.compute ? "true" : "false") + "}";
+  }
+  return json + "\n]}";
+}
+
 int study_command(const StudyOptions& opts, std::ostream& out_all, std::ostream& err_all) {
+  if (opts.list_kinds) return list_kinds(opts, out_all);
+  if (opts.study.empty()) {
+    err_all << "slipfront: error: study: the study file is required (or --list-kinds: the study kinds)\n";
+    return exit_code::usage;
+  }
   const auto wall0 = Clock::now();
   // (a) the engine
   Engine engine;

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "compare/study.hpp"
+#include "studies/study.hpp"
 
 namespace slipfront::app {
 
@@ -31,7 +31,14 @@ struct StudyOptions {
   bool quiet = false;
   std::string progress = "line";       ///< --progress: "line" (on a terminal) or "json" (apps/json_progress.hpp)
   std::string command_line;
+  bool list_kinds = false;             ///< --list-kinds: print the study kinds (no study file), then exit
+  bool json = false;                   ///< --json (with --list-kinds): as one JSON object (study_kinds_json)
 };
+
+/// The study kinds (studies::study_kinds(), the one table) as JSON: {"kinds": [{"name", "description", "models",
+/// "runs", "analysis"}, ...]} in the table's order (docs/cli.md "slipfront study --list-kinds"); what scripts/report.py's
+/// plots are checked against (tests/test_study_kinds.cpp).
+std::string study_kinds_json();
 
 int study_command(const StudyOptions& opts, std::ostream& out, std::ostream& err);
 

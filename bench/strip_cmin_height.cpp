@@ -2,7 +2,7 @@
 // the limiting front at σ_c^d continued in H (continuum::continue_strip_height), at every target H the branch
 // c(σ_d) from σ_d = 0.8 to its end (started from a second path at σ_d = 0.8), the 1D c_min of the same column
 // stiffness μ = μ'H, and the paper's lengths ℓ = μ', ℓ_κ = μ'κ/(ηα), s = μ'/η. Not a Google benchmark: the
-// command line of compare::strip_cmin_height (compare/strip_cmin_height.hpp; the main job runs the same
+// command line of compare::strip_cmin_height (studies/strip_cmin_height.hpp; the main job runs the same
 // computation as the study configs/studies/strip_cmin_height.toml, docs/studies.md), whose table (CSV on stdout,
 // or the file given) is the data of docs/fronts.md §10.12; --check adds the mesh variants at the largest H (§10.13).
 //
@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "compare/strip_cmin_height.hpp"
+#include "studies/strip_cmin_height.hpp"
 #include "continuum/strip_front.hpp"
 
 namespace compare = slipfront::compare;

@@ -8,8 +8,9 @@
 #include <utility>
 #include <vector>
 
+#include "compare/result.hpp"
 #include "compare/scene.hpp"
-#include "compare/study.hpp"
+#include "compare/study_plan.hpp"
 
 namespace slipfront::compare {
 

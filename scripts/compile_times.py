@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Compile time of each translation unit of the libraries and the program (issue 17's table).
 
-Recompiles every unit of build/compile_commands.json under core/, continuum/, discrete/, compare/ and
+Recompiles every unit of build/compile_commands.json under core/, continuum/, discrete/, compare/, studies/ and
 apps/ one at a time (output to a scratch file, so the build is untouched) and prints the slowest.
 Usage: scripts/compile_times.py [--build build] [--source DIR] [--top 10] [--filter SUBSTRING]
 One core, sequential: the numbers compare between two trees timed on the same quiet machine.
@@ -20,7 +20,7 @@ rows = []
 with tempfile.TemporaryDirectory() as scratch:
     for e in db:
         rel = os.path.relpath(e["file"], root)
-        if rel.split(os.sep)[0] not in ("core", "continuum", "discrete", "compare", "apps") or a.filter not in rel:
+        if rel.split(os.sep)[0] not in ("core", "continuum", "discrete", "compare", "studies", "apps") or a.filter not in rel:
             continue
         args = shlex.split(e["command"]) if "command" in e else e["arguments"]
         if "-o" in args:

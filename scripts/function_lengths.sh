@@ -6,7 +6,7 @@ set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 command -v ctags >/dev/null || { echo "function_lengths.sh: needs universal-ctags (apt-get install universal-ctags)" >&2; exit 1; }
 dirs=()
-for d in core continuum discrete compare apps bench; do [[ -d $d ]] && dirs+=("$d"); done
+for d in core continuum discrete compare studies apps bench; do [[ -d $d ]] && dirs+=("$d"); done
 ctags -R --languages=C++ --langmap=C++:+.hpp --kinds-C++=f --fields=+ne -x \
   --_xformat="%{end}	%{line}	%{input}	%{scope}	%{name}" "${dirs[@]}" 2>/dev/null |
   awk -F'\t' '$1 ~ /^[0-9]+$/ { s = $4; sub(/^slipfront::/, "", s); gsub(/(::)?__anon[0-9a-f]+/, "", s);

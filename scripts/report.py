@@ -395,7 +395,7 @@ def threshold_width_study(st, outdir):
     return figs, rows
 
 
-def transient_study(st, outdir):
+def transient_friction_study(st, outdir):
     figs, rows = [], []
     t = st.tables.get("transient_friction", {})
     if not t:
@@ -488,7 +488,7 @@ def fig2_study(st, outdir):
         return figs, rows
     heights = st.tables.get("fig2_heights", {})
     if heights and len(heights.get("H", [])) > 1:
-        return fig2_strip_study(st, outdir)
+        return fig2_strip_plots(st, outdir)
     fig, axs = plt.subplots(1, 2, figsize=(12, 5))
     for i, (name, t) in enumerate(sorted(groups.items())):
         for ax, m in zip(axs, ("continuum", "discrete")):
@@ -528,7 +528,7 @@ def fig2_height_label(H, h, k):
     return f"H = {H:g} (H/l {h['H_over_l_min'][k]:.2g}-{h['H_over_l_max'][k]:.2g})"
 
 
-def fig2_strip_study(st, outdir):
+def fig2_strip_plots(st, outdir):
     """Fig. 2 (right) in the strip (docs/fronts.md §10.16): c_transient against sqrt(mu alpha/(eta kappa)) and
     against the run's own c_min, one colour per height; the ratio c_transient/c_min against H/l; one effect row
     per height against the chain (the effect of H on the collapse)."""
@@ -600,7 +600,7 @@ def fig2_strip_study(st, outdir):
     return figs, rows
 
 
-def spectrum_study(st, outdir):
+def front_spectrum_study(st, outdir):
     figs, rows = [], []
     t = st.tables.get("front_spectrum", {})
     if not t:
@@ -1032,7 +1032,7 @@ def strip_height_study(st, outdir):
     return figs, rows
 
 
-DISORDER_LAWS = ("delta", "uniform", "gaussian", "weibull")  # the codes of compare/disorder_limit.cpp's tables
+DISORDER_LAWS = ("delta", "uniform", "gaussian", "weibull")  # the codes of studies/disorder_limit.cpp's tables
 DISORDER_RENEWALS = ("fresh", "quenched")
 DISORDER_LEVEL = 0.01  # where mean_field departs from the continuum: the validity map's 1 % (docs/model.md §8)
 DISORDER_W0_MAX = 0.05  # a w -> 0 limit row needs a w-rate or a width at most this (fig1's and the law's alpha - 1)
@@ -1336,11 +1336,21 @@ def strip_cmin_section(path, root, figdir):
     return figs, rows
 
 
-STUDY_PLOTS = {"friction_law": friction_law_study, "threshold_width": threshold_width_study,
-               "transient_friction": transient_study, "front_speeds": front_speeds_study, "fig2": fig2_study,
-               "front_spectrum": spectrum_study, "steady_fronts": steady_fronts_study,
-               "validity_friction": validity_friction_study, "validity_fig1": validity_fig1_study,
-               "strip_height": strip_height_study, "disorder_limit": disorder_limit_study}
+def study_plots(kind):
+    """The plots of a study of `kind`: the function `<kind>_study(st, outdir) -> (figures, summary rows)` of this file.
+    The kinds are the program's one table (studies::study_kinds(); `slipfront study --list-kinds --json`, docs/cli.md),
+    listed nowhere here: tests/test_study_kinds.cpp checks that every kind of the table has its function here and
+    every such function names a kind of the table. A kind without plots has one returning none (below)."""
+    def resolution_study(st, outdir):  # the errors and orders: the section's scalars and notes (tables in study.h5)
+        return [], []
+
+    def strip_cmin_height_study(st, outdir):  # its strip_cmin_height.csv has its own section (cmin_section)
+        return [], []
+
+    def runs_study(st, outdir):  # no analysis: nothing to draw
+        return [], []
+
+    return {**globals(), **locals()}.get(f"{kind}_study", runs_study)
 
 
 def scene_rows(res, source=""):
@@ -1900,7 +1910,7 @@ def study_section(ctx, path):
     try:
         st.stem = f"{figure_key(root, path)}_{st.name}"
         st.source = os.path.relpath(path, root)
-        figs, rows = STUDY_PLOTS.get(st.kind, lambda s, o: ([], []))(st, ctx.figdir)
+        figs, rows = study_plots(st.kind)(st, ctx.figdir)
         lines = [f"## Study `{st.name}` ({st.kind})", "", st.description, "",
                  f"{len(st.runs)} runs, {st.wall:.1f} s wall, status {st.status}.", ""]
         for k, v in sorted(st.scalars.items()):

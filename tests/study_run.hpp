@@ -12,7 +12,7 @@
 #include "apps/study.hpp"
 #include "compare/alongside.hpp"
 #include "compare/pool.hpp"
-#include "compare/study.hpp"
+#include "studies/study.hpp"
 
 namespace slipfront::testing {
 

@@ -13,7 +13,7 @@
 #include "compare/fit.hpp"
 #include "compare/pool.hpp"
 #include "compare/runner.hpp"
-#include "compare/study.hpp"
+#include "studies/study.hpp"
 
 using namespace slipfront;
 using compare::ModelResult;

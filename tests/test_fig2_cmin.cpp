@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "apps/config.hpp"
-#include "compare/fig2_cmin.hpp"
+#include "studies/fig2_cmin.hpp"
 #include "continuum/strip_front.hpp"
 
 using namespace slipfront;

@@ -19,7 +19,7 @@
 #include "apps/config.hpp"
 #include "apps/study.hpp"
 #include "apps/toml_integer.hpp"
-#include "compare/study.hpp"
+#include "studies/study.hpp"
 #include "process.hpp"
 #include "scenes.hpp"
 

@@ -15,7 +15,7 @@
 #include "apps/study.hpp"
 #include "compare/alongside.hpp"
 #include "compare/pool.hpp"
-#include "compare/study.hpp"
+#include "studies/study.hpp"
 #include "study_run.hpp"
 
 using namespace slipfront;

@@ -15,9 +15,9 @@
 #include "apps/config.hpp"
 #include "apps/study.hpp"
 #include "compare/alongside.hpp"
-#include "compare/disorder_limit.hpp"
+#include "studies/disorder_limit.hpp"
 #include "compare/pool.hpp"
-#include "compare/study.hpp"
+#include "studies/study.hpp"
 #include "process.hpp"
 #include "scenes.hpp"
 

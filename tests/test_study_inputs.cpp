@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "compare/study.hpp"
+#include "studies/study.hpp"
 #include "h5content.hpp"
 #include "process.hpp"
 #include "scenes.hpp"

@@ -10,7 +10,8 @@
 
 #include "apps/config.hpp"
 #include "apps/study.hpp"
-#include "compare/study.hpp"
+#include "studies/study.hpp"
+#include "process.hpp"
 #include "scenes.hpp"
 
 namespace fs = std::filesystem;
@@ -108,4 +109,56 @@ TEST_CASE("study kinds: a study file is accepted with every kind of the table an
     CHECK(what.find("kind") != std::string::npos);
     CHECK(what.find("unknown study kind 'nope' (known: " + list + ")") != std::string::npos);
   }
+}
+
+namespace {
+
+// scripts/report.py against tables of kinds (each the JSON of `slipfront study --list-kinds --json`, in the files
+// argv[2:]), one line a table: "<file>: ok <kind>,<kind>,..." (its kinds in order), or "<file>:" and what is wrong:
+// "missing X" (a kind of the table whose plots, report.study_plots, are not its own `X_study`), "extra X" (a function
+// `X_study` of report.py, X not a kind of the table), "front X" (X of report.FRONT_STUDY_KINDS not in the table).
+// One Python process for all (report.py imports matplotlib: seconds).
+const std::string report_check = R"(import json, os, sys
+sys.path.insert(0, os.path.dirname(sys.argv[1]))
+import report
+for path in sys.argv[2:]:
+    kinds = [k["name"] for k in json.load(open(path))["kinds"]]
+    bad = [f"missing {k}" for k in kinds if report.study_plots(k).__name__ != f"{k}_study"]
+    bad += [f"extra {n[:-6]}" for n, f in vars(report).items() if n.endswith("_study") and callable(f) and n[:-6] not in kinds]
+    bad += [f"front {k}" for k in report.FRONT_STUDY_KINDS if k not in kinds]
+    print(os.path.basename(path) + ": " + (" ".join(bad) if bad else "ok " + ",".join(kinds)))
+)";
+
+}  // namespace
+
+TEST_CASE("study kinds: `slipfront study --list-kinds --json` is the table, and report.py has the plots of every kind "
+          "of it and of no other",
+          "[study][kinds][report]") {
+  const testing::TempDir dir("study-kinds-json");
+  const auto listed = testing::run({SLIPFRONT_BINARY, "study", "--list-kinds", "--json"}, dir.path);
+  REQUIRE(listed.code == 0);
+  CHECK(listed.out == app::study_kinds_json() + "\n");
+  std::string names;
+  for (const compare::StudyKind& k : compare::study_kinds()) names += (names.empty() ? "" : ",") + std::string(k.name);
+  testing::write_text(dir.path / "table.json", listed.out);
+  // The check bites both ways: a kind the report does not know, and a kind the report draws that the table lacks.
+  testing::write_text(dir.path / "new_kind.json",
+                      R"({"kinds": [{"name": "new_kind"}, )" + listed.out.substr(listed.out.find('[') + 1));
+  const std::string first = "{\"name\": \"friction_law\"";
+  std::string without = listed.out;
+  const auto at = without.find(first);
+  REQUIRE(at != std::string::npos);
+  without.erase(at, without.find('}', at) + 2 - at);  // the row and its comma
+  testing::write_text(dir.path / "without.json", without);
+
+  const auto checked = testing::run({"/usr/bin/python3", "-c", report_check,
+                                     std::string(SLIPFRONT_SOURCE_DIR) + "/scripts/report.py",
+                                     (dir.path / "table.json").string(), (dir.path / "new_kind.json").string(),
+                                     (dir.path / "without.json").string()},
+                                    dir.path);
+  INFO(checked.err);
+  REQUIRE(checked.code == 0);
+  CHECK(checked.out == "table.json: ok " + names + "\n"  // every kind of the table, in its order, has its plots
+                       "new_kind.json: missing new_kind\n"
+                       "without.json: extra friction_law\n");
 }

@@ -1,4 +1,4 @@
-// The resolution check (issue 36; compare/resolution.hpp, `slipfront check-resolution`, docs/studies.md "`resolution`").
+// The resolution check (issue 36; studies/resolution.hpp, `slipfront check-resolution`, docs/studies.md "`resolution`").
 // 1. Richardson's estimate on sequences of known order: the order, the extrapolate and the error recovered; a
 //    sequence at its noise floor is bounded by its scatter, a missing level gives no estimate.
 // 2. Against a case of known order and a closed form: a steady front started from the solved traveling wave
@@ -18,7 +18,7 @@
 #include <thread>
 #include <vector>
 
-#include "compare/resolution.hpp"
+#include "studies/resolution.hpp"
 #include "h5content.hpp"
 #include "process.hpp"
 #include "scenes.hpp"

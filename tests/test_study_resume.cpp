@@ -15,7 +15,7 @@
 #include "apps/config.hpp"
 #include "apps/h5out.hpp"
 #include "apps/study.hpp"
-#include "compare/study.hpp"
+#include "studies/study.hpp"
 #include "h5content.hpp"
 #include "process.hpp"
 #include "scenes.hpp"

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "compare/strip_cmin_height.hpp"
+#include "studies/strip_cmin_height.hpp"
 #include "continuum/steady_front.hpp"
 #include "h5content.hpp"
 #include "process.hpp"

@@ -14,8 +14,8 @@
 #include "apps/study.hpp"
 #include "compare/alongside.hpp"
 #include "compare/pool.hpp"
-#include "compare/strip_height.hpp"
-#include "compare/study.hpp"
+#include "studies/strip_height.hpp"
+#include "studies/study.hpp"
 #include "scenes.hpp"
 
 namespace fs = std::filesystem;

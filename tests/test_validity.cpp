@@ -1,4 +1,4 @@
-// The validity map's analysis (issue 13, compare/validity.hpp): the mode classifier on synthetic two-mode
+// The validity map's analysis (issue 13, studies/validity.hpp): the mode classifier on synthetic two-mode
 // samples, the crossover on data generated with a known law, the collapse exponent and the kappa, eta
 // exponents recovered from synthetic studies with a known N*(alpha, kappa, eta), the fig1 analysis's
 // per-run modes and per-mode event quantiles, its step check against a closed-form z test, and an empty study.
@@ -9,7 +9,7 @@
 #include <cmath>
 #include <vector>
 
-#include "compare/validity.hpp"
+#include "studies/validity.hpp"
 #include "scenes.hpp"
 
 using namespace slipfront;

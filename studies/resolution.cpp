@@ -1,4 +1,4 @@
-#include "compare/resolution.hpp"
+#include "studies/resolution.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -8,7 +8,7 @@
 #include <string>
 
 #include "compare/fit.hpp"
-#include "compare/study.hpp"
+#include "studies/study.hpp"
 
 namespace slipfront::compare {
 
@@ -152,7 +152,7 @@ RichardsonEstimate richardson(std::span<const double> f, std::size_t base, doubl
 }
 
 std::vector<StudyGroup> resolution_groups(const StudySpec& spec, const Scene& base) {
-  const ResolutionOptions& o = spec.resolution;
+  const ResolutionOptions o = kind_options<ResolutionOptions>(spec);
   const bool noisy = stochastic(base);
   std::vector<StudyGroup> groups;
   for (int k = o.levels; k >= -o.coarser; --k) {  // finest first: the pool starts the longest runs
@@ -177,7 +177,7 @@ std::vector<StudyGroup> resolution_groups(const StudySpec& spec, const Scene& ba
 }
 
 void check_resolution_scene(const StudySpec& spec, const Scene& base) {
-  check_resolution_options(spec.resolution);
+  check_resolution_options(kind_options<ResolutionOptions>(spec));
   if (base.drive.loading == core::Loading::imposed_rate)
     throw core::ParamError("drive.loading",
                            "an imposed slip rate has no events (t*, t^, front speeds) for the resolution check to "
@@ -383,7 +383,7 @@ std::string levels_line(const Levels& levels, const ResolutionOptions& o) {
 
 void analyse_resolution(StudyReport& rep, const StudySpec& spec, const std::vector<StudyRun>& runs,
                         const std::vector<Scene>& scenes, const std::vector<std::vector<ModelResult>>& res) {
-  const ResolutionOptions& o = spec.resolution;
+  const ResolutionOptions o = kind_options<ResolutionOptions>(spec);
   const Levels levels = collect_levels(o, runs, scenes, res);
   if (levels.size() < 3 || !levels.count(0)) {
     rep.notes.push_back("fewer than three levels, or not the scene's own, have runs: no estimate");

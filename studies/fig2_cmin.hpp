@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "compare/study.hpp"
+#include "studies/study.hpp"
 
 namespace slipfront::compare {
 

@@ -1,4 +1,4 @@
-#include "compare/validity.hpp"
+#include "studies/validity.hpp"
 
 #include <boost/math/distributions/normal.hpp>
 #include <algorithm>

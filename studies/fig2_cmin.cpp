@@ -1,4 +1,4 @@
-#include "compare/fig2_cmin.hpp"
+#include "studies/fig2_cmin.hpp"
 
 #include "compare/fit.hpp"
 

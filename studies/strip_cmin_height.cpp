@@ -1,11 +1,11 @@
-#include "compare/strip_cmin_height.hpp"
+#include "studies/strip_cmin_height.hpp"
 
 #include <chrono>
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
 
-#include "compare/study.hpp"
+#include "studies/study.hpp"
 #include "continuum/steady_front.hpp"
 
 namespace slipfront::compare {
@@ -245,7 +245,7 @@ StripCminHeightOptions strip_cmin_study_options(const StudySpec& spec, const Sce
     throw core::ParamError("scene", "the kind strip_cmin_height needs a strip scene (bulk.height > 0): its material is "
                                     "mu' = bulk.mu/bulk.height, rho' = bulk.rho/bulk.height; " + spec.scene_file +
                                     " is the 1D chain (bulk.height = 0)");
-  StripCminHeightOptions o = spec.paths;
+  StripCminHeightOptions o = kind_options<StripCminHeightOptions>(spec);
   o.law = base.interface;
   o.mu_strip = base.bulk.mu / base.bulk.height;
   o.rho_strip = base.bulk.rho / base.bulk.height;

@@ -1,4 +1,4 @@
-#include "compare/disorder_limit.hpp"
+#include "studies/disorder_limit.hpp"
 
 #include <algorithm>
 #include <cmath>

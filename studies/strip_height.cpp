@@ -1,4 +1,4 @@
-#include "compare/strip_height.hpp"
+#include "studies/strip_height.hpp"
 
 #include <algorithm>
 #include <cmath>

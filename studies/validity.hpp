@@ -6,7 +6,7 @@
 #include <span>
 #include <vector>
 
-#include "compare/study.hpp"
+#include "studies/study.hpp"
 
 namespace slipfront::compare {
 

@@ -4,7 +4,7 @@
 // of study results (no I/O).
 #include <vector>
 
-#include "compare/study.hpp"
+#include "studies/study.hpp"
 
 namespace slipfront::compare {
 

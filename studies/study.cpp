@@ -1,4 +1,4 @@
-#include "compare/study.hpp"
+#include "studies/study.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -6,14 +6,14 @@
 #include <stdexcept>
 
 #include "compare/difference.hpp"
-#include "compare/disorder_limit.hpp"
-#include "compare/fig2_cmin.hpp"
+#include "studies/disorder_limit.hpp"
+#include "studies/fig2_cmin.hpp"
 #include "compare/fit.hpp"
 #include "compare/fronts.hpp"
-#include "compare/resolution.hpp"
-#include "compare/strip_cmin_height.hpp"
-#include "compare/strip_height.hpp"
-#include "compare/validity.hpp"
+#include "studies/resolution.hpp"
+#include "studies/strip_cmin_height.hpp"
+#include "studies/strip_height.hpp"
+#include "studies/validity.hpp"
 #include "continuum/friction_law.hpp"
 #include "continuum/steady_front.hpp"
 
@@ -41,12 +41,6 @@ void put_fits(StudyReport& rep, const std::string& name, const std::vector<doubl
 }
 
 namespace {
-
-std::string run_id(std::size_t i) {
-  char buf[16];
-  std::snprintf(buf, sizeof buf, "%04zu", i);
-  return buf;
-}
 
 // Runs grouped by one varied key's numeric value (seeds pooled), in increasing order of the value.
 std::map<double, std::vector<std::size_t>> by_value(const std::vector<StudyRun>& runs, const std::string& key) {
@@ -445,7 +439,7 @@ void steady_fronts(StudyReport& rep, const StudySpec& spec, const std::vector<St
   }
 }
 
-// The validity map (compare/validity.hpp) under the signature of every analysis.
+// The validity map (studies/validity.hpp) under the signature of every analysis.
 void validity_friction(StudyReport& rep, const StudySpec&, const std::vector<StudyRun>& runs,
                        const std::vector<Scene>& scenes, const std::vector<std::vector<ModelResult>>& res) {
   analyse_validity_friction(rep, runs, scenes, res);
@@ -454,7 +448,7 @@ void validity_fig1(StudyReport& rep, const StudySpec&, const std::vector<StudyRu
                    const std::vector<Scene>& scenes, const std::vector<std::vector<ModelResult>>& res) {
   analyse_validity_fig1(rep, runs, scenes, res);
 }
-// fig1 on the strip against its height, the chain as the H -> 0 line (compare/strip_height.hpp).
+// fig1 on the strip against its height, the chain as the H -> 0 line (studies/strip_height.hpp).
 void strip_height(StudyReport& rep, const StudySpec&, const std::vector<StudyRun>& runs,
                   const std::vector<Scene>& scenes, const std::vector<std::vector<ModelResult>>& res) {
   analyse_strip_height(rep, runs, scenes, res);
@@ -499,17 +493,6 @@ constexpr StudyKind study_kind_table[] = {
      "(docs/studies.md)", any_model, analyse_resolution, nullptr, check_resolution_scene, resolution_groups},
     {"runs", "no analysis: just run every point", any_model, nullptr}};
 
-// The domains of the study file's numeric keys (docs/studies.md, "Study files").
-using core::KeyDomain;
-using K = core::KeyKind;
-constexpr KeyDomain study_domains[] = {
-    {"seeds", K::integer, 1.0, 2147483647.0, false, false, false, "",
-     "(runs per point; the study's runs are bounded by limits.max_runs)"},
-    {"fit_from", K::number, 0.0, core::parameter_cap},
-    {"limits.max_runs", K::integer, 1.0, 1e9, false, false, false, "", "(runs of the study: points x seeds)"},
-    {"limits.max_memory_gib", K::number, 0.0, 1e6, true},
-};
-
 }  // namespace
 
 std::span<const StudyKind> study_kinds() { return study_kind_table; }
@@ -534,65 +517,10 @@ std::string missing_models(const StudyKind& kind, const Scene& scene) {
   return missing;
 }
 
-std::span<const core::KeyDomain> study_key_domains() { return study_domains; }
-
-double count_runs(const StudySpec& spec) {
-  if (spec.groups.empty()) return std::max(1, spec.seeds);
-  double points = 0.0;
-  for (const StudyGroup& g : spec.groups) {
-    double product = 1.0;
-    for (const auto& [key, values] : g.vary) product *= static_cast<double>(values.size());
-    points += product;
-  }
-  return points * std::max(1, spec.seeds);
-}
-
-std::vector<StudyRun> sample_runs(const StudySpec& spec) {
-  StudySpec first = spec;
-  first.seeds = 1;
-  for (StudyGroup& g : first.groups)
-    for (auto& [key, values] : g.vary) values.resize(std::min<std::size_t>(values.size(), 1));
-  return expand(first);
-}
-
 const StudyKind* find_study_kind(std::string_view name) {
   for (const StudyKind& k : study_kind_table)
     if (k.name == name) return &k;
   return nullptr;
-}
-
-std::vector<StudyRun> expand(const StudySpec& spec) {
-  std::vector<StudyRun> out;
-  const std::vector<StudyGroup> groups = spec.groups.empty() ? std::vector<StudyGroup>{StudyGroup{}} : spec.groups;
-  for (const auto& g : groups) {
-    // Cartesian product of the group's varied keys (first key slowest).
-    std::vector<std::size_t> idx(g.vary.size(), 0);
-    for (;;) {
-      for (int seed = 1; seed <= std::max(1, spec.seeds); ++seed) {
-        StudyRun r;
-        r.group = g.name;
-        r.seed = seed;
-        r.overrides = spec.common;
-        for (std::size_t k = 0; k < g.vary.size(); ++k) {
-          const auto& [key, values] = g.vary[k];
-          r.point[key] = values[idx[k]];
-          r.overrides.push_back(key + "=" + values[idx[k]]);
-        }
-        if (spec.seeds > 1) r.overrides.push_back("discrete.seed=" + std::to_string(seed));
-        r.id = run_id(out.size());
-        out.push_back(std::move(r));
-      }
-      std::size_t k = g.vary.size();
-      while (k > 0) {
-        --k;
-        if (++idx[k] < g.vary[k].second.size()) break;
-        idx[k] = 0;
-        if (k == 0) { k = g.vary.size() + 1; break; }
-      }
-      if (g.vary.empty() || k == g.vary.size() + 1) break;
-    }
-  }
-  return out;
 }
 
 const ModelResult* find_model(const std::vector<ModelResult>& r, const std::string& model) {

@@ -300,6 +300,139 @@ bool solve_strip_profiles(const Scene& s, const continuum::StripBranch& branch,
   return !(stop && stop());
 }
 
+// One parameter of the scaling study (0: μ' with ρ', c_s fixed; 1: α; 2: η; 3: κ) at f times the scene's.
+struct ScaledProblem {
+  const Scene& s;
+  std::size_t p;
+
+  std::pair<core::InterfaceParams, core::BulkParams> at(double f) const {
+    core::InterfaceParams ip = s.interface;
+    core::BulkParams b = s.bulk;
+    if (p == 0) b.mu *= f, b.rho *= f;
+    if (p == 1) ip.alpha *= f;
+    if (p == 2) ip.eta *= f;
+    if (p == 3) ip.kappa *= f;
+    return {ip, b};
+  }
+  /// The 1D scale sqrt(μ'H α/(ηκ)) (μ'H = bulk.mu) at f.
+  double scale(double f) const {
+    const auto [ip, b] = at(f);
+    return std::sqrt(b.mu * ip.alpha / (ip.eta * ip.kappa));
+  }
+  /// The parameter's value at f (μ' = bulk.mu/H).
+  double value(double f) const {
+    const auto [ip, b] = at(f);
+    return p == 0 ? b.mu / s.bulk.height : p == 1 ? ip.alpha : p == 2 ? ip.eta : ip.kappa;
+  }
+};
+
+// The meshes of a scaling solve: the branch's (`fo`), or with `follow_tip` ones that follow the solve's predicted
+// tip zone.
+struct ScalingMeshes {
+  const continuum::StripFrontOptions& fo;
+  bool follow_tip;
+
+  continuum::StripFrontOptions at(const core::InterfaceParams& ip, double c) const {
+    return follow_tip ? continuum::following_tip(fo, continuum::strip_tip_zone(ip, c, continuum::steady_minimum_velocity(ip)))
+                      : fo;
+  }
+};
+
+// From the limiting front `cur` (f = 1) to f = target on meshes that follow the tip, as the path in H (docs/fronts.md
+// §10.11): the predictor the secant in (ln p, ln c) through the last two fronts (the 1D exponent at the first step: at
+// large H it is not the 1D one), a failed step halved in ln p down to a factor 1.01, the step grown by 1.5 (at most
+// √2) after a success. Returns the front at the target, or the failed solve; `used`: the meshes of its last solve.
+continuum::StripFront walk_following_tip(const ScaledProblem& pr, const ScalingMeshes& meshes, continuum::StripFront cur,
+                                         double target, continuum::StripFrontOptions& used) {
+  const double h_max = std::log(std::sqrt(2.0)), h_min = std::log(1.01);
+  double f = 1.0, h = h_max, f_prev = 0.0, c_prev = 0.0;
+  while (std::abs(std::log(f / target)) > 1e-9) {
+    const double fn = target > 1.0 ? std::min(target, f * std::exp(h)) : std::max(target, f * std::exp(-h));
+    const double slope = f_prev > 0.0 ? std::log(cur.c / c_prev) / std::log(f / f_prev)
+                                      : std::log(pr.scale(fn) / pr.scale(f)) / std::log(fn / f);
+    const double c_guess = cur.c * std::pow(fn / f, slope);
+    const auto [ip, b] = pr.at(fn);
+    used = meshes.at(ip, c_guess);
+    auto next = continuum::solve_strip_saddle_node_front(ip, b, used, cur, c_guess);
+    if (next.status == continuum::FrontStatus::converged) {
+      f_prev = f, c_prev = cur.c;
+      cur = std::move(next);
+      f = fn;
+      h = std::min(h_max, 1.5 * h);
+    } else if ((h *= 0.5) < h_min) {
+      return next;
+    }
+  }
+  return cur;
+}
+
+// From the limiting front `cur` (f = 1) to f = target on the branch's meshes `fo`, by steps of √2, each guess the
+// last front's speed stretched by the ratio of the 1D scales. Returns the front at the target, or the failed solve.
+continuum::StripFront walk_on_branch_meshes(const ScaledProblem& pr, const continuum::StripFrontOptions& fo,
+                                            continuum::StripFront cur, double target) {
+  const double step = target > 1.0 ? std::sqrt(2.0) : 1.0 / std::sqrt(2.0);
+  double f = 1.0;
+  while (cur.status == continuum::FrontStatus::converged && std::abs(std::log(f / target)) > 1e-9) {
+    const double fn = target > 1.0 ? std::min(target, f * step) : std::max(target, f * step);
+    const auto [ip, b] = pr.at(fn);
+    cur = continuum::solve_strip_saddle_node_front(ip, b, fo, cur, cur.c * pr.scale(fn) / pr.scale(f));
+    f = fn;
+  }
+  return cur;
+}
+
+// The point of parameter `name` at f = target in r.scaling_points (NaN without a limiting front: then the reason
+// in `dropped`). True when it has one.
+bool record_scaling_point(const ScaledProblem& pr, const std::string& name, double target, const continuum::StripFront& cur,
+                          const continuum::StripFrontOptions& used, Accuracy& acc, std::string& dropped, FrontsResult& r) {
+  const bool ok = cur.status == continuum::FrontStatus::converged;
+  if (!ok)
+    dropped += name + " = " + core::format_number(pr.value(target)) + ": no limiting front (" +
+               continuum::to_string(cur.status) + ": " + cur.reason + ")\n";
+  r.scaling_points["c_min_error"].push_back(ok ? error_of(cur, used, acc) : nan_value);
+  r.scaling_points["parameter_index"].push_back(static_cast<double>(pr.p));
+  r.scaling_points["value"].push_back(pr.value(target));
+  r.scaling_points["c_min"].push_back(ok ? cur.c : nan_value);
+  r.scaling_points["sigma_d_at_c_min"].push_back(ok ? cur.sigma_d : nan_value);
+  r.scaling_points["scale"].push_back(pr.scale(target));
+  return ok;
+}
+
+// Least-squares slope of y against x (NaN below two points).
+double least_squares_slope(const std::vector<double>& x, const std::vector<double>& y) {
+  if (x.size() < 2) return nan_value;
+  double mx = 0.0, my = 0.0, sxx = 0.0, sxy = 0.0;
+  for (std::size_t k = 0; k < x.size(); ++k) mx += x[k], my += y[k];
+  mx /= static_cast<double>(x.size());
+  my /= static_cast<double>(x.size());
+  for (std::size_t k = 0; k < x.size(); ++k) sxx += (x[k] - mx) * (x[k] - mx), sxy += (x[k] - mx) * (y[k] - my);
+  return sxy / sxx;
+}
+
+// One row of r.scaling_fits: c_min = a · scale through the points (c, sc), its spread and RMS relative departure,
+// `index` the parameter's (-1: pooled), `tried` the points attempted, `exponent` the local exponent.
+void add_scaling_fit(FrontsResult& r, const std::vector<double>& c, const std::vector<double>& sc, double index,
+                     double exponent, std::size_t tried) {
+  double num = 0.0, den = 0.0;
+  for (std::size_t k = 0; k < c.size(); ++k) num += c[k] * sc[k], den += sc[k] * sc[k];
+  const double a = c.size() ? num / den : nan_value;
+  double spread = 0.0, rms = 0.0;
+  for (std::size_t k = 0; k < c.size(); ++k) {
+    const double d = c[k] / (a * sc[k]) - 1.0;
+    spread = std::max(spread, std::abs(d));
+    rms += d * d;
+  }
+  rms = c.size() ? std::sqrt(rms / static_cast<double>(c.size())) : nan_value;
+  r.scaling_fits["parameter_index"].push_back(index);
+  r.scaling_fits["prefactor"].push_back(a);
+  r.scaling_fits["spread"].push_back(c.size() ? spread : nan_value);
+  r.scaling_fits["rms_relative"].push_back(rms);
+  r.scaling_fits["points"].push_back(static_cast<double>(c.size()));
+  r.scaling_fits["tried"].push_back(static_cast<double>(tried));
+  r.scaling_fits["exponent"].push_back(exponent);
+  r.scaling_refused.push_back(c.size() < 2 ? "fewer than two points with a limiting front" : "");
+}
+
 // The strip's collapse at the scene's H (--scaling): μ' (bulk.mu at fixed H), α, η, κ each at four values
 // (the scene's × 0.5, 1, 2, 4), c_min the limiting front at σ_c^d, reached from the scene's limiting front by
 // steps of √2 in the parameter (each from the last, its guess stretched by the ratio of the 1D scales). Fits:
@@ -313,136 +446,45 @@ bool solve_strip_profiles(const Scene& s, const continuum::StripBranch& branch,
 // front; otherwise the branch's meshes throughout (as before).
 bool run_strip_scaling(const Scene& s, const continuum::StripFront& scene_limiting, const continuum::StripFrontOptions& fo,
                        bool follow_tip, const std::function<bool()>& stop, Accuracy& acc, FrontsResult& r) {
-  auto options_for = [&](const core::InterfaceParams& ip, double c) {
-    return follow_tip ? continuum::following_tip(fo, continuum::strip_tip_zone(ip, c, continuum::steady_minimum_velocity(ip)))
-                      : fo;
-  };
+  const ScalingMeshes meshes{fo, follow_tip};
   continuum::StripFront limiting = scene_limiting;
   if (follow_tip) {  // (kept on the branch's meshes if this re-solve fails)
-    auto own = continuum::solve_strip_saddle_node_front(s.interface, s.bulk, options_for(s.interface, scene_limiting.c),
+    auto own = continuum::solve_strip_saddle_node_front(s.interface, s.bulk, meshes.at(s.interface, scene_limiting.c),
                                                         scene_limiting, scene_limiting.c);
     if (own.status == continuum::FrontStatus::converged) limiting = std::move(own);
   }
   const std::vector<std::string> names{"mu", "alpha", "eta", "kappa"};
   // α stays in its domain α ≥ 1 (core/params.cpp): below 2 the four values are × 1, √2, 2, 2√2 instead
   const std::vector<double> factors{0.5, 1.0, 2.0, 4.0}, alpha_factors{1.0, std::sqrt(2.0), 2.0, 2.0 * std::sqrt(2.0)};
-  const double H = s.bulk.height;
   std::string dropped;
   std::vector<double> all_c, all_scale;
   for (std::size_t p = 0; p < names.size(); ++p) {
     r.scaling_parameters.push_back(names[p]);
+    const ScaledProblem pr{s, p};
     std::vector<double> lx, ly, cs, sc;
-    auto problem = [&](double f) {
-      core::InterfaceParams ip = s.interface;
-      core::BulkParams b = s.bulk;
-      if (p == 0) b.mu *= f, b.rho *= f;  // μ' and ρ' together: c_s fixed
-      if (p == 1) ip.alpha *= f;
-      if (p == 2) ip.eta *= f;
-      if (p == 3) ip.kappa *= f;
-      return std::pair{ip, b};
-    };
-    auto scale_of = [&](double f) {
-      const auto [ip, b] = problem(f);
-      return std::sqrt(b.mu * ip.alpha / (ip.eta * ip.kappa));
-    };
     for (double target : p == 1 && 0.5 * s.interface.alpha < 1.0 ? alpha_factors : factors) {
       if (stop && stop()) return false;
-      continuum::StripFront cur = limiting;
       continuum::StripFrontOptions used = fo;
-      double f = 1.0;
-      const double step = target > 1.0 ? std::sqrt(2.0) : 1.0 / std::sqrt(2.0);
-      if (follow_tip) {
-        // as the path in H (docs/fronts.md §10.11): the predictor the secant in (ln p, ln c) through the last two
-        // fronts (the 1D exponent at the first step: at large H it is not the 1D one), a failed step halved in
-        // ln p down to a factor 1.01, the step grown by 1.5 (at most √2) after a success
-        const double h_max = std::log(std::sqrt(2.0)), h_min = std::log(1.01);
-        double h = h_max, f_prev = 0.0, c_prev = 0.0;
-        while (std::abs(std::log(f / target)) > 1e-9) {
-          const double fn = target > 1.0 ? std::min(target, f * std::exp(h)) : std::max(target, f * std::exp(-h));
-          const double slope = f_prev > 0.0 ? std::log(cur.c / c_prev) / std::log(f / f_prev)
-                                            : std::log(scale_of(fn) / scale_of(f)) / std::log(fn / f);
-          const double c_guess = cur.c * std::pow(fn / f, slope);
-          const auto [ip, b] = problem(fn);
-          used = options_for(ip, c_guess);
-          auto next = continuum::solve_strip_saddle_node_front(ip, b, used, cur, c_guess);
-          if (next.status == continuum::FrontStatus::converged) {
-            f_prev = f, c_prev = cur.c;
-            cur = std::move(next);
-            f = fn;
-            h = std::min(h_max, 1.5 * h);
-          } else if ((h *= 0.5) < h_min) {
-            cur = std::move(next);
-            break;
-          }
-        }
-      }
-      while (!follow_tip && cur.status == continuum::FrontStatus::converged && std::abs(std::log(f / target)) > 1e-9) {
-        const double fn = target > 1.0 ? std::min(target, f * step) : std::max(target, f * step);
-        const auto [ip, b] = problem(fn);
-        cur = continuum::solve_strip_saddle_node_front(ip, b, fo, cur, cur.c * scale_of(fn) / scale_of(f));
-        f = fn;
-      }
+      const continuum::StripFront cur = follow_tip ? walk_following_tip(pr, meshes, limiting, target, used)
+                                                   : walk_on_branch_meshes(pr, fo, limiting, target);
       if (cur.status == continuum::FrontStatus::stopped) return false;
-      const bool ok = cur.status == continuum::FrontStatus::converged;
-      const auto [ip, b] = problem(target);
-      if (!ok)
-        dropped += names[p] + " = " + core::format_number(p == 0 ? b.mu / H : p == 1 ? ip.alpha : p == 2 ? ip.eta : ip.kappa) +
-                   ": no limiting front (" + continuum::to_string(cur.status) + ": " + cur.reason + ")\n";
-      r.scaling_points["c_min_error"].push_back(ok ? error_of(cur, used, acc) : nan_value);
-      r.scaling_points["parameter_index"].push_back(static_cast<double>(p));
-      r.scaling_points["value"].push_back(p == 0 ? b.mu / H : p == 1 ? ip.alpha : p == 2 ? ip.eta : ip.kappa);
-      r.scaling_points["c_min"].push_back(ok ? cur.c : nan_value);
-      r.scaling_points["sigma_d_at_c_min"].push_back(ok ? cur.sigma_d : nan_value);
-      r.scaling_points["scale"].push_back(scale_of(target));
-      if (!ok) continue;
+      if (!record_scaling_point(pr, names[p], target, cur, used, acc, dropped, r)) continue;
       lx.push_back(std::log(target));
       ly.push_back(std::log(cur.c));
       cs.push_back(cur.c);
-      sc.push_back(scale_of(target));
+      sc.push_back(pr.scale(target));
     }
-    auto fit_line = [&](const std::vector<double>& c, const std::vector<double>& sc_, double index, double exponent) {
-      double num = 0.0, den = 0.0;
-      for (std::size_t k = 0; k < c.size(); ++k) num += c[k] * sc_[k], den += sc_[k] * sc_[k];
-      const double a = c.size() ? num / den : nan_value;
-      double spread = 0.0, rms = 0.0;
-      for (std::size_t k = 0; k < c.size(); ++k) {
-        const double d = c[k] / (a * sc_[k]) - 1.0;
-        spread = std::max(spread, std::abs(d));
-        rms += d * d;
-      }
-      rms = c.size() ? std::sqrt(rms / static_cast<double>(c.size())) : nan_value;
-      r.scaling_fits["parameter_index"].push_back(index);
-      r.scaling_fits["prefactor"].push_back(a);
-      r.scaling_fits["spread"].push_back(c.size() ? spread : nan_value);
-      r.scaling_fits["rms_relative"].push_back(rms);
-      r.scaling_fits["points"].push_back(static_cast<double>(c.size()));
-      r.scaling_fits["tried"].push_back(index < 0 ? static_cast<double>(names.size() * factors.size())
-                                                  : static_cast<double>(factors.size()));
-      r.scaling_fits["exponent"].push_back(exponent);
-      r.scaling_refused.push_back(c.size() < 2 ? "fewer than two points with a limiting front" : "");
-    };
     r.labels["scaling_dropped"] = dropped;
-    double exponent = nan_value;
-    if (lx.size() >= 2) {  // least-squares slope of ln c_min against ln p
-      double mx = 0.0, my = 0.0, sxx = 0.0, sxy = 0.0;
-      for (std::size_t k = 0; k < lx.size(); ++k) mx += lx[k], my += ly[k];
-      mx /= static_cast<double>(lx.size());
-      my /= static_cast<double>(lx.size());
-      for (std::size_t k = 0; k < lx.size(); ++k) sxx += (lx[k] - mx) * (lx[k] - mx), sxy += (lx[k] - mx) * (ly[k] - my);
-      exponent = sxy / sxx;
-    }
-    fit_line(cs, sc, static_cast<double>(p), exponent);
+    add_scaling_fit(r, cs, sc, static_cast<double>(p), least_squares_slope(lx, ly), factors.size());
     all_c.insert(all_c.end(), cs.begin(), cs.end());
     all_scale.insert(all_scale.end(), sc.begin(), sc.end());
-    if (p + 1 == names.size()) {
-      fit_line(all_c, all_scale, -1.0, nan_value);
-      const std::size_t last = r.scaling_fits["prefactor"].size() - 1;
-      r.scalars["scaling_prefactor"] = r.scaling_fits["prefactor"][last];
-      r.scalars["scaling_spread"] = r.scaling_fits["spread"][last];
-      r.scalars["scaling_points"] = r.scaling_fits["points"][last];
-      r.scalars["scaling_tried"] = r.scaling_fits["tried"][last];
-    }
   }
+  add_scaling_fit(r, all_c, all_scale, -1.0, nan_value, names.size() * factors.size());
+  const std::size_t last = r.scaling_fits["prefactor"].size() - 1;
+  r.scalars["scaling_prefactor"] = r.scaling_fits["prefactor"][last];
+  r.scalars["scaling_spread"] = r.scaling_fits["spread"][last];
+  r.scalars["scaling_points"] = r.scaling_fits["points"][last];
+  r.scalars["scaling_tried"] = r.scaling_fits["tried"][last];
   return true;
 }
 

@@ -129,94 +129,118 @@ double slope_middle_distance(const std::vector<double>& t, const std::vector<dou
     if (y[i] >= lo && y[i] <= hi) { ft.push_back(t[i]); fy.push_back(y[i]); }
   return ls_slope(ft, fy);
 }
+
+// `field` not measured: NaN, with the reason.
+void drop(Events& ev, double Events::*field, const char* name, const std::string& why) {
+  ev.reasons[name] = why;
+  ev.*field = nan;
+}
+
+// The events a run does not have: under homogeneous loading no first yield, instability or arrest to time
+// (docs/model.md §1.3: the nucleation patch slides from t = 0; the front is measured by c_front); max v above
+// v_event before any site yielded is elastic motion (a fast drive), not an instability.
+void drop_untimed(Events& ev, bool homogeneous) {
+  if (homogeneous) {
+    const std::string why = "homogeneous loading: the interface slides from t = 0 (no first-yield or instability "
+                            "event; the front's speed is c_front)";
+    drop(ev, &Events::t_star, "t_star", why);
+    drop(ev, &Events::t_hat, "t_hat", why);
+    drop(ev, &Events::t_arrest, "t_arrest", why);
+  } else if (std::isfinite(ev.t_hat) && !(std::isfinite(ev.t_star) && ev.t_hat > ev.t_star)) {
+    drop(ev, &Events::t_hat, "t_hat",
+         "max v exceeded v_event at t = " + core::format_number(ev.t_hat, 6) +
+             (std::isfinite(ev.t_star) ? ", before first yield (t* = " + core::format_number(ev.t_star, 6) + ")"
+                                       : ", with no yield at all") +
+             ": elastic motion, not an instability");
+    drop(ev, &Events::t_arrest, "t_arrest", "no instability (t_hat)");
+  }
+}
+
+// c_slow: the tip's slope over the middle half of [t*, t^].
+void measure_slow(Events& ev, const std::vector<double>& ts, const std::vector<double>& tips) {
+  if (!(std::isfinite(ev.t_star) && std::isfinite(ev.t_hat) && ev.t_hat > ev.t_star)) return;
+  std::vector<double> wt, wy;
+  const double d = ev.t_hat - ev.t_star;
+  if (window(ts, tips, ev.t_star + 0.25 * d, ev.t_hat - 0.25 * d, wt, wy)) ev.c_slow = ls_slope(wt, wy);
+}
+
+// The transient from t^ to the arrest (or the end): c_transient over the middle half of the distance it runs, from
+// its position at t^ to the farthest tip reached; its peak over windows of 0.5 time units; x_arrest.
+void measure_transient(Events& ev, const std::vector<double>& ts, const std::vector<double>& tips) {
+  if (!std::isfinite(ev.t_hat)) return;
+  std::vector<double> wt, wy;
+  const double t_end = std::isfinite(ev.t_arrest) ? ev.t_arrest : (ts.empty() ? ev.t_hat : ts.back());
+  window(ts, tips, ev.t_hat, t_end, wt, wy);
+  if (wy.empty()) return;
+  const double x0 = wy.front();
+  const double x1 = *std::max_element(wy.begin(), wy.end());
+  if (std::isfinite(ev.t_arrest)) ev.x_arrest = x1;
+  if (!(x1 > x0)) return;
+  ev.c_transient = slope_middle_distance(wt, wy, x0, x1);
+  double peak = nan;
+  std::size_t j = 0;
+  for (std::size_t i = 0; i < wt.size(); ++i) {
+    while (j < wt.size() && wt[j] < wt[i] + 0.5 - 1e-12) ++j;
+    if (j == wt.size()) break;
+    const double s = (wy[j] - wy[i]) / (wt[j] - wt[i]);
+    if (!(s <= peak)) peak = s;
+  }
+  ev.c_transient_peak = peak;
+}
+
+// Homogeneous loading: the front from the patch, c_front (docs/model.md §3.1), and no transient.
+void measure_homogeneous_front(Events& ev, const std::vector<double>& ts, const std::vector<double>& tips,
+                               const std::vector<double>& x, const core::MeasureParams& p) {
+  std::vector<double> wt, wy;
+  window(ts, tips, -1.0, ts.empty() ? 0.0 : ts.back(), wt, wy);
+  if (!wy.empty()) {
+    const double x_last = x.back();
+    const double x1 = *std::max_element(wy.begin(), wy.end());
+    // A front is steady only if it runs at least half of what lies ahead of it; a patch that
+    // creeps and re-sticks has no front speed.
+    if (x1 - wy.front() >= 0.5 * (x_last - wy.front())) {
+      ev.c_front_middle = slope_middle_distance(wt, wy, wy.front(), x1);
+      // docs/model.md §3.1: the tip's speed over windows of fixed travel, the end zone left
+      // out (the tip speeds up over the last ~40 length units as it reaches the free end).
+      const double x_end = std::min(x1, x_last - p.settle_end_zone);
+      const SettledSpeed s = settled_speed(wt, wy, x_end, p.settle_window, p.settle_band);
+      ev.c_front_drift = s.drift;
+      ev.front_settled = s.settled ? 1.0 : 0.0;
+      ev.c_front = s.settled ? s.c : ev.c_front_middle;
+      ev.x_settled = s.x_settled;
+      if (!s.settled)
+        ev.reasons["x_settled"] =
+            "the windowed tip speed (windows of " + core::format_number(p.settle_window, 6) +
+            " length units) did not stay within a relative band of " + core::format_number(p.settle_band, 6) +
+            " over at least two windows before x = " + core::format_number(x_end, 6) +
+            ": not settled (front_settled = 0); c_front is c_front_middle, c_front_drift the drift seen over every window";
+    } else {
+      ev.reasons["c_front"] = "the front ran less than half of the length ahead of it (re-stuck or too short a run)";
+    }
+  }
+  drop(ev, &Events::c_transient, "c_transient", "homogeneous loading: the front's speed is c_front");
+  drop(ev, &Events::c_transient_peak, "c_transient_peak", "homogeneous loading: the front's speed is c_front");
+  drop(ev, &Events::x_arrest, "x_arrest", "homogeneous loading: no transient to arrest");
+}
+
+// A front speed is the slope of an advancing tip: a negative value is a receding tip (healing), not a front.
+void drop_receding(Events& ev) {
+  for (const auto& [field, name] : {std::pair{&Events::c_slow, "c_slow"}, std::pair{&Events::c_transient, "c_transient"},
+                                    std::pair{&Events::c_transient_peak, "c_transient_peak"}, std::pair{&Events::c_front, "c_front"},
+                                    std::pair{&Events::c_front_middle, "c_front_middle"}})
+    if (ev.*field < 0.0) drop(ev, field, name, "negative (" + core::format_number(ev.*field, 6) + "): the tip receded, no advancing front");
+}
+
 }  // namespace
 
 Events FrontTracker::finish(bool homogeneous, bool alt) const {
   Events ev = ev_;
   const std::vector<double>& tips = alt ? tips_alt_ : tips_;
-  std::vector<double> wt, wy;
-  auto drop = [&ev](double Events::*field, const char* name, const std::string& why) {
-    ev.reasons[name] = why;
-    ev.*field = nan;
-  };
-  if (homogeneous) {
-    // docs/model.md §1.3: the nucleation patch slides from t = 0, so there is no first yield and no
-    // instability to time; the front is measured by c_front.
-    const std::string why = "homogeneous loading: the interface slides from t = 0 (no first-yield or instability "
-                            "event; the front's speed is c_front)";
-    drop(&Events::t_star, "t_star", why);
-    drop(&Events::t_hat, "t_hat", why);
-    drop(&Events::t_arrest, "t_arrest", why);
-  } else if (std::isfinite(ev.t_hat) && !(std::isfinite(ev.t_star) && ev.t_hat > ev.t_star)) {
-    // max v > v_event before any site yielded: the motion is elastic (a fast drive), not an instability
-    drop(&Events::t_hat, "t_hat",
-         "max v exceeded v_event at t = " + core::format_number(ev.t_hat, 6) +
-             (std::isfinite(ev.t_star) ? ", before first yield (t* = " + core::format_number(ev.t_star, 6) + ")"
-                                       : ", with no yield at all") +
-             ": elastic motion, not an instability");
-    drop(&Events::t_arrest, "t_arrest", "no instability (t_hat)");
-  }
-  if (std::isfinite(ev.t_star) && std::isfinite(ev.t_hat) && ev.t_hat > ev.t_star) {
-    const double d = ev.t_hat - ev.t_star;
-    if (window(ts_, tips, ev.t_star + 0.25 * d, ev.t_hat - 0.25 * d, wt, wy)) ev.c_slow = ls_slope(wt, wy);
-  }
-  if (std::isfinite(ev.t_hat)) {
-    const double t_end = std::isfinite(ev.t_arrest) ? ev.t_arrest : (ts_.empty() ? ev.t_hat : ts_.back());
-    window(ts_, tips, ev.t_hat, t_end, wt, wy);
-    if (!wy.empty()) {
-      // The transient runs from its position at t^ to the farthest tip reached.
-      const double x0 = wy.front();
-      const double x1 = *std::max_element(wy.begin(), wy.end());
-      if (std::isfinite(ev.t_arrest)) ev.x_arrest = x1;
-      if (x1 > x0) {
-        ev.c_transient = slope_middle_distance(wt, wy, x0, x1);
-        double peak = nan;
-        std::size_t j = 0;
-        for (std::size_t i = 0; i < wt.size(); ++i) {
-          while (j < wt.size() && wt[j] < wt[i] + 0.5 - 1e-12) ++j;
-          if (j == wt.size()) break;
-          const double s = (wy[j] - wy[i]) / (wt[j] - wt[i]);
-          if (!(s <= peak)) peak = s;
-        }
-        ev.c_transient_peak = peak;
-      }
-    }
-  }
-  if (homogeneous) {
-    window(ts_, tips, -1.0, ts_.empty() ? 0.0 : ts_.back(), wt, wy);
-    if (!wy.empty()) {
-      const double x1 = *std::max_element(wy.begin(), wy.end());
-      // A front is steady only if it runs at least half of what lies ahead of it; a patch that
-      // creeps and re-sticks has no front speed.
-      if (x1 - wy.front() >= 0.5 * (x_.back() - wy.front())) {
-        ev.c_front_middle = slope_middle_distance(wt, wy, wy.front(), x1);
-        // docs/model.md §3.1: the tip's speed over windows of fixed travel, the end zone left
-        // out (the tip speeds up over the last ~40 length units as it reaches the free end).
-        const double x_end = std::min(x1, x_.back() - p_.settle_end_zone);
-        const SettledSpeed s = settled_speed(wt, wy, x_end, p_.settle_window, p_.settle_band);
-        ev.c_front_drift = s.drift;
-        ev.front_settled = s.settled ? 1.0 : 0.0;
-        ev.c_front = s.settled ? s.c : ev.c_front_middle;
-        ev.x_settled = s.x_settled;
-        if (!s.settled)
-          ev.reasons["x_settled"] =
-              "the windowed tip speed (windows of " + core::format_number(p_.settle_window, 6) +
-              " length units) did not stay within a relative band of " + core::format_number(p_.settle_band, 6) +
-              " over at least two windows before x = " + core::format_number(x_end, 6) +
-              ": not settled (front_settled = 0); c_front is c_front_middle, c_front_drift the drift seen over every window";
-      } else {
-        ev.reasons["c_front"] = "the front ran less than half of the length ahead of it (re-stuck or too short a run)";
-      }
-    }
-    drop(&Events::c_transient, "c_transient", "homogeneous loading: the front's speed is c_front");
-    drop(&Events::c_transient_peak, "c_transient_peak", "homogeneous loading: the front's speed is c_front");
-    drop(&Events::x_arrest, "x_arrest", "homogeneous loading: no transient to arrest");
-  }
-  // A front speed is the slope of an advancing tip: a negative value is a receding tip (healing), not a front.
-  for (const auto& [field, name] : {std::pair{&Events::c_slow, "c_slow"}, std::pair{&Events::c_transient, "c_transient"},
-                                    std::pair{&Events::c_transient_peak, "c_transient_peak"}, std::pair{&Events::c_front, "c_front"},
-                                    std::pair{&Events::c_front_middle, "c_front_middle"}})
-    if (ev.*field < 0.0) drop(field, name, "negative (" + core::format_number(ev.*field, 6) + "): the tip receded, no advancing front");
+  drop_untimed(ev, homogeneous);
+  measure_slow(ev, ts_, tips);
+  measure_transient(ev, ts_, tips);
+  if (homogeneous) measure_homogeneous_front(ev, ts_, tips, x_, p_);
+  drop_receding(ev);
   return ev;
 }
 

@@ -39,7 +39,7 @@ struct StudySpec {
   StudyLimits limits;
   /// The kind's own section of the study file, of the type its kind defines (studies/): [paths] of
   /// strip_cmin_height (StripCminHeightOptions), [resolution] of resolution (ResolutionOptions); empty: the kind's
-  /// defaults (studies::kind_options). Read by apps/study.cpp; opaque here, so a kind with a section of its own
+  /// defaults (kind_options in studies/study.hpp). Read by apps/study.cpp; opaque here, so a kind with a section of its own
   /// changes nothing in compare/.
   std::any kind_options;
   /// The deterministic references (the continuum, mean_field) of runs that differ only in keys they do not read

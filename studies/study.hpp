@@ -1,8 +1,9 @@
 #pragma once
 // The kinds of study (issue 4; docs/studies.md): a study's plan (compare/study_plan.hpp) expands into independent
 // scene runs; the analysis of its kind turns the runs' results into tables and fitted rates, each with its
-// definition. study_kinds() is the one table of kinds: the study engine dispatches on it, and `slipfront study
-// --list-kinds --json` gives it to the report (scripts/report.py). Nothing here reads or writes files.
+// definition. study_kinds() is the one table of kinds: the study engine dispatches on it, `slipfront study
+// --list-kinds --json` prints it, and the report's plots (scripts/report.py) are checked against it. Nothing here
+// reads or writes files.
 #include <any>
 #include <functional>
 #include <map>

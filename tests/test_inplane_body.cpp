@@ -432,3 +432,55 @@ TEST_CASE("inplane: static interface kernels of a base slip against K_t and K_n/
     CHECK(en[2] < 1e-3);
   }
 }
+
+TEST_CASE("inplane: the uniform states are exact on the grid; the normal load's Poisson expansion", "[inplane]") {
+  // docs/model.md §10.3. (a) Homogeneous stuck state, p = 0: u_x = σ_top/α + σ_top y/μ', u_y = 0 is in equilibrium
+  // with σ̄ = σ_top on the interface everywhere but on the two free ends: there σ_xy = σ_top would need the
+  // complementary shear traction ∓σ_top on the faces x = 0, L, which a free face does not carry. The grid's residual
+  // is exactly that missing traction, ±wy(j) σ_top on the end columns' u_y (and the interface's corners read
+  // σ_yy = ±σ_top wy(0)/wx(0)): the uniform state of the antiplane strip (§9.4) is not one here. (b) Normal load p with a frictionless
+  // base: u_x = ε_xx x, u_y = ε_yy y, ε_xx = ν p/(2μ'), ε_yy = −(1 − ν) p/(2μ') (plane strain, σ_xx = σ_xy = 0,
+  // σ_yy = −p) is in equilibrium and the interface reads σ_yy = −p. So under p a stuck interface (σ̄ = α u_x) cannot
+  // hold the uniform state: its slip would grow with x.
+  Setup st = setup(9, 4, 0.5, 0.5, false);
+  st.drive.sigma_d = 0.4;
+  for (const bool normal : {false, true}) {
+    st.material.normal_load = normal ? 0.3 : 0.0;
+    if (normal) st.drive.sigma_d = 0.0;
+    const core::InPlane b = st.make();
+    const std::size_t nx = b.sites(), P = b.plane();
+    const double mp = b.mu_prime(), nu = b.poisson(), p = b.normal_load(), s = b.uniform_stress();
+    std::vector<double> u(b.dofs(), 0.0), v0(b.dofs(), 0.0), v1(b.dofs()), sb(nx, s), syy(nx);
+    for (std::size_t j = 0; j < b.rows(); ++j)
+      for (std::size_t i = 0; i < nx; ++i) {
+        const double x = b.x()[i], y = b.row_height(j);
+        u[j * nx + i] = normal ? nu * p / (2 * mp) * x : s / st.law.alpha + s * y / mp;
+        u[P + j * nx + i] = normal ? -(1 - nu) * p / (2 * mp) * y : 0.0;
+      }
+    const double dt = 1e-3;
+    b.kick(dt, 0.0, 0.0, u, sb, v0, v1);  // no edge force
+    double worst = 0.0;
+    for (std::size_t j = 0; j < b.rows(); ++j)
+      for (std::size_t i = 0; i < nx; ++i) {
+        const std::size_t k = j * nx + i;
+        const double m = b.node_mass(i, j);
+        // the end faces' missing complementary shear (0 under the normal load alone; row 0's u_y is held)
+        const double end = j == 0 ? 0.0 : i == 0 ? s * b.row_weight(j) : i + 1 == nx ? -s * b.row_weight(j) : 0.0;
+        worst = std::max({worst, std::abs(m * v1[k] / dt), std::abs(m * v1[P + k] / dt - end)});
+      }
+    CHECK(worst < 1e-12);
+    b.interface_normal_stress(u, syy);
+    for (std::size_t i = 0; i < nx; ++i) {
+      const double corner = i == 0 ? s : i + 1 == nx ? -s : 0.0;  // wy(0)/wx(0) = 1 here
+      CHECK(syy[i] == Approx(-p + corner).margin(1e-13));
+    }
+    for (const std::size_t j : {std::size_t{0}, std::size_t{2}, std::size_t{4}})
+      for (const std::size_t i : {std::size_t{0}, std::size_t{3}, std::size_t{8}}) {
+        double sxx = 0.0, syy_n = 0.0, sxy = 0.0;
+        b.stresses(u, i, j, sxx, syy_n, sxy);
+        CHECK(sxx == Approx(0.0).margin(1e-12));
+        CHECK(syy_n == Approx(-p).margin(1e-12));
+        CHECK(sxy == Approx(s).margin(1e-12));
+      }
+  }
+}

@@ -2,17 +2,84 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <mutex>
+#include <numbers>
 #include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include <fftw3.h>
+
 #include <Eigen/Core>
 #include <Eigen/Eigenvalues>
+#include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCholesky>
 
 namespace slipfront::core {
 namespace {
+// The step system as an Eigen operator (Eigen docs, "Matrix-free solvers") and its preconditioner.
+class InPlaneSystem;
+}  // namespace
+}  // namespace slipfront::core
+
+
+namespace Eigen::internal {
+template <>
+struct traits<slipfront::core::InPlaneSystem> : public traits<Eigen::SparseMatrix<double>> {};
+}  // namespace Eigen::internal
+
+namespace slipfront::core {
+namespace {
+
+class InPlaneSystem : public Eigen::EigenBase<InPlaneSystem> {
+ public:
+  using Scalar = double;
+  using RealScalar = double;
+  using StorageIndex = int;
+  enum { ColsAtCompileTime = Eigen::Dynamic, MaxColsAtCompileTime = Eigen::Dynamic, IsRowMajor = false };
+  explicit InPlaneSystem(const InPlane& b) : b_(&b) {}
+  Eigen::Index rows() const { return static_cast<Eigen::Index>(b_->dofs()); }
+  Eigen::Index cols() const { return rows(); }
+  template <class Rhs>
+  Eigen::Product<InPlaneSystem, Rhs, Eigen::AliasFreeProduct> operator*(const Eigen::MatrixBase<Rhs>& x) const {
+    return Eigen::Product<InPlaneSystem, Rhs, Eigen::AliasFreeProduct>(*this, x.derived());
+  }
+  const InPlane& body() const { return *b_; }
+
+ private:
+  const InPlane* b_;
+};
+
+class InPlanePreconditioner {
+ public:
+  InPlanePreconditioner() = default;
+  template <class M>
+  explicit InPlanePreconditioner(const M& m) { compute(m); }
+  InPlanePreconditioner& analyzePattern(const InPlaneSystem&) { return *this; }
+  InPlanePreconditioner& factorize(const InPlaneSystem& m) { return compute(m); }
+  InPlanePreconditioner& compute(const InPlaneSystem& m) {
+    b_ = &m.body();
+    return *this;
+  }
+  template <class Rhs>
+  Eigen::Map<const Eigen::VectorXd> solve(const Eigen::MatrixBase<Rhs>& r) const {
+    const Eigen::Ref<const Eigen::VectorXd> rr(r.derived());
+    return Eigen::Map<const Eigen::VectorXd>(b_->apply_preconditioner(rr.data()), rr.size());
+  }
+  Eigen::ComputationInfo info() const { return Eigen::Success; }
+
+ private:
+  const InPlane* b_ = nullptr;
+};
+
+// FFTW's planner is not thread-safe; the in-plane strip's plans are made and destroyed under this mutex. (core::Strip
+// has its own: see docs/model.md §10.6 on sharing one.)
+std::mutex& planner_mutex() {
+  static std::mutex m;
+  return m;
+}
 
 // λ' and μ' of docs/model.md §10.2 from the scene's μ (its 1D meaning, μ = E' H) and ν.
 double mu_prime_of(double mu, double nu, double H) { return mu * (1.0 - nu) / (2.0 * H); }
@@ -65,7 +132,83 @@ struct InPlane::Direct {
   Eigen::SparseMatrix<double> K;
   std::vector<double> d;  // η + c1/2 of the factorisation
   double dt = -1.0;
-  Eigen::VectorXd rhs, w;
+  Eigen::VectorXd w;
+};
+
+// The CG's workspace (docs/model.md §10.6): the transforms, the mode factors, the step's coefficients.
+// Modes along x: u_x(i, j) = Σ_k a_jk cos(πik/N), k = 0 … N (N = nx − 1); u_y(i, j) = Σ_k b_jk sin(πik/N),
+// k = 1 … N − 1, on the interior columns (the end columns' u_y are outside the separable part). Per mode, the
+// rows' (a_j, b_j) solve a 2 × 2-block tridiagonal system T_k; its block LDLᵀ factors are kept: Dinv_j (the
+// inverted pivots) and U_j = T_{j,j+1}, 4 doubles each, [(k·rows + j)·4].
+struct InPlane::Fast {
+  std::size_t nx = 0, rows = 0, N = 0, ns = 0;  // ns = nx − 2 interior columns
+  double* bx = nullptr;                         // rows × nx, the cosine transforms (in place)
+  double* by = nullptr;                         // rows × ns, the sine transforms (in place)
+  fftw_plan dct = nullptr, dst = nullptr;
+  std::vector<double> dinv, up;                 // the mode factors
+  std::vector<double> ga, gb;                   // modal right-hand sides / solutions, [j·(N+1) + k]
+  std::vector<double> kdiag;                    // K's diagonal (dofs)
+  std::vector<double> z, tmp;                   // the preconditioner's result, apply_system's held-zeroed copy
+  double fact_dt = -1.0, fact_d = std::numeric_limits<double>::quiet_NaN();
+  // the current step (apply_system, apply_preconditioner)
+  double dt = 0.0;
+  const double* d = nullptr;                    // η + c1/2 per site
+  std::vector<double> dstep;
+
+  explicit Fast(const InPlane& b) : nx(b.sites()), rows(b.rows()), N(nx - 1), ns(nx - 2) {
+    bx = static_cast<double*>(fftw_malloc(rows * nx * sizeof(double)));
+    by = static_cast<double*>(fftw_malloc(rows * ns * sizeof(double)));
+    if (bx == nullptr || by == nullptr) {
+      release();
+      throw std::bad_alloc();
+    }
+    std::fill(bx, bx + rows * nx, 0.0);
+    std::fill(by, by + rows * ns, 0.0);
+    const int lx = static_cast<int>(nx), ly = static_cast<int>(ns), r = static_cast<int>(rows);
+    const fftw_r2r_kind kc = FFTW_REDFT00, ks = FFTW_RODFT00;
+    {
+      const std::lock_guard<std::mutex> lock(planner_mutex());
+      // FFTW_ESTIMATE: no timing, so the same sizes and alignment give the same plan (bit-reproducible runs).
+      dct = fftw_plan_many_r2r(1, &lx, r, bx, nullptr, 1, lx, bx, nullptr, 1, lx, &kc, FFTW_ESTIMATE);
+      dst = fftw_plan_many_r2r(1, &ly, r, by, nullptr, 1, ly, by, nullptr, 1, ly, &ks, FFTW_ESTIMATE);
+    }
+    if (dct == nullptr || dst == nullptr) {
+      release();
+      throw std::runtime_error("InPlane: FFTW could not plan the cosine and sine transforms");
+    }
+    dinv.assign((N + 1) * rows * 4, 0.0);
+    up.assign((N + 1) * rows * 4, 0.0);
+    ga.assign((N + 1) * rows, 0.0);
+    gb.assign((N + 1) * rows, 0.0);
+    z.assign(b.dofs(), 0.0);
+    tmp.assign(b.dofs(), 0.0);
+    // K's diagonal, element by element
+    kdiag.assign(b.dofs(), 0.0);
+    const auto& ke = b.element_stiffness();
+    const std::size_t P = b.plane();
+    for (std::size_t j = 0; j + 1 < rows; ++j)
+      for (std::size_t i = 0; i + 1 < nx; ++i) {
+        const std::size_t nd[4] = {j * nx + i, j * nx + i + 1, (j + 1) * nx + i, (j + 1) * nx + i + 1};
+        for (std::size_t a = 0; a < 4; ++a) {
+          kdiag[nd[a]] += ke[a * 8 + a];
+          kdiag[P + nd[a]] += ke[(a + 4) * 8 + a + 4];
+        }
+      }
+  }
+  Fast(const Fast&) = delete;
+  Fast& operator=(const Fast&) = delete;
+  ~Fast() { release(); }
+  void release() noexcept {
+    {
+      const std::lock_guard<std::mutex> lock(planner_mutex());
+      if (dct != nullptr) fftw_destroy_plan(dct);
+      if (dst != nullptr) fftw_destroy_plan(dst);
+    }
+    dct = dst = nullptr;
+    if (bx != nullptr) fftw_free(bx);
+    if (by != nullptr) fftw_free(by);
+    bx = by = nullptr;
+  }
 };
 
 double InPlane::stable_time_step(const BulkParams& bulk, const DriveParams& drive, const InterfaceParams& law,
@@ -118,7 +261,7 @@ InPlane::InPlane(const InPlane& o)
     : x_(o.x_), nx_(o.nx_), ny_(o.ny_), dx_(o.dx_), dy_(o.dy_), H_(o.H_), rho_(o.rho_), mu_(o.mu_), nu_(o.nu_),
       p_(o.p_), rho_p_(o.rho_p_), mu_p_(o.mu_p_), lambda_p_(o.lambda_p_), sigma_d_(o.sigma_d_),
       spring_K_(o.spring_K_), v_d_(o.v_d_), rear_traction_(o.rear_traction_), stable_dt_(o.stable_dt_), ke_(o.ke_),
-      force_(o.force_) {}  // the factorisation is made again on first use
+      force_(o.force_), rhs_(o.rhs_), step_solver_(o.step_solver_) {}  // the factorisations are made again on first use
 InPlane::InPlane(InPlane&& o) noexcept = default;
 InPlane& InPlane::operator=(const InPlane& o) {
   if (this != &o) {
@@ -270,9 +413,37 @@ void InPlane::kick(double dt, double eta, double edge_force, std::span<const dou
     }
 }
 
+void InPlane::rhs_step(std::span<const double> c0, double t, double dt, std::span<const double> u,
+                       std::span<const double> V, std::span<const double> sigma_bar, double* rhs) const {
+  const std::size_t nx = nx_, ny = ny_, P = plane();
+  elastic_forces(u, force_);
+  const double edge = (spring_K_ * (v_d_ * (t + 0.5 * dt) - edge_slip(u)) + rear_traction_) / H_;
+  for (std::size_t j = 0; j <= ny; ++j)
+    for (std::size_t i = 0; i < nx; ++i) {
+      const std::size_t k = j * nx + i;
+      const double wx = interface_weight(i), m = 2.0 * node_mass(i, j) / dt;
+      double rx = m * V[k] + force_[k], ry = m * V[P + k] + force_[P + k];
+      if (i == 0) rx += edge * row_weight(j);
+      if (j == 0) rx -= wx * 0.5 * (sigma_bar[i] + c0[i]);
+      if (j == ny) {
+        rx += wx * sigma_d_;
+        ry -= wx * p_;
+      }
+      rhs[k] = rx;
+      rhs[P + k] = j == 0 ? 0.0 : ry;  // u_y of the interface: held
+    }
+}
+
 void InPlane::solve_step(std::span<const double> c0, std::span<const double> c1, double t, double dt, double eta,
                          std::span<const double> u, std::span<const double> V, std::span<const double> sigma_bar,
                          std::span<double> W) {
+  rhs_.resize(dofs());
+  rhs_step(c0, t, dt, u, V, sigma_bar, rhs_.data());
+  if (step_solver_ == StepSolver::direct) solve_direct(c1, dt, eta, rhs_.data(), W);
+  else solve_cg(c1, dt, eta, rhs_.data(), W);
+}
+
+void InPlane::solve_direct(std::span<const double> c1, double dt, double eta, const double* rhs, std::span<double> W) {
   const std::size_t nx = nx_, ny = ny_, P = plane(), n = dofs();
   if (!direct_) {
     direct_ = std::make_unique<Direct>();
@@ -310,26 +481,236 @@ void InPlane::solve_step(std::span<const double> c0, std::span<const double> c1,
     D.dt = dt;
     D.d = d;
   }
-  // The right-hand side.
-  elastic_forces(u, force_);
-  D.rhs.resize(static_cast<Eigen::Index>(n));
-  const double edge = (spring_K_ * (v_d_ * (t + 0.5 * dt) - edge_slip(u)) + rear_traction_) / H_;
-  for (std::size_t j = 0; j <= ny; ++j)
+  const Eigen::Map<const Eigen::VectorXd> b(rhs, static_cast<Eigen::Index>(n));
+  D.w = D.ldlt.solve(b);
+  for (std::size_t k = 0; k < n; ++k) W[k] = D.w[static_cast<Eigen::Index>(k)];
+  last_iterations_ = 0;
+}
+
+}  // namespace slipfront::core
+
+namespace Eigen::internal {
+template <class Rhs>
+struct generic_product_impl<slipfront::core::InPlaneSystem, Rhs, SparseShape, DenseShape, GemvProduct>
+    : generic_product_impl_base<slipfront::core::InPlaneSystem, Rhs,
+                                generic_product_impl<slipfront::core::InPlaneSystem, Rhs>> {
+  using Scalar = typename Product<slipfront::core::InPlaneSystem, Rhs>::Scalar;
+  template <class Dest>
+  static void evalTo(Dest& dst, const slipfront::core::InPlaneSystem& lhs, const Rhs& rhs) {
+    const Eigen::Ref<const Eigen::VectorXd> x(rhs);
+    Eigen::Ref<Eigen::VectorXd> y(dst);
+    lhs.body().apply_system(x.data(), y.data());
+  }
+  template <class Dest>
+  static void scaleAndAddTo(Dest& dst, const slipfront::core::InPlaneSystem& lhs, const Rhs& rhs, const Scalar& alpha) {
+    Eigen::VectorXd tmp(dst.size());
+    evalTo(tmp, lhs, rhs);
+    dst += alpha * tmp;
+  }
+};
+}  // namespace Eigen::internal
+
+namespace slipfront::core {
+namespace {
+
+// A 2 × 2 block [[xx, xy], [yx, yy]], row-major.
+using Block = std::array<double, 4>;
+Block inverse(const Block& m) {
+  const double det = m[0] * m[3] - m[1] * m[2];
+  return {m[3] / det, -m[1] / det, -m[2] / det, m[0] / det};
+}
+Block product(const Block& a, const Block& b) {
+  return {a[0] * b[0] + a[1] * b[2], a[0] * b[1] + a[1] * b[3], a[2] * b[0] + a[3] * b[2], a[2] * b[1] + a[3] * b[3]};
+}
+Block transposed_product(const Block& a, const Block& b) {  // aᵀ b
+  return {a[0] * b[0] + a[2] * b[2], a[0] * b[1] + a[2] * b[3], a[1] * b[0] + a[3] * b[2], a[1] * b[1] + a[3] * b[3]};
+}
+
+}  // namespace
+
+// The mode factors of the separable part for the step coefficient dt and the interface coefficient dbar
+// (docs/model.md §10.6). Per mode θ = πk/N the Q1 operator is, with κ = (2 − 2cos θ)/dx, m = dx (2 + cos θ)/3
+// (the 1D stiffness and consistent mass along x on cos θi), s = sin θ, and the 1D matrices along y
+// (K1: stiffness, M1: consistent mass, G[c][d] = ∫ψ_c' ψ_d):
+//   T_xx = (λ'+2μ') κ M1 + μ' m K1,   T_xy = s (μ' G − λ' Gᵀ),   T_yx = T_xyᵀ,   T_yy = μ' κ M1 + (λ'+2μ') m K1,
+// times dt/2, plus the lumped mass 2ρ' dx wy(j)/dt on both components and dx dbar on u_x of row 0. u_y of row 0, and
+// every b of the modes k = 0, N (sin θi ≡ 0 on the grid), are held: identity rows. Block LDLᵀ from row 0 up.
+void InPlane::factorise_modes(double dt, double dbar) const {
+  Fast& f = *fast_;
+  const std::size_t N = f.N, R = f.rows, ny = ny_;
+  const double lam = lambda_p_, mu = mu_p_, h = 0.5 * dt, dy = dy_;
+  const auto K1 = [&](std::size_t c, std::size_t d) {
+    if (c == d) return (c == 0 || c == ny ? 1.0 : 2.0) / dy;
+    return -1.0 / dy;
+  };
+  const auto M1 = [&](std::size_t c, std::size_t d) {
+    if (c == d) return dy / 6.0 * (c == 0 || c == ny ? 2.0 : 4.0);
+    return dy / 6.0;
+  };
+  const auto G = [&](std::size_t c, std::size_t d) {
+    if (c == d) return (c == 0 ? -0.5 : 0.0) + (c == ny ? 0.5 : 0.0);
+    return d > c ? -0.5 : 0.5;
+  };
+  for (std::size_t k = 0; k <= N; ++k) {
+    const double th = std::numbers::pi * static_cast<double>(k) / static_cast<double>(N);
+    const double kap = (2.0 - 2.0 * std::cos(th)) / dx_, m = dx_ * (2.0 + std::cos(th)) / 3.0;
+    const double s = (k == 0 || k == N) ? 0.0 : std::sin(th);
+    const bool b_free = k != 0 && k != N;
+    // T_{c,d}, d ∈ {c, c + 1}
+    const auto block = [&](std::size_t c, std::size_t d) {
+      Block t{h * ((lam + 2 * mu) * kap * M1(c, d) + mu * m * K1(c, d)), h * s * (mu * G(c, d) - lam * G(d, c)),
+              h * s * (mu * G(d, c) - lam * G(c, d)), h * (mu * kap * M1(c, d) + (lam + 2 * mu) * m * K1(c, d))};
+      if (c == d) {
+        const double mass = 2.0 * rho_p_ * dx_ * row_weight(c) / dt;
+        t[0] += mass + (c == 0 ? dx_ * dbar : 0.0);
+        t[3] += mass;
+      }
+      const bool held_c = c == 0 || !b_free, held_d = d == 0 || !b_free;
+      if (held_c) t[2] = 0.0;  // the held b row: no coupling
+      if (held_d) t[1] = 0.0;  // the held b column
+      if (held_c || held_d) t[3] = (c == d) ? 1.0 : 0.0;
+      return t;
+    };
+    Block dprev{}, uprev{};
+    for (std::size_t j = 0; j < R; ++j) {
+      Block dj = block(j, j);
+      if (j > 0) {
+        const Block c = transposed_product(uprev, product(dprev, uprev));  // U_{j−1}ᵀ D_{j−1}⁻¹ U_{j−1}
+        for (int q = 0; q < 4; ++q) dj[static_cast<std::size_t>(q)] -= c[static_cast<std::size_t>(q)];
+      }
+      dprev = inverse(dj);
+      uprev = j + 1 < R ? block(j, j + 1) : Block{};
+      std::copy(dprev.begin(), dprev.end(), f.dinv.begin() + static_cast<std::ptrdiff_t>((k * R + j) * 4));
+      std::copy(uprev.begin(), uprev.end(), f.up.begin() + static_cast<std::ptrdiff_t>((k * R + j) * 4));
+    }
+  }
+  f.fact_dt = dt;
+  f.fact_d = dbar;
+}
+
+const double* InPlane::apply_preconditioner(const double* r) const {
+  Fast& f = *fast_;
+  const std::size_t nx = nx_, N = f.N, R = f.rows, ns = f.ns, P = plane();
+  const double inv2N = 1.0 / (2.0 * static_cast<double>(N)), invN = 1.0 / static_cast<double>(N);
+  // 1. modal right-hand sides: ĝ_x = c_k DCT(r_x/Wn)/(2N), ĝ_y = DST(r_y interior)/N
+  for (std::size_t j = 0; j < R; ++j)
+    for (std::size_t i = 0; i < nx; ++i) f.bx[j * nx + i] = r[j * nx + i] * dx_ / interface_weight(i);
+  fftw_execute(f.dct);
+  for (std::size_t j = 0; j < R; ++j)
+    for (std::size_t i = 1; i < N; ++i) f.by[j * ns + i - 1] = r[P + j * nx + i];
+  if (ns > 0) fftw_execute(f.dst);
+  for (std::size_t j = 0; j < R; ++j)
+    for (std::size_t k = 0; k <= N; ++k) {
+      f.ga[j * (N + 1) + k] = f.bx[j * nx + k] * ((k == 0 || k == N) ? inv2N : 2.0 * inv2N);
+      f.gb[j * (N + 1) + k] = (k == 0 || k == N) ? 0.0 : f.by[j * ns + k - 1] * invN;
+    }
+  // 2. per mode, the block tridiagonal solve in y
+  for (std::size_t k = 0; k <= N; ++k) {
+    const double* Di = f.dinv.data() + k * R * 4;
+    const double* Up = f.up.data() + k * R * 4;
+    double ya = 0.0, yb = 0.0;
+    for (std::size_t j = 0; j < R; ++j) {  // y_j = Dinv_j (r_j − U_{j−1}ᵀ y_{j−1})
+      double ra = f.ga[j * (N + 1) + k], rb = f.gb[j * (N + 1) + k];
+      if (j > 0) {
+        const double* U = Up + (j - 1) * 4;
+        ra -= U[0] * ya + U[2] * yb;
+        rb -= U[1] * ya + U[3] * yb;
+      }
+      const double* D = Di + j * 4;
+      ya = D[0] * ra + D[1] * rb;
+      yb = D[2] * ra + D[3] * rb;
+      f.ga[j * (N + 1) + k] = ya;
+      f.gb[j * (N + 1) + k] = yb;
+    }
+    double xa = ya, xb = yb;
+    for (std::size_t j = R - 1; j-- > 0;) {  // x_j = y_j − Dinv_j U_j x_{j+1}
+      const double* U = Up + j * 4;
+      const double ua = U[0] * xa + U[1] * xb, ub = U[2] * xa + U[3] * xb;
+      const double* D = Di + j * 4;
+      xa = f.ga[j * (N + 1) + k] - (D[0] * ua + D[1] * ub);
+      xb = f.gb[j * (N + 1) + k] - (D[2] * ua + D[3] * ub);
+      f.ga[j * (N + 1) + k] = xa;
+      f.gb[j * (N + 1) + k] = xb;
+    }
+  }
+  // 3. back to the nodes: u_x = Σ a_k cos (REDFT00 of a with the interior modes halved), u_y = Σ b_k sin
+  for (std::size_t j = 0; j < R; ++j) {
+    for (std::size_t k = 0; k <= N; ++k) f.bx[j * nx + k] = f.ga[j * (N + 1) + k] * ((k == 0 || k == N) ? 1.0 : 0.5);
+    for (std::size_t k = 1; k < N; ++k) f.by[j * ns + k - 1] = 0.5 * f.gb[j * (N + 1) + k];
+  }
+  fftw_execute(f.dct);
+  if (ns > 0) fftw_execute(f.dst);
+  double* z = f.z.data();
+  for (std::size_t j = 0; j < R; ++j) {
+    for (std::size_t i = 0; i < nx; ++i) z[j * nx + i] = f.bx[j * nx + i];
+    for (std::size_t i = 1; i < N; ++i) z[P + j * nx + i] = f.by[j * ns + i - 1];
+    // the end columns' u_y: their diagonal (row 0: held, identity)
+    for (const std::size_t i : {std::size_t{0}, N}) {
+      const std::size_t q = P + j * nx + i;
+      z[q] = j == 0 ? r[q] : r[q] / (2.0 * node_mass(i, j) / f.dt + 0.5 * f.dt * f.kdiag[q]);
+    }
+  }
+  return z;
+}
+
+void InPlane::apply_system(const double* x, double* y) const {
+  Fast& f = *fast_;
+  const std::size_t nx = nx_, P = plane(), n = dofs();
+  std::copy(x, x + n, f.tmp.begin());
+  std::fill(f.tmp.begin() + static_cast<std::ptrdiff_t>(P), f.tmp.begin() + static_cast<std::ptrdiff_t>(P + nx), 0.0);
+  elastic_forces(f.tmp, force_);
+  const double h = 0.5 * f.dt;
+  for (std::size_t j = 0; j <= ny_; ++j)
     for (std::size_t i = 0; i < nx; ++i) {
       const std::size_t k = j * nx + i;
-      const double wx = interface_weight(i), m = 2.0 * node_mass(i, j) / dt;
-      double rx = m * V[k] + force_[k], ry = m * V[P + k] + force_[P + k];
-      if (i == 0) rx += edge * row_weight(j);
-      if (j == 0) rx -= wx * 0.5 * (sigma_bar[i] + c0[i]);
-      if (j == ny) {
-        rx += wx * sigma_d_;
-        ry -= wx * p_;
-      }
-      D.rhs[static_cast<Eigen::Index>(k)] = rx;
-      D.rhs[static_cast<Eigen::Index>(P + k)] = j == 0 ? 0.0 : ry;
+      const double m = 2.0 * node_mass(i, j) / f.dt;
+      y[k] = m * f.tmp[k] - h * force_[k];
+      y[P + k] = m * f.tmp[P + k] - h * force_[P + k];
     }
-  D.w = D.ldlt.solve(D.rhs);
-  for (std::size_t k = 0; k < n; ++k) W[k] = D.w[static_cast<Eigen::Index>(k)];
+  for (std::size_t i = 0; i < nx; ++i) {
+    y[i] += interface_weight(i) * f.d[i] * x[i];
+    y[P + i] = x[P + i];  // held
+  }
+  if (spring_K_ > 0.0) {
+    double s = 0.0;
+    for (std::size_t j = 0; j <= ny_; ++j) s += row_weight(j) * x[j * nx];
+    const double c = h * spring_K_ * s / (H_ * H_);
+    for (std::size_t j = 0; j <= ny_; ++j) y[j * nx] += c * row_weight(j);
+  }
+}
+
+void InPlane::solve_cg(std::span<const double> c1, double dt, double eta, const double* rhs, std::span<double> W) {
+  const std::size_t nx = nx_, n = dofs();
+  if (nx < 3) {  // no interior column: no sine modes
+    solve_direct(c1, dt, eta, rhs, W);
+    return;
+  }
+  if (!fast_) fast_ = std::make_unique<Fast>(*this);
+  Fast& f = *fast_;
+  f.dstep.resize(nx);
+  double mean = 0.0;
+  for (std::size_t i = 0; i < nx; ++i) {
+    f.dstep[i] = eta + 0.5 * c1[i];
+    mean += f.dstep[i];
+  }
+  const double dbar = std::max(mean / static_cast<double>(nx), 0.0);
+  if (dt != f.fact_dt || dbar != f.fact_d) factorise_modes(dt, dbar);
+  f.dt = dt;
+  f.d = f.dstep.data();
+  const InPlaneSystem A(*this);
+  Eigen::ConjugateGradient<InPlaneSystem, Eigen::Lower | Eigen::Upper, InPlanePreconditioner> cg;
+  cg.setTolerance(1e-12);
+  cg.setMaxIterations(500);
+  cg.compute(A);
+  const Eigen::Map<const Eigen::VectorXd> b(rhs, static_cast<Eigen::Index>(n));
+  Eigen::Map<Eigen::VectorXd> w(W.data(), static_cast<Eigen::Index>(n));
+  for (std::size_t i = 0; i < nx; ++i) W[plane() + i] = 0.0;  // the held dofs' guess
+  w = cg.solveWithGuess(b, w);
+  last_iterations_ = static_cast<int>(cg.iterations());
+  if (cg.info() != Eigen::Success || !std::isfinite(cg.error()))
+    throw std::runtime_error("InPlane: the implicit step's conjugate gradient did not converge: " +
+                             std::to_string(cg.iterations()) + " iterations, relative residual " +
+                             std::to_string(cg.error()));
 }
 
 }  // namespace slipfront::core

@@ -16,9 +16,7 @@
 // +wx(i) σ_top (σ_top = σ_d under homogeneous loading, else 0), u_y −wx(i) p (the normal load); edge column u_x
 // +F(t) wy(j)/H, F = K (v_d t − ū0) + F_r, ū0 = Σ_j wy(j) u_x(0, j)/H (as core::Strip).
 //
-// Not here yet: the accuracy-stepped integrator's fast solve (implicit_solve below is a sparse direct solve of
-// the assembled system, Eigen's SimplicialLDLT: correct, not O(n log n); docs/model.md §10.6 says what the fast
-// one needs), the adaptive integrator's members (core::Strip's mixed representation).
+// Not here yet: the adaptive integrator's members (core::Strip's solve_system and mixed representation).
 //
 // Thread safety: an InPlane holds mutable workspace (the force buffer, the factorisation), so one object serves
 // one thread at a time; copies are independent.
@@ -133,10 +131,13 @@ class InPlane {
 
   // --- The implicit (trapezoidal) step (core/implicit.hpp) -------------------------------------------------
   /// The system of core::Strip::implicit_solve with two components per node and u_y of row 0 held at 0:
-  ///   [2M/dt + (dt/2)(K + K_s b bᵀ) + E diag(wx (η + c1/2)) Eᵀ] W
-  ///       = 2M V/dt − K u + b (K_s (v_d (t + dt/2) − ū0(u)) + F_r) + E wx (−(σ̄ + c0)/2) + top loads,
-  /// solved by Eigen's SimplicialLDLT of the assembled matrix (refactorised when dt, η or c1 change). Not the
-  /// O(n log n) solve the accuracy-stepped integrator needs (docs/model.md §10.6).
+  ///   A W = [2M/dt + (dt/2)(K + K_s b bᵀ) + E diag(wx (η + c1/2)) Eᵀ] W
+  ///       = 2M V/dt − K u + b (K_s (v_d (t + dt/2) − ū0(u)) + F_r) + E wx (−(σ̄ + c0)/2) + top loads.
+  /// Solved (docs/model.md §10.6) by Eigen's conjugate gradient, matrix-free, preconditioned by the exact inverse of
+  /// the separable part (u_x in cosine modes, FFTW's DCT-I; u_y in sine modes, DST-I; one 2 × 2-block tridiagonal
+  /// solve in y per mode; the interface coefficient at its mean; the end columns' u_y by their diagonal), to a
+  /// relative residual of 1e-12 within 500 iterations (else std::runtime_error); or, as a reference, by Eigen's
+  /// SimplicialLDLT of the assembled matrix (StepSolver::direct, refactorised whenever dt or c1 change).
   template <class Lin>
   void implicit_solve(const Lin& lin, std::span<const double> w_prev, std::span<double> c0, std::span<double> c1,
                       double t, double dt, double eta, std::span<const double> u, std::span<const double> V,
@@ -147,10 +148,24 @@ class InPlane {
   void solve_step(std::span<const double> c0, std::span<const double> c1, double t, double dt, double eta,
                   std::span<const double> u, std::span<const double> V, std::span<const double> sigma_bar,
                   std::span<double> W);
+  enum class StepSolver { cg, direct };
+  void set_step_solver(StepSolver s) { step_solver_ = s; }
+  StepSolver step_solver() const { return step_solver_; }
+  /// CG iterations of the last solve_step (0 for the direct solve).
+  int last_iterations() const { return last_iterations_; }
+
+  // Internal to the CG (inplane_solve.cpp): y = A x of the current step, z = P⁻¹ r (held dofs: identity).
+  void apply_system(const double* x, double* y) const;
+  const double* apply_preconditioner(const double* r) const;
 
  private:
-  void make_element();
-  struct Direct;  // solve_step's factorisation (inplane.cpp)
+  struct Direct;  // the direct solve's factorisation (inplane.cpp)
+  struct Fast;    // the CG's transforms, mode factors and step coefficients (inplane_solve.cpp)
+  void rhs_step(std::span<const double> c0, double t, double dt, std::span<const double> u, std::span<const double> V,
+                std::span<const double> sigma_bar, double* rhs) const;
+  void solve_direct(std::span<const double> c1, double dt, double eta, const double* rhs, std::span<double> W);
+  void solve_cg(std::span<const double> c1, double dt, double eta, const double* rhs, std::span<double> W);
+  void factorise_modes(double dt, double dbar) const;
 
   std::vector<double> x_;
   std::size_t nx_ = 0, ny_ = 0;
@@ -159,7 +174,11 @@ class InPlane {
   double sigma_d_ = 0.0, spring_K_ = 0.0, v_d_ = 0.0, rear_traction_ = 0.0, stable_dt_ = 0.0;
   std::array<double, 64> ke_{};
   mutable std::vector<double> force_;  // the kick's −K u
+  std::vector<double> rhs_;            // the implicit step's right-hand side
   std::unique_ptr<Direct> direct_;
+  std::unique_ptr<Fast> fast_;
+  StepSolver step_solver_ = StepSolver::cg;
+  int last_iterations_ = 0;
 };
 
 static_assert(Body<InPlane>);

@@ -21,6 +21,7 @@
 #include "continuum/friction_law.hpp"
 #include "core/inplane.hpp"
 #include "core/stepper.hpp"
+#include "inplane_fixtures.hpp"
 #include "scenes.hpp"
 
 namespace core = slipfront::core;
@@ -30,41 +31,15 @@ namespace {
 
 constexpr double pi = std::numbers::pi;
 
-struct Setup {
-  core::BulkParams bulk;
-  core::DriveParams drive;
-  core::InterfaceParams law;
-  core::InPlaneParams material;
-  double dx = 1.0, dy = 1.0;
-  core::InPlane make() const { return core::InPlane(bulk, drive, law, material, dx, dy); }
-};
+using Setup = slipfront::testing::InPlaneSetup;
+using slipfront::testing::bisect;
 
-// nx columns, ny row intervals; fig1's material (ρ = 0.01, μ = 300, α = 1.05, η = 0.1); edge (K = 2.5, v_d = 0.3)
-// or homogeneous (σ_d = 0.5, F_r = 0.7) loading; ν = 1/3, p = 0.
+// nx columns, ny row intervals; fig1's material, edge or homogeneous loading (slipfront::testing::fig1_inplane).
 Setup setup(std::size_t nx, std::size_t ny, double dx, double dy, bool edge = true) {
-  Setup s;
-  s.dx = dx;
-  s.dy = dy;
-  s.bulk.rho = 0.01;
-  s.bulk.mu = 300.0;
-  s.bulk.length = static_cast<double>(nx - 1) * dx;
-  s.bulk.height = static_cast<double>(ny) * dy;
-  s.drive.loading = edge ? core::Loading::edge : core::Loading::homogeneous;
-  s.drive.K = 2.5;
-  s.drive.v_d = 0.3;
-  s.drive.sigma_d = 0.5;
-  s.drive.rear_traction = 0.7;
-  s.law.alpha = 1.05;
-  s.law.eta = 0.1;
-  return s;
+  return slipfront::testing::fig1_inplane(static_cast<double>(nx - 1) * dx, static_cast<double>(ny) * dy, dx, dy, edge);
 }
 
-std::vector<double> random_vector(std::size_t n, std::mt19937& g) {
-  std::uniform_real_distribution<double> d(-1.0, 1.0);
-  std::vector<double> v(n);
-  for (auto& x : v) x = d(g);
-  return v;
-}
+std::vector<double> random_vector(std::size_t n, std::mt19937& g) { return slipfront::testing::uniform_vector(n, g); }
 
 Eigen::Map<const Eigen::VectorXd> view(const std::vector<double>& v) {
   return {v.data(), static_cast<Eigen::Index>(v.size())};
@@ -83,22 +58,6 @@ double sh(double q2, double H) {
 double lamb(double w, double k, double H, double cs, double cp) {
   const double qt2 = k * k - w * w / (cs * cs), ql2 = k * k - w * w / (cp * cp);
   return (k * k + qt2) * (k * k + qt2) * ch(ql2, H) * sh(qt2, H) - 4.0 * k * k * ql2 * ch(qt2, H) * sh(ql2, H);
-}
-// Bisection of f on [lo, hi] (a sign change).
-template <class F>
-double bisect(F&& f, double lo, double hi) {
-  double flo = f(lo);
-  REQUIRE(flo * f(hi) < 0.0);
-  for (int it = 0; it < 200 && hi - lo > 1e-15 * hi; ++it) {
-    const double mid = 0.5 * (lo + hi), fm = f(mid);
-    if ((fm < 0.0) == (flo < 0.0)) {
-      lo = mid;
-      flo = fm;
-    } else {
-      hi = mid;
-    }
-  }
-  return 0.5 * (lo + hi);
 }
 // The lowest symmetric Lamb frequency at wavenumber k: the first sign change above 0.5 c_s k (no root below c_R k).
 double lamb_lowest(double k, double H, double cs, double cp) {

@@ -20,54 +20,16 @@
 #include "core/implicit.hpp"
 #include "core/inplane.hpp"
 #include "core/stepper.hpp"
+#include "inplane_fixtures.hpp"
 
 namespace core = slipfront::core;
 namespace continuum = slipfront::continuum;
 
 namespace {
 
-struct Setup {
-  core::BulkParams bulk;
-  core::DriveParams drive;
-  core::InterfaceParams law;
-  core::InPlaneParams material;
-  double dx = 1.0, dy = 1.0;
-  core::InPlane make() const { return core::InPlane(bulk, drive, law, material, dx, dy); }
-};
-
-// fig1's parameters (ρ = 0.01, μ = 300, α = 1.05, κ = 8, η = 0.1, K = 2.5, v_d = 0.3) on length L, height H, ν = 1/3.
-Setup fig1(double L, double H, double dx, double dy) {
-  Setup s;
-  s.dx = dx;
-  s.dy = dy;
-  s.bulk.rho = 0.01;
-  s.bulk.mu = 300.0;
-  s.bulk.length = L;
-  s.bulk.height = H;
-  s.drive.loading = core::Loading::edge;
-  s.drive.K = 2.5;
-  s.drive.v_d = 0.3;
-  s.law.alpha = 1.05;
-  s.law.kappa = 8.0;
-  s.law.eta = 0.1;
-  return s;
-}
-
-template <class F>
-double bisect(F&& f, double lo, double hi) {
-  double flo = f(lo);
-  REQUIRE(flo * f(hi) < 0.0);
-  for (int it = 0; it < 200 && hi - lo > 1e-15 * hi; ++it) {
-    const double mid = 0.5 * (lo + hi), fm = f(mid);
-    if ((fm < 0.0) == (flo < 0.0)) {
-      lo = mid;
-      flo = fm;
-    } else {
-      hi = mid;
-    }
-  }
-  return 0.5 * (lo + hi);
-}
+using Setup = slipfront::testing::InPlaneSetup;
+using slipfront::testing::bisect;
+Setup fig1(double L, double H, double dx, double dy) { return slipfront::testing::fig1_inplane(L, H, dx, dy); }
 
 // The smallest real root of 2μ'(1−ν) q (2qH + sin 2qH) = α (4(1−ν)² − q²H² − (3−4ν) sin² qH) (docs/model.md §10.3):
 // the left side grows from 0 and the right falls from 4α(1−ν)², so the first sign change is below 2(1−ν)/H.

@@ -15,6 +15,7 @@
 #include <Eigen/SparseCore>
 
 #include "core/inplane.hpp"
+#include "inplane_fixtures.hpp"
 
 namespace core = slipfront::core;
 
@@ -22,30 +23,15 @@ namespace {
 
 // fig1's material on nx columns and ny row intervals (dx = dy = d), ν = 1/3, normal load 0.2; edge or homogeneous.
 core::InPlane strip(std::size_t nx, std::size_t ny, double d, bool edge) {
-  core::BulkParams bulk;
-  bulk.rho = 0.01;
-  bulk.mu = 300.0;
-  bulk.length = static_cast<double>(nx - 1) * d;
-  bulk.height = static_cast<double>(ny) * d;
-  core::DriveParams drive;
-  drive.loading = edge ? core::Loading::edge : core::Loading::homogeneous;
-  drive.K = 2.5;
-  drive.v_d = 0.3;
-  drive.sigma_d = 0.4;
-  drive.rear_traction = 0.0;
-  core::InterfaceParams law;
-  law.alpha = 1.05;
-  law.eta = 0.1;
-  core::InPlaneParams mat;
-  mat.normal_load = 0.2;
-  return core::InPlane(bulk, drive, law, mat, d, d);
+  slipfront::testing::InPlaneSetup s =
+      slipfront::testing::fig1_inplane(static_cast<double>(nx - 1) * d, static_cast<double>(ny) * d, d, d, edge);
+  s.drive.sigma_d = 0.4;
+  s.material.normal_load = 0.2;
+  return s.make();
 }
 
 std::vector<double> random_vector(std::size_t n, std::mt19937& g, double lo = -1.0, double hi = 1.0) {
-  std::uniform_real_distribution<double> dist(lo, hi);
-  std::vector<double> v(n);
-  for (auto& x : v) x = dist(g);
-  return v;
+  return slipfront::testing::uniform_vector(n, g, lo, hi);
 }
 
 struct Step {

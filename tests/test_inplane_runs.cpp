@@ -178,15 +178,18 @@ double budget_residual(const Setup& st, double dt, double t_end, bool& slipped) 
   Stepper sim = start<Stepper>(st, dt);
   sim.track_energy(true);
   double worst = 0.0, work = 0.0;
+  int max_iterations = 0;
   slipped = false;
   const auto steps = std::llround(t_end / dt);
   for (long long s = 0; s < steps; ++s) {
     sim.step();
+    max_iterations = std::max(max_iterations, sim.bulk().last_iterations());
     slipped = slipped || sim.yielded();
     const core::EnergyBudget& e = *sim.energy();
     worst = std::max(worst, std::abs(e.residual()));
     work = std::max(work, std::abs(e.drive_work));
   }
+  if (max_iterations > 0) std::printf("inplane implicit: at most %d CG iterations per solve\n", max_iterations);
   const core::EnergyBudget& e = *sim.energy();
   CHECK(e.kinetic > 0.0);
   CHECK(e.elastic > 0.0);

@@ -142,3 +142,17 @@ TEST_CASE("inplane solve: CG iterations as the grid grows in x and in y", "[inpl
     if (uniform) CHECK(by_x[2] <= by_x[0] + 3);
   }
 }
+
+TEST_CASE("inplane solve: copies are independent and solve bit for bit alike", "[inplane][solve]") {
+  std::mt19937 g(17);
+  core::InPlane a = strip(33, 6, 0.5, true);
+  const Step s = random_step(a, g, false);
+  std::vector<double> wa(a.dofs(), 0.0), wb(a.dofs(), 0.0), wc(a.dofs(), 0.0);
+  a.solve_step(s.c0, s.c1, s.t, s.dt, s.eta, s.u, s.V, s.sb, wa);  // a holds its factors
+  core::InPlane b = a;                                              // made again on first use
+  b.solve_step(s.c0, s.c1, s.t, s.dt, s.eta, s.u, s.V, s.sb, wb);
+  core::InPlane c = std::move(a);
+  c.solve_step(s.c0, s.c1, s.t, s.dt, s.eta, s.u, s.V, s.sb, wc);
+  CHECK(wa == wb);
+  CHECK(wa == wc);
+}

@@ -92,6 +92,35 @@ TEST_CASE("inplane runs: the stuck edge-loaded strip decays at the smallest root
   CHECK(q == Approx(std::sqrt(1.05 / 300.0)).epsilon(1e-4));
 }
 
+TEST_CASE("inplane runs: the thin strip's stuck decay tends to the 1D chain's at second order in H", "[inplane]") {
+  // docs/model.md §10.2: with μ' = μ(1 − ν)/(2H) the thin strip is §1.2's chain of stiffness μ. The same statics as
+  // above (fig1, ν = 1/3, dx = 0.5, 4 row intervals) at H = 2, 1, 0.5 against the chain's own discrete decay rate on
+  // the same dx, acosh(1 + α dx²/(2μ))/dx (so the x-discretisation cancels): the difference falls like H² (a wrong
+  // thin-limit modulus would leave a constant).
+  std::vector<double> diff;
+  const double dx = 0.5, alpha = 1.05, mu = 300.0, q1 = std::acosh(1.0 + alpha * dx * dx / (2.0 * mu)) / dx;
+  for (const double H : {2.0, 1.0, 0.5}) {
+    const core::InPlane b = fig1(300.0, H, dx, H / 4.0).make();
+    Eigen::SparseMatrix<double> A = b.stiffness_matrix();
+    for (std::size_t i = 0; i < b.sites(); ++i)
+      A.coeffRef(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(i)) += alpha * b.interface_weight(i);
+    hold_interface(b, A);
+    Eigen::VectorXd f = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(b.dofs()));
+    for (std::size_t j = 0; j < b.rows(); ++j) f(static_cast<Eigen::Index>(j * b.sites())) = b.row_weight(j) / H;
+    const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(A);
+    REQUIRE(ldlt.info() == Eigen::Success);
+    const Eigen::VectorXd u = ldlt.solve(f);
+    const double q = std::log(u(static_cast<Eigen::Index>(std::llround(50.0 / dx))) /
+                              u(static_cast<Eigen::Index>(std::llround(150.0 / dx)))) / 100.0;
+    diff.push_back(std::abs(q / q1 - 1.0));
+  }
+  std::printf("inplane thin limit: |q/q_1D - 1| = %.3e %.3e %.3e at H = 2, 1, 0.5 (orders %.3f %.3f)\n", diff[0],
+              diff[1], diff[2], std::log2(diff[0] / diff[1]), std::log2(diff[1] / diff[2]));
+  CHECK(std::log2(diff[0] / diff[1]) == Approx(2.0).margin(0.1));
+  CHECK(std::log2(diff[1] / diff[2]) == Approx(2.0).margin(0.1));
+  CHECK(diff[2] < 1e-3);
+}
+
 TEST_CASE("inplane runs: the explicit scheme is stable just below its limit and unstable just above", "[inplane]") {
   // The grid's own limit 2/ω_max, ω_max² the largest eigenvalue of M⁻¹(K + α Wx + K_s b bᵀ) with u_y of the
   // interface held (dense, 9 × 5 nodes), against stable_dt() (a bound: ≤ the limit, and not far below it), and the

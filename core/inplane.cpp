@@ -131,7 +131,7 @@ struct InPlane::Direct {
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt;
   Eigen::SparseMatrix<double> K;
   std::vector<double> d;  // η + c1/2 of the factorisation
-  double dt = -1.0;
+  double c = -1.0;
   Eigen::VectorXd w;
 };
 
@@ -149,11 +149,11 @@ struct InPlane::Fast {
   std::vector<double> ga, gb;                   // modal right-hand sides / solutions, [j·(N+1) + k]
   std::vector<double> kdiag;                    // K's diagonal (dofs)
   std::vector<double> z, tmp;                   // the preconditioner's result, apply_system's held-zeroed copy
-  double fact_dt = -1.0, fact_d = std::numeric_limits<double>::quiet_NaN();
-  // the current step (apply_system, apply_preconditioner)
-  double dt = 0.0;
-  const double* d = nullptr;                    // η + c1/2 per site
-  std::vector<double> dstep;
+  double fact_c = -1.0, fact_d = std::numeric_limits<double>::quiet_NaN();
+  // the current system A(c, d) (apply_system, apply_preconditioner)
+  double c = 0.0;
+  std::vector<double> d;                        // the interface coefficient per site
+  std::vector<double> rhs;                      // a copy of the right-hand side (rhs and x may alias)
 
   explicit Fast(const InPlane& b) : nx(b.sites()), rows(b.rows()), N(nx - 1), ns(nx - 2) {
     bx = static_cast<double*>(fftw_malloc(rows * nx * sizeof(double)));
@@ -261,7 +261,7 @@ InPlane::InPlane(const InPlane& o)
     : x_(o.x_), nx_(o.nx_), ny_(o.ny_), dx_(o.dx_), dy_(o.dy_), H_(o.H_), rho_(o.rho_), mu_(o.mu_), nu_(o.nu_),
       p_(o.p_), rho_p_(o.rho_p_), mu_p_(o.mu_p_), lambda_p_(o.lambda_p_), sigma_d_(o.sigma_d_),
       spring_K_(o.spring_K_), v_d_(o.v_d_), rear_traction_(o.rear_traction_), stable_dt_(o.stable_dt_), ke_(o.ke_),
-      force_(o.force_), rhs_(o.rhs_), step_solver_(o.step_solver_) {}  // the factorisations are made again on first use
+      force_(o.force_), rhs_(o.rhs_), dstep_(o.dstep_), step_solver_(o.step_solver_) {}  // the factorisations are made again on first use
 InPlane::InPlane(InPlane&& o) noexcept = default;
 InPlane& InPlane::operator=(const InPlane& o) {
   if (this != &o) {
@@ -439,46 +439,47 @@ void InPlane::solve_step(std::span<const double> c0, std::span<const double> c1,
                          std::span<double> W) {
   rhs_.resize(dofs());
   rhs_step(c0, t, dt, u, V, sigma_bar, rhs_.data());
-  if (step_solver_ == StepSolver::direct) solve_direct(c1, dt, eta, rhs_.data(), W);
-  else solve_cg(c1, dt, eta, rhs_.data(), W);
+  dstep_.resize(nx_);
+  for (std::size_t i = 0; i < nx_; ++i) dstep_[i] = eta + 0.5 * c1[i];
+  if (step_solver_ == StepSolver::direct) solve_direct(0.5 * dt, dstep_, rhs_.data(), W);
+  else solve_system(0.5 * dt, dstep_, rhs_, W);
 }
 
-void InPlane::solve_direct(std::span<const double> c1, double dt, double eta, const double* rhs, std::span<double> W) {
+void InPlane::solve_direct(double c, std::span<const double> dd, const double* rhs, std::span<double> W) {
   const std::size_t nx = nx_, ny = ny_, P = plane(), n = dofs();
   if (!direct_) {
     direct_ = std::make_unique<Direct>();
     direct_->K = stiffness_matrix();
   }
   Direct& D = *direct_;
-  // The matrix: remade when dt or the interface coefficients change.
-  std::vector<double> d(nx);
-  for (std::size_t i = 0; i < nx; ++i) d[i] = eta + 0.5 * c1[i];
-  if (dt != D.dt || d != D.d) {
-    Eigen::SparseMatrix<double> A = (0.5 * dt) * D.K;
+  // The matrix A(c, d): remade when c or the interface coefficients change.
+  const std::vector<double> d(dd.begin(), dd.end());
+  if (c != D.c || d != D.d) {
+    Eigen::SparseMatrix<double> A = c * D.K;
     std::vector<Eigen::Triplet<double>> tr;
     for (std::size_t j = 0; j <= ny; ++j)
       for (std::size_t i = 0; i < nx; ++i) {
         const std::size_t k = j * nx + i;
-        const double m = 2.0 * node_mass(i, j) / dt;
+        const double m = node_mass(i, j) / c;
         tr.emplace_back(k, k, m + (j == 0 ? interface_weight(i) * d[i] : 0.0));
         tr.emplace_back(P + k, P + k, m);
       }
-    for (std::size_t a = 0; a <= ny && spring_K_ > 0.0; ++a)  // (dt/2) K_s b bᵀ, b_j = wy(j)/H on column 0's u_x
+    for (std::size_t a = 0; a <= ny && spring_K_ > 0.0; ++a)  // c K_s b bᵀ, b_j = wy(j)/H on column 0's u_x
       for (std::size_t b = 0; b <= ny; ++b)
-        tr.emplace_back(a * nx, b * nx, 0.5 * dt * spring_K_ * row_weight(a) * row_weight(b) / (H_ * H_));
+        tr.emplace_back(a * nx, b * nx, c * spring_K_ * row_weight(a) * row_weight(b) / (H_ * H_));
     Eigen::SparseMatrix<double> extra(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
     extra.setFromTriplets(tr.begin(), tr.end());
     A += extra;
     // u_y of row 0 held: its rows and columns replaced by the identity (its W is 0).
-    for (Eigen::Index c = 0; c < A.outerSize(); ++c)
-      for (Eigen::SparseMatrix<double>::InnerIterator it(A, c); it; ++it) {
+    for (Eigen::Index outer = 0; outer < A.outerSize(); ++outer)
+      for (Eigen::SparseMatrix<double>::InnerIterator it(A, outer); it; ++it) {
         const auto r = static_cast<std::size_t>(it.row()), col = static_cast<std::size_t>(it.col());
         const bool held_r = r >= P && r < P + nx, held_c = col >= P && col < P + nx;
         if (held_r || held_c) it.valueRef() = (r == col) ? 1.0 : 0.0;
       }
     D.ldlt.compute(A);
     if (D.ldlt.info() != Eigen::Success) throw std::runtime_error("InPlane: the implicit step's matrix is not definite");
-    D.dt = dt;
+    D.c = c;
     D.d = d;
   }
   const Eigen::Map<const Eigen::VectorXd> b(rhs, static_cast<Eigen::Index>(n));
@@ -528,17 +529,17 @@ Block transposed_product(const Block& a, const Block& b) {  // aᵀ b
 
 }  // namespace
 
-// The mode factors of the separable part for the step coefficient dt and the interface coefficient dbar
+// The mode factors of the separable part of A(coef, dbar) (solve_system: coef = dt/2 for the trapezoidal step)
 // (docs/model.md §10.6). Per mode θ = πk/N the Q1 operator is, with κ = (2 − 2cos θ)/dx, m = dx (2 + cos θ)/3
 // (the 1D stiffness and consistent mass along x on cos θi), s = sin θ, and the 1D matrices along y
 // (K1: stiffness, M1: consistent mass, G[c][d] = ∫ψ_c' ψ_d):
 //   T_xx = (λ'+2μ') κ M1 + μ' m K1,   T_xy = s (μ' G − λ' Gᵀ),   T_yx = T_xyᵀ,   T_yy = μ' κ M1 + (λ'+2μ') m K1,
-// times dt/2, plus the lumped mass 2ρ' dx wy(j)/dt on both components and dx dbar on u_x of row 0. u_y of row 0, and
+// times coef, plus the lumped mass ρ' dx wy(j)/coef on both components and dx dbar on u_x of row 0. u_y of row 0, and
 // every b of the modes k = 0, N (sin θi ≡ 0 on the grid), are held: identity rows. Block LDLᵀ from row 0 up.
-void InPlane::factorise_modes(double dt, double dbar) const {
+void InPlane::factorise_modes(double coef, double dbar) const {
   Fast& f = *fast_;
   const std::size_t N = f.N, R = f.rows, ny = ny_;
-  const double lam = lambda_p_, mu = mu_p_, h = 0.5 * dt, dy = dy_;
+  const double lam = lambda_p_, mu = mu_p_, h = coef, dy = dy_;
   const auto K1 = [&](std::size_t c, std::size_t d) {
     if (c == d) return (c == 0 || c == ny ? 1.0 : 2.0) / dy;
     return -1.0 / dy;
@@ -561,7 +562,7 @@ void InPlane::factorise_modes(double dt, double dbar) const {
       Block t{h * ((lam + 2 * mu) * kap * M1(c, d) + mu * m * K1(c, d)), h * s * (mu * G(c, d) - lam * G(d, c)),
               h * s * (mu * G(d, c) - lam * G(c, d)), h * (mu * kap * M1(c, d) + (lam + 2 * mu) * m * K1(c, d))};
       if (c == d) {
-        const double mass = 2.0 * rho_p_ * dx_ * row_weight(c) / dt;
+        const double mass = rho_p_ * dx_ * row_weight(c) / h;
         t[0] += mass + (c == 0 ? dx_ * dbar : 0.0);
         t[3] += mass;
       }
@@ -584,7 +585,7 @@ void InPlane::factorise_modes(double dt, double dbar) const {
       std::copy(uprev.begin(), uprev.end(), f.up.begin() + static_cast<std::ptrdiff_t>((k * R + j) * 4));
     }
   }
-  f.fact_dt = dt;
+  f.fact_c = coef;
   f.fact_d = dbar;
 }
 
@@ -647,7 +648,7 @@ const double* InPlane::apply_preconditioner(const double* r) const {
     // the end columns' u_y: their diagonal (row 0: held, identity)
     for (const std::size_t i : {std::size_t{0}, N}) {
       const std::size_t q = P + j * nx + i;
-      z[q] = j == 0 ? r[q] : r[q] / (2.0 * node_mass(i, j) / f.dt + 0.5 * f.dt * f.kdiag[q]);
+      z[q] = j == 0 ? r[q] : r[q] / (node_mass(i, j) / f.c + f.c * f.kdiag[q]);
     }
   }
   return z;
@@ -659,11 +660,11 @@ void InPlane::apply_system(const double* x, double* y) const {
   std::copy(x, x + n, f.tmp.begin());
   std::fill(f.tmp.begin() + static_cast<std::ptrdiff_t>(P), f.tmp.begin() + static_cast<std::ptrdiff_t>(P + nx), 0.0);
   elastic_forces(f.tmp, force_);
-  const double h = 0.5 * f.dt;
+  const double h = f.c;
   for (std::size_t j = 0; j <= ny_; ++j)
     for (std::size_t i = 0; i < nx; ++i) {
       const std::size_t k = j * nx + i;
-      const double m = 2.0 * node_mass(i, j) / f.dt;
+      const double m = node_mass(i, j) / h;
       y[k] = m * f.tmp[k] - h * force_[k];
       y[P + k] = m * f.tmp[P + k] - h * force_[P + k];
     }
@@ -679,38 +680,35 @@ void InPlane::apply_system(const double* x, double* y) const {
   }
 }
 
-void InPlane::solve_cg(std::span<const double> c1, double dt, double eta, const double* rhs, std::span<double> W) {
+void InPlane::solve_system(double c, std::span<const double> d, std::span<const double> rhs, std::span<double> x) {
   const std::size_t nx = nx_, n = dofs();
   if (nx < 3) {  // no interior column: no sine modes
-    solve_direct(c1, dt, eta, rhs, W);
+    const std::vector<double> r(rhs.begin(), rhs.end());
+    solve_direct(c, d, r.data(), x);
     return;
   }
   if (!fast_) fast_ = std::make_unique<Fast>(*this);
   Fast& f = *fast_;
-  f.dstep.resize(nx);
+  f.d.assign(d.begin(), d.end());
+  f.rhs.assign(rhs.begin(), rhs.end());
   double mean = 0.0;
-  for (std::size_t i = 0; i < nx; ++i) {
-    f.dstep[i] = eta + 0.5 * c1[i];
-    mean += f.dstep[i];
-  }
+  for (double v : f.d) mean += v;
   const double dbar = std::max(mean / static_cast<double>(nx), 0.0);
-  if (dt != f.fact_dt || dbar != f.fact_d) factorise_modes(dt, dbar);
-  f.dt = dt;
-  f.d = f.dstep.data();
+  if (c != f.fact_c || dbar != f.fact_d) factorise_modes(c, dbar);
+  f.c = c;
   const InPlaneSystem A(*this);
   Eigen::ConjugateGradient<InPlaneSystem, Eigen::Lower | Eigen::Upper, InPlanePreconditioner> cg;
   cg.setTolerance(1e-12);
   cg.setMaxIterations(500);
   cg.compute(A);
-  const Eigen::Map<const Eigen::VectorXd> b(rhs, static_cast<Eigen::Index>(n));
-  Eigen::Map<Eigen::VectorXd> w(W.data(), static_cast<Eigen::Index>(n));
-  for (std::size_t i = 0; i < nx; ++i) W[plane() + i] = 0.0;  // the held dofs' guess
+  const Eigen::Map<const Eigen::VectorXd> b(f.rhs.data(), static_cast<Eigen::Index>(n));
+  Eigen::Map<Eigen::VectorXd> w(x.data(), static_cast<Eigen::Index>(n));
+  for (std::size_t i = 0; i < nx; ++i) x[plane() + i] = 0.0;  // the held dofs' guess
   w = cg.solveWithGuess(b, w);
   last_iterations_ = static_cast<int>(cg.iterations());
   if (cg.info() != Eigen::Success || !std::isfinite(cg.error()))
-    throw std::runtime_error("InPlane: the implicit step's conjugate gradient did not converge: " +
-                             std::to_string(cg.iterations()) + " iterations, relative residual " +
-                             std::to_string(cg.error()));
+    throw std::runtime_error("InPlane: the conjugate gradient did not converge: " + std::to_string(cg.iterations()) +
+                             " iterations, relative residual " + std::to_string(cg.error()));
 }
 
 }  // namespace slipfront::core

@@ -151,8 +151,14 @@ class InPlane {
   enum class StepSolver { cg, direct };
   void set_step_solver(StepSolver s) { step_solver_ = s; }
   StepSolver step_solver() const { return step_solver_; }
-  /// CG iterations of the last solve_step (0 for the direct solve).
+  /// CG iterations of the last solve (0 for the direct solve).
   int last_iterations() const { return last_iterations_; }
+
+  /// The step matrix with coefficient c and interface coefficients d (as core::Strip::solve_system), for any
+  /// right-hand side: A(c, d) x = rhs, A(c, d) = M/c + c (K + K_s b bᵀ) + E diag(wx d) Eᵀ, u_y of row 0 held
+  /// (identity rows). The trapezoidal step's is A(dt/2, η + c1/2). By the preconditioned CG above (x on entry: the
+  /// guess; rhs and x may alias); throws std::runtime_error when it does not converge.
+  void solve_system(double c, std::span<const double> d, std::span<const double> rhs, std::span<double> x);
 
   // Internal to the CG (inplane_solve.cpp): y = A x of the current step, z = P⁻¹ r (held dofs: identity).
   void apply_system(const double* x, double* y) const;
@@ -163,9 +169,8 @@ class InPlane {
   struct Fast;    // the CG's transforms, mode factors and step coefficients (inplane_solve.cpp)
   void rhs_step(std::span<const double> c0, double t, double dt, std::span<const double> u, std::span<const double> V,
                 std::span<const double> sigma_bar, double* rhs) const;
-  void solve_direct(std::span<const double> c1, double dt, double eta, const double* rhs, std::span<double> W);
-  void solve_cg(std::span<const double> c1, double dt, double eta, const double* rhs, std::span<double> W);
-  void factorise_modes(double dt, double dbar) const;
+  void solve_direct(double c, std::span<const double> d, const double* rhs, std::span<double> W);
+  void factorise_modes(double c, double dbar) const;
 
   std::vector<double> x_;
   std::size_t nx_ = 0, ny_ = 0;
@@ -174,7 +179,7 @@ class InPlane {
   double sigma_d_ = 0.0, spring_K_ = 0.0, v_d_ = 0.0, rear_traction_ = 0.0, stable_dt_ = 0.0;
   std::array<double, 64> ke_{};
   mutable std::vector<double> force_;  // the kick's −K u
-  std::vector<double> rhs_;            // the implicit step's right-hand side
+  std::vector<double> rhs_, dstep_;    // the implicit step's right-hand side and interface coefficients
   std::unique_ptr<Direct> direct_;
   std::unique_ptr<Fast> fast_;
   StepSolver step_solver_ = StepSolver::cg;

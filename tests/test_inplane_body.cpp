@@ -392,7 +392,7 @@ TEST_CASE("inplane: static interface kernels of a base slip against K_t and K_n/
   }
 }
 
-TEST_CASE("inplane: the uniform states are exact on the grid; the normal load's Poisson expansion", "[inplane]") {
+TEST_CASE("inplane: the uniform states are exact on the grid, and the normal load makes the strip expand", "[inplane]") {
   // docs/model.md §10.3. (a) Homogeneous stuck state, p = 0: u_x = σ_top/α + σ_top y/μ', u_y = 0 is in equilibrium
   // with σ̄ = σ_top on the interface everywhere but on the two free ends: there σ_xy = σ_top would need the
   // complementary shear traction ∓σ_top on the faces x = 0, L, which a free face does not carry. The grid's residual

@@ -1,0 +1,714 @@
+#include "core/inplane.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <mutex>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <fftw3.h>
+
+#include <Eigen/Core>
+#include <Eigen/Eigenvalues>
+#include <Eigen/IterativeLinearSolvers>
+#include <Eigen/SparseCholesky>
+
+namespace slipfront::core {
+namespace {
+// The step system as an Eigen operator (Eigen docs, "Matrix-free solvers") and its preconditioner.
+class InPlaneSystem;
+}  // namespace
+}  // namespace slipfront::core
+
+
+namespace Eigen::internal {
+template <>
+struct traits<slipfront::core::InPlaneSystem> : public traits<Eigen::SparseMatrix<double>> {};
+}  // namespace Eigen::internal
+
+namespace slipfront::core {
+namespace {
+
+class InPlaneSystem : public Eigen::EigenBase<InPlaneSystem> {
+ public:
+  using Scalar = double;
+  using RealScalar = double;
+  using StorageIndex = int;
+  enum { ColsAtCompileTime = Eigen::Dynamic, MaxColsAtCompileTime = Eigen::Dynamic, IsRowMajor = false };
+  explicit InPlaneSystem(const InPlane& b) : b_(&b) {}
+  Eigen::Index rows() const { return static_cast<Eigen::Index>(b_->dofs()); }
+  Eigen::Index cols() const { return rows(); }
+  template <class Rhs>
+  Eigen::Product<InPlaneSystem, Rhs, Eigen::AliasFreeProduct> operator*(const Eigen::MatrixBase<Rhs>& x) const {
+    return Eigen::Product<InPlaneSystem, Rhs, Eigen::AliasFreeProduct>(*this, x.derived());
+  }
+  const InPlane& body() const { return *b_; }
+
+ private:
+  const InPlane* b_;
+};
+
+class InPlanePreconditioner {
+ public:
+  InPlanePreconditioner() = default;
+  template <class M>
+  explicit InPlanePreconditioner(const M& m) { compute(m); }
+  InPlanePreconditioner& analyzePattern(const InPlaneSystem&) { return *this; }
+  InPlanePreconditioner& factorize(const InPlaneSystem& m) { return compute(m); }
+  InPlanePreconditioner& compute(const InPlaneSystem& m) {
+    b_ = &m.body();
+    return *this;
+  }
+  template <class Rhs>
+  Eigen::Map<const Eigen::VectorXd> solve(const Eigen::MatrixBase<Rhs>& r) const {
+    const Eigen::Ref<const Eigen::VectorXd> rr(r.derived());
+    return Eigen::Map<const Eigen::VectorXd>(b_->apply_preconditioner(rr.data()), rr.size());
+  }
+  Eigen::ComputationInfo info() const { return Eigen::Success; }
+
+ private:
+  const InPlane* b_ = nullptr;
+};
+
+// FFTW's planner is not thread-safe; the in-plane strip's plans are made and destroyed under this mutex. (core::Strip
+// has its own: see docs/model.md §10.6 on sharing one.)
+std::mutex& planner_mutex() {
+  static std::mutex m;
+  return m;
+}
+
+// λ' and μ' of docs/model.md §10.2 from the scene's μ (its 1D meaning, μ = E' H) and ν.
+double mu_prime_of(double mu, double nu, double H) { return mu * (1.0 - nu) / (2.0 * H); }
+double lambda_prime_of(double mu_p, double nu) { return 2.0 * mu_p * nu / (1.0 - 2.0 * nu); }
+
+// The plane-strain Q1 element's stiffness on a dx × dy cell (docs/model.md §10.4): ∫ Bᵀ D B over the cell by the
+// 2 × 2 Gauss rule (exact: the integrand is a polynomial of degree ≤ 2 in each variable). Local nodes (0,0), (1,0),
+// (0,1), (1,1); dofs u_x of the four, then u_y. D = [[λ+2μ, λ, 0], [λ, λ+2μ, 0], [0, 0, μ]] on (ε_xx, ε_yy, γ_xy).
+std::array<double, 64> q1_stiffness(double dx, double dy, double lam, double mu) {
+  std::array<double, 64> k{};
+  const double g = 1.0 / std::sqrt(3.0);
+  const double pts[2] = {0.5 * (1.0 - g), 0.5 * (1.0 + g)};  // on [0, 1]
+  const double w = 0.25 * dx * dy;                          // each point's weight
+  for (double xi : pts)
+    for (double et : pts) {
+      const double nx[4] = {-(1.0 - et) / dx, (1.0 - et) / dx, -et / dx, et / dx};  // ∂N_a/∂x
+      const double ny[4] = {-(1.0 - xi) / dy, -xi / dy, (1.0 - xi) / dy, xi / dy};  // ∂N_a/∂y
+      for (int a = 0; a < 4; ++a)
+        for (int b = 0; b < 4; ++b) {
+          k[a * 8 + b] += w * ((lam + 2.0 * mu) * nx[a] * nx[b] + mu * ny[a] * ny[b]);              // x–x
+          k[(a + 4) * 8 + b + 4] += w * ((lam + 2.0 * mu) * ny[a] * ny[b] + mu * nx[a] * nx[b]);  // y–y
+          k[a * 8 + b + 4] += w * (lam * nx[a] * ny[b] + mu * ny[a] * nx[b]);                     // x–y
+          k[(b + 4) * 8 + a] += w * (lam * nx[a] * ny[b] + mu * ny[a] * nx[b]);                   // y–x
+        }
+    }
+  return k;
+}
+
+// The largest eigenvalue of the element's stiffness over its lumped mass ρ' dx dy/4 per node (§10.5).
+double element_omega2(const std::array<double, 64>& ke, double rho_p, double dx, double dy) {
+  Eigen::Matrix<double, 8, 8> m;
+  for (int a = 0; a < 8; ++a)
+    for (int b = 0; b < 8; ++b) m(a, b) = ke[static_cast<std::size_t>(a * 8 + b)];
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 8, 8>> es(m, Eigen::EigenvaluesOnly);
+  return es.eigenvalues().maxCoeff() / (0.25 * rho_p * dx * dy);
+}
+
+void check_material(const InPlaneParams& m) {
+  if (!(m.poisson > -1.0 && m.poisson < 0.5))
+    throw std::invalid_argument("InPlane: Poisson's ratio must lie in (-1, 1/2), got " + std::to_string(m.poisson));
+  if (!(m.normal_load >= 0.0))
+    throw std::invalid_argument("InPlane: the normal load must be >= 0, got " + std::to_string(m.normal_load));
+}
+
+}  // namespace
+
+// The implicit step's sparse factorisation (solve_step), remade when its coefficients change.
+struct InPlane::Direct {
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt;
+  Eigen::SparseMatrix<double> K;
+  std::vector<double> d;  // η + c1/2 of the factorisation
+  double c = -1.0;
+  Eigen::VectorXd w;
+};
+
+// The CG's workspace (docs/model.md §10.6): the transforms, the mode factors, the step's coefficients.
+// Modes along x: u_x(i, j) = Σ_k a_jk cos(πik/N), k = 0 … N (N = nx − 1); u_y(i, j) = Σ_k b_jk sin(πik/N),
+// k = 1 … N − 1, on the interior columns (the end columns' u_y are outside the separable part). Per mode, the
+// rows' (a_j, b_j) solve a 2 × 2-block tridiagonal system T_k; its block LDLᵀ factors are kept: Dinv_j (the
+// inverted pivots) and U_j = T_{j,j+1}, 4 doubles each, [(k·rows + j)·4].
+struct InPlane::Fast {
+  std::size_t nx = 0, rows = 0, N = 0, ns = 0;  // ns = nx − 2 interior columns
+  double* bx = nullptr;                         // rows × nx, the cosine transforms (in place)
+  double* by = nullptr;                         // rows × ns, the sine transforms (in place)
+  fftw_plan dct = nullptr, dst = nullptr;
+  std::vector<double> dinv, up;                 // the mode factors
+  std::vector<double> ga, gb;                   // modal right-hand sides / solutions, [j·(N+1) + k]
+  std::vector<double> kdiag;                    // K's diagonal (dofs)
+  std::vector<double> z, tmp;                   // the preconditioner's result, apply_system's held-zeroed copy
+  double fact_c = -1.0, fact_d = std::numeric_limits<double>::quiet_NaN();
+  // the current system A(c, d) (apply_system, apply_preconditioner)
+  double c = 0.0;
+  std::vector<double> d;                        // the interface coefficient per site
+  std::vector<double> rhs;                      // a copy of the right-hand side (rhs and x may alias)
+
+  explicit Fast(const InPlane& b) : nx(b.sites()), rows(b.rows()), N(nx - 1), ns(nx - 2) {
+    bx = static_cast<double*>(fftw_malloc(rows * nx * sizeof(double)));
+    by = static_cast<double*>(fftw_malloc(rows * ns * sizeof(double)));
+    if (bx == nullptr || by == nullptr) {
+      release();
+      throw std::bad_alloc();
+    }
+    std::fill(bx, bx + rows * nx, 0.0);
+    std::fill(by, by + rows * ns, 0.0);
+    const int lx = static_cast<int>(nx), ly = static_cast<int>(ns), r = static_cast<int>(rows);
+    const fftw_r2r_kind kc = FFTW_REDFT00, ks = FFTW_RODFT00;
+    {
+      const std::lock_guard<std::mutex> lock(planner_mutex());
+      // FFTW_ESTIMATE: no timing, so the same sizes and alignment give the same plan (bit-reproducible runs).
+      dct = fftw_plan_many_r2r(1, &lx, r, bx, nullptr, 1, lx, bx, nullptr, 1, lx, &kc, FFTW_ESTIMATE);
+      dst = fftw_plan_many_r2r(1, &ly, r, by, nullptr, 1, ly, by, nullptr, 1, ly, &ks, FFTW_ESTIMATE);
+    }
+    if (dct == nullptr || dst == nullptr) {
+      release();
+      throw std::runtime_error("InPlane: FFTW could not plan the cosine and sine transforms");
+    }
+    dinv.assign((N + 1) * rows * 4, 0.0);
+    up.assign((N + 1) * rows * 4, 0.0);
+    ga.assign((N + 1) * rows, 0.0);
+    gb.assign((N + 1) * rows, 0.0);
+    z.assign(b.dofs(), 0.0);
+    tmp.assign(b.dofs(), 0.0);
+    // K's diagonal, element by element
+    kdiag.assign(b.dofs(), 0.0);
+    const auto& ke = b.element_stiffness();
+    const std::size_t P = b.plane();
+    for (std::size_t j = 0; j + 1 < rows; ++j)
+      for (std::size_t i = 0; i + 1 < nx; ++i) {
+        const std::size_t nd[4] = {j * nx + i, j * nx + i + 1, (j + 1) * nx + i, (j + 1) * nx + i + 1};
+        for (std::size_t a = 0; a < 4; ++a) {
+          kdiag[nd[a]] += ke[a * 8 + a];
+          kdiag[P + nd[a]] += ke[(a + 4) * 8 + a + 4];
+        }
+      }
+  }
+  Fast(const Fast&) = delete;
+  Fast& operator=(const Fast&) = delete;
+  ~Fast() { release(); }
+  void release() noexcept {
+    {
+      const std::lock_guard<std::mutex> lock(planner_mutex());
+      if (dct != nullptr) fftw_destroy_plan(dct);
+      if (dst != nullptr) fftw_destroy_plan(dst);
+    }
+    dct = dst = nullptr;
+    if (bx != nullptr) fftw_free(bx);
+    if (by != nullptr) fftw_free(by);
+    bx = by = nullptr;
+  }
+};
+
+double InPlane::stable_time_step(const BulkParams& bulk, const DriveParams& drive, const InterfaceParams& law,
+                                 const InPlaneParams& material, double dx, double dy) {
+  check_material(material);
+  const double H = bulk.height, nu = material.poisson;
+  const double mu_p = mu_prime_of(bulk.mu, nu, H), rho_p = bulk.rho / H;
+  const double K = drive.loading == Loading::edge ? drive.K : 0.0;
+  const double omega2 = element_omega2(q1_stiffness(dx, dy, lambda_prime_of(mu_p, nu), mu_p), rho_p, dx, dy) +
+                        2.0 * K / (bulk.rho * dx) + 2.0 * law.alpha * H / (bulk.rho * dy);
+  return 2.0 / std::sqrt(omega2);
+}
+
+InPlane::InPlane(const BulkParams& bulk, const DriveParams& drive, const InterfaceParams& law,
+                 const InPlaneParams& material, double dx, double dy)
+    : dx_(dx), dy_(dy), H_(bulk.height), rho_(bulk.rho), mu_(bulk.mu), nu_(material.poisson),
+      p_(material.normal_load) {
+  if (drive.loading != Loading::edge && drive.loading != Loading::homogeneous)
+    throw std::invalid_argument("InPlane: only edge and homogeneous loading have an in-plane strip");
+  check_material(material);
+  if (!(H_ > 0.0)) throw std::invalid_argument("InPlane: bulk.height must be > 0");
+  if (!(dx > 0.0)) throw std::invalid_argument("InPlane: dx must be > 0");
+  if (!(dy > 0.0)) throw std::invalid_argument("InPlane: dy must be > 0");
+  const auto cells = static_cast<long long>(std::llround(bulk.length / dx));
+  if (cells < 1) throw std::invalid_argument("InPlane: bulk.length must hold at least one cell");
+  const long long ny = std::llround(H_ / dy);
+  if (ny < 1) throw std::invalid_argument("InPlane: bulk.height must hold at least one row interval");
+  if (std::abs(static_cast<double>(ny) * dy - H_) > 1e-9 * H_)
+    throw std::invalid_argument("InPlane: dy must divide bulk.height");
+  nx_ = static_cast<std::size_t>(cells) + 1;
+  ny_ = static_cast<std::size_t>(ny);
+  x_.resize(nx_);
+  for (std::size_t i = 0; i < nx_; ++i) x_[i] = static_cast<double>(i) * dx;
+  rho_p_ = rho_ / H_;
+  mu_p_ = mu_prime_of(mu_, nu_, H_);
+  lambda_p_ = lambda_prime_of(mu_p_, nu_);
+  if (drive.loading == Loading::edge) {
+    spring_K_ = drive.K;
+    v_d_ = drive.v_d;
+  } else {
+    sigma_d_ = drive.sigma_d;
+    rear_traction_ = drive.rear_traction;
+  }
+  ke_ = q1_stiffness(dx_, dy_, lambda_p_, mu_p_);
+  stable_dt_ = stable_time_step(bulk, drive, law, material, dx, dy);
+  force_.assign(dofs(), 0.0);
+}
+
+InPlane::InPlane(const InPlane& o)
+    : x_(o.x_), nx_(o.nx_), ny_(o.ny_), dx_(o.dx_), dy_(o.dy_), H_(o.H_), rho_(o.rho_), mu_(o.mu_), nu_(o.nu_),
+      p_(o.p_), rho_p_(o.rho_p_), mu_p_(o.mu_p_), lambda_p_(o.lambda_p_), sigma_d_(o.sigma_d_),
+      spring_K_(o.spring_K_), v_d_(o.v_d_), rear_traction_(o.rear_traction_), stable_dt_(o.stable_dt_), ke_(o.ke_),
+      force_(o.force_), rhs_(o.rhs_), dstep_(o.dstep_), step_solver_(o.step_solver_) {}  // the factorisations are made again on first use
+InPlane::InPlane(InPlane&& o) noexcept = default;
+InPlane& InPlane::operator=(const InPlane& o) {
+  if (this != &o) {
+    InPlane copy(o);
+    *this = std::move(copy);
+  }
+  return *this;
+}
+InPlane& InPlane::operator=(InPlane&& o) noexcept = default;
+InPlane::~InPlane() = default;
+
+double InPlane::shear_speed() const { return std::sqrt(mu_p_ / rho_p_); }
+double InPlane::pressure_speed() const { return std::sqrt((lambda_p_ + 2.0 * mu_p_) / rho_p_); }
+double InPlane::plate_speed() const { return std::sqrt(mu_ / rho_); }
+
+double InPlane::edge_slip(std::span<const double> u) const {
+  double s = 0.0;
+  for (std::size_t j = 0; j <= ny_; ++j) s += row_weight(j) * u[j * nx_];
+  return s / H_;
+}
+
+double InPlane::kinetic_energy(std::span<const double> V) const {
+  const std::size_t P = plane();
+  double e = 0.0;
+  for (std::size_t j = 0; j <= ny_; ++j)
+    for (std::size_t i = 0; i < nx_; ++i) {
+      const std::size_t k = j * nx_ + i;
+      e += node_mass(i, j) * (V[k] * V[k] + V[P + k] * V[P + k]);
+    }
+  return 0.5 * e;
+}
+
+void InPlane::elastic_forces(std::span<const double> u, std::span<double> f) const {
+  // Element by element: gather the cell's 8 dofs, f_e = −K_e u_e, scatter (docs/model.md §10.4).
+  std::fill(f.begin(), f.end(), 0.0);
+  const std::size_t nx = nx_, P = plane();
+  const double* k = ke_.data();
+  for (std::size_t j = 0; j < ny_; ++j)
+    for (std::size_t i = 0; i + 1 < nx; ++i) {
+      const std::size_t n[4] = {j * nx + i, j * nx + i + 1, (j + 1) * nx + i, (j + 1) * nx + i + 1};
+      double ue[8];
+      for (int a = 0; a < 4; ++a) {
+        ue[a] = u[n[a]];
+        ue[a + 4] = u[P + n[a]];
+      }
+      for (int a = 0; a < 8; ++a) {
+        double s = 0.0;
+        for (int b = 0; b < 8; ++b) s += k[a * 8 + b] * ue[b];
+        f[a < 4 ? n[a] : P + n[a - 4]] -= s;
+      }
+    }
+}
+
+double InPlane::elastic_energy(std::span<const double> u) const {
+  std::vector<double> f(dofs());
+  elastic_forces(u, f);
+  double e = 0.0;
+  for (std::size_t k = 0; k < dofs(); ++k) e -= u[k] * f[k];
+  return 0.5 * e;
+}
+
+double InPlane::spring_energy(double t, std::span<const double> u) const {
+  if (!(spring_K_ > 0.0)) return 0.0;
+  const double stretch = v_d_ * t - edge_slip(u);
+  return 0.5 * spring_K_ * stretch * stretch;
+}
+
+double InPlane::uniform_power(std::span<const double> v) const {
+  if (sigma_d_ == 0.0 && p_ == 0.0) return 0.0;
+  const std::size_t top = ny_ * nx_, P = plane();
+  double px = 0.0, py = 0.0;
+  for (std::size_t i = 0; i < nx_; ++i) {
+    px += interface_weight(i) * v[top + i];
+    py += interface_weight(i) * v[P + top + i];
+  }
+  return sigma_d_ * px - p_ * py;
+}
+
+Eigen::SparseMatrix<double> InPlane::stiffness_matrix() const {
+  const auto n = static_cast<Eigen::Index>(dofs());
+  const std::size_t nx = nx_, P = plane();
+  std::vector<Eigen::Triplet<double>> t;
+  t.reserve(64 * ny_ * (nx - 1));
+  for (std::size_t j = 0; j < ny_; ++j)
+    for (std::size_t i = 0; i + 1 < nx; ++i) {
+      const std::size_t nd[4] = {j * nx + i, j * nx + i + 1, (j + 1) * nx + i, (j + 1) * nx + i + 1};
+      Eigen::Index d[8];
+      for (int a = 0; a < 4; ++a) {
+        d[a] = static_cast<Eigen::Index>(nd[a]);
+        d[a + 4] = static_cast<Eigen::Index>(P + nd[a]);
+      }
+      for (int a = 0; a < 8; ++a)
+        for (int b = 0; b < 8; ++b) t.emplace_back(d[a], d[b], ke_[static_cast<std::size_t>(a * 8 + b)]);
+    }
+  Eigen::SparseMatrix<double> s(n, n);
+  s.setFromTriplets(t.begin(), t.end());
+  return s;
+}
+
+void InPlane::interface_normal_stress(std::span<const double> u, std::span<double> out) const {
+  elastic_forces(u, force_);
+  const std::size_t P = plane();
+  for (std::size_t i = 0; i < nx_; ++i) out[i] = force_[P + i] / interface_weight(i);
+}
+
+void InPlane::stresses(std::span<const double> u, std::size_t i, std::size_t j, double& sxx, double& syy,
+                       double& sxy) const {
+  const std::size_t nx = nx_, P = plane();
+  // ∂/∂x or ∂/∂y of component c (0: u_x, 1: u_y) at (i, j), second order where three nodes exist.
+  auto diff = [&](std::size_t c, bool along_x) {
+    const std::size_t n = along_x ? nx : ny_ + 1, at = along_x ? i : j;
+    const double h = along_x ? dx_ : dy_;
+    auto val = [&](std::size_t m) { return along_x ? u[c * P + j * nx + m] : u[c * P + m * nx + i]; };
+    if (n == 2) return (val(1) - val(0)) / h;
+    if (at == 0) return (-3.0 * val(0) + 4.0 * val(1) - val(2)) / (2.0 * h);
+    if (at + 1 == n) return (3.0 * val(at) - 4.0 * val(at - 1) + val(at - 2)) / (2.0 * h);
+    return (val(at + 1) - val(at - 1)) / (2.0 * h);
+  };
+  const double exx = diff(0, true), eyy = diff(1, false), gxy = diff(0, false) + diff(1, true);
+  sxx = (lambda_p_ + 2.0 * mu_p_) * exx + lambda_p_ * eyy;
+  syy = lambda_p_ * exx + (lambda_p_ + 2.0 * mu_p_) * eyy;
+  sxy = mu_p_ * gxy;
+}
+
+void InPlane::kick(double dt, double eta, double edge_force, std::span<const double> u,
+                   std::span<const double> sigma_bar, std::span<const double> v_old, std::span<double> v_new) const {
+  elastic_forces(u, force_);
+  const std::size_t nx = nx_, ny = ny_, P = plane();
+  const double edge_per_height = edge_force / H_;
+  for (std::size_t j = 0; j <= ny; ++j)
+    for (std::size_t i = 0; i < nx; ++i) {
+      const std::size_t k = j * nx + i;
+      const double wx = interface_weight(i), m = node_mass(i, j);
+      double fx = force_[k], fy = force_[P + k];
+      if (i == 0) fx += edge_per_height * row_weight(j);
+      if (j == ny) {
+        fx += wx * sigma_d_;
+        fy -= wx * p_;
+      }
+      if (j == 0) {
+        // σ_xy = σ̄ + η v with η v centred: m (v⁺ − v⁻)/dt = f − wx (σ̄ + η (v⁺ + v⁻)/2); u_y held at 0.
+        const double damp = 0.5 * wx * eta * dt;
+        v_new[k] = (v_old[k] * (m - damp) + dt * (fx - wx * sigma_bar[i])) / (m + damp);
+        v_new[P + k] = 0.0;
+      } else {
+        v_new[k] = v_old[k] + dt * fx / m;
+        v_new[P + k] = v_old[P + k] + dt * fy / m;
+      }
+    }
+}
+
+void InPlane::rhs_step(std::span<const double> c0, double t, double dt, std::span<const double> u,
+                       std::span<const double> V, std::span<const double> sigma_bar, double* rhs) const {
+  const std::size_t nx = nx_, ny = ny_, P = plane();
+  elastic_forces(u, force_);
+  const double edge = (spring_K_ * (v_d_ * (t + 0.5 * dt) - edge_slip(u)) + rear_traction_) / H_;
+  for (std::size_t j = 0; j <= ny; ++j)
+    for (std::size_t i = 0; i < nx; ++i) {
+      const std::size_t k = j * nx + i;
+      const double wx = interface_weight(i), m = 2.0 * node_mass(i, j) / dt;
+      double rx = m * V[k] + force_[k], ry = m * V[P + k] + force_[P + k];
+      if (i == 0) rx += edge * row_weight(j);
+      if (j == 0) rx -= wx * 0.5 * (sigma_bar[i] + c0[i]);
+      if (j == ny) {
+        rx += wx * sigma_d_;
+        ry -= wx * p_;
+      }
+      rhs[k] = rx;
+      rhs[P + k] = j == 0 ? 0.0 : ry;  // u_y of the interface: held
+    }
+}
+
+void InPlane::solve_step(std::span<const double> c0, std::span<const double> c1, double t, double dt, double eta,
+                         std::span<const double> u, std::span<const double> V, std::span<const double> sigma_bar,
+                         std::span<double> W) {
+  rhs_.resize(dofs());
+  rhs_step(c0, t, dt, u, V, sigma_bar, rhs_.data());
+  dstep_.resize(nx_);
+  for (std::size_t i = 0; i < nx_; ++i) dstep_[i] = eta + 0.5 * c1[i];
+  if (step_solver_ == StepSolver::direct) solve_direct(0.5 * dt, dstep_, rhs_.data(), W);
+  else solve_system(0.5 * dt, dstep_, rhs_, W);
+}
+
+void InPlane::solve_direct(double c, std::span<const double> dd, const double* rhs, std::span<double> W) {
+  const std::size_t nx = nx_, ny = ny_, P = plane(), n = dofs();
+  if (!direct_) {
+    direct_ = std::make_unique<Direct>();
+    direct_->K = stiffness_matrix();
+  }
+  Direct& D = *direct_;
+  // The matrix A(c, d): remade when c or the interface coefficients change.
+  const std::vector<double> d(dd.begin(), dd.end());
+  if (c != D.c || d != D.d) {
+    Eigen::SparseMatrix<double> A = c * D.K;
+    std::vector<Eigen::Triplet<double>> tr;
+    for (std::size_t j = 0; j <= ny; ++j)
+      for (std::size_t i = 0; i < nx; ++i) {
+        const std::size_t k = j * nx + i;
+        const double m = node_mass(i, j) / c;
+        tr.emplace_back(k, k, m + (j == 0 ? interface_weight(i) * d[i] : 0.0));
+        tr.emplace_back(P + k, P + k, m);
+      }
+    for (std::size_t a = 0; a <= ny && spring_K_ > 0.0; ++a)  // c K_s b bᵀ, b_j = wy(j)/H on column 0's u_x
+      for (std::size_t b = 0; b <= ny; ++b)
+        tr.emplace_back(a * nx, b * nx, c * spring_K_ * row_weight(a) * row_weight(b) / (H_ * H_));
+    Eigen::SparseMatrix<double> extra(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
+    extra.setFromTriplets(tr.begin(), tr.end());
+    A += extra;
+    // u_y of row 0 held: its rows and columns replaced by the identity (its W is 0).
+    for (Eigen::Index outer = 0; outer < A.outerSize(); ++outer)
+      for (Eigen::SparseMatrix<double>::InnerIterator it(A, outer); it; ++it) {
+        const auto r = static_cast<std::size_t>(it.row()), col = static_cast<std::size_t>(it.col());
+        const bool held_r = r >= P && r < P + nx, held_c = col >= P && col < P + nx;
+        if (held_r || held_c) it.valueRef() = (r == col) ? 1.0 : 0.0;
+      }
+    D.ldlt.compute(A);
+    if (D.ldlt.info() != Eigen::Success) throw std::runtime_error("InPlane: the implicit step's matrix is not definite");
+    D.c = c;
+    D.d = d;
+  }
+  const Eigen::Map<const Eigen::VectorXd> b(rhs, static_cast<Eigen::Index>(n));
+  D.w = D.ldlt.solve(b);
+  for (std::size_t k = 0; k < n; ++k) W[k] = D.w[static_cast<Eigen::Index>(k)];
+  last_iterations_ = 0;
+}
+
+}  // namespace slipfront::core
+
+namespace Eigen::internal {
+template <class Rhs>
+struct generic_product_impl<slipfront::core::InPlaneSystem, Rhs, SparseShape, DenseShape, GemvProduct>
+    : generic_product_impl_base<slipfront::core::InPlaneSystem, Rhs,
+                                generic_product_impl<slipfront::core::InPlaneSystem, Rhs>> {
+  using Scalar = typename Product<slipfront::core::InPlaneSystem, Rhs>::Scalar;
+  template <class Dest>
+  static void evalTo(Dest& dst, const slipfront::core::InPlaneSystem& lhs, const Rhs& rhs) {
+    const Eigen::Ref<const Eigen::VectorXd> x(rhs);
+    Eigen::Ref<Eigen::VectorXd> y(dst);
+    lhs.body().apply_system(x.data(), y.data());
+  }
+  template <class Dest>
+  static void scaleAndAddTo(Dest& dst, const slipfront::core::InPlaneSystem& lhs, const Rhs& rhs, const Scalar& alpha) {
+    Eigen::VectorXd tmp(dst.size());
+    evalTo(tmp, lhs, rhs);
+    dst += alpha * tmp;
+  }
+};
+}  // namespace Eigen::internal
+
+namespace slipfront::core {
+namespace {
+
+// A 2 × 2 block [[xx, xy], [yx, yy]], row-major.
+using Block = std::array<double, 4>;
+Block inverse(const Block& m) {
+  const double det = m[0] * m[3] - m[1] * m[2];
+  return {m[3] / det, -m[1] / det, -m[2] / det, m[0] / det};
+}
+Block product(const Block& a, const Block& b) {
+  return {a[0] * b[0] + a[1] * b[2], a[0] * b[1] + a[1] * b[3], a[2] * b[0] + a[3] * b[2], a[2] * b[1] + a[3] * b[3]};
+}
+Block transposed_product(const Block& a, const Block& b) {  // aᵀ b
+  return {a[0] * b[0] + a[2] * b[2], a[0] * b[1] + a[2] * b[3], a[1] * b[0] + a[3] * b[2], a[1] * b[1] + a[3] * b[3]};
+}
+
+}  // namespace
+
+// The mode factors of the separable part of A(coef, dbar) (solve_system: coef = dt/2 for the trapezoidal step)
+// (docs/model.md §10.6). Per mode θ = πk/N the Q1 operator is, with κ = (2 − 2cos θ)/dx, m = dx (2 + cos θ)/3
+// (the 1D stiffness and consistent mass along x on cos θi), s = sin θ, and the 1D matrices along y
+// (K1: stiffness, M1: consistent mass, G[c][d] = ∫ψ_c' ψ_d):
+//   T_xx = (λ'+2μ') κ M1 + μ' m K1,   T_xy = s (μ' G − λ' Gᵀ),   T_yx = T_xyᵀ,   T_yy = μ' κ M1 + (λ'+2μ') m K1,
+// times coef, plus the lumped mass ρ' dx wy(j)/coef on both components and dx dbar on u_x of row 0. u_y of row 0, and
+// every b of the modes k = 0, N (sin θi ≡ 0 on the grid), are held: identity rows. Block LDLᵀ from row 0 up.
+void InPlane::factorise_modes(double coef, double dbar) const {
+  Fast& f = *fast_;
+  const std::size_t N = f.N, R = f.rows, ny = ny_;
+  const double lam = lambda_p_, mu = mu_p_, h = coef, dy = dy_;
+  const auto K1 = [&](std::size_t c, std::size_t d) {
+    if (c == d) return (c == 0 || c == ny ? 1.0 : 2.0) / dy;
+    return -1.0 / dy;
+  };
+  const auto M1 = [&](std::size_t c, std::size_t d) {
+    if (c == d) return dy / 6.0 * (c == 0 || c == ny ? 2.0 : 4.0);
+    return dy / 6.0;
+  };
+  const auto G = [&](std::size_t c, std::size_t d) {
+    if (c == d) return (c == 0 ? -0.5 : 0.0) + (c == ny ? 0.5 : 0.0);
+    return d > c ? -0.5 : 0.5;
+  };
+  for (std::size_t k = 0; k <= N; ++k) {
+    const double th = std::numbers::pi * static_cast<double>(k) / static_cast<double>(N);
+    const double kap = (2.0 - 2.0 * std::cos(th)) / dx_, m = dx_ * (2.0 + std::cos(th)) / 3.0;
+    const double s = (k == 0 || k == N) ? 0.0 : std::sin(th);
+    const bool b_free = k != 0 && k != N;
+    // T_{c,d}, d ∈ {c, c + 1}
+    const auto block = [&](std::size_t c, std::size_t d) {
+      Block t{h * ((lam + 2 * mu) * kap * M1(c, d) + mu * m * K1(c, d)), h * s * (mu * G(c, d) - lam * G(d, c)),
+              h * s * (mu * G(d, c) - lam * G(c, d)), h * (mu * kap * M1(c, d) + (lam + 2 * mu) * m * K1(c, d))};
+      if (c == d) {
+        const double mass = rho_p_ * dx_ * row_weight(c) / h;
+        t[0] += mass + (c == 0 ? dx_ * dbar : 0.0);
+        t[3] += mass;
+      }
+      const bool held_c = c == 0 || !b_free, held_d = d == 0 || !b_free;
+      if (held_c) t[2] = 0.0;  // the held b row: no coupling
+      if (held_d) t[1] = 0.0;  // the held b column
+      if (held_c || held_d) t[3] = (c == d) ? 1.0 : 0.0;
+      return t;
+    };
+    Block dprev{}, uprev{};
+    for (std::size_t j = 0; j < R; ++j) {
+      Block dj = block(j, j);
+      if (j > 0) {
+        const Block c = transposed_product(uprev, product(dprev, uprev));  // U_{j−1}ᵀ D_{j−1}⁻¹ U_{j−1}
+        for (int q = 0; q < 4; ++q) dj[static_cast<std::size_t>(q)] -= c[static_cast<std::size_t>(q)];
+      }
+      dprev = inverse(dj);
+      uprev = j + 1 < R ? block(j, j + 1) : Block{};
+      std::copy(dprev.begin(), dprev.end(), f.dinv.begin() + static_cast<std::ptrdiff_t>((k * R + j) * 4));
+      std::copy(uprev.begin(), uprev.end(), f.up.begin() + static_cast<std::ptrdiff_t>((k * R + j) * 4));
+    }
+  }
+  f.fact_c = coef;
+  f.fact_d = dbar;
+}
+
+const double* InPlane::apply_preconditioner(const double* r) const {
+  Fast& f = *fast_;
+  const std::size_t nx = nx_, N = f.N, R = f.rows, ns = f.ns, P = plane();
+  const double inv2N = 1.0 / (2.0 * static_cast<double>(N)), invN = 1.0 / static_cast<double>(N);
+  // 1. modal right-hand sides: ĝ_x = c_k DCT(r_x/Wn)/(2N), ĝ_y = DST(r_y interior)/N
+  for (std::size_t j = 0; j < R; ++j)
+    for (std::size_t i = 0; i < nx; ++i) f.bx[j * nx + i] = r[j * nx + i] * dx_ / interface_weight(i);
+  fftw_execute(f.dct);
+  for (std::size_t j = 0; j < R; ++j)
+    for (std::size_t i = 1; i < N; ++i) f.by[j * ns + i - 1] = r[P + j * nx + i];
+  if (ns > 0) fftw_execute(f.dst);
+  for (std::size_t j = 0; j < R; ++j)
+    for (std::size_t k = 0; k <= N; ++k) {
+      f.ga[j * (N + 1) + k] = f.bx[j * nx + k] * ((k == 0 || k == N) ? inv2N : 2.0 * inv2N);
+      f.gb[j * (N + 1) + k] = (k == 0 || k == N) ? 0.0 : f.by[j * ns + k - 1] * invN;
+    }
+  // 2. per mode, the block tridiagonal solve in y
+  for (std::size_t k = 0; k <= N; ++k) {
+    const double* Di = f.dinv.data() + k * R * 4;
+    const double* Up = f.up.data() + k * R * 4;
+    double ya = 0.0, yb = 0.0;
+    for (std::size_t j = 0; j < R; ++j) {  // y_j = Dinv_j (r_j − U_{j−1}ᵀ y_{j−1})
+      double ra = f.ga[j * (N + 1) + k], rb = f.gb[j * (N + 1) + k];
+      if (j > 0) {
+        const double* U = Up + (j - 1) * 4;
+        ra -= U[0] * ya + U[2] * yb;
+        rb -= U[1] * ya + U[3] * yb;
+      }
+      const double* D = Di + j * 4;
+      ya = D[0] * ra + D[1] * rb;
+      yb = D[2] * ra + D[3] * rb;
+      f.ga[j * (N + 1) + k] = ya;
+      f.gb[j * (N + 1) + k] = yb;
+    }
+    double xa = ya, xb = yb;
+    for (std::size_t j = R - 1; j-- > 0;) {  // x_j = y_j − Dinv_j U_j x_{j+1}
+      const double* U = Up + j * 4;
+      const double ua = U[0] * xa + U[1] * xb, ub = U[2] * xa + U[3] * xb;
+      const double* D = Di + j * 4;
+      xa = f.ga[j * (N + 1) + k] - (D[0] * ua + D[1] * ub);
+      xb = f.gb[j * (N + 1) + k] - (D[2] * ua + D[3] * ub);
+      f.ga[j * (N + 1) + k] = xa;
+      f.gb[j * (N + 1) + k] = xb;
+    }
+  }
+  // 3. back to the nodes: u_x = Σ a_k cos (REDFT00 of a with the interior modes halved), u_y = Σ b_k sin
+  for (std::size_t j = 0; j < R; ++j) {
+    for (std::size_t k = 0; k <= N; ++k) f.bx[j * nx + k] = f.ga[j * (N + 1) + k] * ((k == 0 || k == N) ? 1.0 : 0.5);
+    for (std::size_t k = 1; k < N; ++k) f.by[j * ns + k - 1] = 0.5 * f.gb[j * (N + 1) + k];
+  }
+  fftw_execute(f.dct);
+  if (ns > 0) fftw_execute(f.dst);
+  double* z = f.z.data();
+  for (std::size_t j = 0; j < R; ++j) {
+    for (std::size_t i = 0; i < nx; ++i) z[j * nx + i] = f.bx[j * nx + i];
+    for (std::size_t i = 1; i < N; ++i) z[P + j * nx + i] = f.by[j * ns + i - 1];
+    // the end columns' u_y: their diagonal (row 0: held, identity)
+    for (const std::size_t i : {std::size_t{0}, N}) {
+      const std::size_t q = P + j * nx + i;
+      z[q] = j == 0 ? r[q] : r[q] / (node_mass(i, j) / f.c + f.c * f.kdiag[q]);
+    }
+  }
+  return z;
+}
+
+void InPlane::apply_system(const double* x, double* y) const {
+  Fast& f = *fast_;
+  const std::size_t nx = nx_, P = plane(), n = dofs();
+  std::copy(x, x + n, f.tmp.begin());
+  std::fill(f.tmp.begin() + static_cast<std::ptrdiff_t>(P), f.tmp.begin() + static_cast<std::ptrdiff_t>(P + nx), 0.0);
+  elastic_forces(f.tmp, force_);
+  const double h = f.c;
+  for (std::size_t j = 0; j <= ny_; ++j)
+    for (std::size_t i = 0; i < nx; ++i) {
+      const std::size_t k = j * nx + i;
+      const double m = node_mass(i, j) / h;
+      y[k] = m * f.tmp[k] - h * force_[k];
+      y[P + k] = m * f.tmp[P + k] - h * force_[P + k];
+    }
+  for (std::size_t i = 0; i < nx; ++i) {
+    y[i] += interface_weight(i) * f.d[i] * x[i];
+    y[P + i] = x[P + i];  // held
+  }
+  if (spring_K_ > 0.0) {
+    double s = 0.0;
+    for (std::size_t j = 0; j <= ny_; ++j) s += row_weight(j) * x[j * nx];
+    const double c = h * spring_K_ * s / (H_ * H_);
+    for (std::size_t j = 0; j <= ny_; ++j) y[j * nx] += c * row_weight(j);
+  }
+}
+
+void InPlane::solve_system(double c, std::span<const double> d, std::span<const double> rhs, std::span<double> x) {
+  const std::size_t nx = nx_, n = dofs();
+  if (nx < 3) {  // no interior column: no sine modes
+    const std::vector<double> r(rhs.begin(), rhs.end());
+    solve_direct(c, d, r.data(), x);
+    return;
+  }
+  if (!fast_) fast_ = std::make_unique<Fast>(*this);
+  Fast& f = *fast_;
+  f.d.assign(d.begin(), d.end());
+  f.rhs.assign(rhs.begin(), rhs.end());
+  double mean = 0.0;
+  for (double v : f.d) mean += v;
+  const double dbar = std::max(mean / static_cast<double>(nx), 0.0);
+  if (c != f.fact_c || dbar != f.fact_d) factorise_modes(c, dbar);
+  f.c = c;
+  const InPlaneSystem A(*this);
+  Eigen::ConjugateGradient<InPlaneSystem, Eigen::Lower | Eigen::Upper, InPlanePreconditioner> cg;
+  cg.setTolerance(1e-12);
+  cg.setMaxIterations(500);
+  cg.compute(A);
+  const Eigen::Map<const Eigen::VectorXd> b(f.rhs.data(), static_cast<Eigen::Index>(n));
+  Eigen::Map<Eigen::VectorXd> w(x.data(), static_cast<Eigen::Index>(n));
+  for (std::size_t i = 0; i < nx; ++i) x[plane() + i] = 0.0;  // the held dofs' guess
+  w = cg.solveWithGuess(b, w);
+  last_iterations_ = static_cast<int>(cg.iterations());
+  if (cg.info() != Eigen::Success || !std::isfinite(cg.error()))
+    throw std::runtime_error("InPlane: the conjugate gradient did not converge: " + std::to_string(cg.iterations()) +
+                             " iterations, relative residual " + std::to_string(cg.error()));
+}
+
+}  // namespace slipfront::core

@@ -1,0 +1,191 @@
+#pragma once
+// The in-plane strip of docs/model.md §10: a plane-strain (Lamé) body of height H over the interface,
+// u_y = 0 and σ_xy = σ̄ + η v on the interface, discretised by bilinear (Q1) finite elements on the strip's
+// vertex-centred grid (nx columns x_i = i dx, the chain's rule; rows = ny + 1 rows y_j = j dy, H = ny dy) with
+// the lumped (row-sum) mass ρ' wx(i) wy(j), half cells on every face (§10.4).
+//
+// Two displacement components per node. Dof layout: u_x of node (i, j) is dof j·nx + i, u_y is plane() + j·nx + i
+// (plane() = nx·rows()): the first nx dofs are the interface's slip, the law's sites in order, as on the chain
+// and the antiplane strip. u_y of row 0 is held at 0 (the kick keeps its velocity 0); it stays a dof so that the
+// two components are two equal grids.
+//
+// Material: the scene's μ keeps its 1D meaning (the thin strip is §1.2's chain with μ = E' H, E' = 2μ'/(1 − ν)
+// the plate modulus, §10.2): μ' = μ(1 − ν)/(2H), ρ' = ρ/H, λ' = 2μ'ν/(1 − 2ν).
+// Elastic force Fel = −K u, K the assembled Q1 stiffness (2 × 2 Gauss points, exact for Q1):
+// E(u) = u·K u / 2 = (1/2) ∫ σ : ε. External forces: interface row u_x −wx(i)(σ̄_i + η v_i); top row u_x
+// +wx(i) σ_top (σ_top = σ_d under homogeneous loading, else 0), u_y −wx(i) p (the normal load); edge column u_x
+// +F(t) wy(j)/H, F = K (v_d t − ū0) + F_r, ū0 = Σ_j wy(j) u_x(0, j)/H (as core::Strip).
+//
+// Not here yet: the adaptive integrator's members (core::Strip's solve_system and mixed representation).
+//
+// Thread safety: an InPlane holds mutable workspace (the force buffer, the factorisation), so one object serves
+// one thread at a time; copies are independent.
+#include <array>
+#include <cstddef>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include <Eigen/SparseCore>
+
+#include "core/body.hpp"
+#include "core/params.hpp"
+
+namespace slipfront::core {
+
+/// What the in-plane strip adds to a scene's parameters (docs/model.md §10.1): Poisson's ratio ν ∈ (−1, ½) and
+/// the normal load p ≥ 0 on the top face (σ_yy(x, H) = −p).
+struct InPlaneParams {
+  double poisson = 1.0 / 3.0;
+  double normal_load = 0.0;
+};
+
+class InPlane {
+ public:
+  /// Edge or homogeneous loading (throws std::invalid_argument for the others, height ≤ 0, dx or dy ≤ 0,
+  /// dy not dividing H, fewer than one cell in x or y, ν outside (−1, ½), p < 0).
+  InPlane(const BulkParams& bulk, const DriveParams& drive, const InterfaceParams& law, const InPlaneParams& material,
+          double dx, double dy);
+  InPlane(const InPlane& o);
+  InPlane(InPlane&& o) noexcept;
+  InPlane& operator=(const InPlane& o);
+  InPlane& operator=(InPlane&& o) noexcept;
+  ~InPlane();
+
+  // --- The grid -----------------------------------------------------------------------------------------
+  std::size_t sites() const { return nx_; }
+  std::size_t rows() const { return ny_ + 1; }
+  std::size_t plane() const { return nx_ * (ny_ + 1); }  ///< dofs of one component; u_y of node k is plane() + k
+  std::size_t dofs() const { return 2 * plane(); }
+  double dx() const { return dx_; }
+  double dy() const { return dy_; }
+  double height() const { return H_; }
+  double row_height(std::size_t j) const { return static_cast<double>(j) * dy_; }  ///< y_j
+  const std::vector<double>& x() const { return x_; }
+  double interface_weight(std::size_t i) const { return (i == 0 || i + 1 == nx_) ? 0.5 * dx_ : dx_; }
+  double row_weight(std::size_t j) const { return (j == 0 || j == ny_) ? 0.5 * dy_ : dy_; }
+  double node_mass(std::size_t i, std::size_t j) const { return rho_p_ * interface_weight(i) * row_weight(j); }
+
+  // --- The material (docs/model.md §10.2) -------------------------------------------------------------------
+  double rho() const { return rho_; }                ///< the scene's ρ (thickness-integrated)
+  double mu() const { return mu_; }                  ///< the scene's μ = E' H (thickness-integrated plate stiffness)
+  double rho_prime() const { return rho_p_; }        ///< ρ' = ρ/H
+  double mu_prime() const { return mu_p_; }          ///< μ' = μ(1 − ν)/(2H)
+  double lambda_prime() const { return lambda_p_; }  ///< λ' = 2μ'ν/(1 − 2ν)
+  double poisson() const { return nu_; }
+  double normal_load() const { return p_; }
+  double shear_speed() const;     ///< c_s = sqrt(μ'/ρ')
+  double pressure_speed() const;  ///< c_p = sqrt((λ' + 2μ')/ρ')
+  double plate_speed() const;     ///< c_0 = sqrt(μ/ρ) = c_s sqrt(2/(1 − ν)), the 1D sound speed
+
+  // --- The loading --------------------------------------------------------------------------------------
+  double uniform_stress() const { return sigma_d_; }  ///< σ_top: σ_d (homogeneous loading), else 0
+  bool has_drive_spring() const { return spring_K_ > 0.0; }
+  double spring_K() const { return spring_K_; }
+  double driver_velocity() const { return v_d_; }
+  double rear_traction() const { return rear_traction_; }
+  /// Mass of the loaded edge column's u_x, Σ_j M_0j = ρ' wx(0) H = ρ dx/2.
+  double edge_mass() const { return rho_ * interface_weight(0); }
+  /// ū0 = Σ_j wy(j) u_x(0, j) / H (u: all dofs).
+  double edge_slip(std::span<const double> u) const;
+  /// F(t) = K (v_d t − ū0) + F_r.
+  double drive_force(double t, std::span<const double> u) const {
+    return spring_K_ * (v_d_ * t - edge_slip(u)) + rear_traction_;
+  }
+
+  // --- Energies ----------------------------------------------------------------------------------------
+  double kinetic_energy(std::span<const double> V) const;
+  double elastic_energy(std::span<const double> u) const;  ///< u·K u / 2
+  double spring_energy(double t, std::span<const double> u) const;
+  /// The power of the top face's tractions: Σ_i wx(i) (σ_top v_x(i, ny) − p v_y(i, ny)).
+  double uniform_power(std::span<const double> v) const;
+
+  // --- The elastic operator --------------------------------------------------------------------------------
+  /// f = −K u (all dofs, both components; the interface's u_y reaction included, nothing held).
+  void elastic_forces(std::span<const double> u, std::span<double> f) const;
+  /// K (elastic only, dofs × dofs, u_y of row 0 not eliminated).
+  Eigen::SparseMatrix<double> stiffness_matrix() const;
+  /// The Q1 element's stiffness, 8 × 8, local nodes (0,0), (1,0), (0,1), (1,1), dofs u_x of the four then u_y.
+  const std::array<double, 64>& element_stiffness() const { return ke_; }
+
+  // --- Stresses (docs/model.md §10.4) ----------------------------------------------------------------------
+  /// σ_yy(x_i, 0) for every interface site: the reaction that holds u_y = 0, per interface length,
+  /// (−K u)_{y,i0} / wx(i) (the discrete form of the interface's normal traction; out: sites()).
+  void interface_normal_stress(std::span<const double> u, std::span<double> out) const;
+  /// The three stresses at node (i, j) from second-order differences of the node field (central inside,
+  /// one-sided (−3u₀ + 4u₁ − u₂)/(2h) on the faces; first order when a direction has only two nodes).
+  void stresses(std::span<const double> u, std::size_t i, std::size_t j, double& sxx, double& syy,
+                double& sxy) const;
+
+  // --- The explicit scheme (docs/model.md §10.5) -----------------------------------------------------------
+  /// 2/ω_max with ω_max² = ω_e² + 2αH/(ρ dy) + 2K/(ρ dx), ω_e² the largest eigenvalue of the Q1 element's
+  /// stiffness over its lumped mass ρ' dx dy/4 (a bound on the grid's, docs/model.md §10.5).
+  double stable_dt() const { return stable_dt_; }
+  /// The same bound from the scene's parameters without building the grid.
+  static double stable_time_step(const BulkParams& bulk, const DriveParams& drive, const InterfaceParams& law,
+                                 const InPlaneParams& material, double dx, double dy);
+  /// Central-difference kick v^{n−1/2} → v^{n+1/2} of every dof, forces at u^n, η v centred on the interface
+  /// row's u_x, u_y of row 0 held at 0; edge_force = F(t^n).
+  void kick(double dt, double eta, double edge_force, std::span<const double> u, std::span<const double> sigma_bar,
+            std::span<const double> v_old, std::span<double> v_new) const;
+
+  // --- The implicit (trapezoidal) step (core/implicit.hpp) -------------------------------------------------
+  /// The system of core::Strip::implicit_solve with two components per node and u_y of row 0 held at 0:
+  ///   A W = [2M/dt + (dt/2)(K + K_s b bᵀ) + E diag(wx (η + c1/2)) Eᵀ] W
+  ///       = 2M V/dt − K u + b (K_s (v_d (t + dt/2) − ū0(u)) + F_r) + E wx (−(σ̄ + c0)/2) + top loads.
+  /// Solved (docs/model.md §10.6) by Eigen's conjugate gradient, matrix-free, preconditioned by the exact inverse of
+  /// the separable part (u_x in cosine modes, FFTW's DCT-I; u_y in sine modes, DST-I; one 2 × 2-block tridiagonal
+  /// solve in y per mode; the interface coefficient at its mean; the end columns' u_y by their diagonal), to a
+  /// relative residual of 1e-12 within 500 iterations (else std::runtime_error); or, as a reference, by Eigen's
+  /// SimplicialLDLT of the assembled matrix (StepSolver::direct, refactorised whenever dt or c1 change).
+  template <class Lin>
+  void implicit_solve(const Lin& lin, std::span<const double> w_prev, std::span<double> c0, std::span<double> c1,
+                      double t, double dt, double eta, std::span<const double> u, std::span<const double> V,
+                      std::span<const double> sigma_bar, std::span<double> W) {
+    for (std::size_t i = 0; i < nx_; ++i) lin(i, w_prev[i], c0[i], c1[i]);
+    solve_step(c0, c1, t, dt, eta, u, V, sigma_bar, W);
+  }
+  void solve_step(std::span<const double> c0, std::span<const double> c1, double t, double dt, double eta,
+                  std::span<const double> u, std::span<const double> V, std::span<const double> sigma_bar,
+                  std::span<double> W);
+  enum class StepSolver { cg, direct };
+  void set_step_solver(StepSolver s) { step_solver_ = s; }
+  StepSolver step_solver() const { return step_solver_; }
+  /// CG iterations of the last solve (0 for the direct solve).
+  int last_iterations() const { return last_iterations_; }
+
+  /// The step matrix with coefficient c and interface coefficients d (as core::Strip::solve_system), for any
+  /// right-hand side: A(c, d) x = rhs, A(c, d) = M/c + c (K + K_s b bᵀ) + E diag(wx d) Eᵀ, u_y of row 0 held
+  /// (identity rows). The trapezoidal step's is A(dt/2, η + c1/2). By the preconditioned CG above (x on entry: the
+  /// guess; rhs and x may alias); throws std::runtime_error when it does not converge.
+  void solve_system(double c, std::span<const double> d, std::span<const double> rhs, std::span<double> x);
+
+  // Internal to the CG (inplane_solve.cpp): y = A x of the current step, z = P⁻¹ r (held dofs: identity).
+  void apply_system(const double* x, double* y) const;
+  const double* apply_preconditioner(const double* r) const;
+
+ private:
+  struct Direct;  // the direct solve's factorisation (inplane.cpp)
+  struct Fast;    // the CG's transforms, mode factors and step coefficients (inplane_solve.cpp)
+  void rhs_step(std::span<const double> c0, double t, double dt, std::span<const double> u, std::span<const double> V,
+                std::span<const double> sigma_bar, double* rhs) const;
+  void solve_direct(double c, std::span<const double> d, const double* rhs, std::span<double> W);
+  void factorise_modes(double c, double dbar) const;
+
+  std::vector<double> x_;
+  std::size_t nx_ = 0, ny_ = 0;
+  double dx_ = 1.0, dy_ = 1.0, H_ = 1.0, rho_ = 1.0, mu_ = 1.0, nu_ = 0.0, p_ = 0.0;
+  double rho_p_ = 1.0, mu_p_ = 1.0, lambda_p_ = 0.0;
+  double sigma_d_ = 0.0, spring_K_ = 0.0, v_d_ = 0.0, rear_traction_ = 0.0, stable_dt_ = 0.0;
+  std::array<double, 64> ke_{};
+  mutable std::vector<double> force_;  // the kick's −K u
+  std::vector<double> rhs_, dstep_;    // the implicit step's right-hand side and interface coefficients
+  std::unique_ptr<Direct> direct_;
+  std::unique_ptr<Fast> fast_;
+  StepSolver step_solver_ = StepSolver::cg;
+  int last_iterations_ = 0;
+};
+
+static_assert(Body<InPlane>);
+
+}  // namespace slipfront::core

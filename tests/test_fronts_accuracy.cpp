@@ -150,8 +150,8 @@ TEST_CASE("fronts accuracy: a strip mesh whose Newton iteration cannot stop prom
 
 TEST_CASE("fronts accuracy: SIGINT inside a strip solve stops it within an iteration and writes an interrupted file",
           "[fronts][strip][cli]") {
-  // 48 rows (one Newton iteration ~2 s estimated): the cold start solves strips of growing height on 48 rows;
-  // before, no solve polled the stop. SIGINT 3 s in: exit 130 within 20 s (a few iterations on a loaded machine),
+  // 48 rows (one Newton iteration ~0.5 CPU s estimated, a few s of wall time under load): the cold start solves
+  // strips of growing height on 48 rows; before, no solve polled the stop. SIGINT 3 s in: exit 130 within 20 s (a few iterations on a loaded machine),
   // /meta status interrupted.
   const TempDir dir("fronts-accuracy-sigint");
   const fs::path out = dir.path / "out";

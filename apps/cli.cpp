@@ -627,7 +627,8 @@ int fronts_command(const FrontsOptions& opts, std::ostream& out, std::ostream& e
 
   // (b) the mesh refused before any work when it cannot fit; the output file, DIR held by this process until
   //     fronts.h5 is in place
-  const compare::StripFrontsSettings strip{opts.rows, opts.intervals, opts.rtol};
+  compare::StripFrontsSettings strip{opts.rows, opts.intervals, opts.rtol};
+  if (opts.budget > 0.0) strip.budget_seconds = opts.budget;
   if (scene->bulk.height > 0.0)
     if (const std::string refused = compare::strip_fronts_refusal(strip, scene->limits.max_memory_gib); !refused.empty()) {
       print_error(err, opts.config.string() + ": " + refused);
@@ -790,6 +791,10 @@ CLI::App* add_fronts_verb(CLI::App& app, FrontsOptions& opts) {
                      "Target relative error of every speed reported (estimated, stored beside it; default 1e-3): "
                      "the strip's rows and intervals are refined until the estimate meets it")
       ->check(CLI::Range(1e-8, 0.5));
+  fronts->add_option("--budget", opts.budget,
+                     "Strip scenes: the CPU seconds the mesh choice may spend on the whole branch (default 300); a "
+                     "finer mesh predicted above it is not tried and the verdict says 'NOT met (budget)'")
+      ->check(CLI::Range(1.0, 1e7));
   fronts->footer(
       "The traveling waves of docs/model.md §6 solved directly (collocation + Newton, docs/fronts.md): the\n"
       "branch c(sigma_d) continued down to where it ends (and why), c_min, profiles A, sigma_bar, v, u along it.\n"

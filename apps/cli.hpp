@@ -44,6 +44,7 @@ struct FrontsOptions {
   int rows = 0;          ///< the strip (bulk.height > 0): row intervals across the height; 0: chosen by rtol
   int intervals = 0;     ///< the strip: ξ intervals; 0: chosen by rtol
   double rtol = 1e-3;    ///< the target relative error of every reported speed (docs/fronts.md §10.20)
+  double budget = 0.0;   ///< the strip's mesh choice: CPU seconds it may cost; 0: compare::default_fronts_budget_seconds
 };
 /// `slipfront fronts`: the steady fronts of a homogeneous scene to DIR/fronts.h5 (docs/model.md §6).
 int fronts_command(const FrontsOptions& opts, std::ostream& out, std::ostream& err);

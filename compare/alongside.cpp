@@ -130,11 +130,16 @@ SceneResult lockstep(const Scene& s, std::optional<LawD> discrete_law, const Run
   std::optional<DynamicRun<LawC, typename Tag::template stepper<LawC>>> rc;
   std::optional<DynamicRun<LawM, typename Tag::template stepper<LawM>>> rm;
   std::optional<DynamicRun<LawD, typename Tag::template stepper<LawD>>> rd;
-  if (s.lists("continuum")) rc.emplace(s, LawC(s.interface, nodes), "continuum", contact_prediction_for(s, "continuum"));
-  if (s.lists("mean_field")) rm.emplace(s, mean_field_law(s, nodes), "mean_field", contact_prediction_for(s, "mean_field"));
-  if (discrete_law) rd.emplace(s, std::move(*discrete_law), "discrete");
+  if (s.lists("continuum"))
+    rc.emplace(s, LawC(s.interface, nodes), "continuum", contact_prediction_for(s, "continuum"), ctl.stop);
+  if (s.lists("mean_field"))
+    rm.emplace(s, mean_field_law(s, nodes), "mean_field", contact_prediction_for(s, "mean_field"), ctl.stop);
+  if (discrete_law) rd.emplace(s, std::move(*discrete_law), "discrete", ContactPredictionSetup{}, ctl.stop);
   Lockstep all(s, rc ? &*rc : nullptr, rm ? &*rm : nullptr, rd ? &*rd : nullptr);
-  if (!ctl.restart.empty()) {  // continue from a checkpoint (RunControl)
+  // a stop in a steady-front start's solve: every run ends interrupted at t = 0, no checkpoint is resumed into it
+  const bool start_stopped = (rc && rc->start_stopped()) || (rm && rm->start_stopped()) || (rd && rd->start_stopped());
+  if (start_stopped) all.interrupt();
+  if (!ctl.restart.empty() && !start_stopped) {  // continue from a checkpoint (RunControl)
     core::Archive ar = core::Archive::reader(ctl.restart);
     ar(all);
   } else {

@@ -114,8 +114,11 @@ struct ContactPredictionSetup {
 template <class Law, class Stepper = core::ExplicitSimulation<Law>>
 class DynamicRun {
  public:
-  DynamicRun(const Scene& s, Law law, std::string model, ContactPredictionSetup prediction = {})
-      : s_(s), wall0_(std::chrono::steady_clock::now()), front_(front_start(s)),
+  /// `stop` (the run's stop request) is polled inside the steady-front start's solve (front_start): a stop there
+  /// ends the run interrupted before its first step (start_stopped).
+  DynamicRun(const Scene& s, Law law, std::string model, ContactPredictionSetup prediction = {},
+             const std::function<bool()>& stop = {})
+      : s_(s), wall0_(std::chrono::steady_clock::now()), front_(front_start(s, stop)),
         sim_(make_stepper<Stepper>(s, std::move(law), front_)),
         one_d_(core::is_one_dimensional(s.drive.loading)), tracker_(s.measure, sim_.bulk().x()),
         cycles_(s.measure), behind_(s.measure), recorder_(s, r_), contacts_due_(s.output.contact_every()) {
@@ -131,7 +134,11 @@ class DynamicRun {
     }
     sim_.track_energy(s.output.energy);
     set_initial_conditions(s, sim_, front_);
-    if (front_) {
+    if (start_stopped()) {
+      r_.status = RunStatus::interrupted;
+      r_.message = "stopped on request in the steady-front start's solve (drive.start = \"steady_front\"), before the "
+                   "first step: the state is the nucleation start's";
+    } else if (front_) {
       r_.scalars["steady_front_c"] = front_->c;
       r_.scalars["steady_front_v_tip"] = front_->v_tip;
       r_.scalars["steady_front_v_behind"] = front_->v_behind;
@@ -154,6 +161,8 @@ class DynamicRun {
     else return sim_.steps() >= nsteps_;
   }
   const Stepper& sim() const { return sim_; }
+  /// The steady-front start's solve was stopped (the run is interrupted at t = 0; a checkpoint is not resumed into it).
+  bool start_stopped() const { return front_ && front_->stopped; }
   const std::string& model() const { return r_.model; }
   double time() const { return sim_.time(); }
   double end() const { return s_.time.t_end; }
@@ -437,8 +446,8 @@ template <class Law, class Stepper = core::ExplicitSimulation<Law>>
 ModelResult run_dynamic(const Scene& s, Law law, const std::string& model, const RunControl& ctl,
                         const CheckpointHeader& header = {}, core::Archive* resume = nullptr,
                         const ContactPredictionSetup& prediction = {}) {
-  DynamicRun<Law, Stepper> run(s, std::move(law), model, prediction);
-  if (resume) (*resume)(run);
+  DynamicRun<Law, Stepper> run(s, std::move(law), model, prediction, ctl.stop);
+  if (resume && !run.start_stopped()) (*resume)(run);
   run_loop(run, ctl, model, header);
   return run.finish();
 }

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <thread>
 
+#include "compare/initial.hpp"
 #include "continuum/friction_law.hpp"
 #include "core/strip.hpp"
 #include "discrete/count_law.hpp"
@@ -439,6 +440,25 @@ void put_notes(const Scene& s, Estimate& e) {
   }
 }
 
+// A steady-front start on the strip (issue 36 probe 3: estimated at 0.23 s, took 78 s and its solver's memory):
+// the strip front's cold start, once per model (each run solves it), before the models' state exists; its
+// memory is the solver's, held while it runs (the largest model state is already allocated by then).
+void put_front_start(const Scene& s, Estimate& e) {
+  const FrontStartCost c = front_start_cost(s);
+  if (c.solves == 0) return;
+  const double runs = static_cast<double>(s.models.size());
+  e.start_seconds = runs * c.seconds;
+  e.start_bytes = c.memory_bytes;
+  e.start_basis = format_number(runs) + " x the strip front's cold start (" + std::to_string(c.solves) + " solves on " +
+                  std::to_string(c.rows) + " rows x " + std::to_string(c.intervals) + " intervals, ~5 Newton iterations each)";
+  e.seconds += e.start_seconds;
+  double state_max = 0.0;
+  for (const auto& m : e.models) state_max = std::max(state_max, m.state_bytes);
+  e.memory_bytes = std::max(e.memory_bytes, base_bytes + state_max + c.memory_bytes);
+  e.memory_items.emplace_back("steady-front start solve", c.memory_bytes);
+  std::sort(e.memory_items.begin(), e.memory_items.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
+}
+
 }  // namespace
 
 const StepCosts& step_costs() {
@@ -507,6 +527,7 @@ Estimate estimate(const Scene& s) {
     e.seconds += m.seconds;
   }
   put_memory(s, e, std::move(items));
+  put_front_start(s, e);
   put_notes(s, e);
   return e;
 }
@@ -548,7 +569,11 @@ void check_limits(const Scene& s, const Estimate& e) {
     throw ParamError("limits.max_hours",
                      "the run would take about " + duration(e.seconds) + " (" + slowest->model + ", " + slowest->integrator +
                          ": " + count(slowest->site_steps) + " site-steps at ~" + format_number(slowest->ns_per_site_step) +
-                         " ns each), more than limits.max_hours = " + format_number(lim.max_hours) +
+                         " ns each" +
+                         (e.start_seconds > 0.0 ? "; the steady-front start ~" + duration(e.start_seconds) + ": " + e.start_basis +
+                                                      ", its rows set by grid.dy"
+                                                : std::string()) +
+                         "), more than limits.max_hours = " + format_number(lim.max_hours) +
                          "; shorten time.t_end, coarsen the grid or the step" +
                          (slowest->integrator == "leap"       ? " (time.leap_epsilon, time.implicit_tolerance)"
                           : slowest->integrator == "implicit" ? " (time.dt, time.implicit_tolerance)"
@@ -621,6 +646,8 @@ std::vector<std::string> describe(const Estimate& e) {
   for (std::size_t k = 0; k < e.memory_items.size() && k < 3; ++k)
     mem += (k ? ", " : "") + e.memory_items[k].first + " " + gib(e.memory_items[k].second);
   out.push_back(mem + ")");
+  if (e.start_seconds > 0.0)
+    out.push_back("steady-front start: ~" + duration(e.start_seconds) + ", ~" + gib(e.start_bytes) + " (" + e.start_basis + ")");
   out.push_back("run time: ~" + duration(e.seconds) + " (calibrated costs: docs/robustness.md)");
   for (const auto& n : e.notes) out.push_back("note: " + n);
   return out;

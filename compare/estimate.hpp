@@ -41,6 +41,11 @@ struct Estimate {
   double seconds = 0.0;              ///< run time of every model (setup and writing excluded)
   /// What the peak consists of, largest first ("snapshots (continuum)", bytes).
   std::vector<std::pair<std::string, double>> memory_items;
+  /// A steady-front start on the strip (drive.start = "steady_front"; compare::front_start_cost): the front is
+  /// solved by every model's run before its first step. Included in `seconds` and in `memory_bytes`.
+  double start_seconds = 0.0;
+  double start_bytes = 0.0;               ///< the solver's memory while it runs (0: no such start)
+  std::string start_basis;                ///< how it was estimated ("" when there is none)
   double elastic_length = 0.0;            ///< 1D: sqrt(μ/α)
   double nodes_per_elastic_length = 0.0;  ///< 1D: sqrt(μ/α)/dx
   std::vector<std::string> notes;         ///< warnings that do not refuse the run

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <ctime>
 #include <limits>
 #include <optional>
 
@@ -31,6 +32,13 @@ FrontProfile interface_profile(const Front& f) {
 FrontProfile profile_of(const continuum::SteadyFront& f) { return interface_profile(f); }
 
 constexpr double nan_value = std::numeric_limits<double>::quiet_NaN();
+
+// CPU seconds of this thread (the cost model's unit: continuum::strip_solve_cost).
+double thread_cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
 
 // The estimate of a branch's c_min: its point's speed_error (NaN when there is no c_min).
 template <class Branch>
@@ -499,22 +507,31 @@ struct StripBranchRun {
   continuum::StripFrontOptions front;       // the meshes the branch was solved on
   std::string start;
   bool from_path = false;
+  long iterations = 0;                      // the Newton iterations spent (its solves' stop polls), the path's included
+  long path_iterations = 0;                 // those of the path in H to the first front
 };
 
 StripBranchRun strip_branch(const Scene& s, const continuum::StripFrontOptions& front, const std::function<bool()>& stop,
                             const continuum::StripFront* start = nullptr, const std::string& start_label = "") {
   StripBranchRun out;
+  long iterations = 0;  // the solver polls the stop before every Newton iteration: counted there
   continuum::StripContinuationOptions o;
   o.front = front;
-  o.front.stop = stop;
+  const std::function<bool()> counted = [&iterations, stop] { return ++iterations, stop && stop(); };
+  o.front.stop = counted;
   o.stop = stop;
   o.on_front = [&](const continuum::StripFront& f) { out.kept.push_back(f); };
+  auto done = [&] {
+    out.front = o.front;
+    out.front.stop = stop;
+    out.iterations = iterations;
+    return out;
+  };
   if (start) {
     o.start = start;
     out.branch = continuum::continue_strip_fronts(s.interface, s.bulk, o);
-    out.front = o.front;
     out.start = start_label;
-    return out;
+    return done();
   }
   const bool thick = continuum::strip_start_needs_height_path(s.bulk);
   auto& branch = out.branch;
@@ -523,10 +540,13 @@ StripBranchRun strip_branch(const Scene& s, const continuum::StripFrontOptions& 
   const bool cold_failed = !thick && branch.points.empty() && branch.end != continuum::BranchEnd::stopped;
   const std::string cold_reason = cold_failed ? branch.reason : std::string();
   if ((thick || cold_failed) && !(stop && stop())) {
+    const long before = iterations;
     const continuum::StripPathStart path_start = continuum::strip_start_from_height_path(s.interface, s.bulk, o);
+    out.path_iterations = iterations - before;
     if (path_start.front.status == continuum::FrontStatus::converged) {
       out.kept.clear();
       o.front = path_start.options;
+      o.front.stop = counted;
       o.start = &path_start.front;
       branch = continuum::continue_strip_fronts(s.interface, s.bulk, o);
       out.from_path = true;
@@ -544,49 +564,86 @@ StripBranchRun strip_branch(const Scene& s, const continuum::StripFrontOptions& 
     branch.end = continuum::BranchEnd::stopped;
     branch.reason = "stopped on request before the first front";
   }
-  out.front = o.front;
-  return out;
+  return done();
 }
+
+// What a branch costs on other meshes (docs/fronts.md §10.20), in CPU seconds of continuum::strip_solve_cost: the
+// pilot's Newton iterations (the path in H apart: the branch on finer meshes starts from the pilot's first front)
+// at the finer meshes' price, times the share of the branch in the whole computation (its profiles and every speed's
+// estimate on half the rows add 0.85 of the branch: 714 against 292 iterations' worth at H = 17 on 8 rows, 12.0 s
+// against 6.5 s of CPU).
+constexpr double branch_share = 1.9;
+double predicted_seconds(const StripBranchRun& pilot, int rows, int intervals) {
+  return branch_share * static_cast<double>(pilot.iterations - pilot.path_iterations) *
+         continuum::strip_solve_cost(rows, intervals).iteration_seconds;
+}
+
+struct MeshChoice {
+  continuum::StripFrontOptions front;
+  std::string how;        // how they were chosen, and where the choice stopped
+  std::string limited;    // "" (met), "budget" (the cost budget), "limit" (a mesh limit), "no convergence", "stopped"
+  double spent = 0.0;     // CPU seconds spent so far (the pilot, the control fronts' re-solves), strip_solve_cost's
+};
 
 // The choice of the meshes by the tolerance (docs/fronts.md §10.20): the control fronts (the branch's first
 // front, the scene's front, the limiting front) re-solved with the rows doubled (same grading) until the
 // Richardson estimate |c_2M − c_M|/(2^p − 1) of the finer one is below 0.9 rtol·c for all of them, then the
 // intervals doubled until the ξ estimate (twice the intervals) is below 0.1 rtol·c; each from the last, one Newton
-// solve each (the ξ check re-solves on half the rows). Returns the meshes and one line saying how they were chosen (and where the budget stopped it).
-std::pair<continuum::StripFrontOptions, std::string> choose_meshes(const Scene& s, const StripBranchRun& pilot,
-                                                                   const StripFrontsSettings& st) {
+// solve each (the ξ check re-solves on half the rows). A refinement whose predicted cost (spent, its control
+// re-solves at ~8 iterations each and the branch on it: predicted_seconds) is above st.budget_seconds is not made.
+MeshChoice choose_meshes(const Scene& s, const StripBranchRun& pilot, const StripFrontsSettings& st) {
   const double H = s.bulk.height, rtol = st.rtol, two_p = std::pow(2.0, continuum::strip_row_order);
-  std::vector<continuum::StripFront> control{pilot.branch.first, strip_front_at(s, s.drive.sigma_d, pilot.kept, pilot.front)};
+  MeshChoice out{pilot.front, "rows " + std::to_string(pilot.front.rows), "", 0.0};
+  auto& fo = out.front;
+  auto price = [](const continuum::StripFrontOptions& o) { return continuum::strip_solve_cost(o.rows, o.intervals).iteration_seconds; };
+  const continuum::StripFront scene_front = strip_front_at(s, s.drive.sigma_d, pilot.kept, pilot.front);
+  out.spent = static_cast<double>(pilot.iterations + scene_front.newton_iterations) * price(fo);
+  std::vector<continuum::StripFront> control{pilot.branch.first, scene_front};
   if (pilot.branch.last.saddle_node_limit) control.push_back(pilot.branch.last);
   std::erase_if(control, [](const continuum::StripFront& f) { return f.status != continuum::FrontStatus::converged; });
-  continuum::StripFrontOptions fo = pilot.front;
-  std::string how = "rows " + std::to_string(fo.rows);
-  if (control.empty()) return {fo, "no control front converged: the first meshes kept"};
-  for (;;) {  // the rows
-    if (fo.stop && fo.stop()) return {fo, how + " (stopped)"};
-    const int next = 2 * fo.rows;
-    if (next > st.max_rows) return {fo, how + " (budget: max " + std::to_string(st.max_rows) + " rows)"};
-    if (continuum::strip_solve_cost(next, fo.intervals).iteration_seconds > continuum::strip_max_iteration_seconds)
-      return {fo, how + " (budget: " + std::to_string(next) + " rows exceed the Newton iteration limit)"};
-    const continuum::StripFrontOptions fine = continuum::with_rows(H, fo, next);
-    bool met = true, ok = true;
-    std::vector<continuum::StripFront> refined;
-    for (const auto& f : control) {
-      refined.push_back(resolve_on(f, fine));
-      const auto& g = refined.back();
-      if (g.status != continuum::FrontStatus::converged) {
-        ok = false;
-        break;
-      }
-      if (std::abs(g.c - f.c) / (two_p - 1.0) > 0.9 * rtol * g.c) met = false;
+  if (control.empty()) return {fo, "no control front converged: the first meshes kept", "no convergence", out.spent};
+  auto stop_at = [&](const std::string& why, const std::string& line) {
+    out.limited = why;
+    out.how += " (" + line + ")";
+    return out;
+  };
+  // the refinement to `fine`, or why not: the mesh limits and the budget
+  auto refusal = [&](const continuum::StripFrontOptions& fine) -> std::pair<std::string, std::string> {
+    if (fine.rows > st.max_rows || fine.intervals > st.max_intervals)
+      return {"limit", "limit: max " + std::to_string(st.max_rows) + " rows, " + std::to_string(st.max_intervals) + " intervals"};
+    if (price(fine) > continuum::strip_max_iteration_seconds)
+      return {"limit", "limit: " + std::to_string(fine.rows) + " rows, " + std::to_string(fine.intervals) +
+                           " intervals exceed the Newton iteration limit"};
+    const double total = out.spent + 8.0 * static_cast<double>(control.size()) * price(fine) +
+                         predicted_seconds(pilot, fine.rows, fine.intervals);
+    if (total > st.budget_seconds)
+      return {"budget", "budget: " + std::to_string(fine.rows) + " rows, " + std::to_string(fine.intervals) + " intervals predicted at " +
+                            core::format_number(total, 3) + " s of CPU in all, over --budget " + core::format_number(st.budget_seconds) + " s"};
+    return {"", ""};
+  };
+  auto refine = [&](const continuum::StripFrontOptions& fine) {  // the control fronts on `fine`; false: one failed
+    for (auto& f : control) {
+      f = resolve_on(f, fine);
+      out.spent += static_cast<double>(f.newton_iterations) * price(fine);
+      if (f.status != continuum::FrontStatus::converged) return false;
     }
-    if (!ok) return {fo, how + " (no convergence on " + std::to_string(next) + " rows)"};
+    return true;
+  };
+  for (;;) {  // the rows
+    if (fo.stop && fo.stop()) return stop_at("stopped", "stopped");
+    const continuum::StripFrontOptions fine = continuum::with_rows(H, fo, 2 * fo.rows);
+    if (const auto [why, line] = refusal(fine); !why.empty()) return stop_at(why, line);
+    std::vector<double> before;
+    for (const auto& f : control) before.push_back(f.c);
+    if (!refine(fine)) return stop_at("no convergence", "no convergence on " + std::to_string(fine.rows) + " rows");
+    bool met = true;
+    for (std::size_t k = 0; k < control.size(); ++k)
+      if (std::abs(control[k].c - before[k]) / (two_p - 1.0) > 0.9 * rtol * control[k].c) met = false;
     fo = fine;
-    control = std::move(refined);
-    how += " -> " + std::to_string(next);
+    out.how += " -> " + std::to_string(fo.rows);
     if (met) break;
   }
-  how += ", intervals " + std::to_string(fo.intervals);
+  out.how += ", intervals " + std::to_string(fo.intervals);
   for (;;) {  // the intervals: the ξ part of each control front's estimate (twice the intervals, on half the rows)
     bool met = true;
     for (const auto& f : control) {
@@ -594,14 +651,14 @@ std::pair<continuum::StripFrontOptions, std::string> choose_meshes(const Scene& 
       if (std::isfinite(e.xi) && e.xi > 0.1 * rtol * f.c) met = false;
     }
     if (met) break;
-    if (2 * fo.intervals > st.max_intervals ||
-        continuum::strip_solve_cost(fo.rows, 2 * fo.intervals).iteration_seconds > continuum::strip_max_iteration_seconds)
-      return {fo, how + " (budget: max " + std::to_string(st.max_intervals) + " intervals, or the Newton iteration limit)"};
-    fo.intervals *= 2;
-    for (auto& f : control) f = resolve_on(f, fo);
-    how += " -> " + std::to_string(fo.intervals);
+    continuum::StripFrontOptions fine = fo;
+    fine.intervals *= 2;
+    if (const auto [why, line] = refusal(fine); !why.empty()) return stop_at(why, line);
+    if (!refine(fine)) return stop_at("no convergence", "no convergence on " + std::to_string(fine.intervals) + " intervals");
+    fo = fine;
+    out.how += " -> " + std::to_string(fo.intervals);
   }
-  return {fo, how};
+  return out;
 }
 
 // The branch's estimates: each point's front (kept in order) on every other row; c_min's is its point's.
@@ -617,14 +674,16 @@ void store_strip_errors(const StripBranchRun& run, FrontsResult& r, Accuracy& ac
   sc["c_min_over_1d_error"] = sc["c_min_over_1d"] * (sc["c_min_error"] / sc["c_min"] + sc["c_min_1d_error"] / sc["c_min_1d"]);
 }
 
-// The verdict on the tolerance: met when every speed has an estimate within rtol·c.
-void judge_accuracy(const Accuracy& acc, double rtol, const std::string& how, bool chosen, FrontsResult& r) {
+// The verdict on the tolerance: met when every speed has an estimate within rtol·c; not met, with what stopped
+// the choice (`limited`: budget, limit, no convergence, stopped; "" when the choice ended met or was not made).
+void judge_accuracy(const Accuracy& acc, double rtol, const std::string& how, const std::string& limited, bool chosen,
+                    FrontsResult& r) {
   const bool met = acc.missing == 0 && acc.worst <= rtol && acc.checked > 0;
   r.scalars["rtol"] = rtol;
   r.scalars["rtol_met"] = met ? 1.0 : 0.0;
   r.scalars["largest_relative_error"] = acc.checked > acc.missing ? acc.worst : nan_value;
   r.labels["resolution"] = (chosen ? "chosen by rtol: " : "given: ") + how;
-  std::string v = met ? "met" : "NOT met";
+  std::string v = met ? "met" : limited.empty() || !chosen ? "NOT met" : "NOT met (" + limited + ")";
   v += ": largest estimated error " + core::format_number(100.0 * acc.worst, 3) + " % of c over " +
        std::to_string(acc.checked - acc.missing) + " speeds (rtol " + core::format_number(100.0 * rtol, 3) + " %)";
   if (acc.missing > 0)
@@ -641,15 +700,24 @@ FrontsResult compute_strip_fronts(const Scene& s, bool scaling, const std::funct
   continuum::StripFrontOptions first;
   first.rows = settings.rows > 0 ? settings.rows : settings.first_rows;
   first.intervals = settings.intervals > 0 ? settings.intervals : settings.first_intervals;
+  const double cpu0 = thread_cpu_seconds();
   StripBranchRun run = strip_branch(s, first, stop);  // (a) the branch, on the first meshes
   std::string how = "rows " + std::to_string(run.front.rows) + ", intervals " + std::to_string(run.front.intervals);
+  std::string limited;
+  // the cost model's prediction of the whole (without --scaling): what was spent and what remains on the final meshes
+  double predicted = static_cast<double>(run.iterations) * continuum::strip_solve_cost(first.rows, first.intervals).iteration_seconds +
+                     (branch_share - 1.0) * predicted_seconds(run, first.rows, first.intervals) / branch_share;
   if (chosen && continuum::followed_to_end(run.branch.end) && !(stop && stop())) {
     StripFrontsSettings st = settings;
     if (settings.rows > 0) st.max_rows = settings.rows;            // a given count is kept
     if (settings.intervals > 0) st.max_intervals = settings.intervals;
-    auto [fo, line] = choose_meshes(s, run, st);
-    how = line;
-    if ((fo.rows != run.front.rows || fo.intervals != run.front.intervals) && !(stop && stop())) {
+    const MeshChoice choice = choose_meshes(s, run, st);
+    how = choice.how;
+    limited = choice.limited;
+    const auto& fo = choice.front;
+    const bool resolve = fo.rows != run.front.rows || fo.intervals != run.front.intervals;
+    predicted = choice.spent + predicted_seconds(run, fo.rows, fo.intervals) * (resolve ? 1.0 : (branch_share - 1.0) / branch_share);
+    if (resolve && !(stop && stop())) {
       const continuum::StripFront start = run.branch.first;
       const std::string label = run.start + "; re-solved on the chosen meshes from that front";
       const bool from_path = run.from_path;
@@ -657,6 +725,8 @@ FrontsResult compute_strip_fronts(const Scene& s, bool scaling, const std::funct
       run.from_path = from_path;
     }
   }
+  r.scalars["budget_seconds"] = settings.budget_seconds;
+  r.scalars["predicted_seconds"] = predicted;
   r.labels["start"] = run.start;
   const auto& branch = run.branch;
   store_branch(s, branch, r);
@@ -672,7 +742,8 @@ FrontsResult compute_strip_fronts(const Scene& s, bool scaling, const std::funct
   bool scaling_done = false;
   if (scaling && has_branch && profiles)
     scaling_done = run_strip_scaling(s, branch.last, run.front, run.from_path, stop, acc, r);  // (c)
-  judge_accuracy(acc, settings.rtol, how, chosen, r);
+  r.scalars["cpu_seconds"] = thread_cpu_seconds() - cpu0;
+  judge_accuracy(acc, settings.rtol, how, limited, chosen, r);
   judge(branch, nullptr, stopped || !profiles || (scaling && has_branch && profiles && !scaling_done) || (stop && stop()),
         r);  // (d)
   if (scaling && !has_branch && r.status == RunStatus::failed) r.message += "; the scaling study was not run";

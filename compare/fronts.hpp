@@ -25,6 +25,10 @@ struct FrontProfile {
   std::vector<double> y, u_xy, lift_xy;
 };
 
+/// The default whole-branch budget of the strip's mesh choice (`fronts --budget`): 5 CPU minutes (H = 50 chooses
+/// 32 rows, ~2 min; H = 200 would need 64 rows, ~11 min, and stops at 32).
+inline constexpr double default_fronts_budget_seconds = 300.0;
+
 /// The strip solver's discretisation for `slipfront fronts` on a scene with bulk.height (docs/fronts.md §10.14,
 /// §10.20): chosen by the tolerance `rtol` on c unless given.
 struct StripFrontsSettings {
@@ -32,7 +36,11 @@ struct StripFrontsSettings {
   int intervals = 0;     ///< ξ intervals on [−L, 0]; 0: chosen by rtol
   double rtol = 1e-3;    ///< the target: every reported c within rtol·c of the converged value (its estimate)
   int first_rows = 8, first_intervals = 300;   ///< where the choice starts
-  int max_rows = 64, max_intervals = 2400;     ///< the budget of the choice (strip_max_iteration_seconds)
+  int max_rows = 64, max_intervals = 2400;     ///< the largest meshes of the choice (and strip_max_iteration_seconds)
+  /// The whole-branch cost budget of the choice (CPU seconds of the reference machine, continuum::strip_solve_cost):
+  /// a refinement whose predicted cost (what was spent, plus the branch, its profiles and estimates on the finer
+  /// meshes) is above it is not made, and the verdict says "NOT met (budget)" (docs/fronts.md §10.20).
+  double budget_seconds = default_fronts_budget_seconds;
 };
 /// The 1D chain's tolerance check (its mesh is fixed: 600 intervals, error ~1e−10 relative).
 inline constexpr double default_fronts_rtol = 1e-3;

@@ -30,7 +30,22 @@ continuum::StripFrontOptions strip_start_options(const Scene& s) {
   return o;
 }
 
-std::optional<FrontStart> front_start(const Scene& s) {
+FrontStartCost front_start_cost(const Scene& s) {
+  FrontStartCost c;
+  if (s.drive.loading != core::Loading::homogeneous || s.drive.start != "steady_front" || !(s.bulk.height > 0.0)) return c;
+  const continuum::StripFrontOptions o = strip_start_options(s);
+  constexpr double iterations_per_solve = 5.0;  // measured 32 and 39 stop polls over 7 and 8 solves (H = 17, 34)
+  c.rows = o.rows;
+  c.intervals = o.intervals;
+  c.solves = 1;
+  for (double h = std::min(s.bulk.height, o.thin_height); h < s.bulk.height; h *= o.height_factor) ++c.solves;
+  const auto per = continuum::strip_solve_cost(o.rows, o.intervals);
+  c.seconds = iterations_per_solve * c.solves * per.iteration_seconds;
+  c.memory_bytes = per.memory_bytes;
+  return c;
+}
+
+std::optional<FrontStart> front_start(const Scene& s, const std::function<bool()>& stop) {
   if (s.drive.loading != core::Loading::homogeneous || s.drive.start != "steady_front") return std::nullopt;
   auto refuse = [&](continuum::FrontStatus status, const std::string& reason) {
     return core::ParamError("drive.sigma_d", "no steady front" + std::string(s.bulk.height > 0.0 ? " in the strip" : "") +
@@ -39,7 +54,13 @@ std::optional<FrontStart> front_start(const Scene& s) {
   };
   FrontStart out;
   if (s.bulk.height > 0.0) {
-    auto front = continuum::solve_strip_front(s.interface, s.bulk, s.drive.sigma_d, strip_start_options(s));
+    continuum::StripFrontOptions o = strip_start_options(s);
+    o.stop = stop;
+    auto front = continuum::solve_strip_front(s.interface, s.bulk, s.drive.sigma_d, o);
+    if (front.status == continuum::FrontStatus::stopped) {
+      out.stopped = true;
+      return out;
+    }
     if (front.status != continuum::FrontStatus::converged) throw refuse(front.status, front.reason);
     out.c = front.c;
     out.v_tip = front.v_tip;

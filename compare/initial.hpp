@@ -4,6 +4,7 @@
 // the initial state of its sites.
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <optional>
 
 #include "compare/dispatch.hpp"
@@ -30,13 +31,28 @@ struct FrontStart {
   std::optional<continuum::StripFront> strip;
   double c = 0.0, v_tip = 0.0, v_behind = 0.0;
   double far_field_strain = 0.0;  ///< u_x far behind (−v_b/c), the same in every row of the strip
+  /// The solve was stopped on request (front_start's `stop`): no front (chain and strip empty); the run
+  /// starts from the nucleation state and ends interrupted before its first step.
+  bool stopped = false;
 };
 
 /// Homogeneous loading with drive.start = "steady_front": the steady front at σ_d (docs/model.md §6),
 /// solved by continuum::solve_steady_front on the chain and by continuum::solve_strip_front on the strip
 /// (strip_start_options); nothing otherwise. Throws core::ParamError naming drive.sigma_d when there is no
-/// front there.
-std::optional<FrontStart> front_start(const Scene& s);
+/// front there. `stop` is polled before every Newton iteration of the strip's solve (and every height of its
+/// cold start): true returns a FrontStart with `stopped` within one iteration. Its cost: front_start_cost.
+std::optional<FrontStart> front_start(const Scene& s, const std::function<bool()>& stop = {});
+
+/// What front_start costs on the strip (docs/fronts.md §10.15; compare::estimate counts it once per model): the
+/// 1D front, then the cold start's solves at H_0 = 0.5, 1, 2, … H on the scene's rows and the solver's 600
+/// intervals, each ~5 Newton iterations at continuum::strip_solve_cost. Zero for the chain (~0.05 s) and for a
+/// scene without a steady-front start.
+struct FrontStartCost {
+  double seconds = 0.0;     ///< CPU seconds (strip_solve_cost's calibration)
+  double memory_bytes = 0.0;///< the solver's Jacobian and LU factors while it runs
+  int solves = 0, rows = 0, intervals = 0;
+};
+FrontStartCost front_start_cost(const Scene& s);
 
 /// The strip front's settings for a strip scene's start: the scene's rows (uniform, H/grid.dy intervals, so
 /// u and v are set row by row with no interpolation in y), a tip spacing of dx/10 (at most the solver's 0.05).
@@ -92,7 +108,7 @@ void set_initial_conditions(const Scene& s, Stepper& sim, const std::optional<Fr
     }
     return;
   }
-  if (front) {
+  if (front && front->chain) {
     const auto f = continuum::sample_steady_front(*front->chain, x, s.drive.front_x);
     for (std::size_t i = 0; i < x.size(); ++i) {
       const bool kicked = x[i] <= s.drive.front_x && x[i] >= s.drive.front_x - s.drive.kick_length;

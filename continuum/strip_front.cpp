@@ -887,13 +887,15 @@ StripFrontOptions with_rows(double H, const StripFrontOptions& o, int rows) {
   return r;
 }
 
-// Calibrated (docs/fronts.md §10.20) on the reference machine, 2 cores shared: per ξ interval three right-hand
-// sides with their (2M + 4)² Jacobians, two dense block products and SparseLU's factorisation, all ∝ (2M + 4)²
-// over rows 8 … 96 and intervals 300 … 30 000 (measured 6–7.5e−7 s and ~80 bytes per interval and ns²).
+// Calibrated (docs/fronts.md §10.20) in CPU seconds of one thread on the reference machine: per ξ interval three
+// right-hand sides with their (2M + 4)² Jacobians, two dense block products and SparseLU's factorisation, all ∝
+// (2M + 4)²; measured 1.1–1.6e−7 s per interval and ns² (8 rows × 300 and 3000 intervals: 0.022, 0.21 s; 32 × 300:
+// 0.21 s; 64 × 300: 0.85 s; 17 and 34 uniform rows × 600: 0.10, 0.39 s) and ≤ 80 bytes (8 × 3000: 70; 64 × 300: 23).
+// Before issue 36's budget the constant was 8e−7, the wall time of the shared machine under a load of 9–12.
 StripSolveCost strip_solve_cost(int rows, int intervals) {
   const double ns = 2.0 * (std::max(1, rows) + 1) + 2.0, n = std::max(1, intervals);
   StripSolveCost c;
-  c.iteration_seconds = 8.0e-7 * n * ns * ns;
+  c.iteration_seconds = 1.6e-7 * n * ns * ns;
   c.memory_bytes = 80.0 * n * ns * ns + 64.0e6;
   return c;
 }

@@ -47,7 +47,7 @@ struct StripFrontOptions {
   double height_factor = 2.0;
   bool estimate_error = false;    ///< also solve on every other ξ node: speed_error = |c_2h − c_h|/15
   /// Polled before every Newton iteration (and every step of the cold start): true ends the solve with
-  /// status `stopped` within one iteration (strip_newton_iteration_seconds bounds its length). Empty: never.
+  /// status `stopped` within one iteration (strip_max_iteration_seconds bounds its length where fronts refuses). Empty: never.
   std::function<bool()> stop;
 };
 
@@ -59,15 +59,17 @@ double strip_row_grading(double H, const StripFrontOptions& o);
 StripFrontOptions with_rows(double H, const StripFrontOptions& o, int rows);
 
 /// What one Newton iteration of a strip solve costs (docs/fronts.md §10.20): the Jacobian's dense blocks
-/// (2 per ξ interval, (2M + 4)² each) and SparseLU's factorisation, calibrated on the reference machine.
+/// (2 per ξ interval, (2M + 4)² each) and SparseLU's factorisation, calibrated on the reference machine: CPU
+/// seconds of one thread (a quiet machine's wall time; the shared machine under load takes several times more).
 struct StripSolveCost {
-  double iteration_seconds = 0.0;  ///< one Newton iteration (assembly, four far-field eigenproblems, SparseLU)
+  double iteration_seconds = 0.0;  ///< one Newton iteration (assembly, four far-field eigenproblems, SparseLU), CPU s
   double memory_bytes = 0.0;       ///< the Jacobian, its triplets and the LU factors
 };
 StripSolveCost strip_solve_cost(int rows, int intervals);
-/// A stop request is seen between Newton iterations: a mesh whose iteration is estimated above this is
-/// refused up front (`slipfront fronts --rows/--intervals`), so that a stop is always prompt.
-inline constexpr double strip_max_iteration_seconds = 5.0;
+/// A stop request is seen between Newton iterations: a mesh whose iteration is estimated above this (CPU s;
+/// ~5 s of wall time on the shared machine under load) is refused up front (`slipfront fronts --rows/--intervals`),
+/// so that a stop is always prompt. At 300 intervals: up to 69 rows, as with the wall-time calibration before.
+inline constexpr double strip_max_iteration_seconds = 1.0;
 
 /// One steady front in the strip at one σ_d. Fields on the nodes ξ_0 = −L < … < ξ_N = 0 (tip) and the
 /// rows 0 = y_0 < … < y_M = H; bulk fields node-major, index i·(M + 1) + j.

@@ -23,6 +23,7 @@ using ColumnKey = std::tuple<double, double, double, double, double>;  // α, κ
 
 struct ColumnResult {
   std::map<double, double> c_min;        // H -> c_min (H = 0: the chain's)
+  std::map<double, double> error;        // H -> its estimated error (NaN: none)
   std::map<double, std::string> why;     // H -> why there is none
 };
 
@@ -32,8 +33,14 @@ ColumnResult column_speeds(const core::InterfaceParams& law, double mu, double r
   ColumnResult out;
   if (heights.front() == 0.0) {
     const auto b = continuum::continue_steady_fronts(law, {rho, mu, 1000.0, 0.0});
-    if (b.end == continuum::BranchEnd::saddle_node && std::isfinite(b.c_min)) out.c_min[0.0] = b.c_min;
-    else out.why[0.0] = "the 1D branch ends without a limiting front: " + b.reason;
+    if (b.end == continuum::BranchEnd::saddle_node && std::isfinite(b.c_min)) {
+      out.c_min[0.0] = b.c_min;
+      out.error[0.0] = nan;
+      for (const auto& p : b.points)
+        if (p.c == b.c_min) out.error[0.0] = p.speed_error;
+    } else {
+      out.why[0.0] = "the 1D branch ends without a limiting front: " + b.reason;
+    }
   }
   std::vector<double> strip(heights.begin() + (heights.front() == 0.0 ? 1 : 0), heights.end());
   if (strip.empty()) return out;
@@ -45,7 +52,15 @@ ColumnResult column_speeds(const core::InterfaceParams& law, double mu, double r
   o.front.intervals = 200;
   o.front.max_newton = 12;
   const auto path = continuum::continue_strip_height_at_column(law, {rho, mu, 1000.0, 0.0}, o);
-  for (const auto& f : path.fronts) out.c_min[f.bulk.height] = f.c;
+  for (const auto& f : path.fronts) {
+    out.c_min[f.bulk.height] = f.c;
+    if (std::find(strip.begin(), strip.end(), f.bulk.height) == strip.end()) continue;  // the path's start only
+    // the front's own meshes (the path's: they follow its tip zone) for its estimate
+    auto mesh = continuum::following_tip(o.front, continuum::strip_tip_zone(law, f.c, f.v_behind), o.tip_resolution,
+                                         o.row_resolution);
+    mesh.row_grading = f.row_grading;  // its own rows exactly (every other one of them for the estimate)
+    out.error[f.bulk.height] = continuum::estimate_strip_speed_error(f, mesh).total;
+  }
   for (double H : strip)
     if (!out.c_min.count(H)) out.why[H] = "the path in H stopped before H = " + core::format_number(H) + ": " + path.reason;
   return out;
@@ -53,7 +68,8 @@ ColumnResult column_speeds(const core::InterfaceParams& law, double mu, double r
 
 }  // namespace
 
-std::vector<double> minimal_front_speeds(const std::vector<Scene>& scenes, std::vector<std::string>& why) {
+std::vector<double> minimal_front_speeds(const std::vector<Scene>& scenes, std::vector<std::string>& why,
+                                         std::vector<double>* error) {
   std::map<ColumnKey, std::vector<double>> columns;
   for (const auto& s : scenes)
     columns[{s.interface.alpha, s.interface.kappa, s.interface.eta, s.bulk.mu, s.bulk.rho}].push_back(s.bulk.height);
@@ -68,11 +84,13 @@ std::vector<double> minimal_front_speeds(const std::vector<Scene>& scenes, std::
   for (auto& [key, job] : jobs) done[key] = job.get();
   std::vector<double> out;
   why.assign(scenes.size(), "");
+  if (error) error->assign(scenes.size(), nan);
   for (std::size_t i = 0; i < scenes.size(); ++i) {
     const auto& s = scenes[i];
     const auto& r = done.at({s.interface.alpha, s.interface.kappa, s.interface.eta, s.bulk.mu, s.bulk.rho});
     const auto it = r.c_min.find(s.bulk.height);
     out.push_back(it == r.c_min.end() ? nan : it->second);
+    if (error && r.error.count(s.bulk.height)) (*error)[i] = r.error.at(s.bulk.height);
     if (it == r.c_min.end()) why[i] = r.why.count(s.bulk.height) ? r.why.at(s.bulk.height) : "no c_min";
   }
   return out;
@@ -80,12 +98,14 @@ std::vector<double> minimal_front_speeds(const std::vector<Scene>& scenes, std::
 
 void fig2_against_cmin(StudyReport& rep, Columns& all, const std::vector<Scene>& scenes) {
   std::vector<std::string> why;
-  const auto c_min = minimal_front_speeds(scenes, why);
+  std::vector<double> c_min_error;
+  const auto c_min = minimal_front_speeds(scenes, why, &c_min_error);
   const char* models[] = {"continuum", "discrete"};
   std::map<double, std::vector<std::size_t>> by_height;
   for (std::size_t i = 0; i < scenes.size(); ++i) {
     all["H"].push_back(scenes[i].bulk.height);
     all["c_min"].push_back(c_min[i]);
+    all["c_min_error"].push_back(c_min_error[i]);
     for (const char* m : models) {
       const double c = all[std::string("c_") + m][i];
       all[std::string("ratio_") + m].push_back(c / c_min[i]);
@@ -134,6 +154,9 @@ void fig2_against_cmin(StudyReport& rep, Columns& all, const std::vector<Scene>&
   rep.definitions["fig2_all/c_min"] =
       "minimal steady front speed of the run's own scene: the end of the 1D branch (chain) or the strip's limiting "
       "front at the run's H, continued in H at fixed mu, rho (docs/fronts.md §10.16)";
+  rep.definitions["fig2_all/c_min_error"] =
+      "estimated error of c_min (docs/fronts.md §10.20): the 1D solver's own on the chain; on the strip the front re-solved "
+      "on every other row (order 1.5 assumed) plus its xi part (8 rows, 200 intervals: ~1 % at H = 100, §10.16); NaN: none";
   rep.definitions["fig2_all/ratio_continuum"] = "c_transient / c_min (continuum)";
   rep.definitions["fig2_all/ratio_discrete"] = "c_transient / c_min (discrete)";
   rep.definitions["fig2_heights/H_over_l_min"] =

@@ -29,8 +29,16 @@ TEST_CASE("fig2 against c_min: the chain's c_min is the 1D branch end, the strip
       fig1_strip({"bulk.height=17", "grid.dy=1", "interface.eta=0.2", "bulk.length=600"}),
   };
   std::vector<std::string> why;
-  const auto c = compare::minimal_front_speeds(scenes, why);
+  std::vector<double> err;
+  const auto c = compare::minimal_front_speeds(scenes, why, &err);
   REQUIRE(c.size() == scenes.size());
+  REQUIRE(err.size() == scenes.size());
+  for (std::size_t i = 0; i < c.size(); ++i) {  // every c_min with its estimate (docs/fronts.md §10.20)
+    INFO("scene " << i << ": c_min " << c[i] << " +- " << err[i]);
+    CHECK(std::isfinite(err[i]));
+    CHECK(err[i] > 0.0);
+  }
+  CHECK(err[0] < 1e-6 * c[0]);  // the chain: the 1D solver's own, ~1e-10 relative
   for (std::size_t i = 0; i < c.size(); ++i) {
     INFO("scene " << i << ": " << why[i]);
     CHECK(std::isfinite(c[i]));
@@ -43,6 +51,10 @@ TEST_CASE("fig2 against c_min: the chain's c_min is the 1D branch end, the strip
   // rule: within 1e-3), and 10.4046 at 24 rows and 600 intervals: the analysis' mesh error, +0.9 %, below 1.5 %
   CHECK(std::abs(c[1] / 10.49868 - 1.0) < 1e-3);
   CHECK(std::abs(c[1] / 10.4046 - 1.0) < 0.015);
+  // its estimate covers that mesh error (24 rows: error ~1/9 of the 8-row one at order 2)
+  INFO("H = 100: c_min " << c[1] << " +- " << err[1] << ", 24 rows 600 intervals: 10.4046");
+  CHECK(std::abs(c[1] - 10.4046) <= err[1]);
+  CHECK(err[1] < 4.0 * std::abs(c[1] - 10.4046));
   // the crossover lies between, a stiffer column is faster, a larger eta slower (c_min ~ sqrt(mu/eta) in 1D)
   CHECK(c[2] > c[1]);
   CHECK(c[2] < 1.01 * c[0]);

@@ -93,6 +93,41 @@ TEST_CASE("fronts accuracy: --intervals 8 is flagged (rtol not met), every strip
   CHECK(contains(out200, " ± "));
 }
 
+TEST_CASE("fronts accuracy: a small --budget stops the mesh choice: NOT met (budget), every number with its estimate",
+          "[fronts][strip][cli]") {
+  // Issue 36 item 1, the whole-branch cost budget (docs/fronts.md §10.20): at H = 17 (homogeneous_strip) the
+  // default chooses 16 rows (8 rows: largest estimate 0.16 % > rtol 0.1 %). With --budget 10 (CPU seconds) the
+  // 16-row branch, predicted at ~45 s, is not solved: the result stays on 8 rows and says so in /branch@accuracy,
+  // @resolution and the summary, while every number it returns still carries its (finite) estimate. Fails if the
+  // budget is ignored (16 rows, met) or the flag or an estimate is missing.
+  const TempDir dir("fronts-accuracy-budget");
+  const auto o = slipfront::testing::run(
+      {SLIPFRONT_BINARY, "fronts", std::string(SLIPFRONT_SOURCE_DIR) + "/configs/homogeneous_strip.toml", "--budget", "10",
+       "--out", (dir.path / "b").string()},
+      dir.path);
+  INFO(o.out << o.err);
+  REQUIRE(o.code == 0);
+  const auto f = slipfront::testing::read_h5(dir.path / "b" / "fronts.h5");
+  CHECK(f.strings.at("/meta@status") == "complete");
+  CHECK(f.numbers.at("/branch@rows") == 8.0);
+  CHECK(f.numbers.at("/branch@rtol_met") == 0.0);
+  CHECK(f.numbers.at("/branch@budget_seconds") == 10.0);
+  CHECK(contains(f.strings.at("/branch@accuracy"), "NOT met (budget)"));
+  CHECK(contains(f.strings.at("/branch@resolution"), "budget: 16 rows"));
+  CHECK(contains(o.out, "rtol NOT met (budget)"));
+  CHECK(f.numbers.at("/branch@largest_relative_error") > 1e-3);
+  for (const char* k : {"/branch@c_min_error", "/branch@c_at_scene_sigma_d_error", "/profiles/0@c_error"}) {
+    INFO(k);
+    CHECK(std::isfinite(f.numbers.at(k)));
+    CHECK(f.numbers.at(k) > 0.0);
+  }
+  for (double e : f.datasets.at("/branch/speed_error")) CHECK(std::isfinite(e));
+  // the prediction of the whole is the cost model's, and the CPU spent is of the same order
+  INFO("predicted " << f.numbers.at("/branch@predicted_seconds") << " s, spent " << f.numbers.at("/branch@cpu_seconds") << " s");
+  CHECK(f.numbers.at("/branch@predicted_seconds") > f.numbers.at("/branch@cpu_seconds") / 3.0);
+  CHECK(f.numbers.at("/branch@predicted_seconds") < f.numbers.at("/branch@cpu_seconds") * 3.0);
+}
+
 TEST_CASE("fronts accuracy: a strip mesh whose Newton iteration cannot stop promptly is refused before any work",
           "[fronts][strip][cli]") {
   // Probe 3 of issue 36: --rows 256 (or --intervals 100000) ignored SIGINT for > 110 s and wrote no file. Now
@@ -115,8 +150,8 @@ TEST_CASE("fronts accuracy: a strip mesh whose Newton iteration cannot stop prom
 
 TEST_CASE("fronts accuracy: SIGINT inside a strip solve stops it within an iteration and writes an interrupted file",
           "[fronts][strip][cli]") {
-  // 48 rows (one Newton iteration ~2 s estimated): the cold start solves strips of growing height on 48 rows;
-  // before, no solve polled the stop. SIGINT 3 s in: exit 130 within 20 s (a few iterations on a loaded machine),
+  // 48 rows (one Newton iteration ~0.5 CPU s estimated, a few s of wall time under load): the cold start solves
+  // strips of growing height on 48 rows; before, no solve polled the stop. SIGINT 3 s in: exit 130 within 20 s (a few iterations on a loaded machine),
   // /meta status interrupted.
   const TempDir dir("fronts-accuracy-sigint");
   const fs::path out = dir.path / "out";

@@ -367,7 +367,7 @@ Strip::Strip(const BulkParams& bulk, const DriveParams& drive, const InterfacePa
   x_.resize(nx_);
   for (std::size_t i = 0; i < nx_; ++i) x_[i] = static_cast<double>(i) * dx;
   rho_p_ = rho_ / H_;
-  mu_p_ = mu_ / H_;
+  mu_p_ = modulus(bulk);
   if (drive.loading == Loading::edge) {
     spring_K_ = drive.K;
     v_d_ = drive.v_d;

@@ -113,7 +113,8 @@ class Strip {
   BodyShape shape() const { return {nx_, ny_ + 1, 1}; }
   /// Row-major: dof j·nx + i (one component).
   std::size_t dof(std::size_t i, std::size_t j, std::size_t) const { return j * nx_ + i; }
-  /// μ' = μ/H, the shear modulus per unit height (docs/model.md §9).
+  /// μ' = μ/H, the shear modulus per unit height (docs/model.md §9): of the parameters (the one formula), of this strip.
+  static double modulus(const BulkParams& bulk) { return bulk.mu / bulk.height; }
   double modulus() const { return mu_p_; }
   /// docs/model.md §9.4: every row above the interface carries the uniform shear σ_d, u(x, y) = u(x, 0) + σ_d y/μ',
   /// moving with the interface's slip rate.

@@ -186,14 +186,6 @@ void BulkParams::validate(bool one_dimensional) const {
   }
 }
 
-const char* to_string(BodyKind b) {
-  switch (b) {
-    case BodyKind::chain: return "chain";
-    case BodyKind::strip: return "strip";
-  }
-  return "?";
-}
-
 const char* to_string(Loading l) {
   switch (l) {
     case Loading::edge: return "edge";

@@ -80,7 +80,6 @@ enum class BodyKind {
   chain,  ///< the 1D chain, core::Bulk (bulk.height absent)
   strip,  ///< the antiplane strip of height H, core::Strip (bulk.height given)
 };
-const char* to_string(BodyKind b);
 
 /// Elastic bulk: ρ u_tt = μ u_xx + f − σ̄ − η u_t on [0, L].
 struct BulkParams {

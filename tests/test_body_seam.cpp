@@ -22,6 +22,7 @@
 #include "compare/runner.hpp"
 #include "continuum/friction_law.hpp"
 #include "core/bodies.hpp"
+#include "h5content.hpp"
 #include "process.hpp"
 #include "scenes.hpp"
 
@@ -70,20 +71,6 @@ double weighted_sum(const std::vector<double>& f, double dx) {
   double s = 0.0;
   for (std::size_t i = 0; i < f.size(); ++i) s += (i == 0 || i + 1 == f.size() ? 0.5 * dx : dx) * f[i];
   return s;
-}
-
-std::vector<hsize_t> dataset_shape(const fs::path& file, const std::string& path) {
-  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  REQUIRE(f >= 0);
-  const hid_t d = H5Dopen2(f, path.c_str(), H5P_DEFAULT);
-  REQUIRE(d >= 0);
-  const hid_t sp = H5Dget_space(d);
-  std::vector<hsize_t> dims(static_cast<std::size_t>(H5Sget_simple_extent_ndims(sp)));
-  H5Sget_simple_extent_dims(sp, dims.data(), nullptr);
-  H5Sclose(sp);
-  H5Dclose(d);
-  H5Fclose(f);
-  return dims;
 }
 
 }  // namespace
@@ -203,7 +190,7 @@ TEST_CASE("body seam: a two-component test body runs through the dispatch, the r
     testing::TempDir dir("body_seam");
     const fs::path file = dir.path / "results.h5";
     app::write_results(file, s, app::to_toml(s), {twin}, app::RunMeta{});
-    CHECK(dataset_shape(file, "/continuum/bulk/u") == std::vector<hsize_t>{nb, 1, nx, 2});
+    CHECK(testing::dataset_shape(file, "/continuum/bulk/u") == std::vector<hsize_t>{nb, 1, nx, 2});
     const app::ResultsFile back = app::read_results(file);
     REQUIRE(back.models.size() == 1);
     CHECK(back.models[0].bulk.at("u") == bu);

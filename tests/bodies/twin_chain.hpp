@@ -3,9 +3,9 @@
 // of core/bulk.hpp with a second displacement per node, decoupled from the first. Component 0 is the scene's
 // chain (its interface: the law's sites, the drive, σ_d); component 1 is a free elastic chain on the same grid
 // (same μ, ρ; no interface, no drive, free ends), started by the lift from the interface's initial state. It
-// stands in for the in-plane strip of MODEL.md §7 (two displacements per node) where the run layer is concerned:
-// two components per node, a dof layout of its own (component planes, dof c·n + i), a two-component
-// snapshot field. It implements core::Body and core::RunBody; nothing else in the code base knows about it.
+// stands in for the paper's in-plane strip (plane strain: two displacements per node) where the run layer
+// is concerned: two components per node, a dof layout of its own (component planes, dof c·n + i), a
+// two-component snapshot field. It implements core::Body and core::RunBody; nothing else in the code base knows about it.
 #include <cstddef>
 #include <span>
 #include <vector>

@@ -68,7 +68,7 @@ concept Body = requires(const B& b, B& mb, std::size_t i, double d, std::span<co
 // slip of any field and its snapshot fields. The run layer (compare/dispatch.hpp, initial.hpp, record.hpp,
 // estimate.cpp) asks these and never tests which body it has.
 
-/// The grid of a body: sites() interface sites per row, rows() rows (row 0 the interface), components()
+/// The grid of a body: `sites` interface sites per row, `rows` rows (row 0 the interface), `components`
 /// displacements per node (the antiplane bodies: one; an in-plane body: two).
 struct BodyShape {
   std::size_t sites = 1, rows = 1, components = 1;

@@ -78,10 +78,10 @@ bool imposed_sweep(const Scene& s) { return imposed(s) && s.drive.sweep_points !
 bool dt_given(const Scene& s) { return s.time.dt != 0.0; }
 bool cfl_used(const Scene& s) { return !imposed(s) && s.time.dt == 0.0; }
 bool bulk_scene(const Scene& s) { return !imposed(s); }
-bool strip_given(const Scene& s) { return s.bulk.height != 0.0; }
+bool strip_given(const Scene& s) { return s.bulk.body() == core::BodyKind::strip; }
 bool bulk_snapshots(const Scene& s) { return strip_given(s) && s.bulk_output.dt > 0.0; }
 // grid.dy given to a chain is refused (GridParams::validate): it would otherwise be dropped in silence
-bool strip_grid(const Scene& s) { return one_d(s) && (s.bulk.height != 0.0 || s.grid.dy != 0.0); }
+bool strip_grid(const Scene& s) { return one_d(s) && (strip_given(s) || s.grid.dy != 0.0); }
 bool implicit_integrator(const Scene& s) {
   return !imposed(s) && s.time.integrator == core::Integrator::implicit_trapezoidal;
 }
@@ -663,7 +663,7 @@ Scene scene_from_table(toml::table& root, const std::string& source, const std::
   check_names(doc, s);
   reset_unused_keys(doc, s, notes);
   validate_scene(doc, s);
-  if (s.bulk.height != 0.0 && s.grid.dy == 0.0) s.grid.dy = s.grid.dx;  // the effective value, resolved
+  if (strip_given(s) && s.grid.dy == 0.0) s.grid.dy = s.grid.dx;  // the effective value, resolved
   return s;
 }
 

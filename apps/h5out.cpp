@@ -298,14 +298,17 @@ void model(hid_t file, const compare::ModelResult& r, int deflate) {
     dataset_1d(b.get(), "t", r.bulk_t, description_of("bulk", "t"), base + "/t");
     dataset_1d(b.get(), "x", r.bulk_x, description_of("bulk", "x"), base + "/x");
     dataset_1d(b.get(), "y", r.bulk_y, description_of("bulk", "y"), base + "/y");
-    const hsize_t nb = r.bulk_t.size(), nyk = r.bulk_y.size(), nxk = r.bulk_x.size();
-    for (const auto& [name, v] : r.bulk) {
+    const hsize_t nb = r.bulk_t.size(), nyk = r.bulk_y.size(), nxk = r.bulk_x.size(), nodes = nb * nyk * nxk;
+    for (const auto& [name, v] : r.bulk) {  // a field's values per node, innermost: [nb, nyk, nxk] or [nb, nyk, nxk, nc]
       const std::string where = base + "/" + name;
-      if (v.size() != nb * nyk * nxk)
+      if (nodes == 0 || v.empty() || v.size() % nodes != 0)
         throw OutputError("bulk snapshot field " + name + " of " + m + " has " + std::to_string(v.size()) +
-                          " values, expected nb * nyk * nxk = " + std::to_string(nb) + " * " + std::to_string(nyk) +
-                          " * " + std::to_string(nxk));
-      dataset(b.get(), name, v.data(), {nb, nyk, nxk}, description_of("bulk", name), where, deflate);
+                          " values, expected a multiple of nb * nyk * nxk = " + std::to_string(nb) + " * " +
+                          std::to_string(nyk) + " * " + std::to_string(nxk));
+      const hsize_t components = v.size() / nodes;
+      std::vector<hsize_t> dims{nb, nyk, nxk};
+      if (components > 1) dims.push_back(components);
+      dataset(b.get(), name, v.data(), dims, description_of("bulk", name), where, deflate);
     }
   }
 

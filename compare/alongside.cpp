@@ -126,7 +126,7 @@ template <class Tag, class LawD>
 SceneResult lockstep(const Scene& s, std::optional<LawD> discrete_law, const RunControl& ctl) {
   using LawC = continuum::FrictionLaw;
   using LawM = discrete::MeanFieldLaw;
-  const std::size_t nodes = core::Bulk(s.bulk, s.drive, s.interface, s.grid.dx).nodes();
+  const std::size_t nodes = body_shape(s).sites;
   std::optional<DynamicRun<LawC, typename Tag::template stepper<LawC>>> rc;
   std::optional<DynamicRun<LawM, typename Tag::template stepper<LawM>>> rm;
   std::optional<DynamicRun<LawD, typename Tag::template stepper<LawD>>> rd;
@@ -392,8 +392,7 @@ SceneResult run_scene_alongside(const Scene& s, const RunControl& ctl) {
     } else {
       if (!s.lists("discrete")) return lockstep<Tag, discrete::CountLaw>(s, std::nullopt, ctl);
       return with_discrete_law(s, [&](auto make_discrete) {
-        const core::Bulk probe(s.bulk, s.drive, s.interface, s.grid.dx);
-        return lockstep<Tag>(s, std::optional(make_discrete(probe.nodes())), ctl);
+        return lockstep<Tag>(s, std::optional(make_discrete(body_shape(s).sites)), ctl);
       });
     }
   });

@@ -1,12 +1,13 @@
 #pragma once
 // The integrator and the body, chosen in one place (docs/numerics.md, docs/model.md §9): time.integrator
-// names a stepper class for every law, bulk.height the body it steps (absent: the 1D chain, core::Bulk;
-// given: the antiplane strip, core::Strip), and with_integrator is the only switch on either.
+// names a stepper class for every law, the scene's body kind (core::BulkParams::body(), mapped to its class
+// by core::with_body, core/bodies.hpp) the body it steps, and with_integrator is the only switch on either.
 #include <span>
 #include <type_traits>
 
 #include "compare/scene.hpp"
 #include "core/adaptive.hpp"
+#include "core/bodies.hpp"
 #include "core/bulk.hpp"
 #include "core/implicit.hpp"
 #include "core/leap.hpp"
@@ -57,25 +58,36 @@ struct IsAdaptive<AdaptiveTag<B>> : std::true_type {};
 template <class Tag>
 inline constexpr bool is_adaptive = detail::IsAdaptive<Tag>::value;
 
-/// Calls f(Tag{}) for the scene's time.integrator on the scene's body.
-template <class F>
-decltype(auto) with_integrator(const Scene& s, F&& f) {
-  const bool strip = s.bulk.height != 0.0;
+/// Calls f(Tag{}) for the scene's time.integrator on the body B.
+template <core::Body B, class F>
+decltype(auto) with_integrator_on(const Scene& s, F&& f) {
   switch (s.time.integrator) {
-    case core::Integrator::implicit_trapezoidal:
-      return strip ? f(ImplicitTag<core::Strip>{}) : f(ImplicitTag<core::Bulk>{});
-    case core::Integrator::adaptive_rosenbrock:
-      return strip ? f(AdaptiveTag<core::Strip>{}) : f(AdaptiveTag<core::Bulk>{});
+    case core::Integrator::implicit_trapezoidal: return f(ImplicitTag<B>{});
+    case core::Integrator::adaptive_rosenbrock: return f(AdaptiveTag<B>{});
     case core::Integrator::central_difference: break;
   }
-  return strip ? f(ExplicitTag<core::Strip>{}) : f(ExplicitTag<core::Bulk>{});
+  return f(ExplicitTag<B>{});
 }
 
-/// The body of a scene: the 1D chain or the strip (Scene::validate has checked the keys).
-template <core::Body B>
+/// Calls f(Tag{}) for the scene's time.integrator on the scene's body (core::with_body).
+template <class F>
+decltype(auto) with_integrator(const Scene& s, F&& f) {
+  return core::with_body(s.bulk.body(), [&]<class B>(std::type_identity<B>) -> decltype(auto) {
+    return with_integrator_on<B>(s, f);
+  });
+}
+
+/// The body of a scene with the drive `drive` (Scene::validate has checked the keys).
+template <core::RunBody B>
 B make_body(const Scene& s, const core::DriveParams& drive) {
-  if constexpr (std::is_same_v<B, core::Strip>) return B(s.bulk, drive, s.interface, s.grid.dx, s.grid.row_spacing());
-  else return B(s.bulk, drive, s.interface, s.grid.dx);
+  return B(s.bulk, drive, s.interface, s.grid);
+}
+
+/// The grid of the scene's body, without building it: its sites are the law's (compare/runner.hpp).
+inline core::BodyShape body_shape(const Scene& s) {
+  return core::with_body(s.bulk.body(), [&]<class B>(std::type_identity<B>) {
+    return B::shape(s.bulk, s.drive, s.grid);
+  });
 }
 
 /// Steppers with dense output (the adaptive integrators): measurements and records at exact times.

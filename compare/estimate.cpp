@@ -7,7 +7,7 @@
 
 #include "compare/initial.hpp"
 #include "continuum/friction_law.hpp"
-#include "core/strip.hpp"
+#include "core/bodies.hpp"
 #include "discrete/count_law.hpp"
 #include "discrete/streams.hpp"
 
@@ -215,12 +215,26 @@ double golden_points(const Scene& s) {
   return std::ceil(std::log(std::max(span, 1e-7) / 1e-7) / std::log(0.5 * (1.0 + std::sqrt(5.0)))) + 3.0;
 }
 
+// The scene's body, without building it (core::RunBody): its grid, and the values per node of its snapshot fields.
+struct BodyFacts {
+  core::BodyShape shape;
+  std::size_t snapshot_width = 0;
+};
+BodyFacts body_facts(const Scene& s) {
+  return core::with_body(s.bulk.body(), [&]<class B>(std::type_identity<B>) {
+    BodyFacts f{B::shape(s.bulk, s.drive, s.grid)};
+    for (const auto& field : B::snapshot_fields()) f.snapshot_width += field.components;
+    return f;
+  });
+}
+
 // The grid: its nodes (0D: one site) and, in 1D, the elastic length sqrt(μ/α) in nodes.
 void put_grid(const Scene& s, Estimate& e) {
   const bool one_d = core::is_one_dimensional(s.drive.loading);
-  e.sites = one_d ? std::round(s.bulk.length / s.grid.dx) + 1.0 : 1.0;
-  e.rows = one_d && s.bulk.height != 0.0 ? std::round(s.bulk.height / s.grid.row_spacing()) + 1.0 : 1.0;
-  e.bulk_nodes = e.sites * e.rows;
+  const core::BodyShape shape = body_facts(s).shape;
+  e.sites = static_cast<double>(shape.sites);
+  e.rows = static_cast<double>(shape.rows);
+  e.bulk_nodes = static_cast<double>(shape.dofs());
   if (one_d) {
     e.elastic_length = std::sqrt(s.bulk.mu / s.interface.alpha);
     e.nodes_per_elastic_length = e.elastic_length / s.grid.dx;
@@ -260,6 +274,7 @@ Stepping bulk_stepping(const Scene& s, const std::string& model, double sites, M
   const double t_end = s.time.t_end;
   const double stable = explicit_stable_dt(s);
   const Integrator integ = s.time.integrator;
+  const bool strip = s.bulk.body() == core::BodyKind::strip;  // the strip's measured costs per node
   if (integ == Integrator::adaptive_rosenbrock && model != "continuum") {
     m.integrator = "leap";
     m.steps = leap_steps(s, sites);
@@ -271,7 +286,7 @@ Stepping bulk_stepping(const Scene& s, const std::string& model, double sites, M
                     " with time.leap_epsilon = " + format_number(s.time.leap_epsilon) + ", time.implicit_tolerance = " +
                     format_number(s.time.implicit_tolerance) + ", an estimate";
     // the implicit step's fields and its trial solves (about 1.6 a step), the leap tests; the strip's bulk per node
-    if (s.bulk.height != 0.0) return {10.0, c.leap_bulk, c.strip_leap, 12.0};
+    if (strip) return {10.0, c.leap_bulk, c.strip_leap, 12.0};
     return {12.0, c.leap_bulk};
   }
   if (integ == Integrator::adaptive_rosenbrock) {
@@ -281,7 +296,7 @@ Stepping bulk_stepping(const Scene& s, const std::string& model, double sites, M
     m.steps_basis = "adaptive: t_end/dt_max + nodes + 8 t_end (rtol/1e-3)^-0.77, an estimate";
     // the strip: the law and the interface's elimination per site, the bulk per node (u, v, their ten stage
     // vectors, the masses and the u system's rhs, Strip::solve_system's workspace: docs/performance.md §13)
-    if (s.bulk.height != 0.0) return {10.0, c.explicit_bulk, c.strip_adaptive, 31.0};
+    if (strip) return {10.0, c.explicit_bulk, c.strip_adaptive, 31.0};
     return {66.0, c.adaptive_bulk};
   }
   const bool implicit = integ == Integrator::implicit_trapezoidal;
@@ -297,7 +312,7 @@ Stepping bulk_stepping(const Scene& s, const std::string& model, double sites, M
   if (substeps >= 1.5)
     m.steps_basis += "; with time.implicit_tolerance = " + format_number(s.time.implicit_tolerance) + " ~" +
                      format_number(substeps, 3) + " substeps a step (halvings, at most 2^time.implicit_max_halvings)";
-  if (s.bulk.height != 0.0)  // the strip: the law per site, the bulk per node (u, v; implicit: V + 3 + 6 solve vectors)
+  if (strip)  // the strip: the law per site, the bulk per node (u, v; implicit: V + 3 + 6 solve vectors)
     return {6.0, c.explicit_bulk, implicit ? c.strip_implicit : c.strip_explicit, implicit ? 12.0 : 3.0};
   return {implicit ? 10.0 : 8.0, implicit ? c.implicit_bulk : c.explicit_bulk};
 }
@@ -357,13 +372,14 @@ double record_bytes(const Scene& s, const ModelEstimate& m, double sites, Memory
     if (s.output.snapshot_dt > 0)
       add("snapshots (output.snapshot_dt)", growth * word * (4.0 * sites + 1.0) * samples(t_end, s.output.snapshot_dt, cap));
     add("tip samples (measure.sample_dt)", growth * 3.0 * word * samples(t_end, s.measure.sample_dt, cap));
-    if (s.bulk.height != 0.0 && s.bulk_output.dt > 0) {  // the strip's body snapshots: u, tau_xz, tau_yz
-      const double dy = s.grid.dy > 0 ? s.grid.dy : s.grid.dx;
+    const BodyFacts body = body_facts(s);
+    if (body.snapshot_width > 0 && s.bulk_output.dt > 0) {  // the body's snapshot fields (the strip's u, tau_xz, tau_yz)
       const auto stride = static_cast<double>(std::max(1, s.bulk_output.stride));
       // kept_indices: ceil(n / stride) nodes, plus the last one when the stride skips it
       const auto kept = [&](double n) { return std::min(n, std::ceil(n / stride) + 1.0); };
-      const double nodes = kept(sites) * kept(std::round(s.bulk.height / dy) + 1.0);
-      add("bulk snapshots (output.bulk_dt)", growth * word * (3.0 * nodes + 1.0) * samples(t_end, s.bulk_output.dt, cap));
+      const double nodes = kept(sites) * kept(static_cast<double>(body.shape.rows));
+      add("bulk snapshots (output.bulk_dt)",
+          growth * word * (static_cast<double>(body.snapshot_width) * nodes + 1.0) * samples(t_end, s.bulk_output.dt, cap));
     }
   }
   if (m.model == "discrete") add("contact statistics", contact_stats_bytes(s, sites, m.steps));
@@ -499,22 +515,10 @@ double active_fraction(Loading loading) {
 }
 
 double explicit_stable_dt(const Scene& s) {
-  if (s.bulk.height != 0.0 && core::is_one_dimensional(s.drive.loading))  // the strip's own bound
-    return core::Strip::stable_time_step(s.bulk, s.drive, s.interface, s.grid.dx, s.grid.row_spacing());
-  // ω_max² = 4μ/(ρ dx²) + 2K/(ρ dx) + α/ρ (1D edge: the drive spring on the half cell of node 0;
-  // homogeneous: no spring), (K + α)/ρ for the 0D spring block: core/bulk.hpp.
-  const double rho = s.bulk.rho, alpha = s.interface.alpha;
-  double omega2 = alpha / rho;
-  switch (s.drive.loading) {
-    case Loading::edge:  // (the order of Bulk's operations: the same bits)
-      omega2 += 4.0 * s.bulk.mu / (rho * s.grid.dx * s.grid.dx);
-      omega2 += s.drive.K / (rho * (0.5 * s.grid.dx));
-      break;
-    case Loading::homogeneous: omega2 += 4.0 * s.bulk.mu / (rho * s.grid.dx * s.grid.dx); break;
-    case Loading::spring_block: omega2 += s.drive.K / rho; break;
-    case Loading::imposed_rate: return 0.0;
-  }
-  return 2.0 / std::sqrt(omega2);
+  if (s.drive.loading == Loading::imposed_rate) return 0.0;
+  return core::with_body(s.bulk.body(), [&]<class B>(std::type_identity<B>) {
+    return B::stable_time_step(s.bulk, s.drive, s.interface, s.grid);
+  });
 }
 
 Estimate estimate(const Scene& s) {

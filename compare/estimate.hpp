@@ -33,7 +33,7 @@ struct ModelEstimate {
 struct Estimate {
   double sites = 1.0;                ///< interface sites of the grid (0D: 1)
   double rows = 1.0;                 ///< rows of the body: the strip's height / grid.dy + 1 (chain, 0D: 1)
-  double bulk_nodes = 1.0;           ///< sites × rows: the body's nodes
+  double bulk_nodes = 1.0;           ///< sites × rows × components: the body's degrees of freedom
   std::vector<ModelEstimate> models; ///< in the order of Scene::models
   double steps = 0.0;                ///< largest over the models
   double memory_bytes = 0.0;         ///< peak resident memory, writing the results included
@@ -91,8 +91,8 @@ void check_checkpoint_limits(const Scene& s, const Estimate& e, const Checkpoint
 /// "checkpoints: N of up to X, Y in all, ~Z".
 std::string describe(const CheckpointEstimate& c);
 
-/// The explicit scheme's stability limit of the scene's grid, 2/ω_max with the Gershgorin bound of
-/// core::Bulk::stable_dt() (core/bulk.hpp), computed without building the grid.
+/// The explicit scheme's stability limit of the scene's body, 2/ω_max with the Gershgorin bound of its
+/// stable_dt() (core::RunBody::stable_time_step: core/bulk.hpp, core/strip.hpp), computed without building the grid.
 double explicit_stable_dt(const Scene& s);
 
 /// Calibrated costs in nanoseconds on the reference machine (docs/robustness.md §3). "Active" site-steps

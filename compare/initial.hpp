@@ -85,8 +85,9 @@ Stepper make_stepper(const Scene& s, Law law, const std::optional<FrontStart>& f
 /// patch 0 ≤ x < ℓ_n in steady sliding at σ_d on the strengthening branch — or the solved steady front
 /// with its tip at drive.front_x (docs/model.md §6), plus the slip-rate kick drive.kick_dv behind it (on
 /// the strip: u and v of every row from the strip's front, the kick on the interface row only).
-/// On the strip (docs/model.md §9.4) every row above the interface carries the uniform shear σ_d:
-/// u(x, y) = u(x, 0) + σ_d y/μ', moving with the interface's slip rate (the chain has one row, y = 0).
+/// The interface's state is lifted into the body by the body (core::RunBody::lift): on the strip
+/// (docs/model.md §9.4) every row above the interface carries the uniform shear σ_d, u(x, y) = u(x, 0) + σ_d y/μ',
+/// moving with the interface's slip rate (the chain has one row, y = 0).
 template <class Stepper>
 void set_initial_conditions(const Scene& s, Stepper& sim, const std::optional<FrontStart>& front) {
   if (s.drive.loading != core::Loading::homogeneous) return;
@@ -104,7 +105,8 @@ void set_initial_conditions(const Scene& s, Stepper& sim, const std::optional<Fr
       const bool kicked = x[i] <= s.drive.front_x && x[i] >= s.drive.front_x - s.drive.kick_length;
       sim.law().set_site(i, f.interface.area[i], f.interface.sigma_bar[i]);
       for (std::size_t j = 0; j < rows; ++j)
-        sim.set_initial(j * n + i, f.u[i * rows + j], f.velocity[i * rows + j] + (kicked && j == 0 ? s.drive.kick_dv : 0.0));
+        sim.set_initial(body.dof(i, j, 0), f.u[i * rows + j],
+                        f.velocity[i * rows + j] + (kicked && j == 0 ? s.drive.kick_dv : 0.0));
     }
     return;
   }
@@ -120,9 +122,8 @@ void set_initial_conditions(const Scene& s, Stepper& sim, const std::optional<Fr
   const auto& ip = s.interface;
   const double sd = s.drive.sigma_d;
   const double vs = continuum::strengthening_branch_velocity(ip, sd);
-  const auto& body = sim.bulk();
-  const std::size_t n = x.size(), rows = body.rows();
-  for (std::size_t i = 0; i < n; ++i) {
+  const auto set = [&sim](std::size_t k, double u, double v) { sim.set_initial(k, u, v); };
+  for (std::size_t i = 0; i < x.size(); ++i) {
     const bool patch = std::isfinite(vs) && x[i] < s.drive.nucleation_length;
     if (patch) {
       const auto ss = continuum::steady_sliding(ip, vs);
@@ -130,10 +131,7 @@ void set_initial_conditions(const Scene& s, Stepper& sim, const std::optional<Fr
     } else {
       sim.law().set_site(i, 1.0, sd);
     }
-    for (std::size_t j = 0; j < rows; ++j) {
-      const double strain = j == 0 ? 0.0 : sd * body.row_height(j) / (s.bulk.mu / body.height());  // σ_d y/μ'
-      sim.set_initial(j * n + i, sd / ip.alpha + strain, patch ? vs : 0.0);
-    }
+    sim.bulk().lift(i, sd / ip.alpha, patch ? vs : 0.0, sd, set);  // the strip: u + σ_d y/μ' in row y
   }
 }
 

@@ -70,14 +70,11 @@ struct StepEndState {
   std::span<const double> displacement() const { return sim.displacement(); }
 };
 
-/// A state view of a body with shear stresses (the strip, core::Strip::shear_stresses): what the bulk
-/// snapshots read.
+/// A state view of a body (core::RunBody): what the bulk snapshots read.
 template <class State>
-concept StripState = requires(const State& st, std::size_t i, double& a) {
+concept BodyState = requires(const State& st) {
   { st.displacement() } -> std::convertible_to<std::span<const double>>;
-  st.body().shear_stresses(st.displacement(), i, i, a, a);
-  { st.body().row_height(i) } -> std::convertible_to<double>;
-  { st.body().rows() } -> std::convertible_to<std::size_t>;
+  requires core::RunBody<std::remove_cvref_t<decltype(st.body())>>;
 };
 
 /// A stepper with dense output (AdaptiveSimulation): its state at any t in the last step, each field
@@ -91,18 +88,11 @@ class DenseState {
   std::span<const double> sigma_bar() const { return field(core::Field::sigma_bar); }
   std::span<const double> slip_rate() const { return field(core::Field::slip_rate); }
   std::span<const double> slip() const { return field(core::Field::slip); }
-  /// The drive force at t from the edge slip on the dense output (the chain: u_0; the strip: the edge column's
-  /// mean ū₀ = Σ_j wy(j) u_0j / H, docs/model.md §9).
+  /// The drive force at t from the body's edge slip on the dense output (the chain: u_0; the strip: the edge
+  /// column's mean ū₀ = Σ_j wy(j) u_0j / H, docs/model.md §9), read at the dofs it needs only.
   double drive_force() const {
     const auto& b = sim_.bulk();
-    if constexpr (requires { b.row_weight(std::size_t{0}); }) {
-      double ubar = 0.0;
-      for (std::size_t j = 0; j < b.rows(); ++j)
-        ubar += b.row_weight(j) * sim_.dense_value(t_, core::Field::slip, j * b.sites());
-      return b.spring_K() * (b.driver_velocity() * t_ - ubar / b.height()) + b.rear_traction();
-    } else {
-      return b.drive_force(t_, sim_.dense_value(t_, core::Field::slip, 0));
-    }
+    return b.drive_force_at(t_, b.edge_slip_of([this](std::size_t k) { return sim_.dense_value(t_, core::Field::slip, k); }));
   }
   /// The body and the displacement of all its dofs at t (the strip's bulk snapshots).
   const auto& body() const { return sim_.bulk(); }
@@ -163,15 +153,15 @@ struct ImposedRateState {
 
 /// What a run stores, and when: series rows every output.series_dt, snapshots every
 /// output.snapshot_dt (1D scenes), each at the first step end at or after each multiple (fixed-step
-/// runs, exact = false) or at the exact multiples (dense output, exact = true); on the strip
-/// (bulk.height), bulk snapshots every output.bulk_dt likewise (at the exact multiples on the adaptive
-/// integrator's dense output).
+/// runs, exact = false) or at the exact multiples (dense output, exact = true); the body's snapshot fields
+/// (the strip's) every output.bulk_dt likewise (at the exact multiples on the adaptive integrator's dense
+/// output; nothing on a body without them).
 class Recorder {
  public:
   Recorder(const Scene& s, ModelResult& r)
       : eta_(s.interface.eta), one_d_(core::is_one_dimensional(s.drive.loading)),
         series_every_(s.output.series_dt), snapshot_every_(one_d_ && s.output.snapshot_dt > 0 ? s.output.snapshot_dt : -1),
-        bulk_every_(one_d_ && s.bulk.height != 0.0 && s.bulk_output.dt > 0 ? s.bulk_output.dt : -1),
+        bulk_every_(one_d_ && s.bulk_output.dt > 0 ? s.bulk_output.dt : -1),
         bulk_stride_(static_cast<std::size_t>(std::max(1, s.bulk_output.stride))), series_due_(series_every_),
         snap_due_(snapshot_every_), bulk_due_(bulk_every_),
         snapshot_rows_(snapshot_every_ > 0 ? static_cast<std::size_t>(s.time.t_end / snapshot_every_) + 2 : 0), r_(r) {}
@@ -246,14 +236,16 @@ class Recorder {
     if (st.mean_age(age_)) detail::append(r_.snapshots, "age", age_, rows);
   }
 
-  /// One bulk snapshot (docs/output.md /<model>/bulk/): u, tau_xz, tau_yz at the kept nodes
-  /// (kept_indices in x and y: every bulk_stride-th, the last column and the top row always), rows in
-  /// order, columns inner; the kept positions with the first one. Nothing where the body has no shear
-  /// stresses (the chain, whose bulk cadence is never due).
+  /// One bulk snapshot (docs/output.md /<model>/bulk/): the body's snapshot fields (core::RunBody:
+  /// the strip's u, tau_xz, tau_yz) at the kept nodes (kept_indices in x and y: every bulk_stride-th, the last
+  /// column and the top row always), rows in order, columns inner, the components of a node innermost; the
+  /// kept positions with the first one. Nothing for a body without snapshot fields (the chain).
   template <class State>
   void bulk_snapshot(const State& st) {
-    if constexpr (StripState<State>) {
+    if constexpr (BodyState<State>) {
       const auto& body = st.body();
+      const auto fields = body.snapshot_fields();
+      if (fields.empty()) return;
       const auto u = st.displacement();
       const auto cols = kept_indices(body.sites(), bulk_stride_), rows = kept_indices(body.rows(), bulk_stride_);
       if (r_.bulk_t.empty()) {
@@ -263,17 +255,19 @@ class Recorder {
         for (const auto j : rows) r_.bulk_y.push_back(body.row_height(j));
       }
       r_.bulk_t.push_back(st.t());
-      auto& cu = r_.bulk["u"];
-      auto& cxz = r_.bulk["tau_xz"];
-      auto& cyz = r_.bulk["tau_yz"];
-      const std::size_t nx = body.sites();
+      std::vector<std::vector<double>*> out;  // the column of each field
+      std::size_t width = 0;                  // values per node, all fields
+      for (const auto& f : fields) {
+        out.push_back(&r_.bulk[f.name]);
+        width += f.components;
+      }
+      node_values_.resize(width);
       for (const auto j : rows)
         for (const auto i : cols) {
-          double txz = 0.0, tyz = 0.0;
-          body.shear_stresses(u, i, j, txz, tyz);
-          cu.push_back(u[j * nx + i]);
-          cxz.push_back(txz);
-          cyz.push_back(tyz);
+          body.snapshot_values(u, i, j, node_values_);
+          const double* v = node_values_.data();
+          for (std::size_t k = 0; k < fields.size(); ++k)
+            for (std::size_t c = 0; c < fields[k].components; ++c) out[k]->push_back(*v++);
         }
     }
   }
@@ -286,7 +280,8 @@ class Recorder {
   Cadence series_due_, snap_due_, bulk_due_;
   std::size_t snapshot_rows_;  ///< the rows a run to t_end takes (reserved at the first snapshot)
   ModelResult& r_;
-  std::vector<double> age_;  ///< scratch row of mean ages
+  std::vector<double> age_;          ///< scratch row of mean ages
+  std::vector<double> node_values_;  ///< scratch: a node's snapshot values (bulk_snapshot)
 };
 
 }  // namespace slipfront::compare

@@ -33,10 +33,9 @@ ModelResult run_model(const Scene& s, MakeLaw make_law, const std::string& model
     if (resume) throw core::ArchiveError("checkpoint: an imposed-rate scene has no checkpoints");
     return run_imposed_rate<Law>(s, make_law, model, ctl);
   }
-  const core::Bulk probe(s.bulk, s.drive, s.interface, s.grid.dx);
   return with_integrator(s, [&](auto tag) {
     using Stepper = typename decltype(tag)::template stepper<Law>;
-    return run_dynamic<Law, Stepper>(s, make_law(probe.nodes()), model, ctl, header, resume,
+    return run_dynamic<Law, Stepper>(s, make_law(body_shape(s).sites), model, ctl, header, resume,
                                      contact_prediction_for(s, model));
   });
 }

@@ -119,7 +119,7 @@ void Scene::validate() const {
                                         " no contact age and the continuum model does not run: no "
                                         "age would be written (use discrete.representation = \"agent\", or add \"continuum\" "
                                         "to models)");
-  if (bulk.height != 0.0) {  // the strip (docs/model.md §9)
+  if (bulk.body() == core::BodyKind::strip) {  // the strip (docs/model.md §9)
     // Too few rows (docs/numerics.md §8.2): the y profile under the interface is not resolved; lifted with the
     // grid's other resolution check (limits.min_nodes_per_elastic_length = 0).
     if (limits.min_nodes_per_elastic_length > 0.0) {

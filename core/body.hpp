@@ -12,6 +12,8 @@
 #include <span>
 #include <vector>
 
+#include "core/params.hpp"
+
 namespace slipfront::core {
 
 /// A stand-in for an interface law's linearisation in the Body concept (core/law.hpp).
@@ -59,5 +61,61 @@ concept Body = requires(const B& b, B& mb, std::size_t i, double d, std::span<co
   b.kick(d, d, d, c, c, c, m);
   mb.implicit_solve(NoLinearisation{}, c, m, m, d, d, d, c, c, c, m);
 };
+
+// ---------------------------------------------------------------------------------------------
+// What the run layer asks of a body beyond the steppers (issue 37): its shape from the parameters (no grid
+// built), its stable step, the layout of its fields, the lift of an interface state into the body, the edge
+// slip of any field and its snapshot fields. The run layer (compare/dispatch.hpp, initial.hpp, record.hpp,
+// estimate.cpp) asks these and never tests which body it has.
+
+/// The grid of a body: `sites` interface sites per row, `rows` rows (row 0 the interface), `components`
+/// displacements per node (the antiplane bodies: one; an in-plane body: two).
+struct BodyShape {
+  std::size_t sites = 1, rows = 1, components = 1;
+  std::size_t nodes() const { return sites * rows; }
+  std::size_t dofs() const { return nodes() * components; }
+};
+
+/// One field of a body's snapshots (docs/output.md /<model>/bulk/): its name and its values per node (a
+/// displacement of an in-plane body: two). The writer describes it (apps/h5out.cpp).
+struct SnapshotField {
+  const char* name;
+  std::size_t components;
+};
+
+/// Stand-ins for the callbacks of the RunBody concept.
+struct NoDofSetter {
+  void operator()(std::size_t, double, double) const {}
+};
+struct NoDofValue {
+  double operator()(std::size_t) const { return 0.0; }
+};
+
+/// A body the run layer can run:
+///   B(bulk, drive, law, grid)          built from the scene's parameters
+///   B::shape(bulk, drive, grid)        its BodyShape, without building the grid (the law's size, the estimate)
+///   B::stable_time_step(bulk, drive, law, grid)   stable_dt() of the body those parameters build
+///   shape(), dof(i, j, c)              the grid; the dof index of component c of node (site i, row j)
+///   lift(i, u, v, σ_d, set)            an interface state (u, v at site i) lifted into the body under the
+///                                      uniform stress σ_d: set(dof, u, v) for every dof of column i
+///   edge_slip_of(value)                the edge slip (the drive's) of any field given as value(dof)
+///   drive_force_at(t, edge_slip)       F = K (v_d t − edge_slip) + F_r
+///   snapshot_fields(), snapshot_values(u, i, j, out)   the body's snapshot fields and their values at a
+///                                      node, components inner, in the order of snapshot_fields()
+template <class B>
+concept RunBody =
+    Body<B> && requires(const B& b, const BulkParams& bp, const DriveParams& dp, const InterfaceParams& ip,
+                        const GridParams& gp, std::size_t i, double d, std::span<const double> c, std::span<double> m) {
+      B(bp, dp, ip, gp);
+      { B::shape(bp, dp, gp) } -> std::same_as<BodyShape>;
+      { B::stable_time_step(bp, dp, ip, gp) } -> std::convertible_to<double>;
+      { b.shape() } -> std::same_as<BodyShape>;
+      { b.dof(i, i, i) } -> std::convertible_to<std::size_t>;
+      b.lift(i, d, d, d, NoDofSetter{});
+      { b.edge_slip_of(NoDofValue{}) } -> std::convertible_to<double>;
+      { b.drive_force_at(d, d) } -> std::convertible_to<double>;
+      { B::snapshot_fields() } -> std::convertible_to<std::span<const SnapshotField>>;
+      b.snapshot_values(c, i, i, m);
+    };
 
 }  // namespace slipfront::core

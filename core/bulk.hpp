@@ -27,6 +27,8 @@ class Bulk {
  public:
   /// 1D (edge, homogeneous) or 0D spring block; throws for imposed_rate (no bulk there).
   Bulk(const BulkParams& bulk, const DriveParams& drive, const InterfaceParams& law, double dx);
+  Bulk(const BulkParams& bulk, const DriveParams& drive, const InterfaceParams& law, const GridParams& grid)
+      : Bulk(bulk, drive, law, grid.dx) {}
 
   std::size_t nodes() const { return x_.size(); }
   std::size_t sites() const { return x_.size(); }  ///< Body: every node is an interface site
@@ -166,6 +168,28 @@ class Bulk {
   /// ω_max² = 4μ/(ρ dx²) + 2K/(ρ dx) + α/ρ   (1D; 0D: (K + α)/ρ).
   double stable_dt() const { return stable_dt_; }
 
+  // --- core::RunBody (core/body.hpp): what the run layer asks of a body ------------------------------
+  /// round(L/dx) + 1 sites in one row (1D), one site (the 0D spring block); one component.
+  static BodyShape shape(const BulkParams& bulk, const DriveParams& drive, const GridParams& grid);
+  /// stable_dt() of the chain these parameters build (0 for an imposed rate: no body).
+  static double stable_time_step(const BulkParams& bulk, const DriveParams& drive, const InterfaceParams& law,
+                                 const GridParams& grid);
+  BodyShape shape() const { return {nodes(), 1, 1}; }
+  std::size_t dof(std::size_t i, std::size_t, std::size_t) const { return i; }
+  /// The chain is its interface: the site's own state.
+  template <class Set>
+  void lift(std::size_t i, double u, double v, double, Set&& set) const {
+    set(i, u, v);
+  }
+  template <class Value>
+  double edge_slip_of(Value&& value) const {
+    return value(std::size_t{0});
+  }
+  double drive_force_at(double t, double edge_slip) const { return drive_force(t, edge_slip); }
+  /// None: the chain's fields are the interface's (the snapshots).
+  static std::span<const SnapshotField> snapshot_fields() { return {}; }
+  void snapshot_values(std::span<const double>, std::size_t, std::size_t, std::span<double>) const {}
+
  private:
   std::vector<double> x_;
   double dx_ = 1.0, rho_ = 1.0, k_ = 0.0, w_in_ = 1.0, w_end_ = 1.0;
@@ -174,5 +198,6 @@ class Bulk {
 };
 
 static_assert(Body<Bulk>);
+static_assert(RunBody<Bulk>);
 
 }  // namespace slipfront::core

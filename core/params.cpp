@@ -179,9 +179,9 @@ void BulkParams::validate(bool one_dimensional) const {
   if (one_dimensional) {
     check_in_domain("bulk.mu", mu);
     check_in_domain("bulk.length", length);
-    if (height != 0.0) check_in_domain("bulk.height", height);
+    if (body() != BodyKind::chain) check_in_domain("bulk.height", height);
   } else {
-    require(height == 0.0, "bulk.height",
+    require(body() == BodyKind::chain, "bulk.height",
             "a 0D scene (drive.loading = spring_block or imposed_rate) has no body to give a height to");
   }
 }
@@ -268,7 +268,7 @@ void GridParams::validate(const BulkParams& bulk, bool one_dimensional) const {
   const double n = bulk.length / dx;
   require(std::abs(n - std::round(n)) < 1e-9 * std::max(1.0, n), "grid.dx",
           "bulk.length / grid.dx must be a whole number of cells, got " + format_number(n));
-  if (bulk.height == 0.0) {
+  if (bulk.body() == BodyKind::chain) {
     require(dy == 0.0, "grid.dy", "is the row spacing of the strip: give bulk.height too (or drop grid.dy)");
     require(n <= 5e7, "grid.dx",
             "gives " + format_number(n + 1) + " nodes; more than 5e7 nodes would not fit in memory (24 GiB)");

@@ -72,12 +72,23 @@ struct InterfaceParams {
   void validate() const;
 };
 
+/// The elastic body a bulk scene runs (docs/model.md §1.2, §9): decided once, by BulkParams::body(), and
+/// mapped to its class once, by core::with_body (core/bodies.hpp). Everything that differs between bodies
+/// (sites, rows, the stable step, the initial lift, the snapshot fields) is the body class's, not a test of
+/// bulk.height. (0D scenes: the spring block is the chain's one-node case; an imposed rate has no body.)
+enum class BodyKind {
+  chain,  ///< the 1D chain, core::Bulk (bulk.height absent)
+  strip,  ///< the antiplane strip of height H, core::Strip (bulk.height given)
+};
+
 /// Elastic bulk: ρ u_tt = μ u_xx + f − σ̄ − η u_t on [0, L].
 struct BulkParams {
   double rho = 0.01;     ///< inertia
   double mu = 300.0;     ///< shear stiffness (unused in 0D scenes)
   double length = 300.0; ///< L (unused in 0D scenes)
   double height = 0.0;   ///< H of the antiplane strip (docs/model.md §9); 0: the 1D chain (key absent)
+  /// The body these parameters give: the one place bulk.height decides it.
+  BodyKind body() const { return height != 0.0 ? BodyKind::strip : BodyKind::chain; }
   void validate(bool one_dimensional) const;
 };
 

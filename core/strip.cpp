@@ -331,6 +331,16 @@ struct Strip::Direct : InterfaceData {
 };
 
 
+BodyShape Strip::shape(const BulkParams& bulk, const DriveParams&, const GridParams& grid) {
+  return {static_cast<std::size_t>(std::llround(bulk.length / grid.dx)) + 1,
+          static_cast<std::size_t>(std::llround(bulk.height / grid.row_spacing())) + 1, 1};
+}
+
+std::span<const SnapshotField> Strip::snapshot_fields() {
+  static constexpr SnapshotField fields[] = {{"u", 1}, {"tau_xz", 1}, {"tau_yz", 1}};
+  return fields;
+}
+
 double Strip::stable_time_step(const BulkParams& bulk, const DriveParams& drive, const InterfaceParams& law, double dx,
                                double dy) {
   const double K = drive.loading == Loading::edge ? drive.K : 0.0;
@@ -357,7 +367,7 @@ Strip::Strip(const BulkParams& bulk, const DriveParams& drive, const InterfacePa
   x_.resize(nx_);
   for (std::size_t i = 0; i < nx_; ++i) x_[i] = static_cast<double>(i) * dx;
   rho_p_ = rho_ / H_;
-  mu_p_ = mu_ / H_;
+  mu_p_ = modulus(bulk);
   if (drive.loading == Loading::edge) {
     spring_K_ = drive.K;
     v_d_ = drive.v_d;
@@ -474,12 +484,6 @@ Strip::~Strip() { free_plans(); }
 
 std::size_t Strip::workspace_bytes() const {
   return (dofs() * 3 + nx_) * sizeof(double);  // buf_, inv_, rhs_, inv_wx_
-}
-
-double Strip::edge_slip(std::span<const double> u) const {
-  double s = 0.0;
-  for (std::size_t j = 0; j <= ny_; ++j) s += row_weight(j) * u[j * nx_];
-  return s / H_;
 }
 
 double Strip::kinetic_energy(std::span<const double> V) const {

@@ -47,6 +47,9 @@ class Strip {
   /// Edge or homogeneous loading (throws std::invalid_argument for the others, for height ≤ 0, dy ≤ 0,
   /// dy not dividing H, fewer than one cell in x or y).
   Strip(const BulkParams& bulk, const DriveParams& drive, const InterfaceParams& law, double dx, double dy);
+  /// The same with dy = grid.row_spacing().
+  Strip(const BulkParams& bulk, const DriveParams& drive, const InterfaceParams& law, const GridParams& grid)
+      : Strip(bulk, drive, law, grid.dx, grid.row_spacing()) {}
   Strip(const Strip& o);
   Strip(Strip&& o) noexcept;
   Strip& operator=(const Strip& o);
@@ -79,7 +82,9 @@ class Strip {
   double rear_traction() const { return rear_traction_; }
 
   /// ū0 = Σ_j wy(j) u_0j / H (u: all dofs).
-  double edge_slip(std::span<const double> u) const;
+  double edge_slip(std::span<const double> u) const {
+    return edge_slip_of([u](std::size_t k) { return u[k]; });
+  }
   /// F(t) = K (v_d t − ū0) + F_r.
   double drive_force(double t, std::span<const double> u) const {
     return spring_K_ * (v_d_ * t - edge_slip(u)) + rear_traction_;
@@ -97,6 +102,39 @@ class Strip {
   void shear_stresses(std::span<const double> u, std::size_t i, std::size_t j, double& txz, double& tyz) const;
   /// S (elastic only), dofs × dofs.
   Eigen::SparseMatrix<double> stiffness_matrix() const;
+
+  // --- core::RunBody (core/body.hpp): what the run layer asks of a body ------------------------------
+  /// round(L/dx) + 1 sites, round(H/dy) + 1 rows (dy = grid.row_spacing()), one component (antiplane).
+  static BodyShape shape(const BulkParams& bulk, const DriveParams& drive, const GridParams& grid);
+  static double stable_time_step(const BulkParams& bulk, const DriveParams& drive, const InterfaceParams& law,
+                                 const GridParams& grid) {
+    return stable_time_step(bulk, drive, law, grid.dx, grid.row_spacing());
+  }
+  BodyShape shape() const { return {nx_, ny_ + 1, 1}; }
+  /// Row-major: dof j·nx + i (one component).
+  std::size_t dof(std::size_t i, std::size_t j, std::size_t) const { return j * nx_ + i; }
+  /// μ' = μ/H, the shear modulus per unit height (docs/model.md §9): of the parameters (the one formula), of this strip.
+  static double modulus(const BulkParams& bulk) { return bulk.mu / bulk.height; }
+  double modulus() const { return mu_p_; }
+  /// docs/model.md §9.4: every row above the interface carries the uniform shear σ_d, u(x, y) = u(x, 0) + σ_d y/μ',
+  /// moving with the interface's slip rate.
+  template <class Set>
+  void lift(std::size_t i, double u, double v, double sigma_d, Set&& set) const {
+    for (std::size_t j = 0; j <= ny_; ++j) set(j * nx_ + i, u + (j == 0 ? 0.0 : sigma_d * row_height(j) / mu_p_), v);
+  }
+  /// ū0 = Σ_j wy(j) value(dof(0, j)) / H.
+  template <class Value>
+  double edge_slip_of(Value&& value) const {
+    double s = 0.0;
+    for (std::size_t j = 0; j <= ny_; ++j) s += row_weight(j) * value(j * nx_);
+    return s / H_;
+  }
+  /// u, tau_xz, tau_yz (shear_stresses).
+  static std::span<const SnapshotField> snapshot_fields();
+  void snapshot_values(std::span<const double> u, std::size_t i, std::size_t j, std::span<double> out) const {
+    out[0] = u[j * nx_ + i];
+    shear_stresses(u, i, j, out[1], out[2]);
+  }
 
   /// Calls f(j, i, F) for every node with F = (−S u)_ij, rows in order, i inner.
   template <class F>
@@ -266,5 +304,6 @@ void Strip::elastic_forces(std::span<const double> u, F&& f) const {
 }
 
 static_assert(Body<Strip>);
+static_assert(RunBody<Strip>);
 
 }  // namespace slipfront::core

@@ -114,10 +114,9 @@ std::unique_ptr<Run> make_run_of(const compare::Scene& s, MakeLaw make, const st
       throw std::invalid_argument("a friction-law sweep (drive.points) is not stepped in time: run it with slipfront.run");
     return std::make_unique<HistoryRun<Law>>(s, make(std::size_t{1}), model);
   }
-  const core::Bulk probe(s.bulk, s.drive, s.interface, s.grid.dx);  // as compare::run_model
-  return compare::with_integrator(s, [&](auto tag) -> std::unique_ptr<Run> {
+  return compare::with_integrator(s, [&](auto tag) -> std::unique_ptr<Run> {  // as compare::run_model
     using Stepper = typename decltype(tag)::template stepper<Law>;
-    return std::make_unique<BulkRun<Law, Stepper>>(s, make(probe.nodes()), model);
+    return std::make_unique<BulkRun<Law, Stepper>>(s, make(compare::body_shape(s).sites), model);
   });
 }
 

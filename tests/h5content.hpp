@@ -136,4 +136,22 @@ inline std::vector<std::string> study_differences(const std::filesystem::path& a
   });
 }
 
+/// The dimensions of the dataset `path` of `file` (std::runtime_error when either cannot be opened).
+inline std::vector<hsize_t> dataset_shape(const std::filesystem::path& file, const std::string& path) {
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (f < 0) throw std::runtime_error("cannot open " + file.string());
+  const hid_t d = H5Dopen2(f, path.c_str(), H5P_DEFAULT);
+  if (d < 0) {
+    H5Fclose(f);
+    throw std::runtime_error("no dataset " + path + " in " + file.string());
+  }
+  const hid_t sp = H5Dget_space(d);
+  std::vector<hsize_t> dims(static_cast<std::size_t>(H5Sget_simple_extent_ndims(sp)));
+  H5Sget_simple_extent_dims(sp, dims.data(), nullptr);
+  H5Sclose(sp);
+  H5Dclose(d);
+  H5Fclose(f);
+  return dims;
+}
+
 }  // namespace slipfront::testing

@@ -51,20 +51,6 @@ Ran run_program(const fs::path& dir, const std::string& config, const std::vecto
   return r;
 }
 
-std::vector<hsize_t> shape(const fs::path& file, const std::string& path) {
-  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  REQUIRE(f >= 0);
-  const hid_t d = H5Dopen2(f, path.c_str(), H5P_DEFAULT);
-  REQUIRE(d >= 0);
-  const hid_t sp = H5Dget_space(d);
-  std::vector<hsize_t> dims(static_cast<std::size_t>(H5Sget_simple_extent_ndims(sp)));
-  H5Sget_simple_extent_dims(sp, dims.data(), nullptr);
-  H5Sclose(sp);
-  H5Dclose(d);
-  H5Fclose(f);
-  return dims;
-}
-
 std::vector<std::string> with(std::vector<std::string> a, const std::vector<std::string>& b) {
   a.insert(a.end(), b.begin(), b.end());
   return a;
@@ -118,11 +104,11 @@ TEST_CASE("strip output: /<model>/bulk/ of a homogeneous strip in its stuck stat
   const auto h = testing::read_h5(r.file);
   // nb = 5 (t = 0, 0.5, ..., 2); columns 0, 3, 6, 9 and the last (10); rows 0, 3 and the top (4)
   const std::size_t nb = 5, nyk = 3, nxk = 5;
-  CHECK(shape(r.file, "/continuum/bulk/t") == std::vector<hsize_t>{nb});
-  CHECK(shape(r.file, "/continuum/bulk/x") == std::vector<hsize_t>{nxk});
-  CHECK(shape(r.file, "/continuum/bulk/y") == std::vector<hsize_t>{nyk});
+  CHECK(testing::dataset_shape(r.file, "/continuum/bulk/t") == std::vector<hsize_t>{nb});
+  CHECK(testing::dataset_shape(r.file, "/continuum/bulk/x") == std::vector<hsize_t>{nxk});
+  CHECK(testing::dataset_shape(r.file, "/continuum/bulk/y") == std::vector<hsize_t>{nyk});
   for (const char* f : {"u", "tau_xz", "tau_yz"})
-    CHECK(shape(r.file, std::string("/continuum/bulk/") + f) == std::vector<hsize_t>{nb, nyk, nxk});
+    CHECK(testing::dataset_shape(r.file, std::string("/continuum/bulk/") + f) == std::vector<hsize_t>{nb, nyk, nxk});
   CHECK(h.datasets.at("/continuum/bulk/x") == std::vector<double>{0, 6, 12, 18, 20});
   CHECK(h.datasets.at("/continuum/bulk/y") == std::vector<double>{0, 3, 4});  // the interface and the top kept
   const auto& t = h.datasets.at("/continuum/bulk/t");
@@ -170,7 +156,7 @@ TEST_CASE("strip output: the default stride keeps the interface and top rows, an
     CHECK(h.datasets.at("/continuum/bulk/x") == std::vector<double>{0, 8, 16, 20});
     CHECK(h.datasets.at("/continuum/bulk/y") == std::vector<double>{0, 4});
     CHECK(h.datasets.at("/continuum/bulk/t").size() == 3);  // t = 0, 1, 2
-    CHECK(shape(r.file, "/continuum/bulk/tau_yz") == std::vector<hsize_t>{3, 2, 4});
+    CHECK(testing::dataset_shape(r.file, "/continuum/bulk/tau_yz") == std::vector<hsize_t>{3, 2, 4});
     // the interface row of u is the slip of the interface snapshots' nodes
     const auto& u = h.datasets.at("/continuum/bulk/u");
     CHECK(std::isfinite(u.back()));

@@ -2,17 +2,16 @@
 // Adaptive, linearly implicit time stepping of bulk + a deterministic interface law given by its rates
 // (SmoothLaw, core/law.hpp: the continuum FrictionLaw, docs/model.md §1), for scenes where long
 // quiet stretches (elastic loading, the slow front, healing) alternate with short fast ones (the
-// transient front). Same method-of-lines ODE as the fixed-step schemes: the bulk operator of
-// core/bulk.hpp (grid, lumped masses, half cells, edge spring, free ends) and the law's rates, per
-// node
-//   u' = v
-//   ρ v' = F_i/w_i + σ_d − σ̄_i − η v_i                     (Bulk::forces_per_length)
+// transient front). Same method-of-lines ODE as the fixed-step schemes: the body's elastic operator and loading
+// (core/body.hpp: the chain of core/bulk.hpp, the strip of core/strip.hpp) and the law's rates, per site i
+//   u' = v                                                 (every dof of the body)
+//   ρ v' = F_i/w_i + σ_d − σ̄_i − η v_i                     (the chain; the strip's: docs/numerics.md §8.5)
 //   (A', σ̄') = law.rate({v_i, A_i, σ̄_i}, Θ_i)              (docs/model.md §1.1: A' = 1 − A − ΘκA|v|, σ̄' = αAv − Θσ̄|v|)
 // integrated as one stiff system (docs/performance.md):
 //   - a 2-stage Rosenbrock method (Shampine–Reichelt "ode23s": order 2, L-stable, embedded order-3
 //     error estimate, order-2 dense output) with the exact Jacobian (law.jacobian and the bulk's
-//     stiffness). The Jacobian is block tridiagonal; each W = I − h d J solve eliminates (v, A, σ̄)
-//     node by node and leaves a symmetric tridiagonal system for u (Thomas): O(nodes) per solve;
+//     stiffness). Each W = I − h d J solve eliminates (A, σ̄) site by site and leaves the body's system for u
+//     (the chain: symmetric tridiagonal, Thomas, O(nodes); the strip: docs/numerics.md §8.5);
 //   - error-controlled step sizes (PI controller), by default a max norm per field (ErrorNorm);
 //   - Θ piecewise constant inside every step, switched by event location: the zeros of
 //     g_i = law.load = |σ̄_i + η v_i| against A_i (|σ|/A = 1) are located on the dense output of each accepted
@@ -20,8 +19,8 @@
 //     (with every other site that has crossed by then) — or, by default (group_fraction = 1, time.group_switchings),
 //     at a later one when the sites flipped late leave a local error within the step's tolerance (docs/numerics.md
 //     §8.7). A hysteresis band (switch_band, relative 1e-9) keeps a site that just flipped from flipping back at once.
-// The state is where it belongs: u and v in the stepper core, A and σ̄ in the law (law.fields(),
-// advanced in place); the work vectors hold stages [u | v | A | σ̄] (4 blocks of n).
+// The state is where it belongs: u and v in the body's stage representation (their node values in the stepper core),
+// A and σ̄ in the law (law.fields(), advanced in place); the work vectors hold stages [u | v | A | σ̄].
 // The explicit scheme stays the reference; this one buys speed at a stated tolerance.
 #include <algorithm>
 #include <cmath>

@@ -1005,7 +1005,7 @@ double Strip::mixed_edge_slip(std::span<const double> z) const {
   return s / H_;
 }
 
-// Row 0 as rhs_body computes it (the elastic forces of elastic_forces, the edge force, the interface traction,
+// Row 0 as the adaptive right-hand side (stage_accelerations) computes it (the elastic forces of elastic_forces, the edge force, the interface traction,
 // over the node mass), with row 1 brought to node values; every row j ≥ 1 in its modes:
 //   â_kj = (μ'/ρ') (−λ_k ẑ_kj + ((ẑ_k,j−1 − ẑ_kj) + (ẑ_k,j+1 − ẑ_kj))/(dy wy(j))) + F/(H ρ' wx(0)) / (2(nx−1))
 // (the edge column's force per unit mass, δ_i0, has the mode 1/(2(nx−1)) in every k), + σ_d/(ρ' wy(ny)) in the

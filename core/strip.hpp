@@ -165,7 +165,7 @@ class Strip {
   /// traction_i = σ̄_i + η v_i0 on the interface sites). Two one-row transforms; a and u must not alias.
   void mixed_accelerations(std::span<const double> u, double drive_force, const double* traction,
                            std::span<double> a) const;
-  /// The adaptive integrator's stage solve in the mixed representation, fused (core/adaptive.hpp solve_fused): the
+  /// The adaptive integrator's stage solve in the mixed representation, fused (Strip::stage_solve): the
   /// rhs of rows j ≥ 1 formed here, ρ' wy(j) (xv_j + xu_j/c) (the modes of (M xv + M xu/c)/wx), row 0's given as
   /// r0 (node values, sites()); then x = A(c, d)⁻¹ r and xu ← x, xv ← (x − xu)/c (mixed, dofs() each).
   void solve_stage_mixed(double c, std::span<const double> d, const double* r0, double* xu, double* xv);

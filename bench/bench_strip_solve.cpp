@@ -237,7 +237,7 @@ void bm_mixed_stage_at(benchmark::State& state, double interface_tolerance, cons
        static_cast<double>(p.strip.workspace_bytes() + 2 * n * sizeof(double)) / static_cast<double>(n), n};
 }
 // As the adaptive integrator runs it: the interface iterations stop at 10⁻⁴ rtol (1e-6 at the default rtol 1e-2,
-// AdaptiveSimulation::kStageSolveTolerance, docs/numerics.md §8.5) instead of 1e-13.
+// Strip::kStageSolveTolerance, docs/numerics.md §8.5) instead of 1e-13.
 void bm_mixed_stage(benchmark::State& s) { bm_mixed_stage_at(s, 1e-13, "mixed_stage"); }
 void bm_mixed_stage_run(benchmark::State& s) { bm_mixed_stage_at(s, 1e-6, "mixed_stage_run"); }
 // The memory traffic of mixed_stage's three sweeps without their arithmetic dependencies (the baseline its cost per

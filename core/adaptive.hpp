@@ -2,17 +2,16 @@
 // Adaptive, linearly implicit time stepping of bulk + a deterministic interface law given by its rates
 // (SmoothLaw, core/law.hpp: the continuum FrictionLaw, docs/model.md §1), for scenes where long
 // quiet stretches (elastic loading, the slow front, healing) alternate with short fast ones (the
-// transient front). Same method-of-lines ODE as the fixed-step schemes: the bulk operator of
-// core/bulk.hpp (grid, lumped masses, half cells, edge spring, free ends) and the law's rates, per
-// node
-//   u' = v
-//   ρ v' = F_i/w_i + σ_d − σ̄_i − η v_i                     (Bulk::forces_per_length)
+// transient front). Same method-of-lines ODE as the fixed-step schemes: the body's elastic operator and loading
+// (core/body.hpp: the chain of core/bulk.hpp, the strip of core/strip.hpp) and the law's rates, per site i
+//   u' = v                                                 (every dof of the body)
+//   ρ v' = F_i/w_i + σ_d − σ̄_i − η v_i                     (the chain; the strip's: docs/numerics.md §8.5)
 //   (A', σ̄') = law.rate({v_i, A_i, σ̄_i}, Θ_i)              (docs/model.md §1.1: A' = 1 − A − ΘκA|v|, σ̄' = αAv − Θσ̄|v|)
 // integrated as one stiff system (docs/performance.md):
 //   - a 2-stage Rosenbrock method (Shampine–Reichelt "ode23s": order 2, L-stable, embedded order-3
 //     error estimate, order-2 dense output) with the exact Jacobian (law.jacobian and the bulk's
-//     stiffness). The Jacobian is block tridiagonal; each W = I − h d J solve eliminates (v, A, σ̄)
-//     node by node and leaves a symmetric tridiagonal system for u (Thomas): O(nodes) per solve;
+//     stiffness). Each W = I − h d J solve eliminates (A, σ̄) site by site and leaves the body's system for u
+//     (the chain: symmetric tridiagonal, Thomas, O(nodes); the strip: docs/numerics.md §8.5);
 //   - error-controlled step sizes (PI controller), by default a max norm per field (ErrorNorm);
 //   - Θ piecewise constant inside every step, switched by event location: the zeros of
 //     g_i = law.load = |σ̄_i + η v_i| against A_i (|σ|/A = 1) are located on the dense output of each accepted
@@ -20,8 +19,8 @@
 //     (with every other site that has crossed by then) — or, by default (group_fraction = 1, time.group_switchings),
 //     at a later one when the sites flipped late leave a local error within the step's tolerance (docs/numerics.md
 //     §8.7). A hysteresis band (switch_band, relative 1e-9) keeps a site that just flipped from flipping back at once.
-// The state is where it belongs: u and v in the stepper core, A and σ̄ in the law (law.fields(),
-// advanced in place); the work vectors hold stages [u | v | A | σ̄] (4 blocks of n).
+// The state is where it belongs: u and v in the body's stage representation (their node values in the stepper core),
+// A and σ̄ in the law (law.fields(), advanced in place); the work vectors hold stages [u | v | A | σ̄].
 // The explicit scheme stays the reference; this one buys speed at a stated tolerance.
 #include <algorithm>
 #include <cmath>
@@ -128,46 +127,35 @@ inline constexpr double kDenseScale = 1.0 / (1.0 - 2.0 * kGamma);  ///< 1/(1 −
 inline constexpr double kSafety = 0.9, kBeta1 = 0.7 / 3.0, kBeta2 = 0.4 / 3.0, kGrowMax = 5.0, kShrinkMin = 0.2;
 }  // namespace detail
 
-// On a body (core/body.hpp): the 1D chain (core::Bulk, every node a site, the u system tridiagonal and solved by
-// Thomas, as above) or the antiplane strip (core::Strip, docs/model.md §9): u and v over all its dofs, A and σ̄
-// on the interface sites; the W solve eliminates (v, A, σ̄) the same way and leaves the strip's step matrix
-// M/c + c(S + K b bᵀ) + E diag(wx (η + q_σ)) Eᵀ for u, solved by Strip::solve_system (docs/numerics.md §8.5).
-// The stage vectors are [u | v | A | σ̄] with blocks of dofs, dofs, sites, sites (on the chain: four of n).
-template <SmoothLaw Law, Body B = Bulk>
+// On a body (core::AdaptiveBody, core/body.hpp; docs/numerics.md §8.8): the Rosenbrock logic, the events and the
+// dense output are written once here; what differs per body is the body's. The stage vectors are [u | v | A | σ̄]
+// with blocks of dofs, dofs, sites, sites: u and v over all the body's dofs in its stage representation (the
+// chain's node values; the strip's mixed representation, docs/numerics.md §8.6), whose first sites() entries are
+// the interface sites' node values; A and σ̄ on the sites. The law's part is here, per site: its rates, its
+// Jacobian and the elimination of each site's A and σ̄ rows in the W solve (x_A = p_A + q_A x_v,
+// x_σ = p_σ + q_σ x_v); the body's (stage_accelerations, stage_factor, stage_solve) is v' and the u system left
+// for x_u, which it solves with the sites' q_σ and p_σ (the chain: one Thomas sweep; the strip:
+// Strip::solve_stage_mixed, docs/numerics.md §8.5).
+template <SmoothLaw Law, AdaptiveBody B = Bulk>
 class AdaptiveSimulation : public StepperCore<Law, B> {
   using Core = StepperCore<Law, B>;
-  static constexpr bool kChain = std::is_same_v<B, Bulk>;
 
  public:
   static constexpr const char* integrator_name = "adaptive";
   static constexpr bool error_control = false;  ///< set_error_control, substeps (implicit only)
   static constexpr double kGamma = detail::kGamma;
   static constexpr double kDenseScale = detail::kDenseScale;
-  /// The strip's stage solves: relative residual of the interface iterations per unit rtol.
-  static constexpr double kStageSolveTolerance = 1e-4;
 
   AdaptiveSimulation(B bulk, Law law, AdaptiveOptions opt)
       : Core(std::move(bulk), std::move(law), "AdaptiveSimulation"), opt_(opt), h_next_(opt.dt_initial),
         last_dt_(opt.dt_initial) {
     opt_.validate();
     const std::size_t m = 2 * this->n_ + 2 * this->sites_;
-    for (auto* v : {&y_prev_, &ynew_, &f0_, &f1_, &f2_, &k1_, &k2_, &k3_, &k1_prev_, &k2_prev_}) v->assign(m, 0.0);
-    for (auto* v : {&tmp_, &inv_a1_, &q_area_, &inv_s1_, &c_alpha_v_, &q_sigma_, &d_coef_, &thomas_c_, &thomas_inv_})
-      v->assign(this->n_, 0.0);
+    for (auto* v : {&y_prev_, &ynew_, &f0_, &f1_, &f2_, &k1_, &k2_, &k3_, &k1_prev_, &k2_prev_, &state_}) v->assign(m, 0.0);
+    for (auto* v : {&inv_a1_, &q_area_, &inv_s1_, &c_alpha_v_, &q_sigma_}) v->assign(this->sites_, 0.0);
     theta_.assign(this->sites_, 0);
     theta_prev_.assign(this->sites_, 0);
-    if constexpr (!kChain) {
-      const B& b = this->bulk_;
-      // The interface row's node masses (the rows above: Strip::solve_stage_mixed forms their right-hand side).
-      mass_.resize(this->sites_);
-      for (std::size_t i = 0; i < this->sites_; ++i) mass_[i] = b.node_mass(i, 0);
-      urhs_.assign(this->sites_, 0.0);
-      ystate_.assign(2 * this->n_ + 2 * this->sites_, 0.0);
-      // The stage solves' interface iterations stop at a relative residual of 1e-4 rtol (docs/numerics.md §8.5):
-      // the stage error they leave is far below what the step's error control admits.
-      if constexpr (requires(B& mb) { mb.set_interface_tolerance(1e-3); })
-        this->bulk_.set_interface_tolerance(std::clamp(kStageSolveTolerance * opt_.rtol, 1e-13, 1e-3));
-    }
+    this->bulk_.set_stage_tolerance(opt_.rtol);
   }
 
   double dt() const { return last_dt_; }  ///< size of the last accepted step (before any: dt_initial)
@@ -176,21 +164,20 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
   void set_initial(std::size_t i, double u, double v) {
     Core::set_initial(i, u, v);
     f0_valid_ = false;
-    mixed_valid_ = false;
+    state_made_ = false;
   }
-  /// Displacement and velocity of every dof (node values; on the strip made from the mixed state when asked).
+  /// Displacement and velocity of every dof (node values; made from the stage representation when asked).
   std::span<const double> displacement() const {
-    sync_bulk();
+    sync_nodes();
     return this->u_;
   }
   std::span<const double> velocity() const {
-    sync_bulk();
+    sync_nodes();
     return this->v_;
   }
   double drive_force() const {
-    if constexpr (kChain) return Core::drive_force();
-    else if (!mixed_valid_) return Core::drive_force();
-    else return this->bulk_.drive_force_at(this->t_, this->bulk_.mixed_edge_slip(mixed_u()));
+    if (!state_made_) return Core::drive_force();
+    return this->bulk_.stage_drive_force(this->t_, state_u());
   }
 
   // One accepted step, in named stages (docs/performance.md §2):
@@ -202,7 +189,7 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
   //   5. switch   flip Θ of every site that has crossed by the new t
   void step() {
     if (!started_) start();
-    else if constexpr (!kChain) if (!mixed_valid_) make_mixed();
+    else if (!state_made_) make_state();
     double h = std::min(h_next_, opt_.dt_max);
     const double h_wanted = h;
     if (t_stop_ > this->t_ && h >= t_stop_ - this->t_) h = t_stop_ - this->t_;
@@ -234,40 +221,35 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
   /// end on it exactly. Inactive once reached.
   void set_stop_time(double t) { t_stop_ = t; }
   double previous_time() const { return t_prev_; }  ///< start of the last accepted step
-  /// Dense output (order 2) of one field at t ∈ [previous_time(), time()], all nodes.
-  /// out: the first out.size() values of the field (the sites; on the strip u and v of up to all dofs).
+  /// Dense output (order 2) of one field at t ∈ [previous_time(), time()], as node values.
+  /// out: the first out.size() values of the field (the sites; u and v of up to all dofs).
   void dense_state(double t, Field f, std::span<double> out) const {
-    if constexpr (!kChain) {
-      if (static_cast<std::size_t>(f) < 2 && out.size() > this->sites_ && mixed_valid_) {  // node values of the bulk
-        dense_mixed_.resize(this->n_);
-        dense_state_raw(t, f, dense_mixed_);
-        this->bulk_.from_mixed(dense_mixed_, dense_mixed_);
-        std::copy_n(dense_mixed_.begin(), std::min(out.size(), this->n_), out.begin());
-        return;
-      }
+    if (static_cast<std::size_t>(f) < 2 && out.size() > this->sites_ && state_made_) {  // beyond the sites: the body's
+      dense_nodes_.resize(this->n_);
+      dense_state_raw(t, f, dense_nodes_);
+      this->bulk_.from_stage(dense_nodes_, dense_nodes_);
+      std::copy_n(dense_nodes_.begin(), std::min(out.size(), this->n_), out.begin());
+      return;
     }
     dense_state_raw(t, f, out);
   }
   /// Dense output of one value (inline: the runner's tip restriction calls it per node).
   double dense_value(double t, Field f, std::size_t i) const {
-    if constexpr (!kChain) {
-      if (static_cast<std::size_t>(f) < 2 && i >= this->sites_ && mixed_valid_) {  // a bulk node: from its row's modes
-        // the dense output is linear in the modes: the row's node value of y_prev, k1 and k2, combined
-        const std::size_t m = this->sites_, j0 = (i / m) * m, col = i - j0;
-        const B& b = this->bulk_;
-        if (stats_.accepted == 0 || h_prev_ <= 0.0) return b.mode_row_value(current(static_cast<std::size_t>(f)) + j0, col);
-        const std::size_t q = offset(static_cast<std::size_t>(f)) + j0;
-        const double th = std::clamp((t - t_prev_) / h_prev_, 0.0, 1.0);
-        const double b1 = th * (1.0 - th) * kDenseScale * h_prev_, b2 = th * (th - 2.0 * kGamma) * kDenseScale * h_prev_;
-        return b.mode_row_value(y_prev_.data() + q, col) + b1 * b.mode_row_value(k1_prev_.data() + q, col) +
-               b2 * b.mode_row_value(k2_prev_.data() + q, col);
-      }
+    if (static_cast<std::size_t>(f) < 2 && i >= this->sites_ && state_made_) {  // beyond the sites: the body's
+      // the dense output is linear in the stage representation: the node value of y_prev, k1 and k2, combined
+      const B& b = this->bulk_;
+      if (stats_.accepted == 0 || h_prev_ <= 0.0) return b.stage_value(current(static_cast<std::size_t>(f)), i);
+      const std::size_t q = offset(static_cast<std::size_t>(f));
+      const double th = std::clamp((t - t_prev_) / h_prev_, 0.0, 1.0);
+      const double b1 = th * (1.0 - th) * kDenseScale * h_prev_, b2 = th * (th - 2.0 * kGamma) * kDenseScale * h_prev_;
+      return b.stage_value(y_prev_.data() + q, i) + b1 * b.stage_value(k1_prev_.data() + q, i) +
+             b2 * b.stage_value(k2_prev_.data() + q, i);
     }
     return dense_value_raw(t, f, i);
   }
 
  private:
-  // The dense output in the stepper's own representation (on the strip: mixed, Strip::to_mixed).
+  // The dense output in the stage representation.
   void dense_state_raw(double t, Field f, std::span<double> out) const {
     const std::size_t n = std::min(out.size(), block_size(static_cast<std::size_t>(f)));
     const std::size_t off = offset(static_cast<std::size_t>(f));
@@ -299,18 +281,22 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
   }
   const AdaptiveStats& stats() const { return stats_; }
   const AdaptiveOptions& options() const { return opt_; }
+  /// The checkpoint: the core's node values and the integrator's state; a body whose stage representation is not
+  /// node values adds the stage state (the round trip is not bit for bit), one whose is makes it from the nodes.
   template <class Ar>
   void serialize(Ar& ar) {
-    ar.tag(kChain ? "adaptive" : "adaptive_strip_mixed");
-    sync_bulk();  // the node values the core writes are the state's
+    ar.tag(this->bulk_.stage_archive_tag());
+    sync_nodes();  // the node values the core writes are the state's
     this->serialize_core(ar);
     ar(t_prev_, h_next_, last_dt_, err_prev_, started_, f0_valid_, y_prev_, f0_, k1_prev_, k2_prev_, h_prev_, t_stop_,
        theta_, theta_prev_, stats_);
-    if constexpr (!kChain) {
-      ar(ystate_, mixed_valid_);
-      bulk_stale_ = false;
-      bulk_scale_valid_ = false;
+    if constexpr (!B::stage_is_nodes) {
+      ar(state_, state_made_);
+    } else {
+      nodes_to_state();
     }
+    nodes_stale_ = false;
+    block_scale_valid_ = false;
   }
   /// A_i(t) and v_i(t) on the last step's dense output (area(t, i), slip_rate(t, i)).
   struct DenseSampler {
@@ -330,19 +316,15 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
       this->law_.advance_age(t_prev_, this->t_, std::span<const std::uint8_t>(theta_), dense_sampler());
   }
 
+
   // Block f of the stage vectors [u | v | A | σ̄]: where it starts and its length.
   std::size_t offset(std::size_t f) const {
     return f < 2 ? f * this->n_ : 2 * this->n_ + (f - 2) * this->sites_;
   }
   std::size_t block_size(std::size_t f) const { return f < 2 ? this->n_ : this->sites_; }
-  // The current state, block f of [u | v | A | σ̄].
+  // The current state, block f of [u | v | A | σ̄] (u, v: the stage state once made, the core's node values before).
   const double* current(std::size_t f) const {
-    if constexpr (kChain) {
-      if (f == 0) return this->u_.data();
-      if (f == 1) return this->v_.data();
-    } else {
-      if (f < 2) return ystate_.data() + f * this->n_;
-    }
+    if (f < 2) return state_made_ ? state_.data() + f * this->n_ : (f == 0 ? this->u_.data() : this->v_.data());
     return fields_ptr() + (f - 2) * this->sites_;
   }
   double* current(std::size_t f) { return const_cast<double*>(std::as_const(*this).current(f)); }
@@ -351,7 +333,7 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
   // Θ from the initial state (docs/model.md §1: Θ = 1 iff |σ|/A > 1); then the overload is below
   // the band at every site, the invariant that every step starts from.
   void start() {
-    if constexpr (!kChain) make_mixed();
+    make_state();
     const double* a = current(2);
     const double* s = current(3);
     for (std::size_t i = 0; i < this->sites_; ++i)
@@ -376,44 +358,18 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
     return theta_[i] ? (st.area - b) - s : s - (st.area + b);
   }
 
-  // The right-hand side at (t; u, v, A, σ̄), Θ frozen (see the header).
+
+  // The right-hand side at (t; u, v, A, σ̄), Θ frozen: u' = v, v' the body's (its forces, loading and the interface
+  // traction σ̄ + η v on the sites), (A', σ̄') the law's rates on the sites.
   void rhs(double t, const double* u, const double* v, const double* a, const double* s, std::vector<double>& f) {
     ++stats_.rhs;
-    if constexpr (kChain) rhs_chain(t, u, v, a, s, f);
-    else rhs_body(t, u, v, a, s, f);
-  }
-  void rhs_chain(double t, const double* u, const double* v, const double* a, const double* s, std::vector<double>& f) {
-    const std::size_t n = this->n_;
-    const Bulk& b = this->bulk_;
-    double* fu = f.data();
-    double* fv = fu + n;
-    double* fa = fv + n;
-    double* fs = fa + n;
-    const double inv_rho = 1.0 / b.rho(), sd = b.uniform_stress(), eta = this->law_.params().eta;
-    b.forces_per_length(std::span<const double>(u, n), b.drive_force(t, u[0]),
-                        [&](std::size_t i, double force) { fv[i] = (force + sd - s[i] - eta * v[i]) * inv_rho; });
-    const std::uint8_t* th = theta_.data();
-    for (std::size_t i = 0; i < n; ++i) {
-      const SiteRate r = this->law_.rate({v[i], a[i], s[i]}, th[i] != 0);
-      fu[i] = v[i];
-      fa[i] = r.area;
-      fs[i] = r.sigma_bar;
-    }
-  }
-  // The strip: u' = v, M v' = −S u + F(t) b + top wx σ_d − E wx (σ̄ + η v₀) (docs/model.md §9) in the mixed
-  // representation (Strip::mixed_accelerations; u, v mixed), the law's rates on the interface sites.
-  void rhs_body(double t, const double* u, const double* v, const double* a, const double* s, std::vector<double>& f) {
     const std::size_t n = this->n_, m = this->sites_;
-    const B& b = this->bulk_;
     double* fu = f.data();
     double* fv = fu + n;
     double* fa = fv + n;
     double* fs = fa + m;
-    const double eta = this->law_.params().eta;
-    double* traction = tmp_.data();
-    for (std::size_t i = 0; i < m; ++i) traction[i] = s[i] + eta * v[i];
-    const std::span<const double> us(u, n);
-    b.mixed_accelerations(us, b.drive_force_at(t, b.mixed_edge_slip(us)), traction, std::span<double>(fv, n));
+    this->bulk_.stage_accelerations(t, std::span<const double>(u, n), v, s, this->law_.params().eta,
+                                    std::span<double>(fv, n));
     std::copy_n(v, n, fu);
     const std::uint8_t* th = theta_.data();
     for (std::size_t i = 0; i < m; ++i) {
@@ -427,16 +383,16 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
     rhs(t, y.data() + offset(0), y.data() + offset(1), y.data() + offset(2), y.data() + offset(3), f);
   }
 
-  // W = I − c J(y) at the current state. Per node, the rows of A and σ̄ give
-  //   x_A = p_A + q_A x_v,  x_σ = p_σ + q_σ x_v,  and the u row x_v = (x_u − b_u)/c;
-  // the v row (times ρ w_i / c) is then a symmetric tridiagonal equation for x_u:
-  //   (ρ w_i D_i / c²) x_u,i + (c S x_u)_i/c ... = w_i ((ρ/c) b_v − p_σ) + (ρ w_i D_i / c²) b_u,
-  //   D_i = 1 + cη/ρ + (c/ρ) q_σ,   S the bulk's stiffness matrix (Bulk: elastic_diagonal, spring_K).
+  // W = I − c J(y) at the current state. Per site, the rows of A and σ̄ give x_A = p_A + q_A x_v,
+  // x_σ = p_σ + q_σ x_v (eliminate_site, the law's Jacobian); the u row x_v = (x_u − b_u)/c; the v rows then
+  // leave a system for x_u that the body factors with each site's q_σ (stage_factor).
   void factor(double c) {
     ++stats_.factorizations;
-    c_ = c;
-    if constexpr (kChain) factor_chain(c);
-    else factor_body(c);
+    const double* v = current(1);
+    const double* a = current(2);
+    const double* s = current(3);
+    this->bulk_.stage_factor(c, this->law_.params().eta,
+                             [&](std::size_t i) { return eliminate_site(i, c, v[i], a[i], s[i]); });
   }
   // Site i's rows of A and σ̄ in W = I − c J (both bodies): x_A = p_A + q_A x_v, x_σ = p_σ + q_σ x_v. Stores the
   // elimination coefficients and returns q_σ.
@@ -454,71 +410,24 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
     q_sigma_[i] = qs;
     return qs;
   }
-  void factor_chain(double c) {
-    const std::size_t n = this->n_;
-    const Bulk& b = this->bulk_;
-    const double rho = b.rho(), k = b.stiffness(), K = b.spring_K(), eta = this->law_.params().eta;
-    const double* v = current(1);
-    const double* a = current(2);
-    const double* s = current(3);
-    const double base = 1.0 + c * eta / rho, c_rho = c / rho, rho_c2 = rho / (c * c);
-    const double off = -k;
-    for (std::size_t i = 0; i < n; ++i) {
-      const double qs = eliminate_site(i, c, v[i], a[i], s[i]);
-      const double w = b.node_weight(i);
-      const double dc = rho_c2 * w * (base + c_rho * qs);
-      d_coef_[i] = dc;
-      const double diag = dc + b.elastic_diagonal(i) + (i == 0 ? K : 0.0);
-      const double m = i == 0 ? diag : diag - off * thomas_c_[i - 1];
-      thomas_inv_[i] = 1.0 / m;
-      thomas_c_[i] = off / m;
-    }
-  }
 
-  // The strip: the same per-site elimination; the u system's interface coefficients d_i = η + q_σ,i (the
-  // strip's matrix itself is factorised by Strip::solve_system for each c).
-  void factor_body(double c) {
-    const std::size_t m = this->sites_;
-    const double eta = this->law_.params().eta;
-    const double* v = current(1);
-    const double* a = current(2);
-    const double* s = current(3);
-    for (std::size_t i = 0; i < m; ++i) {
-      d_coef_[i] = eta + eliminate_site(i, c, v[i], a[i], s[i]);
-    }
-  }
-
-  // The strip's W solve: per site x_A = p_A + q_A x_v0, x_σ = p_σ + q_σ x_v0; x_v = (x_u − b_u)/c; then
-  //   [M/c + c(S + K b bᵀ) + E diag(wx d) Eᵀ] x_u = M b_v + (M/c) b_u + E wx (d b_u0 − c p_σ),
-  // all in the mixed representation (Strip::solve_stage_mixed: rows j ≥ 1 take the modes of the rhs over wx).
-  // The strip's W solve with the stage arithmetic around it fused into the strip's sweeps (no pass of its own over
-  // the rows j ≥ 1): out = W⁻¹ (b − sub + hdT e_drive) (+ sub when add_back). The same arithmetic as
-  // "out = b − sub; add_time_derivative; solve(out); out += sub" in another order of operations.
-  void solve_fused(std::vector<double>& out, const std::vector<double>& b, const std::vector<double>* sub, bool add_back,
-                   double hdT) {
+  // out = W⁻¹ (b − sub + h d ∂f/∂t) (+ sub when add_back); out may be b. The sites' entries of every block are formed
+  // and completed here (A and σ̄ by the site elimination, around the body's solve); the body's stage_solve takes
+  // the rest of u and v from `in` (the strip fuses that arithmetic into its sweeps) and hdT over its loaded dofs.
+  void solve(std::vector<double>& out, const std::vector<double>& b, const std::vector<double>* sub, bool add_back,
+             double hdT) {
     ++stats_.solves;
     const std::size_t n = this->n_, m = this->sites_;
     B& body = this->bulk_;
     const double* sb = sub != nullptr ? sub->data() : nullptr;
-    // row 0 of u and v and the sites' blocks: the right-hand side itself
     for (const std::size_t o : {std::size_t{0}, n, 2 * n, 2 * n + m})
       for (std::size_t i = 0; i < m; ++i) out[o + i] = sb != nullptr ? b[o + i] - sb[o + i] : b[o + i];
-    if (body.has_drive_spring()) out[n] += hdT;
+    if (body.has_drive_spring()) out[n] += hdT;  // the spring pulls site 0
     double* xu = out.data();
     double* xv = xu + n;
     double* xa = xv + n;
     double* xs = xa + m;
-    const double c = c_, inv_c = 1.0 / c;
-    for (std::size_t i = 0; i < m; ++i) {
-      const double pa = xa[i] * inv_a1_[i];
-      xa[i] = pa;
-      xs[i] = (xs[i] + c_alpha_v_[i] * pa) * inv_s1_[i];
-    }
-    double* r = urhs_.data();
-    const double* mass = mass_.data();
-    for (std::size_t i = 0; i < m; ++i)
-      r[i] = mass[i] * (xv[i] + inv_c * xu[i]) + body.interface_weight(i) * (d_coef_[i] * xu[i] - c * xs[i]);
-    typename B::StageInput in{b.data(), b.data() + n};
+    BulkStage in{b.data(), b.data() + n};
     if (sb != nullptr) {
       in.sub_u = sb;
       in.sub_v = sb + n;
@@ -527,50 +436,22 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
       in.add_u = sb;
       in.add_v = sb + n;
     }
-    in.shift_v = body.has_drive_spring() ? hdT / (2.0 * static_cast<double>(m - 1)) : 0.0;
-    body.solve_stage_mixed(c, std::span<const double>(d_coef_.data(), m), r, in, xu, xv);
-    for (std::size_t i = 0; i < m; ++i) {
-      xa[i] += q_area_[i] * xv[i];
-      xs[i] += q_sigma_[i] * xv[i];
-    }
-    if (add_back)
-      for (const std::size_t o : {std::size_t{0}, n, 2 * n, 2 * n + m})
-        for (std::size_t i = 0; i < m; ++i) out[o + i] += sb[o + i];
-  }
-
-  void solve(std::vector<double>& x) {  // in place: x ← W⁻¹ x
-    if constexpr (kChain) ++stats_.solves;  // (solve_fused counts its own)
-    if constexpr (kChain) solve_chain(x);
-    else solve_fused(x, x, nullptr, false, 0.0);
-  }
-  void solve_chain(std::vector<double>& x) {
-    const std::size_t n = this->n_;
-    double* xu = x.data();
-    double* xv = xu + n;
-    double* xa = xv + n;
-    double* xs = xa + n;
-    const double c = c_, rho_c = this->bulk_.rho() / c, inv_c = 1.0 / c, off = -this->bulk_.stiffness();
-    double* d = tmp_.data();
-    double prev = 0.0;
-    for (std::size_t i = 0; i < n; ++i) {
+    in.hdT = hdT;
+    const auto p_sigma = [&](std::size_t i) {
       const double pa = xa[i] * inv_a1_[i];
       const double ps = (xs[i] + c_alpha_v_[i] * pa) * inv_s1_[i];
       xa[i] = pa;
       xs[i] = ps;
-      const double r = this->bulk_.node_weight(i) * (rho_c * xv[i] - ps) + d_coef_[i] * xu[i];
-      prev = (r - off * prev) * thomas_inv_[i];  // forward sweep
-      d[i] = prev;
-    }
-    double next = 0.0;
-    for (std::size_t i = n; i-- > 0;) {
-      const double ui = d[i] - thomas_c_[i] * next;
-      next = ui;
-      const double vi = (ui - xu[i]) * inv_c;
-      xu[i] = ui;
-      xv[i] = vi;
+      return ps;
+    };
+    const auto back = [&](std::size_t i, double vi) {
       xa[i] += q_area_[i] * vi;
       xs[i] += q_sigma_[i] * vi;
-    }
+    };
+    body.stage_solve(in, p_sigma, back, xu, xv);
+    if (add_back)
+      for (const std::size_t o : {std::size_t{0}, n, 2 * n, 2 * n + m})
+        for (std::size_t i = 0; i < m; ++i) out[o + i] += sb[o + i];
   }
 
   // y_out = current + scale · k over all four blocks.
@@ -592,111 +473,69 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
       f0_valid_ = true;
     }
     factor(kGamma * h);
-    // h d ∂f/∂t: only the drive spring depends on t explicitly (v row of node 0).
-    // (On the strip the spring's force spreads over the edge column: K v_d wy(j)/(H M_0j) = K v_d/(ρ wx(0)) in
-    // the v row of every node (0, j).)
+    // h d ∂f/∂t: only the drive spring depends on t explicitly, K v_d/(ρ w_0) in the v row of site 0 (the body
+    // spreads it over the dofs it loads: the strip's edge column).
     const double hdT =
         b.has_drive_spring() ? kGamma * h * b.spring_K() * b.driver_velocity() / (b.rho() * b.interface_weight(0)) : 0.0;
-    if constexpr (kChain) {
-      for (std::size_t j = 0; j < m; ++j) k1_[j] = f0_[j];
-      add_time_derivative(k1_, hdT);
-      solve(k1_);
-    } else {
-      solve_fused(k1_, f0_, nullptr, false, hdT);  // k1 = W⁻¹ (f0 + h d ∂f/∂t)
-    }
+    solve(k1_, f0_, nullptr, false, hdT);  // k1 = W⁻¹ (f0 + h d ∂f/∂t)
     stage(0.5 * h, k1_, ynew_);
     rhs_stage(this->t_ + 0.5 * h, ynew_, f1_);
-    if constexpr (kChain) {
-      for (std::size_t j = 0; j < m; ++j) k2_[j] = f1_[j] - k1_[j];
-      solve(k2_);
-      for (std::size_t j = 0; j < m; ++j) k2_[j] += k1_[j];
-    } else {
-      solve_fused(k2_, f1_, &k1_, true, 0.0);  // k2 = W⁻¹ (f1 − k1) + k1
-    }
+    solve(k2_, f1_, &k1_, true, 0.0);  // k2 = W⁻¹ (f1 − k1) + k1
     stage(h, k2_, ynew_);
     rhs_stage(this->t_ + h, ynew_, f2_);
     for (std::size_t j = 0; j < m; ++j)
       k3_[j] = f2_[j] - detail::kE32 * (k2_[j] - f1_[j]) - 2.0 * (k1_[j] - f0_[j]);
-    add_time_derivative(k3_, hdT);
-    solve(k3_);
+    solve(k3_, k3_, nullptr, false, hdT);  // k3 = W⁻¹ (f2 − e32 (k2 − f1) − 2 (k1 − f0) + h d ∂f/∂t)
     return error_norm(h);
-  }
-  // k += h d ∂f/∂t: the v rows of the nodes the drive spring pulls (the chain's node 0, the strip's edge column).
-  void add_time_derivative(std::vector<double>& k, double hdT) const {
-    const std::size_t n = this->n_;
-    if constexpr (kChain) {
-      k[n] += hdT;
-    } else {
-      if (hdT == 0.0) return;
-      // Mixed: the node (0, 0), and in every mode of each row j ≥ 1 hdT/(2(nx−1)) (the modes of hdT δ_i0).
-      const std::size_t m = this->sites_;
-      k[n] += hdT;
-      const double hm = hdT / (2.0 * static_cast<double>(m - 1));
-      for (std::size_t q = n + m; q < 2 * n; ++q) k[q] += hm;
-    }
   }
 
   // Weighted norm of the local error estimate h/6 (k1 − 2 k2 + k3), see ErrorNorm.
   double error_norm(double h) const {
-    if constexpr (!kChain) {
-      if (opt_.norm == ErrorNorm::field) return error_norm_mixed(h);
+    if (opt_.norm == ErrorNorm::field) return error_norm_field(h);
+    if constexpr (B::stage_is_nodes) {
+      return error_norm_weighted(h, ynew_, k1_, k2_, k3_, [this](std::size_t f) { return current(f); });
+    } else {
       return error_norm_nodes(h);
     }
-    return error_norm_generic(h, ynew_, k1_, k2_, k3_, [this](std::size_t f) { return current(f); });
   }
-  // The strip, ErrorNorm::field, in the mixed representation without a transform: the interface row's node values
-  // exactly; for a row j ≥ 1 of u or v its largest node error bounded by |ê_0| + |ê_N| + 2 Σ_{0<k<N} |ê_k| (≥
-  // max_i |(C ê)_i|), and the field's scale taken over the nodes whose values the modes give without a transform
-  // (the interface row, and each row's ends i = 0 and nx − 1): a lower bound of the largest node value. Both make
-  // the norm at least the node-value norm: the step is no less accurate than with node values (docs/numerics.md
-  // §8.6).
-  double error_norm_mixed(double h) const {
-    const double rtol = opt_.rtol, atol = opt_.atol, h6 = h / 6.0;
-    const double *yn = ynew_.data(), *k1 = k1_.data(), *k2 = k2_.data(), *k3 = k3_.data();
-    const std::size_t m = this->sites_, N = m - 1;
-    if (!bulk_scale_valid_) {  // the rows' end values of the current state: once per step
-      for (std::size_t f = 0; f < 2; ++f) {
-        const double* y = current(f);
-        double sc = 0.0;
-        for (std::size_t r = m; r < this->n_; r += m)
-          sc = std::max({sc, std::abs(this->bulk_.mode_row_value(y + r, 0)), std::abs(this->bulk_.mode_row_value(y + r, N))});
-        bulk_scale_[f] = sc;
-      }
-      bulk_scale_valid_ = true;
+  // ErrorNorm::field: each block against its own scale; u and v as the body measures them in its stage
+  // representation (the strip: by bounds never below the node values', docs/numerics.md §8.6), A and σ̄ here.
+  double error_norm_field(double h) const {
+    const B& b = this->bulk_;
+    if (!block_scale_valid_) {  // the state's scale beyond its sites: once per step
+      for (std::size_t f = 0; f < 2; ++f) block_scale_[f] = b.stage_scale(current(f));
+      block_scale_valid_ = true;
     }
-    double norm = 0.0, probe = 0.0;  // probe: the sum of every |error| (a NaN or infinity anywhere)
+    double norm = 0.0, probe = 0.0;  // probe: a NaN or infinity anywhere (std::max would drop a NaN)
     for (std::size_t f = 0; f < 4; ++f) {
-      const std::size_t j0 = offset(f), len = block_size(f);
-      const double* y = current(f);
-      double scale = f < 2 ? bulk_scale_[f] : 0.0, emax = 0.0;
-      for (std::size_t j = j0; j < j0 + std::min(len, m); ++j) {
-        scale = std::max(scale, std::max(std::abs(y[j - j0]), std::abs(yn[j])));
-        const double e = std::abs(k1[j] - 2.0 * k2[j] + k3[j]);
-        emax = std::max(emax, e);
-        probe += e;
+      const std::size_t o = offset(f);
+      StageError e;
+      if (f < 2) {
+        e = b.stage_error(current(f), ynew_.data() + o, k1_.data() + o, k2_.data() + o, k3_.data() + o);
+        e.scale = std::max(e.scale, block_scale_[f]);
+      } else {
+        e = site_error(current(f), o);
       }
-      for (std::size_t r = m; r < len; r += m) {  // rows j ≥ 1 of u and v: modes
-        const std::size_t q = j0 + r;
-        double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
-        std::size_t k = 1;
-        for (; k + 4 <= N; k += 4) {
-          s0 += std::abs(k1[q + k] - 2.0 * k2[q + k] + k3[q + k]);
-          s1 += std::abs(k1[q + k + 1] - 2.0 * k2[q + k + 1] + k3[q + k + 1]);
-          s2 += std::abs(k1[q + k + 2] - 2.0 * k2[q + k + 2] + k3[q + k + 2]);
-          s3 += std::abs(k1[q + k + 3] - 2.0 * k2[q + k + 3] + k3[q + k + 3]);
-        }
-        for (; k < N; ++k) s0 += std::abs(k1[q + k] - 2.0 * k2[q + k] + k3[q + k]);
-        const double bound = std::abs(k1[q] - 2.0 * k2[q] + k3[q]) + std::abs(k1[q + N] - 2.0 * k2[q + N] + k3[q + N]) +
-                             2.0 * ((s0 + s1) + (s2 + s3));
-        emax = std::max(emax, bound);
-        probe += bound;
-      }
-      norm = std::max(norm, h6 * emax / (atol + rtol * scale));
+      probe += e.probe;
+      norm = std::max(norm, h / 6.0 * e.emax / (opt_.atol + opt_.rtol * e.scale));
     }
     if (!std::isfinite(probe)) return std::numeric_limits<double>::infinity();
     return std::isfinite(norm) ? norm : std::numeric_limits<double>::infinity();
   }
-  // The strip, ErrorNorm::local or rms: the generic norm on node values (three transforms of u and v each).
+  // The field norm's parts of a sites' block (A or σ̄) starting at o in the stage vectors.
+  StageError site_error(const double* y, std::size_t o) const {
+    StageError r;
+    const double *yn = ynew_.data() + o, *k1 = k1_.data() + o, *k2 = k2_.data() + o, *k3 = k3_.data() + o;
+    for (std::size_t j = 0; j < this->sites_; ++j) {
+      r.scale = std::max(r.scale, std::max(std::abs(y[j]), std::abs(yn[j])));
+      const double e = std::abs(k1[j] - 2.0 * k2[j] + k3[j]);
+      r.emax = std::max(r.emax, e);
+      r.probe += e + yn[j];
+    }
+    return r;
+  }
+  // ErrorNorm::local or rms on a body whose stage representation is not node values: on node values (three
+  // transforms of u and v each; correct, not fast: no scene uses them).
   double error_norm_nodes(double h) const {
     nodes_.resize(6);
     const std::size_t n = this->n_;
@@ -705,20 +544,21 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
     const std::vector<double>* src[4] = {&ynew_, &k1_, &k2_, &k3_};
     for (std::size_t q = 0; q < 4; ++q) {
       nodes_[q] = *src[q];
-      b.from_mixed(std::span<const double>(nodes_[q]).first(n), std::span<double>(nodes_[q]).first(n));
-      b.from_mixed(std::span<const double>(nodes_[q]).subspan(n, n), std::span<double>(nodes_[q]).subspan(n, n));
+      b.from_stage(std::span<const double>(nodes_[q]).first(n), std::span<double>(nodes_[q]).first(n));
+      b.from_stage(std::span<const double>(nodes_[q]).subspan(n, n), std::span<double>(nodes_[q]).subspan(n, n));
     }
     nodes_[4].resize(n);
     nodes_[5].resize(n);
-    b.from_mixed(mixed_u(), nodes_[4]);
-    b.from_mixed(mixed_v(), nodes_[5]);
-    return error_norm_generic(h, nodes_[0], nodes_[1], nodes_[2], nodes_[3], [this](std::size_t f) {
+    b.from_stage(state_u(), nodes_[4]);
+    b.from_stage(state_v(), nodes_[5]);
+    return error_norm_weighted(h, nodes_[0], nodes_[1], nodes_[2], nodes_[3], [this](std::size_t f) {
       return f == 0 ? nodes_[4].data() : f == 1 ? nodes_[5].data() : current(f);
     });
   }
+  // ErrorNorm::local or rms on node values: each unknown against its own value.
   template <class Current>
-  double error_norm_generic(double h, const std::vector<double>& ynew, const std::vector<double>& k1v,
-                            const std::vector<double>& k2v, const std::vector<double>& k3v, Current&& cur) const {
+  double error_norm_weighted(double h, const std::vector<double>& ynew, const std::vector<double>& k1v,
+                             const std::vector<double>& k2v, const std::vector<double>& k3v, Current&& cur) const {
     const double rtol = opt_.rtol, atol = opt_.atol, h6 = h / 6.0;
     double norm = 0.0, probe = 0.0;  // probe: a NaN or infinity anywhere (std::max would drop a NaN)
     for (std::size_t j = 0; j < ynew.size(); ++j) probe += ynew[j] + k3v[j];
@@ -727,23 +567,11 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
     for (std::size_t f = 0; f < 4; ++f) {
       const std::size_t j0 = offset(f), j1 = j0 + block_size(f);
       const double* y = cur(f);  // y[j − j0], j in [j0, j1)
-      if (opt_.norm == ErrorNorm::field) {  // one weight per field: atol + rtol · max over the grid
-        double scale = 0.0, emax = 0.0;
-        for (std::size_t j = j0; j < j1; ++j) {
-          scale = std::max(scale, std::max(std::abs(y[j - j0]), std::abs(yn[j])));
-          emax = std::max(emax, std::abs(k1[j] - 2.0 * k2[j] + k3[j]));
-        }
-        norm = std::max(norm, h6 * emax / (atol + rtol * scale));
-      } else if (opt_.norm == ErrorNorm::local) {
-        for (std::size_t j = j0; j < j1; ++j)
-          norm = std::max(norm, std::abs(h6 * (k1[j] - 2.0 * k2[j] + k3[j])) /
-                                    (atol + rtol * std::max(std::abs(y[j - j0]), std::abs(yn[j]))));
-      } else {
-        for (std::size_t j = j0; j < j1; ++j) {
-          const double e =
-              h6 * (k1[j] - 2.0 * k2[j] + k3[j]) / (atol + rtol * std::max(std::abs(y[j - j0]), std::abs(yn[j])));
-          norm += e * e;
-        }
+      for (std::size_t j = j0; j < j1; ++j) {
+        const double e = std::abs(h6 * (k1[j] - 2.0 * k2[j] + k3[j])) /
+                         (atol + rtol * std::max(std::abs(y[j - j0]), std::abs(yn[j])));
+        if (opt_.norm == ErrorNorm::local) norm = std::max(norm, e);
+        else norm += e * e;
       }
     }
     if (opt_.norm == ErrorNorm::rms) norm = std::sqrt(norm / static_cast<double>(ynew.size()));
@@ -910,40 +738,25 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
     }
   }
 
-  // Stage 4: the step [t, t + h] is taken; h_dense is the step of its dense-output polynomial. The
-  // state moves into y_prev_ (dense output) and ynew_ into the state. Returns whether it ended on the
-  // stop time.
+  // Stage 4: the step [t, t + h] is taken; h_dense is the step of its dense-output polynomial. The stage vectors
+  // rotate (y_prev ← the state, the state ← ynew: no copy of u and v); the law's A and σ̄, which live in the law, are
+  // copied. Returns whether the step ended on the stop time.
   bool accept(double h, double h_dense, bool f_end_valid) {
+    const std::size_t oa = offset(2), m2 = 2 * this->sites_;
+    double* fields = const_cast<double*>(fields_ptr());
+    std::copy_n(fields, m2, state_.data() + oa);
+    std::swap(y_prev_, state_);
+    std::swap(state_, ynew_);
+    std::copy_n(state_.data() + oa, m2, fields);
     double vmax = 0.0;
-    if constexpr (!kChain) {
-      // The strip: the stage vectors rotate (y_prev ← the state, the state ← ynew) instead of being copied; only
-      // the law's A and σ̄, which live in the law, are copied.
-      const std::size_t oa = offset(2), m2 = 2 * this->sites_;
-      double* fields = const_cast<double*>(fields_ptr());
-      std::copy_n(fields, m2, ystate_.data() + oa);
-      std::swap(y_prev_, ystate_);
-      std::swap(ystate_, ynew_);
-      std::copy_n(ystate_.data() + oa, m2, fields);
-    } else {
-      for (std::size_t f = 0; f < 4; ++f) {
-      double* y = current(f);
-      const std::size_t o = offset(f), n = block_size(f);
-      for (std::size_t i = 0; i < n; ++i) {
-        const std::size_t j = o + i;
-        y_prev_[j] = y[i];
-        y[i] = ynew_[j];
-      }
-      }
-    }
     const std::size_t ov = offset(1);
     const double* vc = current(1);
     for (std::size_t i = 0; i < this->sites_; ++i) vmax = std::max({vmax, std::abs(y_prev_[ov + i]), std::abs(vc[i])});
-    if constexpr (!kChain) {  // the interface row's node values at once, the rest when asked (sync_bulk)
-      std::copy_n(mixed_u().data(), this->sites_, this->u_.data());
-      std::copy_n(mixed_v().data(), this->sites_, this->v_.data());
-      bulk_stale_ = true;
-      bulk_scale_valid_ = false;
-    }
+    // the sites' node values at once, the rest when asked (sync_nodes)
+    std::copy_n(state_u().data(), this->sites_, this->u_.data());
+    std::copy_n(state_v().data(), this->sites_, this->v_.data());
+    nodes_stale_ = this->n_ > this->sites_;
+    block_scale_valid_ = false;
     std::swap(f0_, f2_);  // FSAL: f at the new state, unless the step ended on the dense output
     std::swap(k1_prev_, k1_);
     std::swap(k2_prev_, k2_);
@@ -971,16 +784,11 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
     h_next_ = std::min(h * grow, opt_.dt_max);
   }
 
-  // Energy budget over the accepted step [t_prev, t] (docs/performance.md §2): the mechanical energy
-  // at t from the state, the work and dissipation by Simpson's rule on the step's dense output (its
-  // start, middle and end), so the residual is the integration error of the step (O(rtol)).
+  // Energy budget over the accepted step [t_prev, t] (docs/performance.md §2): the mechanical energy at t from the
+  // state, the work and dissipation by Simpson's rule on the step's dense output (its start, middle and end), so the
+  // residual is the integration error of the step (O(rtol)): kinetic, elastic, the uniform stress's power and the
+  // drive's over all dofs (node values), the viscous and interfacial power on the interface sites.
   void energy_over_step() {
-    if constexpr (kChain) energy_over_step_chain();
-    else energy_over_step_body();
-  }
-  // The strip: the same rule over all dofs (kinetic, elastic, the uniform stress's power on the top face, the
-  // drive's on the edge column), the viscous and interfacial power on the interface sites.
-  void energy_over_step_body() {
     EnergyBudget& e = *this->energy_;
     const std::size_t n = this->n_, m = this->sites_;
     const B& b = this->bulk_;
@@ -1014,46 +822,11 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
     e.elastic = b.elastic_energy(displacement());
     e.spring = b.spring_energy(t1, displacement());
   }
-  void energy_over_step_chain() {
-    EnergyBudget& e = *this->energy_;
-    const std::size_t n = this->n_;
-    const Bulk& b = this->bulk_;
-    const double eta = this->law_.params().eta, sd = b.uniform_stress(), t0 = t_prev_, t1 = this->t_;
-    if (en_v_.size() != n) {
-      en_v_.assign(n, 0.0);
-      en_s_.assign(n, 0.0);
-    }
-    double visc[3], inter[3], drive[3];
-    const double ts[3] = {t0, 0.5 * (t0 + t1), t1};
-    for (int q = 0; q < 3; ++q) {
-      dense_state(ts[q], Field::slip_rate, en_v_);
-      dense_state(ts[q], Field::sigma_bar, en_s_);
-      double pv = 0.0, pi = 0.0, pu = 0.0;
-      for (std::size_t i = 0; i < n; ++i) {
-        const double w = b.node_weight(i), vi = en_v_[i];
-        pv += w * eta * vi * vi;
-        pi += w * en_s_[i] * vi;
-        pu += w * sd * vi;
-      }
-      visc[q] = pv;
-      inter[q] = pi;
-      drive[q] = pu + b.driver_velocity() * b.drive_force(ts[q], dense_value(ts[q], Field::slip, 0)) +
-                 b.rear_traction() * en_v_[0];
-    }
-    const double h6 = (t1 - t0) / 6.0;
-    e.viscous += h6 * (visc[0] + 4.0 * visc[1] + visc[2]);
-    e.interfacial += h6 * (inter[0] + 4.0 * inter[1] + inter[2]);
-    e.drive_work += h6 * (drive[0] + 4.0 * drive[1] + drive[2]);
-    e.time = t1;
-    e.kinetic = this->kinetic_energy(this->v_);
-    e.elastic = b.elastic_energy(this->u_);
-    e.spring = b.spring_energy(t1, this->u_[0]);
-  }
 
   AdaptiveOptions opt_;
   double t_prev_ = 0.0, h_next_, last_dt_, err_prev_ = 1.0;
   bool started_ = false, f0_valid_ = false;
-  std::vector<double> y_prev_, ynew_, f0_, f1_, f2_, k1_, k2_, k3_, tmp_;  // stages [u | v | A | σ̄]
+  std::vector<double> y_prev_, ynew_, f0_, f1_, f2_, k1_, k2_, k3_;  // stages [u | v | A | σ̄]
   std::vector<double> k1_prev_, k2_prev_;  // dense output of the last accepted step
   double h_prev_ = 0.0, t_stop_ = -1.0;
   std::vector<std::uint8_t> theta_, theta_prev_;
@@ -1061,45 +834,43 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
   std::vector<std::pair<double, double>> groups_;  // (θ_i, allowance_i) of the crossings, for group_fraction
   double group_tol_[2] = {0.0, 0.0};               // the tolerances of A and σ̄ of the current trial
   bool group_scales_valid_ = false;
-  // W factorization: node elimination coefficients and the Thomas factors of the u system.
-  double c_ = 0.0;
-  std::vector<double> inv_a1_, q_area_, inv_s1_, c_alpha_v_, q_sigma_, d_coef_, thomas_c_, thomas_inv_;
+  // The W solve's elimination of each site's A and σ̄ rows (eliminate_site); the body keeps its own factors.
+  std::vector<double> inv_a1_, q_area_, inv_s1_, c_alpha_v_, q_sigma_;
   std::vector<double> en_v_, en_s_, en_u_;  // energy budget work arrays
-  // The strip's mixed representation (Strip::to_mixed, docs/numerics.md §8.6): the first 2 dofs() of ystate_ are the
-  // state [u | v] (its tail is the stage rotation's room for A, σ̄: accept); u_, v_ of
-  // the core hold the interface row at every step end and the rest when asked, sync_bulk); mass_ and urhs_ the
-  // interface row's node masses and its row of the u system's right-hand side (solve_fused).
-  std::vector<double> mass_, urhs_, ystate_;
-  std::span<const double> mixed_u() const { return std::span<const double>(ystate_).first(this->n_); }
-  std::span<const double> mixed_v() const { return std::span<const double>(ystate_).subspan(this->n_, this->n_); }
-  bool mixed_valid_ = false;
-  mutable bool bulk_stale_ = false;
-  mutable std::vector<double> dense_mixed_;
-  mutable double bulk_scale_[2] = {0.0, 0.0};  // error_norm_mixed: the scale of u and v from rows j ≥ 1
-  mutable bool bulk_scale_valid_ = false;
+  // The state's u and v in the body's stage representation: the first 2 dofs() of state_ (its tail is the rotation's
+  // room for A, σ̄: accept). The core's u_, v_ hold the sites' node values at every step end and the rest when asked
+  // (sync_nodes); state_made_: state_ was made from them (make_state) since the last set_initial.
+  std::vector<double> state_;
+  std::span<const double> state_u() const { return std::span<const double>(state_).first(this->n_); }
+  std::span<const double> state_v() const { return std::span<const double>(state_).subspan(this->n_, this->n_); }
+  bool state_made_ = false;
+  mutable bool nodes_stale_ = false;
+  mutable std::vector<double> dense_nodes_;
+  mutable double block_scale_[2] = {0.0, 0.0};  // error_norm_field: the state's scale of u and v beyond the sites
+  mutable bool block_scale_valid_ = false;
   mutable std::vector<std::vector<double>> nodes_;
   AdaptiveStats stats_;
 
-  // The mixed state from the node values (at the start, and after set_initial).
-  void make_mixed() {
-    if constexpr (!kChain) {
-      this->bulk_.to_mixed(this->u_, std::span<double>(ystate_).first(this->n_));
-      this->bulk_.to_mixed(this->v_, std::span<double>(ystate_).subspan(this->n_, this->n_));
-      mixed_valid_ = true;
-      bulk_stale_ = false;
-      bulk_scale_valid_ = false;
-      f0_valid_ = false;
-    }
+  // The stage state from the node values (at the start, and after set_initial).
+  void make_state() {
+    nodes_to_state();
+    f0_valid_ = false;
   }
-  // The node values of the whole body from the mixed state, when they are behind it.
-  void sync_bulk() const {
-    if constexpr (!kChain) {
-      if (!bulk_stale_ || !mixed_valid_) return;
-      auto* self = const_cast<AdaptiveSimulation*>(this);
-      this->bulk_.from_mixed(mixed_u(), self->u_);
-      this->bulk_.from_mixed(mixed_v(), self->v_);
-      bulk_stale_ = false;
-    }
+  void nodes_to_state() {
+    const B& b = this->bulk_;
+    b.to_stage(this->u_, std::span<double>(state_).first(this->n_));
+    b.to_stage(this->v_, std::span<double>(state_).subspan(this->n_, this->n_));
+    state_made_ = true;
+    nodes_stale_ = false;
+    block_scale_valid_ = false;
+  }
+  // The node values of the whole body from the stage state, when they are behind it.
+  void sync_nodes() const {
+    if (!nodes_stale_ || !state_made_) return;
+    auto* self = const_cast<AdaptiveSimulation*>(this);
+    this->bulk_.from_stage(state_u(), self->u_);
+    this->bulk_.from_stage(state_v(), self->v_);
+    nodes_stale_ = false;
   }
 };
 

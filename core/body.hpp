@@ -119,3 +119,77 @@ concept RunBody =
     };
 
 }  // namespace slipfront::core
+
+// --- The adaptive integrator's body (core/adaptive.hpp, docs/numerics.md §8.8) ----------------------------------
+namespace slipfront::core {
+
+/// The Rosenbrock stage's right-hand side of the dofs beyond the interface sites, for a body whose stage solve takes
+/// it apart (the strip's rows j ≥ 1, fused into its sweeps): b_u = bu − sub_u, b_v = bv − sub_v + (the drive's
+/// ∂f/∂t, hdT at the edge site, spread over the body's loaded dofs); after the solve x_u += add_u, x_v += add_v
+/// (sub_*, add_* may be null). The sites' entries are the integrator's (it forms them before, adds back after).
+struct BulkStage {
+  const double* bu;
+  const double* bv;
+  const double* sub_u = nullptr;
+  const double* sub_v = nullptr;
+  const double* add_u = nullptr;
+  const double* add_v = nullptr;
+  double hdT = 0.0;
+};
+
+/// The local error of one block (u or v) of a Rosenbrock step, as the `field` norm weighs it: scale = the largest
+/// |y| the block shows (start and trial end), emax = the largest |e| (e = k1 − 2 k2 + k3 in node values, or a bound
+/// never below it), probe = a sum that is finite iff every error is.
+struct StageError {
+  double scale = 0.0, emax = 0.0, probe = 0.0;
+};
+
+/// Stand-ins for the adaptive integrator's per-site callbacks in the AdaptiveBody concept.
+struct NoSiteCoefficient {
+  double operator()(std::size_t) const { return 0.0; }
+};
+struct NoSiteBack {
+  void operator()(std::size_t, double) const {}
+};
+
+/// What the adaptive integrator (core/adaptive.hpp) asks of a body beyond Body: the bulk's part of the stage right-
+/// hand side and of the W solve, in the body's own **stage representation** of u and v (all dofs, components()
+/// displacement components per node: dofs() = nodes × components()). The first sites() entries of a stage field are
+/// the interface sites' slip (rate) as node values — the law acts there, site by site; the rest is the body's (the
+/// chain: node values; the strip: cosine modes of the rows j ≥ 1, docs/numerics.md §8.6).
+///   components()                        displacement components per node (chain, strip: 1; an in-plane body: 2)
+///   stage_is_nodes                      the stage representation is node values (no transforms; checkpoints hold
+///                                       the node values only)
+///   stage_archive_tag()                 the checkpoint's tag of the adaptive integrator on this body
+///   to_stage(nodes, z), from_stage(z, nodes)   node values ↔ stage representation, all dofs (may alias)
+///   stage_value(z, i)                   the node value of dof i of the stage field z (dense output of one dof)
+///   stage_drive_force(t, u)             F(t) the drive applies, from the stage field u
+///   stage_accelerations(t, u, v, σ̄, η, a)   v' of every dof (stage representation): elastic forces, loading, and
+///                                       the interface traction σ̄_i + η v_i on the sites
+///   set_stage_tolerance(rtol)           the integrator's rtol, for a body whose stage solve iterates
+///   stage_factor(c, η, q_σ)             W = I − c J: the u system's factors; q_σ(i) the law's per-site coefficient
+///                                       (x_σ = p_σ + q_σ x_v of site i), called once per site in order
+///   stage_solve(in, p_σ, back, xu, xv)  W⁻¹ in place on the u, v blocks (xu, xv: the sites' right-hand side on entry,
+///                                       the rest from in): p_σ(i) eliminates site i's A and σ̄ rows and returns its p_σ
+///                                       (once per site, in order); back(i, x_v,i) completes them after the solve
+///   stage_scale(y)                      the scale of a u or v block of the state beyond its sites' values (field norm)
+///   stage_error(y, ynew, k1, k2, k3)    the block's StageError (the field norm, docs/performance.md §2)
+template <class B>
+concept AdaptiveBody = Body<B> && requires(const B& b, B& mb, double d, std::size_t i, const double* p, double* q,
+                                           std::span<const double> c, std::span<double> m, const BulkStage& in) {
+  { b.components() } -> std::convertible_to<std::size_t>;
+  { B::stage_is_nodes } -> std::convertible_to<bool>;
+  { b.stage_archive_tag() } -> std::convertible_to<const char*>;
+  b.to_stage(c, m);
+  b.from_stage(c, m);
+  { b.stage_value(p, i) } -> std::convertible_to<double>;
+  { b.stage_drive_force(d, c) } -> std::convertible_to<double>;
+  mb.stage_accelerations(d, c, p, p, d, m);
+  mb.set_stage_tolerance(d);
+  mb.stage_factor(d, d, NoSiteCoefficient{});
+  mb.stage_solve(in, NoSiteCoefficient{}, NoSiteBack{}, q, q);
+  { b.stage_scale(p) } -> std::convertible_to<double>;
+  { b.stage_error(p, p, p, p, p) } -> std::convertible_to<StageError>;
+};
+
+}  // namespace slipfront::core

@@ -12,6 +12,8 @@
 // S_ii = k·(neighbours of i) + K δ_i0, S_{i,i±1} = −k (elastic_diagonal, spring_K, stiffness).
 //
 // The chain is one model of the Body concept (core/body.hpp): every node is an interface site.
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <span>
 #include <vector>
@@ -189,15 +191,102 @@ class Bulk {
   /// None: the chain's fields are the interface's (the snapshots).
   static std::span<const SnapshotField> snapshot_fields() { return {}; }
   void snapshot_values(std::span<const double>, std::size_t, std::size_t, std::span<double>) const {}
+  // --- The adaptive integrator's body (core::AdaptiveBody, core/body.hpp; docs/numerics.md §8.8) -----------------
+  // The stage representation is the node values; the u system of the W solve is symmetric tridiagonal (Thomas):
+  //   (ρ w_i D_i / c²) x_u,i + (S x_u)_i = w_i ((ρ/c) b_v,i − p_σ,i) + (ρ w_i D_i / c²) b_u,i,
+  //   D_i = 1 + cη/ρ + (c/ρ) q_σ,i,   S the stiffness (elastic_diagonal, stiffness, spring_K),
+  // then x_v = (x_u − b_u)/c. Every node is a site: there is nothing beyond the sites (BulkStage is not read).
+  std::size_t components() const { return 1; }
+  static constexpr bool stage_is_nodes = true;
+  const char* stage_archive_tag() const { return "adaptive"; }
+  void to_stage(std::span<const double> u, std::span<double> z) const {
+    if (z.data() != u.data()) std::copy_n(u.data(), u.size(), z.data());
+  }
+  void from_stage(std::span<const double> z, std::span<double> u) const { to_stage(z, u); }
+  double stage_value(const double* z, std::size_t i) const { return z[i]; }
+  double stage_drive_force(double t, std::span<const double> u) const { return drive_force(t, u[0]); }
+  /// v'_i = (F_i/w_i + σ_d − σ̄_i − η v_i)/ρ.
+  void stage_accelerations(double t, std::span<const double> u, const double* v, const double* sigma_bar, double eta,
+                           std::span<double> a) {
+    const double inv_rho = 1.0 / rho_, sd = sigma_d_;
+    double* fv = a.data();
+    forces_per_length(u, drive_force(t, u[0]),
+                      [&](std::size_t i, double force) { fv[i] = (force + sd - sigma_bar[i] - eta * v[i]) * inv_rho; });
+  }
+  void set_stage_tolerance(double) {}  ///< the Thomas solve is exact
+  /// The Thomas factors of the u system, site i's q_σ from the callback inside the elimination.
+  template <class SiteQ>
+  void stage_factor(double c, double eta, SiteQ&& q_sigma) {
+    const std::size_t n = nodes();
+    stage_d_.resize(n);
+    stage_tc_.resize(n);
+    stage_tinv_.resize(n);
+    stage_tmp_.resize(n);
+    stage_c_ = c;
+    const double rho = rho_, K = spring_K_;
+    const double base = 1.0 + c * eta / rho, c_rho = c / rho, rho_c2 = rho / (c * c);
+    const double off = -k_;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double qs = q_sigma(i);
+      const double w = node_weight(i);
+      const double dc = rho_c2 * w * (base + c_rho * qs);
+      stage_d_[i] = dc;
+      const double diag = dc + elastic_diagonal(i) + (i == 0 ? K : 0.0);
+      const double m = i == 0 ? diag : diag - off * stage_tc_[i - 1];
+      stage_tinv_[i] = 1.0 / m;
+      stage_tc_[i] = off / m;
+    }
+  }
+  /// The W solve: the forward sweep takes each site's p_σ as it goes, the back substitution hands back x_v,i.
+  template <class SiteP, class SiteBack>
+  void stage_solve(const BulkStage&, SiteP&& p_sigma, SiteBack&& back, double* xu, double* xv) {
+    const std::size_t n = nodes();
+    const double c = stage_c_, rho_c = rho_ / c, inv_c = 1.0 / c, off = -k_;
+    const double* dcoef = stage_d_.data();
+    const double* tinv = stage_tinv_.data();
+    const double* tc = stage_tc_.data();
+    double* d = stage_tmp_.data();
+    double prev = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double ps = p_sigma(i);
+      const double r = node_weight(i) * (rho_c * xv[i] - ps) + dcoef[i] * xu[i];
+      prev = (r - off * prev) * tinv[i];  // forward sweep
+      d[i] = prev;
+    }
+    double next = 0.0;
+    for (std::size_t i = n; i-- > 0;) {
+      const double ui = d[i] - tc[i] * next;
+      next = ui;
+      const double vi = (ui - xu[i]) * inv_c;
+      xu[i] = ui;
+      xv[i] = vi;
+      back(i, vi);
+    }
+  }
+  double stage_scale(const double*) const { return 0.0; }  ///< the sites are the whole block
+  StageError stage_error(const double* y, const double* yn, const double* k1, const double* k2,
+                         const double* k3) const {
+    StageError r;
+    for (std::size_t j = 0; j < nodes(); ++j) {
+      r.scale = std::max(r.scale, std::max(std::abs(y[j]), std::abs(yn[j])));
+      const double e = std::abs(k1[j] - 2.0 * k2[j] + k3[j]);
+      r.emax = std::max(r.emax, e);
+      r.probe += e + yn[j];
+    }
+    return r;
+  }
 
  private:
   std::vector<double> x_;
   double dx_ = 1.0, rho_ = 1.0, k_ = 0.0, w_in_ = 1.0, w_end_ = 1.0;
   double sigma_d_ = 0.0, spring_K_ = 0.0, v_d_ = 0.0, rear_traction_ = 0.0, stable_dt_ = 0.0;
   std::vector<double> rhs_, cp_;  ///< implicit_solve's work arrays
+  double stage_c_ = 0.0;  ///< the adaptive stage solve's c, its coefficients, Thomas factors and sweep
+  std::vector<double> stage_d_, stage_tc_, stage_tinv_, stage_tmp_;
 };
 
 static_assert(Body<Bulk>);
 static_assert(RunBody<Bulk>);
+static_assert(AdaptiveBody<Bulk>);
 
 }  // namespace slipfront::core

@@ -422,7 +422,8 @@ Strip::Strip(const Strip& o)
       rear_traction_(o.rear_traction_), stable_dt_(o.stable_dt_), shift_(o.shift_), inv_(o.inv_), rhs_(o.rhs_),
       inv_wx_(o.inv_wx_), fact_dt_(o.fact_dt_), fact_dbar_(o.fact_dbar_), last_iterations_(o.last_iterations_),
       last_residual_(o.last_residual_), step_solver_(o.step_solver_),
-      last_interface_iterations_(o.last_interface_iterations_), interface_tolerance_(o.interface_tolerance_) {
+      last_interface_iterations_(o.last_interface_iterations_), interface_tolerance_(o.interface_tolerance_),
+      stage_(o.stage_) {
   make_plans();  // solve_system's workspace is made again on first use (the same factors, bit for bit)
 }
 
@@ -434,7 +435,7 @@ Strip::Strip(Strip&& o) noexcept
       inv_wx_(std::move(o.inv_wx_)), fact_dt_(o.fact_dt_), fact_dbar_(o.fact_dbar_),
       last_iterations_(o.last_iterations_), last_residual_(o.last_residual_), step_solver_(o.step_solver_),
       direct_(std::move(o.direct_)), last_interface_iterations_(o.last_interface_iterations_),
-      interface_tolerance_(o.interface_tolerance_) {}
+      interface_tolerance_(o.interface_tolerance_), stage_(std::move(o.stage_)) {}
 
 Strip& Strip::operator=(const Strip& o) {
   if (this != &o) {
@@ -476,6 +477,7 @@ Strip& Strip::operator=(Strip&& o) noexcept {
     direct_ = std::move(o.direct_);
     last_interface_iterations_ = o.last_interface_iterations_;
     interface_tolerance_ = o.interface_tolerance_;
+    stage_ = std::move(o.stage_);
   }
   return *this;
 }
@@ -1007,7 +1009,7 @@ double Strip::mixed_edge_slip(std::span<const double> z) const {
   return s / H_;
 }
 
-// Row 0 as rhs_body computes it (the elastic forces of elastic_forces, the edge force, the interface traction,
+// Row 0 as the adaptive right-hand side (stage_accelerations) computes it (the elastic forces of elastic_forces, the edge force, the interface traction,
 // over the node mass), with row 1 brought to node values; every row j ≥ 1 in its modes:
 //   â_kj = (μ'/ρ') (−λ_k ẑ_kj + ((ẑ_k,j−1 − ẑ_kj) + (ẑ_k,j+1 − ẑ_kj))/(dy wy(j))) + F/(H ρ' wx(0)) / (2(nx−1))
 // (the edge column's force per unit mass, δ_i0, has the mode 1/(2(nx−1)) in every k), + σ_d/(ρ' wy(ny)) in the
@@ -1048,6 +1050,67 @@ void Strip::mixed_accelerations(std::span<const double> u, double drive_force, c
       aj[0] += sigma_d_ / (rho_p_ * row_weight(ny));
     }
   }
+}
+
+// --- The adaptive integrator's body (core::AdaptiveBody) ---------------------------------------------------------
+
+void Strip::stage_accelerations(double t, std::span<const double> u, const double* v, const double* sigma_bar,
+                                double eta, std::span<double> a) {
+  stage_.traction.resize(nx_);
+  double* traction = stage_.traction.data();
+  for (std::size_t i = 0; i < nx_; ++i) traction[i] = sigma_bar[i] + eta * v[i];
+  mixed_accelerations(u, drive_force_at(t, mixed_edge_slip(u)), traction, a);
+}
+
+void Strip::set_stage_tolerance(double rtol) {
+  set_interface_tolerance(std::clamp(kStageSolveTolerance * rtol, 1e-13, 1e-3));
+}
+
+Strip::StageInput Strip::stage_input(const BulkStage& in) const {
+  StageInput s{in.bu, in.bv};
+  s.sub_u = in.sub_u;
+  s.sub_v = in.sub_v;
+  s.add_u = in.add_u;
+  s.add_v = in.add_v;
+  // The spring's ∂f/∂t in the modes of every row j ≥ 1: those of hdT δ_i0 (the edge column), hdT/(2(nx − 1)).
+  s.shift_v = has_drive_spring() ? in.hdT / (2.0 * static_cast<double>(nx_ - 1)) : 0.0;
+  return s;
+}
+
+double Strip::stage_scale(const double* y) const {
+  const std::size_t m = nx_, n = dofs(), N = m - 1;
+  double sc = 0.0;
+  for (std::size_t r = m; r < n; r += m)
+    sc = std::max({sc, std::abs(mode_row_value(y + r, 0)), std::abs(mode_row_value(y + r, N))});
+  return sc;
+}
+
+StageError Strip::stage_error(const double* y, const double* yn, const double* k1, const double* k2,
+                              const double* k3) const {
+  const std::size_t m = nx_, n = dofs(), N = m - 1;
+  StageError out;
+  for (std::size_t j = 0; j < m; ++j) {
+    out.scale = std::max(out.scale, std::max(std::abs(y[j]), std::abs(yn[j])));
+    const double e = std::abs(k1[j] - 2.0 * k2[j] + k3[j]);
+    out.emax = std::max(out.emax, e);
+    out.probe += e;
+  }
+  for (std::size_t q = m; q < n; q += m) {  // rows j ≥ 1: modes
+    double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
+    std::size_t k = 1;
+    for (; k + 4 <= N; k += 4) {
+      s0 += std::abs(k1[q + k] - 2.0 * k2[q + k] + k3[q + k]);
+      s1 += std::abs(k1[q + k + 1] - 2.0 * k2[q + k + 1] + k3[q + k + 1]);
+      s2 += std::abs(k1[q + k + 2] - 2.0 * k2[q + k + 2] + k3[q + k + 2]);
+      s3 += std::abs(k1[q + k + 3] - 2.0 * k2[q + k + 3] + k3[q + k + 3]);
+    }
+    for (; k < N; ++k) s0 += std::abs(k1[q + k] - 2.0 * k2[q + k] + k3[q + k]);
+    const double bound = std::abs(k1[q] - 2.0 * k2[q] + k3[q]) + std::abs(k1[q + N] - 2.0 * k2[q + N] + k3[q + N]) +
+                         2.0 * ((s0 + s1) + (s2 + s3));
+    out.emax = std::max(out.emax, bound);
+    out.probe += bound;
+  }
+  return out;
 }
 
 namespace {

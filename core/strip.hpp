@@ -203,7 +203,7 @@ class Strip {
   /// traction_i = σ̄_i + η v_i0 on the interface sites). Two one-row transforms; a and u must not alias.
   void mixed_accelerations(std::span<const double> u, double drive_force, const double* traction,
                            std::span<double> a) const;
-  /// The adaptive integrator's stage solve in the mixed representation, fused (core/adaptive.hpp solve_fused): the
+  /// The adaptive integrator's stage solve in the mixed representation, fused (Strip::stage_solve): the
   /// rhs of rows j ≥ 1 formed here, ρ' wy(j) (xv_j + xu_j/c) (the modes of (M xv + M xu/c)/wx), row 0's given as
   /// r0 (node values, sites()); then x = A(c, d)⁻¹ r and xu ← x, xv ← (x − xu)/c (mixed, dofs() each).
   void solve_stage_mixed(double c, std::span<const double> d, const double* r0, double* xu, double* xv);
@@ -222,6 +222,51 @@ class Strip {
   };
   void solve_stage_mixed(double c, std::span<const double> d, const double* r0, const StageInput& in, double* xu,
                          double* xv);
+
+  // --- The adaptive integrator's body (core::AdaptiveBody, core/body.hpp; docs/numerics.md §8.8) -----------------
+  // The stage representation is the mixed one above; the stage solve is solve_stage_mixed with the interface row's
+  // right-hand side formed from the sites' p_σ, d_i = η + q_σ,i (docs/numerics.md §8.5).
+  std::size_t components() const { return 1; }
+  static constexpr bool stage_is_nodes = false;
+  const char* stage_archive_tag() const { return "adaptive_strip_mixed"; }
+  void to_stage(std::span<const double> u, std::span<double> z) const { to_mixed(u, z); }
+  void from_stage(std::span<const double> z, std::span<double> u) const { from_mixed(z, u); }
+  double stage_value(const double* z, std::size_t i) const {
+    const std::size_t j0 = (i / nx_) * nx_;
+    return j0 == 0 ? z[i] : mode_row_value(z + j0, i - j0);
+  }
+  double stage_drive_force(double t, std::span<const double> u) const { return drive_force_at(t, mixed_edge_slip(u)); }
+  /// mixed_accelerations with the traction σ̄_i + η v_i of the sites.
+  void stage_accelerations(double t, std::span<const double> u, const double* v, const double* sigma_bar, double eta,
+                           std::span<double> a);
+  /// The interface iterations of the stage solves stop at a relative residual of 1e-4 rtol (docs/numerics.md §8.5).
+  static constexpr double kStageSolveTolerance = 1e-4;
+  void set_stage_tolerance(double rtol);
+  template <class SiteQ>
+  void stage_factor(double c, double eta, SiteQ&& q_sigma) {
+    stage_.c = c;
+    stage_.d.resize(nx_);
+    for (std::size_t i = 0; i < nx_; ++i) stage_.d[i] = eta + q_sigma(i);
+  }
+  /// Row 0's right-hand side M b_v + (M/c) b_u + E wx (d b_u0 − c p_σ) from the sites, then solve_stage_mixed.
+  template <class SiteP, class SiteBack>
+  void stage_solve(const BulkStage& in, SiteP&& p_sigma, SiteBack&& back, double* xu, double* xv) {
+    const std::size_t m = nx_;
+    const double c = stage_.c, inv_c = 1.0 / c;
+    stage_.r.resize(m);
+    double* r = stage_.r.data();
+    const double* d = stage_.d.data();
+    for (std::size_t i = 0; i < m; ++i) {
+      const double ps = p_sigma(i);
+      r[i] = node_mass(i, 0) * (xv[i] + inv_c * xu[i]) + interface_weight(i) * (d[i] * xu[i] - c * ps);
+    }
+    solve_stage_mixed(c, stage_.d, r, stage_input(in), xu, xv);
+    for (std::size_t i = 0; i < m; ++i) back(i, xv[i]);
+  }
+  /// The rows' end values of a u or v block (the field norm's scale, docs/numerics.md §8.6).
+  double stage_scale(const double* y) const;
+  /// Row 0 exactly; each row j ≥ 1 by |ê_0| + |ê_N| + 2 Σ_{0<k<N} |ê_k| ≥ its largest node error (§8.6).
+  StageError stage_error(const double* y, const double* yn, const double* k1, const double* k2, const double* k3) const;
 
   /// Relative residual at which solve_system's interface iterations stop (default 1e-13: the solve then agrees
   /// with a sparse LDLT to ~1e-13). The adaptive integrator loosens it with its rtol (docs/numerics.md §8.5).
@@ -258,6 +303,7 @@ class Strip {
   struct StageRhs;  // solve_stage_mixed's rows j ≥ 1 (strip.cpp)
   double direct_modes(std::span<const double> d, const double* rhs, double* z, const StageRhs* stage = nullptr);
   void prepare_psi(double c, std::span<const double> d);
+  StageInput stage_input(const BulkStage& in) const;
 
   std::vector<double> x_;
   std::size_t nx_ = 0, ny_ = 0;
@@ -282,6 +328,10 @@ class Strip {
   std::unique_ptr<Direct> direct_;
   int last_interface_iterations_ = 0;
   double interface_tolerance_ = 1e-13;
+  struct AdaptiveStage {  // the adaptive stage solve's c, d and row 0's right-hand side, the sites' traction
+    double c = 0.0;
+    std::vector<double> d, r, traction;
+  } stage_;
 };
 
 template <class F>
@@ -305,5 +355,6 @@ void Strip::elastic_forces(std::span<const double> u, F&& f) const {
 
 static_assert(Body<Strip>);
 static_assert(RunBody<Strip>);
+static_assert(AdaptiveBody<Strip>);
 
 }  // namespace slipfront::core

@@ -20,6 +20,7 @@
 #include "compare/alongside.hpp"
 #include "compare/runner.hpp"
 #include "compare/scene.hpp"
+#include "core/bulk.hpp"
 #include "core/strip.hpp"
 #include "scenes.hpp"
 
@@ -81,6 +82,85 @@ Eigen::SparseMatrix<double> assemble(const core::Strip& s, double c, const std::
   return D + c * s.stiffness_matrix() + (c * s.spring_K()) * bb;
 }
 
+
+// The AdaptiveBody contract (core/body.hpp, docs/numerics.md §8.8), checked through the body's own stage
+// accelerations, whatever its stage representation: a(t; u, v, σ̄) is affine, so J x = a(0; x) − a(0; 0), and
+// stage_factor / stage_solve must return x with
+//   x_u − c x_v = b_u,   x_v − c (a(0; x_u, x_v, x_σ) − a(0; 0)) = b_v + (hdT / ∂a_0/∂t) ∂a/∂t,   x_σ,i = p_i + q_i x_v,i,
+// b = bu − sub on every dof (sub: the sites' entries taken off by the caller, the rest by the body from BulkStage),
+// add_back restoring it after, and the callbacks called once per site, in order. Returns the largest relative
+// residual of the two rows.
+template <class B>
+double stage_contract_residual(B& body, double c, double eta, double hdT, bool with_sub, std::mt19937& g) {
+  const std::size_t n = body.dofs(), m = body.sites();
+  REQUIRE(body.components() == 1);
+  REQUIRE(n == m * body.rows() * body.components());
+  auto stage_random = [&](double scale) {
+    auto v = random_vector(n, g, -scale, scale);
+    body.to_stage(v, v);
+    return v;
+  };
+  const auto bu = stage_random(1.0), bv = stage_random(1.0);
+  const auto sub_u = stage_random(with_sub ? 0.5 : 0.0), sub_v = stage_random(with_sub ? 0.5 : 0.0);
+  const auto q = random_vector(m, g, -0.02, 1.0), p = random_vector(m, g, -1.0, 1.0);
+  std::vector<std::size_t> order, sites(m);
+  for (std::size_t i = 0; i < m; ++i) sites[i] = i;
+  body.stage_factor(c, eta, [&](std::size_t i) {
+    order.push_back(i);
+    return q[i];
+  });
+  CHECK(order == sites);
+  std::vector<double> xu(n), xv(n), back_v(m, std::nan(""));
+  for (std::size_t i = 0; i < m; ++i) {  // the caller's part: the sites' right-hand side
+    xu[i] = bu[i] - sub_u[i];
+    xv[i] = bv[i] - sub_v[i];
+  }
+  if (body.has_drive_spring()) xv[0] += hdT;
+  core::BulkStage in{bu.data(), bv.data()};
+  if (with_sub) {
+    in.sub_u = in.add_u = sub_u.data();
+    in.sub_v = in.add_v = sub_v.data();
+  }
+  in.hdT = hdT;
+  order.clear();
+  std::vector<std::size_t> back_order;
+  body.stage_solve(
+      in,
+      [&](std::size_t i) {
+        order.push_back(i);
+        return p[i];
+      },
+      [&](std::size_t i, double v) {
+        back_order.push_back(i);
+        back_v[i] = v;
+      },
+      xu.data(), xv.data());
+  CHECK(order == sites);
+  std::sort(back_order.begin(), back_order.end());
+  CHECK(back_order == sites);
+  // x without the added-back sub: the sites' entries as the body left them, the rest less add
+  std::vector<double> Xu(n), Xv(n), xs(m), zero(n, 0.0), a0(n), ax(n), at(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    Xu[k] = k < m ? xu[k] : xu[k] - sub_u[k];
+    Xv[k] = k < m ? xv[k] : xv[k] - sub_v[k];
+  }
+  for (std::size_t i = 0; i < m; ++i) {
+    CHECK(back_v[i] == Xv[i]);
+    xs[i] = p[i] + q[i] * Xv[i];
+  }
+  body.stage_accelerations(0.0, zero, zero.data(), zero.data(), eta, a0);
+  body.stage_accelerations(0.0, Xu, Xv.data(), xs.data(), eta, ax);
+  body.stage_accelerations(1.0, zero, zero.data(), zero.data(), eta, at);  // a(1; 0) − a(0; 0) = ∂a/∂t
+  const double spread = body.has_drive_spring() ? hdT / (at[0] - a0[0]) : 0.0;
+  double ru = 0.0, rv = 0.0, size = 0.0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const double Bu = bu[k] - sub_u[k], Bv = bv[k] - sub_v[k] + spread * (at[k] - a0[k]);
+    ru = std::max(ru, std::abs(Xu[k] - c * Xv[k] - Bu));
+    rv = std::max(rv, std::abs(Xv[k] - c * (ax[k] - a0[k]) - Bv));
+    size = std::max({size, std::abs(Bu), std::abs(Bv), std::abs(Xu[k]), std::abs(Xv[k])});
+  }
+  return std::max(ru, rv) / size;
+}
 }  // namespace
 
 TEST_CASE("strip: solve_system (capacitance) matches a sparse LDLT of the assembled step matrix", "[strip][adaptive]") {
@@ -127,6 +207,26 @@ TEST_CASE("strip: solve_system (capacitance) matches a sparse LDLT of the assemb
           CHECK((view(y) - ref2).norm() / ref2.norm() < 1e-12);
         }
   CHECK(indefinite_d > 0);
+}
+
+TEST_CASE("adaptive body: the chain's and the strip's stage solves solve I − cJ of their own stage accelerations",
+          "[strip][adaptive][body]") {
+  std::mt19937 g(37);
+  for (const bool edge : {true, false})
+    for (const double c : {0.004, 0.3})
+      for (const bool with_sub : {false, true}) {
+        const double hdT = edge ? 0.7 : 0.0;
+        INFO((edge ? "edge" : "homogeneous") << " c " << c << (with_sub ? " with sub/add" : ""));
+        const Setup s1 = setup(40, 1, edge);
+        core::Bulk chain(s1.bulk, s1.drive, s1.law, s1.dx);
+        CHECK(stage_contract_residual(chain, c, s1.law.eta, hdT, with_sub, g) < 1e-12);
+        for (const std::size_t rows : {2, 9}) {
+          INFO("strip rows " << rows);
+          const Setup s2 = setup(33, rows, edge);
+          core::Strip strip(s2.bulk, s2.drive, s2.law, s2.dx, s2.dy);
+          CHECK(stage_contract_residual(strip, c, s2.law.eta, hdT, with_sub, g) < 1e-10);
+        }
+      }
 }
 
 TEST_CASE("strip: the mixed representation (interface row in node values, rows above in cosine modes) is exact",

@@ -232,14 +232,15 @@ UNITS_NOTE = "all quantities dimensionless (docs/model.md §1)"
 
 
 def units_note(fig):
-    """The one line that says the figure's quantities are dimensionless, in its bottom right corner."""
-    fig.text(0.998, 0.003, UNITS_NOTE, ha="right", va="bottom", fontsize=8, color="0.35")
+    """The one line that says the figure's quantities are dimensionless, below the figure's bottom right corner (the
+    saved image is widened to hold it: savefig(bbox_inches="tight"), so it covers no label)."""
+    fig.text(0.998, -0.002, UNITS_NOTE, ha="right", va="top", fontsize=8, color="0.35")
 
 
 def save(fig, outdir, name, written, dpi):
     path = os.path.join(outdir, name)
     units_note(fig)
-    fig.savefig(path, dpi=dpi)
+    fig.savefig(path, dpi=dpi, bbox_inches="tight", pad_inches=0.05)
     plt.close(fig)
     written.append(path)
 

@@ -164,7 +164,7 @@ def write_report(path, text):
 def save(fig, outdir, name, figures):
     path = os.path.join(outdir, name)
     plot.units_note(fig)
-    fig.savefig(path, dpi=110)
+    fig.savefig(path, dpi=110, bbox_inches="tight", pad_inches=0.05)
     plt.close(fig)
     figures.append(path)
     return path
@@ -1598,8 +1598,8 @@ def _class_grid(res, outdir, figs, name, what, measured, predicted, edges, fits,
     height = 3.1 * len(rows) + 1
     fig, axes = plt.subplots(len(rows), 3, figsize=(13, height), squeeze=False)
     title = res.title(f"{what}: agent vs {ref} prediction, by phase and region", fig)
-    top = 0.3 + 0.18 * (title.count("\n") + 1)  # inches above the first row's titles: the suptitle's lines
-    fig.subplots_adjust(left=0.06, right=0.99, bottom=0.75 / height, top=1 - top / height, wspace=0.22, hspace=0.55)
+    top = 0.45 + 0.18 * (title.count("\n") + 1)  # inches above the first row's (two-line) titles: the suptitle's lines
+    fig.subplots_adjust(left=0.06, right=0.99, bottom=0.75 / height, top=1 - top / height, wspace=0.22, hspace=0.75)
     lo = np.where(edges[:-1] > 0, edges[:-1], edges[1] / 10 ** 0.2)  # [0, 1e-3) drawn one bin wide
     hi = np.where(np.isfinite(edges[1:]), edges[1:], edges[-2] * 10 ** 0.2)
     dec = np.log10(hi / lo)
@@ -1622,12 +1622,12 @@ def _class_grid(res, outdir, figs, name, what, measured, predicted, edges, fits,
                               label=f"{ref} prediction ({pt:.3g})")
                 ax.set_xscale("log")
                 fit = [f for f in fits if f["statistic"] == stat and int(f["phase"]) == ph and int(f["region"]) == r]
-                if fit:
+                tag = ""
+                if fit:  # in the panel's title: inside the axes it sat under the legend
                     f = fit[0]
-                    tag = f"KS {f['ks_distance']:.4f}, p {f['p_value']:.2g}" + ("" if f["tested"] else " (not tested)")
-                    ax.text(0.02, 0.95, tag, transform=ax.transAxes, fontsize=8, va="top")
+                    tag = f"\nKS {f['ks_distance']:.4f}, p {f['p_value']:.2g}" + ("" if f["tested"] else " (not tested)")
                 ax.legend(fontsize=8, loc="upper right")
-            ax.set_title(f"{PHASES[ph]}, {REGIONS[r]}", fontsize=9)
+            ax.set_title(f"{PHASES[ph]}, {REGIONS[r]}{tag}", fontsize=9)
             ax.set_xlabel(what)
             if r == 0:
                 ax.set_ylabel("fraction per decade")
@@ -1954,6 +1954,7 @@ PAPER_ORDER = ("fig1", "friction_law", "velocity_step", "spring_block", "fig2_sw
 # first screen marks a failure "known (where)" when it matches, else "NEW".
 KNOWN_FINDINGS = (
     ("agent contact statistics", "after arrest", "docs/contacts.md §5"),
+    ("agent contact statistics", "contacts_strip: contact lifetimes, slow front, tip", "docs/contacts.md §5.1"),
 )
 
 # The main figures linked from the first screen: (label, the end of the figure's file name).
@@ -2005,7 +2006,9 @@ def limits_digest(rows):
         fails = [r for r in rs if r["verdict"] == "FAIL"]
         scored = [r for r in rs if r.get("score") is not None and math.isfinite(r["score"])]
         worst = max(scored, key=lambda r: r["score"]) if scored else (fails[0] if fails else None)
-        worst_text = f"{worst['statistic']} ({worst['threshold']}; {worst['observable']})" if worst else "no statistic"
+        worst_text = (f"{worst['statistic']} ({worst['threshold']}; {worst['observable']})" if worst else
+                      "every row within its threshold" if len(fails) == 0 and any(r["verdict"] == "pass" for r in rs)
+                      else "no statistic")
         named = "; ".join(f"{r['observable']} — " + (f"known ({known_finding(r)})" if known_finding(r) else "**NEW**")
                           for r in fails) or "none"
         out.append(f"| {cell(limit)} | {sum(r['verdict'] == 'pass' for r in rs)} | {len(fails)} | {cell(worst_text)} "
@@ -2019,7 +2022,8 @@ def first_screen(summary, files, figures, root):
     done = len(status.get("complete", []))
     bad = "; ".join(f"{k}: " + ", ".join(f"`{os.path.relpath(p, root)}`" for p in v)
                     for k, v in sorted(status.items()) if k != "complete")
-    commit = ", ".join(sorted(c[:12] + ("-dirty" if c.endswith("-dirty") else "") for c in commits)) or "none"
+    commit = ", ".join(sorted(c.removesuffix("-dirty")[:12] + ("-dirty" if c.endswith("-dirty") else "")
+                              for c in commits)) or "none"
     day = lambda d: d.replace("T", " ").replace("Z", " UTC")  # noqa: E731
     when = (f"computed {day(min(dates))}" + (f" .. {day(max(dates))}" if len(dates) > 1 else "")) if dates else \
         "no computation date in the files"
@@ -2039,7 +2043,7 @@ def first_screen(summary, files, figures, root):
         out.append("")
     lim = [r for r in summary if r["kind"] == "limit"]
     out += ["## Limits that must hold: digest", "",
-            f"{len(lim)} rows: {sum(r['verdict'] == 'pass' for r in lim)} pass, "
+            f"{len(lim)} row{'' if len(lim) == 1 else 's'}: {sum(r['verdict'] == 'pass' for r in lim)} pass, "
             f"{sum(r['verdict'] == 'FAIL' for r in lim)} fail, {sum(r['verdict'] == 'n/a' for r in lim)} without a "
             "statistic (full table under Summary; a failure is a known finding, with its page, or new).", ""]
     out += limits_digest(summary) + [""]

@@ -12,6 +12,15 @@
    - a study (study.h5) tested against the continuum must run at w = 0 (its rows at w = 0 only), unless its limit
      is the continuum as w -> 0 (kind threshold_width, docs/model.md §2.1 item 4; kind disorder_limit, mean_field
      -> continuum as w -> 0, docs/model.md §2.2).
+3. with `--numbers PAGE` (the main job passes docs/results.md): every number the page quotes from a run (the rows of
+   its tables headed "| quoted | value | file | expression |") equals the run's value at the precision quoted. A
+   row names a file under the report's directory and a Python expression of it: of an HDF5 file `f` (open, h5py);
+   of a CSV file `c` (its numeric columns, numpy arrays) and `rows` (its rows, dicts by column); `np` (numpy). The
+   quoted value must lie within half a unit of its last digit of the expression's value. Only on request: the page
+   quotes the main job's output, which a test's small report does not have. Other pages cite docs/results.md for
+   these numbers instead of repeating them.
+
+   check_report.py REPORT.md [--numbers docs/results.md]
 """
 import math
 import os
@@ -163,11 +172,71 @@ def check_limits(text, root):
     return errors, checked
 
 
+def quoted_rows(page):
+    """The rows of docs/results.md's tables whose header starts "| quoted | value | file | expression |"."""
+    rows, cols = [], None
+    with open(page, encoding="utf-8") as f:
+        for line in f:
+            line = line.rstrip("\n")
+            if not line.startswith("|"):
+                cols = None
+                continue
+            cells = [c.strip().strip("`") for c in re.split(r"(?<!\\)\|", line.strip())[1:-1]]
+            if cols is None:
+                cols = cells if cells[:4] == ["quoted", "value", "file", "expression"] else []
+            elif cols and not set(cells[0]) <= set("- "):
+                rows.append(dict(zip(cols, [c.replace("\\|", "|") for c in cells])))
+    return rows
+
+
+def half_unit(text):
+    """Half a unit of the last digit of a quoted number ("25.71" -> 0.005, "10" -> 0.5, "1.2e-3" -> 5e-5)."""
+    mant, _, exp = text.lower().partition("e")
+    decimals = len(mant.partition(".")[2])
+    return 0.5 * 10.0 ** (-decimals + (int(exp) if exp else 0))
+
+
+def evaluate(root, row):
+    """The value of a row's expression on its file."""
+    import numpy as np
+    path = os.path.join(root, row["file"])
+    if path.endswith(".csv"):
+        import csv
+        with open(path, newline="") as f:
+            data = list(csv.DictReader(f))
+        c = {}
+        for k in (data[0] if data else {}):
+            try:
+                c[k] = np.array([float(r[k]) for r in data])
+            except ValueError:
+                pass  # a column of words: in `rows` only
+        return float(eval(row["expression"], {"np": np, "c": c, "rows": data}))  # noqa: S307 (the project's own page)
+    import h5py
+    with h5py.File(path, "r") as f:
+        return float(eval(row["expression"], {"np": np, "f": f}))  # noqa: S307 (the project's own page)
+
+
+def check_numbers(root, page):
+    """Errors of rule 3 (each quoted number against the run's files) and the number of rows read."""
+    errors, rows = [], quoted_rows(page)
+    for r in rows:
+        what = f"docs/results.md: '{r['quoted']}' = {r['value']}"
+        try:
+            v = evaluate(root, r)
+        except Exception as e:  # noqa: BLE001 (a missing file, group, column or a bad expression: each is reported)
+            errors.append(f"{what}: cannot evaluate `{r['expression']}` on {r['file']}: {type(e).__name__}: {e}")
+            continue
+        quoted = float(r["value"])
+        if not (math.isfinite(v) and abs(v - quoted) <= half_unit(r["value"]) * (1 + 1e-9)):
+            errors.append(f"{what}, but {r['file']} gives {v:.6g} (`{r['expression']}`)")
+    return errors, len(rows)
+
+
 def main(argv):
-    if len(argv) != 2:
-        print("usage: check_report.py REPORT.md", file=sys.stderr)
+    if len(argv) not in (2, 4) or (len(argv) == 4 and argv[2] != "--numbers"):
+        print("usage: check_report.py REPORT.md [--numbers docs/results.md]", file=sys.stderr)
         return 2
-    report = argv[1]
+    report, page = argv[1], argv[3] if len(argv) == 4 else None
     root = os.path.dirname(os.path.abspath(report))
     with open(report, "rb") as f:
         raw = f.read()
@@ -191,7 +260,12 @@ def main(argv):
         print(f"check_report: {len(images)} plots named in {report}, all present and non-empty")
     print(f"check_report: {checked} verdict rows read against their files; {len(errors)} errors (a model tested against "
           "a limit it is not supposed to reach, a misstated reference or w, a missing file or table)")
-    return 1 if bad or errors else 0
+    numbers = check_numbers(root, page) if page else ([], 0)
+    for e in numbers[0]:
+        print(f"check_report: {e}", file=sys.stderr)
+    if page:
+        print(f"check_report: {numbers[1]} numbers quoted in {page} read against the run; {len(numbers[0])} differ")
+    return 1 if bad or errors or numbers[0] else 0
 
 
 if __name__ == "__main__":

@@ -5,13 +5,13 @@
 #   2. run every convergence study in configs/studies/ (out/studies/<study>/study.h5 and one
 #      results.h5 per run),
 #   3. write the report with every plot (out/report.md, out/figures/*.png) and check (check_report.py) that no
-#      verdict of its summary tests a model against a limit it is not supposed to reach, and that every plot
-#      it names exists and is not empty.
+#      verdict of its summary tests a model against a limit it is not supposed to reach, that every plot
+#      it names exists and is not empty, and that every number docs/results.md quotes from this job is the run's.
 # Scenes, fronts and studies are independent steps in one queue, longest first, as many at a time as there are cores
-# (each one process on one core; a study on one thread: its runs do not depend on the threads). Takes 3 min 48 s on
-# 2 idle cores with the program built (2026-11-24; docs/performance.md §17); a first build adds ~1.5 min. Each step
-# prints its time. A scene or study that fails still leaves its partial results and the rest goes on; the job then
-# exits 1.
+# (each one process on one core; a study on one thread: its runs do not depend on the threads). How long it takes,
+# measured and dated: docs/results.md. Each step prints its time. A scene or study that fails still leaves its
+# partial results and the rest goes on. The exit code is 1 when a step crashed or the report or its check failed,
+# and 0 with FAIL verdicts in the report: verdicts are read on the report's first screen (why: docs/reading.md).
 #
 #   bash scripts/main.sh [--part all|1d] [--out DIR]
 #     --part 1d   only the 1D part: the steps whose scene or study name has no "strip" in it (issue 22's "1D part")
@@ -150,12 +150,16 @@ rc=0 t0=$SECONDS
 took report "$t0"
 ((rc == 0)) || failed+=("report: slipfront report exited with $rc")
 rc=0
-"$python" scripts/check_report.py "$out/report.md" || rc=$?
-((rc == 0)) || failed+=("report: check_report.py failed on $out/report.md (a plot missing or empty, or a verdict against a limit the model is not supposed to reach)")
+numbers=(--numbers docs/results.md)
+[[ $part == all ]] || numbers=()  # docs/results.md quotes the whole job
+"$python" scripts/check_report.py "$out/report.md" "${numbers[@]}" || rc=$?
+((rc == 0)) || failed+=("report: check_report.py failed on $out/report.md (a plot missing or empty, a verdict against a limit the model is not supposed to reach, or a number of docs/results.md not the run's)")
 
 echo
 echo "Results: $out/<scene>/results.h5 and $out/studies/<study>/study.h5 (layout: docs/output.md)"
-echo "Report:  $out/report.md (figures in $out/figures/)"
+echo "Report:  $out/report.md (figures in $out/figures/); its first screen answers the paper's questions and names"
+echo "         every failed limit (this exit code counts crashed steps, not verdicts: docs/reading.md)"
+echo "Took $((SECONDS - started)) s since the program was built"
 if ((${#failed[@]} != 0)); then
   echo
   echo "FAILED:" >&2

@@ -228,9 +228,19 @@ def no_data(ax, text="no data"):
     ax.set_yticks([])
 
 
+UNITS_NOTE = "all quantities dimensionless (docs/model.md §1)"
+
+
+def units_note(fig):
+    """The one line that says the figure's quantities are dimensionless, below the figure's bottom right corner (the
+    saved image is widened to hold it: savefig(bbox_inches="tight"), so it covers no label)."""
+    fig.text(0.998, -0.002, UNITS_NOTE, ha="right", va="top", fontsize=8, color="0.35")
+
+
 def save(fig, outdir, name, written, dpi):
     path = os.path.join(outdir, name)
-    fig.savefig(path, dpi=dpi)
+    units_note(fig)
+    fig.savefig(path, dpi=dpi, bbox_inches="tight", pad_inches=0.05)
     plt.close(fig)
     written.append(path)
 
@@ -388,7 +398,7 @@ def plot_1d(res: Results, outdir, written, dpi):
     ax.set_title(res.title("front tip trajectory", fig), fontsize=10)
     if lines:
         text = "\n".join(_wrap(s) for s in lines)
-        fig.text(0.01, 0.005, text, fontsize=7, family="monospace", va="bottom")
+        fig.text(0.01, 0.005, text, fontsize=8, family="monospace", va="bottom")
         bottom = 0.022 * (text.count("\n") + 1) + 0.02  # keep the axes clear of the event table
         fig.get_layout_engine().set(rect=(0, bottom, 1, 1 - bottom))
     save(fig, outdir, f"{res.scene}_tip.png", written, dpi)
@@ -475,10 +485,10 @@ def plot_sweep(res: Results, outdir, written, dpi):
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_ylabel("steady friction sigma")
-    ax.legend(fontsize=7.5, loc="lower center", bbox_to_anchor=(0.5, 1.01), ncol=2)  # above the axes
+    ax.legend(fontsize=8.5, loc="lower center", bbox_to_anchor=(0.5, 1.01), ncol=2)  # above the axes
     axz.set_xscale("log")
     axz.set_title("near the minimum", fontsize=8)
-    axz.tick_params(labelsize=7)
+    axz.tick_params(labelsize=8)
     ax.grid(alpha=0.3, which="both")
     axA.set_yscale("log")
     axA.set_ylabel("contact area A")

@@ -9,13 +9,16 @@ effects of a parameter (differences, no verdict) and measurements (docs/studies.
 """
 import argparse
 import concurrent.futures
+import csv
 import hashlib
+import io
 import math
 import multiprocessing
 import os
 import re
 import sys
 import tempfile
+import textwrap
 
 import h5py
 import matplotlib
@@ -160,7 +163,8 @@ def write_report(path, text):
 
 def save(fig, outdir, name, figures):
     path = os.path.join(outdir, name)
-    fig.savefig(path, dpi=110)
+    plot.units_note(fig)
+    fig.savefig(path, dpi=110, bbox_inches="tight", pad_inches=0.05)
     plt.close(fig)
     figures.append(path)
     return path
@@ -178,12 +182,15 @@ BIAS_TOL = 0.01  # the validity map's 1 % (docs/model.md §8)
 STRIP_THIN_TOL = 0.005  # the strip_height study's H -> 0 check (docs/studies.md)
 
 
-def limit_row(limit, observable, reference, ref_value, disc_value, statistic, threshold, verdict, source, w=""):
+def limit_row(limit, observable, reference, ref_value, disc_value, statistic, threshold, verdict, source, w="",
+              score=None):
     """A limit that must hold: `reference` names the model (or limit) the discrete value is tested against;
-    `verdict` is "pass", "FAIL" or "n/a" (no statistic); `source` the file (relative to DIR) it was read from."""
+    `verdict` is "pass", "FAIL" or "n/a" (no statistic); `source` the file (relative to DIR) it was read from;
+    `score` (optional) the statistic over its threshold, >= 1 where it fails: the first screen's digest names the
+    row with the largest as its limit's worst."""
     return {"kind": "limit", "limit": limit, "observable": observable, "reference": reference, "ref": ref_value,
             "disc": disc_value, "statistic": statistic, "threshold": threshold, "verdict": verdict,
-            "source": source, "w": w}
+            "source": source, "w": w, "score": score}
 
 
 def effect_row(parameter, observable, without, with_, difference, note, source):
@@ -192,10 +199,12 @@ def effect_row(parameter, observable, without, with_, difference, note, source):
             "difference": difference, "note": note, "source": source}
 
 
-def answer_row(question, answer):
-    """One line of the summary's answer to the paper's open 2D question (issue 20), from the numbers: shown
-    first, before the three tables."""
-    return {"kind": "answer", "question": question, "answer": answer}
+def answer_row(question, answer, yes=None, short="", figure="", order=99):
+    """The answer to one of the paper's questions, from the numbers: on the first screen as "Yes — short" or
+    "No — short" (`yes`; None: no answer word) with its figure (an absolute path), in the paper's `order`; the full
+    `answer` under "The paper's questions" after it."""
+    return {"kind": "answer", "question": question, "answer": answer, "yes": yes, "short": short or answer,
+            "figure": figure, "order": order}
 
 
 def measure_row(observable, c="", d="", diff="", note=""):
@@ -215,6 +224,17 @@ def ci_contains(st, name, value):
     return lo <= value <= hi
 
 
+def ci_score(st, name, value):
+    """How far `value` lies from the fit `name` in units of the 95 % interval's half on its side (>= 1: outside
+    the interval; None: no fit): the score of a row whose verdict is ci_contains."""
+    p = st.scalars.get(name, math.nan)
+    lo, hi = st.scalars.get(name + "_ci_low", math.nan), st.scalars.get(name + "_ci_high", math.nan)
+    half = (hi - p) if value > p else (p - lo)
+    if not all(math.isfinite(x) for x in (p, lo, hi)) or half <= 0:
+        return None
+    return abs(value - p) / half
+
+
 def fmt_w(w):
     return f"{w:g}"
 
@@ -223,17 +243,28 @@ def cell(s):
     return str(s).replace("|", "\\|").replace("\n", " ")
 
 
+LIMIT_COLUMNS = ("limit", "observable", "reference", "ref", "disc", "statistic", "threshold", "verdict", "w")
+LIMIT_HEADS = ("limit", "observable", "reference", "reference value", "discrete value", "statistic", "threshold",
+               "verdict", "w")
+EFFECT_COLUMNS = ("parameter", "observable", "without", "with", "difference", "note")
+EFFECT_HEADS = ("parameter", "observable", "without it (reference)", "with it", "difference", "note")
+MEASURE_HEADS = ("observable", "continuum (or the value)", "discrete (largest N)", "difference", "note")
+
+
 def summary_tables(rows):
-    """The summary as markdown lines: limits that must hold, effects of a parameter, other measurements."""
+    """The summary as markdown lines: the full answers to the paper's questions, then the three tables: limits that
+    must hold, effects of a parameter, other measurements (also written as CSV by summary_csv)."""
     lim = [r for r in rows if r["kind"] == "limit"]
     eff = [r for r in rows if r["kind"] == "effect"]
     mea = [r for r in rows if r["kind"] == "measure"]
-    ans = [r for r in rows if r["kind"] == "answer"]
-    out = ["## Summary", ""]
+    ans = sorted((r for r in rows if r["kind"] == "answer"), key=lambda r: r["order"])
+    out = ["## Summary", "",
+           f"The full tables, also as CSV: `{CSV_NAMES['limit']}`, `{CSV_NAMES['effect']}`, `{CSV_NAMES['measure']}`.",
+           ""]
     if ans:
-        out += ["### The paper's open 2D question", "",
-                "\"We have not yet numerically studied our model in 2D\" (Bouchbinder et al. 2011): the answers in "
-                "a body of finite height H, from this run's numbers (docs/fronts.md §10.12, §10.16).", ""]
+        out += ["### The paper's questions", "",
+                "The answers on the first screen, with their numbers (Bouchbinder et al. 2011; the 2D ones in a body "
+                "of finite height H: docs/fronts.md §10.12, §10.16).", ""]
         out += [f"- **{cell(r['question'])}** {cell(r['answer'])}" for r in ans]
         out += [""]
     out += [
@@ -246,20 +277,30 @@ def summary_tables(rows):
            f"{len(lim)} rows, {sum(r['verdict'] == 'pass' for r in lim)} pass, "
            f"{sum(r['verdict'] == 'FAIL' for r in lim)} fail, {sum(r['verdict'] == 'n/a' for r in lim)} without a "
            "statistic.", "",
-           "| limit | observable | reference | reference value | discrete value | statistic | threshold | verdict | w | file |",
-           "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
-    out += ["| " + " | ".join(cell(r[k]) for k in ("limit", "observable", "reference", "ref", "disc", "statistic",
-                                                    "threshold", "verdict", "w")) + f" | `{cell(r['source'])}` |"
-            for r in lim]
+           "| " + " | ".join(LIMIT_HEADS) + " | file |", "|" + " --- |" * (len(LIMIT_HEADS) + 1)]
+    out += ["| " + " | ".join(cell(r[k]) for k in LIMIT_COLUMNS) + f" | `{cell(r['source'])}` |" for r in lim]
     out += ["", "### Effects of a parameter", "",
-            "| parameter | observable | without it (reference) | with it | difference | note | file |",
-            "| --- | --- | --- | --- | --- | --- | --- |"]
-    out += ["| " + " | ".join(cell(r[k]) for k in ("parameter", "observable", "without", "with", "difference", "note"))
-            + f" | `{cell(r['source'])}` |" for r in eff]
-    out += ["", "### Measurements", "", "| observable | continuum | discrete (largest N) | relative difference | fitted rate |",
-            "| --- | --- | --- | --- | --- |"]
+            "| " + " | ".join(EFFECT_HEADS) + " | file |", "|" + " --- |" * (len(EFFECT_HEADS) + 1)]
+    out += ["| " + " | ".join(cell(r[k]) for k in EFFECT_COLUMNS) + f" | `{cell(r['source'])}` |" for r in eff]
+    out += ["", "### Measurements", "", "| " + " | ".join(MEASURE_HEADS) + " |", "|" + " --- |" * len(MEASURE_HEADS)]
     out += [f"| {' | '.join(cell(c) for c in r['cells'])} |" for r in mea]
     return out + [""]
+
+
+CSV_NAMES = {"limit": "summary_limits.csv", "effect": "summary_effects.csv", "measure": "summary_measurements.csv"}
+
+
+def summary_csv(root, rows):
+    """The three tables of the summary as CSV files in DIR (CSV_NAMES), one row per table row, the same columns."""
+    tables = {"limit": (LIMIT_HEADS + ("file",), lambda r: [r[k] for k in LIMIT_COLUMNS] + [r["source"]]),
+              "effect": (EFFECT_HEADS + ("file",), lambda r: [r[k] for k in EFFECT_COLUMNS] + [r["source"]]),
+              "measure": (MEASURE_HEADS, lambda r: list(r["cells"]))}
+    for kind, (heads, values) in tables.items():
+        buf = io.StringIO()
+        w = csv.writer(buf, lineterminator="\n")
+        w.writerow(heads)
+        w.writerows(values(r) for r in rows if r["kind"] == kind)
+        write_report(os.path.join(root, CSV_NAMES[kind]), buf.getvalue())
 
 
 def reference_of(res):
@@ -295,7 +336,7 @@ def friction_law_study(st, outdir):
         ax.set_xlabel("contacts per site N")
         ax.set_ylabel("relative error of steady friction (RMS over v)")
         ax.set_title(st.title("friction law, discrete vs continuum"), fontsize=8)
-        ax.legend(fontsize=7)
+        ax.legend(fontsize=8)
         save(fig, outdir, f"{st.stem}_error_vs_N.png", figs)
     # Fig. 2 (left): the steady law of both models at each N (seed 1) and the closed form.
     fig, ax = plt.subplots(figsize=(6.5, 4.5))
@@ -320,14 +361,15 @@ def friction_law_study(st, outdir):
     ax.set_xlabel("slip rate v")
     ax.set_ylabel("steady friction sigma")
     ax.set_title(st.title("Fig. 2 (left): steady friction law"), fontsize=8)
-    ax.legend(fontsize=7)
+    ax.legend(fontsize=8)
     save(fig, outdir, f"{st.stem}_fig2_left.png", figs)
     if t:
         fit = st.best_fit("friction_law_random_exponent")
         rows.append(limit_row("N-rate of a study: discrete -> continuum as N^-1/2", f"{st.name}: steady friction, random "
                               f"error at N = {t['N'][-1]:.0f}", "continuum", "0", f"{t['random'][-1]:.3g}",
                               st.fit_labels("friction_law_random_exponent"), "95% CI of the slope contains -1/2",
-                              verdict_of(ci_contains(st, fit, NRATE)), st.source, st.w_label()))
+                              verdict_of(ci_contains(st, fit, NRATE)), st.source, st.w_label(),
+                              score=ci_score(st, fit, NRATE)))
         rows.append(limit_row("discrete -> continuum as N -> inf at w = 0", f"{st.name}: steady friction, bias at "
                               f"N = {t['N'][-1]:.0f}", "continuum", "0", f"{t['bias'][-1]:.3g}", "bias (seed mean)",
                               "<= 1%", verdict_of(t["bias"][-1] <= BIAS_TOL if math.isfinite(t["bias"][-1]) else None),
@@ -345,7 +387,7 @@ def threshold_width_study(st, outdir):
     ax.set_xlabel("threshold width w")
     ax.set_ylabel("RMS relative distance of steady friction")
     ax.set_title(st.title("threshold disorder, noise off"), fontsize=8)
-    ax.legend(fontsize=7)
+    ax.legend(fontsize=8)
     save(fig, outdir, f"{st.stem}_distance_vs_w.png", figs)
     fig, ax = plt.subplots(figsize=(6.5, 4.5))
     cont = False
@@ -377,7 +419,7 @@ def threshold_width_study(st, outdir):
         ax.set_xlabel("t")
         ax.set_ylabel("drive force F")
         ax.set_title(st.title("static peak and slip vs threshold width w (noise off)"), fontsize=8)
-    ax.legend(fontsize=7)
+    ax.legend(fontsize=8)
     save(fig, outdir, f"{st.stem}_{'laws' if steady else 'histories'}_vs_w.png", figs)
     k = int(np.argmin(t["width"]))
     lim = "discrete (noise off) -> continuum as w -> 0"
@@ -405,7 +447,7 @@ def transient_friction_study(st, outdir):
                "curve distance (mean over seeds)")
     axs[0].set_xlabel("contacts per site N")
     axs[0].set_ylabel("relative RMS distance of friction history")
-    axs[0].legend(fontsize=7)
+    axs[0].legend(fontsize=8)
     seen, cont = set(), False
     for run_id, point in st.runs:
         N = point.get("discrete.contacts_per_site")
@@ -422,14 +464,14 @@ def transient_friction_study(st, outdir):
                 cont = True
     axs[1].set_xlabel("t")
     axs[1].set_ylabel("friction")
-    axs[1].legend(fontsize=7)
+    axs[1].legend(fontsize=8)
     fig.suptitle(st.title("transient friction, discrete vs continuum"), fontsize=8)
     save(fig, outdir, f"{st.stem}_transient.png", figs)
     rows.append(limit_row("N-rate of a study: discrete -> continuum as N^-1/2", f"{st.name}: friction history distance "
                           f"at N = {t['N'][-1]:.0f}", "continuum", "0", f"{t['distance_mean'][-1]:.3g}",
                           st.fit_labels("transient_distance_exponent"), "95% CI of the slope contains -1/2",
                           verdict_of(ci_contains(st, st.best_fit("transient_distance_exponent"), NRATE)), st.source,
-                          st.w_label()))
+                          st.w_label(), score=ci_score(st, st.best_fit("transient_distance_exponent"), NRATE)))
     return figs, rows
 
 
@@ -459,13 +501,13 @@ def front_speeds_study(st, outdir):
         ax.set_title(o, fontsize=9)
         ax.set_xlabel("N")
         if k == 0:
-            ax.legend(fontsize=7)
+            ax.legend(fontsize=8)
         ax2 = axs[1, k]
         loglog_fit(ax2, N, t[o + "_sd"], st, st.best_fit(f"front_{o}_sd_exponent"), "sd over seeds", "C3", "o")
         absd = np.abs(t[o + "_rel_diff"])
         ax2.loglog(N[absd > 0], absd[absd > 0], "s", color="C1", label="|mean - continuum|/continuum")
         ax2.set_xlabel("N")
-        ax2.legend(fontsize=6)
+        ax2.legend(fontsize=8)
     fig.suptitle(st.title("fig1 events and front speeds vs N (discrete over seeds)"), fontsize=9)
     fig.tight_layout()
     save(fig, outdir, f"{st.stem}_fronts_vs_N.png", figs)
@@ -476,7 +518,7 @@ def front_speeds_study(st, outdir):
                               f"{t[o + '_continuum'][-1]:.4g}", f"{t[o + '_mean'][-1]:.4g} ± {t[o + '_sd'][-1]:.2g} "
                               f"({t[o + '_rel_diff'][-1]:+.2%})", "spread: " + st.fit_label(fit),
                               "95% CI of the slope contains -1/2", verdict_of(ci_contains(st, fit, NRATE)), st.source,
-                              st.w_label()))
+                              st.w_label(), score=ci_score(st, fit, NRATE)))
     return figs, rows
 
 
@@ -505,11 +547,15 @@ def fig2_study(st, outdir):
         ax.set_xlabel("sqrt(mu alpha / (eta kappa))")
         ax.set_ylabel("transient front speed c")
         ax.set_title(m, fontsize=9)
-        ax.legend(fontsize=7)
+        ax.legend(fontsize=8)
     fig.suptitle(st.title("Fig. 2 (right): transient front speed collapse"), fontsize=9)
     save(fig, outdir, f"{st.stem}_fig2_right.png", figs)
     for m in ("continuum", "discrete"):
-        rows.append(measure_row(f"Fig. 2 right slope ({m})", "", f"{st.scalars.get('fig2_slope_all_' + m, math.nan):.3g}"))
+        slope = f"{st.scalars.get('fig2_slope_all_' + m, math.nan):.3g}"
+        rows.append(measure_row(f"Fig. 2 right slope ({m})", slope if m == "continuum" else "",
+                                slope if m == "discrete" else "", "", "c_transient against sqrt(mu alpha/(eta kappa)), "
+                                "through the origin, every run"))
+    rows += fig2_answer(st, groups, figs[-1])
     if heights and len(heights.get("H", [])) == 1:
         for m in ("continuum", "discrete"):
             if np.isfinite(heights[f"slope_{m}"][0]):
@@ -520,6 +566,25 @@ def fig2_study(st, outdir):
                                         f"± {100 * heights[f'ratio_rsd_{m}'][0]:.0f} % over "
                                         f"{int(heights[f'measured_{m}'][0])} runs (docs/fronts.md §10.16)"))
     return figs, rows
+
+
+FIG2_SPREAD = 1.25  # Fig. 2 right "collapses": the largest of the per-parameter slopes within 25 % of the smallest
+
+
+def fig2_answer(st, groups, figure):
+    """Fig. 2 right's answer: the continuum's transient speeds collapse on one line when the slopes of the runs
+    varying each of mu, alpha, eta, kappa agree within FIG2_SPREAD."""
+    slopes = {n: st.scalars.get(f"fig2_slope_{n}_continuum", math.nan) for n in sorted(groups)}
+    finite = [v for v in slopes.values() if math.isfinite(v) and v > 0]
+    a = st.scalars.get("fig2_slope_all_continuum", math.nan)
+    if not finite or not math.isfinite(a):
+        return []
+    yes = len(finite) == len(slopes) and max(finite) <= FIG2_SPREAD * min(finite)
+    short = (f"c_transient = {a:.2f} sqrt(mu alpha/(eta kappa)); the slopes varying "
+             f"{', '.join(slopes)} alone lie within {min(finite):.2f} .. {max(finite):.2f}"
+             + ("" if yes else f", more than {FIG2_SPREAD - 1:.0%} apart"))
+    return [answer_row("Fig. 2 right: does the transient front speed scale as sqrt(mu alpha/(eta kappa))?",
+                       short + " (continuum).", yes, short, figure, 3)]
 
 
 def fig2_height_label(H, h, k):
@@ -567,7 +632,7 @@ def fig2_strip_plots(st, outdir):
     axs[2].set_ylabel("c_transient / c_min")
     axs[2].set_title("the ratio per run", fontsize=9)
     for ax in axs:
-        ax.legend(fontsize=7)
+        ax.legend(fontsize=8)
     fig.suptitle(st.title("Fig. 2 (right) in the strip: transient fronts against c_min(H)"), fontsize=9)
     save(fig, outdir, f"{st.stem}_fig2_right_strip.png", figs)
     chain = Hs.index(0.0) if 0.0 in Hs else None
@@ -581,11 +646,17 @@ def fig2_strip_plots(st, outdir):
                      f"{h['slope_continuum'][k]:.2f}, c_transient/c_min {h['ratio_mean_continuum'][k]:.2f} "
                      f"(scatter {100 * h['ratio_rsd_continuum'][k]:.0f} %), {int(np.sum(r < 1))} of {r.size} runs below c_min")
     if parts:
+        below = [(int(np.sum(r < 1)), int(r.size), H) for H in Hs
+                 for r in [a["ratio_continuum"][(a["H"] == H) & np.isfinite(a["ratio_continuum"])]]]
+        worst = max(below, key=lambda b: (b[0], b[2]))
+        short = ("every transient runs above its own c_min, at every height" if worst[0] == 0 else
+                 f"at {'the chain' if worst[2] == 0 else f'H = {worst[2]:g}'} {worst[0]} of {worst[1]} transients run "
+                 "below the slowest steady front of their own strip")
         rows.append(answer_row("Are transient fronts excitations of the steady front at c_min in a body of height H "
                                "(Fig. 2 right in the strip)?",
                                "; ".join(parts) + ". A slope of order one with the transients above c_min is the "
                                "paper's picture; runs below c_min are transients slower than the slowest steady "
-                               "front of their own strip."))
+                               "front of their own strip.", worst[0] == 0, short, figs[-1], 5))
     for k, H in enumerate(Hs):
         mean, rsd, sl = h["ratio_mean_continuum"][k], h["ratio_rsd_continuum"][k], h["slope_continuum"][k]
         note = (f"slope through the origin {sl:.3g}, scatter {100 * rsd:.0f} % over {int(h['measured_continuum'][k])} runs "
@@ -619,7 +690,7 @@ def front_spectrum_study(st, outdir):
     for ax in axs:
         ax.axvline(t["sigma_c_d"][0], color="gray", ls=":", label="sigma_c^d")
         ax.set_xlabel("applied stress sigma_d")
-        ax.legend(fontsize=7)
+        ax.legend(fontsize=8)
     axs[0].set_ylabel("steady front speed")
     axs[1].set_ylabel("slip rate behind the front")
     fig.suptitle(st.title("front spectrum, homogeneous loading"), fontsize=9)
@@ -646,14 +717,14 @@ def steady_fronts_study(st, outdir):
         ax.set_xlabel("contacts per site N")
         ax.set_ylabel("relative front speed error")
         ax.set_title(st.title("steady front: discrete speed vs N"), fontsize=8)
-        ax.legend(fontsize=7)
+        ax.legend(fontsize=8)
         save(fig, outdir, f"{st.stem}_speed_vs_N.png", figs)
         rows.append(limit_row("N-rate of a study: discrete -> continuum as N^-1/2", f"{st.name}: discrete front speed vs "
                               f"continuum at N = {n['N'][-1]:.0f}", "continuum", "0",
                               f"{n['rms_discrete_vs_continuum'][-1]:.3g}", st.fit_labels("steady_front_speed_exponent"),
                               "95% CI of the slope contains -1/2",
                               verdict_of(ci_contains(st, st.best_fit("steady_front_speed_exponent"), NRATE)), st.source,
-                              st.w_label()))
+                              st.w_label(), score=ci_score(st, st.best_fit("steady_front_speed_exponent"), NRATE)))
     elif t:
         fig, ax = plt.subplots(figsize=(6.5, 4.5))
         for kick, mk in ((0.0, "o"), (-0.5, "v"), (2.0, "^")):
@@ -666,7 +737,7 @@ def steady_fronts_study(st, outdir):
         ax.set_xlabel("applied stress sigma_d")
         ax.set_ylabel("c_front / c_solved - 1  [%]")
         ax.set_title(st.title("fronts started from the solved branch (kicked or not)"), fontsize=8)
-        ax.legend(fontsize=7)
+        ax.legend(fontsize=8)
         save(fig, outdir, f"{st.stem}_speed_vs_solved.png", figs)
         k = st.scalars.get("kick_max_speed_change", math.nan)
         worst = np.nanmax(np.abs(t["rel_continuum"])) if len(t["rel_continuum"]) else math.nan
@@ -716,7 +787,7 @@ def fronts_file(path, root, figdir, studies):
         ax.set_xlabel("applied stress sigma_d")
         ax.set_ylabel("steady front speed c")
         if ax.get_legend_handles_labels()[0]:
-            ax.legend(fontsize=7)
+            ax.legend(fontsize=8)
         ax = axs[1]
         for k in sorted(f["profiles"] if "profiles" in f else [], key=int):
             g = f["profiles"][k]
@@ -727,7 +798,7 @@ def fronts_file(path, root, figdir, studies):
         ax.set_xlabel("xi = x - c t (tip at 0)")
         ax.set_ylabel("v / v_behind")
         if ax.get_legend_handles_labels()[0]:
-            ax.legend(fontsize=7)
+            ax.legend(fontsize=8)
         fig.suptitle(f"{scene}: steady fronts, the branch and its profiles (docs/fronts.md)   [{status}]", fontsize=9)
         save(fig, outdir, f"{stem}_{scene}_fronts_branch.png", figs)
         c_err = ba.get("c_min_error", math.nan)  # the estimate beside the number (docs/fronts.md §10.20)
@@ -756,7 +827,7 @@ def fronts_file(path, root, figdir, studies):
             ax.set_xlabel("sqrt(mu alpha / (eta kappa))")
             ax.set_ylabel("minimal steady front speed c_min")
             ax.set_title(f"{scene}: c_min collapse (the paper's Fig. 2 right, for the minimal speed)", fontsize=8)
-            ax.legend(fontsize=7)
+            ax.legend(fontsize=8)
             save(fig, outdir, f"{stem}_{scene}_cmin_collapse.png", figs)
             refused = [ln for ln in plot.as_str(sc["fits"].attrs.get("refused", "")).split("\n") if ln.startswith("all: ")]
             why = refused[0][len("all: "):] if refused and refused[0] != "all: fitted" else ""
@@ -793,7 +864,7 @@ def validity_friction_study(st, outdir):
         ax.set_xlabel("contacts per site N")
         ax.set_ylabel("bias of the steady friction (RMS over v)")
         ax.set_title(f"w = {w:g}", fontsize=9)
-        ax.legend(fontsize=6)
+        ax.legend(fontsize=8)
     fig.suptitle(st.title(f"validity map, steady law: systematic error vs N (kappa = {kref:g}, eta = {eref:g})"), fontsize=9)
     save(fig, outdir, f"{st.stem}_bias_vs_N.png", figs)
     # the map (w = 0): where the continuum holds to 1% and 5%
@@ -803,7 +874,7 @@ def validity_friction_study(st, outdir):
         grid = np.full((len(As), len(Ns)), np.nan)
         for k in np.where(m0)[0]:
             grid[As.index(t["alpha_minus_1"][k]), Ns.index(t["N"][k])] = max(t["bias"][k], 1e-5)
-        fig, ax = plt.subplots(figsize=(6.8, 4.8))
+        fig, ax = plt.subplots(figsize=(6.8, 5.2), constrained_layout=True)
         X, Y = np.meshgrid(np.log10(Ns), np.log10(As))
         pc = ax.pcolormesh(X, Y, np.log10(grid), shading="nearest", cmap="viridis")
         fig.colorbar(pc, ax=ax, label="log10 bias")
@@ -813,16 +884,18 @@ def validity_friction_study(st, outdir):
             mx = (x["width"] == 0) & np.isfinite(x["N_star_1"])
             if "kappa" in x:
                 mx &= (x["kappa"] == kref) & (x["eta"] == eref)
-            ax.plot(np.log10(x["N_star_1"][mx]), np.log10(x["alpha_minus_1"][mx]), "w*", ms=10, label="N* (1%)")
+            ax.plot(np.log10(x["N_star_1"][mx]), np.log10(x["alpha_minus_1"][mx]), "w*", ms=11, mec="k", mew=0.8,
+                    label="N* (1%)")
             p = st.scalars.get("validity_friction_Nstar1_exponent", math.nan)
             c = st.scalars.get("validity_friction_Nstar1_exponent_prefactor", math.nan)
             if math.isfinite(p):
                 am = np.array(As)
                 ax.plot(np.log10(c * am ** p), np.log10(am), "w--", lw=1, label=f"N* = {c:.3g} (alpha-1)^{p:.2f}")
-            ax.legend(fontsize=7, loc="lower left")
+            ax.legend(fontsize=8, loc="lower left", facecolor="0.6", framealpha=0.9)
         ax.set_xlabel("log10 N")
         ax.set_ylabel("log10 (alpha - 1)")
-        ax.set_title(st.title("where the continuum law holds (w = 0): bias of the steady friction"), fontsize=8)
+        ax.set_title(textwrap.fill(st.title("where the continuum law holds (w = 0): bias of the steady friction"), 70),
+                     fontsize=9)
         save(fig, outdir, f"{st.stem}_map.png", figs)
         # the collapse: bias against N (alpha - 1)^{-p}, fitted p and the naive p = -2
         p = st.scalars.get("validity_friction_Nstar1_exponent", -1.5)
@@ -834,7 +907,7 @@ def validity_friction_study(st, outdir):
                           label=f"alpha - 1 = {a - 1:.3g}")
             ax.set_xlabel(lab)
             ax.set_ylabel("bias")
-            ax.legend(fontsize=6)
+            ax.legend(fontsize=8)
         fig.suptitle(st.title("collapse of the steady-law bias"), fontsize=9)
         save(fig, outdir, f"{st.stem}_collapse.png", figs)
     # kappa and eta: N* of every w = 0 point against alpha - 1, raw and scaled by the free fit's kappa^q eta^r
@@ -868,7 +941,7 @@ def validity_friction_study(st, outdir):
         axs[2].set_title(f"N* / ((kappa/{kref:g})^{pk:.2f} (eta/{eref:g})^{pe:.2f}): the free fit", fontsize=8)
         for ax in axs:
             ax.set_xlabel("alpha - 1")
-            ax.legend(fontsize=6)
+            ax.legend(fontsize=8)
         fig.suptitle(st.title("N* against kappa and eta: the (kappa/eta)^(1/2) of the argument and the free fit"), fontsize=9)
         save(fig, outdir, f"{st.stem}_kappa_eta.png", figs)
         rows.append(measure_row(f"{st.name}: N* ~ (alpha - 1)^p kappa^q eta^r, free fit (w = 0)", "", f"{pa:.2f}, {pk:.2f}, {pe:.2f}", "",
@@ -906,7 +979,7 @@ def validity_fig1_study(st, outdir):
     for ax in axs:
         ax.set_xscale("log")
         ax.set_ylabel("fraction of continuum-like fig1 runs")
-        ax.legend(fontsize=7)
+        ax.legend(fontsize=8)
     axs[0].set_xlabel("contacts per site N")
     axs[1].set_xlabel("N (alpha - 1)^2")
     fig.suptitle(st.title(f"validity map, fig1 (implicit dt = {dt_ref:g}, Wilson 95% intervals)"), fontsize=9)
@@ -925,7 +998,7 @@ def validity_fig1_study(st, outdir):
             ax.set_xlabel("t^ shift: t^(discrete)/t^(continuum) - 1")
             ax.set_title(f"alpha - 1 = {a - 1:.3g}", fontsize=8)
         axs[0][0].set_ylabel("c_transient(discrete) / c_transient(continuum)")
-        axs[0][0].legend(fontsize=6)
+        axs[0][0].legend(fontsize=8)
         fig.suptitle(st.title("fig1 runs by mode (dashed box: continuum-like)"), fontsize=9)
         save(fig, outdir, f"{st.stem}_modes.png", figs)
     if math.isfinite(st.scalars.get("validity_fig1_Nstar50_exponent", math.nan)):
@@ -977,7 +1050,7 @@ def strip_height_study(st, outdir):
         ax.set_xlabel("H / l_e")
         ax.set_title(what, fontsize=9)
         if ax.get_legend_handles_labels()[0]:
-            ax.legend(fontsize=7)
+            ax.legend(fontsize=8)
     ax = axs.flat[5]
     drawn = False
     for i, (o, what) in enumerate(STRIP_EVENTS):
@@ -998,7 +1071,7 @@ def strip_height_study(st, outdir):
         ax.set_xlabel("H / l_e")
         ax.set_ylabel("|event / 1D event - 1|  (open, dotted: discrete)")
         ax.set_title("relative difference to the 1D chain", fontsize=9)
-        ax.legend(fontsize=6, ncol=2)
+        ax.legend(fontsize=8, ncol=2)
     else:
         plot.no_data(ax, "no 1D chain run: no relative differences")
     fig.suptitle(st.title(f"fig1 on the strip vs its height (l_e = sqrt(mu/alpha) = {le:.4g}; "
@@ -1064,8 +1137,15 @@ def disorder_limit_study(st, outdir):
         groups = {}
         for k in range(len(tn["N"])):
             groups.setdefault((disorder_label(tn, k), float(tn["w"][k])), []).append(k)
-        fig, axs = plt.subplots(1, len(obs), figsize=(4.2 * len(obs), 4), constrained_layout=True, squeeze=False)
-        for ax, o in zip(axs[0], obs):
+        # an observable equal to mean_field at every N (t* at w = 0.2: the first yield is deterministic) has no panel;
+        # the title says so
+        drawn = [o for o in obs if any(np.any(np.isfinite(a) & (a > 0)) for a in (tn[f"{o}_sd_rel"], tn[f"{o}_rms_rel"]))]
+        same = [o for o in obs if o not in drawn]
+        fig, axs = plt.subplots(1, max(1, len(drawn)), figsize=(4.6 * max(1, len(drawn)), 4.8), constrained_layout=True,
+                                squeeze=False)
+        if not drawn:
+            plot.no_data(axs[0, 0], "identical to mean_field at every N")
+        for ax, o in zip(axs[0], drawn):
             for i, ((lab, w), ks) in enumerate(sorted(groups.items())):
                 fit = st.best_fit(f"disorder_N_{o}_{lab}_w{w:g}_sd_exponent")
                 N, y = tn["N"][ks], tn[f"{o}_sd_rel"][ks]
@@ -1080,11 +1160,9 @@ def disorder_limit_study(st, outdir):
             ax.set_xlabel("contacts per site N")
             ax.set_ylabel("discrete / mean_field - 1 over seeds")
             ax.set_title(f"{o} (dotted: N^-1/2)", fontsize=9)
-            if ax.get_legend_handles_labels()[0]:
-                ax.legend(fontsize=6)
-            else:
-                plot.no_data(ax, "identical to mean_field at every N")
-        fig.suptitle(st.title(f"{what}: discrete -> mean_field as N grows, at each w"), fontsize=9)
+            ax.legend(fontsize=8)
+        note = f"\n{', '.join(same)}: identical to mean_field at every N (no panel)" if same else ""
+        fig.suptitle(st.title(f"{what}: discrete -> mean_field as N grows, at each w") + note, fontsize=9)
         save(fig, outdir, f"{st.stem}_distance_vs_N.png", figs)
         for (lab, w), ks in sorted(groups.items()):
             big = ks[int(np.argmax(tn["N"][ks]))]
@@ -1101,7 +1179,7 @@ def disorder_limit_study(st, outdir):
                                       f"{tn[f'{o}_sd_rel'][big]:.3g}",
                                       f"random part {st.fit_labels(name)}; RMS with the bias {total}",
                                       "95% CI of the slope contains -1/2", verdict_of(ci_contains(st, fit, NRATE)),
-                                      st.source, f"{w:g}"))
+                                      st.source, f"{w:g}", score=ci_score(st, fit, NRATE)))
     if tw and len(tw.get("w", [])):
         obs = disorder_observables(tw, "_rel_diff")
         groups = {}
@@ -1122,7 +1200,7 @@ def disorder_limit_study(st, outdir):
             ax.set_xlabel("threshold width w")
             ax.set_ylabel("|mean_field / continuum - 1|")
             ax.set_title(f"{o} (dotted: the 1 % crossing)", fontsize=9)
-            ax.legend(fontsize=6)
+            ax.legend(fontsize=8)
         fig.suptitle(st.title(f"{what}: mean_field (N -> inf) against the continuum as w -> 0"), fontsize=9)
         save(fig, outdir, f"{st.stem}_distance_vs_w.png", figs)
         for lab, ks in sorted(groups.items()):
@@ -1281,7 +1359,7 @@ def strip_cmin_section(path, root, figdir):
             ax.text(x, ax.get_ylim()[0], " " + name, rotation=90, va="bottom", ha="right", fontsize=8, color="0.3")
     ax.text(H[0], s, f" s = mu'/eta = {s:.4g}", va="bottom", fontsize=8, color="0.4")
     ax.set_ylabel("c_min")
-    ax.legend(fontsize=7, loc="upper left")
+    ax.legend(fontsize=8, loc="upper left")
     if len(a["expo"]):
         bx.semilogx(a["Hmid"], a["expo"], "o-", color="C0", lw=1, label="d ln c_min / d ln H (between neighbours)")
         bx.semilogx(a["Hmid"], a["pred"], "s--", color="C2", lw=1, mfc="none",
@@ -1292,7 +1370,7 @@ def strip_cmin_section(path, root, figdir):
                         lw=1, label="Brener-Marchenko form's d ln c / d ln H")
         bx.axhline(0.5, color="k", ls="--", lw=0.8, label="1/2 (1D)")
         bx.set_ylim(0, 0.7)
-        bx.legend(fontsize=7, loc="lower left")
+        bx.legend(fontsize=8, loc="lower left")
     else:
         plot.no_data(bx, "one H only: no local exponent")
     bx.set_xlabel("H (strip height)")
@@ -1332,7 +1410,10 @@ def strip_cmin_section(path, root, figdir):
     rows = [measure_row(f"c_min(H) of the strip, H = {H[0]:.4g} .. {H[-1]:.4g}: does the 1D c_min hold?",
                         f"{holds}; {cross}", "", gap, expo + errs),
             answer_row("Does the minimal steady front speed vary smoothly from 1D to 2D as H grows?",
-                       f"c_min(H) at fixed strip material, H = {H[0]:.4g} .. {H[-1]:.4g}: {holds}; {cross}; {gap}.")]
+                       f"c_min(H) at fixed strip material, H = {H[0]:.4g} .. {H[-1]:.4g}: {holds}; {cross}; {gap}.",
+                       bool(np.all(np.isfinite(c)) and np.all(np.isfinite(a["expo"]))),
+                       f"c_min is found at every H = {H[0]:.4g} .. {H[-1]:.4g}; {holds}; {cross}",
+                       figs[0] if figs else "", 4)]
     return figs, rows
 
 
@@ -1401,7 +1482,8 @@ def scene_rows(res, source=""):
                 lim, tol, thr = f"discrete = {ref} at w = {fmt_w(w)}, noise off", IDENTITY_TOL, "abs <= 1e-12"
             ok = None if not math.isfinite(relv) else abs(relv) <= tol
             rows.append(limit_row(lim, f"{res.scene}: {label[k]}", ref, f"{c:.5g}", f"{d:.5g}",
-                                  f"relative difference {rel or 'n/a'}", thr, verdict_of(ok), source, fmt_w(w)))
+                                  f"relative difference {rel or 'n/a'}", thr, verdict_of(ok), source, fmt_w(w),
+                                  score=abs(relv) / tol if math.isfinite(relv) else None))
         else:
             rows.append(effect_row(f"threshold disorder w = {fmt_w(w)} (discrete N = {n}; the continuum is w = 0)",
                                    f"{res.scene}: {label[k]}", f"continuum {c:.5g}", f"discrete {d:.5g}", rel,
@@ -1418,6 +1500,36 @@ def scene_rows(res, source=""):
     if res.loading() == "homogeneous":
         rows += settle_rows(res, values)
     return rows
+
+
+def scene_answers(res, written):
+    """The answers of the paper's Fig. 1 (the scene fig1, edge loading) and Fig. 2 left (the scene friction_law, a
+    sweep) from the continuum's events or steady law, each with the scene's figure."""
+    if "continuum" not in res.models:
+        return []
+    fig = lambda suffix: next((w for w in written if w.endswith(suffix)), "")  # noqa: E731
+    if res.scene == "fig1" and res.loading() == "edge":
+        e, L = plot.events(res.group("continuum")), plot.as_float(res.param("bulk", "length", math.nan))
+        ts, th, xa = (e.get(k, math.nan) for k in ("t_star", "t_hat", "x_arrest"))
+        yes = all(math.isfinite(v) for v in (ts, th, xa)) and (not math.isfinite(L) or xa < L)
+        short = (f"slow front from t* = {ts:.4g}, fast transient at t^ = {th:.4g}, arrest at x = {xa:.4g} of "
+                 f"L = {L:g} (continuum)" if yes else
+                 "the sequence is incomplete (continuum): " + ", ".join(
+                     f"{k} = {v:.4g}" if math.isfinite(v) else f"no {k}" for k, v in
+                     (("t*", ts), ("t^", th), ("x_arrest", xa))))
+        return [answer_row("Fig. 1: does edge loading give a slow front, then a fast transient front that arrests "
+                           "inside the system?", short, yes, short, fig(f"{res.scene}_fronts.png"), 1)]
+    if res.scene == "friction_law" and res.kind() == "sweep":
+        a = res.group("continuum").attrs
+        vm, sc = (plot.as_float(a.get(k, math.nan)) for k in ("v_m_numeric", "sigma_c_numeric"))
+        yes = math.isfinite(vm) and math.isfinite(sc)
+        p = plot.interface_params(res)
+        closed = f" (closed form {plot.minimum_of_friction(*p)[1]:.5g})" if p else ""
+        short = (f"sigma_ss(v) falls, then rises: its minimum sigma_c^d = {sc:.5g}{closed} at v_m = {vm:.4g}"
+                 if yes else "no minimum of the measured steady friction law")
+        return [answer_row("Fig. 2 left: is the steady friction law velocity-weakening, then strengthening, with a "
+                           "minimum sigma_c^d?", short, yes, short, fig(f"{res.scene}_steady_friction.png"), 2)]
+    return []
 
 
 def settle_rows(res, values):
@@ -1495,7 +1607,9 @@ def _class_grid(res, outdir, figs, name, what, measured, predicted, edges, fits,
     # grid costs (cProfile), and the grid is regular
     height = 3.1 * len(rows) + 1
     fig, axes = plt.subplots(len(rows), 3, figsize=(13, height), squeeze=False)
-    fig.subplots_adjust(left=0.06, right=0.99, bottom=0.75 / height, top=1 - 0.75 / height, wspace=0.22, hspace=0.55)
+    title = res.title(f"{what}: agent vs {ref} prediction, by phase and region", fig)
+    top = 0.45 + 0.18 * (title.count("\n") + 1)  # inches above the first row's (two-line) titles: the suptitle's lines
+    fig.subplots_adjust(left=0.06, right=0.99, bottom=0.75 / height, top=1 - top / height, wspace=0.22, hspace=0.75)
     lo = np.where(edges[:-1] > 0, edges[:-1], edges[1] / 10 ** 0.2)  # [0, 1e-3) drawn one bin wide
     hi = np.where(np.isfinite(edges[1:]), edges[1:], edges[-2] * 10 ** 0.2)
     dec = np.log10(hi / lo)
@@ -1504,8 +1618,11 @@ def _class_grid(res, outdir, figs, name, what, measured, predicted, edges, fits,
             ax = axes[i, r]
             cls = 3 * ph + r
             mt, pt = measured[cls].sum(), predicted[cls].sum()
-            if mt <= 0 and pt <= 0:
-                plot.no_data(ax, "no contacts")
+            if mt <= 0 and pt <= 0:  # a class no contact ended in: a note, not an empty panel
+                ax.axis("off")
+                ax.text(0.5, 0.5, f"{PHASES[ph]}, {REGIONS[r]}:\nno contacts, measured or predicted",
+                        ha="center", va="center", transform=ax.transAxes, fontsize=9, color="0.35")
+                continue
             else:
                 if mt > 0:
                     ax.stairs(measured[cls] / mt / dec, np.append(lo[0], hi), fill=True, color="C3", alpha=0.45,
@@ -1515,16 +1632,16 @@ def _class_grid(res, outdir, figs, name, what, measured, predicted, edges, fits,
                               label=f"{ref} prediction ({pt:.3g})")
                 ax.set_xscale("log")
                 fit = [f for f in fits if f["statistic"] == stat and int(f["phase"]) == ph and int(f["region"]) == r]
-                if fit:
+                tag = ""
+                if fit:  # in the panel's title: inside the axes it sat under the legend
                     f = fit[0]
-                    tag = f"KS {f['ks_distance']:.4f}, p {f['p_value']:.2g}" + ("" if f["tested"] else " (not tested)")
-                    ax.text(0.02, 0.95, tag, transform=ax.transAxes, fontsize=7, va="top")
-                ax.legend(fontsize=6, loc="upper right")
-            ax.set_title(f"{PHASES[ph]}, {REGIONS[r]}", fontsize=9)
+                    tag = f"\nKS {f['ks_distance']:.4f}, p {f['p_value']:.2g}" + ("" if f["tested"] else " (not tested)")
+                ax.legend(fontsize=8, loc="upper right")
+            ax.set_title(f"{PHASES[ph]}, {REGIONS[r]}{tag}", fontsize=9)
             ax.set_xlabel(what)
             if r == 0:
                 ax.set_ylabel("fraction per decade")
-    fig.suptitle(res.title(f"{what}: agent vs {ref} prediction, by phase and region", fig), fontsize=9)
+    fig.suptitle(title, fontsize=9, y=1 - 0.1 / height, va="top")
     save(fig, outdir, f"{res.scene}_{name}.png", figs)
 
 
@@ -1556,7 +1673,7 @@ def contacts_section(res, outdir, source=""):
             t, tip = plot.dataset(g, "series/t"), plot.dataset(g, "series/tip_x_alt")
             if t is not None and tip is not None:
                 axes[0, j].plot(tip, t, "w--", lw=0.9, label="front (A < A_tip_alt)")
-                axes[0, j].legend(fontsize=7, loc="upper right")
+                axes[0, j].legend(fontsize=8, loc="upper right")
             axes[0, j].set_title((f"{m} prediction" if m != "discrete" else "agent (measured)") + ": mean age")
             axes[0, j].set_xlabel("x")
             axes[0, j].set_ylabel("t")
@@ -1623,9 +1740,9 @@ def contacts_section(res, outdir, source=""):
                         if fit:
                             f = fit[0]
                             tag = f"KS {f['ks_distance']:.4f}, p {f['p_value']:.2g}" + ("" if f["tested"] else " (not tested)")
-                            ax.text(0.02, 0.95, tag, transform=ax.transAxes, fontsize=7, va="top")
+                            ax.text(0.02, 0.95, tag, transform=ax.transAxes, fontsize=8, va="top")
                     ax.set_xlim(0, max(2.0, 1 + 4 * width))
-                    ax.legend(fontsize=6, loc="upper right")
+                    ax.legend(fontsize=8, loc="upper right")
                     if ph > 0 and width > 0:
                         rows.append(effect_row(f"threshold disorder w = {width:g} (the front keeps the strong contacts)",
                                                f"{res.scene}: surviving thresholds, {PHASES[ph]}, {REGIONS[r]}",
@@ -1659,7 +1776,8 @@ def contacts_section(res, outdir, source=""):
             rows.append(limit_row(f"agent contact statistics = renewal prediction from {ref} at w = {fmt_w(w)}", what,
                                   ref, f"{f['predicted_total']:.4g} predicted", f"{f['measured_total']:.4g} measured",
                                   fit, f"p >= {alpha_row:.2g} (family {CONTACTS_FAMILY_ALPHA:g}, {len(tested)} rows)",
-                                  verdict_of(f["p_value"] >= alpha_row), source, fmt_w(w)))
+                                  verdict_of(f["p_value"] >= alpha_row), source, fmt_w(w),
+                                  score=alpha_row / f["p_value"] if f["p_value"] > 0 else math.inf))
         else:
             rows.append(effect_row(f"threshold disorder w = {fmt_w(w)} (agent vs the continuum's prediction, w = 0)",
                                    what, f"continuum {f['predicted_total']:.4g}", f"agent {f['measured_total']:.4g}",
@@ -1827,6 +1945,123 @@ def figure_lines(figs, root):
     return out
 
 
+# --------------------------------------------------------------------------------------------
+# the first screen (docs/studies.md "The report"): provenance, the answers to the paper's questions, one digest row
+# per limit, the links to the main figures; the full tables and the sections follow
+
+# The sections in the paper's order (Fig. 1, Fig. 2 left and right, the steady fronts, then the discrete model's
+# limits, the contact level and the strip), by the name of a file's directory; a directory not listed comes after,
+# in path order.
+PAPER_ORDER = ("fig1", "friction_law", "velocity_step", "spring_block", "fig2_sweep", "homogeneous_front",
+               "steady_front", "front_spectrum", "front_branch", "friction_law_N", "threshold_width",
+               "threshold_width_law", "velocity_step_N", "spring_block_N", "front_speeds_N", "steady_front_N",
+               "validity_friction", "validity_fig1", "disorder_limit_law", "disorder_limit_fig1", "contacts",
+               "contacts_disorder", "fig1_strip", "homogeneous_strip", "strip_height", "fig2_strip",
+               "strip_cmin_height", "strip_collapse_H16", "strip_collapse_H1000", "strip_collapse_H100000",
+               "contacts_strip")
+
+# Failing limit rows that are known findings, each documented (limit contains, observable contains, where): the
+# first screen marks a failure "known (where)" when it matches, else "NEW".
+KNOWN_FINDINGS = (
+    ("agent contact statistics", "after arrest", "docs/contacts.md §5"),
+    ("agent contact statistics", "contacts_strip: contact lifetimes, slow front, tip", "docs/contacts.md §5.1"),
+)
+
+# The main figures linked from the first screen: (label, the end of the figure's file name).
+MAIN_FIGURES = (("Fig. 1", "/fig1_fronts.png"), ("Fig. 2 left", "/friction_law_steady_friction.png"),
+                ("Fig. 2 right", "_fig2_sweep_fig2_right.png"), ("c_min(H)", "_cmin_vs_H.png"))
+
+
+def paper_order(root, path):
+    """The sort key of a file's section: its directory's place in PAPER_ORDER, then its path."""
+    rel = os.path.relpath(path, root)
+    name = os.path.basename(os.path.dirname(rel))
+    return (PAPER_ORDER.index(name) if name in PAPER_ORDER else len(PAPER_ORDER), rel)
+
+
+def provenance(paths):
+    """(commits, dates, {status: [file, ...]}) of the HDF5 files the report reads: their /meta git_commit, created_utc
+    and status (a file without them: "unreadable"). From the files, not the clock: the report of one directory is
+    the same whenever it is written."""
+    commits, dates, status = set(), set(), {}
+    for path in paths:
+        try:
+            with h5py.File(path, "r") as f:
+                meta = f["meta"].attrs
+                commits.add(plot.as_str(meta.get("git_commit", "unknown")))
+                if "created_utc" in meta:
+                    dates.add(plot.as_str(meta["created_utc"]))
+                st = plot.as_str(meta.get("status", "unknown"))
+        except UNREADABLE:
+            st = "unreadable"
+        status.setdefault(st, []).append(path)
+    return commits, dates, status
+
+
+def known_finding(row):
+    for limit, observable, where in KNOWN_FINDINGS:
+        if limit in row["limit"] and observable in row["observable"]:
+            return where
+    return ""
+
+
+def limits_digest(rows):
+    """One markdown row per limit: pass/fail counts, the worst row's statistic, the failures named and marked."""
+    groups = {}
+    for r in rows:
+        if r["kind"] == "limit":
+            groups.setdefault(r["limit"], []).append(r)
+    out = ["| limit | pass | fail | worst (statistic against its threshold) | failures |", "| --- | --- | --- | --- | --- |"]
+    for limit, rs in groups.items():
+        fails = [r for r in rs if r["verdict"] == "FAIL"]
+        scored = [r for r in rs if r.get("score") is not None and math.isfinite(r["score"])]
+        worst = max(scored, key=lambda r: r["score"]) if scored else (fails[0] if fails else None)
+        worst_text = (f"{worst['statistic']} ({worst['threshold']}; {worst['observable']})" if worst else
+                      "every row within its threshold" if len(fails) == 0 and any(r["verdict"] == "pass" for r in rs)
+                      else "no statistic")
+        named = "; ".join(f"{r['observable']} — " + (f"known ({known_finding(r)})" if known_finding(r) else "**NEW**")
+                          for r in fails) or "none"
+        out.append(f"| {cell(limit)} | {sum(r['verdict'] == 'pass' for r in rs)} | {len(fails)} | {cell(worst_text)} "
+                   f"| {cell(named)} |")
+    return out
+
+
+def first_screen(summary, files, figures, root):
+    """The report's first lines: provenance, the answers, the limits' digest, the main figures."""
+    commits, dates, status = provenance(files)
+    done = len(status.get("complete", []))
+    bad = "; ".join(f"{k}: " + ", ".join(f"`{os.path.relpath(p, root)}`" for p in v)
+                    for k, v in sorted(status.items()) if k != "complete")
+    commit = ", ".join(sorted(c.removesuffix("-dirty")[:12] + ("-dirty" if c.endswith("-dirty") else "")
+                              for c in commits)) or "none"
+    day = lambda d: d.replace("T", " ").replace("Z", " UTC")  # noqa: E731
+    when = (f"computed {day(min(dates))}" + (f" .. {day(max(dates))}" if len(dates) > 1 else "")) if dates else \
+        "no computation date in the files"
+    out = ["# slipfront report", "",
+           f"Commit {commit}; {when}; inputs: {done} of {len(files)} result files complete"
+           + (f", the others {bad}" if bad else "") + ". Every path is relative to this file's directory; every "
+           "quantity is dimensionless (docs/model.md §1).", ""]
+    links = [f"[{label}]({os.path.relpath(w, root)})" for label, end in MAIN_FIGURES
+             for w in [next((w for w in figures if w.endswith(end)), "")] if w]
+    answers = sorted((r for r in summary if r["kind"] == "answer"), key=lambda r: r["order"])
+    if answers:
+        out += ["## Answers to the paper's questions", ""]
+        for r in answers:
+            word = "" if r["yes"] is None else ("Yes — " if r["yes"] else "No — ")
+            fig = f" ([figure]({os.path.relpath(r['figure'], root)}))" if r["figure"] else ""
+            out.append(f"- **{cell(r['question'])}** {word}{cell(r['short'])}.{fig}")
+        out.append("")
+    lim = [r for r in summary if r["kind"] == "limit"]
+    out += ["## Limits that must hold: digest", "",
+            f"{len(lim)} row{'' if len(lim) == 1 else 's'}: {sum(r['verdict'] == 'pass' for r in lim)} pass, "
+            f"{sum(r['verdict'] == 'FAIL' for r in lim)} fail, {sum(r['verdict'] == 'n/a' for r in lim)} without a "
+            "statistic (full table under Summary; a failure is a known finding, with its page, or new).", ""]
+    out += limits_digest(summary) + [""]
+    out += [("Figures: " + " · ".join(links) + ". " if links else "") + "Below: the summary's full tables, then "
+            "one section per scene, steady-front file and study, in the paper's order.", ""]
+    return out
+
+
 def scene_section(ctx, path):
     """A results.h5: its plots, contact statistics and strip pictures, and its summary rows."""
     root, figdir = ctx.root, ctx.figdir
@@ -1841,7 +2076,7 @@ def scene_section(ctx, path):
         if res.models:
             plot.PLOTTERS[res.kind()](res, scene_dir, written, 110)
         source = os.path.relpath(path, root)
-        summary += scene_rows(res, source)
+        summary += scene_rows(res, source) + scene_answers(res, written)
         lines += [f"## Scene `{res.scene}`", "", f"{res.description}", "",
                   f"File: `{os.path.relpath(path, root)}`, status {res.status}, models {', '.join(res.models)}.", ""]
         cfigs, sfigs = [], []
@@ -1900,6 +2135,25 @@ def cmin_section(ctx, path):
     return lines + figure_lines(figs, root), rows, []
 
 
+def scalar_lines(st):
+    """A study's scalars as bullets: value, 95 % interval and definition (a scalar without one: no colon); the
+    scalars without a value in this run (NaN: e.g. a fit with too few points) named in one line."""
+    lines, none = [], []
+    for k, v in sorted(st.scalars.items()):
+        if "_ci_" in k or k.endswith("_points"):
+            continue
+        if not math.isfinite(v):
+            none.append(f"`{k}`")
+            continue
+        lo, hi = st.scalars.get(k + "_ci_low"), st.scalars.get(k + "_ci_high")
+        ci = f" (95% CI {lo:.3g} .. {hi:.3g})" if lo is not None and math.isfinite(lo) else ""
+        what = st.definitions.get(k, "").strip()
+        lines.append(f"- `{k}` = {v:.4g}{ci}" + (f": {what}" if what else ""))
+    if none:
+        lines.append(f"- without a value in this run (too few points or no event): {', '.join(none)}")
+    return lines
+
+
 def study_section(ctx, path):
     """A study.h5: its plots per kind, scalars with their intervals, notes and summary rows."""
     root = ctx.root
@@ -1913,12 +2167,7 @@ def study_section(ctx, path):
         figs, rows = study_plots(st.kind)(st, ctx.figdir)
         lines = [f"## Study `{st.name}` ({st.kind})", "", st.description, "",
                  f"{len(st.runs)} runs, {st.wall:.1f} s wall, status {st.status}.", ""]
-        for k, v in sorted(st.scalars.items()):
-            if "_ci_" in k or k.endswith("_points"):
-                continue
-            lo, hi = st.scalars.get(k + "_ci_low"), st.scalars.get(k + "_ci_high")
-            ci = f" (95% CI {lo:.3g} .. {hi:.3g})" if lo is not None and math.isfinite(lo) else ""
-            lines.append(f"- `{k}` = {v:.4g}{ci}: {st.definitions.get(k, '')}")
+        lines += scalar_lines(st)
         for n in st.notes:
             lines.append(f"- note: {n}")
         lines.append("")
@@ -1926,6 +2175,20 @@ def study_section(ctx, path):
     finally:
         st.f.close()
     return lines, rows, []
+
+
+def said_once(lines):
+    """The sections with a long paragraph that an earlier section said already (the contact statistics' and the
+    strip body's explanations, one per scene with them) replaced by a pointer to the first."""
+    seen, out = set(), []
+    for line in lines:
+        if len(line) > 200 and not line.startswith(("|", "!", "- ")):
+            if line in seen:
+                out.append("As in the first section above with this heading.")
+                continue
+            seen.add(line)
+        out.append(line)
+    return out
 
 
 def main(argv=None):
@@ -1948,8 +2211,10 @@ def main(argv=None):
             cmins.append(os.path.join(d, CMIN_CSV))
     # One task per file, run in parallel (fork: matplotlib's Agg backend and h5py are opened in the workers only);
     # their sections are joined in this fixed order, so the report does not depend on the number of workers.
-    tasks = ([(scene_section, path) for path in sorted(scenes)] + [(fronts_section, path) for path in sorted(fronts)]
-             + [(cmin_section, path) for path in sorted(cmins)] + [(study_section, path) for path in sorted(studies)])
+    kinds = {scene_section: 0, fronts_section: 1, cmin_section: 2, study_section: 3}
+    tasks = sorted([(scene_section, path) for path in scenes] + [(fronts_section, path) for path in fronts]
+                   + [(cmin_section, path) for path in cmins] + [(study_section, path) for path in studies],
+                   key=lambda t: (paper_order(root, t[1]), kinds[t[0]]))
     context = Context(root, figdir, sorted(studies))
     jobs = report_jobs(len(tasks))
     if jobs > 1:
@@ -1958,15 +2223,17 @@ def main(argv=None):
             parts = list(pool.map(run_task, [(context, f, p) for f, p in tasks]))
     else:
         parts = [run_task((context, f, p)) for f, p in tasks]
-    lines = ["# slipfront report", "", f"Results under `{root}`.", ""]
-    summary, missing = [], []
+    lines, summary, missing = [], [], []
     for more, rows, miss in parts:
         lines += more
         summary += rows
         missing += miss
-    lines[4:4] = summary_tables(summary)
+    figures = [os.path.join(root, m) for m in re.findall(r"!\[[^\]]*\]\(([^)]+)\)", "\n".join(lines))]
+    lines = (first_screen(summary, sorted(scenes + studies + fronts), figures, root) + summary_tables(summary)
+             + said_once(lines))
     for m in missing:
         lines.append(f"- could not read {m}")
+    summary_csv(root, summary)
     out = os.path.join(root, "report.md")
     write_report(out, "\n".join(lines) + "\n")
     print(out)

@@ -49,6 +49,53 @@ void run_friction_law(const fs::path& dir, int points) {
 }
 
 const std::string report_script = std::string(SLIPFRONT_SOURCE_DIR) + "/scripts/report.py";
+
+std::size_t lines_of(const fs::path& p) {
+  const std::string text = slipfront::testing::slurp(p);
+  return static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n'));
+}
+
+// The first screen (issue 42) of the report of fig1 to t = 60 (first yield, no transient yet), friction_law, the study
+// friction_law_N and the c_min(H) data: provenance from the files, the answers in the paper's order with Yes/No and
+// their figures, one digest row per limit, the sections in the paper's order, the tables as CSV, no NaN or empty
+// bullet.
+void first_screen_checks(const fs::path& dir, const std::string& md) {
+  CHECK(md.rfind("# slipfront report\n\nCommit ", 0) == 0);
+  CHECK(md.find("; computed 20") != std::string::npos);  // the files' created_utc, not the clock
+  CHECK(md.find("inputs: 3 of 3 result files complete") != std::string::npos);
+  const auto answers = md.find("## Answers to the paper's questions"), digest = md.find("## Limits that must hold: digest"),
+             summary = md.find("## Summary");
+  REQUIRE(answers != std::string::npos);
+  REQUIRE(digest != std::string::npos);
+  CHECK(answers < digest);
+  CHECK(digest < summary);
+  const auto fig1 = md.find("- **Fig. 1: does edge loading"), left = md.find("- **Fig. 2 left:"),
+             cmin = md.find("- **Does the minimal steady front speed vary smoothly");
+  CHECK(fig1 < left);
+  CHECK(left < cmin);
+  CHECK(cmin < digest);
+  CHECK(md.find("No — the sequence is incomplete (continuum): t* = 25.67, no t^, no x_arrest.", fig1) < left);
+  CHECK(md.find("Yes — sigma_ss(v) falls, then rises: its minimum sigma_c^d = 0.21663", left) < cmin);
+  CHECK(md.find("([figure](figures/friction_law__results-", left) < cmin);
+  CHECK(md.find("Yes — c_min is found at every H = 1 .. 1e+06", cmin) < digest);
+  // one digest row per limit, before the full table
+  const auto row = md.find("| discrete -> continuum as N -> inf at w = 0 | ");
+  CHECK(row > digest);
+  CHECK(row < summary);
+  CHECK(md.find("| discrete -> continuum as N -> inf at w = 0 | ", row + 1) > md.find("### Limits that must hold"));
+  CHECK(md.find("Figures: [Fig. 1](figures/fig1__results-") < summary);
+  // the paper's order: the study friction_law_N (Fig. 2 left's convergence) before c_min(H) (the strip)
+  CHECK(md.find("## Study `small`") < md.find("## c_min(H) of the strip at fixed material"));
+  CHECK(md.find("## Scene `fig1`") < md.find("## Scene `friction_law`"));
+  // the full tables as CSV: a header and one line per row of the markdown table
+  const auto limits = md.substr(md.find("### Limits that must hold"));
+  const std::size_t rows_md = static_cast<std::size_t>(std::count(limits.begin(), limits.begin() + static_cast<long>(limits.find("### Effects")), '\n')) - 7;
+  CHECK(lines_of(dir / "summary_limits.csv") == rows_md + 1);
+  CHECK(fs::exists(dir / "summary_effects.csv"));
+  CHECK(lines_of(dir / "summary_measurements.csv") >= 2);
+  CHECK(md.find("= nan") == std::string::npos);
+  CHECK(md.find(": \n") == std::string::npos);  // no bullet with an empty definition
+}
 }  // namespace
 
 TEST_CASE("report: every plot named in report.md exists and is a non-empty PNG", "[report]") {
@@ -66,7 +113,11 @@ TEST_CASE("report: every plot named in report.md exists and is a non-empty PNG",
   std::ofstream(study) << "study = \"small\"\nkind = \"friction_law\"\nscene = \"" << src
                        << "/configs/friction_law.toml\"\nset = [\"drive.points=5\", \"time.steps=500\"]\n"
                           "seeds = 2\n[vary]\n\"discrete.contacts_per_site\" = [100, 1000, 10000]\n";
-  REQUIRE(sh(bin + " study " + study.string() + " --out " + dir.string() + "/studies/small -q > /dev/null") == 0);
+  // in a directory named as the main job's study, after the c_min(H) data: the sections follow the paper's order
+  // (the study before c_min(H)), not the paths' (strip_cmin_height/ before studies/)
+  REQUIRE(sh(bin + " study " + study.string() + " --out " + dir.string() + "/studies/friction_law_N -q > /dev/null") == 0);
+  fs::create_directories(dir / "strip_cmin_height");
+  fs::copy_file(fs::path(src) / "docs" / "data" / "strip_cmin_height.csv", dir / "strip_cmin_height" / "strip_cmin_height.csv");
   REQUIRE(sh(bin + " report " + dir.string() + " > /dev/null") == 0);
 
   std::ifstream in(dir / "report.md");
@@ -74,7 +125,7 @@ TEST_CASE("report: every plot named in report.md exists and is a non-empty PNG",
   std::stringstream ss;
   ss << in.rdbuf();
   const std::string md = ss.str();
-  CHECK(md.find("| observable | continuum |") != std::string::npos);
+  CHECK(md.find("| observable | continuum (or the value) | discrete (largest N) | difference | note |") != std::string::npos);
   CHECK(md.find("friction_law_random_exponent") != std::string::npos);
   const std::regex image(R"(!\[[^\]]*\]\(([^)]+)\))");
   int n = 0;
@@ -88,7 +139,26 @@ TEST_CASE("report: every plot named in report.md exists and is a non-empty PNG",
     CHECK(std::string(magic, 8) == std::string("\x89PNG\r\n\x1a\n", 8));
     CHECK(fs::file_size(p) > 1000);
   }
-  CHECK(n >= 5);  // fig1 fronts + tip, the friction law, the study's error and Fig. 2 left
+  CHECK(n >= 6);  // fig1 fronts + tip, the friction law, the study's error and Fig. 2 left, c_min(H)
+  first_screen_checks(dir, md);
+  // check_report.py --numbers: each number a page quotes from the run against the run's files, at the precision quoted
+  const auto numbers = [&](const std::string& t_star, const std::string& ratio) {
+    slipfront::testing::write_text(dir / "results.md",
+                                   "# Quoted\n\n| quoted | value | file | expression |\n| --- | --- | --- | --- |\n"
+                                   "| fig1 t* | " + t_star + " | `fig1/results.h5` | `f['continuum/events'].attrs['t_star']` |\n"
+                                   "| c_min/c_min,1D at the largest H | " + ratio + " | `strip_cmin_height/strip_cmin_height.csv` | "
+                                   "`c['c_min'][-1] / c['c_min_1d'][-1]` |\n\nprose | not | a | row\n");
+    return slipfront::testing::run({"/usr/bin/python3", src + "/scripts/check_report.py", (dir / "report.md").string(),
+                                    "--numbers", (dir / "results.md").string()}, dir);
+  };
+  const auto right = numbers("25.67", "0.302");
+  INFO(right.out << right.err);
+  CHECK(right.code == 0);
+  CHECK(right.out.find("2 numbers quoted in") != std::string::npos);
+  const auto stale = numbers("25.68", "0.302");  // t* = 25.6707: 25.68 is off by more than half its last digit
+  CHECK(stale.code == 1);
+  CHECK(stale.err.find("'fig1 t*' = 25.68, but fig1/results.h5 gives 25.6707") != std::string::npos);
+  CHECK(numbers("25.7", "0.31").err.find("'c_min/c_min,1D at the largest H' = 0.31, but") != std::string::npos);
   // the checker the main job uses agrees
   CHECK(sh("/usr/bin/python3 " + src + "/scripts/check_report.py " + (dir / "report.md").string() + " > /dev/null") == 0);
   // the files are reported in parallel (one worker process per core): one worker and three give this report byte
@@ -126,9 +196,10 @@ TEST_CASE("report: two runs of one scene in different directories never share fi
   CHECK(images[0].find("a__fl__results-") != std::string::npos);
   CHECK(images[1].find("b__fl__results-") != std::string::npos);
   CHECK(slipfront::testing::slurp(dir / images[0]) != slipfront::testing::slurp(dir / images[1]));
-  CHECK(md.find("File: `a/fl/results.h5`") < md.find(images[0]));
-  CHECK(md.find(images[0]) < md.find("File: `b/fl/results.h5`"));
-  CHECK(md.find("File: `b/fl/results.h5`") < md.find(images[1]));
+  // each image under its own section (the first screen's answer links the first one too: "([figure](...))")
+  CHECK(md.find("File: `a/fl/results.h5`") < md.find(images[0] + ")\n"));
+  CHECK(md.find(images[0] + ")\n") < md.find("File: `b/fl/results.h5`"));
+  CHECK(md.find("File: `b/fl/results.h5`") < md.find(images[1] + ")\n"));
 }
 
 TEST_CASE("report: non-UTF-8 metadata gives a report with replacement characters, a failed write keeps the previous one",
@@ -265,14 +336,15 @@ TEST_CASE("report: the c_min(H) figure and its summary row come from the strip_c
   };
   const std::string md = report();
   REQUIRE(figures(md).size() == 1);
-  CHECK(md.find("## c_min(H) of the strip at fixed material") < md.find(figures(md)[0]));
+  CHECK(md.find("## c_min(H) of the strip at fixed material") < md.find(figures(md)[0] + ")\n"));
+  CHECK(md.find("([figure](" + figures(md)[0] + "))") < md.find("## Limits that must hold: digest"));  // its answer
   const std::string row = "| c_min(H) of the strip, H = 1 .. 1e+06: does the 1D c_min hold? | 1D c_min holds (within 1%) "
                           "up to H = 3162 (H/l = 10.5); exponent leaves 1/2 (< 0.49: 0.488) on H/l = 3.33 .. 10.5";
   CHECK(md.find(row) != std::string::npos);
   CHECK(md.find("at H = 1e+06 (H/l_kappa = 43.8): eps = 0.541 vs eps_BM = 0.466 (gap +0.075; c_min = 1.27 x BM), "
                 "c_min/c_min,1D = 0.302") != std::string::npos);
   // the same numbers answer the paper's 2D question at the top of the summary, before the three tables
-  const auto answer = md.find("### The paper's open 2D question");
+  const auto answer = md.find("### The paper's questions");
   REQUIRE(answer != std::string::npos);
   CHECK(answer < md.find("### Limits that must hold"));
   CHECK(md.find("- **Does the minimal steady front speed vary smoothly from 1D to 2D as H grows?** c_min(H) at fixed "
@@ -306,7 +378,7 @@ with open(sys.argv[1], "w", newline="") as f:
   const std::string empty = report();
   CHECK(figures(empty).empty());
   CHECK(empty.find("| c_min(H) of the strip") == std::string::npos);
-  CHECK(empty.find("### The paper's open 2D question") == std::string::npos);  // no numbers, no answer
+  CHECK(empty.find("### The paper's questions") == std::string::npos);  // no numbers, no answer
 }
 
 namespace {

@@ -3,11 +3,14 @@
 // (run_scene, run_scene_alongside) dispatches through with_discrete_law, and builds the mean-field law
 // (model mean_field, docs/model.md §2.2) with mean_field_law.
 #include <array>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 
+#include "compare/models.hpp"
 #include "compare/result.hpp"
 #include "compare/scene.hpp"
+#include "continuum/friction_law.hpp"
 #include "core/params.hpp"
 #include "discrete/agent_law.hpp"
 #include "discrete/count_law.hpp"
@@ -60,6 +63,23 @@ inline void label_mean_field(const Scene& s, ModelResult& r) {
   r.labels["renewal"] = d.renewal;
   r.scalars["width"] = d.width;
   r.scalars["bins"] = d.width > 0.0 ? d.bins : 1.0;
+}
+
+/// The one switch from a model's name (compare/models.hpp: model_kinds) to its law: calls f(make_law) with
+/// make_law(n_sites) building the law of `model` on scene s, and returns what f returns (every model's f must return
+/// one type). compare::run_scene and the Python module's runs call it; label_model stores the settings it read.
+template <class F>
+auto with_model_law(const Scene& s, std::string_view model, F&& f) {
+  if (model == "continuum") return f([&](std::size_t n) { return continuum::FrictionLaw(s.interface, n); });
+  if (model == "mean_field") return f([&](std::size_t n) { return mean_field_law(s, n); });
+  if (model == "discrete") return with_discrete_law(s, f);  // docs/model.md §2: by discrete.representation
+  throw std::invalid_argument("unknown model '" + std::string(model) + "' (" + model_names() + ")");
+}
+
+/// The settings the law of `model` read, as attributes of its group.
+inline void label_model(const Scene& s, std::string_view model, ModelResult& r) {
+  if (model == "discrete") label_discrete(s, r);
+  else if (model == "mean_field") label_mean_field(s, r);
 }
 
 }  // namespace slipfront::compare

@@ -37,24 +37,12 @@ std::vector<ModelResult> run_scene(const Scene& s, const RunControl& ctl) {
     const std::string& m = s.models[k];
     core::Archive* from = resume && !resume->at_end() ? &*resume : nullptr;
     try {
-      if (m == "continuum") {
-        auto make = [&](std::size_t n) { return continuum::FrictionLaw(s.interface, n); };
-        out.push_back(run_model<continuum::FrictionLaw>(s, make, m, ctl, header, from));
-      } else if (m == "discrete") {
-        // docs/model.md §2: the microcontact ensemble on the same bulk, grid and time step.
-        out.push_back(with_discrete_law(s, [&](auto make) {
-          using Law = decltype(make(std::size_t{1}));
-          return run_model<Law>(s, make, m, ctl, header, from);
-        }));
-        label_discrete(s, out.back());
-      } else if (m == "mean_field") {
-        // docs/model.md §2.2: the ensemble's N → ∞ limit, deterministic, on the same bulk, grid and time step.
-        auto make = [&](std::size_t n) { return mean_field_law(s, n); };
-        out.push_back(run_model<discrete::MeanFieldLaw>(s, make, m, ctl, header, from));
-        label_mean_field(s, out.back());
-      } else {
-        throw std::invalid_argument("unknown model '" + m + "'");
-      }
+      // compare/models.hpp: the model's law from the table's one switch
+      out.push_back(with_model_law(s, m, [&](auto make) {
+        using Law = decltype(make(std::size_t{1}));
+        return run_model<Law>(s, make, m, ctl, header, from);
+      }));
+      label_model(s, m, out.back());
     } catch (const core::ArchiveError&) {
       throw;  // a checkpoint that does not fit this scene: the caller reports it
     } catch (const core::Interrupted& e) {  // a stop request during the set-up of its law

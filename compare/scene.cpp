@@ -6,6 +6,7 @@
 #include "core/bulk.hpp"
 #include "core/implicit.hpp"
 #include "compare/estimate.hpp"
+#include "compare/models.hpp"
 
 namespace slipfront::compare {
 
@@ -34,8 +35,7 @@ void check_models(const std::vector<std::string>& models) {
   if (models.empty()) throw ParamError("models", "must list at least one model");
   for (std::size_t k = 0; k < models.size(); ++k) {
     const auto& m = models[k];
-    if (m != "continuum" && m != "mean_field" && m != "discrete")
-      throw ParamError("models", "unknown model '" + m + "' (expected continuum, mean_field or discrete)");
+    if (!find_model_kind(m)) throw ParamError("models", "unknown model '" + m + "' (expected " + model_names() + ")");
     if (std::find(models.begin(), models.begin() + static_cast<std::ptrdiff_t>(k), m) != models.begin() + static_cast<std::ptrdiff_t>(k))
       throw ParamError("models", "lists '" + m + "' twice (each model runs once)");
   }
@@ -178,7 +178,12 @@ double strip_max_row_spacing(double mu, double alpha, double height) {
 
 bool Scene::lists(std::string_view model) const { return std::find(models.begin(), models.end(), model) != models.end(); }
 
-const char* discrete_reference(const Scene& s) { return s.lists("mean_field") ? "mean_field" : "continuum"; }
+const char* discrete_reference(const Scene& s) {
+  const auto& refs = find_model_kind("discrete")->references;  // compare/models.hpp: the first one listed, else the last
+  for (const auto& r : refs)
+    if (!r.empty() && s.lists(r)) return r.data();
+  return refs.back().data();
+}
 
 bool runs_in_lockstep(const Scene& s) {
   const int listed = s.lists("continuum") + s.lists("mean_field") + s.lists("discrete");

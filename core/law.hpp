@@ -53,6 +53,12 @@ struct LawHooks {
   /// contact reaches the first (a located onset of yield), and keeps its steps short where the contact stress
   /// of a site whose contacts move is near the range (docs/numerics.md §9).
   bool yield_onset = false;
+  /// Count noise: noise_contacts(), the number of contacts per site whose random attachments and detachments move
+  /// the law's state (N: a site's contact stress τ then fluctuates by ~τ/√(N A)), or 0 where this instance of the law
+  /// draws nothing (the count law with discrete.noise = false). A law without it is deterministic (the continuum,
+  /// the mean-field law): the step-controlled integrator (core/leap.hpp) shortens the steps of a sliding site near
+  /// its threshold only where a fluctuation can take it across (docs/numerics.md §9.4).
+  bool count_noise = false;
 };
 
 struct LawStepInfo {
@@ -111,6 +117,10 @@ concept HasYieldOnset = requires(const L& cl) {
   { cl.yield_saturation() } -> std::convertible_to<double>;
 };
 template <class L>
+concept HasCountNoise = requires(const L& cl) {
+  { cl.noise_contacts() } -> std::convertible_to<double>;
+};
+template <class L>
 concept HasClassHazards = requires(const L& cl, std::span<const double> n, std::span<double> out) {
   { cl.prediction_classes() } -> std::convertible_to<std::size_t>;
   { cl.attached_classes() } -> std::convertible_to<std::span<const double>>;
@@ -139,6 +149,8 @@ consteval bool check_hooks() {
                 "and class_rates(i, v, A, sigma_bar, n, hazard, total)");
   static_assert(h.yield_onset == HasYieldOnset<L>,
                 "LawHooks::yield_onset must be declared exactly when the law has yield_onset() and yield_saturation()");
+  static_assert(h.count_noise == HasCountNoise<L>,
+                "LawHooks::count_noise must be declared exactly when the law has noise_contacts()");
   static_assert(h.checkpoints == requires(L& law, Archive& ar) { law.serialize(ar); },
                 "LawHooks::checkpoints must be declared exactly when the law has serialize(ar)");
   return true;

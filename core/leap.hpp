@@ -13,7 +13,8 @@
 //               rates of every site's two-state chain (attach 1, detach κ|v| for an overloaded contact) are
 //               frozen, so the step keeps, with ε = time.leap_epsilon,
 //                   κ |dv_i/dt| h ≤ ε (1 + κ|v_i|)     the detachment rate changes by a fraction ε at most
-//                   h ≤ ε (τ_i ≤ s_0), h (1 + κ|v_i|) ≤ ε/4 (τ_i > s_0: kSlidingShare)
+//                   h ≤ ε (τ_i ≤ s_0), h (1 + κ|v_i|) ≤ ε (τ_i > s_0), ε/4 at a sliding site that a count
+//                                                      fluctuation can take below s_0 (kSlidingShare, kNoiseReach)
 //                                                      at a site whose contacts move (A < 1, or τ_i > s_0) and
 //                                                      whose contact stress τ_i is within 20 % of the range of
 //                                                      thresholds [s_0, s_1] (yield_onset, yield_saturation;
@@ -92,6 +93,11 @@ class LeapSimulation : public ImplicitSimulation<Law, B> {
   /// at ε/4 by 0.3 ± 0.5 and 1.3 ± 0.6 on two sets of 288 seeds (at ε/2, 144 seeds: 2.1; docs/numerics.md §9.4,
   /// tests/test_slow_leap.cpp).
   static constexpr double kSlidingShare = 0.25;
+  /// ... only where a count fluctuation can reach the threshold (core::LawHooks::count_noise): τ_i − s_0 ≤ kNoiseReach
+  /// τ_i / √(N A_i), a site's stress fluctuating by ~τ/√(N A) over its relaxation time (N A attached contacts), of
+  /// which a step is at most a fraction ε. A deterministic law (the continuum, mean-field, the count law with the noise
+  /// off) has no such crossing and keeps ε at its sliding sites; so does a law with no threshold (no yield_onset).
+  static constexpr double kNoiseReach = 4.0;
   /// A located step is at least this fraction of the step the leap condition and the defect allow (not of a
   /// trial already shortened by a location, which would let the floor shrink with it): a site whose contact stress hovers at the threshold
   /// (its rise in σ̄ balanced by a fall of η W) cannot shrink the steps without end; its onset is then late by
@@ -224,7 +230,8 @@ class LeapSimulation : public ImplicitSimulation<Law, B> {
   // The leap condition's ratio for the trial W (in trial_), the largest over the sites of two ratios to ε:
   //   rates   κ |dv_i/dt| h / (1 + κ|W_i|), dv/dt from W and the previous step's rate over the mean of the two
   //           steps' lengths: the change of the detachment rate over the step, relative to the site's rates
-  //   state   h (1 + κ|W_i| [τ_i > s_0]) at a site whose contacts move (A_i < 1, or τ_i > s_0) and whose contact
+  //   state   h (1 + κ|W_i| [τ_i > s_0]) (over kSlidingShare where a count fluctuation can take a sliding site's τ_i
+  //           below s_0: noisy_near) at a site whose contacts move (A_i < 1, or τ_i > s_0) and whose contact
   //           stress τ_i = |σ̄_i + ηW_i|/A_i lies in the threshold range widened by kBand, (1 − kBand) s_0 ≤ τ_i ≤
   //           (1 + kBand) s_1 (s_0, s_1 the weakest and strongest thresholds): the step is a small
   //           part of the time in which the site's counts relax, so that a fluctuation that takes τ across a
@@ -238,16 +245,32 @@ class LeapSimulation : public ImplicitSimulation<Law, B> {
       s0 = this->law_.yield_onset();
       s1 = this->law_.yield_saturation();
     }
+    const double reach = noise_reach();
     const auto area = this->law_.contact_area(), sb = this->law_.sigma_bar();
     double r = 0.0;
     for (std::size_t i = 0; i < this->sites_; ++i) {
       const double w = this->trial_[i], speed = kappa * std::abs(w);
       r = std::max(r, scale * std::abs(w - w_prev_[i]) / (1.0 + speed));
       const double tau = contact_stress(sb[i] + eta * w, area[i]);
-      if ((area[i] < 1.0 || tau > s0) && tau >= (1.0 - kBand) * s0 && tau <= (1.0 + kBand) * s1)
-        r = std::max(r, tau > s0 ? h * (1.0 + speed) / kSlidingShare : h);
+      if ((area[i] < 1.0 || tau > s0) && tau >= (1.0 - kBand) * s0 && tau <= (1.0 + kBand) * s1) {
+        const bool noisy_near = tau - s0 <= reach * tau / std::sqrt(area[i]);  // false for reach = 0 (τ > s_0 here)
+        r = std::max(r, tau > s0 ? h * (1.0 + speed) / (noisy_near ? kSlidingShare : 1.0) : h);
+      }
     }
     return std::isfinite(r) ? r / opt_.leap_epsilon : std::numeric_limits<double>::infinity();
+  }
+
+  // kNoiseReach / √N of a law with count noise (τ_i − s_0 ≤ this τ_i / √A_i is within reach of a fluctuation); 0 for a
+  // deterministic law or instance; +∞ for a noisy law with no threshold range (every sliding site counts as near).
+  double noise_reach() const {
+    if constexpr (Law::hooks.count_noise) {
+      const double n = this->law_.noise_contacts();
+      if (!(n > 0.0)) return 0.0;
+      if constexpr (!Law::hooks.yield_onset) return std::numeric_limits<double>::infinity();
+      return kNoiseReach / std::sqrt(n);
+    } else {
+      return 0.0;
+    }
   }
 
   // The trial again, the law linearised at the trial's W (in trial_), which is also the iteration's first guess.

@@ -108,7 +108,8 @@ struct DetachedContact {
 class AgentLaw {
  public:
   static constexpr core::LawHooks hooks{
-      .ages = true, .contact_statistics = true, .contact_hazard = true, .checkpoints = true, .yield_onset = true};
+      .ages = true, .contact_statistics = true, .contact_hazard = true, .checkpoints = true, .yield_onset = true,
+      .count_noise = true};
   /// Validates `dp` (ParamError naming the key). All sites start stuck: A = 1, σ̄ = 0.
   AgentLaw(const core::InterfaceParams& ip, const DiscreteParams& dp, std::size_t sites);
 
@@ -122,6 +123,8 @@ class AgentLaw {
   double yield_onset() const { return degenerate_ ? 1.0 : edges_.front(); }
   /// The highest threshold g gives (its last bin edge, +∞ for an unbounded g; 1 when w = 0).
   double yield_saturation() const { return degenerate_ ? 1.0 : edges_.back(); }
+  /// N: every contact attaches and detaches by its own draw (core::LawHooks::count_noise).
+  double noise_contacts() const { return static_cast<double>(n_contacts_); }
 
   /// Initial state of site i: n = round(A N) attached contacts with thresholds drawn from g (none
   /// drawn when w = 0) and age 0, the rest detached since now. Restarts the site's random stream, so

@@ -56,7 +56,7 @@ struct PoolHandle {
 
 class CountLaw {
  public:
-  static constexpr core::LawHooks hooks{.checkpoints = true, .yield_onset = true};
+  static constexpr core::LawHooks hooks{.checkpoints = true, .yield_onset = true, .count_noise = true};
   /// Validates `dp` (ParamError naming the key). All sites start stuck: A = 1, σ̄ = 0, the N
   /// attached contacts spread over the bins by expectation rounding (a stratified sample of g).
   CountLaw(const core::InterfaceParams& ip, const DiscreteParams& dp, std::size_t sites);
@@ -98,6 +98,9 @@ class CountLaw {
   double yield_onset() const { return thresholds_.front(); }
   /// The strongest threshold s_{B−1}: above it every contact is overloaded.
   double yield_saturation() const { return thresholds_.back(); }
+  /// N, whose random draws move the state; 0 with the noise off (every draw its expectation: a deterministic law;
+  /// core::LawHooks::count_noise).
+  double noise_contacts() const { return noise_ ? n_contacts_ : 0.0; }
 
   // --- inspection ------------------------------------------------------------------------------
   const DiscreteParams& discrete_params() const { return dp_; }

@@ -31,7 +31,7 @@ namespace slipfront::discrete {
 
 class NaiveAgentLaw {
  public:
-  static constexpr core::LawHooks hooks{.contact_statistics = true, .checkpoints = true};
+  static constexpr core::LawHooks hooks{.contact_statistics = true, .checkpoints = true, .count_noise = true};
   NaiveAgentLaw(const core::InterfaceParams& ip, const DiscreteParams& dp, std::size_t sites)
       : ip_(ip), dp_(dp), g_((dp.validate(), ThresholdDistribution(dp.threshold, dp.width))) {
     if (sites == 0) throw std::invalid_argument("NaiveAgentLaw: no sites");
@@ -57,6 +57,8 @@ class NaiveAgentLaw {
   const core::InterfaceParams& params() const { return ip_; }
   std::span<const double> contact_area() const { return area_; }
   std::span<const double> sigma_bar() const { return sigma_bar_; }
+  /// N: every contact attaches and detaches by its own draw (core::LawHooks::count_noise).
+  double noise_contacts() const { return static_cast<double>(n_contacts_); }
 
   /// As AgentLaw::set_site: n = round(A N) attached (thresholds from g, age 0), the rest detached;
   /// restarts the site's stream.

@@ -122,16 +122,10 @@ std::unique_ptr<Run> make_run_of(const compare::Scene& s, MakeLaw make, const st
 
 // The model's law, as compare::run_scene builds it.
 std::unique_ptr<Run> make_run(const compare::Scene& s, const std::string& m) {
-  if (m == "continuum")
-    return make_run_of<continuum::FrictionLaw>(s, [&](std::size_t n) { return continuum::FrictionLaw(s.interface, n); }, m);
-  if (m == "discrete")
-    return compare::with_discrete_law(s, [&](auto make) {
-      using Law = decltype(make(std::size_t{1}));
-      return make_run_of<Law>(s, make, m);
-    });
-  if (m == "mean_field")
-    return make_run_of<discrete::MeanFieldLaw>(s, [&](std::size_t n) { return compare::mean_field_law(s, n); }, m);
-  throw std::invalid_argument("unknown model '" + m + "' (continuum, discrete or mean_field)");
+  return compare::with_model_law(s, m, [&](auto make) {
+    using Law = decltype(make(std::size_t{1}));
+    return make_run_of<Law>(s, make, m);
+  });
 }
 
 py::dict result_dict(const compare::ModelResult& r) {

@@ -8,19 +8,23 @@
 //
 // At N = 10³ fig1 is bimodal (docs/numerics.md §9.1: an early transient, c_transient < 20, or a late one), and the
 // leap integrator once put the late mode's t^ 3.5 ± 0.7 later than the reference (§9.4). The battery, each test at
-// α = 0.005 (false alarms ≤ 2 % by Bonferroni; 1.0 % simulated, both samples drawn from the reference's runs):
+// α = 0.005 (false alarms ≤ 2.5 % by Bonferroni; the four tests other than the tail's 1.0 % simulated, both samples
+// drawn from the reference's runs):
 //   two-sample KS on t^, x_arrest, c_transient, a run with no transient (no arrest) by t_end counted as beyond every
-//   measured one; and a Welch z test on the late mode's mean t^.
+//   measured one; the no-transient tail on its own (Fisher exact on the runs without a transient, a conservative test:
+//   false alarms ≤ α); and a Welch z test on the late mode's mean t^.
 // Power, simulated by drawing both samples (288 + 288) from the reference's runs, the leap's late-mode t^ shifted:
 // 0.997 against a shift of 2.75 (the bias issue 36 reported), 0.60 against 1.5; against the integrator before the fix
-// (its 144 runs drawn from): 1.00. Not in the battery, found with it (docs/numerics.md §9.4): the leap's early fraction,
-// 0.31 against the reference's 0.19 (Fisher p = 5e-4 over 576 + 288 runs), with or without the fix and at any step.
+// (its 144 runs drawn from): 1.00. Printed, not in the battery (docs/numerics.md §9.4): the leap's early fraction, 0.29
+// against the reference's 0.19 here (Fisher p = 0.009), a step-size effect of every frozen-rate step (the fixed implicit
+// step at dt = 0.01: 0.29; the leap and the implicit step at 0.005: 0.22, 0.23).
 //
 // At N = 10⁴ (unimodal: t^ ≈ 108 with sd 2.0, a few late runs), 96 leap runs against 48 reference runs, KS on the same
-// three at α = 0.005 (false alarms ≤ 1.5 %; 0.9 % simulated). Power against t^ shifted by one sd (2.0): 0.98; against
+// three and Fisher on the tail at α = 0.005 (false alarms ≤ 2 %; the KS 0.9 % simulated). Power against t^ shifted by one sd (2.0): 0.98; against
 // one run in six without a transient: 0.08 only (the reference itself has 4 of 48 runs past t^ = 115).
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -76,13 +80,28 @@ std::map<unsigned, Events> reference(long n) {
   return out;
 }
 
+// Two-sided Fisher exact test of a out of n1 against b out of n2: with the margins fixed (the hypergeometric law), the
+// probability of a table no more likely than the observed one.
+double fisher_exact(int a, int n1, int b, int n2) {
+  const auto lchoose = [](int n, int k) { return std::lgamma(n + 1.0) - std::lgamma(k + 1.0) - std::lgamma(n - k + 1.0); };
+  const int k = a + b;
+  const auto logp = [&](int x) { return lchoose(n1, x) + lchoose(n2, k - x) - lchoose(n1 + n2, k); };
+  const double observed = logp(a);
+  double p = 0.0;
+  for (int x = std::max(0, k - n2); x <= std::min(k, n1); ++x)
+    if (logp(x) <= observed + 1e-7) p += std::exp(logp(x));
+  return std::min(1.0, p);
+}
+
 // A missing event (no transient, no arrest by t_end) counts as beyond every one measured.
 double or_beyond(double x) { return std::isfinite(x) ? x : 1e9; }
 
 struct Sample {
   std::vector<double> t_hat, x_arrest, c_transient, late_t_hat;  // late: c_transient ≥ 20 (the late mode)
-  int missing = 0;
+  int missing = 0, early = 0;                                     // early: c_transient < 20
+  int size() const { return static_cast<int>(t_hat.size()); }
   void add(const Events& e) {
+    if (e.c_transient < 20.0) ++early;
     t_hat.push_back(or_beyond(e.t_hat));
     x_arrest.push_back(or_beyond(e.x_arrest));
     c_transient.push_back(or_beyond(e.c_transient));
@@ -113,7 +132,11 @@ double ks_events(const Sample& leap, const Sample& ref, const char* label) {
   CHECK(t.p > kAlpha);
   CHECK(x.p > kAlpha);
   CHECK(c.p > kAlpha);
-  return std::min({t.p, x.p, c.p});
+  // the no-transient tail on its own: as many runs without a transient by t_end as the reference's
+  const double tail = fisher_exact(leap.missing, leap.size(), ref.missing, ref.size());
+  WARN(label << ": no transient by t_end, Fisher p = " << tail);
+  CHECK(tail > kAlpha);
+  return std::min({t.p, x.p, c.p, tail});
 }
 
 }  // namespace
@@ -127,6 +150,10 @@ TEST_CASE("leap slow: fig1 events at N = 1e3 are distributed as on the explicit 
   for (const auto& [seed, e] : stored) ref.add(e);
   for (unsigned k = 1001; k <= 1288; ++k) leap.add(run_events(count_fig1(core::Integrator::adaptive_rosenbrock, 1000, k, 0.5)));
   ks_events(leap, ref, "count N = 1e3, 288 leap vs 288 explicit (cfl 0.125)");
+  // Not checked (a finding, docs/numerics.md §9.4): the early fraction, a step-size effect of every frozen-rate step
+  // (the fixed implicit step at dt = 0.01 too), above the reference's at the leap's default steps.
+  WARN("early transient: leap " << leap.early << " of " << leap.size() << ", reference " << ref.early << " of "
+                                << ref.size() << ", Fisher p = " << fisher_exact(leap.early, leap.size(), ref.early, ref.size()));
   const auto l = testing::mean_se(leap.late_t_hat), r = testing::mean_se(ref.late_t_hat);
   const double z = (l.mean - r.mean) / std::hypot(l.se, r.se), p = std::erfc(std::abs(z) / std::sqrt(2.0));
   WARN("late-mode t^: leap " << l.mean << " +- " << l.se << " (" << leap.late_t_hat.size() << " runs), reference "

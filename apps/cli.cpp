@@ -629,7 +629,7 @@ int fronts_command(const FrontsOptions& opts, std::ostream& out, std::ostream& e
   //     fronts.h5 is in place
   compare::StripFrontsSettings strip{opts.rows, opts.intervals, opts.rtol};
   if (opts.budget > 0.0) strip.budget_seconds = opts.budget;
-  if (scene->bulk.height > 0.0)
+  if (scene->bulk.body() == core::BodyKind::strip)
     if (const std::string refused = compare::strip_fronts_refusal(strip, scene->limits.max_memory_gib); !refused.empty()) {
       print_error(err, opts.config.string() + ": " + refused);
       return exit_code::usage;

@@ -778,7 +778,7 @@ FrontsResult compute_fronts(const Scene& s, bool scaling, const std::function<bo
   const auto wall0 = std::chrono::steady_clock::now();
   if (s.drive.loading != core::Loading::homogeneous)
     throw core::ParamError("drive.loading", "steady fronts are solved for homogeneous loading (docs/model.md §6)");
-  if (s.bulk.height > 0.0) {
+  if (s.bulk.body() == core::BodyKind::strip) {
     FrontsResult r = compute_strip_fronts(s, scaling, stop, strip);
     r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
     return r;

@@ -32,7 +32,7 @@ continuum::StripFrontOptions strip_start_options(const Scene& s) {
 
 FrontStartCost front_start_cost(const Scene& s) {
   FrontStartCost c;
-  if (s.drive.loading != core::Loading::homogeneous || s.drive.start != "steady_front" || !(s.bulk.height > 0.0)) return c;
+  if (s.drive.loading != core::Loading::homogeneous || s.drive.start != "steady_front" || s.bulk.body() != core::BodyKind::strip) return c;
   const continuum::StripFrontOptions o = strip_start_options(s);
   constexpr double iterations_per_solve = 5.0;  // measured 32 and 39 stop polls over 7 and 8 solves (H = 17, 34)
   c.rows = o.rows;
@@ -48,12 +48,12 @@ FrontStartCost front_start_cost(const Scene& s) {
 std::optional<FrontStart> front_start(const Scene& s, const std::function<bool()>& stop) {
   if (s.drive.loading != core::Loading::homogeneous || s.drive.start != "steady_front") return std::nullopt;
   auto refuse = [&](continuum::FrontStatus status, const std::string& reason) {
-    return core::ParamError("drive.sigma_d", "no steady front" + std::string(s.bulk.height > 0.0 ? " in the strip" : "") +
+    return core::ParamError("drive.sigma_d", "no steady front" + std::string(s.bulk.body() == core::BodyKind::strip ? " in the strip" : "") +
                                                  " at sigma_d = " + core::format_number(s.drive.sigma_d) +
                                                  " to start from (" + continuum::to_string(status) + ": " + reason + ")");
   };
   FrontStart out;
-  if (s.bulk.height > 0.0) {
+  if (s.bulk.body() == core::BodyKind::strip) {
     continuum::StripFrontOptions o = strip_start_options(s);
     o.stop = stop;
     auto front = continuum::solve_strip_front(s.interface, s.bulk, s.drive.sigma_d, o);

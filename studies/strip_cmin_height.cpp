@@ -241,7 +241,7 @@ void check_strip_cmin_paths(const StripCminHeightOptions& o) {
 }
 
 StripCminHeightOptions strip_cmin_study_options(const StudySpec& spec, const Scene& base) {
-  if (!(base.bulk.height > 0.0))
+  if (base.bulk.body() != core::BodyKind::strip)
     throw core::ParamError("scene", "the kind strip_cmin_height needs a strip scene (bulk.height > 0): its material is "
                                     "mu' = bulk.mu/bulk.height, rho' = bulk.rho/bulk.height; " + spec.scene_file +
                                     " is the 1D chain (bulk.height = 0)");

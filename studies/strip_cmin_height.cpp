@@ -73,45 +73,95 @@ continuum::StripHeightPath strip_cmin_limiting_path(const StripCminHeightOptions
   return path;
 }
 
+namespace {
+
+// The σ_d = 0.8 path whose fronts start each height's whole branch (only with o.branches).
+continuum::StripHeightPath strip_cmin_start_path(const StripCminHeightOptions& o, const continuum::StripHeightOptions& po) {
+  continuum::StripHeightOptions os = po;
+  os.limiting = false;
+  os.sigma_d = 0.8;
+  os.front.rows = o.branch_rows;
+  os.front.intervals = o.branch_intervals;
+  auto start_path = continuum::continue_strip_height(o.law, o.mu_strip, o.rho_strip, os);
+  say(o, format("sigma_d = 0.8 path: %zu fronts%s%s", start_path.fronts.size(), start_path.complete ? "" : ", incomplete: ",
+                start_path.reason.c_str()));
+  return start_path;
+}
+
+// The 1D chain's c_min at the same material (μ = μ'H, ρ = ρ'H) and its estimate; a note where it is not computed.
+continuum::FrontBranch strip_cmin_1d_pass(const StripCminHeightOptions& o, double h, StripCminRow& r) {
+  const double mu = o.mu_strip, rho = o.rho_strip;
+  continuum::ContinuationOptions c1;
+  c1.stop = o.stop;  // the 1D pass stops with the study (it took ~60 s per height unpolled)
+  auto b1 = continuum::continue_steady_fronts(o.law, {rho * h, mu * h, 1000.0, 0.0}, c1);
+  if (!std::isfinite(b1.c_min))
+    r.note = "c_min_1d and ratio_to_1d not computed at H = " + format("%g", h) + ": the 1D branch (mu = " +
+             format("%g", mu * h) + ", rho = " + format("%g", rho * h) + ") ended " + continuum::to_string(b1.end) + ": " +
+             b1.reason;
+  r.c_min_1d_error = std::nan("");
+  for (const auto& q : b1.points)
+    if (std::isfinite(b1.c_min) && q.c == b1.c_min) r.c_min_1d_error = q.speed_error;
+  return b1;
+}
+
+// The path front's own error estimate (every other row, twice the intervals; docs/fronts.md §10.20).
+void strip_cmin_front_error(const StripCminHeightOptions& o, const continuum::StripHeightOptions& po,
+                            const continuum::StripFront& fr, StripCminRow& r) {
+  continuum::StripFrontOptions eo = po.front;
+  eo.stop = o.stop;
+  eo = continuum::following_tip(eo, continuum::strip_tip_zone(o.law, fr.c, fr.v_behind), po.tip_resolution,
+                                po.row_resolution);
+  const auto err = continuum::estimate_strip_speed_error(fr, eo);
+  r.c_min_error = err.total;
+  if (!err.note.empty() && !std::isfinite(err.total))
+    r.note += std::string(r.note.empty() ? "" : "; ") + "c_min_error not estimated at H = " + format("%g", fr.bulk.height) +
+              ": " + err.note;
+}
+
+// The whole branch at height h from the σ_d = 0.8 path's front: its c_min against the limiting path's.
+void strip_cmin_branch(const StripCminHeightOptions& o, const continuum::StripHeightOptions& po,
+                       const continuum::StripFront& start, const continuum::StripFront& fr, StripCminRow& r) {
+  const double mu = o.mu_strip, rho = o.rho_strip, h = fr.bulk.height;
+  continuum::StripContinuationOptions co;
+  co.sigma_start = 0.8;
+  co.front = po.front;
+  co.front.rows = o.branch_rows;
+  co.front.intervals = o.branch_intervals;
+  co.front.max_newton = 12;
+  const double lt = continuum::strip_tip_zone(o.law, start.c, start.v_behind);
+  co.front = continuum::following_tip(co.front, lt, po.tip_resolution, po.row_resolution);
+  co.start = &start;
+  co.stop = o.stop;
+  const auto tb = std::chrono::steady_clock::now();
+  const auto br = continuum::continue_strip_fronts(o.law, {rho * h, mu * h, 1000.0, h}, co);
+  r.branch_seconds = seconds_since(tb);
+  r.branch_c_min = br.c_min;
+  r.branch_sigma_d_at_c_min = br.sigma_d_at_c_min;
+  r.branch_c_min_at_end = br.c_min_at_end ? 1 : 0;
+  r.branch_points = static_cast<int>(br.points.size());
+  r.branch_folds = static_cast<int>(br.folds.size());
+  r.branch_end = continuum::to_string(br.end);
+  say(o, format("  branch H = %g: %d points, end %s, c_min %.8g (path %.8g, %+.2e), %.1f s: %s", h, r.branch_points,
+                r.branch_end.c_str(), r.branch_c_min, fr.c, r.branch_c_min / fr.c - 1.0, r.branch_seconds,
+                br.reason.c_str()));
+}
+
+}  // namespace
+
 std::vector<StripCminRow> strip_cmin_rows(const StripCminHeightOptions& o, const continuum::StripHeightPath& path) {
   const double mu = o.mu_strip, rho = o.rho_strip;
   const auto& law = o.law;
   const double ell = mu, ell_kappa = mu * law.kappa / (law.eta * law.alpha), s = mu / law.eta, cs = std::sqrt(mu / rho);
   const continuum::StripHeightOptions po = strip_cmin_path_options(o);
-  continuum::StripHeightPath start_path;
-  if (o.branches) {
-    continuum::StripHeightOptions os = po;
-    os.limiting = false;
-    os.sigma_d = 0.8;
-    os.front.rows = o.branch_rows;
-    os.front.intervals = o.branch_intervals;
-    start_path = continuum::continue_strip_height(law, mu, rho, os);
-    say(o, format("sigma_d = 0.8 path: %zu fronts%s%s", start_path.fronts.size(), start_path.complete ? "" : ", incomplete: ",
-                  start_path.reason.c_str()));
-  }
+  const continuum::StripHeightPath start_path = o.branches ? strip_cmin_start_path(o, po) : continuum::StripHeightPath{};
   std::vector<StripCminRow> rows;
   for (std::size_t k = 0; k < path.fronts.size(); ++k) {
     if (o.stop && o.stop()) break;
     const auto& fr = path.fronts[k];
     const double h = fr.bulk.height;
-    continuum::ContinuationOptions c1;
-    c1.stop = o.stop;  // the 1D pass stops with the study (it took ~60 s per height unpolled)
-    const auto b1 = continuum::continue_steady_fronts(law, {rho * h, mu * h, 1000.0, 0.0}, c1);
     StripCminRow r;
-    if (!std::isfinite(b1.c_min))
-      r.note = "c_min_1d and ratio_to_1d not computed at H = " + format("%g", h) + ": the 1D branch (mu = " +
-               format("%g", mu * h) + ", rho = " + format("%g", rho * h) + ") ended " + continuum::to_string(b1.end) + ": " +
-               b1.reason;
-    r.c_min_1d_error = std::nan("");
-    for (const auto& q : b1.points)
-      if (std::isfinite(b1.c_min) && q.c == b1.c_min) r.c_min_1d_error = q.speed_error;
-    continuum::StripFrontOptions eo = po.front;
-    eo.stop = o.stop;
-    eo = continuum::following_tip(eo, continuum::strip_tip_zone(law, fr.c, fr.v_behind), po.tip_resolution, po.row_resolution);
-    const auto err = continuum::estimate_strip_speed_error(fr, eo);
-    r.c_min_error = err.total;
-    if (!err.note.empty() && !std::isfinite(err.total))
-      r.note += std::string(r.note.empty() ? "" : "; ") + "c_min_error not estimated at H = " + format("%g", h) + ": " + err.note;
+    const auto b1 = strip_cmin_1d_pass(o, h, r);
+    strip_cmin_front_error(o, po, fr, r);
     r.H = h;
     r.H_over_l = h / ell;
     r.H_over_l_kappa = h / ell_kappa;
@@ -125,30 +175,7 @@ std::vector<StripCminRow> strip_cmin_rows(const StripCminHeightOptions& o, const
     if (k + 1 < path.fronts.size())
       r.local_exponent = std::log(path.fronts[k + 1].c / fr.c) / std::log(path.fronts[k + 1].bulk.height / h);
     r.branch_c_min = r.branch_sigma_d_at_c_min = std::nan("");
-    if (o.branches && k < start_path.fronts.size()) {
-      continuum::StripContinuationOptions co;
-      co.sigma_start = 0.8;
-      co.front = po.front;
-      co.front.rows = o.branch_rows;
-      co.front.intervals = o.branch_intervals;
-      co.front.max_newton = 12;
-      const double lt = continuum::strip_tip_zone(law, start_path.fronts[k].c, start_path.fronts[k].v_behind);
-      co.front = continuum::following_tip(co.front, lt, po.tip_resolution, po.row_resolution);
-      co.start = &start_path.fronts[k];
-      co.stop = o.stop;
-      const auto tb = std::chrono::steady_clock::now();
-      const auto br = continuum::continue_strip_fronts(law, {rho * h, mu * h, 1000.0, h}, co);
-      r.branch_seconds = seconds_since(tb);
-      r.branch_c_min = br.c_min;
-      r.branch_sigma_d_at_c_min = br.sigma_d_at_c_min;
-      r.branch_c_min_at_end = br.c_min_at_end ? 1 : 0;
-      r.branch_points = static_cast<int>(br.points.size());
-      r.branch_folds = static_cast<int>(br.folds.size());
-      r.branch_end = continuum::to_string(br.end);
-      say(o, format("  branch H = %g: %d points, end %s, c_min %.8g (path %.8g, %+.2e), %.1f s: %s", h, r.branch_points,
-                    r.branch_end.c_str(), r.branch_c_min, fr.c, r.branch_c_min / fr.c - 1.0, r.branch_seconds,
-                    br.reason.c_str()));
-    }
+    if (o.branches && k < start_path.fronts.size()) strip_cmin_branch(o, po, start_path.fronts[k], fr, r);
     r.rows = fr.rows();
     r.intervals = static_cast<int>(fr.xi.size()) - 1;
     r.domain_length = fr.domain_length;

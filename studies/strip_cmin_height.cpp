@@ -282,11 +282,10 @@ StripCminHeightOptions strip_cmin_study_options(const StudySpec& spec, const Sce
 
 void check_strip_cmin_study(const StudySpec& spec, const Scene& base) { (void)strip_cmin_study_options(spec, base); }
 
-StudyOutcome strip_cmin_height_study(StudyReport& rep, const StudySpec& spec, const Scene& base, const StudyWork& work) {
-  StripCminHeightOptions o = strip_cmin_study_options(spec, base);
-  o.stop = work.stop;
-  o.log = work.log;
-  const StripCminHeight r = strip_cmin_height(o);
+namespace {
+
+// The study's scalars: the material, the law and the lengths and speeds of docs/fronts.md §10.12.
+void put_strip_cmin_scalars(StudyReport& rep, const StripCminHeightOptions& o, const StripCminHeight& r) {
   const double ell = o.mu_strip, ell_kappa = o.mu_strip * o.law.kappa / (o.law.eta * o.law.alpha);
   rep.scalars["mu_strip"] = o.mu_strip;
   rep.scalars["rho_strip"] = o.rho_strip;
@@ -312,7 +311,10 @@ StudyOutcome strip_cmin_height_study(StudyReport& rep, const StudySpec& spec, co
   rep.definitions["heights_target"] = "target heights of [paths]: round(per_decade log10(hmax/hmin)) + 1";
   rep.definitions["heights_reached"] = "target heights the limiting path reached (the table's rows)";
   rep.definitions["path_steps"] = "accepted steps of the limiting path in H";
+}
 
+// The table strip_cmin_height, one row per target height reached, and its definitions (a table: one line a column).
+void put_strip_cmin_table(StudyReport& rep, const StripCminHeight& r) {
   Columns t;
   t["H"] = column(r.rows, &StripCminRow::H);
   t["H_over_l"] = column(r.rows, &StripCminRow::H_over_l);
@@ -362,8 +364,11 @@ StudyOutcome strip_cmin_height_study(StudyReport& rep, const StudySpec& spec, co
       {"c_min_1d_error", "estimated error of c_min_1d (the 1D solver's Richardson in xi); NaN: no c_min_1d (see the notes)"},
       {"ratio_to_1d_error", "estimated error of ratio_to_1d: ratio x (both relative errors summed)"}};
   for (const auto& [k, v] : defs) rep.definitions["strip_cmin_height/" + k] = v;
-  rep.files["strip_cmin_height.csv"] = strip_cmin_csv(r.rows);
+}
 
+// complete, failed (the limiting path fell short) or interrupted, with the reason as a note.
+StudyOutcome strip_cmin_outcome(StudyReport& rep, const StripCminHeightOptions& o, const StripCminHeight& r,
+                                const StudyWork& work) {
   StudyOutcome out;
   out.message = note_errors(r.rows, rep);
   const bool stopped = work.stop && work.stop();
@@ -378,6 +383,19 @@ StudyOutcome strip_cmin_height_study(StudyReport& rep, const StudySpec& spec, co
     rep.notes.push_back(out.message);
   }
   return out;
+}
+
+}  // namespace
+
+StudyOutcome strip_cmin_height_study(StudyReport& rep, const StudySpec& spec, const Scene& base, const StudyWork& work) {
+  StripCminHeightOptions o = strip_cmin_study_options(spec, base);
+  o.stop = work.stop;
+  o.log = work.log;
+  const StripCminHeight r = strip_cmin_height(o);
+  put_strip_cmin_scalars(rep, o, r);
+  put_strip_cmin_table(rep, r);
+  rep.files["strip_cmin_height.csv"] = strip_cmin_csv(r.rows);
+  return strip_cmin_outcome(rep, o, r, work);
 }
 
 }  // namespace slipfront::compare

@@ -163,6 +163,56 @@ SceneResult lockstep(const Scene& s, std::optional<LawD> discrete_law, const Run
   return out;
 }
 
+// Per (phase, region) class: the contact snapshots at which both models were in the same phase and both had
+// contacts in the class (a class's ages and thresholds are tested only when there are at least 3).
+std::vector<double> matched_age_snapshots(const ModelResult& c, const ModelResult& d, const Table2D& age_measured) {
+  std::vector<double> age_snapshots(core::FrontClasses::count, 0.0);
+  if (age_measured.data.empty()) return age_snapshots;
+  const auto& pm = d.contacts.at("contact_snapshot_phase");
+  const auto& rows_m = d.contacts_2d.at("region_age_counts");
+  const auto& rows_p = c.contacts_2d.at("region_age_counts");
+  const std::size_t nb = age_measured.cols;
+  for (std::size_t k = 0; k < pm.size(); ++k) {
+    if (pm[k] != c.contacts.at("contact_snapshot_phase")[k] || pm[k] >= core::FrontClasses::phases) continue;
+    for (std::size_t r = 0; r < core::FrontClasses::regions; ++r) {
+      double m = 0.0, p = 0.0;
+      for (std::size_t j = 0; j < nb; ++j) {
+        m += rows_m.data[k * rows_m.cols + r * nb + j];
+        p += rows_p.data[k * rows_p.cols + r * nb + j];
+      }
+      if (m > 0.0 && p > 0.0) age_snapshots[static_cast<std::size_t>(pm[k]) * core::FrontClasses::regions + r] += 1.0;
+    }
+  }
+  return age_snapshots;
+}
+
+// The definitions of contacts/ and its metrics (a table).
+void define_contact_rows(Comparison& cmp, const std::string& reference) {
+  const std::pair<const char*, std::string> defs[] = {
+      {"contacts_tested", "number of (statistic, class) rows of contacts/ tested: at least 500 measured contacts and 2 merged bins"},
+      {"contacts_min_p", "smallest p_value over the tested rows of contacts/ (false-alarm rate per row alpha: reject at p < alpha; "
+                         "Bonferroni over contacts_tested rows for the family)"},
+      {"contacts_max_ks_distance", "largest ks_distance over the tested rows of contacts/"},
+      {"contacts/statistic", "0: lifetimes of completed attachments (classed at the detachment); 1: ages of attached contacts "
+                             "at the contact snapshots at which both models were in the same phase (docs/model.md §7.2); "
+                             "2: yield thresholds of the attached contacts at the same snapshots (threshold_hist_edges)"},
+      {"contacts/phase", "0 before first yield, 1 slow front, 2 transient, 3 after arrest (each model's own events)"},
+      {"contacts/region", "0 behind the front, 1 in the tip band (|x - x_f| <= measure.tip_band), 2 ahead (x_f: the "
+                          "A_tip_alt tip of each model)"},
+      {"contacts/measured_total", "contacts counted by the agent in this statistic and class"},
+      {"contacts/predicted_total", "expected count predicted from the " + reference + " fields (N x the expected fraction)"},
+      {"contacts/ks_distance", "max over the class_time_edges (thresholds: threshold_hist_edges) of |F_measured - F_predicted| "
+                               "(whole population, binned CDFs)"},
+      {"contacts/thinned_size", "m: size of the uniform subsample of the measured contacts tested (min(2000, measured_total))"},
+      {"contacts/chi2", "Pearson X^2 of the subsample against the predicted proportions, bins merged until each expects >= 5"},
+      {"contacts/dof", "merged bins - 1"},
+      {"contacts/p_value", "P(chi^2_dof >= chi2) (Boost.Math): false-alarm rate alpha when the measured population has the "
+                           "predicted distribution; resolution ~1/sqrt(m)"},
+      {"contacts/tested", "1 when the row is tested: measured_total >= 500, dof >= 1, and for ages and thresholds at least "
+                          "3 matched contact snapshots with contacts in the class in both models"}};
+  for (const auto& [k, v] : defs) cmp.definitions[k] = v;
+}
+
 // docs/model.md §7.2: the agent's lifetime and age histograms by region and phase against the prediction of
 // c — the continuum's, or the mean-field law's at the scene's w (docs/model.md §2.2) — (compare/contacts.hpp:
 // contact_fit), one row per statistic and class.
@@ -173,24 +223,7 @@ void compare_contacts(const ModelResult& c, const ModelResult& d, Comparison& cm
   // snapshots had contacts in it: near a fast event (the transient, the arrest) one snapshot of each
   // model compares different moments of it.
   const auto [age_measured, age_predicted] = matched_age_tables(d, c);
-  std::vector<double> age_snapshots(core::FrontClasses::count, 0.0);
-  if (!age_measured.data.empty()) {
-    const auto& pm = d.contacts.at("contact_snapshot_phase");
-    const auto& rows_m = d.contacts_2d.at("region_age_counts");
-    const auto& rows_p = c.contacts_2d.at("region_age_counts");
-    const std::size_t nb = age_measured.cols;
-    for (std::size_t k = 0; k < pm.size(); ++k) {
-      if (pm[k] != c.contacts.at("contact_snapshot_phase")[k] || pm[k] >= core::FrontClasses::phases) continue;
-      for (std::size_t r = 0; r < core::FrontClasses::regions; ++r) {
-        double m = 0.0, p = 0.0;
-        for (std::size_t j = 0; j < nb; ++j) {
-          m += rows_m.data[k * rows_m.cols + r * nb + j];
-          p += rows_p.data[k * rows_p.cols + r * nb + j];
-        }
-        if (m > 0.0 && p > 0.0) age_snapshots[static_cast<std::size_t>(pm[k]) * core::FrontClasses::regions + r] += 1.0;
-      }
-    }
-  }
+  const std::vector<double> age_snapshots = matched_age_snapshots(c, d, age_measured);
   // Thresholds of the attached contacts: sampled at the same snapshots, matched the same way (a class has contacts
   // in its threshold rows exactly when it has them in its age rows).
   // On other edges (a prediction at another w than the agent's, without its edges) they are not compared.
@@ -237,29 +270,7 @@ void compare_contacts(const ModelResult& c, const ModelResult& d, Comparison& cm
   cmp.metrics["contacts_tested"] = tested;
   cmp.metrics["contacts_min_p"] = min_p;
   cmp.metrics["contacts_max_ks_distance"] = max_ks;
-  const std::pair<const char*, std::string> defs[] = {
-      {"contacts_tested", "number of (statistic, class) rows of contacts/ tested: at least 500 measured contacts and 2 merged bins"},
-      {"contacts_min_p", "smallest p_value over the tested rows of contacts/ (false-alarm rate per row alpha: reject at p < alpha; "
-                         "Bonferroni over contacts_tested rows for the family)"},
-      {"contacts_max_ks_distance", "largest ks_distance over the tested rows of contacts/"},
-      {"contacts/statistic", "0: lifetimes of completed attachments (classed at the detachment); 1: ages of attached contacts "
-                             "at the contact snapshots at which both models were in the same phase (docs/model.md §7.2); "
-                             "2: yield thresholds of the attached contacts at the same snapshots (threshold_hist_edges)"},
-      {"contacts/phase", "0 before first yield, 1 slow front, 2 transient, 3 after arrest (each model's own events)"},
-      {"contacts/region", "0 behind the front, 1 in the tip band (|x - x_f| <= measure.tip_band), 2 ahead (x_f: the "
-                          "A_tip_alt tip of each model)"},
-      {"contacts/measured_total", "contacts counted by the agent in this statistic and class"},
-      {"contacts/predicted_total", "expected count predicted from the " + c.model + " fields (N x the expected fraction)"},
-      {"contacts/ks_distance", "max over the class_time_edges (thresholds: threshold_hist_edges) of |F_measured - F_predicted| "
-                               "(whole population, binned CDFs)"},
-      {"contacts/thinned_size", "m: size of the uniform subsample of the measured contacts tested (min(2000, measured_total))"},
-      {"contacts/chi2", "Pearson X^2 of the subsample against the predicted proportions, bins merged until each expects >= 5"},
-      {"contacts/dof", "merged bins - 1"},
-      {"contacts/p_value", "P(chi^2_dof >= chi2) (Boost.Math): false-alarm rate alpha when the measured population has the "
-                           "predicted distribution; resolution ~1/sqrt(m)"},
-      {"contacts/tested", "1 when the row is tested: measured_total >= 500, dof >= 1, and for ages and thresholds at least "
-                          "3 matched contact snapshots with contacts in the class in both models"}};
-  for (const auto& [k, v] : defs) cmp.definitions[k] = v;
+  define_contact_rows(cmp, c.model);
 }
 
 }  // namespace

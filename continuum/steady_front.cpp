@@ -12,6 +12,8 @@
 #include <optional>
 #include <utility>
 
+#include "continuum/front_solver.hpp"
+
 namespace slipfront::continuum {
 
 const char* to_string(FrontStatus s) {
@@ -60,6 +62,10 @@ bool followed_to_end(BranchEnd e) {
 
 namespace detail {
 
+using front_solver::Arclength;
+using front_solver::branch_point;
+using front_solver::end_of;
+using front_solver::make_mesh;
 using Vec3 = Eigen::Vector3d;
 using Mat3 = Eigen::Matrix3d;
 constexpr double nan_value = std::numeric_limits<double>::quiet_NaN();
@@ -154,36 +160,9 @@ Mat3 behind_jacobian(const Model& m, const Vec3& yb, double c, double sigma_d) {
   return rhs(m, yb, c, sigma_d).J;
 }
 
-// Nodes ξ_0 = −L < … < ξ_N = 0 with ξ_N − ξ_{N−1} = h_tip, growing geometrically behind:
-// measured from the tip, ξ_j = −L (e^{β j/N} − 1)/(e^β − 1); β from the first spacing (TOMS 748).
-std::vector<double> make_mesh(double L, int N, double h_tip, double grading = 0.0) {
-  std::vector<double> xi(static_cast<std::size_t>(N) + 1);
-  double beta = grading;
-  if (beta <= 0.0 && L / N > h_tip) {
-    auto first = [&](double bt) { return std::log(L * std::expm1(bt / N) / std::expm1(bt)) - std::log(h_tip); };
-    double hi = 1.0;
-    while (first(hi) > 0.0) hi *= 2.0;
-    std::uintmax_t iters = 200;
-    const auto br = boost::math::tools::toms748_solve(first, 1e-9, hi, boost::math::tools::eps_tolerance<double>(50), iters);
-    beta = 0.5 * (br.first + br.second);
-  }
-  for (int j = 0; j <= N; ++j) {
-    const double s = static_cast<double>(j) / N;
-    const double dist = beta > 0.0 ? L * std::expm1(beta * s) / std::expm1(beta) : L * s;
-    xi[static_cast<std::size_t>(N - j)] = -dist;
-  }
-  xi[0] = -L;
-  xi[static_cast<std::size_t>(N)] = 0.0;
-  return xi;
-}
-
 // The discrete boundary-value problem (docs/fronts.md §3). Unknowns x = [y_0 … y_N, c (, σ_d)];
 // equations: the projection condition at ξ_0 = −L, Lobatto IIIA (Hermite–Simpson) on every interval,
 // the tip state at ξ_N = 0 (and, with σ_d free, the pseudo-arclength condition).
-struct Arclength {
-  double sigma0, c0, t_sigma, t_c, step, c_scale;
-};
-
 class Collocation {
  public:
   Collocation(const Model& m, std::vector<double> xi, double sigma_d, std::optional<Arclength> arc)
@@ -297,64 +276,16 @@ class Collocation {
   std::optional<Arclength> arc_;
 };
 
-struct NewtonResult {
-  bool converged = false;
-  int iterations = 0;
-  double residual = nan_value;
-  std::string failure;
-};
-
-// Damped Newton (backtracking on ‖F‖₂) with Eigen's SparseLU (COLAMD ordering, pattern analysed once).
-NewtonResult newton(const Collocation& col, Eigen::VectorXd& x, double tol, int max_iter) {
-  NewtonResult out;
-  Eigen::VectorXd F, Ft;
-  Eigen::SparseMatrix<double> J;
-  Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu;
-  bool analysed = false;
-  if (!col.assemble(x, F, &J)) {
-    out.failure = "the initial guess is not admissible (c outside (0, c_s), or no decaying mode behind)";
-    return out;
-  }
-  for (int it = 1; it <= max_iter; ++it) {
-    out.iterations = it;
-    if (!analysed) {
-      lu.analyzePattern(J);
-      analysed = true;
-    }
-    lu.factorize(J);
-    if (lu.info() != Eigen::Success) {
-      out.failure = "singular Jacobian (SparseLU: " + lu.lastErrorMessage() + ")";
-      return out;
-    }
-    const Eigen::VectorXd dx = lu.solve(-F);
-    double scaled = 0.0;
-    for (Eigen::Index k = 0; k < x.size(); ++k) scaled = std::max(scaled, std::abs(dx[k]) / std::max(1.0, std::abs(x[k])));
-    const double f0 = F.norm();
-    double lambda = 1.0;
-    Eigen::VectorXd xt;
-    bool accepted = false;
-    for (int damp = 0; damp < 30; ++damp, lambda *= 0.5) {
-      xt = x + lambda * dx;
-      if (col.assemble(xt, Ft, nullptr) && (Ft.norm() <= (1.0 - 1e-4 * lambda) * f0 || Ft.norm() < 1e-13)) {
-        accepted = true;
-        break;
-      }
-    }
-    if (!accepted) {
-      out.failure = "no descent along the Newton direction (no solution near the guess)";
-      return out;
-    }
-    x = xt;
-    col.assemble(x, F, &J);
-    if (lambda == 1.0 && scaled < tol) {
-      out.converged = true;
-      out.residual = F.lpNorm<Eigen::Infinity>();
-      return out;
-    }
-  }
-  out.residual = F.lpNorm<Eigen::Infinity>();
-  out.failure = "no convergence in " + std::to_string(max_iter) + " Newton iterations";
-  return out;
+// Damped Newton with the chain's rule (docs/fronts.md §3): converged when a full step accepted by the line
+// search is below the tolerance.
+front_solver::NewtonResult newton(const Collocation& col, Eigen::VectorXd& x, double tol, int max_iter) {
+  front_solver::NewtonRule rule;
+  rule.tolerance = tol;
+  rule.max_iterations = max_iter;
+  rule.inadmissible_guess = "the initial guess is not admissible (c outside (0, c_s), or no decaying mode behind)";
+  return front_solver::newton([&](const Eigen::VectorXd& z, Eigen::VectorXd& F, Eigen::SparseMatrix<double>* jac) {
+    return col.assemble(z, F, jac);
+  }, x, rule);
 }
 
 // Backward shooting from the tip (cold start only): classical RK4 from ξ = 0 to ξ = −L at speed c;
@@ -453,19 +384,6 @@ void integrate_slip(const Model& m, const Collocation& col, const Eigen::VectorX
   }
 }
 
-// Admissibility: Θ = 1 behind the tip needs |σ|/A > 1 there. |σ|/A − 1 vanishes at the tip and
-// grows behind it; what matters is its interior minima and its far value (returned: their minimum).
-double overstress_margin(const Model& m, const SteadyFront& f) {
-  const std::size_t n = f.xi.size();
-  std::vector<double> g(n);
-  for (std::size_t i = 0; i < n; ++i)
-    g[i] = std::abs(f.sigma_bar[i] + m.eta * f.slip_rate[i]) / f.area[i] - 1.0;
-  double margin = g.front();
-  for (std::size_t i = 1; i + 2 < n; ++i)
-    if (g[i] <= g[i - 1] && g[i] <= g[i + 1]) margin = std::min(margin, g[i]);
-  return margin;
-}
-
 // The modes of the sliding state behind (forward ξ): its eigenvalues and decaying eigenvalue into f,
 // and, when it is a saddle (one decaying mode, the null mode at σ_c^d counted as one, and two growing),
 // the tail y(−L) − y_b = Σ d_k r_k over the eigenvectors (d_stable = 0 by the projection condition).
@@ -525,7 +443,8 @@ void classify(const ModeCount& modes, SteadyFront& f) {
 void finish(const Model& m, const Collocation& col, const Eigen::VectorXd& x, SteadyFront& f) {
   const Vec3 yb = store_solution(m, col, x, f);  // c, tip and far-behind states, profiles
   integrate_slip(m, col, x, f);                  // u
-  f.overstress_margin = overstress_margin(m, f);
+  // Θ = 1 behind the tip needs |σ|/A > 1 there: |σ|/A − 1 vanishes at the tip and grows behind it
+  f.overstress_margin = front_solver::overstress_margin(f.sigma_bar, f.slip_rate, f.area, m.eta);
   f.min_slip_rate = *std::min_element(f.slip_rate.begin(), f.slip_rate.end());
   const ModeCount modes = behind_modes(m, col, x, yb, f);  // eigenvalues behind, tail beyond −L
   classify(modes, f);                                      // converged, or why not a front
@@ -651,22 +570,6 @@ SteadyFront solve_on_mesh(const Model& m, const SteadyFrontOptions& o, double si
   return f;
 }
 
-BranchPoint branch_point(const SteadyFront& f) {
-  return {f.sigma_d, f.c, f.v_tip, f.v_behind, f.area_behind, f.overstress_margin, f.min_slip_rate,
-          f.stable_eigenvalue, f.domain_length, f.residual_norm, f.speed_error, f.newton_iterations};
-}
-
-BranchEnd end_of(FrontStatus s) {
-  switch (s) {
-    case FrontStatus::resticks: return BranchEnd::resticking;
-    case FrontStatus::reverse_slip: return BranchEnd::reverse_slip;
-    case FrontStatus::sonic: return BranchEnd::sonic;
-    case FrontStatus::no_front_state:
-    case FrontStatus::not_a_saddle: return BranchEnd::saddle_node;
-    default: return BranchEnd::newton_failure;
-  }
-}
-
 // A cold start: Newton from the speed bracketed on the grid 0.02k c_s, as ever; when that gives no front
 // (no sign change there, or a spurious one: a front far below 0.02 c_s), from the speed bracketed below it.
 // A failure reports the first attempt's status and reason.
@@ -739,9 +642,7 @@ class BranchContinuation {
   FrontBranch take_branch() { return std::move(br_); }
 
  private:
-  struct Secant {
-    double t_sigma, t_c;  ///< unit direction in (σ_d, c/c_s)
-  };
+  using Secant = front_solver::Secant;  ///< unit direction in (σ_d, c/c_s)
   bool admissible_parameters();
   bool stop_requested();
   bool first_front();
@@ -749,7 +650,6 @@ class BranchContinuation {
   Secant secant();
   bool reached_end();
   SteadyFront predict_and_correct(const Secant& t);
-  void control_step(int newton_iterations);
   SteadyFront polish(SteadyFront next) const;
   void accept(SteadyFront next);
   void stop(BranchEnd e, std::string why) {
@@ -865,7 +765,7 @@ void BranchContinuation::follow() {
                                     " (step < min_step): " + std::string(to_string(next.status)) + ": " + next.reason);
       break;
     }
-    control_step(next.newton_iterations);
+    ds_ = front_solver::controlled_step(ds_, next.newton_iterations, o_.target_newton);  // §4 step 4
     accept(polish(std::move(next)));
   }
   br_.last = cur_;
@@ -873,12 +773,7 @@ void BranchContinuation::follow() {
 
 // The unit secant of the last two fronts; a sign change of its σ_d component is a fold (§4 step 6).
 BranchContinuation::Secant BranchContinuation::secant() {
-  const double d_sigma = cur_.sigma_d - prev_.sigma_d, d_c = (cur_.c - prev_.c) / cs_;
-  const double norm = std::hypot(d_sigma, d_c);
-  const double t_sigma = d_sigma / norm, t_c = d_c / norm;
-  if (t_sigma * t_sigma_before_ < 0.0) br_.folds.push_back(cur_.sigma_d);
-  t_sigma_before_ = t_sigma;
-  return {t_sigma, t_c};
+  return front_solver::secant(prev_.sigma_d, prev_.c, cur_.sigma_d, cur_.c, cs_, t_sigma_before_, br_.folds);
 }
 
 // End detection at the current front: the saddle-node (σ_d − σ_c^d < end_gap·σ_c^d), or σ_stop.
@@ -898,8 +793,7 @@ bool BranchContinuation::reached_end() {
 // down to min_step; returns the last attempt. The step is capped first at max_step and, approaching
 // σ_c^d geometrically, so that the predictor keeps a quarter of the remaining gap (§4 step 7).
 SteadyFront BranchContinuation::predict_and_correct(const Secant& t) {
-  ds_ = std::min(ds_, o_.max_step);
-  if (t.t_sigma < 0.0) ds_ = std::min(ds_, 0.75 * (cur_.sigma_d - sigma_c_) / -t.t_sigma);
+  ds_ = front_solver::capped_step(ds_, o_.max_step, t, cur_.sigma_d, sigma_c_);
   SteadyFront next;
   for (;;) {
     const double sigma_p = cur_.sigma_d + ds_ * t.t_sigma, c_p = cur_.c + ds_ * t.t_c * cs_;
@@ -910,13 +804,6 @@ SteadyFront BranchContinuation::predict_and_correct(const Secant& t) {
     if (ds_ < o_.min_step) break;
   }
   return next;
-}
-
-// Step control (§4 step 4): grow when the corrector took fewer than target_newton iterations, shrink
-// when it took more.
-void BranchContinuation::control_step(int newton_iterations) {
-  if (newton_iterations < o_.target_newton) ds_ *= 1.5;
-  else if (newton_iterations > o_.target_newton) ds_ *= 0.6;
 }
 
 // Polish at fixed σ_d (exact Jacobian there; the arclength corrector's σ_d column is a difference
@@ -954,12 +841,10 @@ void BranchContinuation::solve_limiting_front() {
 // fixed-σ_d solves between its neighbours (so it does not depend on the continuation step).
 void BranchContinuation::locate_minimal_speed() {
   if (br_.points.empty() || !followed_to_end(br_.end)) return;  // not computed: NaN
-  std::size_t k = 0;
-  for (std::size_t i = 1; i < br_.points.size(); ++i)
-    if (br_.points[i].c < br_.points[k].c) k = i;
+  const auto [k, at_end] = front_solver::slowest_point(br_.points);
   br_.c_min = br_.points[k].c;
   br_.sigma_d_at_c_min = br_.points[k].sigma_d;
-  br_.c_min_at_end = k + 1 == br_.points.size();
+  br_.c_min_at_end = at_end;
   if (br_.c_min_at_end || k == 0 || !o_.refine_minimum) return;
   SteadyFront seed = solve_steady_front(law_, bulk_, br_.points[k].sigma_d, o_.front, &br_.last);
   if (seed.status != FrontStatus::converged) seed = cur_;

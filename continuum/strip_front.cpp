@@ -12,11 +12,16 @@
 #include <utility>
 
 #include "continuum/friction_law.hpp"
+#include "continuum/front_solver.hpp"
 
 namespace slipfront::continuum {
 
 namespace strip_detail {
 
+using front_solver::Arclength;
+using front_solver::branch_point;
+using front_solver::end_of;
+using front_solver::make_mesh;
 using Vec = Eigen::VectorXd;
 using Mat = Eigen::MatrixXd;
 using CVec = Eigen::VectorXcd;
@@ -86,27 +91,6 @@ Model make_model(const core::InterfaceParams& law, const core::BulkParams& bulk,
     m.w[a + 1] += 0.5 * m.k[a];
   }
   return m;
-}
-
-// Nodes ξ_0 = −L < … < ξ_N = 0, geometric from the tip (the map of docs/fronts.md §3).
-std::vector<double> make_mesh(double L, int N, double h_tip, double grading) {
-  std::vector<double> xi(static_cast<std::size_t>(N) + 1);
-  double beta = grading;
-  if (beta <= 0.0 && L / N > h_tip) {
-    auto first = [&](double bt) { return std::log(L * std::expm1(bt / N) / std::expm1(bt)) - std::log(h_tip); };
-    double hi = 1.0;
-    while (first(hi) > 0.0) hi *= 2.0;
-    std::uintmax_t iters = 200;
-    const auto br = boost::math::tools::toms748_solve(first, 1e-9, hi, boost::math::tools::eps_tolerance<double>(50), iters);
-    beta = 0.5 * (br.first + br.second);
-  }
-  for (int j = 0; j <= N; ++j) {
-    const double s = static_cast<double>(j) / N;
-    xi[static_cast<std::size_t>(N - j)] = -(beta > 0.0 ? L * std::expm1(beta * s) / std::expm1(beta) : L * s);
-  }
-  xi[0] = -L;
-  xi[static_cast<std::size_t>(N)] = 0.0;
-  return xi;
 }
 
 enum class Side { behind, ahead };
@@ -297,10 +281,6 @@ Subspace ahead_subspace(const Model& m, double c, double sd) {
   return left_subspace(J, m.M + 1, false, false);
 }
 
-struct Arclength {
-  double sigma0, c0, t_sigma, t_c, step, c_scale;
-};
-
 // The discrete boundary-value problem (docs/fronts.md §10.3). Unknowns [y_0 … y_N, c (, σ_d)], rows:
 //   M + 1  behind: Q_ref,bᵀ P_b(c, σ_d) T (y_0 − y_b) = 0     (no mode growing toward −∞ at ξ = −L)
 //   N · ns Lobatto IIIA on every interval (docs/fronts.md eq. 5)
@@ -450,90 +430,23 @@ class Collocation {
   std::string why_;
 };
 
-struct NewtonResult {
-  bool converged = false;
-  bool stopped = false;
-  int iterations = 0;
-  double residual = nan_value;
-  std::string failure;
-};
-
-// Damped Newton with Eigen's SparseLU (COLAMD), as in the 1D solver (docs/fronts.md §3).
-NewtonResult newton(const Collocation& col, Vec& x, double tol, int max_iter, const std::function<bool()>& stop = {}) {
-  NewtonResult out;
-  Vec F, Ft;
-  Eigen::SparseMatrix<double> J;
-  Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu;
-  bool analysed = false;
+// Damped Newton with the strip's rule (docs/fronts.md §10.4, §10.11): a step below the tolerance, or at the
+// round-off floor (below 1e-6 and no longer shrinking), is taken and ends the iteration.
+front_solver::NewtonResult newton(const Collocation& col, Vec& x, double tol, int max_iter, const std::function<bool()>& stop = {}) {
   if (!col.ok()) {
+    front_solver::NewtonResult out;
     out.failure = "no far-field subspace: " + col.why();
     return out;
   }
-  if (!col.assemble(x, F, &J)) {
-    out.failure = "the initial guess is not admissible (c outside (0, c_s), or the far fields have no saddle structure)";
-    return out;
-  }
-  double previous_scaled = std::numeric_limits<double>::infinity();
-  constexpr double floor_tolerance = 1e-6;
-  for (int it = 1; it <= max_iter; ++it) {
-    out.iterations = it;
-    if (stop && stop()) {
-      out.failure = "stopped on request (Newton iteration " + std::to_string(it) + ")";
-      out.stopped = true;
-      return out;
-    }
-    if (!analysed) {
-      lu.analyzePattern(J);
-      analysed = true;
-    }
-    lu.factorize(J);
-    if (lu.info() != Eigen::Success) {
-      out.failure = "singular Jacobian (SparseLU: " + lu.lastErrorMessage() + ")";
-      return out;
-    }
-    const Vec dx = lu.solve(-F);
-    double scaled = 0.0;
-    for (Eigen::Index k = 0; k < x.size(); ++k) scaled = std::max(scaled, std::abs(dx[k]) / std::max(1.0, std::abs(x[k])));
-    const double f0 = F.norm();
-    // The full step is below the tolerance, or below 1e-7 and no longer shrinking (quadratic convergence
-    // lost: the round-off floor of an ill-conditioned Jacobian, thick strips, docs/fronts.md §10.11): take it
-    // and stop (at the round-off floor the residual need not decrease any more).
-    const bool at_floor = scaled < floor_tolerance && scaled > 0.25 * previous_scaled;
-    previous_scaled = scaled;
-    if (scaled < tol || at_floor) {
-      x += dx;
-      if (!col.assemble(x, F, nullptr)) break;
-      out.converged = true;
-      out.residual = F.lpNorm<Eigen::Infinity>();
-      return out;
-    }
-    double lambda = 1.0;
-    Vec xt;
-    bool accepted = false;
-    for (int damp = 0; damp < 30; ++damp, lambda *= 0.5) {
-      xt = x + lambda * dx;
-      if (col.assemble(xt, Ft, nullptr) && (Ft.norm() <= (1.0 - 1e-4 * lambda) * f0 || Ft.norm() < 1e-13)) {
-        accepted = true;
-        break;
-      }
-    }
-    if (!accepted && scaled < floor_tolerance) {  // at the round-off floor: no descent is possible any more
-      x += dx;
-      if (!col.assemble(x, F, nullptr)) break;
-      out.converged = true;
-      out.residual = F.lpNorm<Eigen::Infinity>();
-      return out;
-    }
-    if (!accepted) {
-      out.failure = "no descent along the Newton direction (no solution near the guess)";
-      return out;
-    }
-    x = xt;
-    col.assemble(x, F, &J);
-  }
-  out.residual = F.lpNorm<Eigen::Infinity>();
-  out.failure = "no convergence in " + std::to_string(max_iter) + " Newton iterations";
-  return out;
+  front_solver::NewtonRule rule;
+  rule.tolerance = tol;
+  rule.max_iterations = max_iter;
+  rule.floor_tolerance = 1e-6;
+  rule.inadmissible_guess =
+      "the initial guess is not admissible (c outside (0, c_s), or the far fields have no saddle structure)";
+  rule.stop = &stop;
+  return front_solver::newton([&](const Vec& z, Vec& F, Eigen::SparseMatrix<double>* jac) { return col.assemble(z, F, jac); },
+                              x, rule);
 }
 
 // L: the nonlinear region near the tip plus `decay_lengths` e-folds of the slowest mode approaching the
@@ -673,17 +586,6 @@ Vec from_one_dimensional(const Collocation& col, const SteadyFront& f1) {
   return x;
 }
 
-// Admissibility behind the tip (as in 1D): |σ|/A − 1 at its interior minima and far end.
-double overstress_margin(const Model& m, const StripFront& f) {
-  const std::size_t n = f.xi.size();
-  std::vector<double> g(n);
-  for (std::size_t i = 0; i < n; ++i) g[i] = std::abs(f.sigma_bar[i] + m.eta * f.slip_rate[i]) / f.area[i] - 1.0;
-  double margin = g.front();
-  for (std::size_t i = 1; i + 2 < n; ++i)
-    if (g[i] <= g[i - 1] && g[i] <= g[i + 1]) margin = std::min(margin, g[i]);
-  return margin;
-}
-
 // The converged iterate into f: fields, far fields, the modes ahead, diagnostics, status.
 void finish(const Collocation& col, const Vec& x, StripFront& f) {
   const Model& m = col.model();
@@ -723,7 +625,7 @@ void finish(const Collocation& col, const Vec& x, StripFront& f) {
   f.v_behind = -c * yb[m.ip(0)];
   f.area_behind = yb[m.iA()];
   f.sigma_bar_behind = yb[m.iS()];
-  f.overstress_margin = overstress_margin(m, f);
+  f.overstress_margin = front_solver::overstress_margin(f.sigma_bar, f.slip_rate, f.area, m.eta);  // as in 1D
   f.min_slip_rate = *std::min_element(f.slip_rate.begin(), f.slip_rate.end());
   // Modes behind: λ_s (the excluded one nearest 0) and the slowest approach.
   const Subspace b = behind_subspace(m, c, sd);
@@ -1022,23 +924,6 @@ namespace slipfront::continuum {
 
 namespace strip_detail {
 
-BranchPoint branch_point(const StripFront& f) {
-  return {f.sigma_d, f.c, f.v_tip, f.v_behind, f.area_behind, f.overstress_margin, f.min_slip_rate,
-          f.stable_eigenvalue, f.domain_length, f.residual_norm, f.speed_error, f.newton_iterations};
-}
-
-BranchEnd end_of(FrontStatus s) {
-  switch (s) {
-    case FrontStatus::resticks: return BranchEnd::resticking;
-    case FrontStatus::reverse_slip: return BranchEnd::reverse_slip;
-    case FrontStatus::sonic: return BranchEnd::sonic;
-    case FrontStatus::no_front_state:
-    case FrontStatus::not_a_saddle: return BranchEnd::saddle_node;
-    case FrontStatus::stopped: return BranchEnd::stopped;
-    default: return BranchEnd::newton_failure;
-  }
-}
-
 // The continuation of the strip's branch in σ_d (docs/fronts.md §10.8): the stages of the 1D
 // BranchContinuation (docs/fronts.md §4) with strip fronts: the first front cold, the second by a natural
 // step, then pseudo-arclength in (σ_d, c/c_s) with the secant as predictor, every point polished at fixed
@@ -1139,8 +1024,7 @@ bool StripContinuation::second_front() {
 }
 
 StripFront StripContinuation::predict_and_correct(double t_sigma, double t_c) {
-  ds_ = std::min(ds_, o_.max_step);
-  if (t_sigma < 0.0) ds_ = std::min(ds_, 0.75 * (cur_.sigma_d - sigma_c_) / -t_sigma);
+  ds_ = front_solver::capped_step(ds_, o_.max_step, {t_sigma, t_c}, cur_.sigma_d, sigma_c_);
   const Model m = make_model(law_, bulk_, o_.front);
   StripFront next;
   for (;;) {
@@ -1157,10 +1041,7 @@ StripFront StripContinuation::predict_and_correct(double t_sigma, double t_c) {
 
 void StripContinuation::follow() {
   while (static_cast<int>(br_.points.size()) < o_.max_points) {
-    const double d_sigma = cur_.sigma_d - prev_.sigma_d, d_c = (cur_.c - prev_.c) / cs_;
-    const double norm = std::hypot(d_sigma, d_c), t_sigma = d_sigma / norm, t_c = d_c / norm;
-    if (t_sigma * t_sigma_before_ < 0.0) br_.folds.push_back(cur_.sigma_d);
-    t_sigma_before_ = t_sigma;
+    const auto [t_sigma, t_c] = front_solver::secant(prev_.sigma_d, prev_.c, cur_.sigma_d, cur_.c, cs_, t_sigma_before_, br_.folds);
     if (cur_.sigma_d - sigma_c_ < o_.end_gap * sigma_c_) {
       stop(BranchEnd::saddle_node, "");
       break;
@@ -1177,8 +1058,7 @@ void StripContinuation::follow() {
                                     " (step < min_step): " + std::string(to_string(next.status)) + ": " + next.reason);
       break;
     }
-    if (next.newton_iterations < o_.target_newton) ds_ *= 1.5;
-    else if (next.newton_iterations > o_.target_newton) ds_ *= 0.6;
+    ds_ = front_solver::controlled_step(ds_, next.newton_iterations, o_.target_newton);
     StripFront polished = solve_strip_front(law_, bulk_, next.sigma_d, o_.front, &next);
     accept(polished.status == FrontStatus::converged ? std::move(polished) : std::move(next));
   }
@@ -1202,12 +1082,10 @@ void StripContinuation::solve_limiting_front() {
 
 void StripContinuation::minimal_speed() {
   if (br_.points.empty() || !followed_to_end(br_.end)) return;
-  std::size_t k = 0;
-  for (std::size_t i = 1; i < br_.points.size(); ++i)
-    if (br_.points[i].c < br_.points[k].c) k = i;
+  const auto [k, at_end] = front_solver::slowest_point(br_.points);
   br_.c_min = br_.points[k].c;
   br_.sigma_d_at_c_min = br_.points[k].sigma_d;
-  br_.c_min_at_end = k + 1 == br_.points.size();
+  br_.c_min_at_end = at_end;
 }
 
 }  // namespace strip_detail

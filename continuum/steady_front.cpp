@@ -13,6 +13,7 @@
 #include <utility>
 
 #include "continuum/front_solver.hpp"
+#include "continuum/sigma_continuation.hpp"
 
 namespace slipfront::continuum {
 
@@ -160,121 +161,66 @@ Mat3 behind_jacobian(const Model& m, const Vec3& yb, double c, double sigma_d) {
   return rhs(m, yb, c, sigma_d).J;
 }
 
-// The discrete boundary-value problem (docs/fronts.md §3). Unknowns x = [y_0 … y_N, c (, σ_d)];
-// equations: the projection condition at ξ_0 = −L, Lobatto IIIA (Hermite–Simpson) on every interval,
-// the tip state at ξ_N = 0 (and, with σ_d free, the pseudo-arclength condition).
-class Collocation {
- public:
-  Collocation(const Model& m, std::vector<double> xi, double sigma_d, std::optional<Arclength> arc)
-      : m_(m), xi_(std::move(xi)), sigma_fixed_(sigma_d), arc_(arc) {}
+// The chain's node block for the collocation (docs/fronts.md §3): y = (v, A, σ̄) at every node, one projection
+// row behind and the tip state. Its c and σ_d columns are stored whole (exact zeros too), as they always were.
+struct ChainBlock {
+  using Vec = Vec3;
+  using Mat = Mat3;
+  using Rhs = detail::Rhs;
+  static constexpr bool keep_zero_columns = true;
+  Model m;
 
-  int nodes() const { return static_cast<int>(xi_.size()); }
-  int size() const { return 3 * nodes() + 1 + (arc_ ? 1 : 0); }
-  int c_index() const { return 3 * nodes(); }
-  double c_of(const Eigen::VectorXd& x) const { return x[c_index()]; }
-  double sigma_of(const Eigen::VectorXd& x) const { return arc_ ? x[c_index() + 1] : sigma_fixed_; }
-  Vec3 y(const Eigen::VectorXd& x, int i) const { return x.segment<3>(3 * i); }
-  const std::vector<double>& xi() const { return xi_; }
+  int width() const { return 3; }
+  int behind_count() const { return 1; }
+  bool admissible(double c) const { return c > 0.0 && c < m.sound_speed(); }
+  Rhs rhs(const Vec3& y, double c, double sd, bool /*with_jacobian*/) const { return detail::rhs(m, y, c, sd); }
 
-  // Residual F(x); with jac, also its Jacobian (exact, except the c and σ_d columns of the two
-  // boundary conditions, which are central differences of closed forms: relative error ~1e-10).
-  bool assemble(const Eigen::VectorXd& x, Eigen::VectorXd& F, Eigen::SparseMatrix<double>* jac) const {
-    const int N = nodes() - 1, n = size(), ic = c_index(), is = ic + 1;
-    const double c = c_of(x), sd = sigma_of(x);
-    if (!(c > 0.0) || !(c < m_.sound_speed())) return false;
-    F.setZero(n);
-    std::vector<Eigen::Triplet<double>> t;
-    if (jac) t.reserve(static_cast<std::size_t>(N) * 24 + 64);
-
-    // Row 0: projection of y_0 − y_b on the decaying mode's left eigenvector vanishes.
-    auto projection = [&](const Vec3& y0, double cc, double ss) {
-      const Vec3 yb = behind_state(m_, ss);
-      const auto mode = stable_mode(m_, yb, cc);
+  // Row 0: the projection of y_0 − y_b on the decaying mode's left eigenvector vanishes. Its c and σ_d columns
+  // are central differences of the closed forms (relative error ~1e-10).
+  bool behind_rows(const Vec3& y0, double c, double sd, front_solver::Rows& rows, front_solver::ScalarColumns col) const {
+    auto projection = [&](double cc, double ss) {
+      const Vec3 yb = behind_state(m, ss);
+      const auto mode = stable_mode(m, yb, cc);
       return mode.ok ? mode.w.dot(y0 - yb) : nan_value;
     };
-    const Vec3 y0 = y(x, 0);
-    const Vec3 yb = behind_state(m_, sd);
-    const auto mode = stable_mode(m_, yb, c);
+    const Vec3 yb = behind_state(m, sd);
+    const auto mode = stable_mode(m, yb, c);
     if (!mode.ok) return false;
-    F[0] = mode.w.dot(y0 - yb);
-    if (jac) {
-      for (int k = 0; k < 3; ++k) t.emplace_back(0, k, mode.w[k]);
-      const double hc = 1e-6 * c;
-      t.emplace_back(0, ic, (projection(y0, c + hc, sd) - projection(y0, c - hc, sd)) / (2.0 * hc));
-      if (arc_) {
-        // Near σ_c^d, v_b(σ_d) has a square-root singularity: keep σ_d − h above it.
-        const double hs = std::min(1e-7, 0.25 * (sd - steady_minimum_stress(m_.law())));
-        t.emplace_back(0, is, (projection(y0, c, sd + hs) - projection(y0, c, sd - hs)) / (2.0 * hs));
-      }
+    rows.F[0] = mode.w.dot(y0 - yb);
+    if (!rows.jacobian()) return true;
+    for (int k = 0; k < 3; ++k) rows.entry(0, k, mode.w[k]);
+    const double hc = 1e-6 * c;
+    rows.entry(0, col.c, (projection(c + hc, sd) - projection(c - hc, sd)) / (2.0 * hc));
+    if (col.free_sigma()) {
+      // Near σ_c^d, v_b(σ_d) has a square-root singularity: keep σ_d − h above it.
+      const double hs = std::min(1e-7, 0.25 * (sd - steady_minimum_stress(m.law())));
+      rows.entry(0, col.sigma, (projection(c, sd + hs) - projection(c, sd - hs)) / (2.0 * hs));
     }
-
-    // Rows 1 + 3i … 3 + 3i: y_{i+1} − y_i − h/6 (f_i + 4 f_m + f_{i+1}),
-    // y_m = (y_i + y_{i+1})/2 + h/8 (f_i − f_{i+1}).
-    Rhs right = rhs(m_, y(x, 0), c, sd);
-    for (int i = 0; i < N; ++i) {
-      const Rhs left = right;
-      right = rhs(m_, y(x, i + 1), c, sd);
-      const double h = xi_[static_cast<std::size_t>(i) + 1] - xi_[static_cast<std::size_t>(i)];
-      const Vec3 ym = 0.5 * (y(x, i) + y(x, i + 1)) + h / 8.0 * (left.f - right.f);
-      const Rhs mid = rhs(m_, ym, c, sd);
-      const int row = 1 + 3 * i;
-      F.segment<3>(row) = y(x, i + 1) - y(x, i) - h / 6.0 * (left.f + 4.0 * mid.f + right.f);
-      if (!jac) continue;
-      const Mat3 I = Mat3::Identity();
-      const Mat3 Bi = -I - h / 6.0 * (left.J + 4.0 * mid.J * (0.5 * I + h / 8.0 * left.J));
-      const Mat3 Bn = I - h / 6.0 * (right.J + 4.0 * mid.J * (0.5 * I - h / 8.0 * right.J));
-      for (int r = 0; r < 3; ++r)
-        for (int k = 0; k < 3; ++k) {
-          if (Bi(r, k) != 0.0) t.emplace_back(row + r, 3 * i + k, Bi(r, k));
-          if (Bn(r, k) != 0.0) t.emplace_back(row + r, 3 * (i + 1) + k, Bn(r, k));
-        }
-      const Vec3 dc = -h / 6.0 * (left.fc + 4.0 * (mid.fc + mid.J * (h / 8.0 * (left.fc - right.fc))) + right.fc);
-      for (int r = 0; r < 3; ++r) t.emplace_back(row + r, ic, dc[r]);
-      if (arc_) {
-        const Vec3 ds = -h / 6.0 * (left.fs + 4.0 * (mid.fs + mid.J * (h / 8.0 * (left.fs - right.fs))) + right.fs);
-        for (int r = 0; r < 3; ++r) t.emplace_back(row + r, is, ds[r]);
-      }
-    }
-
-    // Rows 3N+1 … 3N+3: y_N = (v_tip(c, σ_d), 1, σ̄_tip(c, σ_d)).
-    const int row = 1 + 3 * N;
-    F.segment<3>(row) = y(x, N) - tip_state(m_, c, sd);
-    if (jac) {
-      for (int k = 0; k < 3; ++k) t.emplace_back(row + k, 3 * N + k, 1.0);
-      const double hc = 1e-6 * c;
-      const Vec3 dc = -(tip_state(m_, c + hc, sd) - tip_state(m_, c - hc, sd)) / (2.0 * hc);
-      t.emplace_back(row, ic, dc[0]);
-      t.emplace_back(row + 2, ic, dc[2]);
-      if (arc_) {
-        // ∂v_tip/∂σ_d = −1/(η + k), ∂σ̄_tip/∂σ_d = η/(η + k) (k does not depend on σ_d).
-        const auto st = stuck_region(m_, c, sd);
-        t.emplace_back(row, is, 1.0 / (m_.eta + st.k));
-        t.emplace_back(row + 2, is, -m_.eta / (m_.eta + st.k));
-      }
-    }
-
-    // Pseudo-arclength: t_σ (σ_d − σ_0) + t_c (c − c_0)/c_scale = step.
-    if (arc_) {
-      const auto& a = *arc_;
-      F[n - 1] = a.t_sigma * (sd - a.sigma0) + a.t_c * (c - a.c0) / a.c_scale - a.step;
-      if (jac) {
-        t.emplace_back(n - 1, is, a.t_sigma);
-        t.emplace_back(n - 1, ic, a.t_c / a.c_scale);
-      }
-    }
-    if (jac) {
-      jac->resize(n, n);
-      jac->setFromTriplets(t.begin(), t.end());
-    }
-    return F.allFinite();
+    return true;
   }
 
- private:
-  Model m_;
-  std::vector<double> xi_;
-  double sigma_fixed_;
-  std::optional<Arclength> arc_;
+  // Rows `row` … row + 2: y_N = (v_tip(c, σ_d), 1, σ̄_tip(c, σ_d)); the c column by central differences.
+  bool tip_rows(const Vec3& yN, int row, int base, double c, double sd, front_solver::Rows& rows,
+                front_solver::ScalarColumns col) const {
+    rows.F.segment<3>(row) = yN - tip_state(m, c, sd);
+    if (!rows.jacobian()) return true;
+    for (int k = 0; k < 3; ++k) rows.entry(row + k, base + k, 1.0);
+    const double hc = 1e-6 * c;
+    const Vec3 dc = -(tip_state(m, c + hc, sd) - tip_state(m, c - hc, sd)) / (2.0 * hc);
+    rows.entry(row, col.c, dc[0]);
+    rows.entry(row + 2, col.c, dc[2]);
+    if (col.free_sigma()) {
+      // ∂v_tip/∂σ_d = −1/(η + k), ∂σ̄_tip/∂σ_d = η/(η + k) (k does not depend on σ_d).
+      const auto st = stuck_region(m, c, sd);
+      rows.entry(row, col.sigma, 1.0 / (m.eta + st.k));
+      rows.entry(row + 2, col.sigma, -m.eta / (m.eta + st.k));
+    }
+    return true;
+  }
 };
+
+// The discrete boundary-value problem of the chain (docs/fronts.md §3): the shared collocation on its block.
+using Collocation = front_solver::Collocation<ChainBlock>;
 
 // Damped Newton with the chain's rule (docs/fronts.md §3): converged when a full step accepted by the line
 // search is below the tolerance.
@@ -533,7 +479,7 @@ SteadyFront solve_on_mesh(const Model& m, const SteadyFrontOptions& o, double si
                           std::optional<Arclength> arc) {
   SteadyFront f = empty_front(m, sigma_d);
   const double L = domain_length(m, o, c_guess, sigma_d);
-  Collocation col(m, make_mesh(L, o.intervals, o.tip_spacing, o.grading), sigma_d, arc);
+  Collocation col(ChainBlock{m}, make_mesh(L, o.intervals, o.tip_spacing, o.grading), sigma_d, arc);
   std::vector<Vec3> p;
   if (guess) p = resample(*guess, col.xi());
   else if (profile) p = *profile;
@@ -553,20 +499,11 @@ SteadyFront solve_on_mesh(const Model& m, const SteadyFrontOptions& o, double si
   finish(m, col, x, f);
   f.residual_norm = nr.residual;
   f.saddle_node_limit = m.saddle_node;
-  // Error estimate of c (docs/fronts.md §3): the same problem on every other node (same mesh map, twice
-  // the spacing); the scheme is 4th order, so c_h − c ≈ (c_2h − c_h)/15.
-  if (o.estimate_error && o.intervals % 2 == 0 && o.intervals >= 8) {
-    std::vector<double> coarse_xi;
-    std::vector<Vec3> coarse_p;
-    for (std::size_t i = 0; i < col.xi().size(); i += 2) {
-      coarse_xi.push_back(col.xi()[i]);
-      coarse_p.push_back(col.y(x, static_cast<int>(i)));
-    }
-    const Collocation coarse(m, std::move(coarse_xi), f.sigma_d, std::nullopt);
-    Eigen::VectorXd xc = pack(coarse, coarse_p, f.c, f.sigma_d, false);
-    const auto nc = newton(coarse, xc, o.tolerance, o.max_newton);
-    f.speed_error = nc.converged ? std::abs(coarse.c_of(xc) - f.c) / 15.0 : std::numeric_limits<double>::infinity();
-  }
+  // Error estimate of c (docs/fronts.md §3): the same problem on every other node, (c_2h − c_h)/15.
+  if (o.estimate_error && o.intervals % 2 == 0 && o.intervals >= 8)
+    f.speed_error = front_solver::coarse_speed_error(col, x, ChainBlock{m}, f.sigma_d, [&](const Collocation& coarse, Eigen::VectorXd& xc) {
+      return newton(coarse, xc, o.tolerance, o.max_newton);
+    });
   return f;
 }
 
@@ -626,46 +563,36 @@ SteadyFront solve_saddle_node_front(const core::InterfaceParams& law, const core
 
 namespace detail {
 
-// The continuation of the branch in σ_d (docs/fronts.md §4): the branch so far, the last two fronts
-// (their secant is the predictor direction) and the pseudo-arclength step. Each member is one stage.
-class BranchContinuation {
+// The continuation of the branch in σ_d (docs/fronts.md §4): the shared stages (front_solver::SigmaContinuation)
+// with the chain's fronts, its first front, its limiting front and Brent's method at an interior minimum of c.
+class BranchContinuation
+    : public front_solver::SigmaContinuation<BranchContinuation, SteadyFront, FrontBranch, ContinuationOptions> {
  public:
   BranchContinuation(const core::InterfaceParams& law, const core::BulkParams& bulk, const ContinuationOptions& o)
-      : law_(law), bulk_(bulk), o_(o), m_(law, bulk.rho, bulk.mu), cs_(m_.sound_speed()),
-        sigma_c_(steady_minimum_stress(law)) {}
+      : SigmaContinuation(o, std::sqrt(bulk.mu / bulk.rho), steady_minimum_stress(law)), law_(law), bulk_(bulk),
+        m_(law, bulk.rho, bulk.mu) {}
 
   bool start() { return admissible_parameters() && first_front() && second_front(); }
-  void follow();
-  bool ended_at_saddle_node() const { return br_.end == BranchEnd::saddle_node; }
   void solve_limiting_front();
   void locate_minimal_speed();
-  FrontBranch take_branch() { return std::move(br_); }
 
  private:
-  using Secant = front_solver::Secant;  ///< unit direction in (σ_d, c/c_s)
+  friend SigmaContinuation;
   bool admissible_parameters();
   bool stop_requested();
   bool first_front();
-  bool second_front();
-  Secant secant();
-  bool reached_end();
-  SteadyFront predict_and_correct(const Secant& t);
-  SteadyFront polish(SteadyFront next) const;
-  void accept(SteadyFront next);
-  void stop(BranchEnd e, std::string why) {
-    br_.end = e;
-    br_.reason = std::move(why);
+  bool reached_own_end();
+  SteadyFront solve_at(double sigma_d, const SteadyFront* guess) const {
+    return solve_steady_front(law_, bulk_, sigma_d, o_.front, guess);
   }
+  SteadyFront correct(double sigma_p, double c_p, const Arclength& arc) const {
+    return solve_on_mesh(m_, o_.front, sigma_p, c_p, nullptr, &cur_, arc);
+  }
+  void keep(const SteadyFront&) const {}
 
   const core::InterfaceParams& law_;
   const core::BulkParams& bulk_;
-  const ContinuationOptions& o_;
   const Model m_;
-  const double cs_, sigma_c_;
-  FrontBranch br_;
-  SteadyFront prev_, cur_;      ///< the last two fronts of the branch
-  double ds_ = 0.0;             ///< the step (natural in σ_d for the second front, then pseudo-arclength)
-  double t_sigma_before_ = -1.0;  ///< σ_d component of the previous secant (fold detection)
 };
 
 // Before anything is solved: a branch needs the steady law's minimum (v_m, σ_c^d) at a finite v > 0,
@@ -734,91 +661,13 @@ bool BranchContinuation::first_front() {
   return true;
 }
 
-// §4 step 2: the second front by a natural step in σ_d (there is no secant yet), halved on failure.
-bool BranchContinuation::second_front() {
-  ds_ = o_.initial_step;
-  for (;;) {
-    if (stop_requested()) return false;
-    const double target = std::max(br_.sigma_first - ds_, sigma_c_ + 0.5 * (br_.sigma_first - sigma_c_));
-    cur_ = solve_steady_front(law_, bulk_, target, o_.front, &prev_);
-    if (cur_.status == FrontStatus::converged) break;
-    ds_ *= 0.5;
-    if (ds_ < o_.min_step) {
-      stop(end_of(cur_.status), "no second front below sigma_start: " + cur_.reason);
-      br_.last = prev_;
-      return false;
-    }
-  }
-  br_.points.push_back(branch_point(cur_));
-  return true;
-}
-
-// §4 steps 3–7: pseudo-arclength in (σ_d, c/c_s) with the secant as predictor direction, until an end
-// of the branch (or max_points).
-void BranchContinuation::follow() {
-  while (static_cast<int>(br_.points.size()) < o_.max_points) {
-    const Secant t = secant();
-    if (reached_end() || stop_requested()) break;
-    SteadyFront next = predict_and_correct(t);
-    if (next.status != FrontStatus::converged) {
-      stop(end_of(next.status), "continuation stalls at sigma_d = " + core::format_number(cur_.sigma_d) +
-                                    " (step < min_step): " + std::string(to_string(next.status)) + ": " + next.reason);
-      break;
-    }
-    ds_ = front_solver::controlled_step(ds_, next.newton_iterations, o_.target_newton);  // §4 step 4
-    accept(polish(std::move(next)));
-  }
-  br_.last = cur_;
-}
-
-// The unit secant of the last two fronts; a sign change of its σ_d component is a fold (§4 step 6).
-BranchContinuation::Secant BranchContinuation::secant() {
-  return front_solver::secant(prev_.sigma_d, prev_.c, cur_.sigma_d, cur_.c, cs_, t_sigma_before_, br_.folds);
-}
-
-// End detection at the current front: the saddle-node (σ_d − σ_c^d < end_gap·σ_c^d), or σ_stop.
-bool BranchContinuation::reached_end() {
-  if (cur_.sigma_d - sigma_c_ < o_.end_gap * sigma_c_) {
-    stop(BranchEnd::saddle_node, "");
-    return true;
-  }
+// The chain's own end besides σ_c^d: σ_stop.
+bool BranchContinuation::reached_own_end() {
   if (cur_.sigma_d <= o_.sigma_stop) {
     stop(BranchEnd::sigma_stop, "reached sigma_stop = " + core::format_number(o_.sigma_stop));
     return true;
   }
   return false;
-}
-
-// Predictor along the secant, corrector with σ_d free (the arclength row), the step halved on failure
-// down to min_step; returns the last attempt. The step is capped first at max_step and, approaching
-// σ_c^d geometrically, so that the predictor keeps a quarter of the remaining gap (§4 step 7).
-SteadyFront BranchContinuation::predict_and_correct(const Secant& t) {
-  ds_ = front_solver::capped_step(ds_, o_.max_step, t, cur_.sigma_d, sigma_c_);
-  SteadyFront next;
-  for (;;) {
-    const double sigma_p = cur_.sigma_d + ds_ * t.t_sigma, c_p = cur_.c + ds_ * t.t_c * cs_;
-    const Arclength arc{cur_.sigma_d, cur_.c, t.t_sigma, t.t_c, ds_, cs_};
-    next = solve_on_mesh(m_, o_.front, sigma_p, c_p, nullptr, &cur_, arc);
-    if (next.status == FrontStatus::converged) break;
-    ds_ *= 0.5;
-    if (ds_ < o_.min_step) break;
-  }
-  return next;
-}
-
-// Polish at fixed σ_d (exact Jacobian there; the arclength corrector's σ_d column is a difference
-// quotient), so every branch point is the front solve_steady_front returns at its σ_d (§4 step 5).
-SteadyFront BranchContinuation::polish(SteadyFront next) const {
-  SteadyFront polished = solve_steady_front(law_, bulk_, next.sigma_d, o_.front, &next);
-  if (polished.status == FrontStatus::converged) next = std::move(polished);
-  return next;
-}
-
-// The new front becomes the current one (the secant moves along) and a point of the branch.
-void BranchContinuation::accept(SteadyFront next) {
-  prev_ = std::move(cur_);
-  cur_ = std::move(next);
-  br_.points.push_back(branch_point(cur_));
 }
 
 // The end at σ_c^d: the limiting front (v_b = v_m, null mode behind), solved directly.
@@ -840,11 +689,8 @@ void BranchContinuation::solve_limiting_front() {
 // Minimal speed: the smallest c on the branch; an interior minimum is located by Brent's method on
 // fixed-σ_d solves between its neighbours (so it does not depend on the continuation step).
 void BranchContinuation::locate_minimal_speed() {
-  if (br_.points.empty() || !followed_to_end(br_.end)) return;  // not computed: NaN
-  const auto [k, at_end] = front_solver::slowest_point(br_.points);
-  br_.c_min = br_.points[k].c;
-  br_.sigma_d_at_c_min = br_.points[k].sigma_d;
-  br_.c_min_at_end = at_end;
+  std::size_t k = 0;
+  if (!slowest_point_to_c_min(k)) return;  // not computed: NaN
   if (br_.c_min_at_end || k == 0 || !o_.refine_minimum) return;
   SteadyFront seed = solve_steady_front(law_, bulk_, br_.points[k].sigma_d, o_.front, &br_.last);
   if (seed.status != FrontStatus::converged) seed = cur_;

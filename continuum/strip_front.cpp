@@ -13,6 +13,7 @@
 
 #include "continuum/friction_law.hpp"
 #include "continuum/front_solver.hpp"
+#include "continuum/sigma_continuation.hpp"
 
 namespace slipfront::continuum {
 
@@ -281,19 +282,24 @@ Subspace ahead_subspace(const Model& m, double c, double sd) {
   return left_subspace(J, m.M + 1, false, false);
 }
 
-// The discrete boundary-value problem (docs/fronts.md §10.3). Unknowns [y_0 … y_N, c (, σ_d)], rows:
+// The strip's node block for the collocation (docs/fronts.md §10.3): y = (u_0, d_1 … d_M, p_0 … p_M, A, σ̄) at
+// every node, rows
 //   M + 1  behind: Q_ref,bᵀ P_b(c, σ_d) T (y_0 − y_b) = 0     (no mode growing toward −∞ at ξ = −L)
-//   N · ns Lobatto IIIA on every interval (docs/fronts.md eq. 5)
+//   N · ns Lobatto IIIA on every interval (docs/fronts.md eq. 5; front_solver::Collocation)
 //   M + 1  tip: Q_ref,aᵀ P_a(c) ((u, p)_N − stuck) = 0        (only decaying modes ahead)
 //   3      tip: A_N = 1, σ̄_N = α u_{0,N}, σ̄_N + η v_N = 1   (Θ switches at the tip)
 //   (1     pseudo-arclength)
 // P = Q Qᵀ is the orthogonal projector on the excluded left eigenspace; the reference bases Q_ref (fixed for
-// one Newton solve) make the rows smooth in c and σ_d, which enter through finite differences.
-class Collocation {
+// one Newton solve, from the far fields at (c0, s0)) make the rows smooth in c and σ_d, which enter through
+// finite differences.
+class StripBlock {
  public:
-  Collocation(const Model& m, std::vector<double> xi, double c0, double sigma_d, std::optional<Arclength> arc)
-      : m_(m), xi_(std::move(xi)), sigma_fixed_(sigma_d), arc_(arc), T_(translation_free(m)) {
-    const double s0 = arc ? arc->sigma0 + arc->step * arc->t_sigma : sigma_d;
+  using Vec = strip_detail::Vec;
+  using Mat = strip_detail::Mat;
+  using Rhs = strip_detail::Rhs;
+  static constexpr bool keep_zero_columns = false;
+
+  StripBlock(const Model& m, double c0, double s0) : m_(m), T_(translation_free(m)) {
     const Subspace b = behind_subspace(m_, c0, s0), a = ahead_subspace(m_, c0, s0);
     ok_ = b.ok && a.ok;
     why_ = !b.ok ? "behind: " + b.why : (!a.ok ? "ahead: " + a.why : std::string());
@@ -305,23 +311,22 @@ class Collocation {
   bool ok() const { return ok_; }
   const std::string& why() const { return why_; }
   const Model& model() const { return m_; }
-  int nodes() const { return static_cast<int>(xi_.size()); }
-  int size() const { return m_.ns() * nodes() + 1 + (arc_ ? 1 : 0); }
-  int c_index() const { return m_.ns() * nodes(); }
-  double c_of(const Vec& x) const { return x[c_index()]; }
-  double sigma_of(const Vec& x) const { return arc_ ? x[c_index() + 1] : sigma_fixed_; }
-  Vec y(const Vec& x, int i) const { return x.segment(m_.ns() * i, m_.ns()); }
-  const std::vector<double>& xi() const { return xi_; }
+  int width() const { return m_.ns(); }
+  int behind_count() const { return m_.M + 1; }
+  bool admissible(double c) const { return ok_ && c > 0.0 && c < m_.sound_speed(); }
+  Rhs rhs(const Vec& y, double c, double sd, bool with_jacobian) const {
+    return strip_detail::rhs(m_, y, c, sd, Side::behind, with_jacobian);
+  }
 
   // The far-field rows as functions of (node state, c, σ_d).
-  Vec behind_rows(const Vec& y0, double c, double sd, Mat* dy) const {
+  Vec behind_projection(const Vec& y0, double c, double sd, Mat* dy) const {
     const Subspace b = behind_subspace(m_, c, sd);
     if (!b.ok) return Vec::Constant(m_.M + 1, nan_value);
     const Mat G = Qb_.transpose() * b.Q * b.Q.transpose() * T_;
     if (dy) *dy = G;
     return G * (y0 - behind_state(m_, c, sd));
   }
-  Vec ahead_rows(const Vec& yN, double c, double sd, Mat* dy) const {
+  Vec ahead_projection(const Vec& yN, double c, double sd, Mat* dy) const {
     const Subspace a = ahead_subspace(m_, c, sd);
     if (!a.ok) return Vec::Constant(m_.M + 1, nan_value);
     const Mat G = Qa_.transpose() * a.Q * a.Q.transpose();
@@ -329,113 +334,71 @@ class Collocation {
     return G * (yN - stuck_state(m_, sd)).head(m_.nb());
   }
 
-  bool assemble(const Vec& x, Vec& F, Eigen::SparseMatrix<double>* jac) const {
-    const int N = nodes() - 1, n = size(), ns = m_.ns(), M = m_.M, ic = c_index(), is = ic + 1;
-    const double c = c_of(x), sd = sigma_of(x);
-    if (!ok_ || !(c > 0.0) || !(c < m_.sound_speed())) return false;
-    F.setZero(n);
-    std::vector<Eigen::Triplet<double>> t;
-    auto dense = [&](int row, int col, const Mat& B) {
-      for (int r = 0; r < B.rows(); ++r)
-        for (int k = 0; k < B.cols(); ++k)
-          if (B(r, k) != 0.0) t.emplace_back(row + r, col + k, B(r, k));
-    };
-    auto column = [&](int row, int col, const Vec& v) {
-      for (int r = 0; r < v.size(); ++r)
-        if (v[r] != 0.0) t.emplace_back(row + r, col, v[r]);
-    };
-    if (jac) t.reserve(static_cast<std::size_t>(N) * static_cast<std::size_t>(ns) * static_cast<std::size_t>(ns));
-
-    // Behind: ξ_0 = −L.
-    const Vec y0 = y(x, 0);
+  // Behind: ξ_0 = −L (rows 0 … M); c and σ_d columns by central differences.
+  bool behind_rows(const Vec& y0, double c, double sd, front_solver::Rows& rows, front_solver::ScalarColumns col) const {
     Mat G;
-    F.segment(0, M + 1) = behind_rows(y0, c, sd, jac ? &G : nullptr);
-    if (jac) {
-      dense(0, 0, G);
-      const double hc = 1e-6 * c;
-      column(0, ic, (behind_rows(y0, c + hc, sd, nullptr) - behind_rows(y0, c - hc, sd, nullptr)) / (2.0 * hc));
-      if (arc_) {
-        const double hs = std::min(1e-7, 0.25 * (sd - steady_minimum_stress(m_.law())));
-        column(0, is, (behind_rows(y0, c, sd + hs, nullptr) - behind_rows(y0, c, sd - hs, nullptr)) / (2.0 * hs));
-      }
+    rows.F.segment(0, m_.M + 1) = behind_projection(y0, c, sd, rows.jacobian() ? &G : nullptr);
+    if (!rows.jacobian()) return true;
+    rows.block(0, 0, G);
+    const double hc = 1e-6 * c;
+    rows.column(0, col.c, (behind_projection(y0, c + hc, sd, nullptr) - behind_projection(y0, c - hc, sd, nullptr)) / (2.0 * hc));
+    if (col.free_sigma()) {
+      const double hs = std::min(1e-7, 0.25 * (sd - steady_minimum_stress(m_.law())));
+      rows.column(0, col.sigma, (behind_projection(y0, c, sd + hs, nullptr) - behind_projection(y0, c, sd - hs, nullptr)) / (2.0 * hs));
     }
+    return true;
+  }
 
-    // Intervals (all behind the tip): Lobatto IIIA, y_m = (y_i + y_{i+1})/2 + h/8 (f_i − f_{i+1}).
-    const Mat I = Mat::Identity(ns, ns);
-    Rhs right = rhs(m_, y(x, 0), c, sd, Side::behind, jac != nullptr);
-    for (int i = 0; i < N; ++i) {
-      const Rhs left = std::move(right);
-      right = rhs(m_, y(x, i + 1), c, sd, Side::behind, jac != nullptr);
-      const double h = xi_[static_cast<std::size_t>(i) + 1] - xi_[static_cast<std::size_t>(i)];
-      const Vec ym = 0.5 * (y(x, i) + y(x, i + 1)) + h / 8.0 * (left.f - right.f);
-      const Rhs mid = rhs(m_, ym, c, sd, Side::behind, jac != nullptr);
-      const int row = M + 1 + ns * i;
-      F.segment(row, ns) = y(x, i + 1) - y(x, i) - h / 6.0 * (left.f + 4.0 * mid.f + right.f);
-      if (!jac) continue;
-      const Mat Bi = -I - h / 6.0 * (left.J + 4.0 * mid.J * (0.5 * I + h / 8.0 * left.J));
-      const Mat Bn = I - h / 6.0 * (right.J + 4.0 * mid.J * (0.5 * I - h / 8.0 * right.J));
-      dense(row, ns * i, Bi);
-      dense(row, ns * (i + 1), Bn);
-      column(row, ic, -h / 6.0 * (left.fc + 4.0 * (mid.fc + mid.J * (h / 8.0 * (left.fc - right.fc))) + right.fc));
-      if (arc_) column(row, is, -h / 6.0 * (left.fs + 4.0 * (mid.fs + mid.J * (h / 8.0 * (left.fs - right.fs))) + right.fs));
-    }
-
-    // The tip ξ_N = 0: the decaying subspace ahead, and Θ's switch.
-    const int row = M + 1 + ns * N;
-    const Vec yN = y(x, N);
-    F.segment(row, M + 1) = ahead_rows(yN, c, sd, jac ? &G : nullptr);
-    if (jac) {
-      dense(row, ns * N, G);
+  // The tip ξ_N = 0 (rows `row` …, y_N at column `base`): the decaying subspace ahead, and Θ's switch.
+  bool tip_rows(const Vec& yN, int row, int base, double c, double sd, front_solver::Rows& rows,
+                front_solver::ScalarColumns col) const {
+    Mat G;
+    rows.F.segment(row, m_.M + 1) = ahead_projection(yN, c, sd, rows.jacobian() ? &G : nullptr);
+    if (rows.jacobian()) {
+      rows.block(row, base, G);
       const double hc = 1e-6 * c;
-      column(row, ic, (ahead_rows(yN, c + hc, sd, nullptr) - ahead_rows(yN, c - hc, sd, nullptr)) / (2.0 * hc));
-      if (arc_) {
+      rows.column(row, col.c, (ahead_projection(yN, c + hc, sd, nullptr) - ahead_projection(yN, c - hc, sd, nullptr)) / (2.0 * hc));
+      if (col.free_sigma()) {
         const double hs = 1e-7;
-        column(row, is, (ahead_rows(yN, c, sd + hs, nullptr) - ahead_rows(yN, c, sd - hs, nullptr)) / (2.0 * hs));
+        rows.column(row, col.sigma, (ahead_projection(yN, c, sd + hs, nullptr) - ahead_projection(yN, c, sd - hs, nullptr)) / (2.0 * hs));
       }
     }
-    const int r2 = row + M + 1, base = ns * N;
-    F[r2] = yN[m_.iA()] - 1.0;
-    F[r2 + 1] = yN[m_.iS()] - m_.alpha * yN[m_.iu(0)];
-    F[r2 + 2] = yN[m_.iS()] - m_.eta * c * yN[m_.ip(0)] - 1.0;
-    if (jac) {
-      t.emplace_back(r2, base + m_.iA(), 1.0);
-      t.emplace_back(r2 + 1, base + m_.iS(), 1.0);
-      t.emplace_back(r2 + 1, base + m_.iu(0), -m_.alpha);
-      t.emplace_back(r2 + 2, base + m_.iS(), 1.0);
-      t.emplace_back(r2 + 2, base + m_.ip(0), -m_.eta * c);
-      t.emplace_back(r2 + 2, ic, -m_.eta * yN[m_.ip(0)]);
-    }
-    if (arc_) {
-      const auto& a = *arc_;
-      F[n - 1] = a.t_sigma * (sd - a.sigma0) + a.t_c * (c - a.c0) / a.c_scale - a.step;
-      if (jac) {
-        t.emplace_back(n - 1, is, a.t_sigma);
-        t.emplace_back(n - 1, ic, a.t_c / a.c_scale);
-      }
-    }
-    if (jac) {
-      jac->resize(n, n);
-      jac->setFromTriplets(t.begin(), t.end());
-    }
-    return F.allFinite();
+    const int r2 = row + m_.M + 1;
+    rows.F[r2] = yN[m_.iA()] - 1.0;
+    rows.F[r2 + 1] = yN[m_.iS()] - m_.alpha * yN[m_.iu(0)];
+    rows.F[r2 + 2] = yN[m_.iS()] - m_.eta * c * yN[m_.ip(0)] - 1.0;
+    if (!rows.jacobian()) return true;
+    rows.entry(r2, base + m_.iA(), 1.0);
+    rows.entry(r2 + 1, base + m_.iS(), 1.0);
+    rows.entry(r2 + 1, base + m_.iu(0), -m_.alpha);
+    rows.entry(r2 + 2, base + m_.iS(), 1.0);
+    rows.entry(r2 + 2, base + m_.ip(0), -m_.eta * c);
+    rows.entry(r2 + 2, col.c, -m_.eta * yN[m_.ip(0)]);
+    return true;
   }
 
  private:
   Model m_;
-  std::vector<double> xi_;
-  double sigma_fixed_;
-  std::optional<Arclength> arc_;
   Mat T_, Qb_, Qa_;
   bool ok_ = false;
   std::string why_;
 };
 
+// The discrete boundary-value problem of the strip: the shared collocation on its block.
+using Collocation = front_solver::Collocation<StripBlock>;
+
+// The collocation on mesh xi with the far-field bases at the guess c0 and the predicted σ_d.
+Collocation make_collocation(const Model& m, std::vector<double> xi, double c0, double sigma_d, std::optional<Arclength> arc) {
+  const double s0 = arc ? arc->sigma0 + arc->step * arc->t_sigma : sigma_d;
+  return Collocation(StripBlock(m, c0, s0), std::move(xi), sigma_d, arc);
+}
+
 // Damped Newton with the strip's rule (docs/fronts.md §10.4, §10.11): a step below the tolerance, or at the
 // round-off floor (below 1e-6 and no longer shrinking), is taken and ends the iteration.
 front_solver::NewtonResult newton(const Collocation& col, Vec& x, double tol, int max_iter, const std::function<bool()>& stop = {}) {
-  if (!col.ok()) {
+  if (!col.block().ok()) {
     front_solver::NewtonResult out;
-    out.failure = "no far-field subspace: " + col.why();
+    out.failure = "no far-field subspace: " + col.block().why();
     return out;
   }
   front_solver::NewtonRule rule;
@@ -488,7 +451,7 @@ double interp_rows(const std::vector<double>& yo, const double* col, double yy, 
 // p = ∂ξu scales as 1/s; across the height the part of the lift beyond the uniform strain σ_d y/μ' is
 // carried (constant above the old top, where ∂y of it vanishes). s = 1 is the plain transfer below.
 Vec transfer_stretched(const Collocation& col, const StripFront& g, double sd, double s) {
-  const Model& m = col.model();
+  const Model& m = col.block().model();
   const int ns = m.ns(), M = m.M;
   const std::size_t ro = g.y.size();
   const double old_strain = g.sigma_d / g.mu_strip, new_strain = sd / m.mu_s;
@@ -527,7 +490,7 @@ Vec transfer_stretched(const Collocation& col, const StripFront& g, double sd, d
 // A guess on the mesh of `col` from a strip front (any H, rows, mesh): bilinear in (ξ, y), the sliding
 // state continued beyond its −L, the top slope σ_d/μ' above its H.
 Vec transfer(const Collocation& col, const StripFront& g, double sd) {
-  const Model& m = col.model();
+  const Model& m = col.block().model();
   const int ns = m.ns(), M = m.M, Mo = g.rows();
   Vec x = Vec::Zero(col.size());
   const std::size_t ro = static_cast<std::size_t>(Mo) + 1;
@@ -566,7 +529,7 @@ Vec transfer(const Collocation& col, const StripFront& g, double sd) {
 // A guess from the 1D front (docs/fronts.md §10.4): its interface fields, and across the height the thin-strip
 // profile of docs/model.md §9.2, u = u_0 + (τ/μ') y + q y²/2, q = (σ_d − τ)/(μ' H), p_j = −v/c.
 Vec from_one_dimensional(const Collocation& col, const SteadyFront& f1) {
-  const Model& m = col.model();
+  const Model& m = col.block().model();
   const int ns = m.ns();
   const auto s = sample_steady_front(f1, col.xi(), 0.0);
   Vec x = Vec::Zero(col.size());
@@ -588,7 +551,7 @@ Vec from_one_dimensional(const Collocation& col, const SteadyFront& f1) {
 
 // The converged iterate into f: fields, far fields, the modes ahead, diagnostics, status.
 void finish(const Collocation& col, const Vec& x, StripFront& f) {
-  const Model& m = col.model();
+  const Model& m = col.block().model();
   const int ns = m.ns(), n = col.nodes();
   const double c = col.c_of(x), sd = col.sigma_of(x);
   f.sigma_d = sd;
@@ -670,10 +633,10 @@ StripFront solve_on_mesh(const core::InterfaceParams& law, const core::BulkParam
   StripFront f = empty_front(law, bulk, sd);
   f.saddle_node_limit = m.saddle_node;
   const double L = domain_length(m, o, c_guess, arc ? arc->sigma0 : sd);
-  const Collocation col(m, make_mesh(L, o.intervals, o.tip_spacing, o.grading), c_guess, sd, arc);
-  if (!col.ok()) {  // the far fields have not M + 1 modes of each sign at the guess
+  const Collocation col = make_collocation(m, make_mesh(L, o.intervals, o.tip_spacing, o.grading), c_guess, sd, arc);
+  if (!col.block().ok()) {  // the far fields have not M + 1 modes of each sign at the guess
     f.status = FrontStatus::not_a_saddle;
-    f.reason = col.why();
+    f.reason = col.block().why();
     f.c = c_guess;
     return f;
   }
@@ -693,19 +656,10 @@ StripFront solve_on_mesh(const core::InterfaceParams& law, const core::BulkParam
   }
   finish(col, x, f);
   f.residual_norm = nr.residual;
-  if (o.estimate_error && o.intervals % 2 == 0 && o.intervals >= 8) {
-    std::vector<double> coarse_xi;
-    Vec xc(m.ns() * (col.nodes() / 2 + 1) + 1);
-    int k = 0;
-    for (int i = 0; i < col.nodes(); i += 2, ++k) {
-      coarse_xi.push_back(col.xi()[static_cast<std::size_t>(i)]);
-      xc.segment(m.ns() * k, m.ns()) = col.y(x, i);
-    }
-    xc[xc.size() - 1] = f.c;
-    const Collocation coarse(m, std::move(coarse_xi), f.c, f.sigma_d, std::nullopt);
-    const auto nc = newton(coarse, xc, o.tolerance, o.max_newton, o.stop);
-    f.speed_error = nc.converged ? std::abs(coarse.c_of(xc) - f.c) / 15.0 : std::numeric_limits<double>::infinity();
-  }
+  if (o.estimate_error && o.intervals % 2 == 0 && o.intervals >= 8)  // the ξ part, (c_2h − c_h)/15 (docs/fronts.md §3)
+    f.speed_error = front_solver::coarse_speed_error(col, x, StripBlock(m, f.c, f.sigma_d), f.sigma_d, [&](const Collocation& coarse, Vec& xc) {
+      return newton(coarse, xc, o.tolerance, o.max_newton, o.stop);
+    });
   return f;
 }
 
@@ -924,27 +878,26 @@ namespace slipfront::continuum {
 
 namespace strip_detail {
 
-// The continuation of the strip's branch in σ_d (docs/fronts.md §10.8): the stages of the 1D
-// BranchContinuation (docs/fronts.md §4) with strip fronts: the first front cold, the second by a natural
+// The continuation of the strip's branch in σ_d (docs/fronts.md §10.8): the shared stages of
+// front_solver::SigmaContinuation (docs/fronts.md §4) with strip fronts: the first front cold, the second by a natural
 // step, then pseudo-arclength in (σ_d, c/c_s) with the secant as predictor, every point polished at fixed
 // σ_d, the step capped to keep a quarter of the gap σ_d − σ_c^d, and the limiting front at σ_c^d.
-class StripContinuation {
+class StripContinuation
+    : public front_solver::SigmaContinuation<StripContinuation, StripFront, StripBranch, StripContinuationOptions> {
  public:
   StripContinuation(const core::InterfaceParams& law, const core::BulkParams& bulk, const StripContinuationOptions& o)
-      : law_(law), bulk_(bulk), o_(o), cs_(std::sqrt(bulk.mu / bulk.rho)), sigma_c_(steady_minimum_stress(law)) {}
+      : SigmaContinuation(o, std::sqrt(bulk.mu / bulk.rho), steady_minimum_stress(law)), law_(law), bulk_(bulk) {}
 
   bool start() { return admissible_parameters() && first_front() && second_front(); }
-  void follow();
   void solve_limiting_front();
-  void minimal_speed();
-  StripBranch take() { return std::move(br_); }
-  bool ended_at_saddle_node() const { return br_.end == BranchEnd::saddle_node; }
+  void minimal_speed() {
+    std::size_t k = 0;
+    slowest_point_to_c_min(k);
+  }
+  StripBranch take() { return take_branch(); }
 
  private:
-  void stop(BranchEnd e, std::string why) {
-    br_.end = e;
-    br_.reason = std::move(why);
-  }
+  friend SigmaContinuation;
   bool stop_requested() {
     if (!o_.stop || !o_.stop()) return false;
     stop(BranchEnd::stopped, "stopped on request after " + std::to_string(br_.points.size()) +
@@ -953,22 +906,20 @@ class StripContinuation {
   }
   bool admissible_parameters();
   bool first_front();
-  bool second_front();
-  StripFront predict_and_correct(double t_sigma, double t_c);
-  void accept(StripFront next) {
-    prev_ = std::move(cur_);
-    cur_ = std::move(next);
-    br_.points.push_back(branch_point(cur_));
-    if (o_.on_front) o_.on_front(cur_);
+  bool reached_own_end() const { return false; }
+  StripFront solve_at(double sigma_d, const StripFront* guess) const {
+    return solve_strip_front(law_, bulk_, sigma_d, o_.front, guess);
+  }
+  StripFront correct(double sigma_p, double c_p, const Arclength& arc) const {
+    return solve_on_mesh(law_, bulk_, make_model(law_, bulk_, o_.front), o_.front, sigma_p, c_p, arc,
+                         [&](const Collocation& col) { return transfer(col, cur_, sigma_p); });
+  }
+  void keep(const StripFront& f) const {
+    if (o_.on_front) o_.on_front(f);
   }
 
   const core::InterfaceParams& law_;
   const core::BulkParams& bulk_;
-  const StripContinuationOptions& o_;
-  const double cs_, sigma_c_;
-  StripBranch br_;
-  StripFront prev_, cur_;
-  double ds_ = 0.0, t_sigma_before_ = -1.0;
 };
 
 bool StripContinuation::admissible_parameters() {
@@ -1004,67 +955,6 @@ bool StripContinuation::first_front() {
   return true;
 }
 
-bool StripContinuation::second_front() {
-  ds_ = o_.initial_step;
-  for (;;) {
-    if (stop_requested()) return false;
-    const double target = std::max(prev_.sigma_d - ds_, sigma_c_ + 0.5 * (prev_.sigma_d - sigma_c_));
-    cur_ = solve_strip_front(law_, bulk_, target, o_.front, &prev_);
-    if (cur_.status == FrontStatus::converged) break;
-    ds_ *= 0.5;
-    if (ds_ < o_.min_step) {
-      stop(end_of(cur_.status), "no second front below sigma_start: " + cur_.reason);
-      br_.last = prev_;
-      return false;
-    }
-  }
-  br_.points.push_back(branch_point(cur_));
-  if (o_.on_front) o_.on_front(cur_);
-  return true;
-}
-
-StripFront StripContinuation::predict_and_correct(double t_sigma, double t_c) {
-  ds_ = front_solver::capped_step(ds_, o_.max_step, {t_sigma, t_c}, cur_.sigma_d, sigma_c_);
-  const Model m = make_model(law_, bulk_, o_.front);
-  StripFront next;
-  for (;;) {
-    const double sigma_p = cur_.sigma_d + ds_ * t_sigma, c_p = cur_.c + ds_ * t_c * cs_;
-    const Arclength arc{cur_.sigma_d, cur_.c, t_sigma, t_c, ds_, cs_};
-    next = solve_on_mesh(law_, bulk_, m, o_.front, sigma_p, c_p, arc,
-                         [&](const Collocation& col) { return transfer(col, cur_, sigma_p); });
-    if (next.status == FrontStatus::converged || next.status == FrontStatus::stopped) break;
-    ds_ *= 0.5;
-    if (ds_ < o_.min_step) break;
-  }
-  return next;
-}
-
-void StripContinuation::follow() {
-  while (static_cast<int>(br_.points.size()) < o_.max_points) {
-    const auto [t_sigma, t_c] = front_solver::secant(prev_.sigma_d, prev_.c, cur_.sigma_d, cur_.c, cs_, t_sigma_before_, br_.folds);
-    if (cur_.sigma_d - sigma_c_ < o_.end_gap * sigma_c_) {
-      stop(BranchEnd::saddle_node, "");
-      break;
-    }
-    if (stop_requested()) break;
-    StripFront next = predict_and_correct(t_sigma, t_c);
-    if (next.status == FrontStatus::stopped) {
-      stop(BranchEnd::stopped, "stopped on request in a solve after " + std::to_string(br_.points.size()) +
-                                   " fronts: the branch is partial, c_min not computed");
-      break;
-    }
-    if (next.status != FrontStatus::converged) {
-      stop(end_of(next.status), "continuation stalls at sigma_d = " + core::format_number(cur_.sigma_d) +
-                                    " (step < min_step): " + std::string(to_string(next.status)) + ": " + next.reason);
-      break;
-    }
-    ds_ = front_solver::controlled_step(ds_, next.newton_iterations, o_.target_newton);
-    StripFront polished = solve_strip_front(law_, bulk_, next.sigma_d, o_.front, &next);
-    accept(polished.status == FrontStatus::converged ? std::move(polished) : std::move(next));
-  }
-  br_.last = cur_;
-}
-
 void StripContinuation::solve_limiting_front() {
   const StripFront end = solve_strip_saddle_node_front(law_, bulk_, o_.front, cur_);
   if (end.status == FrontStatus::converged) {
@@ -1078,14 +968,6 @@ void StripContinuation::solve_limiting_front() {
     br_.reason = "sigma_d -> sigma_c^d (saddle-node of the sliding state behind); the limiting front did not converge: " +
                  end.reason;
   }
-}
-
-void StripContinuation::minimal_speed() {
-  if (br_.points.empty() || !followed_to_end(br_.end)) return;
-  const auto [k, at_end] = front_solver::slowest_point(br_.points);
-  br_.c_min = br_.points[k].c;
-  br_.sigma_d_at_c_min = br_.points[k].sigma_d;
-  br_.c_min_at_end = at_end;
 }
 
 }  // namespace strip_detail

@@ -720,15 +720,22 @@ StripFront solve_strip_front(const core::InterfaceParams& law, const core::BulkP
 StripFront solve_strip_saddle_node_front(const core::InterfaceParams& law, const core::BulkParams& bulk,
                                          const StripFrontOptions& o, const StripFront& guess, double c_guess) {
   using namespace strip_detail;
+  const double sigma_c = steady_sliding(law, steady_minimum_velocity(law)).sigma;
+  if (c_guess > 0.0) return solve_strip_front_stretched(law, bulk, sigma_c, o, guess, c_guess, true);
   Model m = make_model(law, bulk, o);
   m.saddle_node = true;
-  const double sigma_c = steady_sliding(law, steady_minimum_velocity(law)).sigma;
-  if (c_guess > 0.0)
-    return solve_on_mesh(law, bulk, m, o, sigma_c, c_guess, std::nullopt, [&](const Collocation& col) {
-      return transfer_stretched(col, guess, sigma_c, c_guess / guess.c);
-    });
   return solve_on_mesh(law, bulk, m, o, sigma_c, guess.c, std::nullopt,
                        [&](const Collocation& col) { return transfer(col, guess, sigma_c); });
+}
+
+StripFront solve_strip_front_stretched(const core::InterfaceParams& law, const core::BulkParams& bulk, double sigma_d,
+                                       const StripFrontOptions& o, const StripFront& from, double c_guess, bool saddle_node) {
+  using namespace strip_detail;
+  Model m = make_model(law, bulk, o);
+  m.saddle_node = saddle_node;
+  const double s = c_guess / from.c;
+  return solve_on_mesh(law, bulk, m, o, sigma_d, c_guess, std::nullopt,
+                       [&](const Collocation& col) { return transfer_stretched(col, from, sigma_d, s); });
 }
 
 double strip_row_grading(double H, const StripFrontOptions& o) {
@@ -985,141 +992,6 @@ StripBranch continue_strip_fronts(const core::InterfaceParams& law, const core::
 }  // namespace slipfront::continuum
 
 namespace slipfront::continuum {
-
-double strip_tip_zone(const core::InterfaceParams& law, double c, double v_behind) {
-  return c / (1.0 + law.kappa * v_behind);
-}
-
-// The continuation in H at fixed material (docs/fronts.md §10.11): steps in ln H with the secant predictor
-// of ln c, the last front stretched by c_p/c as the guess, the meshes scaled with the predicted tip zone;
-// a failed step is halved in ln H, the step grows by 1.5 after a quick solve and shrinks after a slow one.
-namespace {
-// The path itself: `bulk_at(H)` the scene's bulk at height H, c_s its shear wave speed (the same at every H on
-// both paths), `slope0` the predictor's d ln c/d ln H until two steps are known (the thin strip's value).
-StripHeightPath continue_height(const core::InterfaceParams& law, const std::function<core::BulkParams(double)>& bulk_at,
-                                double cs, double slope0, const StripHeightOptions& o) {
-  using namespace strip_detail;
-  StripHeightPath out;
-  if (o.heights.empty() || !(o.heights.front() > 0.0) || !std::is_sorted(o.heights.begin(), o.heights.end())) {
-    out.reason = "heights must be positive and increasing";
-    return out;
-  }
-  const double sigma_c = steady_minimum_stress(law);
-  const double sd = o.limiting ? sigma_c : o.sigma_d;
-  const double vb = o.limiting ? steady_minimum_velocity(law) : strengthening_branch_velocity(law, sd);
-  auto options_for = [&](double c) {
-    return following_tip(o.front, strip_tip_zone(law, c, vb), o.tip_resolution, o.row_resolution);
-  };
-  // One solve at H from `from` stretched by c_p/from.c, on meshes scaled with c_p.
-  auto solve_at = [&](double H, double c_p, const StripFront& from) {
-    const core::BulkParams b = bulk_at(H);
-    const StripFrontOptions f = options_for(c_p);
-    Model m = make_model(law, b, f);
-    m.saddle_node = o.limiting;
-    const double s = c_p / from.c;
-    return solve_on_mesh(law, b, m, f, sd, c_p, std::nullopt,
-                         [&](const Collocation& col) { return transfer_stretched(col, from, sd, s); });
-  };
-  auto stopped = [&] {
-    if (!o.stop || !o.stop()) return false;
-    out.reason = "stopped on request at H = " + core::format_number(out.steps.empty() ? 0.0 : out.steps.back().height);
-    return true;
-  };
-
-  // The first front: given, or cold (for the limiting front: from the front near the end, or the strip's branch
-  // to its end), then re-solved on the meshes of the path.
-  const double H0 = o.heights.front();
-  StripFront first;
-  if (o.start) {
-    first = *o.start;
-  } else if (o.limiting) {
-    // the front just above the end of the branch, cold from the 1D front at the same σ_d, then the limiting
-    // front from it; the strip's branch to its end only where that fails (it costs ~30 solves)
-    const double near = sigma_c + 0.02 * (1.0 - sigma_c);
-    const StripFront close = solve_strip_front(law, bulk_at(H0), near, o.front);
-    if (close.status == FrontStatus::converged) first = solve_strip_saddle_node_front(law, bulk_at(H0), o.front, close);
-  }
-  if (!o.start && o.limiting && (first.status != FrontStatus::converged || !first.saddle_node_limit)) {
-    StripContinuationOptions co;
-    co.front = o.front;
-    co.stop = o.stop;
-    StripBranch br = continue_strip_fronts(law, bulk_at(H0), co);
-    if (br.end != BranchEnd::saddle_node || !br.last.saddle_node_limit) {
-      out.reason = "no limiting front at H = " + core::format_number(H0) + ": " + br.reason;
-      return out;
-    }
-    first = std::move(br.last);
-  } else if (!o.start && !o.limiting) {
-    first = solve_strip_front(law, bulk_at(H0), sd, o.front);
-  }
-  if (first.status != FrontStatus::converged) {
-    out.reason = "no first front at H = " + core::format_number(H0) + ": " + first.reason;
-    return out;
-  }
-  StripFront cur = solve_at(H0, first.c, first);
-  if (cur.status != FrontStatus::converged) {
-    out.reason = "the first front did not converge on the path's meshes at H = " + core::format_number(H0) + ": " + cur.reason;
-    return out;
-  }
-  out.steps.push_back({H0, cur.c, first.c, cur.newton_iterations, 0});
-  out.fronts.push_back(cur);
-
-  double step = std::log(o.max_factor);  // in ln H
-  for (std::size_t k = 1; k < o.heights.size(); ++k) {
-    const double target = o.heights[k];
-    int rejected = 0;
-    while (cur.bulk.height < target * (1.0 - 1e-12)) {
-      if (stopped()) return out;
-      const double H = cur.bulk.height, Hn = std::min(target, H * std::exp(step));
-      double slope = slope0;  // the thin strip's line until two steps are known
-      if (out.steps.size() >= 2) {
-        const auto& p = out.steps[out.steps.size() - 2];
-        const auto& q = out.steps.back();
-        slope = std::log(q.c / p.c) / std::log(q.height / p.height);
-      }
-      const double c_p = std::min(cur.c * std::pow(Hn / H, slope), 0.5 * (cur.c + cs));
-      StripFront next = solve_at(Hn, c_p, cur);
-      if (next.status != FrontStatus::converged) {
-        ++rejected;
-        step *= 0.5;
-        if (step < std::log(o.min_factor)) {
-          out.reason = "the continuation in H stalls at H = " + core::format_number(H) + " (step below min_factor): " +
-                       std::string(to_string(next.status)) + ": " + next.reason;
-          return out;
-        }
-        continue;
-      }
-      out.steps.push_back({Hn, next.c, c_p, next.newton_iterations, rejected});
-      rejected = 0;
-      // Step control by the predictor's error (the iteration count is no guide at the round-off floor of
-      // thick strips, where Newton takes 5-9 iterations from a prediction good to 1e-6).
-      const double miss = std::abs(c_p / next.c - 1.0);
-      if (miss < o.target_miss || next.newton_iterations <= o.target_newton) step = std::min(std::log(o.max_factor), 1.5 * step);
-      else if (miss > 5.0 * o.target_miss) step *= 0.6;
-      cur = std::move(next);
-    }
-    out.fronts.push_back(cur);
-  }
-  out.complete = true;
-  return out;
-}
-}  // namespace
-
-StripHeightPath continue_strip_height(const core::InterfaceParams& law, double mu_strip, double rho_strip,
-                                      const StripHeightOptions& o, double length) {
-  // fixed material: the thin strip's c_min is the 1D one of μ = μ'H, c ∝ sqrt(μ'H) (slope ½)
-  return continue_height(
-      law, [&](double H) { return core::BulkParams{rho_strip * H, mu_strip * H, length, H}; },
-      std::sqrt(mu_strip / rho_strip), 0.5, o);
-}
-
-StripHeightPath continue_strip_height_at_column(const core::InterfaceParams& law, const core::BulkParams& column,
-                                                const StripHeightOptions& o) {
-  // fixed column (μ, ρ integrated over the height): the thin strip's c_min is the 1D one of μ (slope 0)
-  return continue_height(
-      law, [&](double H) { return core::BulkParams{column.rho, column.mu, column.length, H}; },
-      std::sqrt(column.mu / column.rho), 0.0, o);
-}
 
 bool strip_start_needs_height_path(const core::BulkParams& bulk) {
   if (!(bulk.height > 0.0) || !(bulk.mu > 0.0)) return false;

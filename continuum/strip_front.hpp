@@ -138,6 +138,13 @@ StripSpeedError estimate_strip_speed_error(const StripFront& front, const StripF
 StripFront solve_strip_saddle_node_front(const core::InterfaceParams& law, const core::BulkParams& bulk,
                                          const StripFrontOptions& options, const StripFront& guess, double c_guess = 0.0);
 
+/// The front at σ_d (σ_c^d with saddle_node: the limiting front) from `from` stretched in ξ and y by c_guess/from.c,
+/// Newton starting at c_guess (docs/fronts.md §10.11: a neighbouring problem whose front is longer or shorter;
+/// the path in H). No checks of σ_d or H: the caller's problem is a neighbour of `from`'s.
+StripFront solve_strip_front_stretched(const core::InterfaceParams& law, const core::BulkParams& bulk, double sigma_d,
+                                       const StripFrontOptions& options, const StripFront& from, double c_guess,
+                                       bool saddle_node);
+
 /// The interface fields of a solved front at positions ξ (any order, tip at 0): the collocation
 /// polynomial on [−L, 0], the modes ahead of the tip; beyond −L the sliding state.
 struct StripInterfaceSample {
@@ -189,9 +196,10 @@ StripBranch continue_strip_fronts(const core::InterfaceParams& law, const core::
                                   const StripContinuationOptions& options = {});
 
 // ---------------------------------------------------------------------------------------------------
-// Continuation in the height at a fixed strip material (docs/fronts.md §10.11): μ' = μ/H, ρ' = ρ/H held,
-// H grown from the first of `heights` to the last, either at a fixed σ_d or for the limiting front at σ_c^d
-// (c_min(H) wherever the branch ends at the saddle-node with c monotone, as on every branch computed).
+// Continuation in the height at a fixed strip material (docs/fronts.md §10.11; continuum/height_continuation.cpp):
+// μ' = μ/H, ρ' = ρ/H held, H grown from the first of `heights` to the last, either at a fixed σ_d or for the
+// limiting front at σ_c^d (c_min(H) wherever the branch ends at the saddle-node with c monotone, as on every
+// branch computed).
 
 /// The meshes that follow a front's own length (docs/fronts.md §10.11): the ξ spacing at the tip ℓ_tip/30 and the
 /// first row spacing ℓ_tip/10, ℓ_tip the tip zone (strip_tip_zone).

@@ -623,18 +623,10 @@ void write_study_file(const std::filesystem::path& tmp, const compare::StudySpec
   save_image(file, tmp);
 }
 
-void write_fronts_file(const std::filesystem::path& tmp, const compare::Scene& scene, const std::string& resolved_toml,
-                       const compare::FrontsResult& fr, const RunMeta& meta) {
-  Hid file = create_in_memory(tmp, /*checksummed=*/true);
-  write_meta(file.get(), meta, meta.status, meta.message, scene.name, "continuum");
-  {
-    Hid g(H5Gopen2(file.get(), "meta", H5P_DEFAULT), H5Gclose, "open /meta");
-    attr_string(g.get(), "config_hash", config_hash(resolved_toml));
-  }
-  {
-    Hid g = make_group(file.get(), "config", "/config");
-    attr_string(g.get(), "toml", resolved_toml);
-  }
+namespace {
+
+// /branch: the points of the continuation in σ_d, one dataset per quantity, and the outcome's scalars and labels.
+void put_fronts_branch(hid_t file, const compare::FrontsResult& fr) {
   static const std::map<std::string, std::string> branch_desc = {
       {"sigma_d", "applied stress of each continuation point"},
       {"c", "steady front speed"},
@@ -647,63 +639,84 @@ void write_fronts_file(const std::filesystem::path& tmp, const compare::Scene& s
       {"residual_norm", "max-norm of the discrete traveling-wave equations at the solution"},
       {"speed_error", "estimated error of c (docs/fronts.md §10.20): the chain's Richardson in xi (4th order); the "
                       "strip's from the front re-solved on every other row (order 1.5 assumed) plus its xi part"}};
+  Hid g = make_group(file, "branch", "/branch");
+  attr_string(g.get(), "description", "the branch c(sigma_d) of steady fronts by continuation (docs/fronts.md)");
+  for (const auto& [k, v] : fr.scalars) attr_double(g.get(), k, v);
+  for (const auto& [k, v] : fr.labels) attr_string(g.get(), k, v);
+  for (const auto& [name, v] : fr.branch) {
+    const auto it = branch_desc.find(name);
+    dataset_1d(g.get(), name, v, it == branch_desc.end() ? name : it->second, "/branch/" + name);
+  }
+}
+
+// /profiles/<k>: the solved fronts on the solver's mesh (the strip's also with its rows and u(ξ, y)).
+void put_fronts_profiles(hid_t file, const compare::Scene& scene, const compare::FrontsResult& fr) {
+  Hid g = make_group(file, "profiles", "/profiles");
+  attr_string(g.get(), "description", "solved fronts on the solver's mesh, tip at xi = 0 (xi = x - c t)");
+  for (std::size_t k = 0; k < fr.profiles.size(); ++k) {
+    const auto& p = fr.profiles[k];
+    const std::string name = std::to_string(k), where = "/profiles/" + name;
+    Hid pg = make_group(g.get(), name, where);
+    attr_double(pg.get(), "sigma_d", p.sigma_d);
+    attr_double(pg.get(), "c", p.c);
+    attr_double(pg.get(), "c_error", p.c_error);
+    attr_double(pg.get(), "v_tip", p.v_tip);
+    attr_double(pg.get(), "v_behind", p.v_behind);
+    attr_int(pg.get(), "limiting", p.limiting ? 1 : 0);
+    for (const auto& [fname, v] : p.fields) dataset_1d(pg.get(), fname, v, "front profile " + fname, where + "/" + fname);
+    if (!p.y.empty()) {  // the strip: rows and the bulk field on xi × y
+      const hsize_t nx = p.fields.at("xi").size(), ny = p.y.size();
+      dataset_1d(pg.get(), "y", p.y, "rows across the height, y = 0 the interface, y = H the top", where + "/y");
+      dataset(pg.get(), "u_xy", p.u_xy.data(), {nx, ny}, "bulk displacement u(xi, y) [xi][y]", where + "/u_xy",
+              scene.output.deflate);
+      dataset(pg.get(), "lift_xy", p.lift_xy.data(), {nx, ny}, "u(xi, y) - u(xi, 0) [xi][y]", where + "/lift_xy",
+              scene.output.deflate);
+    }
+  }
+}
+
+// /scaling: the c_min of each varied parameter and the fits of c_min against sqrt(μα/(ηκ)) (with --scaling).
+void put_fronts_scaling(hid_t file, const compare::FrontsResult& fr) {
+  Hid g = make_group(file, "scaling", "/scaling");
+  attr_string(g.get(), "description",
+              "minimal front speed c_min varying one of mu, alpha, eta, kappa at a time, against sqrt(mu alpha/(eta kappa))");
+  std::string names;
+  for (const auto& n : fr.scaling_parameters) names += (names.empty() ? "" : ",") + n;
+  attr_string(g.get(), "parameters", names);
+  Hid pts = make_group(g.get(), "points", "/scaling/points");
+  for (const auto& [name, v] : fr.scaling_points) dataset_1d(pts.get(), name, v, "scaling point " + name, "/scaling/points/" + name);
+  Hid fits = make_group(g.get(), "fits", "/scaling/fits");
+  attr_string(fits.get(), "description",
+              "c_min = prefactor * sqrt(mu alpha/(eta kappa)), least squares through the origin over the points with a "
+              "c_min; parameter_index -1: all points; points: fitted, tried: in the fit's sweep (fitted or not); "
+              "spread: max relative deviation of a fitted point from the line; NaN: the fit was refused (see refused)");
+  std::string refused;  // one line per fit, in the order of the rows: "<parameter>: <why>" or "<parameter>: fitted"
+  for (std::size_t k = 0; k < fr.scaling_refused.size(); ++k) {
+    const double index = fr.scaling_fits.at("parameter_index")[k];
+    const std::string name = index < 0 ? "all" : fr.scaling_parameters[static_cast<std::size_t>(index)];
+    refused += name + ": " + (fr.scaling_refused[k].empty() ? std::string("fitted") : fr.scaling_refused[k]) + "\n";
+  }
+  attr_string(fits.get(), "refused", refused);
+  for (const auto& [name, v] : fr.scaling_fits) dataset_1d(fits.get(), name, v, "scaling fit " + name, "/scaling/fits/" + name);
+}
+
+}  // namespace
+
+void write_fronts_file(const std::filesystem::path& tmp, const compare::Scene& scene, const std::string& resolved_toml,
+                       const compare::FrontsResult& fr, const RunMeta& meta) {
+  Hid file = create_in_memory(tmp, /*checksummed=*/true);
+  write_meta(file.get(), meta, meta.status, meta.message, scene.name, "continuum");
   {
-    Hid g = make_group(file.get(), "branch", "/branch");
-    attr_string(g.get(), "description", "the branch c(sigma_d) of steady fronts by continuation (docs/fronts.md)");
-    for (const auto& [k, v] : fr.scalars) attr_double(g.get(), k, v);
-    for (const auto& [k, v] : fr.labels) attr_string(g.get(), k, v);
-    for (const auto& [name, v] : fr.branch) {
-      const auto it = branch_desc.find(name);
-      dataset_1d(g.get(), name, v, it == branch_desc.end() ? name : it->second, "/branch/" + name);
-    }
+    Hid g(H5Gopen2(file.get(), "meta", H5P_DEFAULT), H5Gclose, "open /meta");
+    attr_string(g.get(), "config_hash", config_hash(resolved_toml));
   }
   {
-    Hid g = make_group(file.get(), "profiles", "/profiles");
-    attr_string(g.get(), "description", "solved fronts on the solver's mesh, tip at xi = 0 (xi = x - c t)");
-    for (std::size_t k = 0; k < fr.profiles.size(); ++k) {
-      const auto& p = fr.profiles[k];
-      const std::string name = std::to_string(k), where = "/profiles/" + name;
-      Hid pg = make_group(g.get(), name, where);
-      attr_double(pg.get(), "sigma_d", p.sigma_d);
-      attr_double(pg.get(), "c", p.c);
-      attr_double(pg.get(), "c_error", p.c_error);
-      attr_double(pg.get(), "v_tip", p.v_tip);
-      attr_double(pg.get(), "v_behind", p.v_behind);
-      attr_int(pg.get(), "limiting", p.limiting ? 1 : 0);
-      for (const auto& [fname, v] : p.fields) dataset_1d(pg.get(), fname, v, "front profile " + fname, where + "/" + fname);
-      if (!p.y.empty()) {  // the strip: rows and the bulk field on xi × y
-        const hsize_t nx = p.fields.at("xi").size(), ny = p.y.size();
-        dataset_1d(pg.get(), "y", p.y, "rows across the height, y = 0 the interface, y = H the top", where + "/y");
-        dataset(pg.get(), "u_xy", p.u_xy.data(), {nx, ny}, "bulk displacement u(xi, y) [xi][y]", where + "/u_xy",
-                scene.output.deflate);
-        dataset(pg.get(), "lift_xy", p.lift_xy.data(), {nx, ny}, "u(xi, y) - u(xi, 0) [xi][y]", where + "/lift_xy",
-                scene.output.deflate);
-      }
-    }
+    Hid g = make_group(file.get(), "config", "/config");
+    attr_string(g.get(), "toml", resolved_toml);
   }
-  if (!fr.scaling_points.empty()) {
-    Hid g = make_group(file.get(), "scaling", "/scaling");
-    attr_string(g.get(), "description",
-                "minimal front speed c_min varying one of mu, alpha, eta, kappa at a time, against sqrt(mu alpha/(eta kappa))");
-    std::string names;
-    for (const auto& n : fr.scaling_parameters) names += (names.empty() ? "" : ",") + n;
-    attr_string(g.get(), "parameters", names);
-    Hid pts = make_group(g.get(), "points", "/scaling/points");
-    for (const auto& [name, v] : fr.scaling_points) dataset_1d(pts.get(), name, v, "scaling point " + name, "/scaling/points/" + name);
-    Hid fits = make_group(g.get(), "fits", "/scaling/fits");
-    attr_string(fits.get(), "description",
-                "c_min = prefactor * sqrt(mu alpha/(eta kappa)), least squares through the origin over the points with a "
-                "c_min; parameter_index -1: all points; points: fitted, tried: in the fit's sweep (fitted or not); "
-                "spread: max relative deviation of a fitted point from the line; NaN: the fit was refused (see refused)");
-    std::string refused;  // one line per fit, in the order of the rows: "<parameter>: <why>" or "<parameter>: fitted"
-    for (std::size_t k = 0; k < fr.scaling_refused.size(); ++k) {
-      const double index = fr.scaling_fits.at("parameter_index")[k];
-      const std::string name = index < 0 ? "all" : fr.scaling_parameters[static_cast<std::size_t>(index)];
-      refused += name + ": " + (fr.scaling_refused[k].empty() ? std::string("fitted") : fr.scaling_refused[k]) + "\n";
-    }
-    attr_string(fits.get(), "refused", refused);
-    for (const auto& [name, v] : fr.scaling_fits) dataset_1d(fits.get(), name, v, "scaling fit " + name, "/scaling/fits/" + name);
-  }
+  put_fronts_branch(file.get(), fr);
+  put_fronts_profiles(file.get(), scene, fr);
+  if (!fr.scaling_points.empty()) put_fronts_scaling(file.get(), fr);
   save_image(file, tmp);
 }
 

@@ -14,6 +14,7 @@
 #include "continuum/friction_law.hpp"
 #include "continuum/front_solver.hpp"
 #include "continuum/sigma_continuation.hpp"
+#include "core/strip.hpp"
 
 namespace slipfront::continuum {
 
@@ -74,7 +75,7 @@ std::vector<double> make_rows(double H, int M, double g) {
 Model make_model(const core::InterfaceParams& law, const core::BulkParams& bulk, const StripFrontOptions& o) {
   Model m;
   m.H = bulk.height;
-  m.mu_s = bulk.mu / bulk.height;
+  m.mu_s = core::Strip::modulus(bulk);
   m.rho_s = bulk.rho / bulk.height;
   m.cs2 = bulk.mu / bulk.rho;
   m.alpha = law.alpha;
@@ -430,7 +431,7 @@ StripFront empty_front(const core::InterfaceParams& law, const core::BulkParams&
   StripFront f;
   f.law = law;
   f.bulk = bulk;
-  f.mu_strip = bulk.mu / bulk.height;
+  f.mu_strip = core::Strip::modulus(bulk);
   f.rho_strip = bulk.rho / bulk.height;
   f.sigma_d = sd;
   return f;
@@ -995,7 +996,7 @@ namespace slipfront::continuum {
 
 bool strip_start_needs_height_path(const core::BulkParams& bulk) {
   if (!(bulk.height > 0.0) || !(bulk.mu > 0.0)) return false;
-  return bulk.height > strip_path_start_ratio * (bulk.mu / bulk.height);  // H/ℓ, ℓ = μ'
+  return bulk.height > strip_path_start_ratio * core::Strip::modulus(bulk);  // H/ℓ, ℓ = μ'
 }
 
 // docs/fronts.md §10.19: the path at the strip's material from H/ℓ = 1/300 (the 1D regime, where the cold start
@@ -1008,7 +1009,7 @@ StripPathStart strip_start_from_height_path(const core::InterfaceParams& law, co
     out.reason = "the path in H needs bulk.height, bulk.mu and bulk.rho > 0";
     return out;
   }
-  const double H = bulk.height, mus = bulk.mu / H, rhos = bulk.rho / H;
+  const double H = bulk.height, mus = core::Strip::modulus(bulk), rhos = bulk.rho / H;
   out.first_height = std::min(mus / 300.0, 0.5 * H);
   StripHeightOptions ho;
   ho.heights = {out.first_height, H};

@@ -1,8 +1,9 @@
 #pragma once
-// What the steady-front solvers share (docs/fronts.md §3, §4, §10.3, §10.8): the ξ mesh, the damped Newton
-// iteration with Eigen's SparseLU, and the bookkeeping of a continuation in σ_d. The chain
+// What the steady-front solvers share (docs/fronts.md §3, §4, §10.3, §10.8): the ξ mesh, the collocation over a
+// front model's node block (Collocation<Block>) and its error estimate, the damped Newton iteration with Eigen's
+// SparseLU, and the bookkeeping of a continuation in σ_d (its stages: continuum/sigma_continuation.hpp). The chain
 // (continuum/steady_front.cpp) and the strip (continuum/strip_front.cpp) differ in the unknowns of one ξ node
-// and their boundary rows, not in these. Internal to continuum/; plain functions, no I/O.
+// and their boundary rows, not in these. Internal to continuum/; no I/O.
 #include <Eigen/Dense>
 #include <Eigen/Sparse>
 #include <cmath>

@@ -152,6 +152,16 @@ struct InPlane::Fast {
   }
 };
 
+BodyShape InPlane::shape(const BulkParams& bulk, const DriveParams&, const GridParams& grid) {
+  return {static_cast<std::size_t>(std::llround(bulk.length / grid.dx)) + 1,
+          static_cast<std::size_t>(std::llround(bulk.height / grid.row_spacing())) + 1, 2};
+}
+
+std::span<const SnapshotField> InPlane::snapshot_fields() {
+  static constexpr SnapshotField fields[] = {{"u", 2}, {"sigma_xx", 1}, {"sigma_yy", 1}, {"sigma_xy", 1}};
+  return fields;
+}
+
 double InPlane::stable_time_step(const BulkParams& bulk, const DriveParams& drive, const InterfaceParams& law,
                                  const InPlaneParams& material, double dx, double dy) {
   check_material(material);
@@ -273,12 +283,13 @@ double InPlane::spring_energy(double t, std::span<const double> u) const {
 double InPlane::uniform_power(std::span<const double> v) const {
   if (sigma_d_ == 0.0 && p_ == 0.0) return 0.0;
   const std::size_t top = ny_ * nx_, P = plane();
-  double px = 0.0, py = 0.0;
+  double px = 0.0, py = 0.0, ends = 0.0;
   for (std::size_t i = 0; i < nx_; ++i) {
     px += interface_weight(i) * v[top + i];
     py += interface_weight(i) * v[P + top + i];
   }
-  return sigma_d_ * px - p_ * py;
+  for (std::size_t j = 0; j <= ny_; ++j) ends += end_load_y(0, j) * v[P + j * nx_] + end_load_y(nx_ - 1, j) * v[P + j * nx_ + nx_ - 1];
+  return sigma_d_ * px - p_ * py + ends;
 }
 
 Eigen::SparseMatrix<double> InPlane::stiffness_matrix() const {
@@ -305,7 +316,7 @@ Eigen::SparseMatrix<double> InPlane::stiffness_matrix() const {
 void InPlane::interface_normal_stress(std::span<const double> u, std::span<double> out) const {
   elastic_forces(u, force_);
   const std::size_t P = plane();
-  for (std::size_t i = 0; i < nx_; ++i) out[i] = force_[P + i] / interface_weight(i);
+  for (std::size_t i = 0; i < nx_; ++i) out[i] = (force_[P + i] + end_load_y(i, 0)) / interface_weight(i);
 }
 
 void InPlane::stresses(std::span<const double> u, std::size_t i, std::size_t j, double& sxx, double& syy,
@@ -336,7 +347,7 @@ void InPlane::kick(double dt, double eta, double edge_force, std::span<const dou
     for (std::size_t i = 0; i < nx; ++i) {
       const std::size_t k = j * nx + i;
       const double wx = interface_weight(i), m = node_mass(i, j);
-      double fx = force_[k], fy = force_[P + k];
+      double fx = force_[k], fy = force_[P + k] + end_load_y(i, j);
       if (i == 0) fx += edge_per_height * row_weight(j);
       if (j == ny) {
         fx += wx * sigma_d_;
@@ -363,7 +374,7 @@ void InPlane::rhs_step(std::span<const double> c0, double t, double dt, std::spa
     for (std::size_t i = 0; i < nx; ++i) {
       const std::size_t k = j * nx + i;
       const double wx = interface_weight(i), m = 2.0 * node_mass(i, j) / dt;
-      double rx = m * V[k] + force_[k], ry = m * V[P + k] + force_[P + k];
+      double rx = m * V[k] + force_[k], ry = m * V[P + k] + force_[P + k] + end_load_y(i, j);
       if (i == 0) rx += edge * row_weight(j);
       if (j == 0) rx -= wx * 0.5 * (sigma_bar[i] + c0[i]);
       if (j == ny) {

@@ -521,6 +521,10 @@ std::optional<compare::Scene> load_fronts_scene(const FrontsOptions& opts, std::
       throw ConfigError(opts.config.string(), "drive.loading",
                         "steady fronts are solved for homogeneous loading (docs/model.md §6), got " +
                             std::string(core::to_string(scene.drive.loading)));
+    if (scene.bulk.body() == core::BodyKind::inplane)
+      throw ConfigError(opts.config.string(), "bulk.body",
+                        "steady fronts are solved for the 1D chain and the antiplane strip, not for the in-plane strip "
+                        "(bulk.body = \"inplane\")");
     return scene;
   } catch (const ConfigError& e) {
     print_error(err, e.what());

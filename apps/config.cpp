@@ -78,7 +78,11 @@ bool imposed_sweep(const Scene& s) { return imposed(s) && s.drive.sweep_points !
 bool dt_given(const Scene& s) { return s.time.dt != 0.0; }
 bool cfl_used(const Scene& s) { return !imposed(s) && s.time.dt == 0.0; }
 bool bulk_scene(const Scene& s) { return !imposed(s); }
-bool strip_given(const Scene& s) { return s.bulk.body() == core::BodyKind::strip; }
+// a body of height: the antiplane or the in-plane strip (bulk.height given)
+bool strip_given(const Scene& s) { return s.bulk.body() != core::BodyKind::chain; }
+// bulk.body, used when given: on a chain or a 0D scene it is refused (BulkParams::validate), not ignored
+bool body_given(const Scene& s) { return !s.bulk.body_name.empty(); }
+bool inplane(const Scene& s) { return s.bulk.body() == core::BodyKind::inplane; }
 bool bulk_snapshots(const Scene& s) { return strip_given(s) && s.bulk_output.dt > 0.0; }
 // grid.dy given to a chain is refused (GridParams::validate): it would otherwise be dropped in silence
 bool strip_grid(const Scene& s) { return one_d(s) && (strip_given(s) || s.grid.dy != 0.0); }
@@ -129,6 +133,10 @@ const std::vector<Section>& schema() {
            // used when given: a height given to a 0D scene is refused (BulkParams::validate), not ignored,
            // and the resolved configuration of a chain does not gain the key
            {"height", at<&Scene::bulk, &BulkParams::height>, strip_given, "when given (the strip)"},
+           {"body", at<&Scene::bulk, &BulkParams::body_name>, body_given, "when given (with bulk.height)"},
+           // the in-plane strip's material and load: given to another body, refused (check_inplane_keys)
+           {"poisson", at<&Scene::bulk, &BulkParams::poisson>, inplane, "with bulk.body = \"inplane\""},
+           {"normal_load", at<&Scene::bulk, &BulkParams::normal_load>, inplane, "with bulk.body = \"inplane\""},
        }},
       {"drive",
        {
@@ -617,6 +625,21 @@ void check_imposed_rate(const Document& doc, Scene& s) {
   }
 }
 
+// The keys that choose and describe the body (docs/model.md §10): bulk.body given must name one; bulk.poisson and
+// bulk.normal_load belong to the in-plane strip, and given to another body they are refused, not ignored.
+void check_inplane_keys(const Document& doc, const Scene& s) {
+  const Section& bulk = *find_section("bulk");
+  if (doc.lookup(bulk, *find_field(bulk, "body")) && s.bulk.body_name.empty())
+    throw ConfigError(doc.source, doc.shown("bulk.body"), "must be one of antiplane, inplane, got \"\"");
+  if (inplane(s)) return;
+  const char* body = s.bulk.body() == core::BodyKind::strip ? "the antiplane strip" : "the 1D chain";
+  for (const char* key : {"poisson", "normal_load"})
+    if (doc.lookup(bulk, *find_field(bulk, key)))
+      throw ConfigError(doc.source, doc.shown(std::string("bulk.") + key),
+                        std::string("belongs to the in-plane strip (bulk.body = \"inplane\" with bulk.height); this "
+                                    "scene's body is ") + body);
+}
+
 // The scene's name (it names the output directory out/<scene>) and its list of models.
 void check_names(const Document& doc, const Scene& s) {
   check_directory_name(s.name, doc.source, doc.shown("scene"), "out/<scene>");
@@ -661,6 +684,7 @@ Scene scene_from_table(toml::table& root, const std::string& source, const std::
   refuse_missing_keys(doc, s);
   check_imposed_rate(doc, s);
   check_names(doc, s);
+  check_inplane_keys(doc, s);
   reset_unused_keys(doc, s, notes);
   validate_scene(doc, s);
   if (strip_given(s) && s.grid.dy == 0.0) s.grid.dy = s.grid.dx;  // the effective value, resolved

@@ -207,7 +207,19 @@ std::string description_of(const std::string& group, const std::string& name) {
       {"bulk/y",
        "y of the kept rows of the strip (every output.bulk_stride-th row, and the top): 0 the interface, "
        "bulk.height the top [nyk]"},
-      {"bulk/u", "antiplane displacement u(x, y, t) at the kept nodes [nb, nyk, nxk]"},
+      {"bulk/u",
+       "displacement at the kept nodes: the antiplane strip's u(x, y, t) [nb, nyk, nxk]; the in-plane strip's "
+       "(u_x, u_y) [nb, nyk, nxk, 2]"},
+      {"bulk/sigma_xx",
+       "in-plane strip: normal stress sigma_xx at the kept nodes, second-order differences on the full grid (central "
+       "inside, one-sided on the faces; docs/model.md §10.4) [nb, nyk, nxk]"},
+      {"bulk/sigma_yy", "in-plane strip: normal stress sigma_yy at the kept nodes, as sigma_xx [nb, nyk, nxk]"},
+      {"bulk/sigma_xy", "in-plane strip: shear stress sigma_xy at the kept nodes, as sigma_xx [nb, nyk, nxk]"},
+      {"snapshots/sigma_yy",
+       "in-plane strip: interface normal stress sigma_yy(x, 0, t), the reaction that holds u_y = 0 per interface "
+       "length (compression negative; docs/model.md §10.4) [ns, nx]"},
+      {"series/min_sigma_yy", "in-plane strip: the most compressive interface normal stress, min_x sigma_yy(x, 0, t)"},
+      {"series/max_sigma_yy", "in-plane strip: the most tensile interface normal stress, max_x sigma_yy(x, 0, t)"},
       {"bulk/tau_xz",
        "shear stress tau_xz = mu' du/dx (mu' = bulk.mu / bulk.height) at the kept nodes, second-order differences "
        "on the full grid (central inside, one-sided on the faces) [nb, nyk, nxk]"},
@@ -234,7 +246,8 @@ std::string group_description(const std::string& group) {
       {"series", "time series, one sample every output.series_dt"},
       {"snapshots", "fields along the interface, one row every output.snapshot_dt"},
       {"bulk", "the strip's body (bulk.height) on a decimated grid (output.bulk_stride), one snapshot every "
-               "output.bulk_dt: displacement u and the shear stresses tau_xz, tau_yz"},
+               "output.bulk_dt: the antiplane strip's displacement u and shear stresses tau_xz, tau_yz; the in-plane "
+               "strip's displacement (u_x, u_y) and stresses sigma_xx, sigma_yy, sigma_xy"},
       {"events", "event times and front speeds (docs/model.md §3) as attributes; NaN where the run had no such event; "
                  "the _alt names are measured on the measure.A_tip_alt front"},
       {"cycles", "stick-slip cycles of the spring block, one entry per cycle"},

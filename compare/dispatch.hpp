@@ -63,7 +63,10 @@ template <core::Body B, class F>
 decltype(auto) with_integrator_on(const Scene& s, F&& f) {
   switch (s.time.integrator) {
     case core::Integrator::implicit_trapezoidal: return f(ImplicitTag<B>{});
-    case core::Integrator::adaptive_rosenbrock: return f(AdaptiveTag<B>{});
+    case core::Integrator::adaptive_rosenbrock:
+      // a body without the adaptive integrator's members (core::InPlane) is refused by Scene::validate
+      if constexpr (core::AdaptiveBody<B>) return f(AdaptiveTag<B>{});
+      else throw core::ParamError("time.integrator", "the adaptive integrator needs the body's stage solve (core::AdaptiveBody)");
     case core::Integrator::central_difference: break;
   }
   return f(ExplicitTag<B>{});

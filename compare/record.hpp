@@ -77,6 +77,22 @@ concept BodyState = requires(const State& st) {
   requires core::RunBody<std::remove_cvref_t<decltype(st.body())>>;
 };
 
+/// The interface normal stress σ_yy(x, 0, t) of a body that computes it (core::InPlane::interface_normal_stress,
+/// docs/model.md §10.4) into out (sites); false for a state without one (the chain, the antiplane strip: no normal
+/// stress on their interface) — its series columns and snapshot field are then absent.
+template <class State>
+bool interface_normal_stress(const State& st, std::vector<double>& out) {
+  if constexpr (BodyState<State>) {
+    const auto& body = st.body();
+    if constexpr (requires(std::span<const double> u, std::span<double> o) { body.interface_normal_stress(u, o); }) {
+      out.resize(body.sites());
+      body.interface_normal_stress(st.displacement(), out);
+      return true;
+    }
+  }
+  return false;
+}
+
 /// A stepper with dense output (AdaptiveSimulation): its state at any t in the last step, each field
 /// interpolated on first use (a 1D series row needs v and u_0 only).
 template <class Sim>
@@ -183,7 +199,8 @@ class Recorder {
     multiples_in(t0, t1, bulk_every_, [&](double t) { bulk_snapshot(state_at(t)); });
   }
 
-  /// One series row (docs/output.md /series): t, drive_force, max_v; 1D: tip_x, tip_x_alt; one site:
+  /// One series row (docs/output.md /series): t, drive_force, max_v; 1D: tip_x, tip_x_alt (and min_sigma_yy,
+  /// max_sigma_yy on a body with an interface normal stress); one site:
   /// A, sigma_bar, sigma, slip_rate (and slip where there is a bulk); the energy budget when tracked
   /// (its terms hold at energy_time; all 0 before the first step).
   template <class State>
@@ -195,6 +212,11 @@ class Recorder {
     if (one_d_) {
       detail::push(c, "tip_x", tracker.last_tip());
       detail::push(c, "tip_x_alt", tracker.last_tip_alt());
+      if (interface_normal_stress(st, normal_)) {  // the in-plane strip: the most compressive and most tensile σ_yy
+        const auto [lo, hi] = std::minmax_element(normal_.begin(), normal_.end());
+        detail::push(c, "min_sigma_yy", *lo);
+        detail::push(c, "max_sigma_yy", *hi);
+      }
     } else {
       const double sb = st.sigma_bar()[0], v = st.slip_rate()[0];
       detail::push(c, "A", st.contact_area()[0]);
@@ -221,8 +243,8 @@ class Recorder {
     ar(series_due_, snap_due_, bulk_due_);
   }
 
-  /// One snapshot row (docs/output.md /snapshots): A, sigma_bar, v, u over the nodes; age (the mean
-  /// contact age, docs/model.md §7) when the law carries it.
+  /// One snapshot row (docs/output.md /snapshots): A, sigma_bar, v, u over the nodes; sigma_yy (the interface
+  /// normal stress) on a body that has one; age (the mean contact age, docs/model.md §7) when the law carries it.
   template <class State>
   void snapshot(const State& st) {
     const std::size_t rows = snapshot_rows_;
@@ -232,6 +254,7 @@ class Recorder {
     detail::append(r_.snapshots, "sigma_bar", st.sigma_bar(), rows);
     detail::append(r_.snapshots, "v", st.slip_rate(), rows);
     detail::append(r_.snapshots, "u", st.slip(), rows);
+    if (interface_normal_stress(st, normal_)) detail::append(r_.snapshots, "sigma_yy", normal_, rows);
     age_.resize(st.contact_area().size());
     if (st.mean_age(age_)) detail::append(r_.snapshots, "age", age_, rows);
   }
@@ -282,6 +305,7 @@ class Recorder {
   ModelResult& r_;
   std::vector<double> age_;          ///< scratch row of mean ages
   std::vector<double> node_values_;  ///< scratch: a node's snapshot values (bulk_snapshot)
+  std::vector<double> normal_;       ///< scratch: the interface normal stress σ_yy (the in-plane strip)
 };
 
 }  // namespace slipfront::compare

@@ -49,6 +49,41 @@ void check_mean_field(const Scene& s) {
   if (!s.lists("discrete")) s.discrete.validate_threshold_law();
 }
 
+// Too few rows (docs/numerics.md §8.2): the y profile under the interface is not resolved; lifted with the
+// grid's other resolution check (limits.min_nodes_per_elastic_length = 0). Measured on the antiplane strip; the
+// in-plane strip (docs/model.md §10) takes the same rule (its thin limit has the same elastic length sqrt(mu/alpha),
+// mu = E'H), not yet measured there.
+void check_strip_rows(const Scene& s) {
+  if (!(s.limits.min_nodes_per_elastic_length > 0.0)) return;
+  const double dy = s.grid.row_spacing(), H = s.bulk.height, dy_max = strip_max_row_spacing(s.bulk.mu, s.interface.alpha, H);
+  if (dy <= dy_max * (1.0 + 1e-12)) return;
+  const double le = std::sqrt(s.bulk.mu / s.interface.alpha);
+  const auto rows = static_cast<long long>(std::llround(H / dy));
+  const auto need = static_cast<long long>(std::ceil(H / dy_max * (1.0 - 1e-12)));
+  throw core::ParamError(
+      "grid.dy",
+      core::format_number(dy) + (s.grid.dy == 0.0 ? " (grid.dy absent: grid.dx)" : "") + " gives " +
+          std::to_string(rows) + " row interval" + (rows == 1 ? "" : "s") + " over bulk.height = " +
+          core::format_number(H) + ": too few rows to resolve the strip for the measurements; (dy/l_e)^2 (H/l_e) = " +
+          core::format_number((dy / le) * (dy / le) * (H / le), 3) + " > 1/30 (l_e = sqrt(bulk.mu/interface.alpha) = " +
+          core::format_number(le, 4) + "), where fig1's event times and front speeds are off by more than ~1% "
+          "(docs/numerics.md §8.2); use grid.dy <= " + core::format_number(dy_max, 4) + " (bulk.height/grid.dy >= " +
+          std::to_string(need) + " rows), or set limits.min_nodes_per_elastic_length = 0 to run it anyway");
+}
+
+// What the in-plane strip (docs/model.md §10) does not run yet: the adaptive integrator (core::InPlane has no
+// core::AdaptiveBody members) and a steady-front start (the solved fronts are the chain's and the antiplane strip's).
+void check_inplane(const Scene& s) {
+  if (s.time.integrator == core::Integrator::adaptive_rosenbrock)
+    throw core::ParamError("time.integrator",
+                     "the adaptive integrator does not run the in-plane strip (bulk.body = \"inplane\") yet: its "
+                     "Rosenbrock stages need the body's stage solve (core::AdaptiveBody), not written for core::InPlane; "
+                     "use time.integrator = \"explicit\" or \"implicit\"");
+  if (s.drive.loading == core::Loading::homogeneous && s.drive.start == "steady_front")
+    throw core::ParamError("drive.start", "a steady front is solved for the 1D chain and the antiplane strip, not for the "
+                                    "in-plane strip (bulk.body = \"inplane\"): use drive.start = \"nucleation\"");
+}
+
 }  // namespace
 
 std::span<const KeyDomain> limit_key_domains() { return limit_domains; }
@@ -119,27 +154,8 @@ void Scene::validate() const {
                                         " no contact age and the continuum model does not run: no "
                                         "age would be written (use discrete.representation = \"agent\", or add \"continuum\" "
                                         "to models)");
-  if (bulk.body() == core::BodyKind::strip) {  // the strip (docs/model.md §9)
-    // Too few rows (docs/numerics.md §8.2): the y profile under the interface is not resolved; lifted with the
-    // grid's other resolution check (limits.min_nodes_per_elastic_length = 0).
-    if (limits.min_nodes_per_elastic_length > 0.0) {
-      const double dy = grid.row_spacing(), H = bulk.height, dy_max = strip_max_row_spacing(bulk.mu, interface.alpha, H);
-      if (dy > dy_max * (1.0 + 1e-12)) {
-        const double le = std::sqrt(bulk.mu / interface.alpha);
-        const auto rows = static_cast<long long>(std::llround(H / dy));
-        const auto need = static_cast<long long>(std::ceil(H / dy_max * (1.0 - 1e-12)));
-        throw ParamError(
-            "grid.dy",
-            core::format_number(dy) + (grid.dy == 0.0 ? " (grid.dy absent: grid.dx)" : "") + " gives " +
-                std::to_string(rows) + " row interval" + (rows == 1 ? "" : "s") + " over bulk.height = " +
-                core::format_number(H) + ": too few rows to resolve the strip for the measurements; (dy/l_e)^2 (H/l_e) = " +
-                core::format_number((dy / le) * (dy / le) * (H / le), 3) + " > 1/30 (l_e = sqrt(bulk.mu/interface.alpha) = " +
-                core::format_number(le, 4) + "), where fig1's event times and front speeds are off by more than ~1% "
-                "(docs/numerics.md §8.2); use grid.dy <= " + core::format_number(dy_max, 4) + " (bulk.height/grid.dy >= " +
-                std::to_string(need) + " rows), or set limits.min_nodes_per_elastic_length = 0 to run it anyway");
-      }
-    }
-  }
+  if (bulk.body() != core::BodyKind::chain) check_strip_rows(*this);
+  if (bulk.body() == core::BodyKind::inplane) check_inplane(*this);
   if (drive.loading == core::Loading::imposed_rate && drive.sweep_points == 0 && drive.v_times.back() >= time.t_end)
     throw ParamError("drive.switch_times", "every switch time must be before time.t_end (" +
                                               core::format_number(time.t_end) + "), got " +

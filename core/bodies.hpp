@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "core/bulk.hpp"
+#include "core/inplane.hpp"
 #include "core/params.hpp"
 #include "core/strip.hpp"
 
@@ -16,6 +17,7 @@ template <class F>
 decltype(auto) with_body(BodyKind kind, F&& f) {
   switch (kind) {
     case BodyKind::strip: return std::forward<F>(f)(std::type_identity<Strip>{});
+    case BodyKind::inplane: return std::forward<F>(f)(std::type_identity<InPlane>{});
     case BodyKind::chain: break;
   }
   return std::forward<F>(f)(std::type_identity<Bulk>{});

@@ -17,69 +17,10 @@
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCholesky>
 
-namespace slipfront::core {
-namespace {
-// The step system as an Eigen operator (Eigen docs, "Matrix-free solvers") and its preconditioner.
-class InPlaneSystem;
-}  // namespace
-}  // namespace slipfront::core
-
-
-namespace Eigen::internal {
-template <>
-struct traits<slipfront::core::InPlaneSystem> : public traits<Eigen::SparseMatrix<double>> {};
-}  // namespace Eigen::internal
+#include "core/matrix_free.hpp"
 
 namespace slipfront::core {
 namespace {
-
-class InPlaneSystem : public Eigen::EigenBase<InPlaneSystem> {
- public:
-  using Scalar = double;
-  using RealScalar = double;
-  using StorageIndex = int;
-  enum { ColsAtCompileTime = Eigen::Dynamic, MaxColsAtCompileTime = Eigen::Dynamic, IsRowMajor = false };
-  explicit InPlaneSystem(const InPlane& b) : b_(&b) {}
-  Eigen::Index rows() const { return static_cast<Eigen::Index>(b_->dofs()); }
-  Eigen::Index cols() const { return rows(); }
-  template <class Rhs>
-  Eigen::Product<InPlaneSystem, Rhs, Eigen::AliasFreeProduct> operator*(const Eigen::MatrixBase<Rhs>& x) const {
-    return Eigen::Product<InPlaneSystem, Rhs, Eigen::AliasFreeProduct>(*this, x.derived());
-  }
-  const InPlane& body() const { return *b_; }
-
- private:
-  const InPlane* b_;
-};
-
-class InPlanePreconditioner {
- public:
-  InPlanePreconditioner() = default;
-  template <class M>
-  explicit InPlanePreconditioner(const M& m) { compute(m); }
-  InPlanePreconditioner& analyzePattern(const InPlaneSystem&) { return *this; }
-  InPlanePreconditioner& factorize(const InPlaneSystem& m) { return compute(m); }
-  InPlanePreconditioner& compute(const InPlaneSystem& m) {
-    b_ = &m.body();
-    return *this;
-  }
-  template <class Rhs>
-  Eigen::Map<const Eigen::VectorXd> solve(const Eigen::MatrixBase<Rhs>& r) const {
-    const Eigen::Ref<const Eigen::VectorXd> rr(r.derived());
-    return Eigen::Map<const Eigen::VectorXd>(b_->apply_preconditioner(rr.data()), rr.size());
-  }
-  Eigen::ComputationInfo info() const { return Eigen::Success; }
-
- private:
-  const InPlane* b_ = nullptr;
-};
-
-// FFTW's planner is not thread-safe; the in-plane strip's plans are made and destroyed under this mutex. (core::Strip
-// has its own: see docs/model.md §10.6 on sharing one.)
-std::mutex& planner_mutex() {
-  static std::mutex m;
-  return m;
-}
 
 // λ' and μ' of docs/model.md §10.2 from the scene's μ (its 1D meaning, μ = E' H) and ν.
 double mu_prime_of(double mu, double nu, double H) { return mu * (1.0 - nu) / (2.0 * H); }
@@ -167,7 +108,7 @@ struct InPlane::Fast {
     const int lx = static_cast<int>(nx), ly = static_cast<int>(ns), r = static_cast<int>(rows);
     const fftw_r2r_kind kc = FFTW_REDFT00, ks = FFTW_RODFT00;
     {
-      const std::lock_guard<std::mutex> lock(planner_mutex());
+      const std::lock_guard<std::mutex> lock(fftw_planner_mutex());
       // FFTW_ESTIMATE: no timing, so the same sizes and alignment give the same plan (bit-reproducible runs).
       dct = fftw_plan_many_r2r(1, &lx, r, bx, nullptr, 1, lx, bx, nullptr, 1, lx, &kc, FFTW_ESTIMATE);
       dst = fftw_plan_many_r2r(1, &ly, r, by, nullptr, 1, ly, by, nullptr, 1, ly, &ks, FFTW_ESTIMATE);
@@ -200,7 +141,7 @@ struct InPlane::Fast {
   ~Fast() { release(); }
   void release() noexcept {
     {
-      const std::lock_guard<std::mutex> lock(planner_mutex());
+      const std::lock_guard<std::mutex> lock(fftw_planner_mutex());
       if (dct != nullptr) fftw_destroy_plan(dct);
       if (dst != nullptr) fftw_destroy_plan(dst);
     }
@@ -210,6 +151,16 @@ struct InPlane::Fast {
     bx = by = nullptr;
   }
 };
+
+BodyShape InPlane::shape(const BulkParams& bulk, const DriveParams&, const GridParams& grid) {
+  return {static_cast<std::size_t>(std::llround(bulk.length / grid.dx)) + 1,
+          static_cast<std::size_t>(std::llround(bulk.height / grid.row_spacing())) + 1, 2};
+}
+
+std::span<const SnapshotField> InPlane::snapshot_fields() {
+  static constexpr SnapshotField fields[] = {{"u", 2}, {"sigma_xx", 1}, {"sigma_yy", 1}, {"sigma_xy", 1}};
+  return fields;
+}
 
 double InPlane::stable_time_step(const BulkParams& bulk, const DriveParams& drive, const InterfaceParams& law,
                                  const InPlaneParams& material, double dx, double dy) {
@@ -332,12 +283,13 @@ double InPlane::spring_energy(double t, std::span<const double> u) const {
 double InPlane::uniform_power(std::span<const double> v) const {
   if (sigma_d_ == 0.0 && p_ == 0.0) return 0.0;
   const std::size_t top = ny_ * nx_, P = plane();
-  double px = 0.0, py = 0.0;
+  double px = 0.0, py = 0.0, ends = 0.0;
   for (std::size_t i = 0; i < nx_; ++i) {
     px += interface_weight(i) * v[top + i];
     py += interface_weight(i) * v[P + top + i];
   }
-  return sigma_d_ * px - p_ * py;
+  for (std::size_t j = 0; j <= ny_; ++j) ends += end_load_y(0, j) * v[P + j * nx_] + end_load_y(nx_ - 1, j) * v[P + j * nx_ + nx_ - 1];
+  return sigma_d_ * px - p_ * py + ends;
 }
 
 Eigen::SparseMatrix<double> InPlane::stiffness_matrix() const {
@@ -364,7 +316,7 @@ Eigen::SparseMatrix<double> InPlane::stiffness_matrix() const {
 void InPlane::interface_normal_stress(std::span<const double> u, std::span<double> out) const {
   elastic_forces(u, force_);
   const std::size_t P = plane();
-  for (std::size_t i = 0; i < nx_; ++i) out[i] = force_[P + i] / interface_weight(i);
+  for (std::size_t i = 0; i < nx_; ++i) out[i] = (force_[P + i] + end_load_y(i, 0)) / interface_weight(i);
 }
 
 void InPlane::stresses(std::span<const double> u, std::size_t i, std::size_t j, double& sxx, double& syy,
@@ -395,7 +347,7 @@ void InPlane::kick(double dt, double eta, double edge_force, std::span<const dou
     for (std::size_t i = 0; i < nx; ++i) {
       const std::size_t k = j * nx + i;
       const double wx = interface_weight(i), m = node_mass(i, j);
-      double fx = force_[k], fy = force_[P + k];
+      double fx = force_[k], fy = force_[P + k] + end_load_y(i, j);
       if (i == 0) fx += edge_per_height * row_weight(j);
       if (j == ny) {
         fx += wx * sigma_d_;
@@ -422,7 +374,7 @@ void InPlane::rhs_step(std::span<const double> c0, double t, double dt, std::spa
     for (std::size_t i = 0; i < nx; ++i) {
       const std::size_t k = j * nx + i;
       const double wx = interface_weight(i), m = 2.0 * node_mass(i, j) / dt;
-      double rx = m * V[k] + force_[k], ry = m * V[P + k] + force_[P + k];
+      double rx = m * V[k] + force_[k], ry = m * V[P + k] + force_[P + k] + end_load_y(i, j);
       if (i == 0) rx += edge * row_weight(j);
       if (j == 0) rx -= wx * 0.5 * (sigma_bar[i] + c0[i]);
       if (j == ny) {
@@ -488,30 +440,6 @@ void InPlane::solve_direct(double c, std::span<const double> dd, const double* r
   last_iterations_ = 0;
 }
 
-}  // namespace slipfront::core
-
-namespace Eigen::internal {
-template <class Rhs>
-struct generic_product_impl<slipfront::core::InPlaneSystem, Rhs, SparseShape, DenseShape, GemvProduct>
-    : generic_product_impl_base<slipfront::core::InPlaneSystem, Rhs,
-                                generic_product_impl<slipfront::core::InPlaneSystem, Rhs>> {
-  using Scalar = typename Product<slipfront::core::InPlaneSystem, Rhs>::Scalar;
-  template <class Dest>
-  static void evalTo(Dest& dst, const slipfront::core::InPlaneSystem& lhs, const Rhs& rhs) {
-    const Eigen::Ref<const Eigen::VectorXd> x(rhs);
-    Eigen::Ref<Eigen::VectorXd> y(dst);
-    lhs.body().apply_system(x.data(), y.data());
-  }
-  template <class Dest>
-  static void scaleAndAddTo(Dest& dst, const slipfront::core::InPlaneSystem& lhs, const Rhs& rhs, const Scalar& alpha) {
-    Eigen::VectorXd tmp(dst.size());
-    evalTo(tmp, lhs, rhs);
-    dst += alpha * tmp;
-  }
-};
-}  // namespace Eigen::internal
-
-namespace slipfront::core {
 namespace {
 
 // A 2 × 2 block [[xx, xy], [yx, yy]], row-major.
@@ -696,8 +624,8 @@ void InPlane::solve_system(double c, std::span<const double> d, std::span<const 
   const double dbar = std::max(mean / static_cast<double>(nx), 0.0);
   if (c != f.fact_c || dbar != f.fact_d) factorise_modes(c, dbar);
   f.c = c;
-  const InPlaneSystem A(*this);
-  Eigen::ConjugateGradient<InPlaneSystem, Eigen::Lower | Eigen::Upper, InPlanePreconditioner> cg;
+  const MatrixFree<const InPlane> A(*this, n);
+  Eigen::ConjugateGradient<MatrixFree<const InPlane>, Eigen::Lower | Eigen::Upper, MatrixFreePreconditioner<const InPlane>> cg;
   cg.setTolerance(1e-12);
   cg.setMaxIterations(500);
   cg.compute(A);

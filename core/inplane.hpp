@@ -11,12 +11,14 @@
 //
 // Material: the scene's μ keeps its 1D meaning (the thin strip is §1.2's chain with μ = E' H, E' = 2μ'/(1 − ν)
 // the plate modulus, §10.2): μ' = μ(1 − ν)/(2H), ρ' = ρ/H, λ' = 2μ'ν/(1 − 2ν).
+// Under homogeneous loading the end faces carry the complementary shear σ_xy = σ_top (end_load_y), so that the
+// uniformly sheared strip is a stuck state (docs/model.md §10.3).
 // Elastic force Fel = −K u, K the assembled Q1 stiffness (2 × 2 Gauss points, exact for Q1):
 // E(u) = u·K u / 2 = (1/2) ∫ σ : ε. External forces: interface row u_x −wx(i)(σ̄_i + η v_i); top row u_x
 // +wx(i) σ_top (σ_top = σ_d under homogeneous loading, else 0), u_y −wx(i) p (the normal load); edge column u_x
 // +F(t) wy(j)/H, F = K (v_d t − ū0) + F_r, ū0 = Σ_j wy(j) u_x(0, j)/H (as core::Strip).
 //
-// Not here yet: the adaptive integrator's members (core::Strip's solve_system and mixed representation).
+// Not here yet: the adaptive integrator's members (core::AdaptiveBody; time.integrator = "adaptive" is refused on it).
 //
 // Thread safety: an InPlane holds mutable workspace (the force buffer, the factorisation), so one object serves
 // one thread at a time; copies are independent.
@@ -46,6 +48,9 @@ class InPlane {
   /// dy not dividing H, fewer than one cell in x or y, ν outside (−1, ½), p < 0).
   InPlane(const BulkParams& bulk, const DriveParams& drive, const InterfaceParams& law, const InPlaneParams& material,
           double dx, double dy);
+  /// A scene's body (core::RunBody): ν and p from bulk.poisson and bulk.normal_load, dy = grid.row_spacing().
+  InPlane(const BulkParams& bulk, const DriveParams& drive, const InterfaceParams& law, const GridParams& grid)
+      : InPlane(bulk, drive, law, material_of(bulk), grid.dx, grid.row_spacing()) {}
   InPlane(const InPlane& o);
   InPlane(InPlane&& o) noexcept;
   InPlane& operator=(const InPlane& o);
@@ -80,6 +85,13 @@ class InPlane {
 
   // --- The loading --------------------------------------------------------------------------------------
   double uniform_stress() const { return sigma_d_; }  ///< σ_top: σ_d (homogeneous loading), else 0
+  /// The end faces' complementary shear under homogeneous loading (docs/model.md §10.3): σ_xy = σ_top on x = 0 and
+  /// x = L, the nodal force on u_y of node (i, j): −σ_top wy(j) on column 0, +σ_top wy(j) on column nx − 1, else 0.
+  /// With it the uniformly sheared strip is a stuck state of the body (a piece of the infinite strip under σ_top).
+  double end_load_y(std::size_t i, std::size_t j) const {
+    const double s = i == 0 ? -sigma_d_ : i + 1 == nx_ ? sigma_d_ : 0.0;
+    return s * row_weight(j);
+  }
   bool has_drive_spring() const { return spring_K_ > 0.0; }
   double spring_K() const { return spring_K_; }
   double driver_velocity() const { return v_d_; }
@@ -128,6 +140,48 @@ class InPlane {
   /// row's u_x, u_y of row 0 held at 0; edge_force = F(t^n).
   void kick(double dt, double eta, double edge_force, std::span<const double> u, std::span<const double> sigma_bar,
             std::span<const double> v_old, std::span<double> v_new) const;
+
+  // --- core::RunBody (core/body.hpp): what the run layer asks of a body ---------------------------------------
+  static InPlaneParams material_of(const BulkParams& bulk) { return {bulk.poisson, bulk.normal_load}; }
+  /// round(L/dx) + 1 sites, round(H/dy) + 1 rows (dy = grid.row_spacing()), two components (u_x, u_y).
+  static BodyShape shape(const BulkParams& bulk, const DriveParams& drive, const GridParams& grid);
+  static double stable_time_step(const BulkParams& bulk, const DriveParams& drive, const InterfaceParams& law,
+                                 const GridParams& grid) {
+    return stable_time_step(bulk, drive, law, material_of(bulk), grid.dx, grid.row_spacing());
+  }
+  BodyShape shape() const { return {nx_, ny_ + 1, 2}; }
+  /// Component planes: u_x of node (i, j) is dof j·nx + i, u_y is plane() + j·nx + i.
+  std::size_t dof(std::size_t i, std::size_t j, std::size_t c) const { return c * plane() + j * nx_ + i; }
+  /// The stuck state of docs/model.md §10.3 lifted into column i: every row carries the uniform shear σ_d and, under
+  /// the normal load, the laterally confined compression σ_yy = −p (σ_xx = −νp/(1 − ν)):
+  ///   u_x(x_i, y) = u + σ_d y/μ',   u_y(x_i, y) = −p y/(λ' + 2μ'),   moving with the interface's slip rate v (u_x).
+  /// Exact inside the strip; the free end faces carry neither the shear nor σ_xx, so within ~H of the ends the
+  /// body relaxes from it (§10.3, finding 2).
+  template <class Set>
+  void lift(std::size_t i, double u, double v, double sigma_d, Set&& set) const {
+    const double squeeze = p_ / (lambda_p_ + 2.0 * mu_p_);
+    for (std::size_t j = 0; j <= ny_; ++j) {
+      const double y = row_height(j);
+      set(dof(i, j, 0), u + (j == 0 ? 0.0 : sigma_d * y / mu_p_), v);
+      set(dof(i, j, 1), -squeeze * y, 0.0);
+    }
+  }
+  /// ū0 = Σ_j wy(j) value(dof(0, j, 0)) / H.
+  template <class Value>
+  double edge_slip_of(Value&& value) const {
+    double s = 0.0;
+    for (std::size_t j = 0; j <= ny_; ++j) s += row_weight(j) * value(j * nx_);
+    return s / H_;
+  }
+  /// F(t) = K (v_d t − ū0) + F_r for a given ū0.
+  double drive_force_at(double t, double edge_slip) const { return spring_K_ * (v_d_ * t - edge_slip) + rear_traction_; }
+  /// u (u_x, u_y: two components), sigma_xx, sigma_yy, sigma_xy (stresses()).
+  static std::span<const SnapshotField> snapshot_fields();
+  void snapshot_values(std::span<const double> u, std::size_t i, std::size_t j, std::span<double> out) const {
+    out[0] = u[dof(i, j, 0)];
+    out[1] = u[dof(i, j, 1)];
+    stresses(u, i, j, out[2], out[3], out[4]);
+  }
 
   // --- The implicit (trapezoidal) step (core/implicit.hpp) -------------------------------------------------
   /// The system of core::Strip::implicit_solve with two components per node and u_y of row 0 held at 0:
@@ -187,5 +241,6 @@ class InPlane {
 };
 
 static_assert(Body<InPlane>);
+static_assert(RunBody<InPlane>);
 
 }  // namespace slipfront::core

@@ -33,7 +33,12 @@ const KeyDomain continuum_domains[] = {
     {"bulk.rho", K::number, 0.0, cap, true},
     {"bulk.mu", K::number, 0.0, cap, true},
     {"bulk.length", K::number, 0.0, cap, true},
-    {"bulk.height", K::number, 1e-9, cap, false, false, true, "", "(the antiplane strip's height H; 0 or absent: the 1D chain)"},
+    {"bulk.height", K::number, 1e-9, cap, false, false, true, "", "(the strip's height H; 0 or absent: the 1D chain)"},
+    {"bulk.body", K::choice, 0, 0, false, false, false, "antiplane|inplane", "(the strip's body; absent: antiplane)"},
+    {"bulk.poisson", K::number, -1.0, 0.5, true, true, false, "",
+     "(Poisson's ratio of the in-plane strip: lambda' = 2 mu' nu / (1 - 2 nu) is finite and positive-definite only "
+     "there)"},
+    {"bulk.normal_load", K::number, 0.0, cap, false, false, false, "", "(compressive load p on the in-plane strip's top face)"},
     {"drive.loading", K::choice, 0, 0, false, false, false, "edge|homogeneous|imposed_rate|spring_block"},
     {"drive.K", K::number, 0.0, cap, true},
     {"drive.v_d", K::number, 0.0, cap},
@@ -183,6 +188,17 @@ void BulkParams::validate(bool one_dimensional) const {
   } else {
     require(body() == BodyKind::chain, "bulk.height",
             "a 0D scene (drive.loading = spring_block or imposed_rate) has no body to give a height to");
+  }
+  if (!body_name.empty()) {
+    require(body_name == "antiplane" || body_name == "inplane", "bulk.body",
+            "unknown body '" + body_name + "' (expected antiplane or inplane)");
+    require(one_dimensional, "bulk.body",
+            "a 0D scene (drive.loading = spring_block or imposed_rate) has no body to choose");
+    require(height != 0.0, "bulk.body", "chooses the strip's body: give bulk.height too (or drop bulk.body: the 1D chain)");
+  }
+  if (body() == BodyKind::inplane) {
+    check_in_domain("bulk.poisson", poisson);
+    check_in_domain("bulk.normal_load", normal_load);
   }
 }
 

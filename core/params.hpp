@@ -77,18 +77,30 @@ struct InterfaceParams {
 /// (sites, rows, the stable step, the initial lift, the snapshot fields) is the body class's, not a test of
 /// bulk.height. (0D scenes: the spring block is the chain's one-node case; an imposed rate has no body.)
 enum class BodyKind {
-  chain,  ///< the 1D chain, core::Bulk (bulk.height absent)
-  strip,  ///< the antiplane strip of height H, core::Strip (bulk.height given)
+  chain,    ///< the 1D chain, core::Bulk (bulk.height absent)
+  strip,    ///< the antiplane strip of height H, core::Strip (bulk.height given; bulk.body absent or "antiplane")
+  inplane,  ///< the in-plane (plane-strain) strip of height H, core::InPlane (bulk.body = "inplane", docs/model.md §10)
 };
 
 /// Elastic bulk: ρ u_tt = μ u_xx + f − σ̄ − η u_t on [0, L].
 struct BulkParams {
+  BulkParams() = default;
+  /// The chain's parameters and a height (0: the chain; > 0: the antiplane strip), the in-plane keys at their
+  /// defaults (a constructor, so that {ρ, μ, L, H} leaves the later members to their defaults without a warning).
+  BulkParams(double rho_, double mu_, double length_, double height_ = 0.0)
+      : rho(rho_), mu(mu_), length(length_), height(height_) {}
   double rho = 0.01;     ///< inertia
   double mu = 300.0;     ///< shear stiffness (unused in 0D scenes)
   double length = 300.0; ///< L (unused in 0D scenes)
-  double height = 0.0;   ///< H of the antiplane strip (docs/model.md §9); 0: the 1D chain (key absent)
-  /// The body these parameters give: the one place bulk.height decides it.
-  BodyKind body() const { return height != 0.0 ? BodyKind::strip : BodyKind::chain; }
+  double height = 0.0;   ///< H of the strip (docs/model.md §9, §10); 0: the 1D chain (key absent)
+  /// bulk.body: "antiplane" (§9) or "inplane" (§10) with a height; "" (key absent): antiplane.
+  std::string body_name;
+  double poisson = 1.0 / 3.0;  ///< ν of the in-plane strip (bulk.poisson, docs/model.md §10.1)
+  double normal_load = 0.0;    ///< p ≥ 0 on the in-plane strip's top face, σ_yy(x, H) = −p (bulk.normal_load)
+  /// The body these parameters give: the one place bulk.height and bulk.body decide it.
+  BodyKind body() const {
+    return height == 0.0 ? BodyKind::chain : body_name == "inplane" ? BodyKind::inplane : BodyKind::strip;
+  }
   void validate(bool one_dimensional) const;
 };
 

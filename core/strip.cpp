@@ -17,76 +17,10 @@
 #include <Eigen/IterativeLinearSolvers>
 #include <unsupported/Eigen/IterativeSolvers>
 
-namespace slipfront::core {
-namespace {
-
-// FFTW's planner (and fftw_destroy_plan) is not thread-safe; fftw_execute is. Every plan of the process
-// is made and destroyed under this mutex.
-std::mutex& fftw_planner_mutex() {
-  static std::mutex m;
-  return m;
-}
-
-// The step system as an Eigen operator (Eigen docs, "Matrix-free solvers").
-class StripSystem;
-// solve_system's interface (Schur complement) system, the same way.
-class InterfaceSystem;
-
-}  // namespace
-}  // namespace slipfront::core
-
-namespace Eigen::internal {
-template <>
-struct traits<slipfront::core::StripSystem> : public traits<Eigen::SparseMatrix<double>> {};
-template <>
-struct traits<slipfront::core::InterfaceSystem> : public traits<Eigen::SparseMatrix<double>> {};
-}  // namespace Eigen::internal
+#include "core/matrix_free.hpp"
 
 namespace slipfront::core {
 namespace {
-
-class StripSystem : public Eigen::EigenBase<StripSystem> {
- public:
-  using Scalar = double;
-  using RealScalar = double;
-  using StorageIndex = int;
-  enum { ColsAtCompileTime = Eigen::Dynamic, MaxColsAtCompileTime = Eigen::Dynamic, IsRowMajor = false };
-
-  explicit StripSystem(const Strip& s) : s_(&s) {}
-  Eigen::Index rows() const { return static_cast<Eigen::Index>(s_->dofs()); }
-  Eigen::Index cols() const { return rows(); }
-  template <class Rhs>
-  Eigen::Product<StripSystem, Rhs, Eigen::AliasFreeProduct> operator*(const Eigen::MatrixBase<Rhs>& x) const {
-    return Eigen::Product<StripSystem, Rhs, Eigen::AliasFreeProduct>(*this, x.derived());
-  }
-  const Strip& strip() const { return *s_; }
-
- private:
-  const Strip* s_;
-};
-
-// z = P⁻¹ r, P the separable part of the system (Strip::apply_preconditioner).
-class StripPreconditioner {
- public:
-  StripPreconditioner() = default;
-  template <class M>
-  explicit StripPreconditioner(const M& m) { compute(m); }
-  StripPreconditioner& analyzePattern(const StripSystem&) { return *this; }
-  StripPreconditioner& factorize(const StripSystem& m) { return compute(m); }
-  StripPreconditioner& compute(const StripSystem& m) {
-    s_ = &m.strip();
-    return *this;
-  }
-  template <class Rhs>
-  Eigen::Map<const Eigen::VectorXd> solve(const Eigen::MatrixBase<Rhs>& r) const {
-    const Eigen::Ref<const Eigen::VectorXd> rr(r.derived());
-    return Eigen::Map<const Eigen::VectorXd>(s_->apply_preconditioner(rr.data()), rr.size());
-  }
-  Eigen::ComputationInfo info() const { return Eigen::Success; }
-
- private:
-  const Strip* s_ = nullptr;
-};
 
 // The DCT-I of solve_system (FFTW's REDFT00 convention, unnormalised: Y_k = X_0 + (−1)^k X_N +
 // 2 Σ_{0<i<N} X_i cos(πik/N), n = N + 1 points) of `rows` rows, computed as FFTW's real-to-complex transform of
@@ -188,7 +122,8 @@ struct InterfaceData {
   double norm = 1.0;             // 1/(2(nx−1))
   mutable int applications = 0;
 
-  void apply(const double* x, double* y) {
+  // the operator of core::MatrixFree (core/matrix_free.hpp)
+  void apply_system(const double* x, double* y) {
     ++applications;
     double* r = row.data();
     const double* dd = d;
@@ -200,99 +135,14 @@ struct InterfaceData {
     row_dct->run([r](std::size_t, std::size_t i) { return r[i]; },
                  [x, y, w, pp](std::size_t, std::size_t k, double v) { y[k] = w[k] * (pp[k] * x[k] + v); });
   }
-  const double* precondition(const double* r) {
+  const double* apply_preconditioner(const double* r) {
     out.resize(nx);
     for (std::size_t k = 0; k < nx; ++k) out[k] = r[k] * precond[k];
     return out.data();
   }
 };
 
-class InterfaceSystem : public Eigen::EigenBase<InterfaceSystem> {
- public:
-  using Scalar = double;
-  using RealScalar = double;
-  using StorageIndex = int;
-  enum { ColsAtCompileTime = Eigen::Dynamic, MaxColsAtCompileTime = Eigen::Dynamic, IsRowMajor = false };
-
-  explicit InterfaceSystem(InterfaceData& d) : d_(&d) {}
-  Eigen::Index rows() const { return static_cast<Eigen::Index>(d_->nx); }
-  Eigen::Index cols() const { return rows(); }
-  template <class Rhs>
-  Eigen::Product<InterfaceSystem, Rhs, Eigen::AliasFreeProduct> operator*(const Eigen::MatrixBase<Rhs>& x) const {
-    return Eigen::Product<InterfaceSystem, Rhs, Eigen::AliasFreeProduct>(*this, x.derived());
-  }
-  InterfaceData& data() const { return *d_; }
-
- private:
-  InterfaceData* d_;
-};
-
-class InterfacePreconditioner {
- public:
-  InterfacePreconditioner() = default;
-  template <class M>
-  explicit InterfacePreconditioner(const M& m) { compute(m); }
-  InterfacePreconditioner& analyzePattern(const InterfaceSystem&) { return *this; }
-  InterfacePreconditioner& factorize(const InterfaceSystem& m) { return compute(m); }
-  InterfacePreconditioner& compute(const InterfaceSystem& m) {
-    d_ = &m.data();
-    return *this;
-  }
-  template <class Rhs>
-  Eigen::Map<const Eigen::VectorXd> solve(const Eigen::MatrixBase<Rhs>& r) const {
-    const Eigen::Ref<const Eigen::VectorXd> rr(r.derived());
-    return Eigen::Map<const Eigen::VectorXd>(d_->precondition(rr.data()), rr.size());
-  }
-  Eigen::ComputationInfo info() const { return Eigen::Success; }
-
- private:
-  InterfaceData* d_ = nullptr;
-};
-
 }  // namespace
-}  // namespace slipfront::core
-
-namespace Eigen::internal {
-template <class Rhs>
-struct generic_product_impl<slipfront::core::StripSystem, Rhs, SparseShape, DenseShape, GemvProduct>
-    : generic_product_impl_base<slipfront::core::StripSystem, Rhs,
-                                generic_product_impl<slipfront::core::StripSystem, Rhs>> {
-  using Scalar = typename Product<slipfront::core::StripSystem, Rhs>::Scalar;
-  // Eigen's CG asks for tmp = A p and for rhs − A x (into a temporary): both evalTo, written directly.
-  template <class Dest>
-  static void evalTo(Dest& dst, const slipfront::core::StripSystem& lhs, const Rhs& rhs) {
-    const Eigen::Ref<const Eigen::VectorXd> x(rhs);
-    Eigen::Ref<Eigen::VectorXd> y(dst);
-    lhs.strip().apply_system(x.data(), y.data());
-  }
-  template <class Dest>
-  static void scaleAndAddTo(Dest& dst, const slipfront::core::StripSystem& lhs, const Rhs& rhs, const Scalar& alpha) {
-    Eigen::VectorXd tmp(dst.size());
-    evalTo(tmp, lhs, rhs);
-    dst += alpha * tmp;
-  }
-};
-template <class Rhs>
-struct generic_product_impl<slipfront::core::InterfaceSystem, Rhs, SparseShape, DenseShape, GemvProduct>
-    : generic_product_impl_base<slipfront::core::InterfaceSystem, Rhs,
-                                generic_product_impl<slipfront::core::InterfaceSystem, Rhs>> {
-  using Scalar = typename Product<slipfront::core::InterfaceSystem, Rhs>::Scalar;
-  template <class Dest>
-  static void evalTo(Dest& dst, const slipfront::core::InterfaceSystem& lhs, const Rhs& rhs) {
-    const Eigen::Ref<const Eigen::VectorXd> x(rhs);
-    Eigen::Ref<Eigen::VectorXd> y(dst);
-    lhs.data().apply(x.data(), y.data());
-  }
-  template <class Dest>
-  static void scaleAndAddTo(Dest& dst, const slipfront::core::InterfaceSystem& lhs, const Rhs& rhs, const Scalar& alpha) {
-    Eigen::VectorXd tmp(dst.size());
-    evalTo(tmp, lhs, rhs);
-    dst += alpha * tmp;
-  }
-};
-}  // namespace Eigen::internal
-
-namespace slipfront::core {
 
 // solve_system's workspace: the factors of P = M/c + c S in cosine space (from the top row down), the
 // interface system, the transforms, and the spring's ψ (in cosine space) for the (c, d) it was computed for.
@@ -722,8 +572,8 @@ void Strip::solve_step(std::span<const double> c0, std::span<const double> c1, d
   eta_ = eta;
   c1_ = c1.data();
 
-  const StripSystem A(*this);
-  Eigen::ConjugateGradient<StripSystem, Eigen::Lower | Eigen::Upper, StripPreconditioner> cg;
+  const MatrixFree<const Strip> A(*this, dofs());
+  Eigen::ConjugateGradient<MatrixFree<const Strip>, Eigen::Lower | Eigen::Upper, MatrixFreePreconditioner<const Strip>> cg;
   cg.setTolerance(1e-12);
   cg.setMaxIterations(200);
   cg.compute(A);
@@ -845,19 +695,20 @@ double Strip::direct_modes(std::span<const double> d, const double* rhs, double*
   dbar = std::max(dbar / static_cast<double>(nx), 0.0);
   for (std::size_t k = 0; k < nx; ++k) D.precond[k] = 1.0 / (D.wx[k] * (D.p[k] + dbar));
   D.d = d.data();
-  const InterfaceSystem B(D);
+  const MatrixFree<InterfaceData> B(D, nx);
   const Eigen::Map<const Eigen::VectorXd> f(D.f.data(), static_cast<Eigen::Index>(nx));
   Eigen::Map<Eigen::VectorXd> xi(z, static_cast<Eigen::Index>(nx));  // row 0: its modes
   D.applications = 0;
   {
-    Eigen::ConjugateGradient<InterfaceSystem, Eigen::Lower | Eigen::Upper, InterfacePreconditioner> cg;
+    using Interface = MatrixFree<InterfaceData>;
+    Eigen::ConjugateGradient<Interface, Eigen::Lower | Eigen::Upper, MatrixFreePreconditioner<InterfaceData>> cg;
     cg.setTolerance(interface_tolerance_);
     cg.setMaxIterations(300);
     cg.compute(B);
     xi = cg.solve(f);
     bool ok = cg.info() == Eigen::Success && std::isfinite(cg.error());
     if (!ok) {  // indefinite (d < 0 somewhere): MINRES, with the same (definite) preconditioner
-      Eigen::MINRES<InterfaceSystem, Eigen::Lower | Eigen::Upper, InterfacePreconditioner> mr;
+      Eigen::MINRES<Interface, Eigen::Lower | Eigen::Upper, MatrixFreePreconditioner<InterfaceData>> mr;
       mr.setTolerance(interface_tolerance_);
       mr.setMaxIterations(1000);
       mr.compute(B);

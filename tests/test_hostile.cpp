@@ -49,6 +49,7 @@ const std::vector<Base>& bases() {
       {"edge, implicit", {"time.integrator=implicit", "time.dt=0.001"}},
       {"edge, strip", {"bulk.height=4", "grid.dy=1"}},
       {"edge, strip with bulk snapshots", {"bulk.height=4", "grid.dy=1", "output.bulk_dt=0.5"}},
+      {"edge, in-plane strip", {"bulk.height=4", "grid.dy=1", "bulk.body=inplane"}},
       {"edge, agent with contact statistics", {"discrete.representation=agent", "discrete.contact_statistics=true"}},
       {"homogeneous, steady-front start",
        {"drive.loading=homogeneous", "drive.sigma_d=0.5", "drive.start=steady_front", "drive.front_x=5"}},

@@ -216,6 +216,7 @@ TEST_CASE("inplane: the kick is M dv = dt (-K u + loads), u_y of the interface h
       const std::size_t k = j * nx + i;
       const double m = b.node_mass(i, j), wx = b.interface_weight(i);
       double fx = f[k] + (i == 0 ? F * b.row_weight(j) / b.height() : 0.0), fy = f[P + k];
+      fy += (i == 0 ? -0.5 : i + 1 == nx ? 0.5 : 0.0) * b.row_weight(j);  // the end faces' shear σ_xy = σ_top (§10.3)
       if (j == top) {
         fx += wx * 0.5;
         fy -= wx * 0.3;
@@ -394,10 +395,11 @@ TEST_CASE("inplane: static interface kernels of a base slip against K_t and K_n/
 
 TEST_CASE("inplane: the uniform states are exact on the grid, and the normal load makes the strip expand", "[inplane]") {
   // docs/model.md §10.3. (a) Homogeneous stuck state, p = 0: u_x = σ_top/α + σ_top y/μ', u_y = 0 is in equilibrium
-  // with σ̄ = σ_top on the interface everywhere but on the two free ends: there σ_xy = σ_top would need the
-  // complementary shear traction ∓σ_top on the faces x = 0, L, which a free face does not carry. The grid's residual
-  // is exactly that missing traction, ±wy(j) σ_top on the end columns' u_y (and the interface's corners read
-  // σ_yy = ±σ_top wy(0)/wx(0)): the uniform state of the antiplane strip (§9.4) is not one here. (b) Normal load p with a frictionless
+  // with σ̄ = σ_top on the interface everywhere but on the two end faces: there σ_xy = σ_top needs the complementary
+  // shear traction ∓σ_top on the faces x = 0, L, which a free face does not carry. The grid's residual without it is
+  // exactly that missing traction, ±wy(j) σ_top on the end columns' u_y (and the interface's corners would read
+  // σ_yy = ±σ_top wy(0)/wx(0)); the body loads the end faces with it under homogeneous loading (end_load_y), and then
+  // the state is exact everywhere, σ_yy = −p at the corners too. (b) Normal load p with a frictionless
   // base: u_x = ε_xx x, u_y = ε_yy y, ε_xx = ν p/(2μ'), ε_yy = −(1 − ν) p/(2μ') (plane strain, σ_xx = σ_xy = 0,
   // σ_yy = −p) is in equilibrium and the interface reads σ_yy = −p. So under p a stuck interface (σ̄ = α u_x) cannot
   // hold the uniform state: its slip would grow with x.
@@ -423,16 +425,14 @@ TEST_CASE("inplane: the uniform states are exact on the grid, and the normal loa
       for (std::size_t i = 0; i < nx; ++i) {
         const std::size_t k = j * nx + i;
         const double m = b.node_mass(i, j);
-        // the end faces' missing complementary shear (0 under the normal load alone; row 0's u_y is held)
-        const double end = j == 0 ? 0.0 : i == 0 ? s * b.row_weight(j) : i + 1 == nx ? -s * b.row_weight(j) : 0.0;
-        worst = std::max({worst, std::abs(m * v1[k] / dt), std::abs(m * v1[P + k] / dt - end)});
+        // the end faces' missing complementary shear (0 under the normal load alone), which end_load_y supplies
+        const double missing = i == 0 ? s * b.row_weight(j) : i + 1 == nx ? -s * b.row_weight(j) : 0.0;
+        CHECK(b.end_load_y(i, j) + missing == Approx(0.0).margin(1e-15));
+        worst = std::max({worst, std::abs(m * v1[k] / dt), std::abs(m * v1[P + k] / dt)});
       }
     CHECK(worst < 1e-12);
     b.interface_normal_stress(u, syy);
-    for (std::size_t i = 0; i < nx; ++i) {
-      const double corner = i == 0 ? s : i + 1 == nx ? -s : 0.0;  // wy(0)/wx(0) = 1 here
-      CHECK(syy[i] == Approx(-p + corner).margin(1e-13));
-    }
+    for (std::size_t i = 0; i < nx; ++i) CHECK(syy[i] == Approx(-p).margin(1e-13));
     for (const std::size_t j : {std::size_t{0}, std::size_t{2}, std::size_t{4}})
       for (const std::size_t i : {std::size_t{0}, std::size_t{3}, std::size_t{8}}) {
         double sxx = 0.0, syy_n = 0.0, sxy = 0.0;

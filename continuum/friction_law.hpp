@@ -22,7 +22,8 @@ namespace slipfront::continuum {
 
 class FrictionLaw {
  public:
-  static constexpr core::LawHooks hooks{.ages = true, .dense_ages = true, .contact_hazard = true, .checkpoints = true};
+  static constexpr core::LawHooks hooks{
+      .ages = true, .dense_ages = true, .contact_hazard = true, .checkpoints = true, .steady_state = true};
   FrictionLaw(const core::InterfaceParams& p, std::size_t sites) : p_(p), n_(sites), fields_(2 * sites, 0.0) {
     std::fill(fields_.begin(), fields_.begin() + static_cast<std::ptrdiff_t>(sites), 1.0);
   }
@@ -33,6 +34,9 @@ class FrictionLaw {
   std::span<const double> contact_area() const { return {fields_.data(), n_}; }
   std::span<const double> sigma_bar() const { return {fields_.data() + n_, n_}; }
   std::span<double> fields() { return fields_; }
+  /// core::LawHooks::steady_state: the closed form of docs/model.md §1.4 (core/steady_sliding.hpp).
+  core::SteadyState steady_sliding(double v) const { return core::overloaded_steady_sliding(p_, v); }
+  double steady_velocity(double sigma) const { return core::overloaded_steady_velocity(p_, sigma); }
   template <class Ar>
   void serialize(Ar& ar) {
     ar.tag("continuum law");
@@ -174,15 +178,9 @@ class FrictionLaw {
 static_assert(core::SmoothLaw<FrictionLaw>);
 
 // Closed forms of docs/model.md §1 (tests and the comparison layer check against these).
-struct SteadyState {
-  double area, sigma_bar, sigma;
-};
-inline SteadyState steady_sliding(const core::InterfaceParams& p, double v) {
-  const double s = std::abs(v);
-  const double area = 1.0 / (1.0 + p.kappa * s);
-  const double sb = p.alpha * area * (v >= 0 ? 1.0 : -1.0);
-  return {area, sb, sb + p.eta * v};
-}
+using core::SteadyState;
+/// A_ss = 1/(1 + κ|v|), σ̄_ss = α A_ss sgn v, σ_ss = σ̄_ss + ηv (core/steady_sliding.hpp).
+inline SteadyState steady_sliding(const core::InterfaceParams& p, double v) { return core::overloaded_steady_sliding(p, v); }
 /// Velocity of the minimum of σ_ss(v): v_m = (sqrt(ακ/η) − 1)/κ.
 inline double steady_minimum_velocity(const core::InterfaceParams& p) {
   return (std::sqrt(p.alpha * p.kappa / p.eta) - 1.0) / p.kappa;

@@ -20,7 +20,8 @@
 
 namespace slipfront::continuum {
 
-class FrictionLaw {
+// core::LawHooks::steady_state: the closed form of docs/model.md §1.4 (core/steady_sliding.hpp).
+class FrictionLaw : public core::OverloadedSteadyState<FrictionLaw> {
  public:
   static constexpr core::LawHooks hooks{
       .ages = true, .dense_ages = true, .contact_hazard = true, .checkpoints = true, .steady_state = true};
@@ -34,9 +35,6 @@ class FrictionLaw {
   std::span<const double> contact_area() const { return {fields_.data(), n_}; }
   std::span<const double> sigma_bar() const { return {fields_.data() + n_, n_}; }
   std::span<double> fields() { return fields_; }
-  /// core::LawHooks::steady_state: the closed form of docs/model.md §1.4 (core/steady_sliding.hpp).
-  core::SteadyState steady_sliding(double v) const { return core::overloaded_steady_sliding(p_, v); }
-  double steady_velocity(double sigma) const { return core::overloaded_steady_velocity(p_, sigma); }
   template <class Ar>
   void serialize(Ar& ar) {
     ar.tag("continuum law");

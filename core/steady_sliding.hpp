@@ -33,4 +33,15 @@ inline double overloaded_steady_velocity(const InterfaceParams& p, double sigma)
   return (-b + std::sqrt(disc)) / (2.0 * a);
 }
 
+/// The steady_state hook (core::LawHooks) of a law whose steady sliding is this closed form, at its params(): a law
+/// derives from OverloadedSteadyState<itself> and declares the hook.
+template <class Law>
+struct OverloadedSteadyState {
+  SteadyState steady_sliding(double v) const { return overloaded_steady_sliding(law().params(), v); }
+  double steady_velocity(double sigma) const { return overloaded_steady_velocity(law().params(), sigma); }
+
+ private:
+  const Law& law() const { return static_cast<const Law&>(*this); }
+};
+
 }  // namespace slipfront::core

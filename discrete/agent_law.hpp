@@ -105,7 +105,9 @@ struct DetachedContact {
   double threshold;
 };
 
-class AgentLaw {
+// core::LawHooks::steady_state: its mean-field steady state with every threshold overloaded (docs/model.md §2.2), the
+// closed form of core/steady_sliding.hpp: exact at w = 0 and while the thresholds lie below the steady contact stress.
+class AgentLaw : public core::OverloadedSteadyState<AgentLaw> {
  public:
   static constexpr core::LawHooks hooks{
       .ages = true, .contact_statistics = true, .contact_hazard = true, .checkpoints = true, .yield_onset = true,
@@ -116,10 +118,6 @@ class AgentLaw {
   // --- the step contract (core::InterfaceLaw) -------------------------------------------
   std::size_t size() const { return area_.size(); }
   const core::InterfaceParams& params() const { return ip_; }
-  /// core::LawHooks::steady_state: the mean-field steady state with every threshold overloaded (docs/model.md §2.2),
-  /// the closed form of core/steady_sliding.hpp: exact at w = 0 and while the thresholds lie below the steady contact stress.
-  core::SteadyState steady_sliding(double v) const { return core::overloaded_steady_sliding(ip_, v); }
-  double steady_velocity(double sigma) const { return core::overloaded_steady_velocity(ip_, sigma); }
   std::span<const double> contact_area() const { return area_; }
   std::span<const double> sigma_bar() const { return sigma_bar_; }
   /// The lowest threshold g gives (its first bin edge; 1 when w = 0): below it no contact is overloaded

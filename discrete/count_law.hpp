@@ -54,7 +54,9 @@ struct PoolHandle {
 };
 }  // namespace detail
 
-class CountLaw {
+// core::LawHooks::steady_state: its mean-field steady state with every threshold overloaded (docs/model.md §2.2), the
+// closed form of core/steady_sliding.hpp: exact at w = 0 and while the thresholds lie below the steady contact stress.
+class CountLaw : public core::OverloadedSteadyState<CountLaw> {
  public:
   static constexpr core::LawHooks hooks{.checkpoints = true, .yield_onset = true, .count_noise = true, .steady_state = true};
   /// Validates `dp` (ParamError naming the key). All sites start stuck: A = 1, σ̄ = 0, the N
@@ -69,10 +71,6 @@ class CountLaw {
   // --- the step contract (core::InterfaceLaw) -------------------------------------------
   std::size_t size() const { return area_.size(); }
   const core::InterfaceParams& params() const { return ip_; }
-  /// core::LawHooks::steady_state: the mean-field steady state with every threshold overloaded (docs/model.md §2.2),
-  /// the closed form of core/steady_sliding.hpp: exact at w = 0 and while the thresholds lie below the steady contact stress.
-  core::SteadyState steady_sliding(double v) const { return core::overloaded_steady_sliding(ip_, v); }
-  double steady_velocity(double sigma) const { return core::overloaded_steady_velocity(ip_, sigma); }
   std::span<const double> contact_area() const { return area_; }
   std::span<const double> sigma_bar() const { return sigma_bar_; }
 

@@ -34,7 +34,9 @@
 
 namespace slipfront::discrete {
 
-class MeanFieldLaw {
+// core::LawHooks::steady_state: its mean-field steady state with every threshold overloaded (docs/model.md §2.2), the
+// closed form of core/steady_sliding.hpp: exact at w = 0 and while the thresholds lie below the steady contact stress.
+class MeanFieldLaw : public core::OverloadedSteadyState<MeanFieldLaw> {
  public:
   static constexpr core::LawHooks hooks{.class_hazards = true, .checkpoints = true, .yield_onset = true, .steady_state = true};
   /// Validates the threshold keys of `dp` (DiscreteParams::validate_threshold_law: ParamError naming the
@@ -44,10 +46,6 @@ class MeanFieldLaw {
   // --- the step contract (core::InterfaceLaw) -------------------------------------------
   std::size_t size() const { return area_.size(); }
   const core::InterfaceParams& params() const { return ip_; }
-  /// core::LawHooks::steady_state: the mean-field steady state with every threshold overloaded (docs/model.md §2.2),
-  /// the closed form of core/steady_sliding.hpp: exact at w = 0 and while the thresholds lie below the steady contact stress.
-  core::SteadyState steady_sliding(double v) const { return core::overloaded_steady_sliding(ip_, v); }
-  double steady_velocity(double sigma) const { return core::overloaded_steady_velocity(ip_, sigma); }
   std::span<const double> contact_area() const { return area_; }
   std::span<const double> sigma_bar() const { return sigma_bar_; }
 

@@ -29,7 +29,9 @@
 
 namespace slipfront::discrete {
 
-class NaiveAgentLaw {
+// core::LawHooks::steady_state: its mean-field steady state with every threshold overloaded (docs/model.md §2.2), the
+// closed form of core/steady_sliding.hpp: exact at w = 0 and while the thresholds lie below the steady contact stress.
+class NaiveAgentLaw : public core::OverloadedSteadyState<NaiveAgentLaw> {
  public:
   static constexpr core::LawHooks hooks{.contact_statistics = true, .checkpoints = true, .count_noise = true, .steady_state = true};
   NaiveAgentLaw(const core::InterfaceParams& ip, const DiscreteParams& dp, std::size_t sites)
@@ -55,10 +57,6 @@ class NaiveAgentLaw {
   // --- the step contract (core::InterfaceLaw) -------------------------------------------
   std::size_t size() const { return area_.size(); }
   const core::InterfaceParams& params() const { return ip_; }
-  /// core::LawHooks::steady_state: the mean-field steady state with every threshold overloaded (docs/model.md §2.2),
-  /// the closed form of core/steady_sliding.hpp: exact at w = 0 and while the thresholds lie below the steady contact stress.
-  core::SteadyState steady_sliding(double v) const { return core::overloaded_steady_sliding(ip_, v); }
-  double steady_velocity(double sigma) const { return core::overloaded_steady_velocity(ip_, sigma); }
   std::span<const double> contact_area() const { return area_; }
   std::span<const double> sigma_bar() const { return sigma_bar_; }
   /// N: every contact attaches and detaches by its own draw (core::LawHooks::count_noise).

@@ -47,13 +47,7 @@ using TestModels = compare::ModelSet<compare::ContinuumModel, compare::MeanField
 // A short homogeneous run with a nucleation patch (L = 60, dx = 1, sigma_d = 0.55): a front runs from the patch;
 // the discrete model as counts (N = 200, noise on), compared online with mean_field every 0.5.
 compare::Scene seam_scene(core::Integrator integrator) {
-  compare::Scene s = testing::homogeneous_scene(0.55, 20.0, 3.0);
-  s.bulk.length = 60.0;
-  s.grid.dx = 1.0;
-  s.time.integrator = integrator;
-  if (integrator == core::Integrator::implicit_trapezoidal) s.time.dt = 0.005;
-  s.output.series_dt = 0.1;
-  s.output.snapshot_dt = 0.5;
+  compare::Scene s = testing::short_front_scene(integrator);
   s.output.compare_dt = 0.5;
   s.models = {"continuum", "mean_field", "discrete"};
   s.discrete.representation = "count";

@@ -16,9 +16,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Each option in its domain (compare::resolution_key_domains()), the message naming the option; then the rules
+// Each option in its domain (studies::resolution_key_domains()), the message naming the option; then the rules
 // between them. False (the reason printed) if not.
-bool check_options(const compare::ResolutionOptions& o, std::ostream& err) {
+bool check_options(const studies::ResolutionOptions& o, std::ostream& err) {
   const std::pair<const char*, double> given[] = {{"levels", o.levels},       {"coarser", o.coarser},
                                                   {"ratio", o.ratio},         {"tolerance", o.tolerance},
                                                   {"tolerance_order", o.tolerance_order}, {"seeds", o.seeds}};
@@ -26,14 +26,14 @@ bool check_options(const compare::ResolutionOptions& o, std::ostream& err) {
     for (const auto& [name, value] : given) {
       const std::string key = "resolution." + std::string(name);
       try {
-        core::check_in_domain(*core::find_key_domain(compare::resolution_key_domains(), key), value);
+        core::check_in_domain(*core::find_key_domain(studies::resolution_key_domains(), key), value);
       } catch (const core::ParamError& e) {
         std::string option = name;
         for (char& c : option) c = c == '_' ? '-' : c;
         throw core::ParamError("--" + option, e.reason);
       }
     }
-    compare::check_resolution_options(o);
+    studies::check_resolution_options(o);
   } catch (const core::ParamError& e) {
     const std::string key = e.key == "resolution.levels" ? "--levels" : e.key;
     err << "slipfront: error: check-resolution: " << key << ": " << e.reason << "\n";
@@ -45,7 +45,7 @@ bool check_options(const compare::ResolutionOptions& o, std::ostream& err) {
 }  // namespace
 
 std::string resolution_study_text(const std::string& scene_name, const fs::path& config,
-                                  const compare::ResolutionOptions& o) {
+                                  const studies::ResolutionOptions& o) {
   toml::table resolution{{"levels", o.levels},
                          {"coarser", o.coarser},
                          {"ratio", o.ratio},
@@ -87,7 +87,7 @@ int check_resolution_command(const ResolutionCheckOptions& opts, std::ostream& o
 CLI::App* add_check_resolution_verb(CLI::App& app, ResolutionCheckOptions& opts) {
   auto* v = app.add_subcommand("check-resolution",
                                "Run a scene at its own resolution and refined ones: each event's error and order");
-  const compare::ResolutionOptions d;
+  const studies::ResolutionOptions d;
   v->add_option("config", opts.config, "Scene configuration file (TOML)")->required();
   v->add_option("-o,--out", opts.out, "Output directory (default: out/resolution/<scene name>)");
   v->add_option("-s,--set", opts.overrides, "Override one scene key before the levels are made; repeatable")

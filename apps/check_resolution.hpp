@@ -22,13 +22,13 @@ struct ResolutionCheckOptions {
   unsigned threads = 0;                ///< as `study -j`
   bool force = false;
   bool quiet = false;
-  compare::ResolutionOptions check;    ///< --levels, --coarser, --ratio, --tolerance, --tolerance-order, --seeds
+  studies::ResolutionOptions check;    ///< --levels, --coarser, --ratio, --tolerance, --tolerance-order, --seeds
   std::string command_line;
 };
 
 /// The study file of kind resolution for the scene (its path absolute) and these options, as TOML text.
 std::string resolution_study_text(const std::string& scene_name, const std::filesystem::path& config,
-                                  const compare::ResolutionOptions& o);
+                                  const studies::ResolutionOptions& o);
 
 /// `slipfront check-resolution`: returns the exit code (a study's: 0, 1, 2, 130).
 int check_resolution_command(const ResolutionCheckOptions& opts, std::ostream& out, std::ostream& err);

@@ -565,7 +565,7 @@ void write_file(const std::filesystem::path& tmp, const compare::Scene& scene, c
 }
 
 void write_study_file(const std::filesystem::path& tmp, const compare::StudySpec& spec, const std::string& spec_toml,
-                      const std::vector<compare::StudyRun>& runs, const compare::StudyReport& report,
+                      const std::vector<compare::StudyRun>& runs, const studies::StudyReport& report,
                       const RunMeta& meta, const StudyExecution& exec) {
   Hid file = create_in_memory(tmp, /*checksummed=*/true);
   write_meta(file.get(), meta, meta.status, meta.message, spec.name, "");
@@ -817,7 +817,7 @@ void write_results(const std::filesystem::path& path, const compare::Scene& scen
 }
 
 void write_study(const std::filesystem::path& path, const compare::StudySpec& spec, const std::string& spec_toml,
-                 const std::vector<compare::StudyRun>& runs, const compare::StudyReport& report, const RunMeta& meta,
+                 const std::vector<compare::StudyRun>& runs, const studies::StudyReport& report, const RunMeta& meta,
                  const StudyExecution& execution) {
   write_atomically(path, [&](const std::filesystem::path& tmp) {
     write_study_file(tmp, spec, spec_toml, runs, report, meta, execution);

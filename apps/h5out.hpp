@@ -64,7 +64,7 @@ struct StudyExecution {
 
 /// Writes a study's analysis to `path` (study.h5) atomically, like write_results.
 void write_study(const std::filesystem::path& path, const compare::StudySpec& spec, const std::string& spec_toml,
-                 const std::vector<compare::StudyRun>& runs, const compare::StudyReport& report, const RunMeta& meta,
+                 const std::vector<compare::StudyRun>& runs, const studies::StudyReport& report, const RunMeta& meta,
                  const StudyExecution& execution = {});
 
 /// Writes `text` to `path` atomically, as write_results writes its file (a temporary created exclusively, flushed,

@@ -134,11 +134,11 @@ std::string read_string(const toml::table& t, const std::string& file, const cha
   return n->as_string()->get();
 }
 
-// The kind must be a row of compare::study_kinds(); the refusal lists them all.
+// The kind must be a row of studies::study_kinds(); the refusal lists them all.
 void check_kind(const std::string& file, const std::string& kind) {
-  if (compare::find_study_kind(kind)) return;
+  if (studies::find_study_kind(kind)) return;
   std::string list;
-  for (const compare::StudyKind& k : compare::study_kinds()) list += (list.empty() ? "" : ", ") + std::string(k.name);
+  for (const studies::StudyKind& k : studies::study_kinds()) list += (list.empty() ? "" : ", ") + std::string(k.name);
   throw ConfigError(file, "kind", "unknown study kind '" + kind + "' (known: " + list + ")");
 }
 
@@ -230,17 +230,17 @@ compare::StudyLimits read_limits(const toml::node& n, const std::string& file) {
 }
 
 // [paths]: the path in H of a kind without scene runs (strip_cmin_height; docs/studies.md), each key checked
-// against its row of compare::strip_cmin_path_domains(), then the rules between keys.
-compare::StripCminHeightOptions read_paths(const toml::node& n, const std::string& file) {
+// against its row of studies::strip_cmin_path_domains(), then the rules between keys.
+studies::StripCminHeightOptions read_paths(const toml::node& n, const std::string& file) {
   std::string names;
-  for (const core::KeyDomain& d : compare::strip_cmin_path_domains())
+  for (const core::KeyDomain& d : studies::strip_cmin_path_domains())
     names += (names.empty() ? "" : ", ") + std::string(d.key).substr(6);
   const auto* t = n.as_table();
   if (!t) throw ConfigError(file, "paths", "must be a table [paths] (keys: " + names + ")");
-  compare::StripCminHeightOptions o;
+  studies::StripCminHeightOptions o;
   for (const auto& [k, v] : *t) {
     const std::string key = "paths." + std::string(k.str());
-    const core::KeyDomain* d = core::find_key_domain(compare::strip_cmin_path_domains(), key);
+    const core::KeyDomain* d = core::find_key_domain(studies::strip_cmin_path_domains(), key);
     if (!d) throw ConfigError(file, key, "unknown key (known keys of [paths]: " + names + ")");
     if (d->kind == core::KeyKind::boolean) {
       if (!v.is_boolean()) throw ConfigError(file, key, "expected true or false, got " + value_text(v));
@@ -271,7 +271,7 @@ compare::StripCminHeightOptions read_paths(const toml::node& n, const std::strin
     else if (name == "max_factor") o.max_factor = x;
   }
   try {
-    compare::check_strip_cmin_paths(o);
+    studies::check_strip_cmin_paths(o);
   } catch (const core::ParamError& e) {
     throw ConfigError(file, e.key, e.reason);
   }
@@ -279,15 +279,15 @@ compare::StripCminHeightOptions read_paths(const toml::node& n, const std::strin
 }
 
 // [resolution]: the levels and the tolerance of the kind resolution (docs/studies.md), each key checked against its
-// row of compare::resolution_key_domains(), then the rules between keys.
-compare::ResolutionOptions read_resolution(const toml::node& n, const std::string& file) {
+// row of studies::resolution_key_domains(), then the rules between keys.
+studies::ResolutionOptions read_resolution(const toml::node& n, const std::string& file) {
   const auto* t = n.as_table();
   if (!t) throw ConfigError(file, "resolution", "must be a table [resolution] (keys: levels, coarser, ratio, tolerance, "
                                                 "tolerance_order, seeds)");
-  compare::ResolutionOptions o;
+  studies::ResolutionOptions o;
   for (const auto& [k, v] : *t) {
     const std::string key = "resolution." + std::string(k.str());
-    const core::KeyDomain* d = core::find_key_domain(compare::resolution_key_domains(), key);
+    const core::KeyDomain* d = core::find_key_domain(studies::resolution_key_domains(), key);
     if (!d) throw ConfigError(file, key, "unknown key (known keys of [resolution]: levels, coarser, ratio, tolerance, "
                                          "tolerance_order, seeds)");
     const bool integer = d->kind == core::KeyKind::integer;
@@ -308,7 +308,7 @@ compare::ResolutionOptions read_resolution(const toml::node& n, const std::strin
     else if (name == "seeds") o.seeds = static_cast<int>(x);
   }
   try {
-    compare::check_resolution_options(o);
+    studies::check_resolution_options(o);
   } catch (const core::ParamError& e) {
     throw ConfigError(file, e.key, e.reason);
   }
@@ -361,18 +361,18 @@ compare::StudySpec load_study_text(const fs::path& file, const std::string& text
   const std::string scene = read_string(t, name, "scene", true);
   s.scene_file = (fs::path(scene).is_absolute() ? fs::path(scene) : file.parent_path() / scene).lexically_normal().string();
   check_kind(name, s.kind);
-  if (compare::find_study_kind(s.kind)->compute) {  // a kind without scene runs: [paths], no runs
+  if (studies::find_study_kind(s.kind)->compute) {  // a kind without scene runs: [paths], no runs
     refuse_run_keys(t, name, s.kind);
     if (const auto* n = t.get("set")) s.common = read_common(*n, name);
     if (const auto* n = t.get("paths")) s.kind_options = read_paths(*n, name);
     return s;
   }
   if (const auto* n = t.get("resolution")) {
-    if (!compare::find_study_kind(s.kind)->plan)
+    if (!studies::find_study_kind(s.kind)->plan)
       throw ConfigError(name, "resolution", "only the kind resolution has [resolution]; the kind '" + s.kind + "' has none");
     s.kind_options = read_resolution(*n, name);
   }
-  if (compare::find_study_kind(s.kind)->plan)  // the kind plans its runs from the base scene
+  if (studies::find_study_kind(s.kind)->plan)  // the kind plans its runs from the base scene
     for (const char* key : {"group", "vary", "seeds"})
       if (t.get(key))
         throw ConfigError(name, key, std::string("the kind '") + s.kind + "' plans its runs from the base scene and " +
@@ -517,7 +517,7 @@ bool owns_study_file(const fs::path& dir, const compare::StudySpec& spec, const 
     return refuse((other.name.empty() ? std::string("no readable study") : "the study '" + other.name + "'") +
                   ", not to '" + spec.name + "'");
   const auto computed = [](const std::string& kind) {
-    const compare::StudyKind* k = compare::find_study_kind(kind);
+    const studies::StudyKind* k = studies::find_study_kind(kind);
     return k != nullptr && k->compute != nullptr;
   };
   if (!computed(spec.kind) && !computed(other.kind)) return true;  // the run files are checked one by one
@@ -699,17 +699,17 @@ compare::StudyEstimate check_study_size(const compare::StudySpec& spec, const st
   }
 }
 
-// The kind's analysis needs its models in every run (compare::StudyKind::needs).
+// The kind's analysis needs its models in every run (studies::StudyKind::needs).
 // (`what`: "run 0000", or "the base scene" of a kind without scene runs.)
 void check_models(const compare::StudySpec& spec, const std::string& study_file, const std::string& what,
                   const compare::Scene& scene) {
-  const compare::StudyKind& kind = *compare::find_study_kind(spec.kind);
-  const std::string missing = compare::missing_models(kind, scene);
+  const studies::StudyKind& kind = *studies::find_study_kind(spec.kind);
+  const std::string missing = studies::missing_models(kind, scene);
   if (missing.empty()) return;
   std::string listed;
   for (const auto& m : scene.models) listed += (listed.empty() ? "\"" : ", \"") + m + "\"";
   throw ConfigError(study_file, "kind",
-                    "the analysis of kind '" + spec.kind + "' needs " + compare::describe(kind.needs) + ", but " + what +
+                    "the analysis of kind '" + spec.kind + "' needs " + studies::describe(kind.needs) + ", but " + what +
                         " has models = [" + listed + "] (no " + missing +
                         "): list the models it needs in the scene, or in the study's `set` (for example 'models=[\"continuum\",\"discrete\"]')");
 }
@@ -720,7 +720,7 @@ void plan_groups(compare::StudySpec& spec, const std::string& scene_text, const 
                  const std::string& study_file) {
   spec.common.insert(spec.common.end(), extra.begin(), extra.end());
   const compare::Scene base = parse_scene(scene_text, spec.scene_file, spec.common);
-  const compare::StudyKind& kind = *compare::find_study_kind(spec.kind);
+  const studies::StudyKind& kind = *studies::find_study_kind(spec.kind);
   try {
     if (kind.check) kind.check(spec, base);
     spec.groups = kind.plan(spec, base);
@@ -744,11 +744,11 @@ std::optional<Study> read_study(const StudyOptions& opts, std::ostream& err) {
     }
     const std::string scene_text = read_scene_text(study.spec, file);
     std::vector<std::string> extra = opts.overrides;  // --set, after the study's own overrides in every run
-    if (compare::find_study_kind(study.spec.kind)->plan) {  // ... but before the levels a kind plans from the base scene
+    if (studies::find_study_kind(study.spec.kind)->plan) {  // ... but before the levels a kind plans from the base scene
       plan_groups(study.spec, scene_text, extra, file);
       extra.clear();
     }
-    if (const compare::StudyKind& kind = *compare::find_study_kind(study.spec.kind); kind.compute) {
+    if (const studies::StudyKind& kind = *studies::find_study_kind(study.spec.kind); kind.compute) {
       // no runs: the base scene with the study's `set` and --set, checked for the kind's computation
       std::vector<std::string> overrides = study.spec.common;
       overrides.insert(overrides.end(), opts.overrides.begin(), opts.overrides.end());
@@ -1125,10 +1125,10 @@ RunMeta study_meta(const std::string& command_line, const Tally& t, std::size_t 
 
 // The analysis of the study kind (a failed analysis fails the study); the runs that could not be
 // read back are notes.
-compare::StudyReport analyse(const Study& study, const RunsMade& made, const Tally& tally, RunMeta& meta) {
-  compare::StudyReport report;
+studies::StudyReport analyse(const Study& study, const RunsMade& made, const Tally& tally, RunMeta& meta) {
+  studies::StudyReport report;
   try {
-    report = compare::analyse_study(study.spec, study.runs, study.scenes, made.results);
+    report = studies::analyse_study(study.spec, study.runs, study.scenes, made.results);
   } catch (const std::exception& e) {
     meta.status = compare::RunStatus::failed;
     meta.message = std::string("analysis: ") + e.what();
@@ -1140,7 +1140,7 @@ compare::StudyReport analyse(const Study& study, const RunsMade& made, const Tal
 
 // The summary on stdout: the status, the runs, the scalars with their intervals, the notes.
 void print_summary(std::ostream& out, const Study& study, const RunMeta& meta, const Engine& engine, long long computed,
-                   long long n_skipped, std::size_t n_untrusted, const Tally& t, const compare::StudyReport& report) {
+                   long long n_skipped, std::size_t n_untrusted, const Tally& t, const studies::StudyReport& report) {
   out << study.spec.name << " (" << study.spec.kind << "): " << compare::to_string(meta.status) << ", "
       << study.runs.size() << " runs in " << static_cast<int>(meta.wall_seconds * 10) / 10.0 << " s on "
       << engine.where() << " -> " << (study.dir / "study.h5").string() << "\n";
@@ -1167,7 +1167,7 @@ int conclude(const StudyOptions& opts, const Study& study, const Schedule& sched
              RunsMade& made, const RunsEnd& end, Clock::time_point wall0, std::ostream& out, std::ostream& err) {
   const Tally tally = read_back(study, schedule, end.handed_out, made);
   RunMeta meta = study_meta(opts.command_line, tally, study.runs.size(), schedule.n_skipped(), end);
-  const compare::StudyReport report = analyse(study, made, tally, meta);
+  const studies::StudyReport report = analyse(study, made, tally, meta);
   meta.wall_seconds = std::chrono::duration<double>(Clock::now() - wall0).count();
   const auto computed = static_cast<long long>(end.handed_out);
   const StudyExecution exec{engine.name(), engine.workers(), computed, schedule.skipped, schedule.untrusted};
@@ -1196,12 +1196,12 @@ int share_exit_code(MpiEngine& mpi, int code, bool root_stopped) {
   return code;
 }
 
-// A kind without scene runs (compare::StudyKind::compute), on rank 0: its computation from the base scene, stoppable
+// A kind without scene runs (studies::StudyKind::compute), on rank 0: its computation from the base scene, stoppable
 // by SIGINT/SIGTERM, its files and DIR/study.h5 written (as a study's: temporary and rename, /meta status complete,
 // interrupted or failed), the summary printed; the exit code.
 int compute_study(const StudyOptions& opts, const Study& study, const Engine& engine, Clock::time_point wall0,
                   std::ostream& out, std::ostream& err) {
-  const compare::StudyKind& kind = *compare::find_study_kind(study.spec.kind);
+  const studies::StudyKind& kind = *studies::find_study_kind(study.spec.kind);
   OutputLock lock;  // DIR held until study.h5 is in place (apps/paths.hpp)
   if (const std::string problem = create_and_lock(study.dir, lock); !problem.empty()) {
     err << "slipfront: error: " << problem << "\n";
@@ -1218,7 +1218,7 @@ int compute_study(const StudyOptions& opts, const Study& study, const Engine& en
   long long solves = 0;
   double shown = -1.0;
   bool open_line = false;
-  compare::StudyWork work;
+  studies::StudyWork work;
   work.stop = [&] {
     ++solves;
     const double el = std::chrono::duration<double>(Clock::now() - wall0).count();
@@ -1235,12 +1235,12 @@ int compute_study(const StudyOptions& opts, const Study& study, const Engine& en
     open_line = false;
     err << tag << line << "\n";
   };
-  compare::StudyReport report;
+  studies::StudyReport report;
   report.notes = study.spec.notes;
   RunMeta meta;
   meta.command_line = opts.command_line;
   try {
-    const compare::StudyOutcome o = kind.compute(report, study.spec, study.base, work);
+    const studies::StudyOutcome o = kind.compute(report, study.spec, study.base, work);
     meta.status = o.status;
     meta.message = o.message;
   } catch (const std::exception& e) {
@@ -1281,7 +1281,7 @@ namespace {
 
 // What a kind runs: "scenes" (the study file's groups x seeds), "planned" (runs planned from the base scene), "none"
 // (a computation from the base scene, no scene runs).
-const char* runs_of(const compare::StudyKind& k) { return k.compute ? "none" : k.plan ? "planned" : "scenes"; }
+const char* runs_of(const studies::StudyKind& k) { return k.compute ? "none" : k.plan ? "planned" : "scenes"; }
 
 // `slipfront study --list-kinds [--json]`: the table, as text (one paragraph a kind) or JSON.
 int list_kinds(const StudyOptions& opts, std::ostream& out) {
@@ -1289,8 +1289,8 @@ int list_kinds(const StudyOptions& opts, std::ostream& out) {
     out << study_kinds_json() << "\n";
     return exit_code::ok;
   }
-  for (const compare::StudyKind& k : compare::study_kinds())
-    out << k.name << " (" << compare::describe(k.needs) << "; runs: " << runs_of(k) << ")\n  " << k.description << "\n";
+  for (const studies::StudyKind& k : studies::study_kinds())
+    out << k.name << " (" << studies::describe(k.needs) << "; runs: " << runs_of(k) << ")\n  " << k.description << "\n";
   return exit_code::ok;
 }
 
@@ -1298,10 +1298,10 @@ int list_kinds(const StudyOptions& opts, std::ostream& out) {
 
 std::string study_kinds_json() {
   std::string json = "{\"kinds\": [";
-  for (const compare::StudyKind& k : compare::study_kinds()) {
+  for (const studies::StudyKind& k : studies::study_kinds()) {
     json += (json.back() == '[' ? "\n  " : ",\n  ");
     json += "{\"name\": " + quoted_string(std::string(k.name)) + ", \"description\": " +
-            quoted_string(std::string(k.description)) + ", \"models\": " + quoted_string(compare::describe(k.needs)) +
+            quoted_string(std::string(k.description)) + ", \"models\": " + quoted_string(studies::describe(k.needs)) +
             ", \"runs\": \"" + runs_of(k) + "\", \"analysis\": " + (k.analyse || k.compute ? "true" : "false") + "}";
   }
   return json + "\n]}";
@@ -1324,7 +1324,7 @@ int study_command(const StudyOptions& opts, std::ostream& out_all, std::ostream&
   // (b)–(c) the study read, every run validated, the plan shared, before any work
   const std::optional<Study> study = read_study(opts, err);
   if (!study) return exit_code::usage;
-  if (compare::find_study_kind(study->spec.kind)->compute) {  // no runs: rank 0 computes, the others wait for its code
+  if (studies::find_study_kind(study->spec.kind)->compute) {  // no runs: rank 0 computes, the others wait for its code
     int code = engine.root ? compute_study(opts, *study, engine, wall0, out, err) : exit_code::ok;
     if (engine.mpi) code = share_exit_code(*engine.mpi, code, false);
     return code;

@@ -35,7 +35,7 @@ struct StudyOptions {
   bool json = false;                   ///< --json (with --list-kinds): as one JSON object (study_kinds_json)
 };
 
-/// The study kinds (compare::study_kinds() of studies/study.hpp, the one table) as JSON: {"kinds": [{"name",
+/// The study kinds (studies::study_kinds() of studies/study.hpp, the one table) as JSON: {"kinds": [{"name",
 /// "description", "models", "runs", "analysis"}, ...]} in the table's order (docs/cli.md "slipfront study
 /// --list-kinds"); what scripts/report.py's plots are checked against (tests/test_study_kinds.cpp).
 std::string study_kinds_json();

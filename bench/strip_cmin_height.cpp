@@ -2,7 +2,7 @@
 // the limiting front at σ_c^d continued in H (continuum::continue_strip_height), at every target H the branch
 // c(σ_d) from σ_d = 0.8 to its end (started from a second path at σ_d = 0.8), the 1D c_min of the same column
 // stiffness μ = μ'H, and the paper's lengths ℓ = μ', ℓ_κ = μ'κ/(ηα), s = μ'/η. Not a Google benchmark: the
-// command line of compare::strip_cmin_height (studies/strip_cmin_height.hpp; the main job runs the same
+// command line of studies::strip_cmin_height (studies/strip_cmin_height.hpp; the main job runs the same
 // computation as the study configs/studies/strip_cmin_height.toml, docs/studies.md), whose table (CSV on stdout,
 // or the file given) is the data of docs/fronts.md §10.12; --check adds the mesh variants at the largest H (§10.13).
 //
@@ -22,7 +22,7 @@ namespace compare = slipfront::compare;
 namespace continuum = slipfront::continuum;
 
 int main(int argc, char** argv) {
-  compare::StripCminHeightOptions o;
+  studies::StripCminHeightOptions o;
   bool check = false;
   std::string out;
   for (int i = 1; i < argc; ++i) {
@@ -56,13 +56,13 @@ int main(int argc, char** argv) {
     return 2;
   }
   o.log = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
-  const auto path = compare::strip_cmin_limiting_path(o);
+  const auto path = studies::strip_cmin_limiting_path(o);
 
   // Mesh convergence at the largest H: each variant re-solved from the path's last front.
   if (check && !path.fronts.empty()) {
     const double mu = o.mu_strip, rho = o.rho_strip;
     const auto& law = o.law;
-    const continuum::StripHeightOptions po = compare::strip_cmin_path_options(o);
+    const continuum::StripHeightOptions po = studies::strip_cmin_path_options(o);
     const auto& last = path.fronts.back();
     const double h = last.bulk.height, lt = continuum::strip_tip_zone(law, last.c, last.v_behind);
     struct Variant {
@@ -104,7 +104,7 @@ int main(int argc, char** argv) {
     }
   }
 
-  const std::string csv = compare::strip_cmin_csv(compare::strip_cmin_rows(o, path));
+  const std::string csv = studies::strip_cmin_csv(studies::strip_cmin_rows(o, path));
   std::fwrite(csv.data(), 1, csv.size(), f);
   if (f != stdout) std::fclose(f);
   return path.complete ? 0 : 1;

@@ -10,6 +10,7 @@
 #include "compare/contacts.hpp"
 #include "compare/difference.hpp"
 #include "compare/laws.hpp"
+#include "compare/lockstep.hpp"
 #include "compare/runner.hpp"
 
 namespace slipfront::compare {
@@ -19,14 +20,13 @@ namespace {
 class FieldComparison {
  public:
   explicit FieldComparison(double every) : due_(every > 0 ? every : -1) {}
-  template <class SimA, class SimB>
-  void observe(double t, const SimA& a, const SimB& b) {
+  void observe(double t, const LockstepRun::Fields& a, const LockstepRun::Fields& b) {
     if (!due_.due(t)) return;
     detail::push(c_, "t", t);
-    detail::push(c_, "A_distance", relative_rms_distance(a.law().contact_area(), b.law().contact_area()));
-    detail::push(c_, "sigma_bar_distance", relative_rms_distance(a.law().sigma_bar(), b.law().sigma_bar()));
-    detail::push(c_, "v_distance", relative_rms_distance(a.slip_rate(), b.slip_rate()));
-    detail::push(c_, "u_distance", relative_rms_distance(a.slip(), b.slip()));
+    detail::push(c_, "A_distance", relative_rms_distance(a.area, b.area));
+    detail::push(c_, "sigma_bar_distance", relative_rms_distance(a.sigma_bar, b.sigma_bar));
+    detail::push(c_, "v_distance", relative_rms_distance(a.slip_rate, b.slip_rate));
+    detail::push(c_, "u_distance", relative_rms_distance(a.slip, b.slip));
   }
   Columns take() { return std::move(c_); }
   template <class Ar>
@@ -50,118 +50,84 @@ void define_fields(Comparison& c, const std::string& r) {
   for (const auto& [k, v] : defs) c.definitions[k] = v;
 }
 
-// The models of a scene in lockstep (a SteppedRun, compare/run_loop.hpp): the continuum, the mean-field and
-// the discrete run, each present when the scene lists it (at least two). Each step advances every present run
-// (a model that has ended, failed or been interrupted stays where it is) and compares the discrete model's
-// fields with its reference's when both are at the same time: mean_field when it runs (docs/model.md §2.2: the
-// ensemble's own N → ∞ limit), else the continuum.
-template <class RunC, class RunM, class RunD>
+// The runs of a lockstep as one SteppedRun (compare/run_loop.hpp), in the order of the table. Each step advances
+// every run (a model that has ended, failed or been interrupted stays where it is) and compares the fields of the
+// compared model with its reference's when both are at the same time: the first run whose row names references
+// (the discrete model), against the first of them that runs (mean_field when it runs, docs/model.md §2.2: the
+// ensemble's own N → ∞ limit; else the continuum).
 class Lockstep {
  public:
   static constexpr std::int64_t progress_every = 1024;
   static constexpr bool checkpointable = true;
-  Lockstep(const Scene& s, RunC* c, RunM* m, RunD* d) : s_(s), c_(c), m_(m), d_(d), fields_(s.output.compare_dt) {}
-  bool done() const {
-    bool all = true;
-    each([&](auto& r) { all = all && r.done(); });
-    return all;
+  Lockstep(const Scene& s, std::vector<std::unique_ptr<LockstepRun>>& runs)
+      : s_(s), runs_(runs), fields_(s.output.compare_dt) {
+    for (const auto& r : runs_) {
+      if (compared_) break;
+      for (const auto& name : r->kind().references)
+        if (LockstepRun* ref = find(name); !name.empty() && ref) {
+          compared_ = r.get(), reference_ = ref;
+          break;
+        }
+    }
   }
-  double time() const { return c_ ? c_->time() : m_ ? m_->time() : d_->time(); }
+  bool done() const {
+    return std::all_of(runs_.begin(), runs_.end(), [](const auto& r) { return r->done(); });
+  }
+  double time() const { return runs_.front()->time(); }
   double end() const { return s_.time.t_end; }
-  /// The present models in the order continuum, mean_field, discrete, joined by '+'.
+  /// The models in the order of the table, joined by '+'.
   std::string label() const {
     std::string out;
-    each([&](auto& r) { out += (out.empty() ? "" : "+") + r.model(); });
+    for (const auto& r : runs_) out += (out.empty() ? "" : "+") + r->model();
     return out;
   }
   void start() { observe_fields(); }
   void step() {
-    each([](auto& r) {
-      if (!r.done()) r.step();
-    });
+    for (auto& r : runs_)
+      if (!r->done()) r->step();
     // docs/model.md §7.2: the after-arrest phase of the contact statistics ends at the earliest next
     // instability of the models compared, for all of them (like with like: one cycle in every model)
-    bool next = false;
-    each([&](auto& r) { next = next || r.had_next_instability(); });
-    if (next) each([](auto& r) { r.close_after_arrest(); });
+    if (std::any_of(runs_.begin(), runs_.end(), [](const auto& r) { return r->had_next_instability(); }))
+      for (auto& r : runs_) r->close_after_arrest();
     observe_fields();
   }
   void interrupt() {
-    each([](auto& r) {
-      if (!r.done()) r.interrupt();
-    });
+    for (auto& r : runs_)
+      if (!r->done()) r->interrupt();
   }
+  bool start_stopped() const {
+    return std::any_of(runs_.begin(), runs_.end(), [](const auto& r) { return r->start_stopped(); });
+  }
+  /// The compared model and its reference (nullptr: no comparison).
+  const LockstepRun* compared() const { return compared_; }
+  const LockstepRun* reference() const { return reference_; }
   Columns take_fields() { return fields_.take(); }
   template <class Ar>
   void serialize(Ar& ar) {
     // continuum+discrete keep the tag and layout of the checkpoints written before mean_field existed
-    const std::string tag = c_ && d_ && !m_ ? std::string("lockstep") : "lockstep " + label();
+    const std::string tag = label() == "continuum+discrete" ? std::string("lockstep") : "lockstep " + label();
     ar.tag(tag.c_str());
-    each([&](auto& r) { ar(r); });
+    for (auto& r : runs_) ar(*r);
     ar(fields_);
   }
 
  private:
-  // the discrete model against its reference, when both advanced to the same time (neither failed)
-  void observe_fields() {
-    if (d_ && m_ && m_->time() == d_->time()) fields_.observe(d_->time(), m_->sim(), d_->sim());
-    else if (d_ && !m_ && c_ && c_->time() == d_->time()) fields_.observe(d_->time(), c_->sim(), d_->sim());
+  LockstepRun* find(std::string_view name) const {
+    for (const auto& r : runs_)
+      if (r->model() == name) return r.get();
+    return nullptr;
   }
-  template <class F>
-  void each(F&& f) const {
-    if (c_) f(*c_);
-    if (m_) f(*m_);
-    if (d_) f(*d_);
+  // the compared model against its reference, when both advanced to the same time (neither failed)
+  void observe_fields() {
+    if (compared_ && reference_->time() == compared_->time())
+      fields_.observe(compared_->time(), reference_->fields(), compared_->fields());
   }
   const Scene& s_;
-  RunC* c_;
-  RunM* m_;
-  RunD* d_;
+  std::vector<std::unique_ptr<LockstepRun>>& runs_;
+  LockstepRun* compared_ = nullptr;
+  LockstepRun* reference_ = nullptr;
   FieldComparison fields_;
 };
-
-// The listed models of {continuum, mean_field, discrete} in lockstep on the integrator Tag; `discrete_law` is
-// the discrete model's law when the scene lists it.
-template <class Tag, class LawD>
-SceneResult lockstep(const Scene& s, std::optional<LawD> discrete_law, const RunControl& ctl) {
-  using LawC = continuum::FrictionLaw;
-  using LawM = discrete::MeanFieldLaw;
-  const std::size_t nodes = body_shape(s).sites;
-  std::optional<DynamicRun<LawC, typename Tag::template stepper<LawC>>> rc;
-  std::optional<DynamicRun<LawM, typename Tag::template stepper<LawM>>> rm;
-  std::optional<DynamicRun<LawD, typename Tag::template stepper<LawD>>> rd;
-  if (s.lists("continuum"))
-    rc.emplace(s, LawC(s.interface, nodes), "continuum", contact_prediction_for(s, "continuum"), ctl.stop);
-  if (s.lists("mean_field"))
-    rm.emplace(s, mean_field_law(s, nodes), "mean_field", contact_prediction_for(s, "mean_field"), ctl.stop);
-  if (discrete_law) rd.emplace(s, std::move(*discrete_law), "discrete", ContactPredictionSetup{}, ctl.stop);
-  Lockstep all(s, rc ? &*rc : nullptr, rm ? &*rm : nullptr, rd ? &*rd : nullptr);
-  // a stop in a steady-front start's solve: every run ends interrupted at t = 0, no checkpoint is resumed into it
-  const bool start_stopped = (rc && rc->start_stopped()) || (rm && rm->start_stopped()) || (rd && rd->start_stopped());
-  if (start_stopped) all.interrupt();
-  if (!ctl.restart.empty() && !start_stopped) {  // continue from a checkpoint (RunControl)
-    core::Archive ar = core::Archive::reader(ctl.restart);
-    ar(all);
-  } else {
-    all.start();
-  }
-  run_loop(all, ctl, all.label());
-  std::map<std::string, ModelResult> done;
-  if (rc) done["continuum"] = rc->finish();
-  if (rm) done["mean_field"] = rm->finish();
-  if (rd) done["discrete"] = rd->finish();
-  SceneResult out;
-  if (rd && (rc || rm)) {
-    const ModelResult& ref = done[discrete_reference(s)];
-    out.comparison = compare_results(s, ref, done["discrete"], &ref);
-    out.comparison.fields = all.take_fields();
-    define_fields(out.comparison, ref.model);
-  }
-  if (rm) label_mean_field(s, done["mean_field"]);
-  if (rd) label_discrete(s, done["discrete"]);
-  for (const auto& m : s.models) out.models.push_back(std::move(done.at(m)));  // in the scene's order
-  return out;
-}
 
 // Per (phase, region) class: the contact snapshots at which both models were in the same phase and both had
 // contacts in the class (a class's ages and thresholds are tested only when there are at least 3).
@@ -396,17 +362,36 @@ SceneResult run_scene_alongside(const Scene& s, const RunControl& ctl) {
     return out;
   };
   if (!runs_in_lockstep(s)) return separately();
-  return with_integrator(s, [&](auto tag) {
-    using Tag = decltype(tag);
-    if constexpr (is_adaptive<Tag>) {
-      return separately();  // not reached: runs_in_lockstep excludes the adaptive integrator
-    } else {
-      if (!s.lists("discrete")) return lockstep<Tag, discrete::CountLaw>(s, std::nullopt, ctl);
-      return with_discrete_law(s, [&](auto make_discrete) {
-        return lockstep<Tag>(s, std::optional(make_discrete(body_shape(s).sites)), ctl);
-      });
-    }
-  });
+  return run_in_lockstep<ShippedModels>(s, ctl);
+}
+
+SceneResult run_lockstep_runs(const Scene& s, std::vector<std::unique_ptr<LockstepRun>> runs, const RunControl& ctl) {
+  if (runs.size() < 2) throw std::invalid_argument("run_lockstep_runs: a lockstep needs two runs or more");
+  Lockstep all(s, runs);
+  // a stop in a steady-front start's solve: every run ends interrupted at t = 0, no checkpoint is resumed into it
+  const bool start_stopped = all.start_stopped();
+  if (start_stopped) all.interrupt();
+  if (!ctl.restart.empty() && !start_stopped) {  // continue from a checkpoint (RunControl)
+    core::Archive ar = core::Archive::reader(ctl.restart);
+    ar(all);
+  } else {
+    all.start();
+  }
+  run_loop(all, ctl, all.label());
+  std::map<std::string, ModelResult> done;
+  for (auto& r : runs) {
+    const std::string name = r->model();  // before finish() hands the result (with its name) over
+    done[name] = r->finish();
+  }
+  SceneResult out;
+  if (all.compared()) {
+    const ModelResult& ref = done.at(std::string(all.reference()->kind().name));
+    out.comparison = compare_results(s, ref, done.at(std::string(all.compared()->kind().name)), &ref);
+    out.comparison.fields = all.take_fields();
+    define_fields(out.comparison, ref.model);
+  }
+  for (const auto& m : s.models) out.models.push_back(std::move(done.at(m)));  // in the scene's order
+  return out;
 }
 
 }  // namespace slipfront::compare

@@ -14,8 +14,8 @@
 
 namespace slipfront::compare {
 
-/// Run every model of the scene; with two or more of continuum, mean_field and discrete on a bulk scene on a
-/// fixed-step integrator, in lockstep. Each model's result is bit-identical to the one run_scene gives for it
+/// Run every model of the scene; with two or more on a bulk scene on a fixed-step integrator, in lockstep
+/// (compare/lockstep.hpp: run_in_lockstep over the table's models, ShippedModels). Each model's result is bit-identical to the one run_scene gives for it
 /// alone. The comparison (fields, events) is of the discrete model with its reference (mean_field when listed,
 /// else the continuum; compare_results), when the discrete model and a reference run.
 SceneResult run_scene_alongside(const Scene& s, const RunControl& ctl);

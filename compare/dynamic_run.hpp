@@ -228,8 +228,10 @@ class DynamicRun {
     r_.events = tracker_.finish(homogeneous);
     r_.events_alt = tracker_.finish(homogeneous, true);
     r_.events.v_behind = r_.events_alt.v_behind = behind_.value();
-    if (homogeneous && std::isfinite(behind_.value()))  // docs/model.md §3: σ_ss(v_behind) = σ_d behind a steady front
-      r_.scalars["sigma_ss_at_v_behind"] = continuum::steady_sliding(s_.interface, behind_.value()).sigma;
+    // docs/model.md §3: σ_ss(v_behind) = σ_d behind a steady front, in the law's own steady state
+    if constexpr (Law::hooks.steady_state)
+      if (homogeneous && std::isfinite(behind_.value()))
+        r_.scalars["sigma_ss_at_v_behind"] = sim_.law().steady_sliding(behind_.value()).sigma;
     r_.scalars["steps"] = static_cast<double>(sim_.steps());
     if constexpr (Stepper::error_control) {
       r_.scalars["substeps"] = static_cast<double>(sim_.substeps());

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <limits>
+#include <type_traits>
 #include <optional>
 
 #include "compare/dispatch.hpp"
@@ -121,12 +123,19 @@ void set_initial_conditions(const Scene& s, Stepper& sim, const std::optional<Fr
   }
   const auto& ip = s.interface;
   const double sd = s.drive.sigma_d;
-  const double vs = continuum::strengthening_branch_velocity(ip, sd);
+  // the patch slides steadily at σ_d in the law's own steady state (core::LawHooks::steady_state)
+  const auto& law = sim.law();
+  double vs = std::numeric_limits<double>::quiet_NaN();
+  if constexpr (std::remove_cvref_t<decltype(law)>::hooks.steady_state) vs = law.steady_velocity(sd);
+  else if (s.drive.nucleation_length > 0.0)
+    throw core::ParamError("drive.nucleation_length", "this model's law has no steady state to start a nucleation patch "
+                                                      "from (core::LawHooks::steady_state); set it to 0");
   const auto set = [&sim](std::size_t k, double u, double v) { sim.set_initial(k, u, v); };
   for (std::size_t i = 0; i < x.size(); ++i) {
     const bool patch = std::isfinite(vs) && x[i] < s.drive.nucleation_length;
     if (patch) {
-      const auto ss = continuum::steady_sliding(ip, vs);
+      core::SteadyState ss{};
+      if constexpr (std::remove_cvref_t<decltype(law)>::hooks.steady_state) ss = law.steady_sliding(vs);
       sim.law().set_site(i, ss.area, ss.sigma_bar);
     } else {
       sim.law().set_site(i, 1.0, sd);

@@ -202,7 +202,7 @@ const char* discrete_reference(const Scene& s) {
 }
 
 bool runs_in_lockstep(const Scene& s) {
-  const int listed = s.lists("continuum") + s.lists("mean_field") + s.lists("discrete");
+  const auto listed = std::count_if(model_kinds.begin(), model_kinds.end(), [&](const ModelKind& k) { return s.lists(k.name); });
   return listed >= 2 && s.drive.loading != core::Loading::imposed_rate &&
          s.time.integrator != core::Integrator::adaptive_rosenbrock;
 }

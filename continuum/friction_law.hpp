@@ -20,9 +20,11 @@
 
 namespace slipfront::continuum {
 
-class FrictionLaw {
+// core::LawHooks::steady_state: the closed form of docs/model.md §1.4 (core/steady_sliding.hpp).
+class FrictionLaw : public core::OverloadedSteadyState<FrictionLaw> {
  public:
-  static constexpr core::LawHooks hooks{.ages = true, .dense_ages = true, .contact_hazard = true, .checkpoints = true};
+  static constexpr core::LawHooks hooks{
+      .ages = true, .dense_ages = true, .contact_hazard = true, .checkpoints = true, .steady_state = true};
   FrictionLaw(const core::InterfaceParams& p, std::size_t sites) : p_(p), n_(sites), fields_(2 * sites, 0.0) {
     std::fill(fields_.begin(), fields_.begin() + static_cast<std::ptrdiff_t>(sites), 1.0);
   }
@@ -174,15 +176,9 @@ class FrictionLaw {
 static_assert(core::SmoothLaw<FrictionLaw>);
 
 // Closed forms of docs/model.md §1 (tests and the comparison layer check against these).
-struct SteadyState {
-  double area, sigma_bar, sigma;
-};
-inline SteadyState steady_sliding(const core::InterfaceParams& p, double v) {
-  const double s = std::abs(v);
-  const double area = 1.0 / (1.0 + p.kappa * s);
-  const double sb = p.alpha * area * (v >= 0 ? 1.0 : -1.0);
-  return {area, sb, sb + p.eta * v};
-}
+using core::SteadyState;
+/// A_ss = 1/(1 + κ|v|), σ̄_ss = α A_ss sgn v, σ_ss = σ̄_ss + ηv (core/steady_sliding.hpp).
+inline SteadyState steady_sliding(const core::InterfaceParams& p, double v) { return core::overloaded_steady_sliding(p, v); }
 /// Velocity of the minimum of σ_ss(v): v_m = (sqrt(ακ/η) − 1)/κ.
 inline double steady_minimum_velocity(const core::InterfaceParams& p) {
   return (std::sqrt(p.alpha * p.kappa / p.eta) - 1.0) / p.kappa;

@@ -22,6 +22,7 @@
 #include "core/contacts.hpp"
 #include "core/exact_update.hpp"
 #include "core/params.hpp"
+#include "core/steady_sliding.hpp"
 
 namespace slipfront::core {
 
@@ -59,6 +60,11 @@ struct LawHooks {
   /// the mean-field law): the step-controlled integrator (core/leap.hpp) shortens the steps of a sliding site near
   /// its threshold only where a fluctuation can take it across (docs/numerics.md §9.4).
   bool count_noise = false;
+  /// Its steady sliding (docs/model.md §1.4; the ensembles': their mean-field steady state, §2.2): steady_sliding(v),
+  /// A, σ̄ and σ at slip rate v, and steady_velocity(σ), the slip rate on the strengthening branch at stress σ (NaN:
+  /// none). The start of a homogeneous scene puts its nucleation patch in this state (compare/initial.hpp), and the
+  /// run checks the rate behind a front against it (sigma_ss_at_v_behind); a law without it cannot start a patch.
+  bool steady_state = false;
 };
 
 struct LawStepInfo {
@@ -121,6 +127,11 @@ concept HasCountNoise = requires(const L& cl) {
   { cl.noise_contacts() } -> std::convertible_to<double>;
 };
 template <class L>
+concept HasSteadyState = requires(const L& cl, double v) {
+  { cl.steady_sliding(v) } -> std::same_as<SteadyState>;
+  { cl.steady_velocity(v) } -> std::convertible_to<double>;
+};
+template <class L>
 concept HasClassHazards = requires(const L& cl, std::span<const double> n, std::span<double> out) {
   { cl.prediction_classes() } -> std::convertible_to<std::size_t>;
   { cl.attached_classes() } -> std::convertible_to<std::span<const double>>;
@@ -151,6 +162,8 @@ consteval bool check_hooks() {
                 "LawHooks::yield_onset must be declared exactly when the law has yield_onset() and yield_saturation()");
   static_assert(h.count_noise == HasCountNoise<L>,
                 "LawHooks::count_noise must be declared exactly when the law has noise_contacts()");
+  static_assert(h.steady_state == HasSteadyState<L>,
+                "LawHooks::steady_state must be declared exactly when the law has steady_sliding(v) and steady_velocity(sigma)");
   static_assert(h.checkpoints == requires(L& law, Archive& ar) { law.serialize(ar); },
                 "LawHooks::checkpoints must be declared exactly when the law has serialize(ar)");
   return true;

@@ -105,11 +105,13 @@ struct DetachedContact {
   double threshold;
 };
 
-class AgentLaw {
+// core::LawHooks::steady_state: its mean-field steady state with every threshold overloaded (docs/model.md §2.2), the
+// closed form of core/steady_sliding.hpp: exact at w = 0 and while the thresholds lie below the steady contact stress.
+class AgentLaw : public core::OverloadedSteadyState<AgentLaw> {
  public:
   static constexpr core::LawHooks hooks{
       .ages = true, .contact_statistics = true, .contact_hazard = true, .checkpoints = true, .yield_onset = true,
-      .count_noise = true};
+      .count_noise = true, .steady_state = true};
   /// Validates `dp` (ParamError naming the key). All sites start stuck: A = 1, σ̄ = 0.
   AgentLaw(const core::InterfaceParams& ip, const DiscreteParams& dp, std::size_t sites);
 

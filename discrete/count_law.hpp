@@ -54,9 +54,11 @@ struct PoolHandle {
 };
 }  // namespace detail
 
-class CountLaw {
+// core::LawHooks::steady_state: its mean-field steady state with every threshold overloaded (docs/model.md §2.2), the
+// closed form of core/steady_sliding.hpp: exact at w = 0 and while the thresholds lie below the steady contact stress.
+class CountLaw : public core::OverloadedSteadyState<CountLaw> {
  public:
-  static constexpr core::LawHooks hooks{.checkpoints = true, .yield_onset = true, .count_noise = true};
+  static constexpr core::LawHooks hooks{.checkpoints = true, .yield_onset = true, .count_noise = true, .steady_state = true};
   /// Validates `dp` (ParamError naming the key). All sites start stuck: A = 1, σ̄ = 0, the N
   /// attached contacts spread over the bins by expectation rounding (a stratified sample of g).
   CountLaw(const core::InterfaceParams& ip, const DiscreteParams& dp, std::size_t sites);

@@ -1419,7 +1419,7 @@ def strip_cmin_section(path, root, figdir):
 
 def study_plots(kind):
     """The plots of a study of `kind`: the function `<kind>_study(st, outdir) -> (figures, summary rows)` of this file.
-    The kinds are the program's one table (compare::study_kinds() in studies/study.cpp; `slipfront study --list-kinds
+    The kinds are the program's one table (studies::study_kinds() in studies/study.cpp; `slipfront study --list-kinds
     --json`, docs/cli.md), listed nowhere here: tests/test_study_kinds.cpp checks that every kind of the table has its
     function here and every such function names a kind of the table. A kind without plots has one returning none."""
     def resolution_study(st, outdir):  # the errors and orders: the section's scalars and notes (tables in study.h5)

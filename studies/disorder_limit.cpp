@@ -11,7 +11,7 @@
 #include "compare/fit.hpp"
 #include "core/params.hpp"
 
-namespace slipfront::compare {
+namespace slipfront::studies {
 namespace {
 
 // The observables: fig1's events (c_slow on the A_tip_alt front, as fig1 reports it) for a bulk scene, the
@@ -320,4 +320,4 @@ void analyse_disorder_limit(StudyReport& rep, const StudySpec& spec, const std::
   fit_w_rates(rep, obs, curves, scenes.empty() ? 0.0 : scenes[0].interface.alpha - 1.0);
 }
 
-}  // namespace slipfront::compare
+}  // namespace slipfront::studies

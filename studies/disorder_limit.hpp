@@ -9,7 +9,7 @@
 
 #include "studies/study.hpp"
 
-namespace slipfront::compare {
+namespace slipfront::studies {
 
 /// The level of the w axis of the validity map (docs/model.md §8): where mean_field departs from the
 /// continuum by more than this.
@@ -35,4 +35,4 @@ LevelCrossing crossing_in_log_w(const std::vector<double>& w, const std::vector<
 void analyse_disorder_limit(StudyReport& rep, const StudySpec& spec, const std::vector<StudyRun>& runs,
                             const std::vector<Scene>& scenes, const std::vector<std::vector<ModelResult>>& res);
 
-}  // namespace slipfront::compare
+}  // namespace slipfront::studies

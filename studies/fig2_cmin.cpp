@@ -13,7 +13,7 @@
 #include "continuum/strip_front.hpp"
 #include "core/params.hpp"
 
-namespace slipfront::compare {
+namespace slipfront::studies {
 namespace {
 
 constexpr double inf = std::numeric_limits<double>::infinity();
@@ -173,4 +173,4 @@ void fig2_against_cmin(StudyReport& rep, Columns& all, const std::vector<Scene>&
       "relative standard deviation of c_transient/c_min over the height's runs: the scatter about the collapse";
 }
 
-}  // namespace slipfront::compare
+}  // namespace slipfront::studies

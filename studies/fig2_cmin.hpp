@@ -8,7 +8,7 @@
 
 #include "studies/study.hpp"
 
-namespace slipfront::compare {
+namespace slipfront::studies {
 
 /// c_min of each scene (NaN where the branch or the path did not end at a limiting front; `why[i]` then says
 /// why). Scenes with the same law, μ, ρ share one path in H; the paths run concurrently (one thread each).
@@ -22,4 +22,4 @@ std::vector<double> minimal_front_speeds(const std::vector<Scene>& scenes, std::
 /// c_min through the origin, mean and relative spread of the ratio, the same against sqrt(μα/(ηκ)), per model) and its definitions.
 void fig2_against_cmin(StudyReport& rep, Columns& all, const std::vector<Scene>& scenes);
 
-}  // namespace slipfront::compare
+}  // namespace slipfront::studies

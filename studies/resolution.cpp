@@ -10,7 +10,7 @@
 #include "compare/fit.hpp"
 #include "studies/study.hpp"
 
-namespace slipfront::compare {
+namespace slipfront::studies {
 
 namespace {
 
@@ -413,4 +413,4 @@ void analyse_resolution(StudyReport& rep, const StudySpec& spec, const std::vect
                           " events; the largest relative error " + percent(v.worst) + " (" + v.worst_name + ")");
 }
 
-}  // namespace slipfront::compare
+}  // namespace slipfront::studies

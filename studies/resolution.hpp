@@ -6,7 +6,7 @@
 // and judged against a relative tolerance. A stochastic model (the discrete model with noise) is judged on its
 // noise-off skeleton (the same law and integrator, every draw replaced by its expectation: deterministic, so its
 // differences between levels are discretisation only); its sampling part is measured apart, by seeds at the
-// scene's own level. A study kind (compare::study_kinds(): `resolution`) whose runs are planned from the base
+// scene's own level. A study kind (studies::study_kinds(): `resolution`) whose runs are planned from the base
 // scene; `slipfront check-resolution CONFIG` writes that study for one scene. Nothing here reads or writes files.
 #include <cstddef>
 #include <limits>
@@ -17,13 +17,17 @@
 #include "core/params.hpp"
 
 namespace slipfront::compare {
-
 struct Scene;
 struct StudySpec;
 struct StudyGroup;
 struct StudyRun;
-struct StudyReport;
 struct ModelResult;
+}  // namespace slipfront::compare
+
+namespace slipfront::studies {
+using namespace compare;  // the run layer's vocabulary: Scene, StudySpec, ModelResult, ...
+
+struct StudyReport;
 
 /// [resolution] of a study of kind resolution (and the options of `slipfront check-resolution`).
 struct ResolutionOptions {
@@ -64,8 +68,8 @@ RichardsonEstimate richardson(std::span<const double> f, std::size_t base, doubl
 std::vector<StudyGroup> resolution_groups(const StudySpec& spec, const Scene& base);
 /// The checks of the base scene before any work (throws core::ParamError naming the key): a scene with events.
 void check_resolution_scene(const StudySpec& spec, const Scene& base);
-/// The analysis of kind resolution (signature of compare::StudyAnalysis).
+/// The analysis of kind resolution (signature of studies::StudyAnalysis).
 void analyse_resolution(StudyReport& rep, const StudySpec& spec, const std::vector<StudyRun>& runs,
                         const std::vector<Scene>& scenes, const std::vector<std::vector<ModelResult>>& results);
 
-}  // namespace slipfront::compare
+}  // namespace slipfront::studies

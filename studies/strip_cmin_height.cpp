@@ -8,7 +8,7 @@
 #include "studies/study.hpp"
 #include "continuum/steady_front.hpp"
 
-namespace slipfront::compare {
+namespace slipfront::studies {
 namespace {
 
 namespace continuum = slipfront::continuum;
@@ -398,4 +398,4 @@ StudyOutcome strip_cmin_height_study(StudyReport& rep, const StudySpec& spec, co
   return strip_cmin_outcome(rep, o, r, work);
 }
 
-}  // namespace slipfront::compare
+}  // namespace slipfront::studies

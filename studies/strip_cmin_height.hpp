@@ -14,9 +14,13 @@
 #include "core/params.hpp"
 
 namespace slipfront::compare {
-
 struct Scene;
 struct StudySpec;
+}  // namespace slipfront::compare
+
+namespace slipfront::studies {
+using namespace compare;  // the run layer's vocabulary: Scene, StudySpec, ModelResult, ...
+
 struct StudyReport;
 struct StudyWork;
 struct StudyOutcome;
@@ -94,12 +98,12 @@ void check_strip_cmin_paths(const StripCminHeightOptions& o);
 /// The study's [paths] with the base scene's law and strip material: μ' = bulk.mu/bulk.height, ρ' =
 /// bulk.rho/bulk.height (docs/model.md §9.1). Throws core::ParamError (key "scene") unless the scene is a strip.
 StripCminHeightOptions strip_cmin_study_options(const StudySpec& spec, const Scene& base);
-/// The same, as the kind's check before any work (compare::StudyCheck).
+/// The same, as the kind's check before any work (studies::StudyCheck).
 void check_strip_cmin_study(const StudySpec& spec, const Scene& base);
 
-/// The kind's computation (compare::StudyComputation): the table `strip_cmin_height` (the CSV's numeric columns),
+/// The kind's computation (studies::StudyComputation): the table `strip_cmin_height` (the CSV's numeric columns),
 /// scalars (the material, ℓ, ℓ_κ, s, c_s, heights targeted and reached), notes, and the file
 /// strip_cmin_height.csv. Interrupted when work.stop ends it, failed when the path stops short otherwise.
 StudyOutcome strip_cmin_height_study(StudyReport& rep, const StudySpec& spec, const Scene& base, const StudyWork& work);
 
-}  // namespace slipfront::compare
+}  // namespace slipfront::studies

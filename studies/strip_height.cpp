@@ -10,7 +10,7 @@
 #include "compare/fit.hpp"
 #include "core/params.hpp"
 
-namespace slipfront::compare {
+namespace slipfront::studies {
 namespace {
 
 // The events of fig1 the study follows (docs/output.md `events`): c_slow on the A_tip_alt front, as fig1
@@ -275,4 +275,4 @@ void analyse_strip_height(StudyReport& rep, const std::vector<StudyRun>& runs, c
   put_dy_table(rep, points);
 }
 
-}  // namespace slipfront::compare
+}  // namespace slipfront::studies

@@ -6,7 +6,7 @@
 
 #include "studies/study.hpp"
 
-namespace slipfront::compare {
+namespace slipfront::studies {
 
 /// The largest relative difference to the 1D events the smallest height may show before the analysis
 /// flags it (docs/model.md §9.2: the strip tends to the chain at second order in H; the issue asks for
@@ -21,4 +21,4 @@ inline constexpr double strip_height_thin_tolerance = 0.005;
 void analyse_strip_height(StudyReport& rep, const std::vector<StudyRun>& runs, const std::vector<Scene>& scenes,
                           const std::vector<std::vector<ModelResult>>& res);
 
-}  // namespace slipfront::compare
+}  // namespace slipfront::studies

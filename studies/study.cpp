@@ -17,7 +17,7 @@
 #include "continuum/friction_law.hpp"
 #include "continuum/steady_front.hpp"
 
-namespace slipfront::compare {
+namespace slipfront::studies {
 
 void put_fit(StudyReport& rep, const std::string& name, const LineFit& f, const std::string& what) {
   rep.scalars[name] = f.slope;
@@ -545,4 +545,4 @@ StudyReport analyse_study(const StudySpec& spec, const std::vector<StudyRun>& ru
   return rep;
 }
 
-}  // namespace slipfront::compare
+}  // namespace slipfront::studies

@@ -17,6 +17,11 @@
 #include "compare/study_plan.hpp"
 
 namespace slipfront::compare {
+struct LineFit;
+}  // namespace slipfront::compare
+
+namespace slipfront::studies {
+using namespace compare;  // the run layer's vocabulary: Scene, StudySpec, ModelResult, ...
 
 /// The kind's own section of `spec` (StudySpec::kind_options, of type T: StripCminHeightOptions,
 /// ResolutionOptions), or T's defaults when the study file has none.
@@ -102,7 +107,6 @@ StudyReport analyse_study(const StudySpec& spec, const std::vector<StudyRun>& ru
 /// Analysis helpers shared by the kinds: one fitted rate as scalars `name`, `name_ci_low`, `name_ci_high`,
 /// `name_points` with its definition; put_fits: the power-law fit over every point, and (name + "_from") over
 /// x >= from when that leaves >= 3 points (the study key fit_from).
-struct LineFit;
 void put_fit(StudyReport& rep, const std::string& name, const LineFit& f, const std::string& what);
 void put_fits(StudyReport& rep, const std::string& name, const std::vector<double>& x, const std::vector<double>& y,
               double from, const std::string& what);
@@ -110,4 +114,4 @@ void put_fits(StudyReport& rep, const std::string& name, const std::vector<doubl
 /// Result of the model named `model` in one run's results (nullptr if absent).
 const ModelResult* find_model(const std::vector<ModelResult>& r, const std::string& model);
 
-}  // namespace slipfront::compare
+}  // namespace slipfront::studies

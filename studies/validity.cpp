@@ -10,7 +10,7 @@
 #include "compare/fit.hpp"
 #include "core/params.hpp"
 
-namespace slipfront::compare {
+namespace slipfront::studies {
 namespace {
 
 constexpr double nan_v = std::numeric_limits<double>::quiet_NaN();
@@ -628,4 +628,4 @@ void analyse_validity_fig1(StudyReport& rep, const std::vector<StudyRun>& runs, 
   put_fig1_step_table(rep, points, dt_ref);
 }
 
-}  // namespace slipfront::compare
+}  // namespace slipfront::studies

@@ -8,7 +8,7 @@
 
 #include "studies/study.hpp"
 
-namespace slipfront::compare {
+namespace slipfront::studies {
 
 /// The first N (log-log interpolation between the grid points) at which `error` falls below `level`
 /// and stays below it for every larger N; NaN when it is below at the smallest N already (bounded
@@ -44,4 +44,4 @@ void analyse_validity_friction(StudyReport& rep, const std::vector<StudyRun>& ru
 void analyse_validity_fig1(StudyReport& rep, const std::vector<StudyRun>& runs, const std::vector<Scene>& scenes,
                            const std::vector<std::vector<ModelResult>>& res);
 
-}  // namespace slipfront::compare
+}  // namespace slipfront::studies

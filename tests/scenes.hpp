@@ -65,6 +65,19 @@ inline compare::Scene homogeneous_scene(double sigma_d, double nucleation_length
   return s;
 }
 
+/// A short homogeneous run on a small chain (L = 60, dx = 1, σ_d = 0.55, a nucleation patch ℓ_n = 20, t_end = 3) on
+/// `integrator` (implicit: dt = 0.005): series every 0.1, snapshots every 0.5; not validated (a test adds its keys).
+inline compare::Scene short_front_scene(core::Integrator integrator) {
+  compare::Scene s = homogeneous_scene(0.55, 20.0, 3.0);
+  s.bulk.length = 60.0;
+  s.grid.dx = 1.0;
+  s.time.integrator = integrator;
+  if (integrator == core::Integrator::implicit_trapezoidal) s.time.dt = 0.005;
+  s.output.series_dt = 0.1;
+  s.output.snapshot_dt = 0.5;
+  return s;
+}
+
 /// 0D spring block (docs/model.md §1): ρ v̇ = K (v_d t − u) − σ̄ − η v, paper parameters K = 2.5, v_d = 0.3,
 /// ρ = 0.01.
 inline compare::Scene spring_block_scene(double t_end) {
@@ -109,15 +122,35 @@ struct TempDir {
 
 /// The smallest valid configuration (docs/model.md §5, docs/cli.md): edge loading with every required key
 /// and nothing else; paper parameters, L = 20, dx = 2, t_end = 2 (a few hundred steps).
-inline std::string minimal_config() {
-  return R"(scene = "tiny"
-[interface]
+/// The paper's [interface] (α = 1.05, κ = 8, η = 0.1) and the bulk's ρ = 0.01, the lines every scene file of the
+/// tests begins with (a [bulk] section follows on: its other keys come next).
+inline std::string paper_interface_toml() {
+  return R"([interface]
 alpha = 1.05
 kappa = 8
 eta = 0.1
 [bulk]
 rho = 0.01
-mu = 300
+)";
+}
+
+/// The 0D imposed-rate sweep (docs/model.md §4 friction_law) of both models as a scene file: 5 rates, `steps` steps
+/// each to t_end = 5.
+inline std::string sweep_config(int steps) {
+  return R"(scene = "sweep"
+models = ["continuum", "discrete"]
+)" + paper_interface_toml() +
+         R"([drive]
+loading = "imposed_rate"
+points = 5
+[time]
+t_end = 5
+steps = )" + std::to_string(steps) + "\n";
+}
+
+inline std::string minimal_config() {
+  return R"(scene = "tiny"
+)" + paper_interface_toml() + R"(mu = 300
 length = 20
 [drive]
 loading = "edge"

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "apps/h5in.hpp"
+#include "scenes.hpp"
 
 namespace slipfront::testing {
 
@@ -17,13 +18,7 @@ namespace slipfront::testing {
 inline std::filesystem::path write_front_study(const std::filesystem::path& dir, double t_end = 80.0) {
   std::ofstream(dir / "edge.toml") << R"(scene = "edge"
 models = ["continuum", "discrete"]
-[interface]
-alpha = 1.05
-kappa = 8
-eta = 0.1
-[bulk]
-rho = 0.01
-mu = 300
+)" << paper_interface_toml() << R"(mu = 300
 length = 150
 [drive]
 loading = "edge"
@@ -52,21 +47,7 @@ seeds = 3
 /// Imposed-rate sweep (5 rates, 500 steps each), both models, N = 100 .. 10000, 2 seeds: 6 runs of
 /// a few milliseconds. Kind friction_law.
 inline std::filesystem::path write_sweep_study(const std::filesystem::path& dir) {
-  std::ofstream(dir / "sweep.toml") << R"(scene = "sweep"
-models = ["continuum", "discrete"]
-[interface]
-alpha = 1.05
-kappa = 8
-eta = 0.1
-[bulk]
-rho = 0.01
-[drive]
-loading = "imposed_rate"
-points = 5
-[time]
-t_end = 5
-steps = 500
-)";
+  std::ofstream(dir / "sweep.toml") << sweep_config(500);
   const auto study = dir / "sweeps.toml";
   std::ofstream(study) << R"(study = "sweeps"
 kind = "friction_law"

@@ -17,7 +17,7 @@
 namespace slipfront::testing {
 
 /// The study configs/studies/<name>.toml (name may hold a folder: "checks/x"), run and analysed.
-inline compare::StudyReport run_study(const std::string& name) {
+inline studies::StudyReport run_study(const std::string& name) {
   const auto spec = app::load_study(std::string(SLIPFRONT_SOURCE_DIR) + "/configs/studies/" + name + ".toml");
   const auto runs = compare::expand(spec);
   std::vector<compare::Scene> scenes;
@@ -28,12 +28,12 @@ inline compare::StudyReport run_study(const std::string& name) {
     for (auto& m : sr.models) m.snapshots.clear();
     results[i] = std::move(sr.models);
   });
-  auto rep = compare::analyse_study(spec, runs, scenes, results);
+  auto rep = studies::analyse_study(spec, runs, scenes, results);
   for (const auto& [k, v] : rep.scalars) WARN(name << ": " << k << " = " << v);
   return rep;
 }
 
 /// A scalar of a study's report (throws if it has none: a test of a missing result fails).
-inline double scalar(const compare::StudyReport& r, const std::string& k) { return r.scalars.at(k); }
+inline double scalar(const studies::StudyReport& r, const std::string& k) { return r.scalars.at(k); }
 
 }  // namespace slipfront::testing

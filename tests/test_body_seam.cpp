@@ -35,13 +35,7 @@ namespace {
 // A short homogeneous run with a nucleation patch (L = 60, dx = 1): the interface slides behind a front while
 // the twin's free chain carries the patch's momentum; snapshots of both every 0.5.
 compare::Scene twin_scene(core::Integrator integrator) {
-  compare::Scene s = testing::homogeneous_scene(0.55, 20.0, 3.0);
-  s.bulk.length = 60.0;
-  s.grid.dx = 1.0;
-  s.time.integrator = integrator;
-  if (integrator == core::Integrator::implicit_trapezoidal) s.time.dt = 0.005;
-  s.output.series_dt = 0.1;
-  s.output.snapshot_dt = 0.5;
+  compare::Scene s = testing::short_front_scene(integrator);
   s.bulk_output.dt = 0.5;
   s.bulk_output.stride = 1;
   s.validate();

@@ -115,14 +115,14 @@ TEST_CASE("compare: relative differences and their NaN rule (compare/difference.
 
 namespace {
 // A study executed as `slipfront study` does it: expand, run every point on a pool, analyse.
-compare::StudyReport run_study(const compare::StudySpec& spec, unsigned threads) {
+studies::StudyReport run_study(const compare::StudySpec& spec, unsigned threads) {
   const auto runs = compare::expand(spec);
   std::vector<Scene> scenes;
   for (const auto& r : runs) scenes.push_back(app::load_scene(spec.scene_file, r.overrides));
   std::vector<std::vector<ModelResult>> results(runs.size());
   compare::run_pool(runs.size(), threads,
                     [&](std::size_t i) { results[i] = compare::run_scene_alongside(scenes[i], {}).models; });
-  return compare::analyse_study(spec, runs, scenes, results);
+  return studies::analyse_study(spec, runs, scenes, results);
 }
 
 compare::StudySpec small_friction_study(std::vector<std::string> Ns, int seeds) {

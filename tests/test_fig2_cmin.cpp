@@ -30,7 +30,7 @@ TEST_CASE("fig2 against c_min: the chain's c_min is the 1D branch end, the strip
   };
   std::vector<std::string> why;
   std::vector<double> err;
-  const auto c = compare::minimal_front_speeds(scenes, why, &err);
+  const auto c = studies::minimal_front_speeds(scenes, why, &err);
   REQUIRE(c.size() == scenes.size());
   REQUIRE(err.size() == scenes.size());
   for (std::size_t i = 0; i < c.size(); ++i) {  // every c_min with its estimate (docs/fronts.md §10.20)
@@ -62,7 +62,7 @@ TEST_CASE("fig2 against c_min: the chain's c_min is the 1D branch end, the strip
   CHECK(c[4] < c[2] / 1.3);
   // one column, two heights: the same path gives both (the H = 17 front is on the path to H = 100)
   std::vector<std::string> why2;
-  const auto alone = compare::minimal_front_speeds({scenes[2]}, why2);
+  const auto alone = studies::minimal_front_speeds({scenes[2]}, why2);
   CHECK(std::abs(alone[0] / c[2] - 1.0) < 1e-3);
 }
 
@@ -72,7 +72,7 @@ TEST_CASE("fig2 against c_min: a column whose path cannot start says why and giv
   std::vector<compare::Scene> scenes{fig1_strip({"bulk.height=0", "grid.dy=0"}), fig1_strip({"bulk.height=17", "grid.dy=1"})};
   for (auto& s : scenes) s.interface.alpha = 0.5;
   std::vector<std::string> why;
-  const auto c = compare::minimal_front_speeds(scenes, why);
+  const auto c = studies::minimal_front_speeds(scenes, why);
   for (std::size_t i = 0; i < 2; ++i) {
     CHECK(std::isnan(c[i]));
     CHECK_FALSE(why[i].empty());

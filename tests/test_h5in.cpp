@@ -145,33 +145,11 @@ TEST_CASE("h5in: results read back equal what write_results wrote, for every kin
               "discrete.contact_statistics=true"},
              "agent");
   // 0D friction-law sweep: friction_law columns and scalars (v_m fits), /compare/friction_law
-  const std::string sweep = R"(scene = "sweep"
-models = ["continuum", "discrete"]
-[interface]
-alpha = 1.05
-kappa = 8
-eta = 0.1
-[bulk]
-rho = 0.01
-[drive]
-loading = "imposed_rate"
-points = 5
-[time]
-t_end = 5
-steps = 300
-[discrete]
-contacts_per_site = 100
-)";
+  const std::string sweep = testing::sweep_config(300) + "[discrete]\ncontacts_per_site = 100\n";
   round_trip(dir.path, sweep, {}, "sweep");
   // 0D spring block: stick-slip cycles
   const std::string block = R"(scene = "block"
-[interface]
-alpha = 1.05
-kappa = 8
-eta = 0.1
-[bulk]
-rho = 0.01
-[drive]
+)" + testing::paper_interface_toml() + R"([drive]
 loading = "spring_block"
 K = 2.5
 v_d = 0.3

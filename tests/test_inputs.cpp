@@ -266,7 +266,7 @@ vary = { "discrete.seed" = [9007199254740993, 9007199254740992] }
   CHECK(compare::count_runs(s) == 27.0);
   CHECK(compare::expand(s).size() == 27);
   // the notes reach the analysis (study.h5 /study notes)
-  const compare::StudyReport r = compare::analyse_study(s, {}, {}, {});
+  const studies::StudyReport r = studies::analyse_study(s, {}, {}, {});
   CHECK(r.notes == s.notes);
 }
 
@@ -276,7 +276,7 @@ TEST_CASE("inputs: each study kind states the models its analysis needs", "[inpu
   continuum.models = {"continuum"};
   discrete.models = {"discrete"};
   // the models a kind needs that a scene listing only `listed` lacks, in the order continuum, mean_field, discrete
-  const auto lacking = [](const compare::ModelsNeeded& n, const std::string& listed) {
+  const auto lacking = [](const studies::ModelsNeeded& n, const std::string& listed) {
     std::string m;
     for (const auto& [needed, name] : {std::pair{n.continuum, "continuum"}, std::pair{n.mean_field, "mean_field"},
                                        std::pair{n.discrete, "discrete"}})
@@ -286,24 +286,24 @@ TEST_CASE("inputs: each study kind states the models its analysis needs", "[inpu
       }
     return m;
   };
-  for (const compare::StudyKind& k : compare::study_kinds()) {
+  for (const studies::StudyKind& k : studies::study_kinds()) {
     INFO(k.name);
-    CHECK(compare::missing_models(k, all).empty());  // the three models feed every analysis
-    CHECK(compare::missing_models(k, continuum) == lacking(k.needs, "continuum"));
-    CHECK(compare::missing_models(k, discrete) == lacking(k.needs, "discrete"));
+    CHECK(studies::missing_models(k, all).empty());  // the three models feed every analysis
+    CHECK(studies::missing_models(k, continuum) == lacking(k.needs, "continuum"));
+    CHECK(studies::missing_models(k, discrete) == lacking(k.needs, "discrete"));
   }
   // disorder_limit compares mean_field with the continuum (and the discrete model with mean_field where it runs)
-  CHECK(compare::missing_models(*compare::find_study_kind("disorder_limit"), continuum) == "mean_field");
-  CHECK(compare::missing_models(*compare::find_study_kind("disorder_limit"), discrete) == "continuum and mean_field");
-  const auto needs = [](std::string_view name) { return compare::find_study_kind(name)->needs; };
+  CHECK(studies::missing_models(*studies::find_study_kind("disorder_limit"), continuum) == "mean_field");
+  CHECK(studies::missing_models(*studies::find_study_kind("disorder_limit"), discrete) == "continuum and mean_field");
+  const auto needs = [](std::string_view name) { return studies::find_study_kind(name)->needs; };
   for (const char* comparison : {"friction_law", "threshold_width", "transient_friction", "front_speeds",
                                  "validity_friction", "validity_fig1"}) {
     INFO(comparison);
     CHECK((needs(comparison).continuum && needs(comparison).discrete));
   }
-  CHECK(compare::describe(needs("transient_friction")) == "the continuum and the discrete model");
-  CHECK(compare::describe(needs("fig2")) == "the continuum model");
-  CHECK(compare::describe(needs("runs")) == "any model");
-  CHECK(compare::describe(needs("steady_fronts")) == "any model");
-  CHECK(compare::describe(needs("disorder_limit")) == "the continuum and the mean_field model");
+  CHECK(studies::describe(needs("transient_friction")) == "the continuum and the discrete model");
+  CHECK(studies::describe(needs("fig2")) == "the continuum model");
+  CHECK(studies::describe(needs("runs")) == "any model");
+  CHECK(studies::describe(needs("steady_fronts")) == "any model");
+  CHECK(studies::describe(needs("disorder_limit")) == "the continuum and the mean_field model");
 }

@@ -21,8 +21,8 @@
 using namespace slipfront;
 
 namespace {
-compare::StudyReport run(const std::string& name) { return testing::run_study(name); }
-double get(const compare::StudyReport& r, const std::string& k) { return testing::scalar(r, k); }
+studies::StudyReport run(const std::string& name) { return testing::run_study(name); }
+double get(const studies::StudyReport& r, const std::string& k) { return testing::scalar(r, k); }
 }  // namespace
 
 TEST_CASE("slow disorder: fig1 with w = 0.2: discrete events converge to mean_field's with N (fitted exponent with CI)",

@@ -22,8 +22,8 @@
 using namespace slipfront;
 
 namespace {
-compare::StudyReport run(const std::string& name) { return testing::run_study(name); }
-double get(const compare::StudyReport& r, const std::string& k) { return testing::scalar(r, k); }
+studies::StudyReport run(const std::string& name) { return testing::run_study(name); }
+double get(const studies::StudyReport& r, const std::string& k) { return testing::scalar(r, k); }
 }  // namespace
 
 TEST_CASE("slow studies: friction law, random error ~ N^(-1/2) in the mean-field regime", "[slow][studies]") {
@@ -212,7 +212,7 @@ TEST_CASE("slow studies: the validity map of the steady law at reduced size, and
   std::vector<std::vector<compare::ModelResult>> results(runs.size());
   compare::run_pool(runs.size(), std::max(1u, std::thread::hardware_concurrency()),
                     [&](std::size_t i) { results[i] = compare::run_scene_alongside(scenes[i], {}).models; });
-  const auto r = compare::analyse_study(spec, runs, scenes, results);
+  const auto r = studies::analyse_study(spec, runs, scenes, results);
   const auto& x = r.tables.at("validity_crossover");
   for (std::size_t k = 0; k < x.at("alpha").size(); ++k) {
     INFO("alpha - 1 = " << x.at("alpha_minus_1")[k] << ": N* = " << x.at("N_star_1")[k]);
@@ -234,7 +234,7 @@ TEST_CASE("slow studies: fig1 on the strip tends to the 1D chain as H -> 0 at se
   // at H = 5, 17, 34 (the grid's own 0.2 % offset of t* cancels in the ratio; measured within 0.05 %).
   const auto r = run("strip_height");
   CHECK(get(r, "strip_height_thin_H") == 0.25);
-  CHECK(get(r, "strip_height_thin_max_rel_diff") < compare::strip_height_thin_tolerance);
+  CHECK(get(r, "strip_height_thin_max_rel_diff") < studies::strip_height_thin_tolerance);
   for (const char* o : {"t_star", "t_hat", "x_arrest"})
     CHECK(std::abs(get(r, std::string("strip_height_order_") + o + "_continuum") - 2.0) < 0.3);
   const auto& t = r.tables.at("strip_height");

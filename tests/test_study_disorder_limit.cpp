@@ -26,19 +26,19 @@ using namespace slipfront;
 
 namespace {
 
-bool has_note(const compare::StudyReport& r, const std::string& text) {
+bool has_note(const studies::StudyReport& r, const std::string& text) {
   for (const auto& n : r.notes)
     if (n.find(text) != std::string::npos) return true;
   return false;
 }
 
-std::string notes(const compare::StudyReport& r) {
+std::string notes(const studies::StudyReport& r) {
   std::string s;
   for (const auto& n : r.notes) s += n + "\n";
   return s;
 }
 
-compare::StudyReport run_study(const fs::path& file) {
+studies::StudyReport run_study(const fs::path& file) {
   const auto spec = app::load_study(file);
   const auto runs = compare::expand(spec);
   std::vector<compare::Scene> scenes;
@@ -47,7 +47,7 @@ compare::StudyReport run_study(const fs::path& file) {
   compare::run_pool(runs.size(), std::max(1u, std::thread::hardware_concurrency()), [&](std::size_t i) {
     results[i] = compare::run_scene_alongside(scenes[i], {}).models;
   });
-  return compare::analyse_study(spec, runs, scenes, results);
+  return studies::analyse_study(spec, runs, scenes, results);
 }
 
 // Hand-made results: one run per (threshold, renewal, w, N, seed) with the given events per model.
@@ -80,11 +80,11 @@ struct Maker {
       }
     results.push_back(ms);
   }
-  compare::StudyReport analyse(double fit_from = 0.0) const {
-    compare::StudyReport rep;
+  studies::StudyReport analyse(double fit_from = 0.0) const {
+    studies::StudyReport rep;
     compare::StudySpec spec;
     spec.fit_from = fit_from;
-    compare::analyse_disorder_limit(rep, spec, runs, scenes, results);
+    studies::analyse_disorder_limit(rep, spec, runs, scenes, results);
     return rep;
   }
 };
@@ -104,20 +104,20 @@ compare::Events fig1_events(double scale = 1.0) {
 TEST_CASE("disorder_limit: the 1 % crossing is interpolated in log w, or flagged below or above the widths",
           "[study][disorder]") {
   // rel = 0.3 w at w = 0.02 (0.006) and 0.05 (0.015): linear in log w between them
-  const auto x = compare::crossing_in_log_w({0.05, 0.01, 0.02, 0.1}, {0.015, 0.003, 0.006, 0.03}, 0.01);
+  const auto x = studies::crossing_in_log_w({0.05, 0.01, 0.02, 0.1}, {0.015, 0.003, 0.006, 0.03}, 0.01);
   CHECK(x.status == 0);
   const double f = (0.01 - 0.006) / (0.015 - 0.006);
   CHECK(x.w == Approx(std::exp(std::log(0.02) + f * std::log(2.5))).epsilon(1e-12));
   CHECK(x.w > 0.02);
   CHECK(x.w < 0.05);
-  const auto above = compare::crossing_in_log_w({0.01, 0.1}, {0.02, 0.2}, 0.01);
+  const auto above = studies::crossing_in_log_w({0.01, 0.1}, {0.02, 0.2}, 0.01);
   CHECK(above.status == -1);
   CHECK(std::isnan(above.w));
-  const auto within = compare::crossing_in_log_w({0.01, 0.1}, {0.0, 0.005}, 0.01);
+  const auto within = studies::crossing_in_log_w({0.01, 0.1}, {0.0, 0.005}, 0.01);
   CHECK(within.status == 1);
   CHECK(std::isnan(within.w));
   // a difference that goes above and comes back below: the first crossing from the smallest w
-  CHECK(compare::crossing_in_log_w({0.01, 0.1, 0.3}, {0.0, 0.02, 0.001}, 0.01).w == Approx(std::sqrt(0.1 * 0.01)));
+  CHECK(studies::crossing_in_log_w({0.01, 0.1, 0.3}, {0.0, 0.02, 0.001}, 0.01).w == Approx(std::sqrt(0.1 * 0.01)));
 }
 
 TEST_CASE("disorder_limit: hand-made results give the N-rate, the w-rate and the crossing they were made with",

@@ -155,7 +155,7 @@ TEST_CASE("study inputs: a kind whose analysis needs a model the runs do not lis
   const TempDir dir("sinputs-models");
   write_sweep_study(dir.path);
   int refused = 0;
-  for (const compare::StudyKind& k : compare::study_kinds()) {
+  for (const studies::StudyKind& k : studies::study_kinds()) {
     for (const char* model : {"continuum", "discrete"}) {
       const bool needed_missing = std::string(model) == "continuum" ? k.needs.discrete : k.needs.continuum;
       if (!needed_missing) continue;  // (a kind this model feeds: its runs are tested elsewhere)
@@ -168,7 +168,7 @@ TEST_CASE("study inputs: a kind whose analysis needs a model the runs do not lis
       // (a kind without scene runs checks its base scene)
       const std::string who = k.compute ? "the base scene" : "run 0000";
       CHECK(contains(t.o.err, "slipfront: error: k.toml: kind: the analysis of kind '" + std::string(k.name) +
-                                  "' needs " + compare::describe(k.needs) + ", but " + who + " has models = [\"" + model +
+                                  "' needs " + studies::describe(k.needs) + ", but " + who + " has models = [\"" + model +
                                   "\"]"));
       CHECK_FALSE(fs::exists(dir.path / "out"));
       ++refused;

@@ -28,7 +28,7 @@ fs::path write_study(const fs::path& dir, const std::string& kind) {
 }
 
 // Everything a report holds, as text, to tell two reports apart.
-std::string digest(const compare::StudyReport& r) {
+std::string digest(const studies::StudyReport& r) {
   std::string s;
   for (const auto& [name, columns] : r.tables) {
     s += "table " + name + ":";
@@ -46,10 +46,10 @@ std::string digest(const compare::StudyReport& r) {
 TEST_CASE("study kinds: one row per kind, named once, described, and only `runs` and the kinds without scene runs "
           "without an analysis",
           "[study][kinds]") {
-  const auto kinds = compare::study_kinds();
+  const auto kinds = studies::study_kinds();
   REQUIRE(kinds.size() >= 2);
   std::set<std::string> names;
-  for (const compare::StudyKind& k : kinds) {
+  for (const studies::StudyKind& k : kinds) {
     INFO(k.name);
     CHECK(!k.name.empty());
     CHECK(!k.description.empty());
@@ -58,11 +58,11 @@ TEST_CASE("study kinds: one row per kind, named once, described, and only `runs`
     // a computation, and a plan of runs from the base scene (resolution), are checked before any work
     CHECK((k.compute == nullptr && k.plan == nullptr) == (k.check == nullptr));
     CHECK((k.plan == nullptr) == (k.name != "resolution"));
-    REQUIRE(compare::find_study_kind(k.name) == &k);
+    REQUIRE(studies::find_study_kind(k.name) == &k);
   }
   CHECK(names.count("runs") == 1);
-  CHECK(compare::find_study_kind("nope") == nullptr);
-  CHECK(compare::find_study_kind("") == nullptr);
+  CHECK(studies::find_study_kind("nope") == nullptr);
+  CHECK(studies::find_study_kind("") == nullptr);
 }
 
 TEST_CASE("study kinds: analyse_study runs each kind's own analysis, none for `runs`, and refuses an unknown kind",
@@ -73,34 +73,34 @@ TEST_CASE("study kinds: analyse_study runs each kind's own analysis, none for `r
   const std::vector<compare::Scene> scenes;
   const std::vector<std::vector<compare::ModelResult>> results;
   std::set<std::string> reports;
-  for (const compare::StudyKind& k : compare::study_kinds()) {
+  for (const studies::StudyKind& k : studies::study_kinds()) {
     INFO(k.name);
     compare::StudySpec spec;
     spec.name = "empty";
     spec.kind = std::string(k.name);
-    compare::StudyReport expected;
+    studies::StudyReport expected;
     if (k.analyse) k.analyse(expected, spec, runs, scenes, results);
-    compare::StudyReport report;
-    REQUIRE_NOTHROW(report = compare::analyse_study(spec, runs, scenes, results));
+    studies::StudyReport report;
+    REQUIRE_NOTHROW(report = studies::analyse_study(spec, runs, scenes, results));
     CHECK(digest(report) == digest(expected));
     if (!k.analyse) CHECK(digest(report).empty());
     if (k.analyse) CHECK(reports.insert(digest(report)).second);  // each row its own analysis
   }
   compare::StudySpec spec;
   spec.kind = "nope";
-  CHECK_THROWS_AS(compare::analyse_study(spec, runs, scenes, results), std::invalid_argument);
+  CHECK_THROWS_AS(studies::analyse_study(spec, runs, scenes, results), std::invalid_argument);
 }
 
 TEST_CASE("study kinds: a study file is accepted with every kind of the table and refused with any other, naming "
           "them all in table order",
           "[study][kinds]") {
   const testing::TempDir dir("study-kinds");
-  for (const compare::StudyKind& k : compare::study_kinds()) {
+  for (const studies::StudyKind& k : studies::study_kinds()) {
     INFO(k.name);
     CHECK(app::load_study(write_study(dir.path, std::string(k.name))).kind == k.name);
   }
   std::string list;
-  for (const compare::StudyKind& k : compare::study_kinds()) list += (list.empty() ? "" : ", ") + std::string(k.name);
+  for (const studies::StudyKind& k : studies::study_kinds()) list += (list.empty() ? "" : ", ") + std::string(k.name);
   try {
     app::load_study(write_study(dir.path, "nope"));
     FAIL("an unknown study kind was accepted");
@@ -139,7 +139,7 @@ TEST_CASE("study kinds: `slipfront study --list-kinds --json` is the table, and 
   REQUIRE(listed.code == 0);
   CHECK(listed.out == app::study_kinds_json() + "\n");
   std::string names;
-  for (const compare::StudyKind& k : compare::study_kinds()) names += (names.empty() ? "" : ",") + std::string(k.name);
+  for (const studies::StudyKind& k : studies::study_kinds()) names += (names.empty() ? "" : ",") + std::string(k.name);
   testing::write_text(dir.path / "table.json", listed.out);
   // The check bites both ways: a kind the report does not know, and a kind the report draws that the table lacks.
   testing::write_text(dir.path / "new_kind.json",

@@ -77,7 +77,7 @@ TEST_CASE("resolution: Richardson recovers a known order, its extrapolate and th
     f1.push_back(3.0 + 0.4 * x + 0.01 * x * x);
     f2.push_back(-7.0 + 0.3 * x * x + 0.02 * x * x * x);
   }
-  const auto e1 = compare::richardson(f1, 1, 2.0);
+  const auto e1 = studies::richardson(f1, 1, 2.0);
   CHECK(std::string(e1.method) == "richardson");
   CHECK(e1.order == Approx(1.0).margin(0.1));
   const double true1 = f1[1] - 3.0;
@@ -85,24 +85,24 @@ TEST_CASE("resolution: Richardson recovers a known order, its extrapolate and th
   CHECK(std::abs(e1.extrapolated - 3.0) < 0.1 * true1);
   CHECK(e1.rel_error == Approx(e1.error / std::abs(e1.extrapolated)));
   // Second order with a third-order term: order within 0.15 of 2, the error within 10 % of the true one.
-  const auto e2 = compare::richardson(f2, 1, 2.0);
+  const auto e2 = studies::richardson(f2, 1, 2.0);
   CHECK(std::string(e2.method) == "richardson");
   CHECK(e2.order == Approx(2.0).margin(0.15));
   CHECK(e2.error / (f2[1] + 7.0) == Approx(1.0).margin(0.1));
   // At the noise floor (differences changing sign): no order; the error bounded by the largest distance to a level.
   const std::vector<double> noisy{10.001, 10.0, 10.0004, 9.9998};
-  const auto e3 = compare::richardson(noisy, 1, 2.0);
+  const auto e3 = studies::richardson(noisy, 1, 2.0);
   CHECK(std::string(e3.method) == "scatter");
   CHECK(std::isnan(e3.order));
   CHECK(e3.error == Approx(0.001));
   // An order far above the band (the coarsest level pre-asymptotic, or luck): the scatter bound, not Richardson.
-  const auto e4 = compare::richardson(std::vector<double>{1.0, 1.5, 1.5 + 1e-4}, 0, 2.0);
+  const auto e4 = studies::richardson(std::vector<double>{1.0, 1.5, 1.5 + 1e-4}, 0, 2.0);
   CHECK(std::string(e4.method) == "scatter");
   CHECK(e4.error == Approx(0.5001));
   // A level that did not measure the event: no estimate. Every level the same: exact.
-  CHECK(std::string(compare::richardson(std::vector<double>{1.0, std::nan(""), 1.0}, 0, 2.0).method) == "missing");
-  CHECK(std::isnan(compare::richardson(std::vector<double>{1.0, std::nan(""), 1.0}, 0, 2.0).error));
-  const auto same = compare::richardson(std::vector<double>{2.0, 2.0, 2.0}, 0, 2.0);
+  CHECK(std::string(studies::richardson(std::vector<double>{1.0, std::nan(""), 1.0}, 0, 2.0).method) == "missing");
+  CHECK(std::isnan(studies::richardson(std::vector<double>{1.0, std::nan(""), 1.0}, 0, 2.0).error));
+  const auto same = studies::richardson(std::vector<double>{2.0, 2.0, 2.0}, 0, 2.0);
   CHECK(std::string(same.method) == "exact");
   CHECK(same.error == 0.0);
 }

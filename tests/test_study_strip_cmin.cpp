@@ -1,6 +1,6 @@
 // The study kind strip_cmin_height (issue 20, docs/studies.md): c_min(H) of the strip at the base scene's material,
 // no scene runs. `slipfront study` on a small range (H = 1 .. 10, one per decade, 6 rows, 150 intervals: ~1 s) writes
-// a complete study.h5 whose table is the library's (compare::strip_cmin_height) bit for bit, and the same CSV; the
+// a complete study.h5 whose table is the library's (studies::strip_cmin_height) bit for bit, and the same CSV; the
 // smallest H is the 1D c_min of the same column stiffness within the path's own test bound
 // (tests/test_strip_front.cpp: 0 < c_min/c_min,1D - 1 < 1e-3). Hostile study files are refused before any work
 // with the file, the key and the reason, and nothing is created.
@@ -80,7 +80,7 @@ TEST_CASE("study strip_cmin_height: slipfront study writes a complete study.h5 w
   CHECK(!fs::exists(dir.path / "out" / "runs"));  // no scene runs
 
   // The library called directly with the scene's material and the study's [paths].
-  compare::StripCminHeightOptions lib;
+  studies::StripCminHeightOptions lib;
   lib.law = {1.05, 8.0, 0.1};
   lib.mu_strip = 300.0;
   lib.rho_strip = 1e-9;
@@ -90,7 +90,7 @@ TEST_CASE("study strip_cmin_height: slipfront study writes a complete study.h5 w
   lib.rows = 6;
   lib.intervals = 150;
   lib.branches = false;
-  const auto direct = compare::strip_cmin_height(lib);
+  const auto direct = studies::strip_cmin_height(lib);
   REQUIRE(direct.path.complete);
   REQUIRE(direct.rows.size() == 2);
 
@@ -113,7 +113,7 @@ TEST_CASE("study strip_cmin_height: slipfront study writes a complete study.h5 w
   CHECK(h.numbers.at("/study/scalars@rho_strip") == 1e-9);
   CHECK(h.numbers.at("/study/scalars@heights_reached") == 2.0);
   // The CSV beside it: the library's text, byte for byte (no branches: no timing column differs).
-  CHECK(slurp(dir.path / "out" / "strip_cmin_height.csv") == compare::strip_cmin_csv(direct.rows));
+  CHECK(slurp(dir.path / "out" / "strip_cmin_height.csv") == studies::strip_cmin_csv(direct.rows));
 
   // The smallest H against the 1D c_min of mu = mu' H, rho = rho' H, solved here on its own.
   const auto b1 = continuum::continue_steady_fronts(lib.law, {1e-9 * 1.0, 300.0 * 1.0, 1000.0, 0.0});

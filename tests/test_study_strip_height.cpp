@@ -26,13 +26,13 @@ namespace {
 const char* const events[] = {"t_star", "t_hat", "c_slow", "c_transient", "x_arrest"};
 const char* const models[] = {"continuum", "discrete"};
 
-bool has_note(const compare::StudyReport& r, const std::string& text) {
+bool has_note(const studies::StudyReport& r, const std::string& text) {
   for (const auto& n : r.notes)
     if (n.find(text) != std::string::npos) return true;
   return false;
 }
 
-std::string notes(const compare::StudyReport& r) {
+std::string notes(const studies::StudyReport& r) {
   std::string s;
   for (const auto& n : r.notes) s += n + "\n";
   return s;
@@ -76,9 +76,9 @@ struct Maker {
     d.events = d.events_alt = discrete ? *discrete : e;
     results.push_back({c, d});
   }
-  compare::StudyReport analyse() const {
-    compare::StudyReport rep;
-    compare::analyse_strip_height(rep, runs, scenes, results);
+  studies::StudyReport analyse() const {
+    studies::StudyReport rep;
+    studies::analyse_strip_height(rep, runs, scenes, results);
     return rep;
   }
 };
@@ -107,7 +107,7 @@ TEST_CASE("strip_height study: a tiny study's events tend to the 1D chain's as H
   compare::run_pool(runs.size(), std::max(1u, std::thread::hardware_concurrency()), [&](std::size_t i) {
     results[i] = compare::run_scene_alongside(scenes[i], {}).models;
   });
-  const auto rep = compare::analyse_study(spec, runs, scenes, results);
+  const auto rep = studies::analyse_study(spec, runs, scenes, results);
   INFO(notes(rep));
 
   REQUIRE(rep.tables.count("strip_height") == 1);
@@ -133,7 +133,7 @@ TEST_CASE("strip_height study: a tiny study's events tend to the 1D chain's as H
     for (const char* m : models) {
       const std::string k = std::string(o) + "_" + m + "_rel_1d";
       INFO(k);
-      CHECK(std::abs(t.at(k)[1]) < compare::strip_height_thin_tolerance);
+      CHECK(std::abs(t.at(k)[1]) < studies::strip_height_thin_tolerance);
     }
   const auto& ts = t.at("t_star_continuum_rel_1d");
   CHECK(ts[1] < ts[2]);
@@ -144,7 +144,7 @@ TEST_CASE("strip_height study: a tiny study's events tend to the 1D chain's as H
   CHECK(rep.scalars.at("strip_height_thin_H") == 0.25);
   const double worst = rep.scalars.at("strip_height_thin_max_rel_diff");
   REQUIRE(std::isfinite(worst));
-  CHECK(has_note(rep, worst <= compare::strip_height_thin_tolerance ? "H -> 0: at the smallest height H = 0.25"
+  CHECK(has_note(rep, worst <= studies::strip_height_thin_tolerance ? "H -> 0: at the smallest height H = 0.25"
                                                                      : "FLAG: H -> 0: at the smallest height H = 0.25"));
   CHECK_FALSE(has_note(rep, "do not share one fixed time.dt"));
   CHECK(rep.tables.count("strip_height_dy") == 0);  // one dy per height

@@ -30,7 +30,7 @@ TEST_CASE("validity: the mode classifier recovers the fraction of a synthetic tw
       first += cont;
       r.push_back((cont ? 1.0 : 1.6) + spread(rng));
     }
-    const auto m = compare::classify_modes(r, std::vector<double>(r.size(), 0.0));
+    const auto m = studies::classify_modes(r, std::vector<double>(r.size(), 0.0));
     CHECK(m.runs == 64);
     CHECK(m.continuum_like == first);
     CHECK(m.low <= f);
@@ -39,16 +39,16 @@ TEST_CASE("validity: the mode classifier recovers the fraction of a synthetic tw
   }
   const std::vector<double> with_nan{1.0, std::nan(""), 1.7, 0.95, 1.0};
   const std::vector<double> shift{0.0, 0.0, 0.08, -0.02, -0.27};  // the last: the early instability of small N
-  const auto m = compare::classify_modes(with_nan, shift);
+  const auto m = studies::classify_modes(with_nan, shift);
   CHECK(m.continuum_like == 2);
   CHECK(m.fraction == Approx(0.4));
   // the noise-driven branch of alpha - 1 = 0.2, N = 100 runs at r = 1.24-1.3 with |d| < 0.1: not continuum-like
-  CHECK_FALSE(compare::continuum_like(1.25, 0.0));
-  CHECK(compare::continuum_like(1.15, 0.05));
+  CHECK_FALSE(studies::continuum_like(1.25, 0.0));
+  CHECK(studies::continuum_like(1.15, 0.05));
   // Wilson interval of 32 of 64: 0.5 +- 0.119 (closed form)
   std::vector<double> half(64, 1.6);
   for (int k = 0; k < 32; ++k) half[k] = 1.0;
-  const auto h = compare::classify_modes(half, std::vector<double>(64, 0.0));
+  const auto h = studies::classify_modes(half, std::vector<double>(64, 0.0));
   CHECK(h.low == Approx(0.3808).epsilon(1e-3));
   CHECK(h.high == Approx(0.6192).epsilon(1e-3));
 }
@@ -59,15 +59,15 @@ TEST_CASE("validity: the crossover N* of data following a known law", "[validity
   const std::vector<double> n{100, 300, 1000, 3000, 10000};
   std::vector<double> e;
   for (double N : n) e.push_back(0.01 * std::pow(N / 2000.0, -2.0));
-  const auto c = compare::crossover_n(n, e, 0.01);
+  const auto c = studies::crossover_n(n, e, 0.01);
   CHECK(c.n_star == Approx(2000.0).epsilon(1e-12));
   CHECK_FALSE(c.below_at_start);
   CHECK_FALSE(c.never_below);
-  CHECK(compare::crossover_n(n, e, 1e3).below_at_start);
-  CHECK(compare::crossover_n(n, e, 1e-9).never_below);
+  CHECK(studies::crossover_n(n, e, 1e3).below_at_start);
+  CHECK(studies::crossover_n(n, e, 1e-9).never_below);
   // a bump above the level after a first crossing: N* is where it stays below
   std::vector<double> bumpy{0.2, 0.005, 0.02, 0.001, 0.0005};
-  const auto b = compare::crossover_n(n, bumpy, 0.01);
+  const auto b = studies::crossover_n(n, bumpy, 0.01);
   CHECK(b.n_star > 1000.0);  // after the last point above (0.02 at N = 1000), before 3000
   CHECK(b.n_star < 3000.0);
 }
@@ -104,8 +104,8 @@ TEST_CASE("validity: the collapse exponent of a synthetic study with a known law
       }
     }
   }
-  compare::StudyReport rep;
-  compare::analyse_validity_friction(rep, runs, scenes, res);
+  studies::StudyReport rep;
+  studies::analyse_validity_friction(rep, runs, scenes, res);
   const auto& x = rep.tables.at("validity_crossover");
   for (std::size_t k = 0; k < x.at("alpha").size(); ++k) {
     const double truth = 30.0 * std::pow(x.at("alpha_minus_1")[k], -1.5);
@@ -156,8 +156,8 @@ TEST_CASE("validity: the kappa and eta exponents of a synthetic study with a kno
     add(am1, 8.0, 0.025);
     add(am1, 8.0, 0.4);
   }
-  compare::StudyReport rep;
-  compare::analyse_validity_friction(rep, runs, scenes, res);
+  studies::StudyReport rep;
+  studies::analyse_validity_friction(rep, runs, scenes, res);
   CHECK(rep.scalars.at("validity_friction_kappa_ref") == 8.0);
   CHECK(rep.scalars.at("validity_friction_eta_ref") == 0.1);
   CHECK(rep.scalars.at("validity_friction_free_fit_alpha_minus_1_exponent") == Approx(-1.5).margin(0.05));
@@ -198,8 +198,8 @@ TEST_CASE("validity: the fig1 analysis splits runs by mode and gives each mode's
   for (double c : {16.0, 16.5, 17.0, 15.5}) add(1.05, c, 101.0);
   for (double c : {26.0, 26.5, 27.0, 27.5, 28.0, 28.5}) add(1.05, c, 108.0);
   for (double c : {16.0, 16.4}) add(1.2, c, 99.0);
-  compare::StudyReport rep;
-  compare::analyse_validity_fig1(rep, runs, scenes, res);
+  studies::StudyReport rep;
+  studies::analyse_validity_fig1(rep, runs, scenes, res);
   const auto& r = rep.tables.at("validity_fig1_runs");
   REQUIRE(r.at("continuum_like").size() == 12);
   for (std::size_t k = 0; k < 12; ++k) CHECK(r.at("continuum_like")[k] == ((k < 4 || k >= 10) ? 1.0 : 0.0));
@@ -247,8 +247,8 @@ TEST_CASE("validity: the fig1 step check compares the fraction at the study's st
   add(0.02, 20, 40);
   add(0.005, 10, 40);
   add(0.0, 20, 40);
-  compare::StudyReport rep;
-  compare::analyse_validity_fig1(rep, runs, scenes, res);
+  studies::StudyReport rep;
+  studies::analyse_validity_fig1(rep, runs, scenes, res);
   const auto& st = rep.tables.at("validity_fig1_step");
   REQUIRE(st.at("dt_fine").size() == 2);
   for (std::size_t k = 0; k < 2; ++k) {
@@ -276,9 +276,9 @@ TEST_CASE("validity: an empty study gives the tables without rows and no fits", 
   compare::ModelResult only;
   only.model = "continuum";
   std::vector<std::vector<compare::ModelResult>> res{{only}, {}};
-  compare::StudyReport friction, fig1;
-  compare::analyse_validity_friction(friction, runs, scenes, res);
-  compare::analyse_validity_fig1(fig1, runs, scenes, res);
+  studies::StudyReport friction, fig1;
+  studies::analyse_validity_friction(friction, runs, scenes, res);
+  studies::analyse_validity_fig1(fig1, runs, scenes, res);
   CHECK(friction.tables.at("validity_friction").empty());
   CHECK(friction.tables.at("validity_crossover").empty());
   CHECK(friction.scalars.empty());

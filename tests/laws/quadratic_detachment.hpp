@@ -3,9 +3,12 @@
 // integrators"): the continuum law of docs/model.md §1 with a different detachment rate, κ v² instead of
 // κ|v| (steady sliding: A_ss = 1/(1 + κv²), σ_ss = α/(1 + κv²) + ηv):
 //   dA/dt = 1 − A − Θ κ v² A,   dσ̄/dt = α A v − Θ σ̄ |v|,   Θ = θ(|σ̄ + ηv|/A − 1).
-// It implements core::InterfaceLaw (advance, linearise) and core::SmoothLaw (fields, sliding,
-// load, rate, jacobian); nothing else in the code base knows about it.
+// It implements core::InterfaceLaw (advance, linearise), core::SmoothLaw (fields, sliding, load, rate, jacobian)
+// and its own steady state (core::LawHooks::steady_state: a nucleation patch starts in it); nothing else in the code
+// base knows about it (tests/test_law_seam.cpp registers it as a model of a test model set).
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -17,7 +20,7 @@ namespace slipfront::testing {
 
 class QuadraticDetachmentLaw {
  public:
-  static constexpr core::LawHooks hooks{};  // the contract only
+  static constexpr core::LawHooks hooks{.steady_state = true};
   QuadraticDetachmentLaw(const core::InterfaceParams& p, std::size_t sites)
       : p_(p), n_(sites), fields_(2 * sites, 0.0) {
     for (std::size_t i = 0; i < sites; ++i) fields_[i] = 1.0;
@@ -59,6 +62,23 @@ class QuadraticDetachmentLaw {
     };
   }
 
+  // Steady sliding: A_ss = 1/(1 + κv²), σ̄_ss = α A_ss sgn v, σ_ss = σ̄_ss + ηv.
+  core::SteadyState steady_sliding(double v) const {
+    const double area = 1.0 / (1.0 + p_.kappa * v * v), sb = p_.alpha * area * (v >= 0.0 ? 1.0 : -1.0);
+    return {area, sb, sb + p_.eta * v};
+  }
+  // σ_ss(v) = σ on the strengthening branch (beyond the minimum of σ_ss, where dσ_ss/dv = η − 2ακv/(1 + κv²)² turns
+  // positive for good), by bisection; NaN below the minimum.
+  double steady_velocity(double sigma) const {
+    auto slope = [&](double v) { return p_.eta - 2.0 * p_.alpha * p_.kappa * v / ((1.0 + p_.kappa * v * v) * (1.0 + p_.kappa * v * v)); };
+    const double peak = 1.0 / std::sqrt(3.0 * p_.kappa);  // where 2ακv/(1 + κv²)² is largest
+    double vm = 0.0;
+    if (slope(peak) < 0.0) vm = bisect(slope, peak, 1e6);
+    const double hi = std::max(vm, sigma / p_.eta) + 1.0;
+    if (steady_sliding(vm).sigma > sigma) return std::numeric_limits<double>::quiet_NaN();
+    return bisect([&](double v) { return steady_sliding(v).sigma - sigma; }, vm, hi);
+  }
+
   bool sliding(core::SiteState s) const { return core::contact_stress(s.sigma_bar + p_.eta * s.v, s.area) > 1.0; }
   double load(core::SiteState s) const { return std::abs(s.sigma_bar + p_.eta * s.v); }
   core::SiteRate rate(core::SiteState s, bool theta) const {
@@ -73,6 +93,16 @@ class QuadraticDetachmentLaw {
   }
 
  private:
+  // The root of f in [lo, hi] with f(lo) ≤ 0 ≤ f(hi), to the last bit.
+  template <class F>
+  static double bisect(F f, double lo, double hi) {
+    for (int k = 0; k < 200 && lo < hi; ++k) {
+      const double mid = 0.5 * (lo + hi);
+      if (mid <= lo || mid >= hi) break;
+      (f(mid) > 0.0 ? hi : lo) = mid;
+    }
+    return 0.5 * (lo + hi);
+  }
   core::InterfaceParams p_;
   std::size_t n_;
   std::vector<double> fields_;  // [A | σ̄]

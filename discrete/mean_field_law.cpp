@@ -25,6 +25,11 @@ MeanFieldLaw::MeanFieldLaw(const core::InterfaceParams& ip, const DiscreteParams
   for (std::size_t b = 0; b < nbins_; ++b)
     thresholds_[b] = g_.conditional_mean(static_cast<double>(b) / B, static_cast<double>(b + 1) / B);
   att_.assign(sites * nbins_, 0.0);
+  aging_ = ip.ages_contacts();
+  if (aging_) {
+    cohorts_.resize(sites * nbins_);
+    class_area_.assign(sites * nbins_, 0.0);
+  }
   area_.assign(sites, 1.0);
   sigma_bar_.assign(sites, 0.0);
   for (std::size_t i = 0; i < sites; ++i) set_site(i, 1.0, 0.0);
@@ -37,6 +42,11 @@ void MeanFieldLaw::set_site(std::size_t i, double area, double sigma_bar) {
   for (std::size_t b = 0; b < nbins_; ++b) a[b] = area / B;
   area_[i] = total(i);
   sigma_bar_[i] = sigma_bar;
+  if (aging_)  // every attached contact new: area 1 each (docs/model.md §11.3)
+    for (std::size_t b = 0; b < nbins_; ++b) {
+      cohorts_[i * nbins_ + b].reset(a[b]);
+      class_area_[i * nbins_ + b] = a[b];
+    }
 }
 
 double MeanFieldLaw::total(std::size_t i) const {
@@ -46,7 +56,7 @@ double MeanFieldLaw::total(std::size_t i) const {
 }
 
 double MeanFieldLaw::detached(std::size_t i, std::size_t b) const {
-  return quenched_ ? 1.0 / static_cast<double>(nbins_) - att_[i * nbins_ + b] : 1.0 - area_[i];
+  return quenched_ ? 1.0 / static_cast<double>(nbins_) - att_[i * nbins_ + b] : 1.0 - (aging_ ? total(i) : area_[i]);
 }
 
 // Overloaded classes: s_b < τ (thresholds ascending, so a prefix).
@@ -59,8 +69,9 @@ double MeanFieldLaw::overloaded_fraction(std::size_t i, double v) const {
   const double tau = core::contact_stress(sigma_bar_[i] + ip_.eta * v, area_[i]);
   const std::size_t k = overloaded_classes(tau);
   if (!(area_[i] > 0.0)) return 1.0;
+  const std::vector<double>& share = aging_ ? class_area_ : att_;  // aging: the overloaded share of the area
   double over = 0.0;
-  for (std::size_t b = 0; b < k; ++b) over += att_[i * nbins_ + b];
+  for (std::size_t b = 0; b < k; ++b) over += share[i * nbins_ + b];
   return over / area_[i];
 }
 
@@ -82,6 +93,7 @@ core::LawStepInfo MeanFieldLaw::advance(double dt, std::span<const double> v) {
     free_weight_ = core::relax_weight(1.0, dt);
     cached_dt_ = dt;
   }
+  if (aging_) return advance_aging(dt, v);
   const double alpha = ip_.alpha, kappa = ip_.kappa, eta = ip_.eta;
   const std::size_t B = nbins_;
   const double inv_b = 1.0 / static_cast<double>(B);
@@ -112,6 +124,53 @@ core::LawStepInfo MeanFieldLaw::advance(double dt, std::span<const double> v) {
     }
     area_[i] = a1;
     // 3. stress: exact with Ā = (A + A')/2 and Y frozen (rate 0: σ̄ + source Δt, as relax() gives it)
+    const double source = alpha * 0.5 * (a0 + a1) * vi, rate = y * speed;
+    sigma_bar_[i] = rate > 0.0 ? core::relax(sb, source, rate, dt) : sb + source * dt;
+  }
+  return {any};
+}
+
+// The same step with aging (docs/model.md §11.3): the class counts n_b exactly as advance() (the detached pool from
+// the counts), then each class's cohorts: survivors e^{−d_b Δt}, the step's new contacts n_b' − n_b e^{−d_b Δt} at
+// age Δt/2; A = Σ class areas, Y = the overloaded classes' share of the area at the start of the step.
+core::LawStepInfo MeanFieldLaw::advance_aging(double dt, std::span<const double> v) {
+  const double alpha = ip_.alpha, kappa = ip_.kappa, eta = ip_.eta, tau_a = ip_.aging_tau;
+  const std::size_t B = nbins_;
+  const double inv_b = 1.0 / static_cast<double>(B);
+  bool any = false;
+  for (std::size_t i = 0; i < size(); ++i) {
+    const double vi = v[i], speed = std::abs(vi), a0 = area_[i], sb = sigma_bar_[i];
+    if (!std::isfinite(vi)) {
+      sigma_bar_[i] = std::numeric_limits<double>::quiet_NaN();
+      continue;
+    }
+    double* n = att_.data() + i * B;
+    double* class_area = class_area_.data() + i * B;
+    const std::size_t k = overloaded_classes(core::contact_stress(sb + eta * vi, a0));
+    double area_over = 0.0, n_over = 0.0;
+    for (std::size_t b = 0; b < k; ++b) {
+      area_over += class_area[b];
+      n_over += n[b];
+    }
+    const double y = a0 > 0.0 ? area_over / a0 : 1.0;
+    any |= speed > 0.0 && (n_over > 0.0 || !(a0 > 0.0));
+    const double r_over = 1.0 + kappa * speed;
+    const double e_over = std::exp(-r_over * dt), w_over = core::relax_weight(r_over, dt);
+    const double survive_over = std::exp(-kappa * speed * dt);
+    const double pool = quenched_ ? 0.0 : (1.0 - total(i)) * inv_b;
+    double a1 = 0.0;
+    for (std::size_t b = 0; b < B; ++b) {
+      const double target = quenched_ ? inv_b : n[b] + pool;
+      const bool over = b < k;
+      const double n_new = n[b] * (over ? e_over : free_exp_) + target * (over ? w_over : free_weight_);
+      const double survive = over ? survive_over : 1.0;
+      AgeCohorts& c = cohorts_[i * B + b];
+      c.step(dt, survive, std::max(0.0, n_new - n[b] * survive), tau_a);
+      n[b] = n_new;
+      class_area[b] = c.area(ip_);
+      a1 += class_area[b];
+    }
+    area_[i] = a1;
     const double source = alpha * 0.5 * (a0 + a1) * vi, rate = y * speed;
     sigma_bar_[i] = rate > 0.0 ? core::relax(sb, source, rate, dt) : sb + source * dt;
   }

@@ -77,11 +77,24 @@ double aged_steady_sigma(const core::InterfaceParams& p, double v) {
   return p.alpha * aged_steady_area(p, v) * (v >= 0 ? 1.0 : -1.0) + p.eta * v;
 }
 
-double aged_rest_area(const core::InterfaceParams& p, double phi0, double t) {
+namespace {
+// The contacts detached at t = 0 (a fraction 1 − φ0), attaching at unit rate: their expected area at t.
+double reattached_area(const core::InterfaceParams& p, double phi0, double t) {
   const double tau = p.aging_tau, lg = std::log1p(t / tau);
   // ∫_0^t e^{−(t−s)} ln(1 + s/τ) ds = ln(1 + t/τ) − [e^{−(t+τ)} Ei(t + τ) − e^{−t} e^{−τ} Ei(τ)]
   const double j = lg - (scaled_ei(t + tau) - std::exp(-t) * scaled_ei(tau));
-  return phi0 * (1.0 + p.aging_b * lg) + (1.0 - phi0) * (-std::expm1(-t) + p.aging_b * j);
+  return (1.0 - phi0) * (-std::expm1(-t) + p.aging_b * j);
+}
+}  // namespace
+
+double aged_rest_area(const core::InterfaceParams& p, double phi0, double t) {
+  return phi0 * (1.0 + p.aging_b * std::log1p(t / p.aging_tau)) + reattached_area(p, phi0, t);
+}
+
+double aged_hold_area(const core::InterfaceParams& p, double v, double t) {
+  const double d = p.kappa * std::abs(v), phi0 = 1.0 / (1.0 + d), tau = p.aging_tau;
+  const double survivors = std::log1p(t / tau) + scaled_e1(d * (tau + t));
+  return phi0 * (1.0 + p.aging_b * survivors) + reattached_area(p, phi0, t);
 }
 
 }  // namespace slipfront::discrete

@@ -63,5 +63,9 @@ double aged_steady_sigma(const core::InterfaceParams& p, double v);
 /// the expected area at t (docs/model.md §11.1),
 ///   φ0 (1 + b ln(1 + t/τ)) + (1 − φ0) [1 − e^{−t} + b (ln(1 + t/τ) − e^{−(t+τ)} (Ei(t + τ) − Ei(τ)))].
 double aged_rest_area(const core::InterfaceParams& p, double phi0, double t);
+/// At rest for t after steady sliding at v (w = 0): the survivors φ0 = 1/(1 + κ|v|) keep their Exp(κ|v|) ages shifted
+/// by t, E[ln(1 + (a + t)/τ)] = ln(1 + t/τ) + e^{y} E_1(y), y = κ|v|(τ + t); the detached attach as in aged_rest_area
+/// (docs/model.md §11.1): the area at the end of a hold of a slide-hold-slide.
+double aged_hold_area(const core::InterfaceParams& p, double v, double t);
 
 }  // namespace slipfront::discrete

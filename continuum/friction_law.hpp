@@ -70,7 +70,6 @@ class FrictionLaw {
   ///   Θ = θ(|σ̄ + η v|/A − 1),  r = 1 + Θκ|v|,  A' = A e^{−r dt} + (1 − e^{−r dt})/r,
   ///   σ̄' = exact solution of dσ̄/dt = α Ā v − Θ|v| σ̄ with Ā = (A + A')/2.
   core::LawStepInfo advance(double dt, std::span<const double> v) {
-    if (aging_) return advance_aging(dt, v);
     bool any = false;
     const double alpha = p_.alpha, kappa = p_.kappa, eta = p_.eta;
     // A stuck site (Θ = 0) relaxes A at rate 1 and σ̄ at rate 0: relax() with these rates is
@@ -80,6 +79,7 @@ class FrictionLaw {
       stuck_exp_ = std::exp(-dt);
       stuck_weight_ = core::relax_weight(1.0, dt);
     }
+    if (aging_) return advance_aging(dt, v);
     double* area = fields_.data();
     double* sigma_bar = area + n_;
     for (std::size_t i = 0; i < n_; ++i) {
@@ -195,10 +195,16 @@ class FrictionLaw {
       const bool theta = core::slides(sb, vi, a, p_.eta);
       any |= theta;
       const double speed = theta ? std::abs(vi) : 0.0, hazard = p_.kappa * speed, phi = attached_[i];
-      attached_[i] = core::relax(phi, 1.0, 1.0 + hazard, dt);
-      theta_[i] = core::relax(theta_[i], 1.0, hazard, dt);
+      if (theta) {
+        attached_[i] = core::relax(phi, 1.0, 1.0 + hazard, dt);
+        theta_[i] = core::relax(theta_[i], 1.0, hazard, dt);
+      } else {  // relax() at the stuck rates, bit for bit (the factors cached by advance())
+        attached_[i] = phi * stuck_exp_ + stuck_weight_;
+        theta_[i] += dt;
+      }
       const double a_new = attached_[i] * p_.aged_area(theta_[i]);
-      sigma_bar[i] = core::relax(sb, p_.alpha * 0.5 * (a + a_new) * vi, speed, dt);
+      const double source = p_.alpha * 0.5 * (a + a_new) * vi;
+      sigma_bar[i] = theta ? core::relax(sb, source, speed, dt) : sb + source * dt;
       area[i] = a_new;
       if (ages_) age_mass_[i] = core::relax(age_mass_[i], 0.5 * (phi + attached_[i]), hazard, dt);
     }

@@ -93,7 +93,6 @@ core::LawStepInfo MeanFieldLaw::advance(double dt, std::span<const double> v) {
     free_weight_ = core::relax_weight(1.0, dt);
     cached_dt_ = dt;
   }
-  if (aging_) return advance_aging(dt, v);
   const double alpha = ip_.alpha, kappa = ip_.kappa, eta = ip_.eta;
   const std::size_t B = nbins_;
   const double inv_b = 1.0 / static_cast<double>(B);
@@ -102,6 +101,10 @@ core::LawStepInfo MeanFieldLaw::advance(double dt, std::span<const double> v) {
     const double vi = v[i], speed = std::abs(vi), a0 = area_[i], sb = sigma_bar_[i];
     if (!std::isfinite(vi)) {  // the stepper reports it with the step and site
       sigma_bar_[i] = std::numeric_limits<double>::quiet_NaN();
+      continue;
+    }
+    if (aging_) {  // docs/model.md §11.3
+      any |= advance_site_aging(i, dt, vi);
       continue;
     }
     // 1. load: τ at the start of the step, overloaded classes [0, k), the overloaded fraction Y
@@ -130,51 +133,42 @@ core::LawStepInfo MeanFieldLaw::advance(double dt, std::span<const double> v) {
   return {any};
 }
 
-// The same step with aging (docs/model.md §11.3): the class counts n_b exactly as advance() (the detached pool from
+// Site i's step with aging (docs/model.md §11.3): the class counts n_b exactly as advance() (the detached pool from
 // the counts), then each class's cohorts: survivors e^{−d_b Δt}, the step's new contacts n_b' − n_b e^{−d_b Δt} at
-// age Δt/2; A = Σ class areas, Y = the overloaded classes' share of the area at the start of the step.
-core::LawStepInfo MeanFieldLaw::advance_aging(double dt, std::span<const double> v) {
-  const double alpha = ip_.alpha, kappa = ip_.kappa, eta = ip_.eta, tau_a = ip_.aging_tau;
+// age Δt/2; A = Σ class areas, Y = the overloaded classes' share of the area at the start of the step. Returns
+// whether the site yielded (advance()'s any_yield).
+bool MeanFieldLaw::advance_site_aging(std::size_t i, double dt, double vi) {
   const std::size_t B = nbins_;
-  const double inv_b = 1.0 / static_cast<double>(B);
-  bool any = false;
-  for (std::size_t i = 0; i < size(); ++i) {
-    const double vi = v[i], speed = std::abs(vi), a0 = area_[i], sb = sigma_bar_[i];
-    if (!std::isfinite(vi)) {
-      sigma_bar_[i] = std::numeric_limits<double>::quiet_NaN();
-      continue;
-    }
-    double* n = att_.data() + i * B;
-    double* class_area = class_area_.data() + i * B;
-    const std::size_t k = overloaded_classes(core::contact_stress(sb + eta * vi, a0));
-    double area_over = 0.0, n_over = 0.0;
-    for (std::size_t b = 0; b < k; ++b) {
-      area_over += class_area[b];
-      n_over += n[b];
-    }
-    const double y = a0 > 0.0 ? area_over / a0 : 1.0;
-    any |= speed > 0.0 && (n_over > 0.0 || !(a0 > 0.0));
-    const double r_over = 1.0 + kappa * speed;
-    const double e_over = std::exp(-r_over * dt), w_over = core::relax_weight(r_over, dt);
-    const double survive_over = std::exp(-kappa * speed * dt);
-    const double pool = quenched_ ? 0.0 : (1.0 - total(i)) * inv_b;
-    double a1 = 0.0;
-    for (std::size_t b = 0; b < B; ++b) {
-      const double target = quenched_ ? inv_b : n[b] + pool;
-      const bool over = b < k;
-      const double n_new = n[b] * (over ? e_over : free_exp_) + target * (over ? w_over : free_weight_);
-      const double survive = over ? survive_over : 1.0;
-      AgeCohorts& c = cohorts_[i * B + b];
-      c.step(dt, survive, std::max(0.0, n_new - n[b] * survive), tau_a);
-      n[b] = n_new;
-      class_area[b] = c.area(ip_);
-      a1 += class_area[b];
-    }
-    area_[i] = a1;
-    const double source = alpha * 0.5 * (a0 + a1) * vi, rate = y * speed;
-    sigma_bar_[i] = rate > 0.0 ? core::relax(sb, source, rate, dt) : sb + source * dt;
+  const double inv_b = 1.0 / static_cast<double>(B), speed = std::abs(vi), a0 = area_[i], sb = sigma_bar_[i];
+  double* n = att_.data() + i * B;
+  double* class_area = class_area_.data() + i * B;
+  const std::size_t k = overloaded_classes(core::contact_stress(sb + ip_.eta * vi, a0));
+  double area_over = 0.0, n_over = 0.0;
+  for (std::size_t b = 0; b < k; ++b) {
+    area_over += class_area[b];
+    n_over += n[b];
   }
-  return {any};
+  const double y = a0 > 0.0 ? area_over / a0 : 1.0;
+  const double r_over = 1.0 + ip_.kappa * speed;
+  const double e_over = std::exp(-r_over * dt), w_over = core::relax_weight(r_over, dt);
+  const double survive_over = std::exp(-ip_.kappa * speed * dt);
+  const double pool = quenched_ ? 0.0 : (1.0 - total(i)) * inv_b;
+  double a1 = 0.0;
+  for (std::size_t b = 0; b < B; ++b) {
+    const double target = quenched_ ? inv_b : n[b] + pool;
+    const bool over = b < k;
+    const double n_new = n[b] * (over ? e_over : free_exp_) + target * (over ? w_over : free_weight_);
+    const double survive = over ? survive_over : 1.0;
+    AgeCohorts& c = cohorts_[i * B + b];
+    c.step(dt, survive, std::max(0.0, n_new - n[b] * survive), ip_.aging_tau);
+    n[b] = n_new;
+    class_area[b] = c.area(ip_);
+    a1 += class_area[b];
+  }
+  area_[i] = a1;
+  const double source = ip_.alpha * 0.5 * (a0 + a1) * vi, rate = y * speed;
+  sigma_bar_[i] = rate > 0.0 ? core::relax(sb, source, rate, dt) : sb + source * dt;
+  return speed > 0.0 && (n_over > 0.0 || !(a0 > 0.0));
 }
 
 }  // namespace slipfront::discrete

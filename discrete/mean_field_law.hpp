@@ -23,7 +23,7 @@
 // Contact aging (interface.aging_b > 0, docs/model.md §11.3): every class carries its attached contacts by age
 // (discrete::AgeCohorts, exact along the characteristics with the step's frozen rates); A_i is the area
 // Σ_b Σ_cohorts mass (1 + b ln(1 + age/τ_a)), the detached pool is 1 − Σ_b n_b (counts, not area), and Y_i the
-// overloaded classes' share of the area. aging_b = 0 takes none of these branches (advance_aging).
+// overloaded classes' share of the area. aging_b = 0 takes none of these branches (advance_site_aging).
 //
 // The adaptive integrator does not apply: its state is [A | σ̄] per site (core::SmoothLaw), this law's is the
 // B attached fractions and σ̄, and Y is piecewise constant in τ with B jumps (docs/model.md §2.2).
@@ -125,7 +125,7 @@ class MeanFieldLaw {
   double attached_fraction(std::size_t i) const { return total(i); }
 
  private:
-  core::LawStepInfo advance_aging(double dt, std::span<const double> v);
+  bool advance_site_aging(std::size_t i, double dt, double vi);
   std::size_t overloaded_classes(double tau) const;
   double total(std::size_t i) const;  ///< Σ_b n_{i,b}, summed in class order (as advance() sums it)
 

@@ -384,12 +384,12 @@ TEST_CASE("aging: the agent ensemble converges to the mean field as N^-1/2, slid
 }
 
 TEST_CASE("aging: with threshold disorder the agent and the balance agree as closely as without aging", "[aging]") {
-  // Uniform thresholds of width w = 0.55 (s in [0.05, 1.95]): at v = 0.02 and 0.1 only a part of the attached contacts
-  // is overloaded (the mean field's Y = 0.09 .. 0.29), so the area-weighted Y of docs/model.md §11.2–§11.3 is used.
-  // 32 sites of N = 2000 (seed 3) against the mean field (B = 64 classes) at t = 30, b = 0 and b = 0.1: the agent–
-  // balance gap with aging must stay within 0.02 in A, as without (0.0128 at v = 0.1, b = 0: today's gap at this N,
-  // binning and time; measured with aging 0.0015, 0.0056).
-  for (const double v : {0.02, 0.1}) {
+  // Uniform thresholds of width w = 0.55 (s in [0.05, 1.95]): at v = 0.1 only a part of the attached contacts is
+  // overloaded (the mean field's Y = 0.21 .. 0.29), so the area-weighted Y of docs/model.md §11.2–§11.3 is used.
+  // 32 sites of N = 2000 (seed 3) against the mean field (B = 64 classes) at t = 30 (steps of 0.02), b = 0 and b = 0.1:
+  // the agent–balance gap with aging must stay within 0.02 in A, as without (0.0128 at b = 0 with steps of 0.01:
+  // today's gap at this N, binning and time; with aging 0.0056). (At v = 0.02, Y ≈ 0.09: gaps 0.0005 and 0.0015.)
+  for (const double v : {0.1}) {
     for (const double b : {0.0, 0.1}) {
       const auto p = aged(b, 1.0);
       auto d = agent_params(2000, 3);
@@ -397,8 +397,8 @@ TEST_CASE("aging: with threshold disorder the agent and the balance agree as clo
       d.width = 0.55;
       discrete::AgentLaw agent(p, d, 32);
       discrete::MeanFieldLaw mf(p, d, 1);
-      run(agent, v, 30.0, 0.01);
-      run(mf, v, 30.0, 0.01);
+      run(agent, v, 30.0, 0.02);
+      run(mf, v, 30.0, 0.02);
       const Sample s = over_sites(agent.contact_area());
       std::printf("w = 0.55, v = %g, b = %g: A agent %.5f +- %.1e mean field %.5f (Y %.3f)\n", v, b, s.mean, s.se,
                   mf.contact_area()[0], mf.overloaded_fraction(0, v));

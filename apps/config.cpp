@@ -76,6 +76,7 @@ bool imposed(const Scene& s) { return s.drive.loading == Loading::imposed_rate; 
 bool imposed_history(const Scene& s) { return imposed(s) && s.drive.sweep_points == 0; }
 bool imposed_sweep(const Scene& s) { return imposed(s) && s.drive.sweep_points != 0; }
 bool dt_given(const Scene& s) { return s.time.dt != 0.0; }
+bool aging(const Scene& s) { return s.interface.ages_contacts(); }
 bool cfl_used(const Scene& s) { return !imposed(s) && s.time.dt == 0.0; }
 bool bulk_scene(const Scene& s) { return !imposed(s); }
 // a body of height: the antiplane or the in-plane strip (bulk.height given)
@@ -123,6 +124,9 @@ const std::vector<Section>& schema() {
            {"alpha", at<&Scene::interface, &InterfaceParams::alpha>, always, "always", always},
            {"kappa", at<&Scene::interface, &InterfaceParams::kappa>, always, "always", always},
            {"eta", at<&Scene::interface, &InterfaceParams::eta>, always, "always", always},
+           // used when not 0 (docs/model.md §11): a scene without aging resolves to today's configuration
+           {"aging_b", at<&Scene::interface, &InterfaceParams::aging_b>, aging, "when not 0 (contact aging)"},
+           {"aging_tau", at<&Scene::interface, &InterfaceParams::aging_tau>, aging, "with interface.aging_b > 0"},
        }},
       {"bulk",
        {

@@ -84,6 +84,25 @@ void check_inplane(const Scene& s) {
                                     "in-plane strip (bulk.body = \"inplane\"): use drive.start = \"nucleation\"");
 }
 
+// Contact aging (docs/model.md §11): the models that carry what it needs. The count and naive representations keep
+// no ages; the steady-front and nucleation starts and the Rosenbrock state [A | σ̄] know no aging yet.
+void check_aging(const Scene& s) {
+  using core::ParamError;
+  if (!s.interface.ages_contacts()) return;
+  if (s.lists("discrete") && s.discrete.representation != "agent")
+    throw ParamError("discrete.representation",
+                     "the " + s.discrete.representation + " representation keeps no contact ages, so it cannot age its "
+                     "contacts (interface.aging_b = " + core::format_number(s.interface.aging_b) +
+                     "): use representation = \"agent\", or the model mean_field (the age-structured balance, docs/model.md §11)");
+  if (s.drive.loading == core::Loading::homogeneous)
+    throw ParamError("drive.loading", "homogeneous loading with interface.aging_b > 0: the nucleation patch and the "
+                                      "steady-front start are the non-aging steady state (not yet for aging, docs/model.md §11)");
+  if (s.drive.loading != core::Loading::imposed_rate && s.time.integrator == core::Integrator::adaptive_rosenbrock)
+    throw ParamError("time.integrator", "adaptive with interface.aging_b > 0: the aging laws' extra state (the closure's "
+                                        "mean age, the contacts' age cohorts) is not in the adaptive integrators' state "
+                                        "(not yet, docs/model.md §11); use explicit or implicit");
+}
+
 }  // namespace
 
 std::span<const KeyDomain> limit_key_domains() { return limit_domains; }
@@ -140,6 +159,7 @@ void Scene::validate() const {
   const bool discrete_runs = lists("discrete");
   if (discrete_runs) discrete.validate();
   if (lists("mean_field")) check_mean_field(*this);
+  check_aging(*this);
   // (scene rules, not DiscreteParams::validate, which every law's constructor runs on its own parameters)
   if (discrete_runs && discrete.contact_statistics && discrete.representation == "count")  // would record nothing
     throw ParamError("discrete.contact_statistics",

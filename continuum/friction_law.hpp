@@ -8,6 +8,12 @@
 // M = A ā per site, a separate vector (not part of fields(): the adaptive integrator's state stays
 // [A | σ̄]): dM/dt = A − Θκ|v| M, advanced exactly with frozen rates in advance() (as σ̄) and, under the
 // adaptive integrator, by advance_age() after each accepted step from the step's dense output.
+//
+// With contact aging (interface.aging_b > 0, docs/model.md §11.4) it is the one-variable closure the paper
+// suggests, A_0 aging logarithmically: per site the attached fraction φ (§1.1's A equation), a mean age θ with
+// dθ/dt = 1 − θ Θκ|v| (the aging law of rate-and-state friction), and the area A = φ (1 + b ln(1 + θ/τ_a)); Θ
+// and the σ̄ equation read A. Advanced by the same exact frozen-rate updates (fixed-step integrators only: the
+// scene refuses the adaptive one, compare/scene.cpp). aging_b = 0 never enters this branch.
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -23,10 +29,17 @@ namespace slipfront::continuum {
 // core::LawHooks::steady_state: the closed form of docs/model.md §1.4 (core/steady_sliding.hpp).
 class FrictionLaw : public core::OverloadedSteadyState<FrictionLaw> {
  public:
+  // The hook's steady state is the non-aging closed form; aging scenes (interface.aging_b > 0) are refused where it is
+  // used (homogeneous loading: the patch and sigma_ss at v_behind; compare/scene.cpp check_aging).
   static constexpr core::LawHooks hooks{
       .ages = true, .dense_ages = true, .contact_hazard = true, .checkpoints = true, .steady_state = true};
-  FrictionLaw(const core::InterfaceParams& p, std::size_t sites) : p_(p), n_(sites), fields_(2 * sites, 0.0) {
+  FrictionLaw(const core::InterfaceParams& p, std::size_t sites)
+      : p_(p), n_(sites), fields_(2 * sites, 0.0), aging_(p.ages_contacts()) {
     std::fill(fields_.begin(), fields_.begin() + static_cast<std::ptrdiff_t>(sites), 1.0);
+    if (aging_) {
+      attached_.assign(sites, 1.0);
+      theta_.assign(sites, 0.0);
+    }
   }
 
   // --- state ------------------------------------------------------------------------------------
@@ -39,6 +52,7 @@ class FrictionLaw : public core::OverloadedSteadyState<FrictionLaw> {
   void serialize(Ar& ar) {
     ar.tag("continuum law");
     ar(fields_, ages_, age_mass_, age_prev_, theta_step_, step_t0_);
+    if (aging_) ar(attached_, theta_);  // docs/model.md §11.4 (absent without aging: today's format)
   }
 
   /// Set the state of one site (initial conditions).
@@ -46,7 +60,14 @@ class FrictionLaw : public core::OverloadedSteadyState<FrictionLaw> {
     fields_[i] = area;
     fields_[n_ + i] = sigma_bar;
     if (ages_) age_mass_[i] = 0.0;  // every contact present at the start is new (age 0)
+    if (aging_) {                   // new contacts: area 1 each, θ = 0 (docs/model.md §11.4)
+      attached_[i] = area;
+      theta_[i] = 0.0;
+    }
   }
+  /// Aging (docs/model.md §11.4): the attached fraction φ and the mean-age state θ per site (empty without aging).
+  std::span<const double> attached_fraction() const { return attached_; }
+  std::span<const double> aging_state() const { return theta_; }
 
   // --- the exact step (explicit and implicit integrators) ---------------------------------------
   /// docs/model.md §1 over [t, t+dt], v frozen; Θ evaluated from the start-of-step state:
@@ -62,6 +83,7 @@ class FrictionLaw : public core::OverloadedSteadyState<FrictionLaw> {
       stuck_exp_ = std::exp(-dt);
       stuck_weight_ = core::relax_weight(1.0, dt);
     }
+    if (aging_) return advance_aging(dt, v);
     double* area = fields_.data();
     double* sigma_bar = area + n_;
     for (std::size_t i = 0; i < n_; ++i) {
@@ -109,11 +131,13 @@ class FrictionLaw : public core::OverloadedSteadyState<FrictionLaw> {
   std::span<const double> age_mass() const { return age_mass_; }
   /// Mean age of the attached contacts ā = M/A per site (NaN where A = 0); needs tracks_ages().
   void mean_age(std::span<double> out) const {
-    for (std::size_t i = 0; i < n_; ++i)
-      out[i] = fields_[i] > 0.0 ? age_mass_[i] / fields_[i] : std::numeric_limits<double>::quiet_NaN();
+    for (std::size_t i = 0; i < n_; ++i) {
+      const double att = aging_ ? attached_[i] : fields_[i];  // aging: M = φ ā (docs/model.md §11.4)
+      out[i] = att > 0.0 ? age_mass_[i] / att : std::numeric_limits<double>::quiet_NaN();
+    }
   }
-  /// Initial mean age of site i (after set_site): M = A ā.
-  void set_site_age(std::size_t i, double mean_age) { age_mass_[i] = fields_[i] * mean_age; }
+  /// Initial mean age of site i (after set_site): M = A ā (aging: φ ā).
+  void set_site_age(std::size_t i, double mean_age) { age_mass_[i] = (aging_ ? attached_[i] : fields_[i]) * mean_age; }
 
   /// The adaptive integrator's hook (core/adaptive.hpp calls it after each accepted step
   /// [t0, t1], before Θ flips): M over the step with Θ_i = theta[i] fixed, from the step's dense output
@@ -163,9 +187,39 @@ class FrictionLaw : public core::OverloadedSteadyState<FrictionLaw> {
   }
 
  private:
+  /// The closure of docs/model.md §11.4 over [t, t+dt], v frozen, Θ from the start-of-step state (as advance):
+  ///   h = Θκ|v|,  φ' = relax(φ, 1, 1 + h),  θ' = relax(θ, 1, h),  A' = φ' (1 + b ln(1 + θ'/τ_a)),
+  ///   σ̄' = relax(σ̄, α Ā v, Θ|v|) with Ā = (A + A')/2; the age mass (output.ages) with source φ.
+  core::LawStepInfo advance_aging(double dt, std::span<const double> v) {
+    bool any = false;
+    double* area = fields_.data();
+    double* sigma_bar = area + n_;
+    for (std::size_t i = 0; i < n_; ++i) {
+      const double vi = v[i], a = area[i], sb = sigma_bar[i];
+      const bool theta = core::slides(sb, vi, a, p_.eta);
+      any |= theta;
+      const double speed = theta ? std::abs(vi) : 0.0, hazard = p_.kappa * speed, phi = attached_[i];
+      if (theta) {
+        attached_[i] = core::relax(phi, 1.0, 1.0 + hazard, dt);
+        theta_[i] = core::relax(theta_[i], 1.0, hazard, dt);
+      } else {  // relax() at the stuck rates, bit for bit (the factors cached by advance())
+        attached_[i] = phi * stuck_exp_ + stuck_weight_;
+        theta_[i] += dt;
+      }
+      const double a_new = attached_[i] * p_.aged_area(theta_[i]);
+      const double source = p_.alpha * 0.5 * (a + a_new) * vi;
+      sigma_bar[i] = theta ? core::relax(sb, source, speed, dt) : sb + source * dt;
+      area[i] = a_new;
+      if (ages_) age_mass_[i] = core::relax(age_mass_[i], 0.5 * (phi + attached_[i]), hazard, dt);
+    }
+    return {any};
+  }
+
   core::InterfaceParams p_;
   std::size_t n_;
   std::vector<double> fields_;  ///< [A | σ̄]
+  bool aging_ = false;
+  std::vector<double> attached_, theta_;  ///< aging: φ and θ per site (docs/model.md §11.4)
   double cached_dt_ = -1.0, stuck_exp_ = 1.0, stuck_weight_ = 0.0;
   bool ages_ = false;
   std::vector<double> age_mass_, age_prev_;  ///< M at the end (and start) of the last step
@@ -177,8 +231,16 @@ static_assert(core::SmoothLaw<FrictionLaw>);
 
 // Closed forms of docs/model.md §1 (tests and the comparison layer check against these).
 using core::SteadyState;
-/// A_ss = 1/(1 + κ|v|), σ̄_ss = α A_ss sgn v, σ_ss = σ̄_ss + ηv (core/steady_sliding.hpp).
-inline SteadyState steady_sliding(const core::InterfaceParams& p, double v) { return core::overloaded_steady_sliding(p, v); }
+/// A_ss = 1/(1 + κ|v|), σ̄_ss = α A_ss sgn v, σ_ss = σ̄_ss + ηv (core/steady_sliding.hpp); with aging (docs/model.md
+/// §11.4) the closure's: φ_ss = 1/(1 + κv), θ_ss = 1/(κv), A_ss = φ_ss (1 + b ln(1 + θ_ss/τ_a)).
+inline SteadyState steady_sliding(const core::InterfaceParams& p, double v) {
+  if (!p.ages_contacts()) return core::overloaded_steady_sliding(p, v);
+  const double s = std::abs(v);
+  double area = 1.0 / (1.0 + p.kappa * s);
+  if (p.kappa * s > 0.0) area *= p.aged_area(1.0 / (p.kappa * s));
+  const double sb = p.alpha * area * (v >= 0 ? 1.0 : -1.0);
+  return {area, sb, sb + p.eta * v};
+}
 /// Velocity of the minimum of σ_ss(v): v_m = (sqrt(ακ/η) − 1)/κ.
 inline double steady_minimum_velocity(const core::InterfaceParams& p) {
   return (std::sqrt(p.alpha * p.kappa / p.eta) - 1.0) / p.kappa;

@@ -30,6 +30,9 @@ const KeyDomain continuum_domains[] = {
     {"interface.alpha", K::number, 1.0, cap, false, false, false, "", "(the sliding branch is not self-consistent below 1)"},
     {"interface.kappa", K::number, 0.0, cap},
     {"interface.eta", K::number, 0.0, cap},
+    {"interface.aging_b", K::number, 0.0, cap, false, false, false, "",
+     "(contact aging, docs/model.md §11: area 1 + b ln(1 + age/aging_tau); 0: no aging)"},
+    {"interface.aging_tau", K::number, 0.0, cap, true, false, false, "", "(the aging cut-off time)"},
     {"bulk.rho", K::number, 0.0, cap, true},
     {"bulk.mu", K::number, 0.0, cap, true},
     {"bulk.length", K::number, 0.0, cap, true},
@@ -177,6 +180,8 @@ void InterfaceParams::validate() const {
   check_in_domain("interface.alpha", alpha);
   check_in_domain("interface.kappa", kappa);
   check_in_domain("interface.eta", eta);
+  check_in_domain("interface.aging_b", aging_b);
+  if (ages_contacts()) check_in_domain("interface.aging_tau", aging_tau);
 }
 
 void BulkParams::validate(bool one_dimensional) const {

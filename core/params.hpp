@@ -2,6 +2,7 @@
 // Plain parameter structs of the continuum model (docs/model.md §1, §4).
 // Each has validate(): it throws ParamError naming the config key and the reason.
 // Filling them from TOML is the job of apps/config; nothing here knows about files.
+#include <cmath>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -69,6 +70,13 @@ struct InterfaceParams {
   double alpha = 1.05;  ///< interfacial stiffness (≥ 1 for a self-consistent sliding branch)
   double kappa = 8.0;   ///< area-decay factor
   double eta = 0.1;     ///< viscous strengthening
+  /// Contact aging (docs/model.md §11): a contact of age a has area 1 + aging_b ln(1 + a/aging_tau).
+  /// aging_b = 0 (the default) is the paper's law and today's ensemble bit for bit.
+  double aging_b = 0.0;
+  double aging_tau = 1.0;
+  bool ages_contacts() const { return aging_b != 0.0; }
+  /// Area of a contact of age a (docs/model.md §11): 1 + b ln(1 + a/τ_a).
+  double aged_area(double age) const { return 1.0 + aging_b * std::log1p(age / aging_tau); }
   void validate() const;
 };
 

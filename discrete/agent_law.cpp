@@ -26,6 +26,7 @@ AgentLaw::AgentLaw(const core::InterfaceParams& ip, const DiscreteParams& dp, st
     throw core::ParamError("discrete.noise",
                                 "the agent representation has whole contacts: noise = false needs representation = count");
   n_contacts_ = static_cast<std::size_t>(dp.contacts_per_site);
+  aging_ = ip.ages_contacts();
   degenerate_ = g_.degenerate();
   quenched_ = dp.renewal == "quenched";
   if (!degenerate_) {
@@ -226,13 +227,15 @@ core::LawStepInfo AgentLaw::advance(double dt, std::span<const double> v) {
     const double tau = core::contact_stress(sb + eta * vi, a0);
     Load ld = classify(st, tau);
     const std::size_t n0 = st.n_att;
-    const double y = n0 > 0 ? static_cast<double>(ld.members) / static_cast<double>(n0) : 1.0;
+    double y = n0 > 0 ? static_cast<double>(ld.members) / static_cast<double>(n0) : 1.0;
+    if (aging_ && !degenerate_ && n0 > 0) y = aged_overloaded_fraction(st, tau, t0);  // docs/model.md §11.2
     any |= speed > 0.0 && (ld.members > 0 || n0 == 0);
     // 2. idle: no member slipping and no detached contact — nothing is touched
     const double detach = kappa * speed;
     if ((ld.members > 0 && detach > 0.0) || !st.detached.empty())
       run_events(i, st, ld, tau, detach, t0, t1);  // 3. contacts
-    const double a1 = static_cast<double>(st.n_att) * inv_n;
+    // the area: n/N, or with aging the contacts' areas 1 + b ln(1 + age/τ_a) summed over N (docs/model.md §11.2)
+    const double a1 = aging_ ? aged_area_sum(st, t1) * inv_n : static_cast<double>(st.n_att) * inv_n;
     area_[i] = a1;
     // 4. stress: exact update with Ā = (A + A')/2 and Y frozen (as the continuum friction law)
     sigma_bar_[i] = core::relax(sb, alpha * 0.5 * (a0 + a1) * vi, y * speed, dt);
@@ -246,6 +249,7 @@ double AgentLaw::overloaded_fraction(std::size_t i, double v) const {
   if (st.n_att == 0) return 1.0;
   const double tau = core::contact_stress(sigma_bar_[i] + ip_.eta * v, area_[i]);
   if (degenerate_) return tau > 1.0 ? 1.0 : 0.0;
+  if (aging_) return aged_overloaded_fraction(st, tau, t_);
   // members: every contact of the bins wholly below τ, and those of the straddling bin with s < τ
   const auto first = edges_.begin() + 1, last = edges_.begin() + static_cast<std::ptrdiff_t>(nbins_);
   const auto full_bins = static_cast<std::size_t>(std::upper_bound(first, last, tau) - first);
@@ -253,6 +257,27 @@ double AgentLaw::overloaded_fraction(std::size_t i, double v) const {
   if (full_bins < nbins_ && edges_[full_bins] < tau)
     for (const auto& c : st.bins[full_bins]) members += c.threshold < tau ? 1.0 : 0.0;
   return members / static_cast<double>(st.n_att);
+}
+
+// Aging (docs/model.md §11.2): Σ over the attached contacts of their areas 1 + b ln(1 + (t − t_attach)/τ_a).
+double AgentLaw::aged_area_sum(const Site& st, double t) const {
+  if (st.pristine) return static_cast<double>(st.n_att) * ip_.aged_area(t - st.set_at);  // one age for all
+  double sum = 0.0;
+  for (const auto& bin : st.bins)
+    for (const auto& c : bin) sum += ip_.aged_area(t - c.attached_at);
+  return sum;
+}
+
+// Aging: Y = the overloaded contacts' share of the attached area (each carries τ times its area, docs/model.md §11.2).
+double AgentLaw::aged_overloaded_fraction(const Site& st, double tau, double t) const {
+  double over = 0.0, all = 0.0;
+  for (const auto& bin : st.bins)
+    for (const auto& c : bin) {
+      const double a = ip_.aged_area(t - c.attached_at);
+      all += a;
+      over += c.threshold < tau ? a : 0.0;
+    }
+  return all > 0.0 ? over / all : 1.0;
 }
 
 void AgentLaw::mean_age(std::span<double> out) const {

@@ -40,6 +40,11 @@
 // the site's own history: results do not depend on the order in which sites are visited.
 // DiscreteParams::threads is not used (one thread; results would not depend on it).
 // noise = false is refused (an agent has whole contacts; use the count representation).
+//
+// Contact aging (interface.aging_b > 0, docs/model.md §11.2): a contact of age a has area 1 + b ln(1 + a/τ_a);
+// A_i = Σ areas / N at the end of each step (O(attached) per site and step, a step without events too: the areas
+// grow), and with w > 0 Y_i is the overloaded contacts' share of that area (each carries τ_i × its area).
+// Attachment and detachment rates are per contact, whatever its area. aging_b = 0 takes none of these branches.
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -237,6 +242,8 @@ class AgentLaw : public core::OverloadedSteadyState<AgentLaw> {
   };
 
   Load classify(Site& st, double tau) const;
+  double aged_area_sum(const Site& st, double t) const;
+  double aged_overloaded_fraction(const Site& st, double tau, double t) const;
   bool is_member(const Load& ld, std::size_t bin, double s, double tau) const;
   std::size_t bin_of(double s) const;
   double draw_threshold(Engine& e) const;
@@ -254,6 +261,7 @@ class AgentLaw : public core::OverloadedSteadyState<AgentLaw> {
   double t_ = 0.0;
   std::uint64_t changes_ = 0;
   bool ages_ = false;
+  bool aging_ = false;  ///< interface.aging_b > 0: contacts' areas grow with their age (docs/model.md §11.2)
 
   std::vector<Site> sites_;
   std::vector<double> area_, sigma_bar_;

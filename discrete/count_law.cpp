@@ -133,6 +133,9 @@ const DiscreteParams& validated(const DiscreteParams& dp) {
 CountLaw::CountLaw(const core::InterfaceParams& ip, const DiscreteParams& dp, std::size_t sites)
     : ip_(ip), dp_(validated(dp)), g_(dp_.threshold, dp_.width) {
   if (sites == 0) throw std::invalid_argument("CountLaw: no sites");
+  if (ip.ages_contacts())  // docs/model.md §11: counts keep no ages
+    throw core::ParamError("discrete.representation", "the count representation keeps no contact ages: aging "
+                                                      "(interface.aging_b > 0) needs representation = \"agent\"");
   nbins_ = g_.degenerate() ? 1 : static_cast<std::size_t>(dp.bins);
   quenched_ = dp.renewal == "quenched";
   noise_ = dp.noise;

@@ -25,6 +25,11 @@ MeanFieldLaw::MeanFieldLaw(const core::InterfaceParams& ip, const DiscreteParams
   for (std::size_t b = 0; b < nbins_; ++b)
     thresholds_[b] = g_.conditional_mean(static_cast<double>(b) / B, static_cast<double>(b + 1) / B);
   att_.assign(sites * nbins_, 0.0);
+  aging_ = ip.ages_contacts();
+  if (aging_) {
+    cohorts_.resize(sites * nbins_);
+    class_area_.assign(sites * nbins_, 0.0);
+  }
   area_.assign(sites, 1.0);
   sigma_bar_.assign(sites, 0.0);
   for (std::size_t i = 0; i < sites; ++i) set_site(i, 1.0, 0.0);
@@ -37,6 +42,11 @@ void MeanFieldLaw::set_site(std::size_t i, double area, double sigma_bar) {
   for (std::size_t b = 0; b < nbins_; ++b) a[b] = area / B;
   area_[i] = total(i);
   sigma_bar_[i] = sigma_bar;
+  if (aging_)  // every attached contact new: area 1 each (docs/model.md §11.3)
+    for (std::size_t b = 0; b < nbins_; ++b) {
+      cohorts_[i * nbins_ + b].reset(a[b]);
+      class_area_[i * nbins_ + b] = a[b];
+    }
 }
 
 double MeanFieldLaw::total(std::size_t i) const {
@@ -46,7 +56,7 @@ double MeanFieldLaw::total(std::size_t i) const {
 }
 
 double MeanFieldLaw::detached(std::size_t i, std::size_t b) const {
-  return quenched_ ? 1.0 / static_cast<double>(nbins_) - att_[i * nbins_ + b] : 1.0 - area_[i];
+  return quenched_ ? 1.0 / static_cast<double>(nbins_) - att_[i * nbins_ + b] : 1.0 - (aging_ ? total(i) : area_[i]);
 }
 
 // Overloaded classes: s_b < τ (thresholds ascending, so a prefix).
@@ -59,8 +69,9 @@ double MeanFieldLaw::overloaded_fraction(std::size_t i, double v) const {
   const double tau = core::contact_stress(sigma_bar_[i] + ip_.eta * v, area_[i]);
   const std::size_t k = overloaded_classes(tau);
   if (!(area_[i] > 0.0)) return 1.0;
+  const std::vector<double>& share = aging_ ? class_area_ : att_;  // aging: the overloaded share of the area
   double over = 0.0;
-  for (std::size_t b = 0; b < k; ++b) over += att_[i * nbins_ + b];
+  for (std::size_t b = 0; b < k; ++b) over += share[i * nbins_ + b];
   return over / area_[i];
 }
 
@@ -92,6 +103,10 @@ core::LawStepInfo MeanFieldLaw::advance(double dt, std::span<const double> v) {
       sigma_bar_[i] = std::numeric_limits<double>::quiet_NaN();
       continue;
     }
+    if (aging_) {  // docs/model.md §11.3
+      any |= advance_site_aging(i, dt, vi);
+      continue;
+    }
     // 1. load: τ at the start of the step, overloaded classes [0, k), the overloaded fraction Y
     double* n = att_.data() + i * B;
     const std::size_t k = overloaded_classes(core::contact_stress(sb + eta * vi, a0));
@@ -116,6 +131,44 @@ core::LawStepInfo MeanFieldLaw::advance(double dt, std::span<const double> v) {
     sigma_bar_[i] = rate > 0.0 ? core::relax(sb, source, rate, dt) : sb + source * dt;
   }
   return {any};
+}
+
+// Site i's step with aging (docs/model.md §11.3): the class counts n_b exactly as advance() (the detached pool from
+// the counts), then each class's cohorts: survivors e^{−d_b Δt}, the step's new contacts n_b' − n_b e^{−d_b Δt} at
+// age Δt/2; A = Σ class areas, Y = the overloaded classes' share of the area at the start of the step. Returns
+// whether the site yielded (advance()'s any_yield).
+bool MeanFieldLaw::advance_site_aging(std::size_t i, double dt, double vi) {
+  const std::size_t B = nbins_;
+  const double inv_b = 1.0 / static_cast<double>(B), speed = std::abs(vi), a0 = area_[i], sb = sigma_bar_[i];
+  double* n = att_.data() + i * B;
+  double* class_area = class_area_.data() + i * B;
+  const std::size_t k = overloaded_classes(core::contact_stress(sb + ip_.eta * vi, a0));
+  double area_over = 0.0, n_over = 0.0;
+  for (std::size_t b = 0; b < k; ++b) {
+    area_over += class_area[b];
+    n_over += n[b];
+  }
+  const double y = a0 > 0.0 ? area_over / a0 : 1.0;
+  const double r_over = 1.0 + ip_.kappa * speed;
+  const double e_over = std::exp(-r_over * dt), w_over = core::relax_weight(r_over, dt);
+  const double survive_over = std::exp(-ip_.kappa * speed * dt);
+  const double pool = quenched_ ? 0.0 : (1.0 - total(i)) * inv_b;
+  double a1 = 0.0;
+  for (std::size_t b = 0; b < B; ++b) {
+    const double target = quenched_ ? inv_b : n[b] + pool;
+    const bool over = b < k;
+    const double n_new = n[b] * (over ? e_over : free_exp_) + target * (over ? w_over : free_weight_);
+    const double survive = over ? survive_over : 1.0;
+    AgeCohorts& c = cohorts_[i * B + b];
+    c.step(dt, survive, std::max(0.0, n_new - n[b] * survive), ip_.aging_tau);
+    n[b] = n_new;
+    class_area[b] = c.area(ip_);
+    a1 += class_area[b];
+  }
+  area_[i] = a1;
+  const double source = ip_.alpha * 0.5 * (a0 + a1) * vi, rate = y * speed;
+  sigma_bar_[i] = rate > 0.0 ? core::relax(sb, source, rate, dt) : sb + source * dt;
+  return speed > 0.0 && (n_over > 0.0 || !(a0 > 0.0));
 }
 
 }  // namespace slipfront::discrete

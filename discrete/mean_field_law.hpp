@@ -20,6 +20,11 @@
 // threads. With w = 0 it is the continuum law bit for bit (docs/model.md §2.2: one class, T = 1 exactly — fresh
 // renewal's T = A + (1 − A) rounds to 1 for every A in [0, 1] — and otherwise FrictionLaw's operations).
 //
+// Contact aging (interface.aging_b > 0, docs/model.md §11.3): every class carries its attached contacts by age
+// (discrete::AgeCohorts, exact along the characteristics with the step's frozen rates); A_i is the area
+// Σ_b Σ_cohorts mass (1 + b ln(1 + age/τ_a)), the detached pool is 1 − Σ_b n_b (counts, not area), and Y_i the
+// overloaded classes' share of the area. aging_b = 0 takes none of these branches (advance_site_aging).
+//
 // The adaptive integrator does not apply: its state is [A | σ̄] per site (core::SmoothLaw), this law's is the
 // B attached fractions and σ̄, and Y is piecewise constant in τ with B jumps (docs/model.md §2.2).
 #include <cstddef>
@@ -29,6 +34,7 @@
 #include "core/exact_update.hpp"
 #include "core/law.hpp"
 #include "core/params.hpp"
+#include "discrete/aging.hpp"
 #include "discrete/params.hpp"
 #include "discrete/thresholds.hpp"
 
@@ -105,14 +111,23 @@ class MeanFieldLaw : public core::OverloadedSteadyState<MeanFieldLaw> {
     if (sites != size() || nb != nbins_ || quenched != quenched_)
       throw core::ArchiveError("checkpoint: the mean-field state has another size, binning or renewal than this scene's");
     ar(att_, sigma_bar_);
+    if (aging_) ar(cohorts_, class_area_, area_);  // docs/model.md §11.3 (absent without aging: today's format)
     if (ar.loading()) {
-      if (att_.size() != sites * nbins_ || sigma_bar_.size() != sites)
+      if (att_.size() != sites * nbins_ || sigma_bar_.size() != sites ||
+          (aging_ && (cohorts_.size() != att_.size() || class_area_.size() != att_.size() || area_.size() != sites)))
         throw core::ArchiveError("checkpoint: the mean-field state's arrays do not match its size");
-      for (std::size_t i = 0; i < sites; ++i) area_[i] = total(i);
+      if (!aging_)
+        for (std::size_t i = 0; i < sites; ++i) area_[i] = total(i);
     }
   }
 
+  /// Aging (docs/model.md §11.3): the age cohorts of site i's class b (empty without aging).
+  const AgeCohorts& cohorts(std::size_t i, std::size_t b) const { return cohorts_[i * nbins_ + b]; }
+  /// Σ_b n_b of site i: the attached fraction by count (= A without aging).
+  double attached_fraction(std::size_t i) const { return total(i); }
+
  private:
+  bool advance_site_aging(std::size_t i, double dt, double vi);
   std::size_t overloaded_classes(double tau) const;
   double total(std::size_t i) const;  ///< Σ_b n_{i,b}, summed in class order (as advance() sums it)
 
@@ -125,6 +140,9 @@ class MeanFieldLaw : public core::OverloadedSteadyState<MeanFieldLaw> {
   std::vector<double> area_;       ///< [sites] A = Σ_b n_b
   std::vector<double> sigma_bar_;  ///< [sites]
   double cached_dt_ = -1.0, free_exp_ = 1.0, free_weight_ = 0.0;  ///< e^{−Δt}, (1 − e^{−Δt}): no overloaded class
+  bool aging_ = false;                 ///< interface.aging_b > 0 (docs/model.md §11.3)
+  std::vector<AgeCohorts> cohorts_;    ///< aging: [sites × B] the attached contacts of each class by age
+  std::vector<double> class_area_;     ///< aging: [sites × B] each class's area
 };
 
 static_assert(core::InterfaceLaw<MeanFieldLaw>);

@@ -37,6 +37,9 @@ class NaiveAgentLaw : public core::OverloadedSteadyState<NaiveAgentLaw> {
   NaiveAgentLaw(const core::InterfaceParams& ip, const DiscreteParams& dp, std::size_t sites)
       : ip_(ip), dp_(dp), g_((dp.validate(), ThresholdDistribution(dp.threshold, dp.width))) {
     if (sites == 0) throw std::invalid_argument("NaiveAgentLaw: no sites");
+    if (ip.ages_contacts())  // docs/model.md §11: the baseline does not age its contacts
+      throw core::ParamError("discrete.representation", "the naive representation does not age its contacts: aging "
+                                                        "(interface.aging_b > 0) needs representation = \"agent\"");
     if (!dp.noise)
       throw core::ParamError("discrete.noise",
                                   "the agent representation has whole contacts: noise = false needs representation = count");

@@ -56,6 +56,7 @@ const std::vector<Base>& bases() {
       {"homogeneous", {"drive.loading=homogeneous", "drive.sigma_d=0.5", "drive.nucleation_length=6"}},
       {"imposed history", {"drive.loading=imposed_rate", "drive.v=[0.1, 1.0]", "drive.switch_times=[0, 1]"}},
       {"imposed sweep", {"drive.loading=imposed_rate", "drive.points=5", "drive.v_min=0.01", "drive.v_max=10"}},
+      {"edge, aging agent", {"interface.aging_b=0.1", "discrete.representation=agent"}},
   };
   return b;
 }

@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "continuum/friction_law.hpp"
+#include "core/strip.hpp"
 
 namespace slipfront::compare {
 namespace {
@@ -255,7 +256,7 @@ FrontProfile profile_of(const continuum::StripFront& f) {
 // The strip's lengths and speeds of the paper's 2D argument, and the 1D c_min of the same column stiffness.
 void store_strip_scalars(const Scene& s, double c_min, const std::function<bool()>& stop, FrontsResult& r) {
   const auto& ip = s.interface;
-  const double H = s.bulk.height, mus = s.bulk.mu / H;
+  const double H = s.bulk.height, mus = core::Strip::modulus(s.bulk);
   r.scalars["height"] = H;
   r.scalars["mu_strip"] = mus;
   r.scalars["rho_strip"] = s.bulk.rho / H;
@@ -330,7 +331,7 @@ struct ScaledProblem {
   /// The parameter's value at f (μ' = bulk.mu/H).
   double value(double f) const {
     const auto [ip, b] = at(f);
-    return p == 0 ? b.mu / s.bulk.height : p == 1 ? ip.alpha : p == 2 ? ip.eta : ip.kappa;
+    return p == 0 ? core::Strip::modulus(b) : p == 1 ? ip.alpha : p == 2 ? ip.eta : ip.kappa;
   }
 };
 
@@ -629,7 +630,8 @@ MeshChoice choose_meshes(const Scene& s, const StripBranchRun& pilot, const Stri
     }
     return true;
   };
-  for (;;) {  // the rows
+  if (st.rows > 0) out.how += " (given)";
+  while (st.rows <= 0) {  // the rows, unless given (--rows: then only the intervals are chosen)
     if (fo.stop && fo.stop()) return stop_at("stopped", "stopped");
     const continuum::StripFrontOptions fine = continuum::with_rows(H, fo, 2 * fo.rows);
     if (const auto [why, line] = refusal(fine); !why.empty()) return stop_at(why, line);

@@ -206,8 +206,9 @@ continuum::StripHeightPath strip_cmin_chosen_path(const StripCminHeightOptions& 
     }
     StripCminMesh m;
     last = refine_height(o, po, std::move(seg.fronts.back()), k, heights.size(), cost, m);
+    const bool within = m.error.total <= o.rtol * last.c;  // the verdict's test (the choice aims at 0.9 rtol)
     say(o, format("  H = %-10.6g c_min = %-12.8g +- %.2e (%.2e of c): %s%s%s", heights[k], last.c, m.error.total,
-                  m.error.total / last.c, m.how.c_str(), m.limited.empty() ? "" : ", NOT met: ", m.limited.c_str()));
+                  m.error.total / last.c, m.how.c_str(), within ? "" : ", NOT met: ", within ? "" : m.limited.c_str()));
     rows = last.rows();
     intervals = static_cast<int>(last.xi.size()) - 1;
     out.fronts.push_back(last);
@@ -308,8 +309,11 @@ void judge_height(const StripCminHeightOptions& o, const StripCminMesh* m, Strip
   if (met) return;
   const std::string limited = m ? m->limited : std::string();
   r.verdict = "NOT met" + (limited.empty() ? std::string() : " (" + limited + ")") + " at H = " + format("%g", r.H) +
-              ": c_min = " + format("%.8g", r.c_min) + " +- " + format("%.3g", r.c_min_error) + " (" +
-              format("%.3g", 100.0 * r.c_min_error / r.c_min) + " % of c, rtol " + format("%g", 100.0 * o.rtol) + " %); " +
+              ": c_min = " + format("%.8g", r.c_min) +
+              (std::isfinite(r.c_min_error) ? " +- " + format("%.3g", r.c_min_error) + " (" +
+                                                  format("%.3g", 100.0 * r.c_min_error / r.c_min) + " % of c"
+                                            : std::string(" (no estimate")) +
+              ", rtol " + format("%g", 100.0 * o.rtol) + " %); " +
               (m ? m->how : "rows " + std::to_string(r.rows) + ", intervals " + std::to_string(r.intervals) + " given");
 }
 

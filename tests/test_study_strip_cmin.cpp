@@ -208,7 +208,7 @@ TEST_CASE("study strip_cmin_height: hostile study files are refused before any w
   CHECK(contains(o.err, "fig2.toml: paths: only a kind without scene runs (strip_cmin_height) has [paths]"));
 }
 
-TEST_CASE("study strip_cmin_height: paths.rtol chooses each height's rows; every c_min within its estimate of a twice "
+TEST_CASE("study strip_cmin_height: paths.rtol chooses each height's rows, every c_min within its estimate of a twice "
           "finer solve",
           "[study][strip][cmin]") {
   // Issue 36 item 1 (docs/fronts.md §10.20): without paths.rows the rows are chosen per height, doubled from 8 until

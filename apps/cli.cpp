@@ -611,6 +611,8 @@ void print_fronts_summary(std::ostream& out, const compare::Scene& scene, const 
   if (!label("accuracy").empty())
     out << "  accuracy (estimated errors, docs/fronts.md §10.20): rtol " << label("accuracy") << "; resolution "
         << label("resolution") << "\n";
+  if (!label("profiles_failed").empty())  // a profile without a front: no speed, counted above without an estimate
+    out << "  profiles NOT solved: " << label("profiles_failed") << "\n";
   if (get("height") > 0.0)
     out << "  strip H = " << format_number(get("height")) << " (mu' = " << format_number(get("mu_strip")) << ", l_kappa = "
         << format_number(get("ell_kappa")) << ", s = " << format_number(get("s")) << "): c_min / c_min(1D, mu = mu' H) = "

@@ -237,7 +237,8 @@ studies::StripCminHeightOptions read_paths(const toml::node& n, const std::strin
     names += (names.empty() ? "" : ", ") + std::string(d.key).substr(6);
   const auto* t = n.as_table();
   if (!t) throw ConfigError(file, "paths", "must be a table [paths] (keys: " + names + ")");
-  studies::StripCminHeightOptions o;
+  studies::StripCminHeightOptions o = studies::strip_cmin_study_defaults();
+  bool rows_given = false, rtol_given = false;
   for (const auto& [k, v] : *t) {
     const std::string key = "paths." + std::string(k.str());
     const core::KeyDomain* d = core::find_key_domain(studies::strip_cmin_path_domains(), key);
@@ -263,13 +264,18 @@ studies::StripCminHeightOptions read_paths(const toml::node& n, const std::strin
     if (name == "hmin") o.hmin = x;
     else if (name == "hmax") o.hmax = x;
     else if (name == "per_decade") o.per_decade = x;
-    else if (name == "rows") o.rows = static_cast<int>(x);
+    else if (name == "rows") o.rows = static_cast<int>(x), rows_given = true;
     else if (name == "intervals") o.intervals = static_cast<int>(x);
     else if (name == "branch_rows") o.branch_rows = static_cast<int>(x);
     else if (name == "branch_intervals") o.branch_intervals = static_cast<int>(x);
     else if (name == "tolerance") o.tolerance = x;
     else if (name == "max_factor") o.max_factor = x;
+    else if (name == "rtol") o.rtol = x, rtol_given = true;
+    else if (name == "budget") o.budget_seconds = x;
   }
+  // an explicit rows fixes the mesh (as before paths.rtol); rtol, when given too, only judges each height
+  o.choose_meshes = !rows_given;
+  if (rows_given && !rtol_given) o.rtol = 0.0;
   try {
     studies::check_strip_cmin_paths(o);
   } catch (const core::ParamError& e) {

@@ -1,5 +1,6 @@
 #include "compare/fronts.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <ctime>
@@ -7,6 +8,7 @@
 #include <optional>
 
 #include "continuum/friction_law.hpp"
+#include "core/strip.hpp"
 
 namespace slipfront::compare {
 namespace {
@@ -226,14 +228,36 @@ double error_of(const continuum::StripFront& f, const continuum::StripFrontOptio
   return e.total;
 }
 
-// The front nearest to σ_d among `kept` (not the limiting one), re-solved at σ_d on `fo`.
+// The front at σ_d on `fo`, solved from the front of `kept` nearest to σ_d (not the limiting one). Where Newton does
+// not converge from it (docs/fronts.md §10.20: at H = 200 on the chosen 32 rows, the profile at σ_d = 0.2244 from its
+// neighbours 0.0037 and 0.0063 away, c 4 % and 6 % off, crept for 40 iterations), σ_d is reached from that front by
+// sub-steps (a quarter of the way each, halved on failure, 20 iterations each, at most strip_profile_substeps solves),
+// each from the last. Measured there: from the 32-row front at 0.2198 the direct solve crept (c 9.20 -> 9.30 of ~9.74
+// in 40 iterations), a quarter step failed in 12, eighths converged in 11-12 each.
+constexpr int strip_profile_substeps = 16;
 continuum::StripFront strip_front_at(const Scene& s, double sigma_d, const std::vector<continuum::StripFront>& kept,
                                      continuum::StripFrontOptions fo) {
   fo.max_newton = std::max(fo.max_newton, 40);  // from a neighbour far in sigma_d (the path's meshes allow 12)
   const continuum::StripFront* guess = nullptr;
   for (const auto& f : kept)
     if (!f.saddle_node_limit && (!guess || std::abs(f.sigma_d - sigma_d) < std::abs(guess->sigma_d - sigma_d))) guess = &f;
-  return continuum::solve_strip_front(s.interface, s.bulk, sigma_d, fo, guess);
+  continuum::StripFront direct = continuum::solve_strip_front(s.interface, s.bulk, sigma_d, fo, guess);
+  if (direct.status != continuum::FrontStatus::newton_failed || !guess) return direct;
+  continuum::StripFrontOptions so = fo;
+  so.max_newton = 20;  // measured 11-12 per eighth of the way at H = 200 (Newton converges slowly there, not the step)
+  continuum::StripFront cur = *guess;
+  double step = (sigma_d - guess->sigma_d) / 4.0;
+  for (int n = 0; n < strip_profile_substeps && cur.sigma_d != sigma_d; ++n) {
+    const double next = std::abs(sigma_d - cur.sigma_d) <= std::abs(step) * (1.0 + 1e-9) ? sigma_d : cur.sigma_d + step;
+    continuum::StripFront f = continuum::solve_strip_front(s.interface, s.bulk, next, so, &cur);
+    if (f.status == continuum::FrontStatus::stopped) return f;
+    if (f.status == continuum::FrontStatus::converged) cur = std::move(f);
+    else step *= 0.5;
+  }
+  if (cur.sigma_d == sigma_d) return cur;
+  direct.reason += "; by sub-steps from sigma_d = " + core::format_number(guess->sigma_d) + ": stalled at " +
+                   core::format_number(cur.sigma_d);
+  return direct;
 }
 
 // The same front on `fo` (other rows or intervals), from itself.
@@ -255,7 +279,7 @@ FrontProfile profile_of(const continuum::StripFront& f) {
 // The strip's lengths and speeds of the paper's 2D argument, and the 1D c_min of the same column stiffness.
 void store_strip_scalars(const Scene& s, double c_min, const std::function<bool()>& stop, FrontsResult& r) {
   const auto& ip = s.interface;
-  const double H = s.bulk.height, mus = s.bulk.mu / H;
+  const double H = s.bulk.height, mus = core::Strip::modulus(s.bulk);
   r.scalars["height"] = H;
   r.scalars["mu_strip"] = mus;
   r.scalars["rho_strip"] = s.bulk.rho / H;
@@ -295,8 +319,11 @@ bool solve_strip_profiles(const Scene& s, const continuum::StripBranch& branch,
     if (f.status == continuum::FrontStatus::stopped) return false;
     const bool converged = f.status == continuum::FrontStatus::converged;
     const double err = converged ? add(f) : nan_value;
-    if (f.status == continuum::FrontStatus::newton_failed)  // a front that should exist: a speed without estimate
-      acc.add(1.0, nan_value, "no convergence at sigma_d = " + core::format_number(wanted[k]) + ": " + f.reason);
+    if (f.status == continuum::FrontStatus::newton_failed) {  // a front that should exist: a speed without estimate
+      const std::string why = "no convergence at sigma_d = " + core::format_number(wanted[k]) + ": " + f.reason;
+      acc.add(1.0, nan_value, why);
+      r.labels["profiles_failed"] += (r.labels["profiles_failed"].empty() ? "" : "; ") + why;  // every one, stored and printed
+    }
     if (k == 0) {
       r.scalars["c_at_scene_sigma_d"] = converged ? f.c : nan_value;
       r.scalars["c_at_scene_sigma_d_error"] = err;
@@ -330,7 +357,7 @@ struct ScaledProblem {
   /// The parameter's value at f (μ' = bulk.mu/H).
   double value(double f) const {
     const auto [ip, b] = at(f);
-    return p == 0 ? b.mu / s.bulk.height : p == 1 ? ip.alpha : p == 2 ? ip.eta : ip.kappa;
+    return p == 0 ? core::Strip::modulus(b) : p == 1 ? ip.alpha : p == 2 ? ip.eta : ip.kappa;
   }
 };
 
@@ -629,7 +656,8 @@ MeshChoice choose_meshes(const Scene& s, const StripBranchRun& pilot, const Stri
     }
     return true;
   };
-  for (;;) {  // the rows
+  if (st.rows > 0) out.how += " (given)";
+  while (st.rows <= 0) {  // the rows, unless given (--rows: then only the intervals are chosen)
     if (fo.stop && fo.stop()) return stop_at("stopped", "stopped");
     const continuum::StripFrontOptions fine = continuum::with_rows(H, fo, 2 * fo.rows);
     if (const auto [why, line] = refusal(fine); !why.empty()) return stop_at(why, line);

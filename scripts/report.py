@@ -1260,6 +1260,9 @@ def read_cmin_csv(path):
     t = {k: np.array([num(r.get(k)) for r in rows]) for k in need}
     # the estimate beside each c_min (docs/fronts.md §10.20; NaN in a CSV written before it existed)
     t["c_min_error"] = np.array([num(r.get("c_min_error")) for r in rows])
+    # the mesh of each height and its verdict on paths.rtol (1 met, 0 NOT met, NaN not judged or an older CSV)
+    for k in ("rows", "intervals", "rtol_met"):
+        t[k] = np.array([num(r.get(k)) for r in rows])
     ok = np.isfinite(t["H"]) & (t["H"] > 0) & np.isfinite(t["c_min"]) & (t["c_min"] > 0)
     order = np.argsort(t["H"][ok])
     t = {k: v[ok][order] for k, v in t.items()}
@@ -1407,6 +1410,9 @@ def strip_cmin_section(path, root, figdir):
                 f"(c_min = {t['c_min'][w]:.6g} ± {t['c_min_error'][w]:.2g} at H = {H[w]:.4g})")
     else:
         errs = "; no error estimates in this CSV (written before docs/fronts.md §10.20)"
+    unmet = [f"{h:.4g}" for h, v in zip(H, t["rtol_met"]) if v == 0]
+    if unmet:
+        errs += f"; rtol NOT met at {len(unmet)} of {len(H)} heights (H = {', '.join(unmet)})"
     rows = [measure_row(f"c_min(H) of the strip, H = {H[0]:.4g} .. {H[-1]:.4g}: does the 1D c_min hold?",
                         f"{holds}; {cross}", "", gap, expo + errs),
             answer_row("Does the minimal steady front speed vary smoothly from 1D to 2D as H grows?",
@@ -2123,6 +2129,25 @@ def fronts_section(ctx, path):
     return more, rows, []
 
 
+def cmin_table_lines(t):
+    """Every height's c_min with its estimate, its mesh and its verdict on paths.rtol (docs/fronts.md §10.20), as a
+    markdown table; a line counting the heights NOT met."""
+    def verdict(v):
+        return "met" if v == 1 else "**NOT met**" if v == 0 else "not judged"
+    lines = ["| H | c_min ± estimate | relative | rows × intervals | rtol |", "| --- | --- | --- | --- | --- |"]
+    for k in range(len(t["H"])):
+        c, e = t["c_min"][k], t["c_min_error"][k]
+        est = f"{c:.8g} ± {e:.2g}" if math.isfinite(e) else f"{c:.8g} (no estimate)"
+        rel = f"{100 * e / c:.2g} %" if math.isfinite(e) else ""
+        mesh = (f"{t['rows'][k]:.0f} × {t['intervals'][k]:.0f}" if math.isfinite(t["rows"][k]) else "")
+        lines.append(f"| {t['H'][k]:.6g} | {est} | {rel} | {mesh} | {verdict(t['rtol_met'][k])} |")
+    unmet = [f"{h:.4g}" for h, v in zip(t["H"], t["rtol_met"]) if v == 0]
+    if unmet:
+        lines += ["", f"**{len(unmet)} of {len(t['H'])} heights NOT met** their rtol (H = {', '.join(unmet)}): "
+                  "the study's notes say why (budget, mesh limit, no convergence)."]
+    return lines + [""]
+
+
 def cmin_section(ctx, path):
     """A strip_cmin_height.csv: c_min(H) with its summary rows."""
     root = ctx.root
@@ -2132,6 +2157,12 @@ def cmin_section(ctx, path):
              "docs/fronts.md §10.12): the 1D line, the paper's intermediate form and the Brener-Marchenko "
              "large-H form, the lengths l and l_kappa; below, the local exponent against 1/2 and the paper's "
              "exponents.", "", f"File: `{os.path.relpath(path, root)}`, {len(figs) and 'plotted' or 'no usable row'}.", ""]
+    try:
+        t = read_cmin_csv(path)
+    except OSError:
+        t = None  # strip_cmin_section has warned
+    if t is not None:
+        lines += cmin_table_lines(t)
     return lines + figure_lines(figs, root), rows, []
 
 

@@ -7,6 +7,7 @@
 
 #include "studies/study.hpp"
 #include "continuum/steady_front.hpp"
+#include "core/strip.hpp"
 
 namespace slipfront::studies {
 namespace {
@@ -71,6 +72,158 @@ continuum::StripHeightPath strip_cmin_limiting_path(const StripCminHeightOptions
     say(o, format("  step H = %-12.6g c = %-12.8g predicted %-12.8g (%+.2e) newton %d rejected %d", st.height, st.c,
                   st.c_predicted, st.c_predicted / st.c - 1.0, st.newton_iterations, st.rejected));
   return path;
+}
+
+StripCminHeightOptions strip_cmin_study_defaults() {
+  StripCminHeightOptions o;
+  o.rtol = 1e-3;
+  o.choose_meshes = true;
+  o.intervals = 300;  // 64 rows on 400 intervals are above the Newton iteration limit; the ξ part is ~1e-7 of c here
+  return o;
+}
+
+namespace {
+
+// The meshes chosen by rtol (docs/fronts.md §10.20): what the path has cost in the cost model's CPU seconds
+// (continuum::strip_solve_cost of each solve's mesh times its Newton iterations, counted at the stop polls).
+struct ChosenPathCost {
+  long iterations = 0;        // every Newton iteration so far (the solves poll the stop before each)
+  double spent = 0.0;         // their cost
+  std::function<bool()> counted;
+  // the iterations since `before` charged at the price of `rows` × `intervals`
+  void charge(long before, int rows, int intervals) {
+    spent += static_cast<double>(iterations - before) * continuum::strip_solve_cost(rows, intervals).iteration_seconds;
+  }
+};
+
+// The path's options on `rows` × `intervals`: the first row spacing ℓ_tip/(10 rows/first_rows), so that doubling the
+// rows halves every spacing (the grading held, as the estimate's every-other-row re-solve assumes).
+continuum::StripHeightOptions chosen_path_options(const StripCminHeightOptions& o, int rows, int intervals,
+                                                  const std::function<bool()>& counted) {
+  continuum::StripHeightOptions p = strip_cmin_path_options(o);
+  p.front.rows = rows;
+  p.front.intervals = intervals;
+  p.row_resolution = continuum::strip_row_resolution * rows / o.first_rows;
+  p.front.stop = counted;
+  return p;
+}
+
+// The meshes a front of the path was solved on (its tip zone's spacings), for its estimate and its re-solves.
+continuum::StripFrontOptions path_front_options(const continuum::StripHeightOptions& po, const continuum::StripFront& f) {
+  return continuum::following_tip(po.front, continuum::strip_tip_zone(f.law, f.c, f.v_behind), po.tip_resolution,
+                                  po.row_resolution);
+}
+
+// A refinement of the choice to `fine` at height index k (of n), or why not ({"", ""}): the mesh limits, the iteration
+// limit, and the budget: spent, this height's re-solve and estimate (~26 iterations) and the heights left at the mean
+// iterations per height so far, all at `fine`'s price.
+std::pair<std::string, std::string> chosen_refusal(const StripCminHeightOptions& o, const continuum::StripFrontOptions& fine,
+                                                   const ChosenPathCost& cost, std::size_t k, std::size_t n) {
+  const std::string mesh = std::to_string(fine.rows) + " rows, " + std::to_string(fine.intervals) + " intervals";
+  if (fine.rows > o.max_rows || fine.intervals > o.max_intervals)
+    return {"limit", "limit: max " + std::to_string(o.max_rows) + " rows, " + std::to_string(o.max_intervals) + " intervals"};
+  const double price = continuum::strip_solve_cost(fine.rows, fine.intervals).iteration_seconds;
+  if (price > continuum::strip_max_iteration_seconds) return {"limit", "limit: " + mesh + " exceed the Newton iteration limit"};
+  const double per_height = static_cast<double>(cost.iterations) / static_cast<double>(k + 1);
+  const double total = cost.spent + (26.0 + static_cast<double>(n - k - 1) * per_height) * price;
+  if (total > o.budget_seconds)
+    return {"budget", "budget: " + mesh + " predicted at " + core::format_number(total, 3) +
+                          " s of CPU in all, over paths.budget " + core::format_number(o.budget_seconds) + " s"};
+  return {"", ""};
+}
+
+// The front kept at height index k: the path's front re-solved with the rows (and, where the ξ part is ≥ 0.1 rtol·c,
+// the intervals) doubled until its estimate is below 0.9 rtol·c; `m` its estimate and how the choice went.
+continuum::StripFront refine_height(const StripCminHeightOptions& o, const continuum::StripHeightOptions& po,
+                                    continuum::StripFront f, std::size_t k, std::size_t n, ChosenPathCost& cost,
+                                    StripCminMesh& m) {
+  continuum::StripFrontOptions fo = path_front_options(po, f);
+  const double H = f.bulk.height;
+  std::string rows = "rows " + std::to_string(fo.rows), intervals = "intervals " + std::to_string(fo.intervals), why;
+  for (;;) {
+    const long before = cost.iterations;
+    m.error = continuum::estimate_strip_speed_error(f, fo);  // on half the rows, then twice the intervals
+    cost.charge(before, std::max(1, fo.rows / 2), 2 * fo.intervals);
+    const double e = m.error.total, target = o.rtol * f.c;
+    if (std::isfinite(e) && e < 0.9 * target) break;
+    if (o.stop && o.stop()) {
+      m.limited = "stopped";
+      break;
+    }
+    if (!std::isfinite(e)) {
+      m.limited = "no estimate", why = "no estimate: " + m.error.note;
+      break;
+    }
+    continuum::StripFrontOptions fine = fo;
+    if (m.error.xi >= 0.1 * target) fine.intervals *= 2;
+    if (m.error.rows >= 0.8 * target) fine = continuum::with_rows(H, fine, 2 * fine.rows);
+    if (const auto [lim, line] = chosen_refusal(o, fine, cost, k, n); !lim.empty()) {
+      m.limited = lim, why = line;
+      break;
+    }
+    continuum::StripFrontOptions so = fine;
+    so.max_newton = std::max(so.max_newton, 40);  // from other rows: more than a continuation step (the path's 12)
+    const long before_solve = cost.iterations;
+    continuum::StripFront g = continuum::solve_strip_saddle_node_front(f.law, f.bulk, so, f);
+    cost.charge(before_solve, fine.rows, fine.intervals);
+    if (g.status != continuum::FrontStatus::converged) {
+      m.limited = g.status == continuum::FrontStatus::stopped ? "stopped" : "no convergence";
+      why = "no convergence on " + std::to_string(fine.rows) + " rows, " + std::to_string(fine.intervals) + " intervals: " + g.reason;
+      break;
+    }
+    if (fine.rows != fo.rows) rows += " -> " + std::to_string(fine.rows);
+    if (fine.intervals != fo.intervals) intervals += " -> " + std::to_string(fine.intervals);
+    f = std::move(g);
+    fo = fine;
+  }
+  m.how = rows + ", " + intervals + (why.empty() ? "" : " (" + why + ")");
+  return f;
+}
+
+}  // namespace
+
+continuum::StripHeightPath strip_cmin_chosen_path(const StripCminHeightOptions& o, std::vector<StripCminMesh>& meshes,
+                                                  double& predicted_seconds) {
+  const std::vector<double> heights = strip_cmin_heights(o);
+  ChosenPathCost cost;
+  cost.counted = [&cost, stop = o.stop] { return ++cost.iterations, stop && stop(); };
+  continuum::StripHeightPath out;
+  continuum::StripFront last;
+  int rows = o.first_rows, intervals = o.intervals;
+  const auto t0 = std::chrono::steady_clock::now();
+  for (std::size_t k = 0; k < heights.size(); ++k) {
+    continuum::StripHeightOptions po = chosen_path_options(o, rows, intervals, cost.counted);
+    po.heights = k == 0 ? std::vector<double>{heights[0]} : std::vector<double>{heights[k - 1], heights[k]};
+    po.start = k == 0 ? nullptr : &last;
+    const long before = cost.iterations;
+    continuum::StripHeightPath seg = continuum::continue_strip_height(o.law, o.mu_strip, o.rho_strip, po);
+    cost.charge(before, rows, intervals);
+    // the steps of the segment (its first, the start re-solved on the path's meshes, is the last height's)
+    out.steps.insert(out.steps.end(), seg.steps.begin() + (k == 0 || seg.steps.empty() ? 0 : 1), seg.steps.end());
+    if (!seg.complete || seg.fronts.size() < po.heights.size()) {
+      out.reason = seg.reason;
+      break;
+    }
+    StripCminMesh m;
+    last = refine_height(o, po, std::move(seg.fronts.back()), k, heights.size(), cost, m);
+    const bool within = m.error.total <= o.rtol * last.c;  // the verdict's test (the choice aims at 0.9 rtol)
+    say(o, format("  H = %-10.6g c_min = %-12.8g +- %.2e (%.2e of c): %s%s%s", heights[k], last.c, m.error.total,
+                  m.error.total / last.c, m.how.c_str(), within ? "" : ", NOT met: ", within ? "" : m.limited.c_str()));
+    rows = last.rows();
+    intervals = static_cast<int>(last.xi.size()) - 1;
+    out.fronts.push_back(last);
+    meshes.push_back(std::move(m));
+    if (meshes.back().limited == "stopped") {
+      out.reason = "stopped on request at H = " + core::format_number(heights[k]);
+      break;
+    }
+  }
+  out.complete = out.fronts.size() == heights.size() && out.reason.empty();
+  predicted_seconds = cost.spent;
+  say(o, format("limiting path (meshes chosen by rtol %g): %zu fronts, %zu steps, %.1f s, %.1f s of CPU predicted%s%s", o.rtol,
+                out.fronts.size(), out.steps.size(), seconds_since(t0), cost.spent, out.complete ? "" : ", incomplete: ",
+                out.reason.c_str()));
+  return out;
 }
 
 namespace {
@@ -146,9 +299,28 @@ void strip_cmin_branch(const StripCminHeightOptions& o, const continuum::StripHe
                 br.reason.c_str()));
 }
 
+// The verdict on rtol (o.rtol > 0): met when c_min's estimate is below rtol·c_min, else NOT met with why (the choice's
+// `limited`, or the meshes given) in the row's verdict. NaN when not judged.
+void judge_height(const StripCminHeightOptions& o, const StripCminMesh* m, StripCminRow& r) {
+  r.rtol_met = std::nan("");
+  if (!(o.rtol > 0.0)) return;
+  const bool met = std::isfinite(r.c_min_error) && r.c_min_error <= o.rtol * r.c_min;
+  r.rtol_met = met ? 1.0 : 0.0;
+  if (met) return;
+  const std::string limited = m ? m->limited : std::string();
+  r.verdict = "NOT met" + (limited.empty() ? std::string() : " (" + limited + ")") + " at H = " + format("%g", r.H) +
+              ": c_min = " + format("%.8g", r.c_min) +
+              (std::isfinite(r.c_min_error) ? " +- " + format("%.3g", r.c_min_error) + " (" +
+                                                  format("%.3g", 100.0 * r.c_min_error / r.c_min) + " % of c"
+                                            : std::string(" (no estimate")) +
+              ", rtol " + format("%g", 100.0 * o.rtol) + " %); " +
+              (m ? m->how : "rows " + std::to_string(r.rows) + ", intervals " + std::to_string(r.intervals) + " given");
+}
+
 }  // namespace
 
-std::vector<StripCminRow> strip_cmin_rows(const StripCminHeightOptions& o, const continuum::StripHeightPath& path) {
+std::vector<StripCminRow> strip_cmin_rows(const StripCminHeightOptions& o, const continuum::StripHeightPath& path,
+                                          const std::vector<StripCminMesh>* meshes) {
   const double mu = o.mu_strip, rho = o.rho_strip;
   const auto& law = o.law;
   const double ell = mu, ell_kappa = mu * law.kappa / (law.eta * law.alpha), s = mu / law.eta, cs = std::sqrt(mu / rho);
@@ -161,7 +333,14 @@ std::vector<StripCminRow> strip_cmin_rows(const StripCminHeightOptions& o, const
     const double h = fr.bulk.height;
     StripCminRow r;
     const auto b1 = strip_cmin_1d_pass(o, h, r);
-    strip_cmin_front_error(o, po, fr, r);
+    const StripCminMesh* m = meshes && k < meshes->size() ? &(*meshes)[k] : nullptr;
+    if (m) {
+      r.c_min_error = m->error.total;
+      if (!std::isfinite(r.c_min_error))
+        r.note += std::string(r.note.empty() ? "" : "; ") + "c_min_error not estimated at H = " + format("%g", h) + ": " + m->error.note;
+    } else {
+      strip_cmin_front_error(o, po, fr, r);
+    }
     r.H = h;
     r.H_over_l = h / ell;
     r.H_over_l_kappa = h / ell_kappa;
@@ -180,6 +359,7 @@ std::vector<StripCminRow> strip_cmin_rows(const StripCminHeightOptions& o, const
     r.intervals = static_cast<int>(fr.xi.size()) - 1;
     r.domain_length = fr.domain_length;
     r.tip_zone = continuum::strip_tip_zone(law, fr.c, fr.v_behind);
+    judge_height(o, m, r);
     rows.push_back(std::move(r));
   }
   return rows;
@@ -187,8 +367,14 @@ std::vector<StripCminRow> strip_cmin_rows(const StripCminHeightOptions& o, const
 
 StripCminHeight strip_cmin_height(const StripCminHeightOptions& o) {
   StripCminHeight out;
-  out.path = strip_cmin_limiting_path(o);
-  out.rows = strip_cmin_rows(o, out.path);
+  if (o.choose_meshes && o.rtol > 0.0) {
+    out.path = strip_cmin_chosen_path(o, out.meshes, out.predicted_seconds);
+    out.rows = strip_cmin_rows(o, out.path, &out.meshes);
+  } else {
+    out.predicted_seconds = std::nan("");
+    out.path = strip_cmin_limiting_path(o);
+    out.rows = strip_cmin_rows(o, out.path);
+  }
   return out;
 }
 
@@ -196,13 +382,13 @@ std::string strip_cmin_csv(const std::vector<StripCminRow>& rows) {
   std::string out =
       "H,H_over_l,H_over_l_kappa,c_min,c_min_over_s,c_min_over_cs,c_min_1d,ratio_to_1d,local_exponent,"
       "branch_c_min,branch_sigma_d_at_c_min,branch_c_min_at_end,branch_points,branch_folds,branch_end,"
-      "branch_seconds,rows,intervals,domain_length,tip_zone,c_min_error,c_min_1d_error,ratio_to_1d_error\n";
+      "branch_seconds,rows,intervals,domain_length,tip_zone,c_min_error,c_min_1d_error,ratio_to_1d_error,rtol_met\n";
   for (const auto& r : rows)
-    out += format("%.9g,%.6g,%.6g,%.10g,%.6g,%.6g,%.10g,%.8g,%.6g,%.10g,%.8g,%d,%d,%d,%s,%.2f,%d,%d,%.6g,%.6g,%.3g,%.3g,%.3g\n",
+    out += format("%.9g,%.6g,%.6g,%.10g,%.6g,%.6g,%.10g,%.8g,%.6g,%.10g,%.8g,%d,%d,%d,%s,%.2f,%d,%d,%.6g,%.6g,%.3g,%.3g,%.3g,%g\n",
                   r.H, r.H_over_l, r.H_over_l_kappa, r.c_min, r.c_min_over_s, r.c_min_over_cs, r.c_min_1d, r.ratio_to_1d,
                   r.local_exponent, r.branch_c_min, r.branch_sigma_d_at_c_min, r.branch_c_min_at_end, r.branch_points,
                   r.branch_folds, r.branch_end.c_str(), r.branch_seconds, r.rows, r.intervals, r.domain_length, r.tip_zone,
-                  r.c_min_error, r.c_min_1d_error, r.ratio_to_1d_error);
+                  r.c_min_error, r.c_min_1d_error, r.ratio_to_1d_error, r.rtol_met);
   return out;
 }
 
@@ -221,6 +407,8 @@ constexpr KeyDomain path_domains[] = {
     {"paths.branch_intervals", K::integer, 8.0, 100000.0, false, false, false, "", "(as slipfront fronts --intervals)"},
     {"paths.tolerance", K::number, 1e-15, 1e-3, false, false, false, "", "(Newton tolerance of every solve)"},
     {"paths.max_factor", K::number, 1.01, 10.0, false, false, false, "", "(largest step H_{n+1}/H_n of the path)"},
+    {"paths.rtol", K::number, 1e-8, 0.5, false, false, false, "", "(the target on c_min, as slipfront fronts --rtol)"},
+    {"paths.budget", K::number, 1.0, 1e7, false, false, false, "", "(CPU seconds of the mesh choice, as slipfront fronts --budget)"},
 };
 
 // A numeric column of the rows.
@@ -242,9 +430,19 @@ std::string note_errors(const std::vector<StripCminRow>& rows, StudyReport& rep)
   }
   rep.scalars["c_min_largest_relative_error"] = worst;
   rep.definitions["c_min_largest_relative_error"] = "largest c_min_error/c_min over the table (docs/fronts.md §10.20)";
-  if (without == 0) return "";
-  return std::to_string(without) + " of " + std::to_string(rows.size()) +
-         " heights have a NaN (c_min_1d, ratio_to_1d or an error estimate): see the notes";
+  int unmet = 0;
+  for (const auto& row : rows)
+    if (!row.verdict.empty()) rep.notes.push_back(row.verdict), ++unmet;
+  rep.scalars["heights_rtol_unmet"] = unmet;
+  rep.definitions["heights_rtol_unmet"] = "heights whose c_min_error is not below rtol c_min (rtol_met = 0; each in the notes)";
+  std::string message;
+  if (without > 0)
+    message = std::to_string(without) + " of " + std::to_string(rows.size()) +
+              " heights have a NaN (c_min_1d, ratio_to_1d or an error estimate): see the notes";
+  if (unmet > 0)
+    message += (message.empty() ? "" : "; ") + std::to_string(unmet) + " of " + std::to_string(rows.size()) +
+               " heights NOT met (c_min not within its rtol): see the notes";
+  return message;
 }
 
 }  // namespace
@@ -272,9 +470,10 @@ StripCminHeightOptions strip_cmin_study_options(const StudySpec& spec, const Sce
     throw core::ParamError("scene", "the kind strip_cmin_height needs a strip scene (bulk.height > 0): its material is "
                                     "mu' = bulk.mu/bulk.height, rho' = bulk.rho/bulk.height; " + spec.scene_file +
                                     " is the 1D chain (bulk.height = 0)");
-  StripCminHeightOptions o = kind_options<StripCminHeightOptions>(spec);
+  StripCminHeightOptions o = spec.kind_options.has_value() ? kind_options<StripCminHeightOptions>(spec)
+                                                           : strip_cmin_study_defaults();
   o.law = base.interface;
-  o.mu_strip = base.bulk.mu / base.bulk.height;
+  o.mu_strip = core::Strip::modulus(base.bulk);
   o.rho_strip = base.bulk.rho / base.bulk.height;
   check_strip_cmin_paths(o);
   return o;
@@ -311,6 +510,16 @@ void put_strip_cmin_scalars(StudyReport& rep, const StripCminHeightOptions& o, c
   rep.definitions["heights_target"] = "target heights of [paths]: round(per_decade log10(hmax/hmin)) + 1";
   rep.definitions["heights_reached"] = "target heights the limiting path reached (the table's rows)";
   rep.definitions["path_steps"] = "accepted steps of the limiting path in H";
+  rep.scalars["rtol"] = o.rtol;
+  rep.scalars["meshes_chosen"] = o.choose_meshes && o.rtol > 0.0 ? 1.0 : 0.0;
+  rep.scalars["budget_seconds"] = o.budget_seconds;
+  rep.scalars["predicted_seconds"] = r.predicted_seconds;
+  rep.definitions["rtol"] = "paths.rtol: the target on every c_min (its estimate below rtol c_min); 0: not judged";
+  rep.definitions["meshes_chosen"] = "1: each height's rows and intervals chosen by rtol (no paths.rows); 0: paths.rows, "
+                                     "paths.intervals as given (docs/fronts.md §10.20)";
+  rep.definitions["budget_seconds"] = "paths.budget: CPU seconds (continuum::strip_solve_cost) the mesh choice may predict";
+  rep.definitions["predicted_seconds"] = "the cost model's CPU seconds of the path with its re-solves and estimates "
+                                         "(NaN: meshes given)";
 }
 
 // The table strip_cmin_height, one row per target height reached, and its definitions (a table: one line a column).
@@ -338,6 +547,7 @@ void put_strip_cmin_table(StudyReport& rep, const StripCminHeight& r) {
   t["c_min_error"] = column(r.rows, &StripCminRow::c_min_error);
   t["c_min_1d_error"] = column(r.rows, &StripCminRow::c_min_1d_error);
   t["ratio_to_1d_error"] = column(r.rows, &StripCminRow::ratio_to_1d_error);
+  t["rtol_met"] = column(r.rows, &StripCminRow::rtol_met);
   rep.tables["strip_cmin_height"] = t;
   const std::map<std::string, std::string> defs = {
       {"H", "strip height (a target height of [paths] the limiting path reached)"},
@@ -355,14 +565,15 @@ void put_strip_cmin_table(StudyReport& rep, const StripCminHeight& r) {
       {"branch_points", "paths.branches: continuation points of the branch (0 without)"},
       {"branch_folds", "paths.branches: turning points of the branch (0 without)"},
       {"branch_seconds", "paths.branches: wall time of the branch in s (0 without): the table's only timing column"},
-      {"rows", "row intervals across the height of the limiting front"},
-      {"intervals", "xi intervals of the limiting front's collocation mesh"},
+      {"rows", "row intervals across the height of the limiting front (chosen per height by rtol, or paths.rows)"},
+      {"intervals", "xi intervals of the limiting front's collocation mesh (chosen per height by rtol from paths.intervals, or as given)"},
       {"domain_length", "length L of the limiting front's xi domain"},
       {"tip_zone", "the front's tip zone c/(1 + kappa v_behind)"},
       {"c_min_error", "estimated error of c_min (docs/fronts.md §10.20): re-solved on every other row (order 1.5 "
                       "assumed) plus the xi part; NaN: not estimated (see the notes)"},
       {"c_min_1d_error", "estimated error of c_min_1d (the 1D solver's Richardson in xi); NaN: no c_min_1d (see the notes)"},
-      {"ratio_to_1d_error", "estimated error of ratio_to_1d: ratio x (both relative errors summed)"}};
+      {"ratio_to_1d_error", "estimated error of ratio_to_1d: ratio x (both relative errors summed)"},
+      {"rtol_met", "1: c_min_error below rtol c_min; 0: NOT met (why: the notes); NaN: not judged (rtol = 0)"}};
   for (const auto& [k, v] : defs) rep.definitions["strip_cmin_height/" + k] = v;
 }
 

@@ -36,9 +36,23 @@ struct StripCminHeightOptions {
   int branch_rows = 8, branch_intervals = 300;  ///< the branches' mesh
   double tolerance = 1e-11;   ///< Newton tolerance of every solve
   double max_factor = 2.0;    ///< largest step H_{n+1}/H_n of the paths
+  /// The limiting path's meshes chosen per target height by a tolerance on c_min (docs/fronts.md §10.20): with
+  /// choose_meshes the rows from first_rows (and the intervals from `intervals`) are doubled at each height until
+  /// c_min's estimate is below 0.9 rtol·c_min, within budget_seconds; otherwise `rows`, `intervals` as given (the
+  /// bench; the study with paths.rows). rtol > 0 judges every height either way (StripCminRow::rtol_met); 0: not judged.
+  double rtol = 0.0;
+  bool choose_meshes = false;
+  int first_rows = 8;
+  int max_rows = 64, max_intervals = 2400;     ///< the largest meshes of the choice (and strip_max_iteration_seconds)
+  /// CPU seconds of the reference machine (continuum::strip_solve_cost) the whole path may be predicted at: a
+  /// refinement predicted above it is not made and its height is NOT met (budget).
+  double budget_seconds = 600.0;
   std::function<bool()> stop;                       ///< polled before every solve (empty: never)
   std::function<void(const std::string&)> log;      ///< progress lines, without the newline (empty: none)
 };
+
+/// The study's defaults (a [paths] without `rows`, or none): the meshes chosen by rtol = 1e-3 from 8 rows.
+StripCminHeightOptions strip_cmin_study_defaults();
 
 /// The target heights: hmin · (hmax/hmin)^(k/n), k = 0..n, n = round(per_decade · log10(hmax/hmin)).
 std::vector<double> strip_cmin_heights(const StripCminHeightOptions& o);
@@ -56,6 +70,9 @@ struct StripCminRow {
   /// ξ part, c_min_1d's the 1D solver's own, ratio_to_1d's both relative errors summed; NaN with `note`.
   double c_min_error = 0, c_min_1d_error = 0, ratio_to_1d_error = 0;
   std::string note;                 ///< why a number of this row is NaN ("" when none is)
+  /// With rtol > 0: 1 when c_min_error < rtol·c_min, else 0 with `verdict` (NaN when not judged, rtol = 0).
+  double rtol_met = 0;
+  std::string verdict;              ///< why not met ("NOT met (budget|limit|no convergence|no estimate): ..."), "" else
   double local_exponent = 0;        ///< d ln c_min/d ln H to the next height (NaN at the last)
   double branch_c_min = 0, branch_sigma_d_at_c_min = 0;  ///< NaN without branches
   int branch_c_min_at_end = 0, branch_points = 0, branch_folds = 0;
@@ -68,15 +85,34 @@ struct StripCminRow {
 /// The limiting path of `o` (log: the material line, the path's summary and one line per step).
 continuum::StripHeightPath strip_cmin_limiting_path(const StripCminHeightOptions& o);
 
+/// How the mesh of one target height was chosen (o.choose_meshes): the estimate of the front kept, and why the
+/// choice stopped short of rtol ("" when it did not).
+struct StripCminMesh {
+  continuum::StripSpeedError error;
+  std::string limited;              ///< "", "budget", "limit", "no convergence", "no estimate", "stopped"
+  std::string how;                  ///< the meshes tried: "rows 8 -> 16, intervals 400 (budget: ...)"
+};
+
+/// The limiting path with the meshes chosen per target height (o.choose_meshes, docs/fronts.md §10.20): from
+/// o.first_rows rows and o.intervals, the path continued to each height on the meshes of the last, where the front
+/// is re-solved with the rows (and, when its ξ part is ≥ 0.1 rtol·c, the intervals) doubled until its estimate is
+/// below 0.9 rtol·c. `meshes`: one per front. `predicted_seconds`: the cost model's prediction of the whole.
+continuum::StripHeightPath strip_cmin_chosen_path(const StripCminHeightOptions& o, std::vector<StripCminMesh>& meshes,
+                                                  double& predicted_seconds);
+
 /// The table's rows from a limiting path of `o` (with o.branches, each target H's branch; log: one line each).
-std::vector<StripCminRow> strip_cmin_rows(const StripCminHeightOptions& o, const continuum::StripHeightPath& path);
+/// With `meshes` (strip_cmin_chosen_path's) their estimates are used instead of estimating each front again.
+std::vector<StripCminRow> strip_cmin_rows(const StripCminHeightOptions& o, const continuum::StripHeightPath& path,
+                                          const std::vector<StripCminMesh>* meshes = nullptr);
 
 struct StripCminHeight {
   continuum::StripHeightPath path;
   std::vector<StripCminRow> rows;
+  std::vector<StripCminMesh> meshes;  ///< with o.choose_meshes: one per front
+  double predicted_seconds = 0.0;     ///< with o.choose_meshes: the cost model's CPU seconds of the path (NaN without)
 };
 
-/// Both: the limiting path, then the rows.
+/// Both: the limiting path (its meshes chosen when o.choose_meshes), then the rows.
 StripCminHeight strip_cmin_height(const StripCminHeightOptions& o);
 
 /// The table as CSV text (header line, one line per row; the columns of docs/fronts.md §10.12).

@@ -15,6 +15,7 @@
 #include <thread>
 #include <vector>
 
+#include "compare/fronts.hpp"
 #include "continuum/strip_front.hpp"
 #include "h5content.hpp"
 #include "process.hpp"
@@ -23,6 +24,7 @@
 namespace fs = std::filesystem;
 using slipfront::testing::TempDir;
 namespace continuum = slipfront::continuum;
+namespace compare = slipfront::compare;
 
 namespace {
 const std::string strip_scene = std::string(SLIPFRONT_SOURCE_DIR) + "/configs/steady_front_strip.toml";
@@ -126,6 +128,35 @@ TEST_CASE("fronts accuracy: a small --budget stops the mesh choice: NOT met (bud
   INFO("predicted " << f.numbers.at("/branch@predicted_seconds") << " s, spent " << f.numbers.at("/branch@cpu_seconds") << " s");
   CHECK(f.numbers.at("/branch@predicted_seconds") > f.numbers.at("/branch@cpu_seconds") / 3.0);
   CHECK(f.numbers.at("/branch@predicted_seconds") < f.numbers.at("/branch@cpu_seconds") * 3.0);
+}
+
+TEST_CASE("fronts accuracy: --rows without --intervals still chooses the intervals by rtol", "[fronts][strip]") {
+  // Issue 36 item 1: with the rows given and the intervals not, the choice tried to double the given rows, met the
+  // limit (the given count) and returned before the intervals were looked at, so the xi part of the estimate never
+  // refined them. steady_front_strip's material (H = 16, mu' = 300) on 4 rows (given) from 16 intervals: the xi part
+  // there is well above 0.1 rtol c, so the intervals must be doubled; the rows stay 4, and the c_min returned is
+  // within rtol of the same 4 rows on 4x the intervals chosen (its xi limit). Fails if the intervals stay 16.
+  compare::Scene s = slipfront::testing::homogeneous_scene(0.5, 150.0, 15.0);
+  s.bulk.mu = 4800.0;
+  s.bulk.rho = 0.16;
+  s.bulk.height = 16.0;
+  compare::StripFrontsSettings st;
+  st.rows = 4;
+  st.first_intervals = 16;
+  const compare::FrontsResult r = compare::compute_fronts(s, false, {}, st);
+  INFO(r.labels.at("resolution") << "; " << r.labels.at("accuracy"));
+  REQUIRE(r.status == compare::RunStatus::complete);
+  CHECK(r.scalars.at("rows") == 4.0);
+  CHECK(r.scalars.at("intervals") > 16.0);
+  CHECK(contains(r.labels.at("resolution"), "rows 4 (given)"));
+  compare::StripFrontsSettings fine;
+  fine.rows = 4;
+  fine.intervals = 4 * static_cast<int>(r.scalars.at("intervals"));
+  const compare::FrontsResult ref = compare::compute_fronts(s, false, {}, fine);
+  REQUIRE(ref.status == compare::RunStatus::complete);
+  const double c = r.scalars.at("c_min"), c_ref = ref.scalars.at("c_min");
+  INFO("c_min " << c << " on " << r.scalars.at("intervals") << " intervals, " << c_ref << " on " << fine.intervals);
+  CHECK(std::abs(c - c_ref) < 1e-3 * c_ref);
 }
 
 TEST_CASE("fronts accuracy: a strip mesh whose Newton iteration cannot stop promptly is refused before any work",

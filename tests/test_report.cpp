@@ -556,3 +556,29 @@ TEST_CASE("report: an empty or truncated study.h5 or fronts.h5 is listed as unre
   }
   CHECK(md.find("not_a_study/study.h5: Unable to open object (object 'study' doesn't exist)") != std::string::npos);
 }
+
+TEST_CASE("report: strip_cmin_height's rows show c_min with its estimate, the mesh and the NOT met flags",
+          "[report][strip]") {
+  // Issue 36 item 1: every c_min the report prints carries its estimate, and a height whose paths.rtol was not met
+  // (rtol_met = 0 in the CSV) is flagged in the table and counted in the summary row. A CSV of three heights (the
+  // shipped study's numbers at H = 1, 1000, 1e4 with the meshes chosen by rtol 1e-3; H = 1e4 stopped at the mesh
+  // limit). Fails if an estimate, the mesh or the flag is missing.
+  const slipfront::testing::TempDir scratch("report-cmin-errors");
+  const fs::path& dir = scratch.path;
+  const fs::path csv = dir / "cmin" / "strip_cmin_height.csv";
+  fs::create_directories(csv.parent_path());
+  slipfront::testing::write_text(csv,
+                                 "H,H_over_l,H_over_l_kappa,c_min,c_min_over_s,c_min_over_cs,c_min_1d,ratio_to_1d,"
+                                 "local_exponent,rows,intervals,c_min_error,rtol_met\n"
+                                 "1,0.00333333,4.375e-05,11.305316,0.00376844,2.06e-05,11.30508793,1.00002,0.5,8,300,6.32e-07,1\n"
+                                 "1000,3.33333,0.04375,360.60584,0.120202,0.000658,360.3,1.00085,0.46,8,300,0.0185,1\n"
+                                 "10000,33.3333,0.4375,1042.0988,0.347366,0.0019,1140.0,0.914,nan,32,300,1.12,0\n");
+  REQUIRE(sh(std::string(SLIPFRONT_BINARY) + " report " + dir.string() + " > /dev/null") == 0);
+  const std::string md = slipfront::testing::slurp(dir / "report.md");
+  INFO(md);
+  CHECK(md.find("| 1 | 11.305316 ± 6.3e-07 | 5.6e-06 % | 8 × 300 | met |") != std::string::npos);
+  CHECK(md.find("| 1000 | 360.60584 ± 0.018 | 0.0051 % | 8 × 300 | met |") != std::string::npos);
+  CHECK(md.find("| 10000 | 1042.0988 ± 1.1 | 0.11 % | 32 × 300 | **NOT met** |") != std::string::npos);
+  CHECK(md.find("**1 of 3 heights NOT met** their rtol (H = 1e+04)") != std::string::npos);
+  CHECK(md.find("rtol NOT met at 1 of 3 heights (H = 1e+04)") != std::string::npos);
+}

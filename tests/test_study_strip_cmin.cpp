@@ -207,3 +207,79 @@ TEST_CASE("study strip_cmin_height: hostile study files are refused before any w
   CHECK(o.code == 2);
   CHECK(contains(o.err, "fig2.toml: paths: only a kind without scene runs (strip_cmin_height) has [paths]"));
 }
+
+TEST_CASE("study strip_cmin_height: paths.rtol chooses each height's rows, every c_min within its estimate of a twice "
+          "finer solve",
+          "[study][strip][cmin]") {
+  // Issue 36 item 1 (docs/fronts.md §10.20): without paths.rows the rows are chosen per height, doubled from 8 until
+  // c_min's estimate is below 0.9 rtol c_min. H = 1, 10, 100 at rtol = 5e-5 (8 rows: estimates 5.6e-8, 2.4e-6, 1.1e-4
+  // of c): the first two keep 8 rows, H = 100 takes 16. Each stored c_min against its front re-solved on twice the
+  // rows (same grading) and twice the intervals: within its stored error. Fails if the rows are not chosen (all
+  // equal), an estimate is missing or below the distance to the finer solve, or a height is judged wrongly.
+  studies::StripCminHeightOptions o = studies::strip_cmin_study_defaults();
+  o.law = {1.05, 8.0, 0.1};
+  o.mu_strip = 300.0;
+  o.rho_strip = 1e-9;
+  o.hmin = 1.0;
+  o.hmax = 100.0;
+  o.per_decade = 1.0;
+  o.branches = false;
+  o.rtol = 5e-5;
+  const auto r = studies::strip_cmin_height(o);
+  REQUIRE(r.path.complete);
+  REQUIRE(r.rows.size() == 3);
+  REQUIRE(r.path.fronts.size() == 3);
+  CHECK(r.rows[0].rows == 8);
+  CHECK(r.rows[2].rows > r.rows[0].rows);
+  CHECK(std::isfinite(r.predicted_seconds));
+  for (std::size_t k = 0; k < r.rows.size(); ++k) {
+    const auto& row = r.rows[k];
+    const continuum::StripFront& f = r.path.fronts[k];
+    continuum::StripFrontOptions fo = continuum::following_tip({}, continuum::strip_tip_zone(f.law, f.c, f.v_behind));
+    fo.row_grading = f.row_grading;
+    fo = continuum::with_rows(f.bulk.height, fo, 2 * f.rows());
+    fo.intervals = 2 * row.intervals;
+    fo.max_newton = 40;
+    const auto fine = continuum::solve_strip_saddle_node_front(f.law, f.bulk, fo, f);
+    INFO("H = " << row.H << ": c_min " << row.c_min << " +- " << row.c_min_error << " on " << row.rows << " rows, "
+                << row.intervals << " intervals; " << fine.c << " on " << fo.rows << ", " << fo.intervals);
+    REQUIRE(fine.status == continuum::FrontStatus::converged);
+    CHECK(std::isfinite(row.c_min_error));
+    CHECK(std::abs(row.c_min - fine.c) <= row.c_min_error);
+    CHECK(row.c_min_error < o.rtol * row.c_min);
+    CHECK(row.rtol_met == 1.0);
+    CHECK(row.verdict.empty());
+  }
+}
+
+TEST_CASE("study strip_cmin_height: a height whose rtol the budget does not allow is NOT met, in study.h5 and the "
+          "summary",
+          "[study][strip][cmin]") {
+  // The same path with paths.budget = 1 CPU second: the 16 rows H = 100 needs are predicted above it, so H = 100 stays
+  // on 8 rows, rtol_met = 0, and a note "NOT met (budget) at H = 100" is stored and printed (and counted in /meta
+  // message); H = 1 and 10 are met.
+  // Fails if the budget is ignored (16 rows) or the height is not flagged.
+  const TempDir dir("study-cmin-budget");
+  write_strip_scene(dir.path);
+  const fs::path study = write_study(dir.path, "cminb",
+                                     "[paths]\nhmin = 1.0\nhmax = 100.0\nper_decade = 1.0\nbranches = false\n"
+                                     "rtol = 5e-5\nbudget = 1.0\n");
+  const Output o = run({bin, "study", study.string(), "--out", (dir.path / "out").string()}, dir.path, {}, {}, 120.0);
+  INFO(o.out << o.err);
+  REQUIRE(o.code == 0);
+  const H5Content h = read_h5(dir.path / "out" / "study.h5");
+  CHECK(h.strings.at("/meta@status") == "complete");
+  const std::string table = "/study/tables/strip_cmin_height/";
+  const auto& rows = h.datasets.at(table + "rows");
+  const auto& met = h.datasets.at(table + "rtol_met");
+  REQUIRE(rows.size() == 3);
+  CHECK(rows[2] == 8.0);
+  CHECK(met[0] == 1.0);
+  CHECK(met[1] == 1.0);
+  CHECK(met[2] == 0.0);
+  CHECK(h.numbers.at("/study/scalars@heights_rtol_unmet") == 1.0);
+  CHECK(h.numbers.at("/study/scalars@meshes_chosen") == 1.0);
+  CHECK(h.numbers.at("/study/scalars@budget_seconds") == 1.0);
+  CHECK(contains(o.out, "note: NOT met (budget) at H = 100: c_min = "));
+  CHECK(contains(h.strings.at("/meta@message"), "1 of 3 heights NOT met"));
+}

@@ -14,7 +14,8 @@
 # and 0 with FAIL verdicts in the report: verdicts are read on the report's first screen (why: docs/reading.md).
 #
 #   bash scripts/main.sh [--part all|1d] [--out DIR]
-#     --part 1d   only the 1D part: the steps whose scene or study name has no "strip" in it (issue 22's "1D part")
+#     --part 1d   only the 1D part: the steps whose scene or study name has no "strip" or "inplane" in it (issue 22's
+#                 "1D part")
 #     --out DIR   write there instead of out/ (the report too)
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
@@ -65,7 +66,7 @@ launch() {
   name_of[$!]=$name start_of[$!]=$SECONDS log_of[$!]=$logs/task$tasks.log
 }
 drain() { while ((${#name_of[@]} > 0)); do finish_one; done; }
-wanted() { [[ $part == all || $1 != *strip* ]]; }  # wanted NAME: whether the step belongs to --part
+wanted() { [[ $part == all || ($1 != *strip* && $1 != *inplane*) ]]; }  # wanted NAME: whether the step belongs to --part
 
 # The steps, each a function of its name, listed longest first (CPU seconds on this machine, 2026-11-25, in
 # brackets; what is not listed runs after, in name order, so a new scene or study needs no entry here).
@@ -102,6 +103,7 @@ longest_first=(
   "scene contacts_strip"        # (24)
   "scene contacts_disorder"     # (24)
   "study disorder_limit_fig1"   # (19)
+  "scene fig1_inplane"          # (19: ~190 s of CPU, both models, explicit)
   "study validity_friction"     # (18)
   "study front_speeds_N"        # (18)
   "study front_branch"          # (14)

@@ -65,7 +65,7 @@ TEST_CASE("strip front: one material from the 1D limit to H = 64 (mu', rho' fixe
     const core::BulkParams b{rhos * H, mus * H, 300.0, H};
     const StripFront f = continuum::solve_strip_front(paper, b, 0.5, o, H > 0.25 ? &prev : nullptr);
     REQUIRE(f.status == FrontStatus::converged);
-    const auto f1 = continuum::solve_steady_front(paper, {b.rho, b.mu}, 0.5);
+    const auto f1 = continuum::solve_steady_front(paper, core::BulkParams{b.rho, b.mu, b.length}, 0.5);
     REQUIRE(f1.status == FrontStatus::converged);
     const double gap = 1.0 - f.c / f1.c;
     INFO("H = " << H << ": c = " << f.c << ", 1D " << f1.c);

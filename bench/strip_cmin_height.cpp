@@ -20,6 +20,7 @@
 
 namespace compare = slipfront::compare;
 namespace continuum = slipfront::continuum;
+namespace studies = slipfront::studies;
 
 int main(int argc, char** argv) {
   studies::StripCminHeightOptions o;

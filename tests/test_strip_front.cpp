@@ -100,7 +100,7 @@ struct Transcription {
 
 // c of the strip fronts at the given H (cold starts), and of the 1D front, at σ_d.
 double one_dimensional_speed(double sigma_d) {
-  const auto f = continuum::solve_steady_front(paper, {0.01, 300.0}, sigma_d);
+  const auto f = continuum::solve_steady_front(paper, core::BulkParams{0.01, 300.0, 300.0}, sigma_d);
   REQUIRE(f.status == FrontStatus::converged);
   return f.c;
 }
@@ -262,8 +262,8 @@ TEST_CASE("strip front: H -> 0 recovers the 1D fronts at second order in H", "[s
 
 TEST_CASE("strip front: the limiting front at sigma_c^d tends to the 1D c_min at second order in H", "[strip][front][thin]") {
   // The end of the branch: v_b = v_m, the null mode of the saddle-node behind (docs/fronts.md §4, §12).
-  const auto f1 = continuum::solve_steady_front(paper, {0.01, 300.0}, 0.22);
-  const auto end_1d = continuum::solve_saddle_node_front(paper, {0.01, 300.0}, {}, &f1);
+  const auto f1 = continuum::solve_steady_front(paper, core::BulkParams{0.01, 300.0, 300.0}, 0.22);
+  const auto end_1d = continuum::solve_saddle_node_front(paper, core::BulkParams{0.01, 300.0, 300.0}, {}, &f1);
   REQUIRE(end_1d.status == FrontStatus::converged);
   CHECK(end_1d.c == Approx(11.28108382).epsilon(1e-9));
   StripFrontOptions o;

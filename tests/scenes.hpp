@@ -247,4 +247,17 @@ inline double observed_order(double e_coarse, double e_fine, double ratio = 2.0)
   return std::log(e_coarse / e_fine) / std::log(ratio);
 }
 
+/// The scene's models made continuum + discrete, the discrete one the count law with every contact at the one
+/// threshold (w = 0) and no count noise: the law that is the continuum's bit for bit (docs/model.md §2, hierarchy
+/// item 1; tests/test_discrete_identity.cpp, the strips' identity tests).
+inline compare::Scene noise_off_count(compare::Scene s) {
+  s.models = {"continuum", "discrete"};
+  s.discrete.contacts_per_site = 1000;
+  s.discrete.threshold = "delta";
+  s.discrete.width = 0.0;
+  s.discrete.representation = "count";
+  s.discrete.noise = false;
+  return s;
+}
+
 }  // namespace slipfront::testing

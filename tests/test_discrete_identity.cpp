@@ -20,12 +20,7 @@ namespace {
 constexpr double tolerance = 1e-12;
 
 compare::Scene noise_off(compare::Scene s) {
-  s.models = {"continuum", "discrete"};
-  s.discrete.contacts_per_site = 1000;
-  s.discrete.threshold = "delta";
-  s.discrete.width = 0.0;
-  s.discrete.representation = "count";
-  s.discrete.noise = false;
+  s = testing::noise_off_count(s);
   s.discrete.seed = 7;
   return s;
 }

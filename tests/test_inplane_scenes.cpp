@@ -183,13 +183,7 @@ TEST_CASE("inplane scenes: the discrete count law with w = 0 and noise off is th
   // As on the chain (tests/test_discrete_identity.cpp: 1e-12 relative) and the antiplane strip
   // (tests/test_strip_runs.cpp: bit-identical): every snapshot value (σ_yy included), series value and event.
   for (const auto integ : {core::Integrator::central_difference, core::Integrator::implicit_trapezoidal}) {
-    compare::Scene s = small_inplane(integ);
-    s.models = {"continuum", "discrete"};
-    s.discrete.contacts_per_site = 1000;
-    s.discrete.threshold = "delta";
-    s.discrete.width = 0.0;
-    s.discrete.representation = "count";
-    s.discrete.noise = false;
+    compare::Scene s = testing::noise_off_count(small_inplane(integ));
     s.validate();
     INFO(core::to_string(integ));
     const auto r = compare::run_scene(s, {});

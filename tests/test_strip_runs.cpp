@@ -286,13 +286,7 @@ TEST_CASE("strip runs: the discrete count law with w = 0 and noise off is the co
   // of 3172 snapshot values differ, explicit and implicit), and that is what is required here: every
   // snapshot value, every series value and every event equal.
   for (const auto integ : {core::Integrator::central_difference, core::Integrator::implicit_trapezoidal}) {
-    compare::Scene s = small_strip(integ);
-    s.models = {"continuum", "discrete"};
-    s.discrete.contacts_per_site = 1000;
-    s.discrete.threshold = "delta";
-    s.discrete.width = 0.0;
-    s.discrete.representation = "count";
-    s.discrete.noise = false;
+    compare::Scene s = testing::noise_off_count(small_strip(integ));
     s.validate();
     INFO(core::to_string(integ));
     const auto r = compare::run_scene(s, {});

@@ -14,6 +14,7 @@
 
 #include "apps/h5out.hpp"
 #include "apps/hdf5_handle.hpp"
+#include "compare/models.hpp"
 #include "core/checksum.hpp"
 
 namespace slipfront::app {
@@ -197,13 +198,22 @@ compare::ModelResult read_model(hid_t file, const std::string& m, const ReadOpti
   return r;
 }
 
+// The models of the table that another is compared with (compare::is_reference_model), "a, b".
+std::string reference_names() {
+  std::string out;
+  for (const auto& k : compare::model_kinds)
+    if (compare::is_reference_model(k.name)) out += (out.empty() ? "" : ", ") + std::string(k.name);
+  return out;
+}
+
 compare::Comparison read_comparison(hid_t file) {
   compare::Comparison c;
   if (!has_link(file, "compare")) return c;
   Hid g(H5Gopen2(file, "compare", H5P_DEFAULT), H5Gclose, "open group /compare");
   c.reference = attr_string_or(g.get(), "reference", "/compare", "continuum");  // absent: the continuum
-  if (c.reference != "continuum" && c.reference != "mean_field")
-    throw InputError("/compare reference names '" + c.reference + "' (expected continuum or mean_field)");
+  if (!compare::is_reference_model(c.reference))  // a model some model is compared with (compare/models.hpp)
+    throw InputError("/compare reference names '" + c.reference + "' (expected a reference model of the table: " +
+                     reference_names() + ")");
   for (const auto& name : link_names(g.get(), "/compare")) {
     const std::string where = "/compare/" + name;
     if (object_type(g.get(), name, where) == H5I_GROUP) {

@@ -305,16 +305,18 @@ std::vector<std::string> shareable_references(const Scene& s) {
   const std::string reference = discrete_reference(s);
   const bool compared_online = runs_in_lockstep(s) && s.lists("discrete") && s.output.compare_dt > 0.0;
   std::vector<std::string> out;
-  for (const char* m : {"continuum", "mean_field"})
-    if (s.lists(m) && !(compared_online && m == reference)) out.emplace_back(m);
+  for (const auto& k : model_kinds)  // a deterministic model that is some model's reference (compare/models.hpp)
+    if (!k.seeded && is_reference_model(k.name) && s.lists(std::string(k.name)) && !(compared_online && k.name == reference))
+      out.emplace_back(k.name);
   return out;
 }
 
 bool reference_ignores(const std::string& model, const std::string& key) {
   if (key.rfind("discrete.", 0) != 0) return false;
-  if (model == "continuum") return true;
-  if (model == "mean_field") return std::find(mean_field_keys.begin(), mean_field_keys.end(), key) == mean_field_keys.end();
-  return false;
+  const ModelKind* k = find_model_kind(model);
+  if (!k || k->seeded) return false;
+  if (std::find(k->discrete_keys.begin(), k->discrete_keys.end(), "discrete.*") != k->discrete_keys.end()) return false;
+  return std::find(k->discrete_keys.begin(), k->discrete_keys.end(), key) == k->discrete_keys.end();
 }
 
 SceneResult run_scene_with_references(const Scene& s, const std::map<std::string, const ModelResult*>& given,

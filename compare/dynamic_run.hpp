@@ -118,7 +118,7 @@ class DynamicRun {
   /// ends the run interrupted before its first step (start_stopped).
   DynamicRun(const Scene& s, Law law, std::string model, ContactPredictionSetup prediction = {},
              const std::function<bool()>& stop = {})
-      : s_(s), wall0_(std::chrono::steady_clock::now()), front_(front_start(s, stop)),
+      : s_(s), wall0_(std::chrono::steady_clock::now()), front_(front_start_for<Law>(s, stop)),
         sim_(make_stepper<Stepper>(s, std::move(law), front_)),
         one_d_(core::is_one_dimensional(s.drive.loading)), tracker_(s.measure, sim_.bulk().x()),
         cycles_(s.measure), behind_(s.measure), recorder_(s, r_), contacts_due_(s.output.contact_every()) {

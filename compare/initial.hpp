@@ -45,6 +45,18 @@ struct FrontStart {
 /// cold start): true returns a FrontStart with `stopped` within one iteration. Its cost: front_start_cost.
 std::optional<FrontStart> front_start(const Scene& s, const std::function<bool()>& stop = {});
 
+/// front_start for a run of `Law`: a law that does not declare its steady front the continuum's
+/// (core::LawHooks::steady_front) is refused, naming drive.start, before the front is solved.
+template <class Law>
+std::optional<FrontStart> front_start_for(const Scene& s, const std::function<bool()>& stop = {}) {
+  if constexpr (!Law::hooks.steady_front)
+    if (s.drive.loading == core::Loading::homogeneous && s.drive.start == "steady_front")
+      throw core::ParamError("drive.start", "this model's law has no steady front to start from "
+                                            "(core::LawHooks::steady_front: the continuum's solved front is not its own); "
+                                            "use drive.start = \"nucleation\"");
+  return front_start(s, stop);
+}
+
 /// What front_start costs on the strip (docs/fronts.md §10.15; compare::estimate counts it once per model): the
 /// 1D front, then the cold start's solves at H_0 = 0.5, 1, 2, … H on the scene's rows and the solver's 600
 /// intervals, each ~5 Newton iterations at continuum::strip_solve_cost. Zero for the chain (~0.05 s) and for a

@@ -45,10 +45,9 @@ inline void label_discrete(const Scene& s, ModelResult& r) {
   if (d.representation == "count") r.scalars["bins"] = d.width > 0.0 ? d.bins : 1.0;
 }
 
-/// The discrete.* keys mean_field reads (discrete::MeanFieldLaw; label_mean_field stores them): a study shares one
-/// mean_field among runs that differ in the others only (compare::reference_ignores).
-inline constexpr std::array<std::string_view, 4> mean_field_keys{"discrete.threshold", "discrete.width",
-                                                                 "discrete.renewal", "discrete.bins"};
+/// The discrete.* keys mean_field reads (its row of compare::model_kinds, discrete_keys; label_mean_field stores them):
+/// a study shares one mean_field among runs that differ in the others only (compare::reference_ignores).
+inline constexpr const auto& mean_field_keys = find_model_kind("mean_field")->discrete_keys;
 
 /// The model mean_field (docs/model.md §2.2): the population balance at the scene's threshold law, width,
 /// renewal and binning (mean_field_keys).

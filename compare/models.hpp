@@ -18,18 +18,33 @@ struct ModelKind {
   /// data() is a C string.
   std::array<std::string_view, 2> references;
   std::string_view cost;        ///< what a step costs per site
+  /// The discrete.* keys its law reads: none (empty), these (up to four), or all ("discrete.*"). A study shares one
+  /// run of a deterministic model among runs that differ in keys it does not read (compare::reference_ignores).
+  std::array<std::string_view, 4> discrete_keys;
+  /// Its runs draw random numbers (a seed): never shared among the runs of a study (compare::shareable_references).
+  bool seeded = false;
 };
 
 inline constexpr std::array<ModelKind, 3> model_kinds{{
     {"continuum", "interface", "continuum::FrictionLaw(interface, sites): the rate law of docs/model.md §1", {},
-     "one exact update (a few exponentials)"},
+     "one exact update (a few exponentials)", {}, false},
     {"mean_field", "discrete (threshold, width, renewal, bins only)",
      "discrete::MeanFieldLaw: the ensemble's N -> infinity population balance, docs/model.md §2.2", {},
-     "one exact update per threshold class"},
+     "one exact update per threshold class",
+     {"discrete.threshold", "discrete.width", "discrete.renewal", "discrete.bins"}, false},
     {"discrete", "discrete",
      "by discrete.representation: discrete::CountLaw (count), AgentLaw (agent), NaiveAgentLaw (naive), docs/model.md §2",
-     {"mean_field", "continuum"}, "count: binomial draws per threshold bin; agent, naive: per contact event"},
+     {"mean_field", "continuum"}, "count: binomial draws per threshold bin; agent, naive: per contact event",
+     {"discrete.*"}, true},
 }};
+
+/// Whether a model of the table is a reference of another (compared with it: `references`).
+constexpr bool is_reference_model(std::string_view name) {
+  for (const auto& k : model_kinds)
+    for (const auto& r : k.references)
+      if (!r.empty() && r == name) return true;
+  return false;
+}
 
 /// The row of model `name`, or nullptr.
 constexpr const ModelKind* find_model_kind(std::string_view name) {

@@ -32,7 +32,8 @@ class FrictionLaw : public core::OverloadedSteadyState<FrictionLaw> {
   // The hook's steady state is the non-aging closed form; aging scenes (interface.aging_b > 0) are refused where it is
   // used (homogeneous loading: the patch and sigma_ss at v_behind; compare/scene.cpp check_aging).
   static constexpr core::LawHooks hooks{
-      .ages = true, .dense_ages = true, .contact_hazard = true, .checkpoints = true, .steady_state = true};
+      .ages = true, .dense_ages = true, .contact_hazard = true, .checkpoints = true, .steady_state = true,
+      .steady_front = true};
   FrictionLaw(const core::InterfaceParams& p, std::size_t sites)
       : p_(p), n_(sites), fields_(2 * sites, 0.0), aging_(p.ages_contacts()) {
     std::fill(fields_.begin(), fields_.begin() + static_cast<std::ptrdiff_t>(sites), 1.0);

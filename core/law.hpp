@@ -65,6 +65,10 @@ struct LawHooks {
   /// none). The start of a homogeneous scene puts its nucleation patch in this state (compare/initial.hpp), and the
   /// run checks the rate behind a front against it (sigma_ss_at_v_behind); a law without it cannot start a patch.
   bool steady_state = false;
+  /// Its steady front is the continuum's solved front (docs/fronts.md; the ensembles': their mean-field limit's, exact
+  /// at w = 0, as steady_state): drive.start = "steady_front" puts each site in the front's A and σ̄
+  /// (compare/initial.hpp). A law without it is refused there, naming drive.start, before the front is solved.
+  bool steady_front = false;
 };
 
 struct LawStepInfo {

@@ -116,7 +116,7 @@ class AgentLaw : public core::OverloadedSteadyState<AgentLaw> {
  public:
   static constexpr core::LawHooks hooks{
       .ages = true, .contact_statistics = true, .contact_hazard = true, .checkpoints = true, .yield_onset = true,
-      .count_noise = true, .steady_state = true};
+      .count_noise = true, .steady_state = true, .steady_front = true};
   /// Validates `dp` (ParamError naming the key). All sites start stuck: A = 1, σ̄ = 0.
   AgentLaw(const core::InterfaceParams& ip, const DiscreteParams& dp, std::size_t sites);
 

@@ -58,7 +58,7 @@ struct PoolHandle {
 // closed form of core/steady_sliding.hpp: exact at w = 0 and while the thresholds lie below the steady contact stress.
 class CountLaw : public core::OverloadedSteadyState<CountLaw> {
  public:
-  static constexpr core::LawHooks hooks{.checkpoints = true, .yield_onset = true, .count_noise = true, .steady_state = true};
+  static constexpr core::LawHooks hooks{.checkpoints = true, .yield_onset = true, .count_noise = true, .steady_state = true, .steady_front = true};
   /// Validates `dp` (ParamError naming the key). All sites start stuck: A = 1, σ̄ = 0, the N
   /// attached contacts spread over the bins by expectation rounding (a stratified sample of g).
   CountLaw(const core::InterfaceParams& ip, const DiscreteParams& dp, std::size_t sites);

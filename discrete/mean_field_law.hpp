@@ -44,7 +44,7 @@ namespace slipfront::discrete {
 // closed form of core/steady_sliding.hpp: exact at w = 0 and while the thresholds lie below the steady contact stress.
 class MeanFieldLaw : public core::OverloadedSteadyState<MeanFieldLaw> {
  public:
-  static constexpr core::LawHooks hooks{.class_hazards = true, .checkpoints = true, .yield_onset = true, .steady_state = true};
+  static constexpr core::LawHooks hooks{.class_hazards = true, .checkpoints = true, .yield_onset = true, .steady_state = true, .steady_front = true};
   /// Validates the threshold keys of `dp` (DiscreteParams::validate_threshold_law: ParamError naming the
   /// key). All sites start stuck: A = 1 (1/B in every class), σ̄ = 0.
   MeanFieldLaw(const core::InterfaceParams& ip, const DiscreteParams& dp, std::size_t sites);

@@ -33,7 +33,7 @@ namespace slipfront::discrete {
 // closed form of core/steady_sliding.hpp: exact at w = 0 and while the thresholds lie below the steady contact stress.
 class NaiveAgentLaw : public core::OverloadedSteadyState<NaiveAgentLaw> {
  public:
-  static constexpr core::LawHooks hooks{.contact_statistics = true, .checkpoints = true, .count_noise = true, .steady_state = true};
+  static constexpr core::LawHooks hooks{.contact_statistics = true, .checkpoints = true, .count_noise = true, .steady_state = true, .steady_front = true};
   NaiveAgentLaw(const core::InterfaceParams& ip, const DiscreteParams& dp, std::size_t sites)
       : ip_(ip), dp_(dp), g_((dp.validate(), ThresholdDistribution(dp.threshold, dp.width))) {
     if (sites == 0) throw std::invalid_argument("NaiveAgentLaw: no sites");

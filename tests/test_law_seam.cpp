@@ -156,3 +156,18 @@ TEST_CASE("law seam: a law without a steady state cannot start a nucleation patc
   s.drive.nucleation_length = 0.0;
   CHECK(run(s).status == compare::RunStatus::complete);
 }
+
+TEST_CASE("law seam: a steady-front start is the law's own: refused for a law that does not declare it", "[law][models]") {
+  // drive.start = "steady_front" puts each site in the continuum's solved front; a law declares that front its own
+  // (core::LawHooks::steady_front: the shipped laws, exact at w = 0). The test law's steady state differs (κv²
+  // detachment), so its start is refused, naming the key, before the front is solved; the continuum starts from it.
+  compare::Scene s = seam_scene(core::Integrator::central_difference);
+  s.drive.start = "steady_front";
+  s.drive.nucleation_length = 0.0;
+  s.drive.front_x = 30.0;
+  CHECK_THROWS_WITH(alone(s, "quadratic"), Catch::Contains("drive.start") && Catch::Contains("no steady front"));
+  const compare::ModelResult r = alone(s, "continuum");
+  CHECK(r.status == compare::RunStatus::complete);
+  REQUIRE(r.scalars.count("steady_front_c") == 1);
+  CHECK(r.scalars.at("steady_front_c") > 0.0);
+}

@@ -191,7 +191,8 @@ def quoted_rows(page):
 
 
 # Rule 4: what looks like a number copied from a run. Three shapes: an event time or a speed given a value
-# (`t* = 25.66`, `c_min ≈ 11.28`, `c = 58.74`), a count of tests or rows (`132 of 132 tests`, `10 of 13`, `359 tests`),
+# (`t* = 25.66`, `c_min ≈ 11.28`, `c = 58.74`), a count of tests or of a report's rows (`132 of 132 tests`, `10 of 13`,
+# `359 tests`, `13 rows tested`, `135 rows: 124 pass`),
 # and a timing or a speed ratio (`3 min 29 s`, `0.3 s`, `12×`). Each must be checked, cited or dated (MARKER).
 _NUM = r"[-−]?\d+(?:\.\d+)?(?:[eE][-−+]?\d+)?"
 QUOTED_SHAPES = (
@@ -199,7 +200,7 @@ QUOTED_SHAPES = (
         r"(?<![\w^*])(t\*|t\^|t_star|t_hat|t_arrest|x_arrest|c_transient|c_front|c_min|c_slow|σ_c\^d|sigma_c\^d|v_m|c)"
         r"`?\s*(?:=|≈|~)\s*`?(" + _NUM + r")(?![\w.])")),
     ("a count", re.compile(r"(?<![\w.])(\d+) (?:of|/) ?\d+(?![\w.])|(?<![\w.])\d+/\d+ (?:pass|tests)\b"
-                           r"|(?<![\w.])\d+ (?:tests|rows)\b")),
+                           r"|(?<![\w.])\d+ tests\b|(?<![\w.])\d+ rows(?: tested|: | pass| fail|, \d+ pass)")),
     ("a timing", re.compile(r"(?<![\w.])\d+(?:\.\d+)? ?(?:min|s|ms|µs|μs|h)\b(?! *=)")),
     ("a speed ratio", re.compile(r"(?<![\w.])\d+(?:\.\d+)? ?×(?! ?\d)")),
 )

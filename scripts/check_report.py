@@ -12,15 +12,22 @@
    - a study (study.h5) tested against the continuum must run at w = 0 (its rows at w = 0 only), unless its limit
      is the continuum as w -> 0 (kind threshold_width, docs/model.md §2.1 item 4; kind disorder_limit, mean_field
      -> continuum as w -> 0, docs/model.md §2.2).
-3. with `--numbers PAGE` (the main job passes docs/results.md): every number the page quotes from a run (the rows of
-   its tables headed "| quoted | value | file | expression |") equals the run's value at the precision quoted. A
-   row names a file under the report's directory and a Python expression of it: of an HDF5 file `f` (open, h5py);
-   of a CSV file `c` (its numeric columns, numpy arrays) and `rows` (its rows, dicts by column); `np` (numpy). The
-   quoted value must lie within half a unit of its last digit of the expression's value. Only on request: the page
-   quotes the main job's output, which a test's small report does not have. Other pages cite docs/results.md for
-   these numbers instead of repeating them.
+3. with `--numbers PAGE ...` (pages or directories of them; the main job passes README.md docs): every number a page
+   quotes from a run equals the run's value at the precision quoted: the rows of its tables headed
+   "| quoted | value | file | expression |", and each number followed by a run marker `<!-- run: FILE EXPRESSION -->`.
+   FILE is under the report's directory; EXPRESSION is Python of it: of an HDF5 file `f` (open, h5py) and
+   `cell(table, column, **where)` (the one row of a study table with those values); of a CSV file `c` (its numeric
+   columns, numpy arrays), `rows` (its rows, dicts by column), `row(observable)` (the one row whose observable starts
+   so) and `after(text, name)` (the number after `name` in a cell); `np` (numpy). The quoted value must lie within
+   half a unit of its last digit of the expression's value. Only on request: the pages quote the main job's output,
+   which a test's small report does not have.
+4. with `--numbers`, or alone with `--unmarked PAGE ...` (no run): no page quotes a number that looks copied from a
+   run (QUOTED_SHAPES: an event time or speed given a value, a count of tests or of a report's rows, a timing, a
+   speed ratio) unless it is checked (3), or dated by a marker `<!-- measured: COMMIT or DATE ... -->` or
+   `<!-- not from a run: WHY -->` (MARKER says what a marker covers). docs/results.md, "Quoting a number".
 
-   check_report.py REPORT.md [--numbers docs/results.md]
+   check_report.py REPORT.md [--numbers PAGE ...]
+   check_report.py --unmarked PAGE ...
 """
 import math
 import os
@@ -173,20 +180,23 @@ def check_limits(text, root):
 
 
 def quoted_rows(page):
-    """The rows of a page's tables whose header starts "| quoted | value | file | expression |", each with its line
-    number ("line")."""
-    rows, cols = [], None
+    """The rows of a page's tables whose header starts "| quoted | value | file | expression |"."""
     with open(page, encoding="utf-8") as f:
-        for number, line in enumerate(f, 1):
-            line = line.rstrip("\n")
-            if not line.startswith("|"):
-                cols = None
-                continue
-            cells = [c.strip().strip("`") for c in re.split(r"(?<!\\)\|", line.strip())[1:-1]]
-            if cols is None:
-                cols = cells if cells[:4] == ["quoted", "value", "file", "expression"] else []
-            elif cols and not set(cells[0]) <= set("- "):
-                rows.append(dict(zip(cols, [c.replace("\\|", "|") for c in cells]), line=number))
+        return quoted_rows_in(f.read())
+
+
+def quoted_rows_in(text):
+    """quoted_rows of a page's text, each row with its line number ("line")."""
+    rows, cols = [], None
+    for number, line in enumerate(text.split("\n"), 1):
+        if not line.startswith("|"):
+            cols = None
+            continue
+        cells = [c.strip().strip("`") for c in re.split(r"(?<!\\)\|", line.strip())[1:-1]]
+        if cols is None:
+            cols = cells if cells[:4] == ["quoted", "value", "file", "expression"] else []
+        elif cols and not set(cells[0]) <= set("- "):
+            rows.append(dict(zip(cols, [c.replace("\\|", "|") for c in cells]), line=number))
     return rows
 
 
@@ -276,7 +286,7 @@ def scan_page(page, text):
     """(run markers [(line, value, file, expression)], marker errors, unmarked numbers [(line, shape, text)])."""
     lines = markdown_lines(text)
     covered = [False] * len(lines)
-    for r in quoted_rows(page):
+    for r in quoted_rows_in(text):
         covered[r["line"] - 1] = True
     runs, errors = [], []
     for k, (line, _, fenced) in enumerate(lines):

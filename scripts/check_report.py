@@ -222,7 +222,7 @@ QUOTED_SHAPES = (
 # inside a line, that line.
 MARKER = re.compile(r"<!--\s*(run|measured|not from a run):\s*(.*?)\s*-->", re.S)
 RUN_MARKER = re.compile(r"(" + _NUM + r")[`*)}\]\s]*<!--\s*run:\s*(\S+)\s+(.*?)\s*-->")
-DATED = re.compile(r"\b\d{4}-\d{2}-\d{2}\b|\b[0-9a-f]{7,40}\b")
+DATED = re.compile(r"\b\d{4}-\d{2}-\d{2}\b|\b(?=[0-9a-f]*[a-f])(?=[0-9a-f]*\d)[0-9a-f]{7,40}\b")  # a date, a commit
 
 
 def markdown_lines(text):

@@ -94,9 +94,10 @@ def test_markers_date_a_section_a_block_or_a_line(run):
 
 
 def test_a_bad_marker_fails(run):
-    no_date = page(run, "# A\n<!-- measured: last week -->\n\nt* = 25.1\n", "a.md")
-    code, out = unmarked(no_date)
-    assert code == 1 and "names no commit or date: 'last week'" in out
+    for what in ("last week", "1234567 runs", "acceded"):  # neither a date nor a commit
+        no_date = page(run, f"# A\n<!-- measured: {what} -->\n\nt* = 25.1\n", "a.md")
+        code, out = unmarked(no_date)
+        assert code == 1 and f"names no commit or date: '{what}'" in out
     orphan = page(run, f"# A\n\nfirst yield{RUN} came early\n", "b.md")
     code, out = unmarked(orphan)
     assert code == 1 and "a 'run' marker not right after a number" in out

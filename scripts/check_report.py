@@ -23,8 +23,9 @@
    which a test's small report does not have.
 4. with `--numbers`, or alone with `--unmarked PAGE ...` (no run): no page quotes a number that looks copied from a
    run (QUOTED_SHAPES: an event time or speed given a value, a count of tests or of a report's rows, a timing, a
-   speed ratio) unless it is checked (3), or dated by a marker `<!-- measured: COMMIT or DATE ... -->` or
-   `<!-- not from a run: WHY -->` (MARKER says what a marker covers). docs/results.md, "Quoting a number".
+   speed ratio, a fitted exponent) unless it is checked (3), or dated by a marker
+   `<!-- measured: COMMIT or DATE ... -->` or `<!-- not from a run: WHY -->` (MARKER says what a marker covers;
+   docs/results.md, "Quoting a number").
 
    check_report.py REPORT.md [--numbers PAGE ...]
    check_report.py --unmarked PAGE ...
@@ -200,10 +201,11 @@ def quoted_rows_in(text):
     return rows
 
 
-# Rule 4: what looks like a number copied from a run. Three shapes: an event time or a speed given a value
-# (`t* = 25.66`, `c_min ≈ 11.28`, `c = 58.74`), a count of tests or of a report's rows (`132 of 132 tests`, `10 of 13`,
-# `359 tests`, `13 rows tested`, `135 rows: 124 pass`),
-# and a timing or a speed ratio (`3 min 29 s`, `0.3 s`, `12×`). Each must be checked, cited or dated (MARKER).
+# Rule 4: what looks like a number copied from a run. Five shapes: an event time or a speed given a value
+# (`t* = 25.66`, `c_min ≈ 11.28`, `c = 58.74`), a count of tests or of a report's rows (`132 of 132 tests`,
+# `10 of 13`, `359 tests`, `13 rows tested`, `135 rows: 124 pass`),
+# a timing, a speed ratio (`3 min 29 s`, `0.3 s`, `12×`), and a fitted exponent (`N^-0.55`, `(α − 1)^{−1.23}`; not
+# `N^-1/2` or `10^4`). Each must be checked, cited or dated (MARKER).
 _NUM = r"[-−]?\d+(?:\.\d+)?(?:[eE][-−+]?\d+)?"
 QUOTED_SHAPES = (
     ("an event time or speed", re.compile(
@@ -213,6 +215,7 @@ QUOTED_SHAPES = (
                            r"|(?<![\w.])\d+ tests\b|(?<![\w.])\d+ rows(?: tested|: | pass| fail|, \d+ pass)")),
     ("a timing", re.compile(r"(?<![\w.])\d+(?:\.\d+)? ?(?:min|s|ms|µs|μs|h)\b(?! *=)")),
     ("a speed ratio", re.compile(r"(?<![\w.])\d+(?:\.\d+)? ?×(?! ?\d)")),
+    ("a fitted exponent", re.compile(r"\^\{?[-−]?\d+\.\d+")),
 )
 # <!-- run: FILE EXPRESSION --> right after a number: the number is checked like a quoted table's row.
 # <!-- measured: ... --> names the past commit or date the numbers it covers were measured at (historical: not the
@@ -351,7 +354,8 @@ def row_of(rows, observable):
 
 
 def number_after(text, name):
-    """The number right after `name` in a cell of the report ("KS distance 0.0286; ... p = 2.2e-05": 'p =' -> 2.2e-05)."""
+    """The number right after `name` in a cell of the report ("KS distance 0.0286; ... p = 2.2e-05": 'p =' gives
+    2.2e-05)."""
     m = re.search(re.escape(name) + r"\s*([-+]?\d+(?:\.\d+)?(?:[eE][-+]?\d+)?)", text)
     if not m:
         raise KeyError(f"no number after '{name}' in '{text}'")

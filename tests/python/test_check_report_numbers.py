@@ -75,10 +75,11 @@ def test_a_checked_number_passes_and_a_drifted_one_fails(run):
 
 
 def test_an_unmarked_number_fails_with_and_without_a_run(run):
-    p = page(run, "# Fig. 1\n\nFirst yield at `t* = 25.67`; the tier ran 340 tests in 3 min 29 s, 12× faster.\n")
+    p = page(run, "# Fig. 1\n\nFirst yield at `t* = 25.67`; the tier ran 340 tests in 3 min 29 s, 12× faster; "
+                  "`N^-0.55`.\n")
     code, out = check(run, p)
     assert code == 1
-    for text in ("'t* = 25.67'", "'340 tests'", "'3 min'", "'29 s'", "'12×'"):
+    for text in ("'t* = 25.67'", "'340 tests'", "'3 min'", "'29 s'", "'12×'", "'^-0.55'"):
         assert text in out, (text, out)
     code, out = unmarked(p)
     assert code == 1 and "an event time or speed quoted without a check, a citation or a date: 't* = 25.67'" in out
@@ -124,5 +125,6 @@ def test_study_tables_and_report_rows_in_expressions(run):
 
 
 def test_the_shapes_leave_ordinary_text_alone():
-    text = "# A\n\nA grid of 601 × 35 nodes on 12 rows, `dx = 0.5`, `N = 10⁴`, `w = 0.2`, see §3.1 and model.md §10.\n"
+    text = ("# A\n\nA grid of 601 × 35 nodes on 12 rows, `dx = 0.5`, `N = 10⁴`, `w = 0.2`, `N^-1/2`, `10^4`, "
+            "see §3.1 and model.md §10.\n")
     assert check_report.scan_page("x.md", text)[2] == []

@@ -6,7 +6,8 @@
 #      results.h5 per run),
 #   3. write the report with every plot (out/report.md, out/figures/*.png) and check (check_report.py) that no
 #      verdict of its summary tests a model against a limit it is not supposed to reach, that every plot
-#      it names exists and is not empty, and that every number docs/results.md quotes from this job is the run's.
+#      it names exists and is not empty, and that every number the README and docs/ quote from this job is the
+#      run's (and every other number they quote that looks like a run's is dated: docs/results.md).
 # Scenes, fronts and studies are independent steps in one queue, longest first, as many at a time as there are cores
 # (each one process on one core; a study on one thread: its runs do not depend on the threads). How long it takes,
 # measured and dated: docs/results.md. Each step prints its time. A scene or study that fails still leaves its
@@ -152,10 +153,10 @@ rc=0 t0=$SECONDS
 took report "$t0"
 ((rc == 0)) || failed+=("report: slipfront report exited with $rc")
 rc=0
-numbers=(--numbers docs/results.md)
-[[ $part == all ]] || numbers=()  # docs/results.md quotes the whole job
+numbers=(--numbers README.md docs)
+[[ $part == all ]] || numbers=()  # the docs quote the whole job (docs/results.md, "Quoting a number")
 "$python" scripts/check_report.py "$out/report.md" "${numbers[@]}" || rc=$?
-((rc == 0)) || failed+=("report: check_report.py failed on $out/report.md (a plot missing or empty, a verdict against a limit the model is not supposed to reach, or a number of docs/results.md not the run's)")
+((rc == 0)) || failed+=("report: check_report.py failed on $out/report.md (a plot missing or empty, a verdict against a limit the model is not supposed to reach, or a number the docs quote not the run's, or quoted unchecked and undated)")
 
 echo
 echo "Results: $out/<scene>/results.h5 and $out/studies/<study>/study.h5 (layout: docs/output.md)"

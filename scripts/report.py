@@ -1141,11 +1141,16 @@ def disorder_limit_study(st, outdir):
         # the title says so
         drawn = [o for o in obs if any(np.any(np.isfinite(a) & (a > 0)) for a in (tn[f"{o}_sd_rel"], tn[f"{o}_rms_rel"]))]
         same = [o for o in obs if o not in drawn]
-        fig, axs = plt.subplots(1, max(1, len(drawn)), figsize=(4.6 * max(1, len(drawn)), 4.8), constrained_layout=True,
-                                squeeze=False)
+        # at most two panels a row: four in a row made a figure 18 inches wide, its 8-pt legends unreadable at the
+        # width a report is read at
+        cols = min(2, max(1, len(drawn)))
+        nrows = -(-max(1, len(drawn)) // cols)
+        fig, axs = plt.subplots(nrows, cols, figsize=(5.4 * cols, 4.3 * nrows), constrained_layout=True, squeeze=False)
         if not drawn:
             plot.no_data(axs[0, 0], "identical to mean_field at every N")
-        for ax, o in zip(axs[0], drawn):
+        for ax in axs.flat[max(1, len(drawn)):]:
+            ax.axis("off")
+        for ax, o in zip(axs.flat, drawn):
             for i, ((lab, w), ks) in enumerate(sorted(groups.items())):
                 fit = st.best_fit(f"disorder_N_{o}_{lab}_w{w:g}_sd_exponent")
                 N, y = tn["N"][ks], tn[f"{o}_sd_rel"][ks]
@@ -1160,7 +1165,7 @@ def disorder_limit_study(st, outdir):
             ax.set_xlabel("contacts per site N")
             ax.set_ylabel("discrete / mean_field - 1 over seeds")
             ax.set_title(f"{o} (dotted: N^-1/2)", fontsize=9)
-            ax.legend(fontsize=8)
+            ax.legend(fontsize=8, loc="best")
         note = f"\n{', '.join(same)}: identical to mean_field at every N (no panel)" if same else ""
         fig.suptitle(st.title(f"{what}: discrete -> mean_field as N grows, at each w") + note, fontsize=9)
         save(fig, outdir, f"{st.stem}_distance_vs_N.png", figs)
@@ -1613,7 +1618,8 @@ def _class_grid(res, outdir, figs, name, what, measured, predicted, edges, fits,
     # grid costs (cProfile), and the grid is regular
     height = 3.1 * len(rows) + 1
     fig, axes = plt.subplots(len(rows), 3, figsize=(13, height), squeeze=False)
-    title = res.title(f"{what}: agent vs {ref} prediction, by phase and region", fig)
+    title = res.title(f"{what}: agent (red bars) vs {ref} prediction (blue line), by phase and region; "
+                      "per panel the contacts counted, measured / predicted", fig)
     top = 0.45 + 0.18 * (title.count("\n") + 1)  # inches above the first row's (two-line) titles: the suptitle's lines
     fig.subplots_adjust(left=0.06, right=0.99, bottom=0.75 / height, top=1 - top / height, wspace=0.22, hspace=0.75)
     lo = np.where(edges[:-1] > 0, edges[:-1], edges[1] / 10 ** 0.2)  # [0, 1e-3) drawn one bin wide
@@ -1631,18 +1637,16 @@ def _class_grid(res, outdir, figs, name, what, measured, predicted, edges, fits,
                 continue
             else:
                 if mt > 0:
-                    ax.stairs(measured[cls] / mt / dec, np.append(lo[0], hi), fill=True, color="C3", alpha=0.45,
-                              label=f"agent (n = {mt:.3g})")
+                    ax.stairs(measured[cls] / mt / dec, np.append(lo[0], hi), fill=True, color="C3", alpha=0.45)
                 if pt > 0:
-                    ax.stairs(predicted[cls] / pt / dec, np.append(lo[0], hi), color="C0", lw=1.4,
-                              label=f"{ref} prediction ({pt:.3g})")
+                    ax.stairs(predicted[cls] / pt / dec, np.append(lo[0], hi), color="C0", lw=1.4)
                 ax.set_xscale("log")
                 fit = [f for f in fits if f["statistic"] == stat and int(f["phase"]) == ph and int(f["region"]) == r]
-                tag = ""
-                if fit:  # in the panel's title: inside the axes it sat under the legend
+                # counts and the fit in the panel's title: a legend inside the axes covered the histograms' peaks
+                tag = f": n {mt:.3g} / {pt:.3g}"
+                if fit:
                     f = fit[0]
-                    tag = f"\nKS {f['ks_distance']:.4f}, p {f['p_value']:.2g}" + ("" if f["tested"] else " (not tested)")
-                ax.legend(fontsize=8, loc="upper right")
+                    tag += f"\nKS {f['ks_distance']:.4f}, p {f['p_value']:.2g}" + ("" if f["tested"] else " (not tested)")
             ax.set_title(f"{PHASES[ph]}, {REGIONS[r]}{tag}", fontsize=9)
             ax.set_xlabel(what)
             if r == 0:

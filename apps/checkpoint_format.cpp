@@ -15,7 +15,8 @@
 namespace slipfront::app {
 namespace {
 
-constexpr int format_version = 2;
+// 3: a model's results carry its slip-event sequence (output.sequence, compare::ModelResult::sequence).
+constexpr int format_version = 3;
 constexpr std::string_view magic_prefix = "slipfront-checkpoint ";
 constexpr std::string_view checksum_prefix = "checksum xxh3-64 ";
 
@@ -76,7 +77,7 @@ class Cursor {
   std::string_view rest_;
 };
 
-// The magic line: format 2, or a refusal naming what the file is (format 1 with its writer).
+// The magic line: format 3, or a refusal naming what the file is (format 1 with its writer).
 void check_format(Cursor& in) {
   const std::string_view magic = in.line("slipfront-checkpoint", 64);
   if (magic.substr(0, magic_prefix.size()) != magic_prefix) throw Bad{"not a slipfront checkpoint (wrong first line)"};
@@ -92,6 +93,10 @@ void check_format(Cursor& in) {
               ") has no checksum, so it cannot be verified; rerun the run from the start, or continue it with the "
               "slipfront that wrote it (this one writes and reads format " + std::to_string(format_version) + ")"};
   }
+  if (version == "2")
+    throw Bad{"checkpoint format 2 (before the slip-event sequence was part of a model's results) is not one this "
+              "slipfront reads (format " + std::to_string(format_version) + "); rerun the run from the start, or continue "
+              "it with the slipfront that wrote it"};
   throw Bad{"checkpoint format '" + Cursor::printable(version) + "' is not one this slipfront reads (format " +
             std::to_string(format_version) + ")"};
 }

@@ -231,6 +231,7 @@ const std::vector<Section>& schema() {
            {"snapshot_dt", at<&Scene::output, &OutputParams::snapshot_dt>, always, "always"},
            {"energy", at<&Scene::output, &OutputParams::energy>, always, "always"},
            {"ages", at<&Scene::output, &OutputParams::ages>, always, "always"},
+           {"sequence", at<&Scene::output, &OutputParams::sequence>, edge_loaded, "with drive.loading = edge"},
            {"deflate", at<&Scene::output, &OutputParams::deflate>, always, "always"},
            {"compare_dt", at<&Scene::output, &OutputParams::compare_dt>, both_models_bulk,
             "when models lists discrete and continuum or mean_field on a bulk scene"},

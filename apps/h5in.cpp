@@ -163,6 +163,7 @@ compare::ModelResult read_model(hid_t file, const std::string& m, const ReadOpti
     }
   }
   r.cycles = read_columns(g.get(), "cycles", base + "/cycles");
+  r.sequence = read_columns(g.get(), "sequence", base + "/sequence");
   r.friction_law = read_columns(g.get(), "friction_law", base + "/friction_law");
   if (!opt.fields) return r;
 

@@ -229,6 +229,12 @@ std::string description_of(const std::string& group, const std::string& name) {
       {"cycles/t_start", "spring block stick-slip cycles: time the slip event started (v > measure.v_event)"},
       {"cycles/F_peak", "spring block stick-slip cycles: largest drive force since the previous event (peak friction)"},
       {"cycles/F_residual", "spring block stick-slip cycles: smallest drive force during the event (residual friction)"},
+      {"sequence/t_start", "slip event start: max v rose above measure.v_event (docs/model.md §3.2)"},
+      {"sequence/t_end", "slip event end: max v fell below measure.arrest_fraction * v_event (NaN: running at t_end)"},
+      {"sequence/peak_v", "largest max v during the event"},
+      {"sequence/x_arrest", "largest tip position (measure.A_tip) during the event (NaN: no tip)"},
+      {"sequence/c_event", "LS slope of the tip over the middle half of its run during the event"},
+      {"sequence/spanning", "1 when the tip reached the far end (the whole interface slid), else 0"},
       {"friction_law/v", "imposed slip rate of each sweep point"},
       {"friction_law/sigma", "steady frictional stress: time average of sigma over the last part of the run"},
       {"friction_law/sigma_stderr", "standard error of friction_law/sigma from batch means"},
@@ -251,6 +257,7 @@ std::string group_description(const std::string& group) {
       {"events", "event times and front speeds (docs/model.md §3) as attributes; NaN where the run had no such event; "
                  "the _alt names are measured on the measure.A_tip_alt front"},
       {"cycles", "stick-slip cycles of the spring block, one entry per cycle"},
+      {"sequence", "slip events of an edge-loaded run (output.sequence), one entry per event, from the series"},
       {"friction_law", "steady friction law of an imposed slip-rate sweep, one entry per slip rate"},
       {"contacts", "contact statistics: measured (agent representation) or predicted from the fields (continuum, "
                    "docs/contacts.md)"},
@@ -327,6 +334,7 @@ void model(hid_t file, const compare::ModelResult& r, int deflate) {
 
   events(g.get(), m, r);
   if (!r.cycles.empty()) columns(g.get(), m, "cycles", r.cycles);
+  if (!r.sequence.empty()) columns(g.get(), m, "sequence", r.sequence);
   if (!r.friction_law.empty()) columns(g.get(), m, "friction_law", r.friction_law);
 
   if (!r.contacts.empty() || !r.contacts_2d.empty()) {

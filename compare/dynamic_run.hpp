@@ -228,6 +228,8 @@ class DynamicRun {
     r_.events = tracker_.finish(homogeneous);
     r_.events_alt = tracker_.finish(homogeneous, true);
     r_.events.v_behind = r_.events_alt.v_behind = behind_.value();
+    if (s_.output.sequence && s_.drive.loading == Loading::edge)  // docs/model.md §3.2
+      r_.sequence = slip_sequence(r_.series.at("t"), r_.series.at("max_v"), r_.series.at("tip_x"), s_.measure, r_.x.back());
     // docs/model.md §3: σ_ss(v_behind) = σ_d behind a steady front, in the law's own steady state
     if constexpr (Law::hooks.steady_state)
       if (homogeneous && std::isfinite(behind_.value()))

@@ -244,6 +244,47 @@ Events FrontTracker::finish(bool homogeneous, bool alt) const {
   return ev;
 }
 
+namespace {
+// One event of slip_sequence: samples [i0, i1) of the series; `ended` when max v fell below the arrest level.
+void push_event(std::map<std::string, std::vector<double>>& out, std::span<const double> t, std::span<const double> v,
+                std::span<const double> tip, std::size_t i0, std::size_t i1, bool ended, double x_end) {
+  double peak = 0.0, x_max = nan, x0 = nan;
+  std::vector<double> ts, xs;
+  for (std::size_t i = i0; i < i1; ++i) {
+    peak = std::max(peak, v[i]);
+    if (!std::isfinite(tip[i])) continue;
+    if (std::isnan(x0)) x0 = tip[i];
+    x_max = std::isnan(x_max) ? tip[i] : std::max(x_max, tip[i]);
+    ts.push_back(t[i]);
+    xs.push_back(tip[i]);
+  }
+  out["t_start"].push_back(t[i0]);
+  out["t_end"].push_back(ended ? t[i1 - 1] : nan);
+  out["peak_v"].push_back(peak);
+  out["x_arrest"].push_back(x_max);
+  out["c_event"].push_back(std::isfinite(x0) && x_max > x0 ? slope_middle_distance(ts, xs, x0, x_max) : nan);
+  out["spanning"].push_back(x_max >= x_end * (1.0 - 1e-12) ? 1.0 : 0.0);
+}
+}  // namespace
+
+std::map<std::string, std::vector<double>> slip_sequence(std::span<const double> t, std::span<const double> max_v,
+                                                         std::span<const double> tip, const core::MeasureParams& p,
+                                                         double x_end) {
+  std::map<std::string, std::vector<double>> out;
+  for (const char* c : {"t_start", "t_end", "peak_v", "x_arrest", "c_event", "spanning"}) out[c];
+  const std::size_t n = std::min({t.size(), max_v.size(), tip.size()});
+  std::size_t start = n;  // the running event's first sample (n: none running)
+  for (std::size_t i = 0; i < n; ++i) {
+    if (start == n && max_v[i] > p.v_event) start = i;
+    else if (start != n && max_v[i] < p.v_event * p.arrest_fraction) {
+      push_event(out, t, max_v, tip, start, i + 1, true, x_end);
+      start = n;
+    }
+  }
+  if (start != n) push_event(out, t, max_v, tip, start, n, false, x_end);
+  return out;
+}
+
 void CycleDetector::observe(double t, double force, double v, std::map<std::string, std::vector<double>>& out) {
   if (!slipping_) {
     peak_ = std::max(peak_, force);

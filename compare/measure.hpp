@@ -152,6 +152,16 @@ class FrontTracker {
   double t_next_ = nan;  ///< the next instability after the arrest (phase 4), NaN until then
 };
 
+/// The sequence of slip events of an edge-loaded run (output.sequence; docs/model.md §3.2), from its series (t, max_v,
+/// tip_x): an event starts when max v rises above v_event and ends when it falls below arrest_fraction · v_event (the
+/// t^ and arrest of Events, every time they recur). Columns, one entry per event: t_start, t_end (NaN: still
+/// running at the end of the run), peak_v (largest max v), x_arrest (largest tip position during it; NaN: no tip),
+/// c_event (LS slope of the tip over the middle half of its run from its position at t_start to x_arrest) and spanning
+/// (1 when the tip reached the far end x_end: the whole interface slid).
+std::map<std::string, std::vector<double>> slip_sequence(std::span<const double> t, std::span<const double> max_v,
+                                                         std::span<const double> tip, const core::MeasureParams& p,
+                                                         double x_end);
+
 /// Stick–slip cycles of the spring block: a cycle's slip event starts when v > v_event and ends when
 /// v < arrest_fraction · v_event; F_peak is the largest F since the previous event, F_residual the
 /// smallest F during the event. Each finished cycle appends t_start, F_peak, F_residual to `out`.

@@ -61,6 +61,9 @@ struct ModelResult {
   Events events;                    ///< measured on the A_tip front (docs/model.md §3 default 0.5)
   Events events_alt;                ///< the same measured on the A_tip_alt front (0.9)
   Columns cycles;                   ///< spring block stick–slip cycles: t_start, F_peak, F_residual
+  /// output.sequence: the slip events of an edge-loaded run (compare::slip_sequence), computed by finish() from the
+  /// series (in a checkpoint for the models that had finished: checkpoint format 3).
+  Columns sequence;
   Columns friction_law;             ///< imposed-rate sweep: v, sigma, sigma_stderr, A, sigma_closed_form
   std::map<std::string, double> scalars;       ///< dt, steps, stable_dt, v_m_fit, ... (attributes of /<model>)
   std::map<std::string, std::string> labels;   ///< string attributes of /<model> (representation, ...)
@@ -80,7 +83,7 @@ struct ModelResult {
       }
     }
     ar(message, x, series, snapshot_t, snapshots, bulk_t, bulk_x, bulk_y, bulk, events, events_alt, cycles,
-       friction_law, scalars, labels, contacts, contacts_2d, wall_seconds);
+       sequence, friction_law, scalars, labels, contacts, contacts_2d, wall_seconds);
   }
 };
 

@@ -97,6 +97,7 @@ const KeyDomain continuum_domains[] = {
     {"output.series_dt", K::number, 0.0, cap, false, false, false, "", "(0: every step)"},
     {"output.snapshot_dt", K::number, 0.0, cap, false, false, false, "", "(0: none)"},
     {"output.energy", K::boolean},
+    {"output.sequence", K::boolean},
     {"output.ages", K::boolean},
     {"output.compare_dt", K::number, 0.0, cap, false, false, false, "", "(0: no field comparison)"},
     {"output.contact_snapshot_dt", K::number, -cap, cap, false, false, false, "",

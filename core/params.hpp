@@ -232,6 +232,7 @@ struct OutputParams {
   double snapshot_dt = 1.0;   ///< cadence of /snapshots (0: none)
   bool energy = false;        ///< store the energy budget series
   bool ages = false;          ///< carry and store the mean contact age ā (docs/model.md §7): snapshots/age, 0D series/age
+  bool sequence = false;      ///< edge loading: store the sequence of slip events (/<model>/sequence, docs/model.md §3.2)
   double compare_dt = 1.0;    ///< cadence of the online field comparison of alongside runs (0: none)
   /// Cadence of the contact snapshots (ages and thresholds of the attached contacts, agent with
   /// discrete.contact_statistics; the continuum's predicted ages): < 0 means snapshot_dt, 0 none.

@@ -41,6 +41,7 @@ void require_identical(const compare::SceneResult& x, const compare::SceneResult
     CHECK(same(a.bulk_t, b.bulk_t));  // the strip's bulk snapshots (tests/test_strip_output.cpp)
     CHECK(same(a.bulk, b.bulk));
     CHECK(same(a.cycles, b.cycles));
+    CHECK(same(a.sequence, b.sequence));  // output.sequence: computed from the series at the end
     CHECK(same(a.contacts, b.contacts));
     CHECK(a.contacts_2d.size() == b.contacts_2d.size());
     for (const auto& [k, t] : a.contacts_2d) CHECK(same(t.data, b.contacts_2d.at(k).data));
@@ -90,6 +91,7 @@ compare::Scene small(core::Integrator integ, const std::string& representation) 
   s.output.series_dt = 0.5;
   s.output.snapshot_dt = 5.0;
   s.output.compare_dt = 5.0;
+  s.output.sequence = true;
   s.discrete.representation = representation;
   s.discrete.contacts_per_site = 50;
   s.discrete.contact_statistics = representation != "count";

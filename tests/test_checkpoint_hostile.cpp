@@ -102,7 +102,7 @@ std::string reseal(std::string bytes) {
 // A format-2 file from its fields (sizes as text, so that they can lie), sealed.
 std::string checkpoint_file(const std::string& commit, const std::string& time, const std::string& toml_size,
                             const std::string& toml, const std::string& state_size, const std::string& state) {
-  return reseal("slipfront-checkpoint 2\nchecksum xxh3-64 0000000000000000\ncommit " + commit + "\ntime " + time +
+  return reseal("slipfront-checkpoint 3\nchecksum xxh3-64 0000000000000000\ncommit " + commit + "\ntime " + time +
                 "\ntoml " + toml_size + "\n" + toml + "\nstate " + state_size + "\n" + state);
 }
 
@@ -160,8 +160,12 @@ TEST_CASE("checkpoint hostile: every reproducer of the issue is refused with the
        "slipfront-checkpoint 1\ncommit fe0f37b\ntime 1\ntoml " + n + "\n" + s.resolved + "\nstate " + m + "\n" + s.state,
        "checkpoint format 1 (written by slipfront fe0f37b) has no checksum, so it cannot be verified; rerun the run from "
        "the start"},
-      {"format 3", replace_once(s.bytes, "slipfront-checkpoint 2", "slipfront-checkpoint 3"),
-       "checkpoint format '3' is not one this slipfront reads (format 2)"},
+      {"format 2 (written before the slip-event sequence)",
+       replace_once(s.bytes, "slipfront-checkpoint 3", "slipfront-checkpoint 2"),
+       "checkpoint format 2 (before the slip-event sequence was part of a model's results) is not one this slipfront "
+       "reads (format 3)"},
+      {"format 4", replace_once(s.bytes, "slipfront-checkpoint 3", "slipfront-checkpoint 4"),
+       "checkpoint format '4' is not one this slipfront reads (format 3)"},
       {"an empty file", "", "no slipfront-checkpoint line"},
       {"a configuration file", testing::minimal_config(), "not a slipfront checkpoint (wrong first line)"},
       {"the state's archive claiming 2^60 finished models",

@@ -331,3 +331,72 @@ TEST_CASE("measure: FrontTracker: phases, and the after-arrest phase ends at the
   CHECK(ev.t_hat > 1.005);  // interpolated between the midpoints of the steps before and at the crossing
   CHECK(ev.t_hat <= 2.005);
 }
+
+TEST_CASE("measure: slip_sequence: every slip event of a synthetic series, with its run and arrest", "[measure]") {
+  // Three events on a 300-long interface (v_event = 0.5, arrest below 0.1): a precursor whose tip runs 10 -> 40 at
+  // speed 6, a spanning event whose tip runs 0 -> 300 at speed 20, and one still running at the end. Between events
+  // max v is 0.05 and there is no tip.
+  core::MeasureParams p;
+  std::vector<double> t, v, tip;
+  const auto quiet = [&](double t0, double t1) {
+    for (double s = t0; s < t1 - 1e-9; s += 0.05) { t.push_back(s); v.push_back(0.05); tip.push_back(compare::nan); }
+  };
+  const auto event = [&](double t0, double x0, double c, double x1, double peak) {
+    const double dur = (x1 - x0) / c;
+    for (double s = 0.0; s <= dur + 1e-9; s += 0.05) {
+      t.push_back(t0 + s);
+      v.push_back(0.6 + (peak - 0.6) * std::sin(M_PI * s / dur));
+      tip.push_back(x0 + c * s);
+    }
+  };
+  quiet(0.0, 10.0);
+  event(10.0, 10.0, 6.0, 40.0, 2.0);
+  quiet(15.05, 30.0);
+  event(30.0, 0.0, 20.0, 300.0, 3.0);
+  quiet(45.05, 60.0);
+  event(60.0, 0.0, 5.0, 20.0, 1.0);
+  const auto seq = compare::slip_sequence(t, v, tip, p, 300.0);
+  REQUIRE(seq.at("t_start").size() == 3);
+  CHECK(seq.at("t_start")[0] == Approx(10.0));
+  CHECK(seq.at("t_start")[1] == Approx(30.0));
+  CHECK(seq.at("t_end")[0] == Approx(15.05));  // the first quiet sample after it
+  CHECK(std::isnan(seq.at("t_end")[2]));        // still running at the end
+  CHECK(seq.at("x_arrest")[0] == Approx(40.0));
+  CHECK(seq.at("x_arrest")[1] == Approx(300.0));
+  CHECK(seq.at("c_event")[0] == Approx(6.0));
+  CHECK(seq.at("c_event")[1] == Approx(20.0));
+  CHECK(seq.at("peak_v")[1] == Approx(3.0).epsilon(1e-3));
+  CHECK(seq.at("spanning") == std::vector<double>{0.0, 1.0, 0.0});
+  // no event: every column present and empty
+  const std::vector<double> tq{0.0, 1.0}, vq{0.1, 0.2}, xq{compare::nan, compare::nan};
+  const auto none = compare::slip_sequence(tq, vq, xq, p, 300.0);
+  CHECK(none.size() == 6);
+  CHECK(none.at("t_start").empty());
+}
+
+TEST_CASE("measure: output.sequence on fig1: the first slip event is the run's t^ and arrest, and more follow",
+          "[measure][sequence]") {
+  // fig1 (continuum) driven to t = 400: the first event of the sequence starts at the first series sample after t^ and
+  // reaches the run's x_arrest (within the tip's sampling: the series and the tracker sample it at different times);
+  // later events follow as the drive reloads the edge (docs/model.md §3.2).
+  compare::Scene s = slipfront::testing::fig1_scene();
+  s.models = {"continuum"};
+  s.time.t_end = 400.0;
+  s.output.snapshot_dt = 0.0;
+  s.output.sequence = true;
+  const compare::ModelResult r = slipfront::testing::run_continuum(s);
+  const auto& seq = r.sequence;
+  REQUIRE(seq.at("t_start").size() >= 3);
+  const double series_dt = s.output.series_dt;
+  INFO("t^ " << r.events.t_hat << ", first event at " << seq.at("t_start")[0]);
+  CHECK(seq.at("t_start")[0] >= r.events.t_hat - 1e-9);
+  CHECK(seq.at("t_start")[0] <= r.events.t_hat + series_dt + 1e-9);
+  CHECK(seq.at("t_end")[0] == Approx(r.events.t_arrest).margin(series_dt + 1e-9));
+  CHECK(seq.at("x_arrest")[0] == Approx(r.events.x_arrest).epsilon(0.01));
+  CHECK(seq.at("spanning")[0] == 0.0);
+  for (std::size_t k = 1; k < seq.at("t_start").size(); ++k) CHECK(seq.at("t_start")[k] > seq.at("t_end")[k - 1]);
+  // not stored unless asked for
+  s.output.sequence = false;
+  s.time.t_end = 120.0;
+  CHECK(slipfront::testing::run_continuum(s).sequence.empty());
+}

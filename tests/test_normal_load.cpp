@@ -6,6 +6,7 @@
 //   - a step in p at rest: re-attachment relaxes A as a_new + (a_old − a_new) e^{−t} (continuum and mean field to
 //     1e-12; the count and agent ensembles by z-tests over sites against the exact binomial variance), instantaneous jumps
 //     A and σ̄ by a_new/a_old at once and then nothing moves;
+//   - the implicit step's linearisation relaxes towards the resting area (c0 + c1 W = the exact step's σ̄);
 //   - the noise-off identity with a non-uniform profile: continuum, mean_field and the noise-off count law on
 //     fig1 through first yield agree to 1e-12 (both channels), with the same event times;
 //   - the count ensemble converges to the mean field as N^-1/2 under a load (fitted exponent);
@@ -235,6 +236,32 @@ TEST_CASE("normal load: a step in p at rest relaxes A at unit rate (re-attachmen
     law.set_normal_load(more);
     check_jump(law, 0.8, 0.24, what);  // 0.5 -> 0.8
   });
+}
+
+TEST_CASE("normal load: the implicit step's linearisation relaxes towards the resting area", "[normal_load]") {
+  // core::linearise_stress with the site's resting area a (docs/model.md §12.1): for a slip rate W equal to the
+  // previous step's, c0 + c1 W is the stress the law's own exact step gives (the yield state and rate frozen alike),
+  // to round-off, for a stuck and a sliding site of the continuum and the mean-field law under a = 0.6. Without `rest`
+  // (A relaxing towards 1) the stuck site's c1 would be off by α (1 − a) w(1) Δt / 2 ≈ 2e-5 (W: 1e-6 at W = 0.05).
+  const auto p = loaded("reattachment");
+  const std::vector<double> rest(2, 0.6);
+  const double dt = 0.01;
+  const std::vector<double> w = {0.05, 2.0};  // site 0 stuck (σ̄ = 0.1 < A), site 1 sliding (σ̄ = 0.7 > A)
+  auto check = [&](auto law, const char* what) {
+    law.set_normal_load(rest);
+    law.set_site(0, 0.5, 0.1);
+    law.set_site(1, 0.5, 0.7);
+    std::vector<double> c0(2), c1(2);
+    core::linearise(law, dt, w, c0, c1);
+    law.advance(dt, w);
+    for (std::size_t i = 0; i < 2; ++i) {
+      INFO(what << ", site " << i);
+      CHECK(std::abs(c0[i] + c1[i] * w[i] - law.sigma_bar()[i]) < 1e-14);
+    }
+  };
+  check(continuum::FrictionLaw(p, 2), "continuum");
+  check(discrete::MeanFieldLaw(p, count_params(1, 1, false), 2), "mean field");
+  check(discrete::CountLaw(p, count_params(100, 1, false), 2), "noise-off count");
 }
 
 TEST_CASE("normal load: noise-off identity on fig1 with a non-uniform profile, both channels", "[normal_load][identity]") {

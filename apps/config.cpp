@@ -77,6 +77,7 @@ bool imposed_history(const Scene& s) { return imposed(s) && s.drive.sweep_points
 bool imposed_sweep(const Scene& s) { return imposed(s) && s.drive.sweep_points != 0; }
 bool dt_given(const Scene& s) { return s.time.dt != 0.0; }
 bool aging(const Scene& s) { return s.interface.ages_contacts(); }
+bool load_profile(const Scene& s) { return s.interface.has_load_profile(); }
 bool cfl_used(const Scene& s) { return !imposed(s) && s.time.dt == 0.0; }
 bool bulk_scene(const Scene& s) { return !imposed(s); }
 // a body of height: the antiplane or the in-plane strip (bulk.height given)
@@ -127,6 +128,11 @@ const std::vector<Section>& schema() {
            // used when not 0 (docs/model.md §11): a scene without aging resolves to today's configuration
            {"aging_b", at<&Scene::interface, &InterfaceParams::aging_b>, aging, "when not 0 (contact aging)"},
            {"aging_tau", at<&Scene::interface, &InterfaceParams::aging_tau>, aging, "with interface.aging_b > 0"},
+           // a normal-load profile (docs/model.md §12), used when load_p is given: without it, today's configuration
+           {"load_x", at<&Scene::interface, &InterfaceParams::load_x>, load_profile, "with interface.load_p"},
+           {"load_p", at<&Scene::interface, &InterfaceParams::load_p>, load_profile, "when given (a normal-load profile)"},
+           {"load_exponent", at<&Scene::interface, &InterfaceParams::load_exponent>, load_profile, "with interface.load_p"},
+           {"load_channel", at<&Scene::interface, &InterfaceParams::load_channel>, load_profile, "with interface.load_p"},
        }},
       {"bulk",
        {

@@ -123,6 +123,10 @@ void dataset_1d(hid_t parent, const std::string& name, const std::vector<double>
 std::string description_of(const std::string& group, const std::string& name) {
   static const std::map<std::string, std::string> known = {
       {"x", "node positions x along the interface [nx] (0D scenes: the single site, x = 0)"},
+      {"normal_load",
+       "the prescribed normal load p(x)/p_0 at x [nx] (interface.load_x, load_p interpolated; docs/model.md §12): "
+       "provenance, written only with a profile"},
+      {"resting_area", "the resting contact area (p/p_0)^m at x [nx] that the law relaxed towards (docs/model.md §12)"},
       {"series/t", "time t of each series sample (cadence output.series_dt)"},
       {"series/drive_force",
        "drive force F = K (v_d t - u(0,t)) (edge loading, spring block; 0 for homogeneous loading; "
@@ -548,6 +552,20 @@ void save_image(Hid& file, const std::filesystem::path& tmp) {
   file.close("close the in-memory file " + tmp.string());
 }
 
+// A normal-load profile's provenance (docs/model.md §12): p(x)/p_0 and the resting area at the model's nodes.
+void put_normal_load(hid_t file, const compare::Scene& scene, const compare::ModelResult& r) {
+  if (!scene.interface.has_load_profile() || r.x.empty()) return;
+  std::vector<double> p(r.x.size()), rest(r.x.size());
+  for (std::size_t i = 0; i < r.x.size(); ++i) {
+    p[i] = scene.interface.load_at(r.x[i]);
+    rest[i] = scene.interface.resting_area_at(r.x[i]);
+  }
+  const std::string m = "/" + r.model;
+  Hid g(H5Gopen2(file, r.model.c_str(), H5P_DEFAULT), H5Gclose, "open " + m);
+  dataset_1d(g.get(), "normal_load", p, description_of("", "normal_load"), m + "/normal_load");
+  dataset_1d(g.get(), "resting_area", rest, description_of("", "resting_area"), m + "/resting_area");
+}
+
 void write_file(const std::filesystem::path& tmp, const compare::Scene& scene, const std::string& resolved_toml,
                 const std::vector<compare::ModelResult>& results, const RunMeta& meta,
                 const compare::Comparison* comparison) {
@@ -567,7 +585,10 @@ void write_file(const std::filesystem::path& tmp, const compare::Scene& scene, c
     Hid g = make_group(file.get(), "config", "/config");
     attr_string(g.get(), "toml", resolved_toml);
   }
-  for (const auto& r : results) model(file.get(), r, scene.output.deflate);
+  for (const auto& r : results) {
+    model(file.get(), r, scene.output.deflate);
+    put_normal_load(file.get(), scene, r);
+  }
   if (comparison && !comparison->empty()) comparison_group(file.get(), *comparison);
   save_image(file, tmp);
 }

@@ -2,8 +2,11 @@
 // How a bulk scene starts (docs/model.md §1 loadings, §6 steady-front start): the time step of a
 // fixed-step scene, the solved steady front a scene may start from, the stepper built for the scene, and
 // the initial state of its sites.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <span>
+#include <vector>
 #include <functional>
 #include <limits>
 #include <type_traits>
@@ -94,6 +97,29 @@ Stepper make_stepper(const Scene& s, Law law, const std::optional<FrontStart>& f
   }
 }
 
+/// The resting area (p(x_i)/p_0)^m of every interface site x_i (docs/model.md §12.1).
+inline std::vector<double> resting_areas(const core::InterfaceParams& ip, std::span<const double> x) {
+  std::vector<double> a(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i) a[i] = ip.resting_area_at(x[i]);
+  return a;
+}
+
+/// Give the law the scene's normal-load profile and start every site at rest under it (set_initial_conditions).
+template <class Stepper>
+void apply_normal_load(const Scene& s, Stepper& sim) {
+  if (!s.interface.has_load_profile()) return;
+  const auto& x = sim.bulk().x();
+  const auto rest = resting_areas(s.interface, std::span<const double>(x.data(), x.size()));
+  if (std::all_of(rest.begin(), rest.end(), [](double a) { return a == 1.0; })) return;
+  using Law = std::remove_cvref_t<decltype(sim.law())>;
+  if constexpr (Law::hooks.normal_load) {
+    sim.law().set_normal_load(rest);
+    for (std::size_t i = 0; i < rest.size(); ++i) sim.law().set_site(i, rest[i], 0.0);
+  } else {
+    throw core::ParamError("interface.load_p", "this model's law takes no normal load (core::LawHooks::normal_load)");
+  }
+}
+
 /// docs/model.md §1 initial state: at rest and stuck (edge loading, spring block: u = v = 0, A = 1,
 /// σ̄ = 0), or, under homogeneous loading, the stuck state A = 1, σ̄ = σ_d, u = σ_d/α with a nucleation
 /// patch 0 ≤ x < ℓ_n in steady sliding at σ_d on the strengthening branch — or the solved steady front
@@ -102,8 +128,13 @@ Stepper make_stepper(const Scene& s, Law law, const std::optional<FrontStart>& f
 /// The interface's state is lifted into the body by the body (core::RunBody::lift): on the strip
 /// (docs/model.md §9.4) every row above the interface carries the uniform shear σ_d, u(x, y) = u(x, 0) + σ_d y/μ',
 /// moving with the interface's slip rate (the chain has one row, y = 0).
+///
+/// A normal-load profile (docs/model.md §12, edge loading only) gives the law each site's resting area
+/// a_i = (p(x_i)/p_0)^m, and every site starts at rest under its load: A = a_i, σ̄ = 0. When every a_i is 1 (no
+/// profile, m = 0, or p = p_0 everywhere) the law is not told: today's run, bit for bit.
 template <class Stepper>
 void set_initial_conditions(const Scene& s, Stepper& sim, const std::optional<FrontStart>& front) {
+  apply_normal_load(s, sim);
   if (s.drive.loading != core::Loading::homogeneous) return;
   const auto& x = sim.bulk().x();
   if (front && front->strip) {

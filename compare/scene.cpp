@@ -103,6 +103,53 @@ void check_aging(const Scene& s) {
                                         "(not yet, docs/model.md §11); use explicit or implicit");
 }
 
+// A prescribed normal load (docs/model.md §12): on an edge-loaded chain or antiplane strip, with the models and
+// integrators that carry it; everything else is refused before any work.
+void check_normal_load(const Scene& s) {
+  using core::ParamError;
+  const auto& ip = s.interface;
+  if (!ip.has_load_profile()) return;
+  if (s.drive.loading != core::Loading::edge)
+    throw ParamError("interface.load_p",
+                     std::string("a normal-load profile p(x) needs an interface along x: drive.loading = \"edge\" (") +
+                         (core::is_one_dimensional(s.drive.loading)
+                              ? "homogeneous loading's nucleation patch and steady-front start are the unloaded steady "
+                                "state: not yet"
+                              : "a 0D scene has one site and no x") +
+                         ", docs/model.md §12)");
+  if (s.bulk.body() == core::BodyKind::inplane)
+    throw ParamError("interface.load_p", "the in-plane strip's normal stress comes from its body (sigma_yy), not from "
+                                         "a prescribed profile (docs/model.md §12): use the chain or the antiplane strip");
+  if (s.time.integrator != core::Integrator::central_difference && s.time.integrator != core::Integrator::implicit_trapezoidal)
+    throw ParamError("time.integrator", "adaptive with a normal-load profile: the adaptive integrators' rates relax A "
+                                        "towards 1, not the load's (p/p_0)^m (not yet, docs/model.md §12); use explicit "
+                                        "or implicit");
+  if (ip.ages_contacts())
+    throw ParamError("interface.aging_b", "contact aging together with a normal-load profile is not built yet (docs/model.md "
+                                          "§12): set one of them");
+  if (s.output.ages)
+    throw ParamError("output.ages", "the mean contact age with a normal-load profile: the age equation of docs/model.md "
+                                    "§7.1 knows no spontaneous detachment (the re-attachment channel's 1 - a), not yet");
+  if (s.lists("discrete") && s.discrete.representation == "naive")
+    throw ParamError("discrete.representation",
+                     "the naive representation does not carry a normal load: use representation = \"count\" or "
+                     "\"agent\", or the model mean_field (docs/model.md §12)");
+  if (s.lists("discrete") && s.discrete.contact_statistics)
+    throw ParamError("discrete.contact_statistics", "contact statistics with a normal-load profile: their prediction "
+                                                    "(docs/model.md §7.2) knows no spontaneous detachment, not yet");
+  if (ip.load_exponent == 0.0) return;  // (p/p_0)^0 = 1 everywhere: today's model
+  for (std::size_t k = 0; k < ip.load_p.size(); ++k) {
+    if (ip.instantaneous_load() && !(ip.load_p[k] > 0.0))
+      throw ParamError("interface.load_p", "p = 0 under load_channel = \"instantaneous\": a site with no load has no "
+                                           "contact area to scale (entry " + std::to_string(k + 1) + ")");
+    if (!ip.instantaneous_load() && ip.load_p[k] > 1.0 && (s.lists("discrete") || s.lists("mean_field")))
+      throw ParamError("interface.load_p", "p/p_0 = " + core::format_number(ip.load_p[k]) + " > 1 (entry " +
+                                               std::to_string(k + 1) + ") under load_channel = \"reattachment\": a "
+                                               "site's N contacts are its capacity at p_0, so the discrete and "
+                                               "mean_field models need p <= p_0 (docs/model.md §12.2)");
+  }
+}
+
 }  // namespace
 
 std::span<const KeyDomain> limit_key_domains() { return limit_domains; }
@@ -160,6 +207,7 @@ void Scene::validate() const {
   if (discrete_runs) discrete.validate();
   if (lists("mean_field")) check_mean_field(*this);
   check_aging(*this);
+  check_normal_load(*this);
   // (scene rules, not DiscreteParams::validate, which every law's constructor runs on its own parameters)
   if (discrete_runs && discrete.contact_statistics && discrete.representation == "count")  // would record nothing
     throw ParamError("discrete.contact_statistics",

@@ -14,10 +14,17 @@
 // dθ/dt = 1 − θ Θκ|v| (the aging law of rate-and-state friction), and the area A = φ (1 + b ln(1 + θ/τ_a)); Θ
 // and the σ̄ equation read A. Advanced by the same exact frozen-rate updates (fixed-step integrators only: the
 // scene refuses the adaptive one, compare/scene.cpp). aging_b = 0 never enters this branch.
+//
+// Under a prescribed normal load (docs/model.md §12; set_normal_load, core::LawHooks::normal_load) the A equation
+// relaxes towards the site's resting area a = (p/p_0)^m instead of 1: dA/dt = (a − A) − Θκ|v|A, through either
+// channel. Re-attachment: A' = relax(A, a, r). Instantaneous: contacts of area a, A = a φ with φ §1.1's fraction
+// (φ' = relax(φ, 1, r), the count law's arithmetic: the noise-off identity stays bit for bit), and a change of a scales
+// A and σ̄ at once. A law never given a load is today's, bit for bit (a = 1 enters as 1 · w = w).
 #include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <span>
+#include <stdexcept>
 #include <vector>
 
 #include "core/exact_update.hpp"
@@ -33,7 +40,7 @@ class FrictionLaw : public core::OverloadedSteadyState<FrictionLaw> {
   // used (homogeneous loading: the patch and sigma_ss at v_behind; compare/scene.cpp check_aging).
   static constexpr core::LawHooks hooks{
       .ages = true, .dense_ages = true, .contact_hazard = true, .checkpoints = true, .steady_state = true,
-      .steady_front = true};
+      .steady_front = true, .normal_load = true};
   FrictionLaw(const core::InterfaceParams& p, std::size_t sites)
       : p_(p), n_(sites), fields_(2 * sites, 0.0), aging_(p.ages_contacts()) {
     std::fill(fields_.begin(), fields_.begin() + static_cast<std::ptrdiff_t>(sites), 1.0);
@@ -54,6 +61,7 @@ class FrictionLaw : public core::OverloadedSteadyState<FrictionLaw> {
     ar.tag("continuum law");
     ar(fields_, ages_, age_mass_, age_prev_, theta_step_, step_t0_);
     if (aging_) ar(attached_, theta_);  // docs/model.md §11.4 (absent without aging: today's format)
+    if (scaled()) ar(attached_);        // docs/model.md §12.1: φ under an instantaneous load
   }
 
   /// Set the state of one site (initial conditions).
@@ -65,14 +73,34 @@ class FrictionLaw : public core::OverloadedSteadyState<FrictionLaw> {
       attached_[i] = area;
       theta_[i] = 0.0;
     }
+    if (scaled()) attached_[i] = area / rest_[i];  // instantaneous load: contacts of area a_i (docs/model.md §12.1)
   }
+  /// The resting area a_i = (p_i/p_0)^m of every site (docs/model.md §12.1). Under the instantaneous channel
+  /// (interface.load_channel) A and σ̄ scale at once by a_new/a_old (each contact's stretch is unchanged, its area and
+  /// stiffness scale); under re-attachment nothing moves at once, A relaxes towards a_new at unit rate.
+  void set_normal_load(std::span<const double> factor) {
+    if (factor.size() != n_) throw std::invalid_argument("FrictionLaw::set_normal_load: one factor per site");
+    if (aging_) throw std::invalid_argument("FrictionLaw::set_normal_load: not with aging (docs/model.md §12)");
+    if (p_.instantaneous_load()) {
+      if (attached_.empty()) attached_.assign(fields_.begin(), fields_.begin() + static_cast<std::ptrdiff_t>(n_));
+      for (std::size_t i = 0; i < n_; ++i) {
+        fields_[n_ + i] *= factor[i] / resting_area(i);
+        fields_[i] = factor[i] * attached_[i];
+      }
+    }
+    rest_.assign(factor.begin(), factor.end());
+  }
+  /// The resting area a_i of site i (1 without a normal load).
+  double resting_area(std::size_t i) const { return rest_.empty() ? 1.0 : rest_[i]; }
+
   /// Aging (docs/model.md §11.4): the attached fraction φ and the mean-age state θ per site (empty without aging).
   std::span<const double> attached_fraction() const { return attached_; }
   std::span<const double> aging_state() const { return theta_; }
 
   // --- the exact step (explicit and implicit integrators) ---------------------------------------
   /// docs/model.md §1 over [t, t+dt], v frozen; Θ evaluated from the start-of-step state:
-  ///   Θ = θ(|σ̄ + η v|/A − 1),  r = 1 + Θκ|v|,  A' = A e^{−r dt} + (1 − e^{−r dt})/r,
+  ///   Θ = θ(|σ̄ + η v|/A − 1),  r = 1 + Θκ|v|,  A' = A e^{−r dt} + a (1 − e^{−r dt})/r  (a: the resting area,
+  ///   1 without a normal load, docs/model.md §12),
   ///   σ̄' = exact solution of dσ̄/dt = α Ā v − Θ|v| σ̄ with Ā = (A + A')/2.
   core::LawStepInfo advance(double dt, std::span<const double> v) {
     bool any = false;
@@ -85,21 +113,23 @@ class FrictionLaw : public core::OverloadedSteadyState<FrictionLaw> {
       stuck_weight_ = core::relax_weight(1.0, dt);
     }
     if (aging_) return advance_aging(dt, v);
+    if (scaled()) return advance_scaled(dt, v);
     double* area = fields_.data();
     double* sigma_bar = area + n_;
     for (std::size_t i = 0; i < n_; ++i) {
       const double vi = v[i], a = area[i], sb = sigma_bar[i];
       const bool theta = core::slides(sb, vi, a, eta);
+      const double rest = resting_area(i);
       any |= theta;
       if (!theta) {
-        const double a_new = a * stuck_exp_ + stuck_weight_;
+        const double a_new = a * stuck_exp_ + rest * stuck_weight_;
         sigma_bar[i] = sb + alpha * 0.5 * (a + a_new) * vi * dt;
         area[i] = a_new;
         if (ages_) age_mass_[i] += 0.5 * (a + a_new) * dt;  // docs/model.md §7, Θ = 0: dM/dt = A
         continue;
       }
       const double speed = std::abs(vi);
-      const double a_new = core::relax(a, 1.0, 1.0 + kappa * speed, dt);
+      const double a_new = core::relax(a, rest, 1.0 + kappa * speed, dt);
       sigma_bar[i] = core::relax(sb, alpha * 0.5 * (a + a_new) * vi, speed, dt);
       area[i] = a_new;
       // docs/model.md §7: dM/dt = Ā − κ|v| M, exact with Ā = (A + A')/2 and the rate frozen (as σ̄)
@@ -114,7 +144,7 @@ class FrictionLaw : public core::OverloadedSteadyState<FrictionLaw> {
     return [this, k = core::StressStepConstants(p_, dt)](std::size_t i, double wp, double& c0, double& c1) {
       const double a = fields_[i], sb = fields_[n_ + i];
       const double y = wp != 0.0 && core::slides(sb, wp, a, p_.eta) ? 1.0 : 0.0;
-      core::linearise_stress(a, sb, y, wp, k, c0, c1);
+      core::linearise_stress(a, sb, y, wp, k, c0, c1, resting_area(i));
     };
   }
 
@@ -174,7 +204,8 @@ class FrictionLaw : public core::OverloadedSteadyState<FrictionLaw> {
   double detachment_hazard(core::SiteState s) const { return sliding(s) ? p_.kappa * std::abs(s.v) : 0.0; }
   /// |σ̄ + η v|: Θ flips where the load crosses A (|σ|/A = 1).
   double load(core::SiteState s) const { return std::abs(s.sigma_bar + p_.eta * s.v); }
-  /// dA/dt = 1 − A − Θ κ A |v|,  dσ̄/dt = α A v − Θ σ̄ |v|.
+  /// dA/dt = 1 − A − Θ κ A |v|,  dσ̄/dt = α A v − Θ σ̄ |v|. (Without a normal load only: the scene refuses the
+  /// adaptive integrator under a load profile, compare/scene.cpp.)
   core::SiteRate rate(core::SiteState s, bool theta) const {
     const double speed = theta ? std::abs(s.v) : 0.0;
     return {1.0 - s.area - p_.kappa * s.area * speed, p_.alpha * s.area * s.v - s.sigma_bar * speed};
@@ -188,6 +219,29 @@ class FrictionLaw : public core::OverloadedSteadyState<FrictionLaw> {
   }
 
  private:
+  /// An instantaneous normal load: A = a φ (docs/model.md §12.1); φ holds the attached fraction (attached_).
+  bool scaled() const { return !aging_ && !rest_.empty() && p_.instantaneous_load(); }
+  /// advance() under an instantaneous load: φ' = relax(φ, 1, 1 + Θκ|v|) (the stuck factors cached by advance()),
+  /// A' = a φ', σ̄' as advance(); the count law's noise-off arithmetic, operation for operation.
+  core::LawStepInfo advance_scaled(double dt, std::span<const double> v) {
+    bool any = false;
+    double* area = fields_.data();
+    double* sigma_bar = area + n_;
+    for (std::size_t i = 0; i < n_; ++i) {
+      const double vi = v[i], a = area[i], sb = sigma_bar[i], phi = attached_[i];
+      const bool theta = core::slides(sb, vi, a, p_.eta);
+      any |= theta;
+      const double speed = std::abs(vi);
+      attached_[i] = theta ? core::relax(phi, 1.0, 1.0 + p_.kappa * speed, dt) : phi * stuck_exp_ + stuck_weight_;
+      const double a_new = rest_[i] * attached_[i];
+      const double source = p_.alpha * 0.5 * (a + a_new) * vi;
+      sigma_bar[i] = theta ? core::relax(sb, source, speed, dt) : sb + source * dt;
+      area[i] = a_new;
+      if (ages_) age_mass_[i] = core::relax(age_mass_[i], 0.5 * (phi + attached_[i]), theta ? p_.kappa * speed : 0.0, dt);
+    }
+    return {any};
+  }
+
   /// The closure of docs/model.md §11.4 over [t, t+dt], v frozen, Θ from the start-of-step state (as advance):
   ///   h = Θκ|v|,  φ' = relax(φ, 1, 1 + h),  θ' = relax(θ, 1, h),  A' = φ' (1 + b ln(1 + θ'/τ_a)),
   ///   σ̄' = relax(σ̄, α Ā v, Θ|v|) with Ā = (A + A')/2; the age mass (output.ages) with source φ.
@@ -221,6 +275,7 @@ class FrictionLaw : public core::OverloadedSteadyState<FrictionLaw> {
   std::vector<double> fields_;  ///< [A | σ̄]
   bool aging_ = false;
   std::vector<double> attached_, theta_;  ///< aging: φ and θ per site (docs/model.md §11.4)
+  std::vector<double> rest_;  ///< the resting area (p/p_0)^m per site (docs/model.md §12); empty: 1 everywhere
   double cached_dt_ = -1.0, stuck_exp_ = 1.0, stuck_weight_ = 0.0;
   bool ages_ = false;
   std::vector<double> age_mass_, age_prev_;  ///< M at the end (and start) of the last step

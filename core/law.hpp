@@ -69,6 +69,11 @@ struct LawHooks {
   /// at w = 0, as steady_state): drive.start = "steady_front" puts each site in the front's A and σ̄
   /// (compare/initial.hpp). A law without it is refused there, naming drive.start, before the front is solved.
   bool steady_front = false;
+  /// A prescribed normal load (docs/model.md §12): set_normal_load(factor), the resting area (p/p_0)^m of every site
+  /// (the law reads its channel, interface.load_channel, from its parameters). The run layer calls it once before
+  /// the initial state (compare/initial.hpp) and only when some factor differs from 1; a law that was never given
+  /// one is today's law, bit for bit. A scene with a profile refuses a model whose law lacks it (compare/scene.cpp).
+  bool normal_load = false;
 };
 
 struct LawStepInfo {
@@ -136,6 +141,8 @@ concept HasSteadyState = requires(const L& cl, double v) {
   { cl.steady_velocity(v) } -> std::convertible_to<double>;
 };
 template <class L>
+concept HasNormalLoad = requires(L& law, std::span<const double> factor) { law.set_normal_load(factor); };
+template <class L>
 concept HasClassHazards = requires(const L& cl, std::span<const double> n, std::span<double> out) {
   { cl.prediction_classes() } -> std::convertible_to<std::size_t>;
   { cl.attached_classes() } -> std::convertible_to<std::span<const double>>;
@@ -168,6 +175,8 @@ consteval bool check_hooks() {
                 "LawHooks::count_noise must be declared exactly when the law has noise_contacts()");
   static_assert(h.steady_state == HasSteadyState<L>,
                 "LawHooks::steady_state must be declared exactly when the law has steady_sliding(v) and steady_velocity(sigma)");
+  static_assert(h.normal_load == HasNormalLoad<L>,
+                "LawHooks::normal_load must be declared exactly when the law has set_normal_load(span)");
   static_assert(h.checkpoints == requires(L& law, Archive& ar) { law.serialize(ar); },
                 "LawHooks::checkpoints must be declared exactly when the law has serialize(ar)");
   return true;
@@ -267,18 +276,19 @@ struct StressStepConstants {
 
 /// The implicit integrator's view of the stress update of docs/model.md §1–§2 at one site, shared by
 /// every law: with the overloaded fraction y (Θ for the continuum law) and the rate |w| of the previous
-/// step frozen, A' = relax(A, 1, 1 + y κ |w|, Δt) and
+/// step frozen, A' = relax(A, a_rest, 1 + y κ |w|, Δt) (a_rest: the site's resting area, 1 but under a normal
+/// load, docs/model.md §12) and
 ///   σ̄' = σ̄ e^{−y|w|Δt} + α (A + A')/2 · W · (1 − e^{−y|w|Δt})/(y|w|)     = c0 + c1 W,
 /// linear in the step's slip rate W (the source α Ā W is linear in W; y = 0: σ̄' = σ̄ + α Ā W Δt).
 inline void linearise_stress(double area, double sigma_bar, double y, double w_prev, const StressStepConstants& k,
-                             double& c0, double& c1) {
+                             double& c0, double& c1, double rest = 1.0) {
   if (y == 0.0) {
     c0 = sigma_bar;
-    c1 = k.alpha * 0.5 * (area + (area * k.e1 + k.w1)) * k.dt;
+    c1 = k.alpha * 0.5 * (area + (area * k.e1 + rest * k.w1)) * k.dt;  // rest = 1: today's bits (1 · w = w)
     return;
   }
   const double speed = std::abs(w_prev), lam = y * speed;
-  const double a_new = relax(area, 1.0, 1.0 + y * k.kappa * speed, k.dt);
+  const double a_new = relax(area, rest, 1.0 + y * k.kappa * speed, k.dt);
   c0 = sigma_bar * std::exp(-lam * k.dt);
   c1 = k.alpha * 0.5 * (area + a_new) * relax_weight(lam, k.dt);
 }

@@ -33,6 +33,13 @@ const KeyDomain continuum_domains[] = {
     {"interface.aging_b", K::number, 0.0, cap, false, false, false, "",
      "(contact aging, docs/model.md §11: area 1 + b ln(1 + age/aging_tau); 0: no aging)"},
     {"interface.aging_tau", K::number, 0.0, cap, true, false, false, "", "(the aging cut-off time)"},
+    {"interface.load_x", K::number_list, 0.0, cap, false, false, false, "",
+     "(positions of the normal-load table, increasing, docs/model.md §12)"},
+    {"interface.load_p", K::number_list, 0.0, cap, false, false, false, "",
+     "(the normal load p/p_0 at interface.load_x: compressive, so not negative)"},
+    {"interface.load_exponent", K::number, 0.0, cap, false, false, false, "",
+     "(m of the resting area (p/p_0)^m; 1: Bowden-Tabor, 0: no load dependence)"},
+    {"interface.load_channel", K::choice, 0, 0, false, false, false, "reattachment|instantaneous"},
     {"bulk.rho", K::number, 0.0, cap, true},
     {"bulk.mu", K::number, 0.0, cap, true},
     {"bulk.length", K::number, 0.0, cap, true},
@@ -183,6 +190,35 @@ void InterfaceParams::validate() const {
   check_in_domain("interface.eta", eta);
   check_in_domain("interface.aging_b", aging_b);
   if (ages_contacts()) check_in_domain("interface.aging_tau", aging_tau);
+  if (!has_load_profile()) {
+    require(load_x.empty(), "interface.load_x", "given without interface.load_p (the load at those positions)");
+    return;
+  }
+  for (const double p : load_p) check_in_domain("interface.load_p", p);
+  for (const double x : load_x) check_in_domain("interface.load_x", x);
+  require(load_x.size() == load_p.size(), "interface.load_x",
+          "must have as many entries as interface.load_p (" + std::to_string(load_p.size()) + "), got " +
+              std::to_string(load_x.size()));
+  for (std::size_t k = 1; k < load_x.size(); ++k)
+    require(load_x[k] > load_x[k - 1], "interface.load_x", "must be increasing");
+  check_in_domain("interface.load_exponent", load_exponent);
+  require(load_channel == "reattachment" || load_channel == "instantaneous", "interface.load_channel",
+          "unknown channel '" + load_channel + "' (expected reattachment or instantaneous)");
+}
+
+double InterfaceParams::load_at(double x) const {
+  if (load_p.empty()) return 1.0;
+  if (!(x > load_x.front())) return load_p.front();
+  if (!(x < load_x.back())) return load_p.back();
+  std::size_t k = 1;
+  while (load_x[k] < x) ++k;  // load_x[k − 1] < x ≤ load_x[k]
+  const double t = (x - load_x[k - 1]) / (load_x[k] - load_x[k - 1]);
+  return load_p[k - 1] + t * (load_p[k] - load_p[k - 1]);
+}
+
+double InterfaceParams::resting_area_at(double x) const {
+  if (load_p.empty() || load_exponent == 0.0) return 1.0;
+  return std::pow(load_at(x), load_exponent);
 }
 
 void BulkParams::validate(bool one_dimensional) const {

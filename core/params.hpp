@@ -77,6 +77,19 @@ struct InterfaceParams {
   bool ages_contacts() const { return aging_b != 0.0; }
   /// Area of a contact of age a (docs/model.md §11): 1 + b ln(1 + a/τ_a).
   double aged_area(double age) const { return 1.0 + aging_b * std::log1p(age / aging_tau); }
+  /// Normal load (docs/model.md §12): a prescribed profile p(x)/p_0, the table (load_x, load_p) interpolated
+  /// linearly and constant beyond its ends; the resting area of a site follows it as (p/p_0)^load_exponent, through
+  /// re-attachment (load_channel = "reattachment": the A equation relaxes towards it at unit rate) or at once
+  /// ("instantaneous": the existing contacts' areas scale with it). No table (the default) is today's model.
+  std::vector<double> load_x = {}, load_p = {};
+  double load_exponent = 1.0;
+  std::string load_channel = "reattachment";
+  bool has_load_profile() const { return !load_p.empty(); }
+  bool instantaneous_load() const { return load_channel == "instantaneous"; }
+  /// p(x)/p_0 from the table (linear interpolation; constant beyond its ends); 1 without a table.
+  double load_at(double x) const;
+  /// The resting area (p(x)/p_0)^m of docs/model.md §12.1 (exactly 1 without a table or at m = 0).
+  double resting_area_at(double x) const;
   void validate() const;
 };
 

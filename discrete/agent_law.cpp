@@ -1,4 +1,5 @@
 #include "discrete/agent_law.hpp"
+#include "discrete/normal_load.hpp"
 
 #include "core/interrupt.hpp"
 
@@ -56,7 +57,17 @@ std::size_t AgentLaw::bin_of(double s) const {
 
 double AgentLaw::draw_threshold(Engine& e) const { return degenerate_ ? 1.0 : g_.from_uniform(uniform01(e)); }
 
-void AgentLaw::set_site(std::size_t i, double area, double sigma_bar) {
+void AgentLaw::set_normal_load(std::span<const double> factor) {
+  if (factor.size() != size()) throw std::invalid_argument("AgentLaw::set_normal_load: one factor per site");
+  if (aging_) throw std::invalid_argument("AgentLaw::set_normal_load: not with aging (docs/model.md §12)");
+  install_resting_areas(factor, ip_, rest_, sigma_bar_, reattach_, scaled_);
+  const double inv_n = 1.0 / static_cast<double>(n_contacts_);
+  for (std::size_t i = 0; i < size(); ++i)
+    area_[i] = (scaled_ ? rest_[i] : 1.0) * (static_cast<double>(sites_[i].n_att) * inv_n);
+}
+
+void AgentLaw::set_site(std::size_t i, double area_given, double sigma_bar) {
+  const double area = scaled_ ? area_given / rest_[i] : area_given;  // the attached fraction (contacts of area a_i)
   if (!(area >= 0.0 && area <= 1.0)) throw std::invalid_argument("AgentLaw::set_site: A must lie in [0, 1]");
   Site& st = sites_[i];
   st.engine = site_engine(dp_.seed, i);
@@ -82,7 +93,7 @@ void AgentLaw::set_site(std::size_t i, double area, double sigma_bar) {
   st.attach_time_sum = static_cast<double>(n) * t_;
   st.pristine = true;
   st.set_at = t_;
-  area_[i] = static_cast<double>(n) / static_cast<double>(n_contacts_);
+  area_[i] = (scaled_ ? rest_[i] : 1.0) * (static_cast<double>(n) / static_cast<double>(n_contacts_));
   sigma_bar_[i] = sigma_bar;
 }
 
@@ -163,6 +174,32 @@ AttachedContact AgentLaw::remove_member(Site& st, Load& ld, std::uint64_t rank) 
   return c;
 }
 
+// Remove the attached non-member of rank `rank` (docs/model.md §12.2: spontaneous detachment under a re-attaching
+// load): first the straddling bin's non-members (after its member prefix), then the bins above the members.
+AttachedContact AgentLaw::remove_non_member(Site& st, const Load& ld, std::uint64_t rank) {
+  std::size_t b = 0, j = 0;
+  const std::size_t partial_rest = ld.partial == npos ? 0 : st.bins[ld.partial].size() - ld.partial_members;
+  if (rank < partial_rest) {
+    b = ld.partial;
+    j = ld.partial_members + static_cast<std::size_t>(rank);
+  } else if (nbins_ == 1) {
+    j = static_cast<std::size_t>(rank);
+  } else {
+    const std::size_t first = ld.partial == npos ? ld.full_bins : ld.partial + 1;
+    auto r = st.counts.prefix(first) + static_cast<std::int64_t>(rank - partial_rest);
+    b = st.counts.find(r);
+    j = static_cast<std::size_t>(r);
+  }
+  auto& bin = st.bins[b];
+  const AttachedContact c = bin[j];
+  bin[j] = bin.back();
+  bin.pop_back();
+  if (nbins_ > 1) st.counts.add(b, -1);
+  --st.n_att;
+  st.attach_time_sum -= c.attached_at;
+  return c;
+}
+
 // Step 3: the two-state chain of every contact of site i over [t0, t1] with frozen rates, event by
 // event. Two Poisson processes: detachments of members (intensity K d) and attachments of detached
 // contacts (intensity D); the next event of each is where its integrated intensity reaches its mark.
@@ -170,9 +207,13 @@ void AgentLaw::run_events(std::size_t i, Site& st, Load& ld, double tau, double 
   Engine& e = st.engine;
   auto& pool = st.detached;
   double t = t0;
+  // under a re-attaching load (docs/model.md §12.2) attach at rate a, and every attached contact detaches at 1 − a
+  const double attach = reattach_ ? rest_[i] : 1.0, spont = reattach_ ? 1.0 - rest_[i] : 0.0;
   for (;;) {
-    const double k_det = static_cast<double>(ld.members) * detach;
-    const double k_att = static_cast<double>(pool.size());  // attach rate 1 per detached contact
+    const double k_member = static_cast<double>(ld.members) * (spont > 0.0 ? detach + spont : detach);
+    const double k_det = spont > 0.0 ? k_member + static_cast<double>(st.n_att - ld.members) * spont : k_member;
+    const double k_att = reattach_ ? static_cast<double>(pool.size()) * attach
+                                   : static_cast<double>(pool.size());  // attach rate 1 per detached contact
     if (k_det > 0.0 && st.detach_mark < 0.0) st.detach_mark = exp1(e);
     if (k_att > 0.0 && st.attach_mark < 0.0) st.attach_mark = exp1(e);
     const double t_det = k_det > 0.0 ? t + st.detach_mark / k_det : inf;
@@ -185,9 +226,15 @@ void AgentLaw::run_events(std::size_t i, Site& st, Load& ld, double tau, double 
     t = t_next;
     st.pristine = false;
     if (t_det <= t_att) {
-      // a member detaches, chosen uniformly
-      const auto rank = std::min<std::uint64_t>(ld.members - 1, static_cast<std::uint64_t>(uniform01(e) * static_cast<double>(ld.members)));
-      const AttachedContact c = remove_member(st, ld, rank);
+      // a member detaches, chosen uniformly (under a re-attaching load, a non-member with its share of k_det)
+      AttachedContact c;
+      if (spont > 0.0 && uniform01(e) * k_det >= k_member) {
+        const std::uint64_t others = st.n_att - ld.members;
+        c = remove_non_member(st, ld, std::min<std::uint64_t>(others - 1, static_cast<std::uint64_t>(uniform01(e) * static_cast<double>(others))));
+      } else {
+        const auto rank = std::min<std::uint64_t>(ld.members - 1, static_cast<std::uint64_t>(uniform01(e) * static_cast<double>(ld.members)));
+        c = remove_member(st, ld, rank);
+      }
       st.detach_mark = -1.0;
       stats_.record_lifetime(i, c.attached_at, t - c.attached_at);
       pool.push_back({t, c.threshold});
@@ -232,10 +279,12 @@ core::LawStepInfo AgentLaw::advance(double dt, std::span<const double> v) {
     any |= speed > 0.0 && (ld.members > 0 || n0 == 0);
     // 2. idle: no member slipping and no detached contact — nothing is touched
     const double detach = kappa * speed;
-    if ((ld.members > 0 && detach > 0.0) || !st.detached.empty())
+    const bool turnover = reattach_ && rest_[i] < 1.0 && st.n_att > 0;  // spontaneous detachment (docs/model.md §12.2)
+    if ((ld.members > 0 && detach > 0.0) || !st.detached.empty() || turnover)
       run_events(i, st, ld, tau, detach, t0, t1);  // 3. contacts
     // the area: n/N, or with aging the contacts' areas 1 + b ln(1 + age/τ_a) summed over N (docs/model.md §11.2)
-    const double a1 = aging_ ? aged_area_sum(st, t1) * inv_n : static_cast<double>(st.n_att) * inv_n;
+    double a1 = aging_ ? aged_area_sum(st, t1) * inv_n : static_cast<double>(st.n_att) * inv_n;
+    if (scaled_) a1 *= rest_[i];  // instantaneous load: contacts of area a_i (docs/model.md §12.2)
     area_[i] = a1;
     // 4. stress: exact update with Ā = (A + A')/2 and Y frozen (as the continuum friction law)
     sigma_bar_[i] = core::relax(sb, alpha * 0.5 * (a0 + a1) * vi, y * speed, dt);

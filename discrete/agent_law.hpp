@@ -116,7 +116,7 @@ class AgentLaw : public core::OverloadedSteadyState<AgentLaw> {
  public:
   static constexpr core::LawHooks hooks{
       .ages = true, .contact_statistics = true, .contact_hazard = true, .checkpoints = true, .yield_onset = true,
-      .count_noise = true, .steady_state = true, .steady_front = true};
+      .count_noise = true, .steady_state = true, .steady_front = true, .normal_load = true};
   /// Validates `dp` (ParamError naming the key). All sites start stuck: A = 1, σ̄ = 0.
   AgentLaw(const core::InterfaceParams& ip, const DiscreteParams& dp, std::size_t sites);
 
@@ -137,6 +137,13 @@ class AgentLaw : public core::OverloadedSteadyState<AgentLaw> {
   /// drawn when w = 0) and age 0, the rest detached since now. Restarts the site's random stream, so
   /// the state depends only on (seed, i, A, σ̄). A ∈ [0, 1].
   void set_site(std::size_t i, double area, double sigma_bar);
+  /// The resting area a_i = (p_i/p_0)^m of every site (docs/model.md §12.2, as CountLaw::set_normal_load): under
+  /// re-attachment each new contact attaches at rate a_i and every attached contact detaches at rate 1 − a_i besides
+  /// the overload's κ|v| (a_i ≤ 1, else ParamError naming interface.load_p); instantaneous: contacts of area a_i,
+  /// A = a_i n/N, and A, σ̄ scale at once by a_new/a_old.
+  void set_normal_load(std::span<const double> factor);
+  /// a_i (1 without a normal load).
+  double resting_area(std::size_t i) const { return rest_.empty() ? 1.0 : rest_[i]; }
 
   /// docs/model.md §2 over [t, t + dt] with the slip rates v frozen. any_yield: some site had an
   /// overloaded attached contact (or none attached, τ = ∞) and v_i ≠ 0 at the start of the step
@@ -249,6 +256,8 @@ class AgentLaw : public core::OverloadedSteadyState<AgentLaw> {
   double draw_threshold(Engine& e) const;
   void add_attached(Site& st, Load& ld, AttachedContact c, double tau);
   AttachedContact remove_member(Site& st, Load& ld, std::uint64_t rank);
+  /// Remove the attached non-member of rank `rank` (the straddling bin's non-members, then the bins above it).
+  AttachedContact remove_non_member(Site& st, const Load& ld, std::uint64_t rank);
   /// Step 3 at site i over [t0, t1]: the event-driven chain.
   void run_events(std::size_t i, Site& st, Load& ld, double tau, double detach, double t0, double t1);
 
@@ -262,6 +271,9 @@ class AgentLaw : public core::OverloadedSteadyState<AgentLaw> {
   std::uint64_t changes_ = 0;
   bool ages_ = false;
   bool aging_ = false;  ///< interface.aging_b > 0: contacts' areas grow with their age (docs/model.md §11.2)
+  std::vector<double> rest_;  ///< [sites] resting area a_i under a normal load (docs/model.md §12); empty: none
+  bool reattach_ = false;     ///< a load through re-attachment: attach a_i, spontaneous detachment 1 − a_i
+  bool scaled_ = false;       ///< a load at once: contacts of area a_i
 
   std::vector<Site> sites_;
   std::vector<double> area_, sigma_bar_;

@@ -1,4 +1,5 @@
 #include "discrete/count_law.hpp"
+#include "discrete/normal_load.hpp"
 
 #include "core/interrupt.hpp"
 
@@ -193,7 +194,14 @@ std::span<const double> CountLaw::detached(std::size_t i) const {
   return std::span<const double>(det_).subspan(i * det_stride_, det_stride_);
 }
 
-void CountLaw::set_site(std::size_t i, double area, double sigma_bar) {
+void CountLaw::set_normal_load(std::span<const double> factor) {
+  if (factor.size() != size()) throw std::invalid_argument("CountLaw::set_normal_load: one factor per site");
+  install_resting_areas(factor, ip_, rest_, sigma_bar_, reattach_, scaled_);
+  for (std::size_t i = 0; i < size(); ++i) area_[i] = area_of(i, n_att_[i]);
+}
+
+void CountLaw::set_site(std::size_t i, double area_given, double sigma_bar) {
+  const double area = scaled_ ? area_given / rest_[i] : area_given;  // the attached fraction (contacts of area a_i)
   if (!(area >= 0.0 && area <= 1.0)) throw std::invalid_argument("CountLaw::set_site: A must lie in [0, 1]");
   if (!unspread_.empty()) unspread_[i] = 0.0;
   double* a = att(i);
@@ -208,7 +216,7 @@ void CountLaw::set_site(std::size_t i, double area, double sigma_bar) {
     else
       d[0] = 1.0 - total;
     n_att_[i] = total;
-    area_[i] = area_of(total);
+    area_[i] = area_of(i, total);
   } else {
     // n = round(A N) contacts over equal-probability bins: a stratified sample of g (fresh); with
     // quenched thresholds the N thresholds of the site are split first, then the attached among them.
@@ -227,7 +235,7 @@ void CountLaw::set_site(std::size_t i, double area, double sigma_bar) {
     }
     for (std::size_t b = 0; b < nbins_; ++b) total += a[b];
     n_att_[i] = total;
-    area_[i] = area_of(total);
+    area_[i] = area_of(i, total);
   }
   sigma_bar_[i] = sigma_bar;
 }
@@ -285,7 +293,7 @@ bool CountLaw::advance_sites(std::size_t lo, std::size_t hi, double dt, const do
     }
     // 1. load: contact stress at the start of the step, overloaded bins [0, k), yield fraction Y
     const double tau = core::contact_stress(sb + eta * vi, a0);
-    if (noise_ && n_att_[i] == n_contacts_ && tau <= thresholds_[0]) {
+    if (noise_ && !reattach_ && n_att_[i] == n_contacts_ && tau <= thresholds_[0]) {
       // idle (every contact attached, none overloaded): the general path below with k = 0, A' = A
       // and Y = 0, without its calls — the same arithmetic, so the same bits
       sigma_bar_[i] = detail::relax_stress(sb, alpha * 0.5 * (a0 + a0) * vi, 0.0 * speed, dt);
@@ -297,8 +305,9 @@ bool CountLaw::advance_sites(std::size_t lo, std::size_t hi, double dt, const do
     const double y = n_att > 0.0 ? n_over / n_att : 1.0;
     any |= speed > 0.0 && (n_over > 0.0 || !(n_att > 0.0));
     // 2.–3. contacts (the noisy step skips idle sites: no draw, no exponential)
-    const double a1 = noise_ ? step_contacts_sampled(i, k, n_over, kappa * speed, dt)
-                             : step_contacts_mean(i, k, kappa * speed, dt);
+    const double a1 = !noise_    ? step_contacts_mean(i, k, kappa * speed, dt)
+                      : reattach_ ? step_contacts_reattaching(i, k, kappa * speed, dt)
+                                  : step_contacts_sampled(i, k, n_over, kappa * speed, dt);
     // 4. stress: exact update with Ā = (A + A')/2 and Y frozen
     sigma_bar_[i] = detail::relax_stress(sb, alpha * 0.5 * (a0 + a1) * vi, y * speed, dt);
   }
@@ -362,7 +371,50 @@ double CountLaw::step_contacts_sampled(std::size_t i, std::size_t k, double n_ov
   double n_new = unspread(i);
   for (std::size_t b = 0; b < B; ++b) n_new += at[b];
   n_att_[i] = n_new;
-  return area_[i] = area_of(n_new);
+  return area_[i] = area_of(i, n_new);
+}
+
+// Noise on, re-attachment channel (docs/model.md §12.2): every contact's exact two-state step with attach rate a_i
+// and detach rate 1 − a_i, plus κ|v| in the overloaded bins. The unspread arrivals are settled first and none are
+// kept (every bin now detaches at rest too, so they do not share one fate).
+double CountLaw::step_contacts_reattaching(std::size_t i, std::size_t k, double detach, double dt) {
+  using detail::binomial;
+  settle(i);
+  const std::size_t B = nbins_;
+  double* at = att(i);
+  double* de = det(i);
+  const double rest = rest_[i], n_det = n_contacts_ - n_att_[i];
+  const core::TwoStateTransition free_tr = core::two_state_transition(rest, 1.0 - rest, dt);
+  const core::TwoStateTransition over_tr = core::two_state_transition(rest, 1.0 - rest + detach, dt);
+  const detail::BinomialRate leave_free(1.0 - free_tr.stay_attached), leave_over(1.0 - over_tr.stay_attached);
+  Engine& e = engine_at(i);
+  if (!quenched_) {
+    const double m_over = k == 0 ? 0.0 : k == B ? n_det : binomial(e, n_det, static_cast<double>(k) / static_cast<double>(B));
+    const double x_over = binomial(e, m_over, over_tr.become_attached);
+    const double x_free = binomial(e, n_det - m_over, free_tr.become_attached);
+    double left = 0.0;
+    for (std::size_t b = 0; b < B; ++b) {
+      const double x = binomial(e, at[b], b < k ? leave_over : leave_free);
+      at[b] -= x;
+      left += x;
+    }
+    detail::spread_uniform(e, x_over, at, 0, k, share_);
+    detail::spread_uniform(e, x_free, at, k, B, share_);
+    de[0] = n_det - x_over - x_free + left;
+  } else {
+    const detail::BinomialRate attach_over(over_tr.become_attached), attach_free(free_tr.become_attached);
+    for (std::size_t b = 0; b < B; ++b) {
+      const bool over = b < k;
+      const double out = binomial(e, at[b], over ? leave_over : leave_free);
+      const double in = binomial(e, de[b], over ? attach_over : attach_free);
+      at[b] += in - out;
+      de[b] += out - in;
+    }
+  }
+  double n_new = 0.0;
+  for (std::size_t b = 0; b < B; ++b) n_new += at[b];
+  n_att_[i] = n_new;
+  return area_[i] = area_of(i, n_new);
 }
 
 // Noise off: every draw replaced by its expectation, in fractions of the site. The expected
@@ -371,6 +423,8 @@ double CountLaw::step_contacts_sampled(std::size_t i, std::size_t k, double n_ov
 // the exact solution of dn_b/dt = a (T_b − n_b) − d_b n_b; written with relax() it is, for w = 0
 // (B = 1, T = 1), the very arithmetic of FrictionLaw::advance. Every site is updated (no skip), as
 // in the continuum law. Fresh: T_b = n_b + (1 − Σn)/B (the pool spreads evenly); quenched: T_b = 1/B.
+// Re-attachment channel of a normal load (docs/model.md §12.2): a = a_i and detach 1 − a_i + d_b, so
+// dn_b/dt = a_i T_b − (1 + d_b) n_b: the source a_i T_b at the same rates (w = 0: FrictionLaw's a_i · w).
 double CountLaw::step_contacts_mean(std::size_t i, std::size_t k, double detach, double dt) {
   const std::size_t B = nbins_;
   const double inv_b = 1.0 / static_cast<double>(B);
@@ -384,14 +438,15 @@ double CountLaw::step_contacts_mean(std::size_t i, std::size_t k, double detach,
   double n_new = 0.0;
   for (std::size_t b = 0; b < B; ++b) {
     const double total = quenched_ ? inv_b : at[b] + pool;
+    const double source = reattach_ ? rest_[i] * total : total;
     const bool over = b < k;
-    at[b] = at[b] * (over ? e_over : e_free) + total * (over ? w_over : w_free);
+    at[b] = at[b] * (over ? e_over : e_free) + source * (over ? w_over : w_free);
     if (quenched_) de[b] = total - at[b];
     n_new += at[b];
   }
   if (!quenched_) de[0] = 1.0 - n_new;
   n_att_[i] = n_new;
-  return area_[i] = area_of(n_new);
+  return area_[i] = area_of(i, n_new);
 }
 
 std::string CountLaw::save_state() const {
@@ -445,7 +500,7 @@ void CountLaw::load_state(const std::string& text) {
     total += unspread;
     for (std::size_t b = 0; b < det_stride_; ++b) det(i)[b] = get();
     n_att_[i] = total;
-    area_[i] = area_of(total);
+    area_[i] = area_of(i, total);
     std::string line;
     std::getline(is >> std::ws, line);
     discrete::load_state(engines_[i].emplace(), line);
@@ -454,8 +509,9 @@ void CountLaw::load_state(const std::string& text) {
   cached_dt_ = -1.0;
 }
 
-double CountLaw::area_of(double attached_total) const {
-  return noise_ ? attached_total / n_contacts_ : attached_total;  // A = n/N; noise off: fractions
+double CountLaw::area_of(std::size_t i, double attached_total) const {
+  const double fraction = noise_ ? attached_total / n_contacts_ : attached_total;  // A = n/N; noise off: fractions
+  return scaled_ ? rest_[i] * fraction : fraction;  // instantaneous load: contacts of area a_i (docs/model.md §12)
 }
 
 }  // namespace slipfront::discrete

@@ -22,6 +22,12 @@
 //                  Y_i = overloaded fraction of the attached contacts at t (1 when none attached)
 // With w = 0 and noise off this is, operation for operation, FrictionLaw::advance (docs/model.md §2 item 1):
 // the two laws agree bit for bit (tests/test_discrete_identity.cpp).
+//
+// Under a prescribed normal load (docs/model.md §12, set_normal_load) with resting area a_i = (p_i/p_0)^m:
+//   re-attachment channel  a detached contact attaches at rate a_i, an attached one detaches at rate 1 − a_i (+ κ|v|
+//                          when overloaded): the mean relaxes towards a_i at unit rate; needs a_i ≤ 1 (p ≤ p_0)
+//   instantaneous channel  the chain is today's; every contact of site i has area a_i: A_i = a_i n_i/N
+// A law never given a load takes neither branch (today's bits).
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -58,7 +64,8 @@ struct PoolHandle {
 // closed form of core/steady_sliding.hpp: exact at w = 0 and while the thresholds lie below the steady contact stress.
 class CountLaw : public core::OverloadedSteadyState<CountLaw> {
  public:
-  static constexpr core::LawHooks hooks{.checkpoints = true, .yield_onset = true, .count_noise = true, .steady_state = true, .steady_front = true};
+  static constexpr core::LawHooks hooks{.checkpoints = true, .yield_onset = true, .count_noise = true,
+                                        .steady_state = true, .steady_front = true, .normal_load = true};
   /// Validates `dp` (ParamError naming the key). All sites start stuck: A = 1, σ̄ = 0, the N
   /// attached contacts spread over the bins by expectation rounding (a stratified sample of g).
   CountLaw(const core::InterfaceParams& ip, const DiscreteParams& dp, std::size_t sites);
@@ -78,6 +85,13 @@ class CountLaw : public core::OverloadedSteadyState<CountLaw> {
   /// spread over the bins by expectation rounding (no random draw); the rest detached. A ∈ [0, 1].
   void set_site(std::size_t i, double area, double sigma_bar);
 
+  /// The resting area a_i = (p_i/p_0)^m of every site (docs/model.md §12; the channel from interface.load_channel).
+  /// Re-attachment: the rates above (ParamError naming interface.load_p where a_i > 1: the site's N contacts are
+  /// its capacity at p_0); instantaneous: each contact's area becomes a_i, so A and σ̄ scale by a_new/a_old at once.
+  void set_normal_load(std::span<const double> factor);
+  /// a_i (1 without a normal load).
+  double resting_area(std::size_t i) const { return rest_.empty() ? 1.0 : rest_[i]; }
+
   /// docs/model.md §2 over [t, t + dt] with the slip rates v frozen; any_yield: some site had an
   /// overloaded attached contact (or no attached contact at all, τ = ∞: Θ = 1 of docs/model.md §1) and
   /// v_i ≠ 0 at the start of the step.
@@ -92,7 +106,7 @@ class CountLaw : public core::OverloadedSteadyState<CountLaw> {
       const double a = area_[i], sb = sigma_bar_[i];
       double y = 0.0;
       if (wp != 0.0 && core::contact_stress(sb + ip_.eta * wp, a) > s_min) y = overloaded_fraction(i, wp);
-      core::linearise_stress(a, sb, y, wp, k, c0, c1);
+      core::linearise_stress(a, sb, y, wp, k, c0, c1, resting_area(i));
     };
   }
 
@@ -151,6 +165,9 @@ class CountLaw : public core::OverloadedSteadyState<CountLaw> {
   /// Stages 2–3 of the step at site i with k overloaded bins and detach rate κ|v|; return A'.
   double step_contacts_sampled(std::size_t i, std::size_t k, double n_over, double detach, double dt);
   double step_contacts_mean(std::size_t i, std::size_t k, double detach, double dt);
+  /// Noise on, re-attachment channel of a normal load (docs/model.md §12.2): attach a_i, detach 1 − a_i (+ detach in
+  /// the overloaded bins); return A'.
+  double step_contacts_reattaching(std::size_t i, std::size_t k, double detach, double dt);
   std::size_t overloaded_bins(double tau) const;
   /// Attached contacts of site i in the overloaded bins [0, k), the unspread ones included (settled first when
   /// 0 < k < B).
@@ -159,7 +176,7 @@ class CountLaw : public core::OverloadedSteadyState<CountLaw> {
   /// them fell in a uniform bin independently of what it went through since). Logically const (docs/discrete.md).
   void settle(std::size_t i) const;
   int pool_threads() const;
-  double area_of(double attached_total) const;
+  double area_of(std::size_t i, double attached_total) const;
   double* att(std::size_t i) { return att_.data() + i * nbins_; }
   double* det(std::size_t i) { return det_.data() + i * det_stride_; }
 
@@ -170,6 +187,9 @@ class CountLaw : public core::OverloadedSteadyState<CountLaw> {
   std::size_t nbins_ = 1, det_stride_ = 1;
   double n_contacts_ = 1.0;
   bool quenched_ = false, noise_ = true;
+  std::vector<double> rest_;  ///< [sites] resting area a_i under a normal load (docs/model.md §12); empty: none
+  bool reattach_ = false;     ///< a load through re-attachment: the rates a_i, 1 − a_i
+  bool scaled_ = false;       ///< a load at once: contact area a_i, A = a_i n/N
 
   // Counts are whole numbers held in doubles (noise on), or real fractions of the site (noise off).
   // att_ and unspread_ are mutable for settle(), which a const reader of the bins calls.

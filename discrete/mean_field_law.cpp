@@ -1,4 +1,5 @@
 #include "discrete/mean_field_law.hpp"
+#include "discrete/normal_load.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -35,12 +36,21 @@ MeanFieldLaw::MeanFieldLaw(const core::InterfaceParams& ip, const DiscreteParams
   for (std::size_t i = 0; i < sites; ++i) set_site(i, 1.0, 0.0);
 }
 
-void MeanFieldLaw::set_site(std::size_t i, double area, double sigma_bar) {
+void MeanFieldLaw::set_normal_load(std::span<const double> factor) {
+  if (factor.size() != size()) throw std::invalid_argument("MeanFieldLaw::set_normal_load: one factor per site");
+  if (aging_) throw std::invalid_argument("MeanFieldLaw::set_normal_load: not with aging (docs/model.md §12)");
+  install_resting_areas(factor, ip_, rest_, sigma_bar_, reattach_, scaled_);
+  if (scaled_)
+    for (std::size_t i = 0; i < size(); ++i) area_[i] = rest_[i] * total(i);
+}
+
+void MeanFieldLaw::set_site(std::size_t i, double area_given, double sigma_bar) {
+  const double area = scaled_ ? area_given / rest_[i] : area_given;  // the attached fraction (contacts of area a_i)
   if (!(area >= 0.0 && area <= 1.0)) throw std::invalid_argument("MeanFieldLaw::set_site: A must lie in [0, 1]");
   double* a = att_.data() + i * nbins_;
   const double B = static_cast<double>(nbins_);
   for (std::size_t b = 0; b < nbins_; ++b) a[b] = area / B;
-  area_[i] = total(i);
+  area_[i] = scaled_ ? rest_[i] * total(i) : total(i);
   sigma_bar_[i] = sigma_bar;
   if (aging_)  // every attached contact new: area 1 each (docs/model.md §11.3)
     for (std::size_t b = 0; b < nbins_; ++b) {
@@ -56,7 +66,8 @@ double MeanFieldLaw::total(std::size_t i) const {
 }
 
 double MeanFieldLaw::detached(std::size_t i, std::size_t b) const {
-  return quenched_ ? 1.0 / static_cast<double>(nbins_) - att_[i * nbins_ + b] : 1.0 - (aging_ ? total(i) : area_[i]);
+  return quenched_ ? 1.0 / static_cast<double>(nbins_) - att_[i * nbins_ + b]
+                   : 1.0 - (aging_ || scaled_ ? total(i) : area_[i]);
 }
 
 // Overloaded classes: s_b < τ (thresholds ascending, so a prefix).
@@ -72,7 +83,7 @@ double MeanFieldLaw::overloaded_fraction(std::size_t i, double v) const {
   const std::vector<double>& share = aging_ ? class_area_ : att_;  // aging: the overloaded share of the area
   double over = 0.0;
   for (std::size_t b = 0; b < k; ++b) over += share[i * nbins_ + b];
-  return over / area_[i];
+  return over / (scaled_ ? total(i) : area_[i]);  // instantaneous load: of the attached contacts, not their area
 }
 
 void MeanFieldLaw::class_rates(std::size_t, double v, double area, double sigma_bar, std::span<const double> n,
@@ -112,19 +123,22 @@ core::LawStepInfo MeanFieldLaw::advance(double dt, std::span<const double> v) {
     const std::size_t k = overloaded_classes(core::contact_stress(sb + eta * vi, a0));
     double n_over = 0.0;
     for (std::size_t b = 0; b < k; ++b) n_over += n[b];
-    const double y = a0 > 0.0 ? n_over / a0 : 1.0;
+    const double n_att = scaled_ ? total(i) : a0;  // the attached fraction (a0 but under an instantaneous load)
+    const double y = n_att > 0.0 ? n_over / n_att : 1.0;
     any |= speed > 0.0 && (n_over > 0.0 || !(a0 > 0.0));
     // 2. contacts: n_b' = relax(n_b, T_b, 1 + d_b, Δt), T_b and d_b frozen
     const double r_over = 1.0 + kappa * speed;
     const double e_over = std::exp(-r_over * dt), w_over = core::relax_weight(r_over, dt);
-    const double pool = quenched_ ? 0.0 : (1.0 - a0) * inv_b;  // fresh: the detached feed every class by 1/B
+    const double pool = quenched_ ? 0.0 : (1.0 - n_att) * inv_b;  // fresh: the detached feed every class by 1/B
     double a1 = 0.0;
     for (std::size_t b = 0; b < B; ++b) {
-      const double target = quenched_ ? inv_b : n[b] + pool;
+      const double total_b = quenched_ ? inv_b : n[b] + pool;
+      const double target = reattach_ ? rest_[i] * total_b : total_b;  // docs/model.md §12.2: the source a_i T_b
       const bool over = b < k;
       n[b] = n[b] * (over ? e_over : free_exp_) + target * (over ? w_over : free_weight_);
       a1 += n[b];
     }
+    if (scaled_) a1 *= rest_[i];  // instantaneous load: contacts of area a_i
     area_[i] = a1;
     // 3. stress: exact with Ā = (A + A')/2 and Y frozen (rate 0: σ̄ + source Δt, as relax() gives it)
     const double source = alpha * 0.5 * (a0 + a1) * vi, rate = y * speed;

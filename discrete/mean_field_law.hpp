@@ -25,6 +25,10 @@
 // Σ_b Σ_cohorts mass (1 + b ln(1 + age/τ_a)), the detached pool is 1 − Σ_b n_b (counts, not area), and Y_i the
 // overloaded classes' share of the area. aging_b = 0 takes none of these branches (advance_site_aging).
 //
+// Under a prescribed normal load (docs/model.md §12, set_normal_load) with resting area a_i = (p_i/p_0)^m, as the
+// count representation with the noise off: re-attachment n_b' = relax(n_b, a_i T_b, 1 + d_b, Δt); instantaneous:
+// the classes as today, A_i = a_i Σ_b n_b (contacts of area a_i). Not with aging (the scene refuses the pair).
+//
 // The adaptive integrator does not apply: its state is [A | σ̄] per site (core::SmoothLaw), this law's is the
 // B attached fractions and σ̄, and Y is piecewise constant in τ with B jumps (docs/model.md §2.2).
 #include <cstddef>
@@ -44,7 +48,8 @@ namespace slipfront::discrete {
 // closed form of core/steady_sliding.hpp: exact at w = 0 and while the thresholds lie below the steady contact stress.
 class MeanFieldLaw : public core::OverloadedSteadyState<MeanFieldLaw> {
  public:
-  static constexpr core::LawHooks hooks{.class_hazards = true, .checkpoints = true, .yield_onset = true, .steady_state = true, .steady_front = true};
+  static constexpr core::LawHooks hooks{.class_hazards = true, .checkpoints = true, .yield_onset = true,
+                                        .steady_state = true, .steady_front = true, .normal_load = true};
   /// Validates the threshold keys of `dp` (DiscreteParams::validate_threshold_law: ParamError naming the
   /// key). All sites start stuck: A = 1 (1/B in every class), σ̄ = 0.
   MeanFieldLaw(const core::InterfaceParams& ip, const DiscreteParams& dp, std::size_t sites);
@@ -58,6 +63,12 @@ class MeanFieldLaw : public core::OverloadedSteadyState<MeanFieldLaw> {
   /// Initial state of site i: A/B attached in every class (the attached contacts are a sample of g). A ∈ [0, 1].
   void set_site(std::size_t i, double area, double sigma_bar);
 
+  /// The resting area a_i = (p_i/p_0)^m of every site (docs/model.md §12; as CountLaw::set_normal_load, a_i ≤ 1
+  /// under re-attachment).
+  void set_normal_load(std::span<const double> factor);
+  /// a_i (1 without a normal load).
+  double resting_area(std::size_t i) const { return rest_.empty() ? 1.0 : rest_[i]; }
+
   /// The population balance over [t, t + dt] with the slip rates v frozen (header comment); any_yield: some
   /// site with v_i ≠ 0 had an overloaded attached class (or A_i = 0) at the start of the step.
   core::LawStepInfo advance(double dt, std::span<const double> v);
@@ -69,7 +80,7 @@ class MeanFieldLaw : public core::OverloadedSteadyState<MeanFieldLaw> {
       const double a = area_[i], sb = sigma_bar_[i];
       double y = 0.0;
       if (wp != 0.0 && core::contact_stress(sb + ip_.eta * wp, a) > s_min) y = overloaded_fraction(i, wp);
-      core::linearise_stress(a, sb, y, wp, k, c0, c1);
+      core::linearise_stress(a, sb, y, wp, k, c0, c1, resting_area(i));
     };
   }
 
@@ -143,6 +154,9 @@ class MeanFieldLaw : public core::OverloadedSteadyState<MeanFieldLaw> {
   bool aging_ = false;                 ///< interface.aging_b > 0 (docs/model.md §11.3)
   std::vector<AgeCohorts> cohorts_;    ///< aging: [sites × B] the attached contacts of each class by age
   std::vector<double> class_area_;     ///< aging: [sites × B] each class's area
+  std::vector<double> rest_;  ///< [sites] resting area a_i under a normal load (docs/model.md §12); empty: none
+  bool reattach_ = false;     ///< a load through re-attachment: the source a_i T_b
+  bool scaled_ = false;       ///< a load at once: A = a_i Σ_b n_b
 };
 
 static_assert(core::InterfaceLaw<MeanFieldLaw>);

@@ -29,6 +29,8 @@
 #include "discrete/aging.hpp"
 #include "discrete/count_law.hpp"
 #include "discrete/mean_field_law.hpp"
+#include "convergence.hpp"
+#include "refusals.hpp"
 #include "scenes.hpp"
 
 using namespace slipfront;
@@ -254,21 +256,8 @@ TEST_CASE("aging: the closure against the mean field at rest after sliding", "[a
 
 TEST_CASE("aging: hostile inputs name the key and the reason", "[aging][hostile]") {
   // A scene from its parts: top-level keys, the aging keys, [drive], extra sections and extra [time] keys.
-  auto scene_text = [](const std::string& top, const std::string& aging, const std::string& drive, const std::string& extra,
-                       const std::string& time) {
-    return "scene = \"a\"\n" + top + "[interface]\nalpha = 1.05\nkappa = 8.0\neta = 0.1\n" + aging +
-           "[bulk]\nrho = 0.01\nmu = 300\nlength = 10\n[grid]\ndx = 0.5\n" + drive + extra + "[time]\nt_end = 10.0\n" + time;
-  };
-  auto refused = [](const std::string& text, const char* key, const char* words) {
-    try {
-      (void)app::parse_scene(text, "a.toml", {});
-      FAIL("accepted: " << text);
-    } catch (const app::ConfigError& e) {
-      INFO(e.what());
-      CHECK(e.key == key);
-      CHECK(std::string(e.what()).find(words) != std::string::npos);
-    }
-  };
+  const auto& scene_text = testing::interface_scene;
+  const auto& refused = testing::check_refused;
   const std::string aging = "aging_b = 0.1\n", imposed = "[drive]\nloading = \"imposed_rate\"\nv = 1.0\n";
   const std::string edge = "[drive]\nloading = \"edge\"\nK = 2.5\nv_d = 0.3\n", discrete = "models = [\"discrete\"]\n";
   refused(scene_text(discrete, aging, imposed, "", ""), "discrete.representation", "keeps no contact ages");
@@ -362,25 +351,16 @@ TEST_CASE("aging: the agent ensemble converges to the mean field as N^-1/2, slid
   run(mf, 0.0, 30.0, 0.05);
   const double hold_mf = mf.contact_area()[0];
   std::vector<double> ns, err_slide, err_hold;
-  auto rms = [](std::span<const double> a, double ref) {
-    double ss = 0.0;
-    for (const double x : a) ss += (x - ref) * (x - ref);
-    return std::sqrt(ss / static_cast<double>(a.size()));
-  };
   for (const long n : {125L, 250L, 500L, 1000L, 2000L, 4000L}) {
     discrete::AgentLaw agent(p, agent_params(n, 21), 32);
     run(agent, 1.0, 30.0, 0.02);
-    err_slide.push_back(rms(agent.contact_area(), slide_mf));
+    err_slide.push_back(testing::rms_about(agent.contact_area(), slide_mf));
     run(agent, 0.0, 30.0, 0.05);
-    err_hold.push_back(rms(agent.contact_area(), hold_mf));
+    err_hold.push_back(testing::rms_about(agent.contact_area(), hold_mf));
     ns.push_back(static_cast<double>(n));
     std::printf("N = %5ld: RMS error of A sliding %.3e, after the hold %.3e\n", n, err_slide.back(), err_hold.back());
   }
-  for (const auto& [what, err] : {std::pair{"sliding", err_slide}, {"after the hold", err_hold}}) {
-    const auto fit = compare::fit_power_law(ns, err);
-    std::printf("%s: p = %.3f (95%% CI %.3f .. %.3f)\n", what, fit.slope, fit.slope_ci_low, fit.slope_ci_high);
-    CHECK(std::abs(fit.slope + 0.5) < 0.15);
-  }
+  testing::check_inverse_sqrt_rate(ns, {{"sliding", err_slide}, {"after the hold", err_hold}}, 0.15);
 }
 
 TEST_CASE("aging: with threshold disorder the agent and the balance agree as closely as without aging", "[aging]") {

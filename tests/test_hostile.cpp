@@ -57,6 +57,7 @@ const std::vector<Base>& bases() {
       {"imposed history", {"drive.loading=imposed_rate", "drive.v=[0.1, 1.0]", "drive.switch_times=[0, 1]"}},
       {"imposed sweep", {"drive.loading=imposed_rate", "drive.points=5", "drive.v_min=0.01", "drive.v_max=10"}},
       {"edge, aging agent", {"interface.aging_b=0.1", "discrete.representation=agent"}},
+      {"edge, normal load", {"interface.load_x=[0, 10]", "interface.load_p=[1, 0.5]"}},
   };
   return b;
 }

@@ -9,10 +9,13 @@
 #include <cstdint>
 #include <numeric>
 #include <optional>
+#include <stdexcept>
 #include <utility>
 
 #include "continuum/friction_law.hpp"
+#include "continuum/far_field.hpp"
 #include "continuum/front_solver.hpp"
+#include "continuum/inplane_front.hpp"
 #include "continuum/sigma_continuation.hpp"
 #include "core/strip.hpp"
 
@@ -24,6 +27,11 @@ using front_solver::Arclength;
 using front_solver::branch_point;
 using front_solver::end_of;
 using front_solver::make_mesh;
+using far_field::interp_rows;
+using far_field::left_subspace;
+using far_field::make_rows;
+using far_field::row_grading_of;
+using far_field::Subspace;
 using Vec = Eigen::VectorXd;
 using Mat = Eigen::MatrixXd;
 using CVec = Eigen::VectorXcd;
@@ -47,30 +55,8 @@ struct Model {
   int iA() const { return 2 * (M + 1); }
   int iS() const { return 2 * (M + 1) + 1; }
   double sound_speed() const { return std::sqrt(cs2); }
+  far_field::InterfaceIndex interface() const { return {iA(), iS(), iu(0), ip(0)}; }
 };
-
-// Rows graded toward the interface: y_j = H (e^{γ j/M} − 1)/(e^γ − 1), γ from the first spacing (TOMS 748);
-// uniform (γ = 0) when H/M ≤ first spacing.
-double row_grading_of(double H, int M, double first, double grading) {
-  if (grading > 0.0) return grading;
-  if (!(first > 0.0) || !(H / M > first)) return 0.0;
-  auto spacing = [&](double gm) { return std::log(H * std::expm1(gm / M) / std::expm1(gm)) - std::log(first); };
-  double hi = 1.0;
-  while (spacing(hi) > 0.0) hi *= 2.0;
-  std::uintmax_t iters = 200;
-  const auto br = boost::math::tools::toms748_solve(spacing, 1e-9, hi, boost::math::tools::eps_tolerance<double>(50), iters);
-  return 0.5 * (br.first + br.second);
-}
-
-std::vector<double> make_rows(double H, int M, double g) {
-  std::vector<double> y(static_cast<std::size_t>(M) + 1);
-  for (int j = 0; j <= M; ++j) {
-    const double s = static_cast<double>(j) / M;
-    y[static_cast<std::size_t>(j)] = g > 0.0 ? H * std::expm1(g * s) / std::expm1(g) : H * s;
-  }
-  y.back() = H;
-  return y;
-}
 
 Model make_model(const core::InterfaceParams& law, const core::BulkParams& bulk, const StripFrontOptions& o) {
   Model m;
@@ -118,8 +104,7 @@ Rhs rhs(const Model& m, const Vec& y, double c, double sd, Side side, bool with_
   if (with_jacobian) r.J = Mat::Zero(n, n);
   const double b2 = 1.0 - c * c / m.cs2, db2 = -2.0 * c / m.cs2;
   const double p0 = y[m.ip(0)], v = -c * p0;
-  const double A = y[m.iA()], s = y[m.iS()];
-  const double tau = (side == Side::behind ? s : m.alpha * y[m.iu(0)]) + m.eta * v;
+  const double tau = (side == Side::behind ? y[m.iS()] : m.alpha * y[m.iu(0)]) + m.eta * v;
   auto d = [&](int j) { return j == 0 ? 0.0 : y[m.iu(j)]; };
   auto add = [&](int row, int j, double value) {  // ∂(row)/∂d_j (nothing for d_0 = 0)
     if (j > 0) r.J(row, m.iu(j)) += value;
@@ -154,23 +139,7 @@ Rhs rhs(const Model& m, const Vec& y, double c, double sd, Side side, bool with_
       else r.J(m.ip(0), m.iu(0)) += g * m.alpha;
     }
   }
-  if (side == Side::behind) {
-    const double speed = std::abs(v), sign = v >= 0.0 ? 1.0 : -1.0;
-    const double relax = 1.0 - A - m.kappa * A * speed, source = m.alpha * A * v - s * speed;
-    r.f[m.iA()] = -relax / c;
-    r.f[m.iS()] = -source / c;
-    const double dA_dv = m.kappa * A * sign / c, dS_dv = -(m.alpha * A - s * sign) / c;
-    // total c-derivative at fixed p_0: explicit + ∂/∂v · ∂v/∂c, ∂v/∂c = −p_0
-    r.fc[m.iA()] = relax / (c * c) + dA_dv * (-p0);
-    r.fc[m.iS()] = source / (c * c) + dS_dv * (-p0);
-    if (with_jacobian) {
-      r.J(m.iA(), m.iA()) = (1.0 + m.kappa * speed) / c;
-      r.J(m.iA(), m.ip(0)) = dA_dv * (-c);
-      r.J(m.iS(), m.iA()) = -m.alpha * v / c;
-      r.J(m.iS(), m.iS()) = speed / c;
-      r.J(m.iS(), m.ip(0)) = dS_dv * (-c);
-    }
-  }
+  if (side == Side::behind) far_field::interface_law_rows(m.law(), y, c, m.interface(), with_jacobian, r);
   return r;
 }
 
@@ -199,73 +168,12 @@ Vec stuck_state(const Model& m, double sd) {
   return y;
 }
 
-// The far-field conditions (docs/fronts.md §10.3). Behind, in the coordinates z = (u_1 − u_0, …, u_M − u_0,
-// p, A, σ̄) that remove the translation u → u + const (the one null mode of the sliding state), the M + 1
-// modes that decay in forward ξ (λ_s and M bulk modes, growing toward −∞) must be absent at ξ = −L: their
-// left eigenvectors annihilate z(−L) − z_b. Ahead, the M + 1 modes of the linear stuck system (u, p) that
-// grow with ξ must be absent at the tip. Both as an orthonormal basis Q of the left eigenspace (its columns).
-struct Subspace {
-  Mat Q;                      ///< columns: orthonormal basis of the excluded modes' left eigenspace
-  std::vector<std::complex<double>> excluded, kept;  ///< eigenvalues, sorted by real part
-  bool ok = false;
-  std::string why;
-};
-
+// The far-field conditions (docs/fronts.md §10.3; far_field::Subspace). Behind, in the coordinates z = (u_1 − u_0, …,
+// u_M − u_0, p, A, σ̄) that remove the translation u → u + const (the one null mode of the sliding state), the M + 1
+// modes that decay in forward ξ (λ_s and M bulk modes, growing toward −∞) must be absent at ξ = −L. Ahead, the M + 1
+// modes of the linear stuck system (u, p) that grow with ξ must be absent at the tip.
 // T: y → z (drops u_0, the translation u → u + const); behind only.
-Mat translation_free(const Model& m) {
-  const int n = m.ns();
-  Mat T = Mat::Zero(n - 1, n);
-  for (int r = 1; r < n; ++r) T(r - 1, r) = 1.0;
-  return T;
-}
-
-// The left eigenspace of the `count` eigenvalues of Jr with the smallest (lowest = true) or largest real parts.
-Subspace left_subspace(const Mat& Jr, int count, bool lowest, bool allow_null) {
-  Subspace out;
-  const Eigen::EigenSolver<Mat> es(Jr.transpose(), true);
-  if (es.info() != Eigen::Success) {
-    out.why = "eigenproblem of the far field failed";
-    return out;
-  }
-  const int n = static_cast<int>(Jr.rows());
-  std::vector<int> order(static_cast<std::size_t>(n));
-  std::iota(order.begin(), order.end(), 0);
-  const CVec ev = es.eigenvalues();
-  std::sort(order.begin(), order.end(), [&](int a, int b) {
-    return lowest ? ev[a].real() < ev[b].real() : ev[a].real() > ev[b].real();
-  });
-  const double scale = std::max(1.0, Jr.cwiseAbs().maxCoeff());
-  const double last = ev[order[static_cast<std::size_t>(count) - 1]].real(), next = ev[order[static_cast<std::size_t>(count)]].real();
-  const double sgn = lowest ? 1.0 : -1.0;  // excluded: sgn·Re < 0
-  const bool gap = sgn * next > 0.0 && (sgn * last < 0.0 || (allow_null && std::abs(last) <= 1e-8 * scale));
-  for (int r = 0; r < n; ++r) (r < count ? out.excluded : out.kept).push_back(ev[order[static_cast<std::size_t>(r)]]);
-  if (!gap) {
-    out.why = "the far field has not " + std::to_string(count) + " modes of each sign (the " + std::to_string(count) +
-              "th and next real parts: " + core::format_number(last) + ", " + core::format_number(next) + ")";
-    return out;
-  }
-  Mat W(n, count);
-  int col = 0;
-  for (int r = 0; r < count; ++r) {
-    const int k = order[static_cast<std::size_t>(r)];
-    const CVec l = es.eigenvectors().col(k);
-    if (std::abs(ev[k].imag()) <= 1e-12 * scale) {
-      W.col(col++) = l.real();
-    } else if (ev[k].imag() > 0.0) {
-      if (col + 2 > count) break;
-      W.col(col++) = l.real();
-      W.col(col++) = l.imag();
-    }
-  }
-  if (col != count) {
-    out.why = "a complex pair of far-field modes is split by the count";
-    return out;
-  }
-  const Eigen::HouseholderQR<Mat> qr(W);
-  out.Q = qr.householderQ() * Mat::Identity(n, count);
-  out.ok = true;
-  return out;
-}
+Mat translation_free(const Model& m) { return far_field::translation_free(m.ns()); }
 
 Subspace behind_subspace(const Model& m, double c, double sd) {
   const Vec yb = behind_state(m, c, sd);
@@ -337,44 +245,20 @@ class StripBlock {
 
   // Behind: ξ_0 = −L (rows 0 … M); c and σ_d columns by central differences.
   bool behind_rows(const Vec& y0, double c, double sd, front_solver::Rows& rows, front_solver::ScalarColumns col) const {
-    Mat G;
-    rows.F.segment(0, m_.M + 1) = behind_projection(y0, c, sd, rows.jacobian() ? &G : nullptr);
-    if (!rows.jacobian()) return true;
-    rows.block(0, 0, G);
-    const double hc = 1e-6 * c;
-    rows.column(0, col.c, (behind_projection(y0, c + hc, sd, nullptr) - behind_projection(y0, c - hc, sd, nullptr)) / (2.0 * hc));
-    if (col.free_sigma()) {
-      const double hs = std::min(1e-7, 0.25 * (sd - steady_minimum_stress(m_.law())));
-      rows.column(0, col.sigma, (behind_projection(y0, c, sd + hs, nullptr) - behind_projection(y0, c, sd - hs, nullptr)) / (2.0 * hs));
-    }
+    const double hs = std::min(1e-7, 0.25 * (sd - steady_minimum_stress(m_.law())));
+    far_field::projection_rows(0, 0, y0, c, sd, hs, rows, col, [this](const Vec& y, double cc, double ss, Mat* G) {
+      return behind_projection(y, cc, ss, G);
+    });
     return true;
   }
 
   // The tip ξ_N = 0 (rows `row` …, y_N at column `base`): the decaying subspace ahead, and Θ's switch.
   bool tip_rows(const Vec& yN, int row, int base, double c, double sd, front_solver::Rows& rows,
                 front_solver::ScalarColumns col) const {
-    Mat G;
-    rows.F.segment(row, m_.M + 1) = ahead_projection(yN, c, sd, rows.jacobian() ? &G : nullptr);
-    if (rows.jacobian()) {
-      rows.block(row, base, G);
-      const double hc = 1e-6 * c;
-      rows.column(row, col.c, (ahead_projection(yN, c + hc, sd, nullptr) - ahead_projection(yN, c - hc, sd, nullptr)) / (2.0 * hc));
-      if (col.free_sigma()) {
-        const double hs = 1e-7;
-        rows.column(row, col.sigma, (ahead_projection(yN, c, sd + hs, nullptr) - ahead_projection(yN, c, sd - hs, nullptr)) / (2.0 * hs));
-      }
-    }
-    const int r2 = row + m_.M + 1;
-    rows.F[r2] = yN[m_.iA()] - 1.0;
-    rows.F[r2 + 1] = yN[m_.iS()] - m_.alpha * yN[m_.iu(0)];
-    rows.F[r2 + 2] = yN[m_.iS()] - m_.eta * c * yN[m_.ip(0)] - 1.0;
-    if (!rows.jacobian()) return true;
-    rows.entry(r2, base + m_.iA(), 1.0);
-    rows.entry(r2 + 1, base + m_.iS(), 1.0);
-    rows.entry(r2 + 1, base + m_.iu(0), -m_.alpha);
-    rows.entry(r2 + 2, base + m_.iS(), 1.0);
-    rows.entry(r2 + 2, base + m_.ip(0), -m_.eta * c);
-    rows.entry(r2 + 2, col.c, -m_.eta * yN[m_.ip(0)]);
+    far_field::projection_rows(row, base, yN, c, sd, 1e-7, rows, col, [this](const Vec& y, double cc, double ss, Mat* G) {
+      return ahead_projection(y, cc, ss, G);
+    });
+    far_field::tip_law_rows(yN, row + m_.M + 1, base, c, m_.law(), m_.interface(), rows, col);
     return true;
   }
 
@@ -435,16 +319,6 @@ StripFront empty_front(const core::InterfaceParams& law, const core::BulkParams&
   f.rho_strip = bulk.rho / bulk.height;
   f.sigma_d = sd;
   return f;
-}
-
-// Linear interpolation of a column of node values in y, continued above the old top with slope `top_slope`.
-double interp_rows(const std::vector<double>& yo, const double* col, double yy, double top_slope) {
-  const std::size_t n = yo.size();
-  if (yy >= yo.back()) return col[n - 1] + top_slope * (yy - yo.back());
-  const auto it = std::upper_bound(yo.begin(), yo.end(), yy);
-  const std::size_t b = std::max<std::size_t>(1, static_cast<std::size_t>(it - yo.begin())), a = b - 1;
-  const double t = (yy - yo[a]) / (yo[b] - yo[a]);
-  return (1.0 - t) * col[a] + t * col[b];
 }
 
 // A guess on the mesh of `col` from a strip front stretched by `s` in ξ and y (the front's lengths scale
@@ -615,15 +489,7 @@ void finish(const Collocation& col, const Vec& x, StripFront& f) {
     for (int j = 1; j <= m.M; ++j) mode[static_cast<std::size_t>(j)] += mode[0];  // d_j → u_j = u_0 + d_j
     f.ahead_mode.push_back(std::move(mode));
   }
-  f.status = FrontStatus::converged;
-  f.reason.clear();
-  if (f.min_slip_rate <= 0.0) {
-    f.status = FrontStatus::reverse_slip;
-    f.reason = "v <= 0 behind the tip (min v = " + core::format_number(f.min_slip_rate) + ")";
-  } else if (f.overstress_margin <= 0.0) {
-    f.status = FrontStatus::resticks;
-    f.reason = "|sigma|/A - 1 <= 0 behind the tip (min " + core::format_number(f.overstress_margin) + "): Theta = 1 violated";
-  }
+  far_field::classify(f);
 }
 
 // One Newton solve on a fresh mesh from an initial iterate built by `start`.
@@ -678,6 +544,7 @@ bool admissible_sigma(const core::InterfaceParams& law, double sd, StripFront& f
 StripFront solve_strip_front(const core::InterfaceParams& law, const core::BulkParams& bulk, double sigma_d,
                              const StripFrontOptions& o, const StripFront* guess) {
   using namespace strip_detail;
+  if (bulk.body() == core::BodyKind::inplane) return solve_inplane_front(law, bulk, sigma_d, o, guess);  // §11
   StripFront f = empty_front(law, bulk, sigma_d);
   if (!(bulk.height > 0.0)) {
     f.reason = "bulk.height must be > 0 for the strip (H = " + core::format_number(bulk.height) + ")";
@@ -721,6 +588,7 @@ StripFront solve_strip_front(const core::InterfaceParams& law, const core::BulkP
 StripFront solve_strip_saddle_node_front(const core::InterfaceParams& law, const core::BulkParams& bulk,
                                          const StripFrontOptions& o, const StripFront& guess, double c_guess) {
   using namespace strip_detail;
+  if (bulk.body() == core::BodyKind::inplane) return solve_inplane_saddle_node_front(law, bulk, o, guess, c_guess);
   const double sigma_c = steady_sliding(law, steady_minimum_velocity(law)).sigma;
   if (c_guess > 0.0) return solve_strip_front_stretched(law, bulk, sigma_c, o, guess, c_guess, true);
   Model m = make_model(law, bulk, o);
@@ -732,6 +600,8 @@ StripFront solve_strip_saddle_node_front(const core::InterfaceParams& law, const
 StripFront solve_strip_front_stretched(const core::InterfaceParams& law, const core::BulkParams& bulk, double sigma_d,
                                        const StripFrontOptions& o, const StripFront& from, double c_guess, bool saddle_node) {
   using namespace strip_detail;
+  if (bulk.body() == core::BodyKind::inplane)
+    return solve_inplane_front_stretched(law, bulk, sigma_d, o, from, c_guess, saddle_node);
   Model m = make_model(law, bulk, o);
   m.saddle_node = saddle_node;
   const double s = c_guess / from.c;
@@ -756,8 +626,8 @@ StripFrontOptions with_rows(double H, const StripFrontOptions& o, int rows) {
 // (2M + 4)²; measured 1.1–1.6e−7 s per interval and ns² (8 rows × 300 and 3000 intervals: 0.022, 0.21 s; 32 × 300:
 // 0.21 s; 64 × 300: 0.85 s; 17 and 34 uniform rows × 600: 0.10, 0.39 s) and ≤ 80 bytes (8 × 3000: 70; 64 × 300: 23).
 // Before issue 36's budget the constant was 8e−7, the wall time of the shared machine under a load of 9–12.
-StripSolveCost strip_solve_cost(int rows, int intervals) {
-  const double ns = 2.0 * (std::max(1, rows) + 1) + 2.0, n = std::max(1, intervals);
+StripSolveCost strip_solve_cost(int rows, int intervals, int components) {
+  const double ns = 2.0 * std::max(1, components) * (std::max(1, rows) + 1) + 2.0, n = std::max(1, intervals);
   StripSolveCost c;
   c.iteration_seconds = 1.6e-7 * n * ns * ns;
   c.memory_bytes = 80.0 * n * ns * ns + 64.0e6;
@@ -803,6 +673,8 @@ StripSpeedError estimate_strip_speed_error(const StripFront& f, const StripFront
 
 StripFrontSample sample_strip_front(const StripFront& f, std::span<const double> xs) {
   using namespace strip_detail;
+  if (f.bulk.body() == core::BodyKind::inplane)
+    throw std::invalid_argument("sample_strip_front: the in-plane front has no sampler yet (docs/fronts.md §11.7)");
   StripFrontOptions o;
   o.rows = f.rows();
   Model m = make_model(f.law, f.bulk, o);
@@ -919,6 +791,7 @@ class StripContinuation
     return solve_strip_front(law_, bulk_, sigma_d, o_.front, guess);
   }
   StripFront correct(double sigma_p, double c_p, const Arclength& arc) const {
+    if (bulk_.body() == core::BodyKind::inplane) return correct_inplane_front(law_, bulk_, o_.front, sigma_p, c_p, arc, cur_);
     return solve_on_mesh(law_, bulk_, make_model(law_, bulk_, o_.front), o_.front, sigma_p, c_p, arc,
                          [&](const Collocation& col) { return transfer(col, cur_, sigma_p); });
   }
@@ -995,7 +868,7 @@ StripBranch continue_strip_fronts(const core::InterfaceParams& law, const core::
 namespace slipfront::continuum {
 
 bool strip_start_needs_height_path(const core::BulkParams& bulk) {
-  if (!(bulk.height > 0.0) || !(bulk.mu > 0.0)) return false;
+  if (!(bulk.height > 0.0) || !(bulk.mu > 0.0) || bulk.body() == core::BodyKind::inplane) return false;  // §11.7
   return bulk.height > strip_path_start_ratio * core::Strip::modulus(bulk);  // H/ℓ, ℓ = μ'
 }
 

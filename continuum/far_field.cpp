@@ -93,6 +93,17 @@ double interp_rows(const std::vector<double>& yo, const double* col, double yy, 
   return (1.0 - t) * col[a] + t * col[b];
 }
 
+void row_widths(const std::vector<double>& y, std::vector<double>& k, std::vector<double>& w) {
+  const std::size_t M = y.size() - 1;
+  k.resize(M);
+  w.assign(M + 1, 0.0);
+  for (std::size_t a = 0; a < M; ++a) {
+    k[a] = y[a + 1] - y[a];
+    w[a] += 0.5 * k[a];
+    w[a + 1] += 0.5 * k[a];
+  }
+}
+
 Mat translation_free(int n) {
   Mat T = Mat::Zero(n - 1, n);
   for (int r = 1; r < n; ++r) T(r - 1, r) = 1.0;

@@ -20,6 +20,8 @@ namespace slipfront::continuum::far_field {
 /// spacing `first` (TOMS 748); uniform (γ = 0) when H/M ≤ first.
 double row_grading_of(double H, int M, double first, double grading);
 std::vector<double> make_rows(double H, int M, double g);
+/// The spacings k_j = y_{j+1} − y_j and the dual widths w_j of rows y (half cells on both faces), docs/fronts.md §10.2.
+void row_widths(const std::vector<double>& y, std::vector<double>& k, std::vector<double>& w);
 
 /// The far-field conditions (docs/fronts.md §10.3): the modes a front must not contain (behind: those that decay in
 /// forward ξ, growing toward −∞; ahead: those that grow with ξ), as an orthonormal basis Q of their left eigenspace.

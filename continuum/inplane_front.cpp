@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "continuum/far_field.hpp"
+#include "continuum/rows_block.hpp"
 #include "continuum/friction_law.hpp"
 #include "continuum/front_solver.hpp"
 
@@ -71,6 +72,7 @@ struct Model {
   int iS() const { return 4 * M + 3; }
   double sound_speed() const { return std::sqrt(mu / rho); }  // c_s: the shear-row coefficient μ' − ρ'c² vanishes
   far_field::InterfaceIndex interface() const { return {iA(), iS(), iu(0), ip(0)}; }
+  int far_count() const { return 2 * M + 1; }  // the far-field conditions on each side (docs/fronts.md §11.2)
 };
 
 Model make_model(const core::InterfaceParams& law, const core::BulkParams& bulk, const StripFrontOptions& o,
@@ -84,23 +86,13 @@ Model make_model(const core::InterfaceParams& law, const core::BulkParams& bulk,
     m.gamma = far_field::row_grading_of(m.H, m.M, o.row_spacing, o.row_grading);
     m.y = far_field::make_rows(m.H, m.M, m.gamma);
   }
-  m.k.resize(static_cast<std::size_t>(m.M));
-  m.w.assign(static_cast<std::size_t>(m.M) + 1, 0.0);
-  for (int j = 0; j < m.M; ++j) {
-    const auto a = static_cast<std::size_t>(j);
-    m.k[a] = m.y[a + 1] - m.y[a];
-    m.w[a] += 0.5 * m.k[a];
-    m.w[a + 1] += 0.5 * m.k[a];
-  }
+  far_field::row_widths(m.y, m.k, m.w);
   return m;
 }
 
 enum class Side { behind, ahead };
 
-struct Rhs {
-  Vec f, fc, fs;
-  Mat J;
-};
+using Rhs = far_field::Rhs;
 
 // The rows' traveling-wave system (docs/fronts.md §11.1, eq. P2): P1 Galerkin across the height, the ξξ terms lumped.
 // For row j, with S_j(x) = ∫φ_j' ∂y x dy, C_j(x) = ∫φ_j' x dy, D_j(x) = ∫φ_j ∂y x dy (exact for P1 fields):
@@ -205,6 +197,10 @@ Rhs rhs(const Model& m, const Vec& y, double c, double sd, Side side, bool with_
   return r;
 }
 
+Rhs behind_rhs(const Model& m, const Vec& y, double c, double sd, bool with_jacobian) {
+  return rhs(m, y, c, sd, Side::behind, with_jacobian);
+}
+
 // The sliding state behind (docs/fronts.md §11.1): u_x = −(v_b/c) ξ + σ_d y/μ' + const, σ_yy = −p through the
 // height, so u_y = y (−p − λ' p_b)/(λ' + 2μ') with p_b = −v_b/c; u_0 = 0 (the translation is projected out).
 Vec behind_state(const Model& m, double c, double sd) {
@@ -255,103 +251,11 @@ Subspace ahead_subspace(const Model& m, double c, double sd) {
   return far_field::left_subspace(J, 2 * m.M + 1, false, false);
 }
 
-// The in-plane node block (docs/fronts.md §11.2), as the antiplane StripBlock with 2M + 1 conditions on each side:
-//   2M + 1 behind: Q_ref,bᵀ P_b(c, σ_d) T (y_0 − y_b) = 0
-//   N · ns Lobatto IIIA (front_solver::Collocation)
-//   2M + 1 tip: Q_ref,aᵀ P_a(c) (bulk_N − stuck) = 0
-//   3      tip: A_N = 1, σ̄_N = α u_{0,N}, σ̄_N + η v_N = 1
-class InPlaneBlock {
- public:
-  using Vec = inplane_detail::Vec;
-  using Mat = inplane_detail::Mat;
-  using Rhs = inplane_detail::Rhs;
-  static constexpr bool keep_zero_columns = false;
-
-  InPlaneBlock(const Model& m, double c0, double s0) : m_(m), T_(translation_free(m)) {
-    const Subspace b = behind_subspace(m_, c0, s0), a = ahead_subspace(m_, c0, s0);
-    ok_ = b.ok && a.ok;
-    why_ = !b.ok ? "behind: " + b.why : (!a.ok ? "ahead: " + a.why : std::string());
-    if (ok_) {
-      Qb_ = b.Q;
-      Qa_ = a.Q;
-    }
-  }
-  bool ok() const { return ok_; }
-  const std::string& why() const { return why_; }
-  const Model& model() const { return m_; }
-  int width() const { return m_.ns(); }
-  int behind_count() const { return 2 * m_.M + 1; }
-  bool admissible(double c) const { return ok_ && c > 0.0 && c < m_.sound_speed(); }
-  Rhs rhs(const Vec& y, double c, double sd, bool with_jacobian) const {
-    return inplane_detail::rhs(m_, y, c, sd, Side::behind, with_jacobian);
-  }
-  Vec behind_projection(const Vec& y0, double c, double sd, Mat* dy) const {
-    const Subspace b = behind_subspace(m_, c, sd);
-    if (!b.ok) return Vec::Constant(behind_count(), nan_value);
-    const Mat G = Qb_.transpose() * b.Q * b.Q.transpose() * T_;
-    if (dy) *dy = G;
-    return G * (y0 - behind_state(m_, c, sd));
-  }
-  Vec ahead_projection(const Vec& yN, double c, double sd, Mat* dy) const {
-    const Subspace a = ahead_subspace(m_, c, sd);
-    if (!a.ok) return Vec::Constant(behind_count(), nan_value);
-    const Mat G = Qa_.transpose() * a.Q * a.Q.transpose();
-    if (dy) *dy = G;
-    return G * (yN - stuck_state(m_, sd)).head(m_.nb());
-  }
-  bool behind_rows(const Vec& y0, double c, double sd, front_solver::Rows& rows, front_solver::ScalarColumns col) const {
-    const double hs = std::min(1e-7, 0.25 * (sd - steady_minimum_stress(m_.law())));
-    far_field::projection_rows(0, 0, y0, c, sd, hs, rows, col, [this](const Vec& y, double cc, double ss, Mat* G) {
-      return behind_projection(y, cc, ss, G);
-    });
-    return true;
-  }
-  bool tip_rows(const Vec& yN, int row, int base, double c, double sd, front_solver::Rows& rows,
-                front_solver::ScalarColumns col) const {
-    far_field::projection_rows(row, base, yN, c, sd, 1e-7, rows, col, [this](const Vec& y, double cc, double ss, Mat* G) {
-      return ahead_projection(y, cc, ss, G);
-    });
-    far_field::tip_law_rows(yN, row + behind_count(), base, c, m_.law(), m_.interface(), rows, col);
-    return true;
-  }
-
- private:
-  Model m_;
-  Mat T_, Qb_, Qa_;
-  bool ok_ = false;
-  std::string why_;
-};
+// The in-plane node block (docs/fronts.md §11.2): 2M + 1 far-field rows on each side (far_field::RowsBlock, shared
+// with the antiplane strip).
+using InPlaneBlock = far_field::RowsBlock<Model>;
 
 using Collocation = front_solver::Collocation<InPlaneBlock>;
-
-front_solver::NewtonResult newton(const Collocation& col, Vec& x, const StripFrontOptions& o) {
-  if (!col.block().ok()) {
-    front_solver::NewtonResult out;
-    out.failure = "no far-field subspace: " + col.block().why();
-    return out;
-  }
-  front_solver::NewtonRule rule;  // the antiplane strip's rule (docs/fronts.md §10.4, §10.11)
-  rule.tolerance = o.tolerance;
-  rule.max_iterations = o.max_newton;
-  rule.floor_tolerance = 1e-6;
-  rule.inadmissible_guess =
-      "the initial guess is not admissible (c outside (0, c_s), or the far fields have no saddle structure)";
-  rule.stop = &o.stop;
-  return front_solver::newton([&](const Vec& z, Vec& F, Eigen::SparseMatrix<double>* jac) { return col.assemble(z, F, jac); },
-                              x, rule);
-}
-
-// L as the antiplane strip's (docs/fronts.md §10.3): the tip zone and `decay_lengths` e-folds of the slowest approach.
-double domain_length(const Model& m, const StripFrontOptions& o, double c, double sd) {
-  if (o.domain_length > 0.0) return o.domain_length;
-  const Subspace b = behind_subspace(m, c, sd);
-  double slowest = std::numeric_limits<double>::infinity();
-  for (const auto& l : b.kept)
-    if (l.real() > 0.0) slowest = std::min(slowest, l.real());
-  if (!std::isfinite(slowest)) slowest = 1.0 / c;
-  const double vb = m.saddle_node ? steady_minimum_velocity(m.law()) : strengthening_branch_velocity(m.law(), sd);
-  return o.tip_length * c / (1.0 + m.kappa * vb) + o.decay_lengths / slowest;
-}
 
 StripFront empty_front(const core::InterfaceParams& law, const core::BulkParams& bulk, double sd) {
   StripFront f;
@@ -519,37 +423,9 @@ void finish(const Collocation& col, const Vec& x, StripFront& f) {
 template <class Start>
 StripFront solve_on_mesh(const core::InterfaceParams& law, const core::BulkParams& bulk, const Model& m,
                          const StripFrontOptions& o, double sd, double c_guess, std::optional<Arclength> arc, Start&& start) {
-  StripFront f = empty_front(law, bulk, sd);
-  f.saddle_node_limit = m.saddle_node;
-  const double L = domain_length(m, o, c_guess, arc ? arc->sigma0 : sd);
-  const double s0 = arc ? arc->sigma0 + arc->step * arc->t_sigma : sd;
-  const Collocation col(InPlaneBlock(m, c_guess, s0), make_mesh(L, o.intervals, o.tip_spacing, o.grading), sd, arc);
-  if (!col.block().ok()) {  // the far fields have not 2M + 1 modes of each sign at the guess (docs/fronts.md §11.2)
-    f.status = c_guess >= m.sound_speed() ? FrontStatus::sonic : FrontStatus::not_a_saddle;
-    f.reason = col.block().why();
-    f.c = c_guess;
-    return f;
-  }
-  Vec x = start(col);
-  x[col.c_index()] = c_guess;
-  if (arc) x[col.c_index() + 1] = sd;
-  const auto nr = newton(col, x, o);
-  f.newton_iterations = nr.iterations;
-  f.domain_length = L;
-  if (!nr.converged) {
-    f.status = nr.stopped ? FrontStatus::stopped
-                          : col.c_of(x) >= 0.999 * m.sound_speed() ? FrontStatus::sonic : FrontStatus::newton_failed;
-    f.reason = nr.failure;
-    f.c = col.c_of(x);
-    f.sigma_d = col.sigma_of(x);
-    return f;
-  }
-  finish(col, x, f);
-  f.residual_norm = nr.residual;
-  if (o.estimate_error && o.intervals % 2 == 0 && o.intervals >= 8)
-    f.speed_error = front_solver::coarse_speed_error(col, x, InPlaneBlock(m, f.c, f.sigma_d), f.sigma_d,
-                                                     [&](const Collocation& coarse, Vec& xc) { return newton(coarse, xc, o); });
-  return f;
+  // far fields refused at a guess at or above c_s: the shear rows' count changed (docs/fronts.md §11.2), `sonic`
+  const FrontStatus refused = c_guess >= m.sound_speed() ? FrontStatus::sonic : FrontStatus::not_a_saddle;
+  return far_field::solve_rows_on_mesh(empty_front(law, bulk, sd), m, o, sd, c_guess, arc, std::forward<Start>(start), refused);
 }
 
 bool admissible_problem(const core::InterfaceParams& law, const core::BulkParams& bulk, double sd, StripFront& f) {
@@ -558,12 +434,7 @@ bool admissible_problem(const core::InterfaceParams& law, const core::BulkParams
                core::format_number(bulk.height) + ")";
     return false;
   }
-  const double sigma_c = steady_minimum_stress(law);
-  if (sd > sigma_c && sd < 1.0) return true;
-  f.status = FrontStatus::no_front_state;
-  f.reason = "sigma_d = " + core::format_number(sd) + " outside (sigma_c^d, 1) = (" + core::format_number(sigma_c) +
-             ", 1): no sliding state on the strengthening branch behind, or no stuck state ahead";
-  return false;
+  return far_field::admissible_sigma(law, sd, f);
 }
 
 }  // namespace inplane_detail
@@ -583,24 +454,13 @@ StripFront solve_inplane_front(const core::InterfaceParams& law, const core::Bul
     f.reason = "cold start: no 1D front at this sigma_d: " + f1.reason;
     return f;
   }
-  core::BulkParams b = bulk;
-  b.height = std::min(bulk.height, o.thin_height);
-  StripFront g = solve_on_mesh(law, b, make_model(law, b, o), o, sigma_d, f1.c, std::nullopt,
-                               [&](const Collocation& col) { return from_one_dimensional(col, f1); });
-  while (g.status == FrontStatus::converged && b.height < bulk.height) {
-    if (o.stop && o.stop()) {
-      g.status = FrontStatus::stopped;
-      g.reason = "cold start: stopped on request at H = " + core::format_number(b.height);
-      break;
-    }
-    b.height = std::min(bulk.height, b.height * o.height_factor);
-    StripFront next = solve_on_mesh(law, b, make_model(law, b, o), o, sigma_d, g.c, std::nullopt,
-                                    [&](const Collocation& col) { return transfer(col, g, sigma_d, 1.0); });
-    if (next.status != FrontStatus::converged)
-      next.reason = "cold start: growing the strip failed at H = " + core::format_number(b.height) + ": " + next.reason;
-    g = std::move(next);
-  }
-  return g;
+  return far_field::grow_from_thin(bulk, o, [&](const core::BulkParams& b, const StripFront* last) {
+    if (!last)
+      return solve_on_mesh(law, b, make_model(law, b, o), o, sigma_d, f1.c, std::nullopt,
+                           [&](const Collocation& col) { return from_one_dimensional(col, f1); });
+    return solve_on_mesh(law, b, make_model(law, b, o), o, sigma_d, last->c, std::nullopt,
+                         [&](const Collocation& col) { return transfer(col, *last, sigma_d, 1.0); });
+  });
 }
 
 StripFront solve_inplane_front_stretched(const core::InterfaceParams& law, const core::BulkParams& bulk, double sigma_d,

@@ -14,6 +14,7 @@
 
 #include "continuum/friction_law.hpp"
 #include "continuum/far_field.hpp"
+#include "continuum/rows_block.hpp"
 #include "continuum/front_solver.hpp"
 #include "continuum/inplane_front.hpp"
 #include "continuum/sigma_continuation.hpp"
@@ -56,6 +57,7 @@ struct Model {
   int iS() const { return 2 * (M + 1) + 1; }
   double sound_speed() const { return std::sqrt(cs2); }
   far_field::InterfaceIndex interface() const { return {iA(), iS(), iu(0), ip(0)}; }
+  int far_count() const { return M + 1; }  // the far-field conditions on each side (docs/fronts.md §10.3)
 };
 
 Model make_model(const core::InterfaceParams& law, const core::BulkParams& bulk, const StripFrontOptions& o) {
@@ -70,14 +72,7 @@ Model make_model(const core::InterfaceParams& law, const core::BulkParams& bulk,
   m.M = std::max(1, o.rows);
   m.gamma = row_grading_of(m.H, m.M, o.row_spacing, o.row_grading);
   m.y = make_rows(m.H, m.M, m.gamma);
-  m.k.resize(static_cast<std::size_t>(m.M));
-  m.w.assign(static_cast<std::size_t>(m.M) + 1, 0.0);
-  for (int j = 0; j < m.M; ++j) {
-    const auto a = static_cast<std::size_t>(j);
-    m.k[a] = m.y[a + 1] - m.y[a];
-    m.w[a] += 0.5 * m.k[a];
-    m.w[a + 1] += 0.5 * m.k[a];
-  }
+  far_field::row_widths(m.y, m.k, m.w);
   return m;
 }
 
@@ -91,10 +86,7 @@ enum class Side { behind, ahead };
 // are not dynamic (their components are 0). The unknowns of the rows j ≥ 1 are d_j = u_j − u_0 (the
 // strain across the height is small against u itself, so the fluxes are computed without cancellation):
 // d_j' = p_j − p_0. f, its Jacobian J, ∂f/∂c and ∂f/∂σ_d.
-struct Rhs {
-  Vec f, fc, fs;
-  Mat J;
-};
+using Rhs = far_field::Rhs;
 Rhs rhs(const Model& m, const Vec& y, double c, double sd, Side side, bool with_jacobian = true) {
   const int M = m.M, n = m.ns();
   Rhs r;
@@ -141,6 +133,10 @@ Rhs rhs(const Model& m, const Vec& y, double c, double sd, Side side, bool with_
   }
   if (side == Side::behind) far_field::interface_law_rows(m.law(), y, c, m.interface(), with_jacobian, r);
   return r;
+}
+
+Rhs behind_rhs(const Model& m, const Vec& y, double c, double sd, bool with_jacobian) {
+  return rhs(m, y, c, sd, Side::behind, with_jacobian);
 }
 
 // The sliding state behind (σ_ss(v_b) = σ_d on the strengthening branch; v_m at the saddle-node), with
@@ -191,125 +187,12 @@ Subspace ahead_subspace(const Model& m, double c, double sd) {
   return left_subspace(J, m.M + 1, false, false);
 }
 
-// The strip's node block for the collocation (docs/fronts.md §10.3): y = (u_0, d_1 … d_M, p_0 … p_M, A, σ̄) at
-// every node, rows
-//   M + 1  behind: Q_ref,bᵀ P_b(c, σ_d) T (y_0 − y_b) = 0     (no mode growing toward −∞ at ξ = −L)
-//   N · ns Lobatto IIIA on every interval (docs/fronts.md eq. 5; front_solver::Collocation)
-//   M + 1  tip: Q_ref,aᵀ P_a(c) ((u, p)_N − stuck) = 0        (only decaying modes ahead)
-//   3      tip: A_N = 1, σ̄_N = α u_{0,N}, σ̄_N + η v_N = 1   (Θ switches at the tip)
-//   (1     pseudo-arclength)
-// P = Q Qᵀ is the orthogonal projector on the excluded left eigenspace; the reference bases Q_ref (fixed for
-// one Newton solve, from the far fields at (c0, s0)) make the rows smooth in c and σ_d, which enter through
-// finite differences.
-class StripBlock {
- public:
-  using Vec = strip_detail::Vec;
-  using Mat = strip_detail::Mat;
-  using Rhs = strip_detail::Rhs;
-  static constexpr bool keep_zero_columns = false;
-
-  StripBlock(const Model& m, double c0, double s0) : m_(m), T_(translation_free(m)) {
-    const Subspace b = behind_subspace(m_, c0, s0), a = ahead_subspace(m_, c0, s0);
-    ok_ = b.ok && a.ok;
-    why_ = !b.ok ? "behind: " + b.why : (!a.ok ? "ahead: " + a.why : std::string());
-    if (ok_) {
-      Qb_ = b.Q;
-      Qa_ = a.Q;
-    }
-  }
-  bool ok() const { return ok_; }
-  const std::string& why() const { return why_; }
-  const Model& model() const { return m_; }
-  int width() const { return m_.ns(); }
-  int behind_count() const { return m_.M + 1; }
-  bool admissible(double c) const { return ok_ && c > 0.0 && c < m_.sound_speed(); }
-  Rhs rhs(const Vec& y, double c, double sd, bool with_jacobian) const {
-    return strip_detail::rhs(m_, y, c, sd, Side::behind, with_jacobian);
-  }
-
-  // The far-field rows as functions of (node state, c, σ_d).
-  Vec behind_projection(const Vec& y0, double c, double sd, Mat* dy) const {
-    const Subspace b = behind_subspace(m_, c, sd);
-    if (!b.ok) return Vec::Constant(m_.M + 1, nan_value);
-    const Mat G = Qb_.transpose() * b.Q * b.Q.transpose() * T_;
-    if (dy) *dy = G;
-    return G * (y0 - behind_state(m_, c, sd));
-  }
-  Vec ahead_projection(const Vec& yN, double c, double sd, Mat* dy) const {
-    const Subspace a = ahead_subspace(m_, c, sd);
-    if (!a.ok) return Vec::Constant(m_.M + 1, nan_value);
-    const Mat G = Qa_.transpose() * a.Q * a.Q.transpose();
-    if (dy) *dy = G;
-    return G * (yN - stuck_state(m_, sd)).head(m_.nb());
-  }
-
-  // Behind: ξ_0 = −L (rows 0 … M); c and σ_d columns by central differences.
-  bool behind_rows(const Vec& y0, double c, double sd, front_solver::Rows& rows, front_solver::ScalarColumns col) const {
-    const double hs = std::min(1e-7, 0.25 * (sd - steady_minimum_stress(m_.law())));
-    far_field::projection_rows(0, 0, y0, c, sd, hs, rows, col, [this](const Vec& y, double cc, double ss, Mat* G) {
-      return behind_projection(y, cc, ss, G);
-    });
-    return true;
-  }
-
-  // The tip ξ_N = 0 (rows `row` …, y_N at column `base`): the decaying subspace ahead, and Θ's switch.
-  bool tip_rows(const Vec& yN, int row, int base, double c, double sd, front_solver::Rows& rows,
-                front_solver::ScalarColumns col) const {
-    far_field::projection_rows(row, base, yN, c, sd, 1e-7, rows, col, [this](const Vec& y, double cc, double ss, Mat* G) {
-      return ahead_projection(y, cc, ss, G);
-    });
-    far_field::tip_law_rows(yN, row + m_.M + 1, base, c, m_.law(), m_.interface(), rows, col);
-    return true;
-  }
-
- private:
-  Model m_;
-  Mat T_, Qb_, Qa_;
-  bool ok_ = false;
-  std::string why_;
-};
+// The strip's node block for the collocation (docs/fronts.md §10.3): y = (u_0, d_1 … d_M, p_0 … p_M, A, σ̄) at every
+// node, M + 1 far-field rows on each side (far_field::RowsBlock, shared with the in-plane strip).
+using StripBlock = far_field::RowsBlock<Model>;
 
 // The discrete boundary-value problem of the strip: the shared collocation on its block.
 using Collocation = front_solver::Collocation<StripBlock>;
-
-// The collocation on mesh xi with the far-field bases at the guess c0 and the predicted σ_d.
-Collocation make_collocation(const Model& m, std::vector<double> xi, double c0, double sigma_d, std::optional<Arclength> arc) {
-  const double s0 = arc ? arc->sigma0 + arc->step * arc->t_sigma : sigma_d;
-  return Collocation(StripBlock(m, c0, s0), std::move(xi), sigma_d, arc);
-}
-
-// Damped Newton with the strip's rule (docs/fronts.md §10.4, §10.11): a step below the tolerance, or at the
-// round-off floor (below 1e-6 and no longer shrinking), is taken and ends the iteration.
-front_solver::NewtonResult newton(const Collocation& col, Vec& x, double tol, int max_iter, const std::function<bool()>& stop = {}) {
-  if (!col.block().ok()) {
-    front_solver::NewtonResult out;
-    out.failure = "no far-field subspace: " + col.block().why();
-    return out;
-  }
-  front_solver::NewtonRule rule;
-  rule.tolerance = tol;
-  rule.max_iterations = max_iter;
-  rule.floor_tolerance = 1e-6;
-  rule.inadmissible_guess =
-      "the initial guess is not admissible (c outside (0, c_s), or the far fields have no saddle structure)";
-  rule.stop = &stop;
-  return front_solver::newton([&](const Vec& z, Vec& F, Eigen::SparseMatrix<double>* jac) { return col.assemble(z, F, jac); },
-                              x, rule);
-}
-
-// L: the nonlinear region near the tip plus `decay_lengths` e-folds of the slowest mode approaching the
-// sliding state (the error of the linear projection is quadratic in the distance from it).
-double domain_length(const Model& m, const StripFrontOptions& o, double c, double sd, double* slowest_out = nullptr) {
-  const Subspace b = behind_subspace(m, c, sd);
-  double slowest = std::numeric_limits<double>::infinity();
-  for (const auto& l : b.kept)
-    if (l.real() > 0.0) slowest = std::min(slowest, l.real());
-  if (!std::isfinite(slowest)) slowest = 1.0 / c;
-  if (slowest_out) *slowest_out = slowest;
-  if (o.domain_length > 0.0) return o.domain_length;
-  const double vb = m.saddle_node ? steady_minimum_velocity(m.law()) : strengthening_branch_velocity(m.law(), sd);
-  return o.tip_length * c / (1.0 + m.kappa * vb) + o.decay_lengths / slowest;
-}
 
 StripFront empty_front(const core::InterfaceParams& law, const core::BulkParams& bulk, double sd) {
   StripFront f;
@@ -497,46 +380,8 @@ template <class Start>
 StripFront solve_on_mesh(const core::InterfaceParams& law, const core::BulkParams& bulk, const Model& m,
                          const StripFrontOptions& o, double sd, double c_guess, std::optional<Arclength> arc,
                          Start&& start) {
-  StripFront f = empty_front(law, bulk, sd);
-  f.saddle_node_limit = m.saddle_node;
-  const double L = domain_length(m, o, c_guess, arc ? arc->sigma0 : sd);
-  const Collocation col = make_collocation(m, make_mesh(L, o.intervals, o.tip_spacing, o.grading), c_guess, sd, arc);
-  if (!col.block().ok()) {  // the far fields have not M + 1 modes of each sign at the guess
-    f.status = FrontStatus::not_a_saddle;
-    f.reason = col.block().why();
-    f.c = c_guess;
-    return f;
-  }
-  Vec x = start(col);
-  x[col.c_index()] = c_guess;
-  if (arc) x[col.c_index() + 1] = sd;
-  const auto nr = newton(col, x, o.tolerance, o.max_newton, o.stop);
-  f.newton_iterations = nr.iterations;
-  f.domain_length = L;
-  if (!nr.converged) {
-    f.status = nr.stopped ? FrontStatus::stopped
-                          : col.c_of(x) >= 0.999 * m.sound_speed() ? FrontStatus::sonic : FrontStatus::newton_failed;
-    f.reason = nr.failure;
-    f.c = col.c_of(x);
-    f.sigma_d = col.sigma_of(x);
-    return f;
-  }
-  finish(col, x, f);
-  f.residual_norm = nr.residual;
-  if (o.estimate_error && o.intervals % 2 == 0 && o.intervals >= 8)  // the ξ part, (c_2h − c_h)/15 (docs/fronts.md §3)
-    f.speed_error = front_solver::coarse_speed_error(col, x, StripBlock(m, f.c, f.sigma_d), f.sigma_d, [&](const Collocation& coarse, Vec& xc) {
-      return newton(coarse, xc, o.tolerance, o.max_newton, o.stop);
-    });
-  return f;
-}
-
-bool admissible_sigma(const core::InterfaceParams& law, double sd, StripFront& f) {
-  const double sigma_c = steady_minimum_stress(law);
-  if (sd > sigma_c && sd < 1.0) return true;
-  f.status = FrontStatus::no_front_state;
-  f.reason = "sigma_d = " + core::format_number(sd) + " outside (sigma_c^d, 1) = (" + core::format_number(sigma_c) +
-             ", 1): no sliding state on the strengthening branch behind, or no stuck state ahead";
-  return false;
+  return far_field::solve_rows_on_mesh(empty_front(law, bulk, sd), m, o, sd, c_guess, arc, std::forward<Start>(start),
+                                       FrontStatus::not_a_saddle);
 }
 
 }  // namespace strip_detail
@@ -550,7 +395,7 @@ StripFront solve_strip_front(const core::InterfaceParams& law, const core::BulkP
     f.reason = "bulk.height must be > 0 for the strip (H = " + core::format_number(bulk.height) + ")";
     return f;
   }
-  if (!admissible_sigma(law, sigma_d, f)) return f;
+  if (!far_field::admissible_sigma(law, sigma_d, f)) return f;
   if (guess && guess->status == FrontStatus::converged) {
     const Model m = make_model(law, bulk, o);
     return solve_on_mesh(law, bulk, m, o, sigma_d, guess->c, std::nullopt,
@@ -563,26 +408,13 @@ StripFront solve_strip_front(const core::InterfaceParams& law, const core::BulkP
     f.reason = "cold start: no 1D front at this sigma_d: " + f1.reason;
     return f;
   }
-  core::BulkParams b = bulk;
-  b.height = std::min(bulk.height, o.thin_height);
-  const Model m0 = make_model(law, b, o);
-  StripFront g = solve_on_mesh(law, b, m0, o, sigma_d, f1.c, std::nullopt,
-                               [&](const Collocation& col) { return from_one_dimensional(col, f1); });
-  while (g.status == FrontStatus::converged && b.height < bulk.height) {
-    if (o.stop && o.stop()) {
-      g.status = FrontStatus::stopped;
-      g.reason = "cold start: stopped on request at H = " + core::format_number(b.height);
-      break;
-    }
-    b.height = std::min(bulk.height, b.height * o.height_factor);
-    const Model m = make_model(law, b, o);
-    StripFront next = solve_on_mesh(law, b, m, o, sigma_d, g.c, std::nullopt,
-                                    [&](const Collocation& col) { return transfer(col, g, sigma_d); });
-    if (next.status != FrontStatus::converged)
-      next.reason = "cold start: growing the strip failed at H = " + core::format_number(b.height) + ": " + next.reason;
-    g = std::move(next);
-  }
-  return g;
+  return far_field::grow_from_thin(bulk, o, [&](const core::BulkParams& b, const StripFront* last) {
+    if (!last)
+      return solve_on_mesh(law, b, make_model(law, b, o), o, sigma_d, f1.c, std::nullopt,
+                           [&](const Collocation& col) { return from_one_dimensional(col, f1); });
+    return solve_on_mesh(law, b, make_model(law, b, o), o, sigma_d, last->c, std::nullopt,
+                         [&](const Collocation& col) { return transfer(col, *last, sigma_d); });
+  });
 }
 
 StripFront solve_strip_saddle_node_front(const core::InterfaceParams& law, const core::BulkParams& bulk,
@@ -679,12 +511,7 @@ StripFrontSample sample_strip_front(const StripFront& f, std::span<const double>
   o.rows = f.rows();
   Model m = make_model(f.law, f.bulk, o);
   m.y = f.y;  // the front's own rows
-  for (int j = 0; j < m.M; ++j) m.k[static_cast<std::size_t>(j)] = m.y[static_cast<std::size_t>(j) + 1] - m.y[static_cast<std::size_t>(j)];
-  std::fill(m.w.begin(), m.w.end(), 0.0);
-  for (int j = 0; j < m.M; ++j) {
-    m.w[static_cast<std::size_t>(j)] += 0.5 * m.k[static_cast<std::size_t>(j)];
-    m.w[static_cast<std::size_t>(j) + 1] += 0.5 * m.k[static_cast<std::size_t>(j)];
-  }
+  far_field::row_widths(m.y, m.k, m.w);
   const std::size_t ro = f.y.size();
   auto node = [&](std::size_t i) {
     Vec y(m.ns());

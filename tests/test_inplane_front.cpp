@@ -14,6 +14,7 @@
 #include "compare/fit.hpp"
 #include "continuum/inplane_front.hpp"
 #include "continuum/steady_front.hpp"
+#include "front_defect.hpp"
 
 namespace continuum = slipfront::continuum;
 namespace core = slipfront::core;
@@ -136,27 +137,11 @@ struct Transcription {
     }
     return out;
   }
-  // The largest Hermite–Simpson defect of each component over the magnitude of the terms it balances (|Δy| and
-  // h/6 times the terms of f_i, f_m, f_{i+1}: for the rows' p', q' the terms of (P2), not their small sum).
+  // The collocation defect relative to the terms it balances (for the rows' p', q': the terms of (P2), not their sum).
   double scaled_defect() const {
-    const std::size_t ns = 4 * f.y.size() + 2;
-    std::vector<double> worst(ns, 0.0), scale(ns, 1e-300);
-    for (std::size_t i = 0; i + 1 < f.xi.size(); ++i) {
-      const double h = f.xi[i + 1] - f.xi[i];
-      std::vector<double> sa, sb, sm;
-      const auto a = node(i), b = node(i + 1), fa = rhs(a, &sa), fb = rhs(b, &sb);
-      std::vector<double> m(ns);
-      for (std::size_t r = 0; r < ns; ++r) m[r] = (a[r] + b[r]) / 2 + h / 8 * (fa[r] - fb[r]);
-      const auto fm = rhs(m, &sm);
-      for (std::size_t r = 0; r < ns; ++r) {
-        const double defect = b[r] - a[r] - h / 6 * (fa[r] + 4 * fm[r] + fb[r]);
-        worst[r] = std::max(worst[r], std::abs(defect));
-        scale[r] = std::max(scale[r], std::abs(b[r] - a[r]) + h / 6 * (sa[r] + 4 * sm[r] + sb[r]));
-      }
-    }
-    double out = 0.0;
-    for (std::size_t r = 0; r < ns; ++r) out = std::max(out, worst[r] / scale[r]);
-    return out;
+    return slipfront::testing::scaled_collocation_defect(
+        f.xi, 4 * f.y.size() + 2, [this](std::size_t i) { return node(i); },
+        [this](const std::vector<double>& s, std::vector<double>* size) { return rhs(s, size); });
   }
 };
 

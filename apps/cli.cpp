@@ -569,8 +569,9 @@ std::string strip_scaling_line(const compare::FrontsResult& fr) {
   while (!dropped.empty() && dropped.back() == '\n') dropped.pop_back();
   for (auto& ch : dropped)
     if (ch == '\n') ch = ';';
+  const bool inplane = fr.scalars.count("shear_speed") > 0;  // the 1D scale of mu = E'H (docs/fronts.md §11.6)
   std::string line = "  scaling (strip): c_min = " + format_number(fits.at("prefactor").back()) +
-                     " sqrt(mu' H alpha/(eta kappa)), fitted to " + std::to_string(fitted) + " of " + std::to_string(tried) +
+                     (inplane ? " sqrt(mu alpha/(eta kappa)), mu = E'H" : " sqrt(mu' H alpha/(eta kappa))") + ", fitted to " + std::to_string(fitted) + " of " + std::to_string(tried) +
                      " points" + (dropped.empty() ? std::string() : " (dropped: " + dropped + ")") + "; largest deviation " +
                      core::format_number(100.0 * fits.at("spread").back(), 3) + " % over those " + std::to_string(fitted) +
                      " points; exponents";

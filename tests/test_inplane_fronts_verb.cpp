@@ -74,13 +74,15 @@ TEST_CASE("inplane fronts verb: the branch, c_min against the 1D c_min of mu = E
   CHECK(o.out.find("c_min / c_min(1D, mu = E'H) = 1.0012") != std::string::npos);
 }
 
-TEST_CASE("inplane fronts verb: a scene sigma_d whose front would be supershear is reported, not failed",
+TEST_CASE("inplane fronts verb: a supershear scene sigma_d is reported, not failed; --scaling collapses on mu = E'H",
           "[fronts][cli][inplane]") {
   // sigma_d = 0.9: the 1D front of mu = E'H runs at 121 > c_s = 100; the in-plane solver does not solve supershear
   // fronts (docs/fronts.md §11.2). 2 rows, 100 intervals: the branch and the verdict as usual, the scene's front named.
+  // --scaling (mu with rho, alpha, eta, kappa at 0.5 … 4 times): measured prefactor 0.5757 over 16 of 16 points, largest
+  // deviation 5.45 %, exponents 0.496, 0.553, -0.497, -0.470 (the 1D prefactor 0.576, docs/fronts.md §6).
   const TempDir dir("fronts-inplane-super");
   const auto o = slipfront::testing::run({SLIPFRONT_BINARY, "fronts", inplane_scene, "--out", (dir.path / "s").string(),
-                                          "--rows", "2", "--intervals", "100", "--set", "drive.sigma_d=0.9"},
+                                          "--rows", "2", "--intervals", "100", "--set", "drive.sigma_d=0.9", "--scaling"},
                                          dir.path);
   INFO(o.err);
   REQUIRE(o.code == 0);
@@ -90,4 +92,9 @@ TEST_CASE("inplane fronts verb: a scene sigma_d whose front would be supershear 
   CHECK(f.strings.at("/branch@scene_front").find("supershear in-plane fronts are not solved") != std::string::npos);
   CHECK(f.strings.count("/branch@profiles_failed") == 0);
   CHECK(o.out.find("no steady front (not solved: the 1D front of mu = E'H at sigma_d = 0.9 runs at") != std::string::npos);
+  CHECK(o.out.find("sqrt(mu alpha/(eta kappa)), mu = E'H, fitted to 16 of 16 points") != std::string::npos);
+  const auto& prefactor = f.datasets.at("/scaling/fits/prefactor");
+  CHECK(prefactor.back() == Approx(0.5757).epsilon(2e-3));
+  const auto& exponent = f.datasets.at("/scaling/fits/exponent");
+  for (std::size_t k = 0; k < 4; ++k) CHECK(std::abs(std::abs(exponent[k]) - 0.5) < 0.06);
 }

@@ -521,10 +521,6 @@ std::optional<compare::Scene> load_fronts_scene(const FrontsOptions& opts, std::
       throw ConfigError(opts.config.string(), "drive.loading",
                         "steady fronts are solved for homogeneous loading (docs/model.md §6), got " +
                             std::string(core::to_string(scene.drive.loading)));
-    if (scene.bulk.body() == core::BodyKind::inplane)
-      throw ConfigError(opts.config.string(), "bulk.body",
-                        "steady fronts are solved for the 1D chain and the antiplane strip, not for the in-plane strip "
-                        "(bulk.body = \"inplane\")");
     return scene;
   } catch (const ConfigError& e) {
     print_error(err, e.what());
@@ -573,8 +569,9 @@ std::string strip_scaling_line(const compare::FrontsResult& fr) {
   while (!dropped.empty() && dropped.back() == '\n') dropped.pop_back();
   for (auto& ch : dropped)
     if (ch == '\n') ch = ';';
+  const bool inplane = fr.scalars.count("shear_speed") > 0;  // the 1D scale of mu = E'H (docs/fronts.md §11.6)
   std::string line = "  scaling (strip): c_min = " + format_number(fits.at("prefactor").back()) +
-                     " sqrt(mu' H alpha/(eta kappa)), fitted to " + std::to_string(fitted) + " of " + std::to_string(tried) +
+                     (inplane ? " sqrt(mu alpha/(eta kappa)), mu = E'H" : " sqrt(mu' H alpha/(eta kappa))") + ", fitted to " + std::to_string(fitted) + " of " + std::to_string(tried) +
                      " points" + (dropped.empty() ? std::string() : " (dropped: " + dropped + ")") + "; largest deviation " +
                      core::format_number(100.0 * fits.at("spread").back(), 3) + " % over those " + std::to_string(fitted) +
                      " points; exponents";
@@ -615,10 +612,15 @@ void print_fronts_summary(std::ostream& out, const compare::Scene& scene, const 
     out << "  profiles NOT solved: " << label("profiles_failed") << "\n";
   if (get("height") > 0.0)
     out << "  strip H = " << format_number(get("height")) << " (mu' = " << format_number(get("mu_strip")) << ", l_kappa = "
-        << format_number(get("ell_kappa")) << ", s = " << format_number(get("s")) << "): c_min / c_min(1D, mu = mu' H) = "
+        << format_number(get("ell_kappa")) << ", s = " << format_number(get("s")) << "): c_min / c_min(1D, mu = "
+        << (std::isfinite(get("shear_speed")) ? "E'H" : "mu' H") << ") = "
         << with_error("c_min_over_1d") << " (1D: " << with_error("c_min_1d")
         << (label("c_min_1d").empty() ? "" : ", " + label("c_min_1d")) << "); "
         << format_number(get("rows")) << " rows, " << format_number(get("intervals")) << " intervals\n";
+  if (std::isfinite(get("shear_speed")))  // the in-plane strip (docs/fronts.md §11.6)
+    out << "  in-plane: nu = " << format_number(get("poisson")) << ", c_R = " << format_number(get("rayleigh_speed"))
+        << ", c_s = " << format_number(get("shear_speed")) << ", c_p = " << format_number(get("pressure_speed"))
+        << ", plate speed c_0 = " << format_number(get("plate_speed")) << " (fronts above c_s are not solved)\n";
   if (scaling && get("height") > 0.0) out << strip_scaling_line(fr);
   else if (scaling) out << scaling_line(fr);
 }
@@ -635,7 +637,8 @@ int fronts_command(const FrontsOptions& opts, std::ostream& out, std::ostream& e
   //     fronts.h5 is in place
   compare::StripFrontsSettings strip{opts.rows, opts.intervals, opts.rtol};
   if (opts.budget > 0.0) strip.budget_seconds = opts.budget;
-  if (scene->bulk.body() == core::BodyKind::strip)
+  if (scene->bulk.body() == core::BodyKind::inplane) strip.components = 2;  // u_x, u_y per row (docs/fronts.md §11.6)
+  if (scene->bulk.body() != core::BodyKind::chain)
     if (const std::string refused = compare::strip_fronts_refusal(strip, scene->limits.max_memory_gib); !refused.empty()) {
       print_error(err, opts.config.string() + ": " + refused);
       return exit_code::usage;

@@ -713,6 +713,9 @@ void put_fronts_profiles(hid_t file, const compare::Scene& scene, const compare:
               scene.output.deflate);
       dataset(pg.get(), "lift_xy", p.lift_xy.data(), {nx, ny}, "u(xi, y) - u(xi, 0) [xi][y]", where + "/lift_xy",
               scene.output.deflate);
+      if (!p.uy_xy.empty())  // the in-plane strip (docs/fronts.md §11.6): u_xy, lift_xy are u_x's
+        dataset(pg.get(), "uy_xy", p.uy_xy.data(), {nx, ny}, "in-plane strip: bulk displacement u_y(xi, y) [xi][y]",
+                where + "/uy_xy", scene.output.deflate);
     }
   }
 }

@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "continuum/friction_law.hpp"
+#include "continuum/inplane_front.hpp"
 #include "core/strip.hpp"
 
 namespace slipfront::compare {
@@ -273,14 +274,30 @@ FrontProfile profile_of(const continuum::StripFront& f) {
   p.y = f.y;
   p.u_xy = f.u;
   p.lift_xy = f.lift;
+  p.uy_xy = f.uy;  // the in-plane strip's (empty on the antiplane strip)
+  if (!f.normal_stress.empty()) p.fields["sigma_yy"] = f.normal_stress;
   return p;
+}
+
+// The strip's shear modulus per unit height μ': μ/H on the antiplane strip, μ(1 − ν)/(2H) on the in-plane strip.
+double shear_modulus(const core::BulkParams& b) {
+  return b.body() == core::BodyKind::inplane ? continuum::inplane_material(b).mu : core::Strip::modulus(b);
 }
 
 // The strip's lengths and speeds of the paper's 2D argument, and the 1D c_min of the same column stiffness.
 void store_strip_scalars(const Scene& s, double c_min, const std::function<bool()>& stop, FrontsResult& r) {
   const auto& ip = s.interface;
-  const double H = s.bulk.height, mus = core::Strip::modulus(s.bulk);
+  const double H = s.bulk.height, mus = shear_modulus(s.bulk);
   r.scalars["height"] = H;
+  if (s.bulk.body() == core::BodyKind::inplane) {  // docs/fronts.md §11.6
+    const auto m = continuum::inplane_material(s.bulk);
+    r.scalars["poisson"] = m.nu;
+    r.scalars["normal_load"] = s.bulk.normal_load;
+    r.scalars["shear_speed"] = m.shear_speed;
+    r.scalars["pressure_speed"] = m.pressure_speed;
+    r.scalars["rayleigh_speed"] = m.rayleigh_speed;
+    r.scalars["plate_speed"] = m.plate_speed;
+  }
   r.scalars["mu_strip"] = mus;
   r.scalars["rho_strip"] = s.bulk.rho / H;
   r.scalars["ell"] = mus;
@@ -295,6 +312,18 @@ void store_strip_scalars(const Scene& s, double c_min, const std::function<bool(
   if (!std::isfinite(b1.c_min)) r.labels["c_min_1d"] = std::string("not computed: ") + continuum::to_string(b1.end) + ": " + b1.reason;
 }
 
+// The in-plane strip's fronts stop at c_s (docs/fronts.md §11.2): where the 1D front of the scene's μ (the plate
+// modulus) at σ_d runs at c_s or faster, the in-plane front there is not solved; why, or "" (solve it).
+std::string supershear(const Scene& s, double sigma_d) {
+  if (s.bulk.body() != core::BodyKind::inplane) return "";
+  const double cs = continuum::inplane_material(s.bulk).shear_speed;
+  const auto f1 = continuum::solve_steady_front(s.interface, {s.bulk.rho, s.bulk.mu, s.bulk.length, 0.0}, sigma_d);
+  if (f1.status == continuum::FrontStatus::converged && f1.c < cs) return "";
+  return "not solved: the 1D front of mu = E'H at sigma_d = " + core::format_number(sigma_d) + " runs at " +
+         core::format_number(f1.c) + " >= c_s = " + core::format_number(cs) +
+         " (or has none): supershear in-plane fronts are not solved (docs/fronts.md §11.2)";
+}
+
 // Profiles of the strip: at each wanted σ_d one Newton solve from the branch's front nearest to it (the
 // branch's fronts are kept by on_front); the limiting front as it is. Each with its speed's estimate.
 bool solve_strip_profiles(const Scene& s, const continuum::StripBranch& branch,
@@ -302,8 +331,12 @@ bool solve_strip_profiles(const Scene& s, const continuum::StripBranch& branch,
                           const std::function<bool()>& stop, Accuracy& acc, FrontsResult& r) {
   std::vector<double> wanted{s.drive.sigma_d};
   const double lo = r.scalars["sigma_c_d"];
+  // along the branch: up to 0.99, or to its first front where that was retried below 0.8 (the in-plane strip's
+  // branch starts below the σ_d at which its fronts reach c_s, docs/fronts.md §11.2)
+  double hi = 0.99;
+  if (!branch.points.empty() && branch.points.front().sigma_d < 0.8) hi = branch.points.front().sigma_d;
   if (!branch.points.empty())
-    for (double f : {0.01, 0.05, 0.15, 0.35, 0.6}) wanted.push_back(lo + f * (0.99 - lo));
+    for (double f : {0.01, 0.05, 0.15, 0.35, 0.6}) wanted.push_back(lo + f * (hi - lo));
   r.scalars["scene_sigma_d"] = s.drive.sigma_d;
   r.scalars["c_at_scene_sigma_d"] = nan_value;
   r.scalars["c_at_scene_sigma_d_error"] = nan_value;
@@ -315,6 +348,10 @@ bool solve_strip_profiles(const Scene& s, const continuum::StripBranch& branch,
   };
   for (std::size_t k = 0; k < wanted.size(); ++k) {
     if (stop && stop()) return false;
+    if (const std::string why = supershear(s, wanted[k]); !why.empty()) {  // the in-plane strip: not a failure
+      if (k == 0) r.labels["scene_front"] = why;
+      continue;
+    }
     const auto f = strip_front_at(s, wanted[k], kept, fo);
     if (f.status == continuum::FrontStatus::stopped) return false;
     const bool converged = f.status == continuum::FrontStatus::converged;
@@ -357,7 +394,7 @@ struct ScaledProblem {
   /// The parameter's value at f (μ' = bulk.mu/H).
   double value(double f) const {
     const auto [ip, b] = at(f);
-    return p == 0 ? core::Strip::modulus(b) : p == 1 ? ip.alpha : p == 2 ? ip.eta : ip.kappa;
+    return p == 0 ? shear_modulus(b) : p == 1 ? ip.alpha : p == 2 ? ip.eta : ip.kappa;
   }
 };
 
@@ -600,9 +637,9 @@ StripBranchRun strip_branch(const Scene& s, const continuum::StripFrontOptions& 
 // estimate on half the rows add 0.85 of the branch: 714 against 292 iterations' worth at H = 17 on 8 rows, 12.0 s
 // against 6.5 s of CPU).
 constexpr double branch_share = 1.9;
-double predicted_seconds(const StripBranchRun& pilot, int rows, int intervals) {
+double predicted_seconds(const StripBranchRun& pilot, int rows, int intervals, int components) {
   return branch_share * static_cast<double>(pilot.iterations - pilot.path_iterations) *
-         continuum::strip_solve_cost(rows, intervals).iteration_seconds;
+         continuum::strip_solve_cost(rows, intervals, components).iteration_seconds;
 }
 
 struct MeshChoice {
@@ -622,7 +659,9 @@ MeshChoice choose_meshes(const Scene& s, const StripBranchRun& pilot, const Stri
   const double H = s.bulk.height, rtol = st.rtol, two_p = std::pow(2.0, continuum::strip_row_order);
   MeshChoice out{pilot.front, "rows " + std::to_string(pilot.front.rows), "", 0.0};
   auto& fo = out.front;
-  auto price = [](const continuum::StripFrontOptions& o) { return continuum::strip_solve_cost(o.rows, o.intervals).iteration_seconds; };
+  auto price = [&st](const continuum::StripFrontOptions& o) {
+    return continuum::strip_solve_cost(o.rows, o.intervals, st.components).iteration_seconds;
+  };
   const continuum::StripFront scene_front = strip_front_at(s, s.drive.sigma_d, pilot.kept, pilot.front);
   out.spent = static_cast<double>(pilot.iterations + scene_front.newton_iterations) * price(fo);
   std::vector<continuum::StripFront> control{pilot.branch.first, scene_front};
@@ -642,7 +681,7 @@ MeshChoice choose_meshes(const Scene& s, const StripBranchRun& pilot, const Stri
       return {"limit", "limit: " + std::to_string(fine.rows) + " rows, " + std::to_string(fine.intervals) +
                            " intervals exceed the Newton iteration limit"};
     const double total = out.spent + 8.0 * static_cast<double>(control.size()) * price(fine) +
-                         predicted_seconds(pilot, fine.rows, fine.intervals);
+                         predicted_seconds(pilot, fine.rows, fine.intervals, st.components);
     if (total > st.budget_seconds)
       return {"budget", "budget: " + std::to_string(fine.rows) + " rows, " + std::to_string(fine.intervals) + " intervals predicted at " +
                             core::format_number(total, 3) + " s of CPU in all, over --budget " + core::format_number(st.budget_seconds) + " s"};
@@ -733,8 +772,9 @@ FrontsResult compute_strip_fronts(const Scene& s, bool scaling, const std::funct
   std::string how = "rows " + std::to_string(run.front.rows) + ", intervals " + std::to_string(run.front.intervals);
   std::string limited;
   // the cost model's prediction of the whole (without --scaling): what was spent and what remains on the final meshes
-  double predicted = static_cast<double>(run.iterations) * continuum::strip_solve_cost(first.rows, first.intervals).iteration_seconds +
-                     (branch_share - 1.0) * predicted_seconds(run, first.rows, first.intervals) / branch_share;
+  const int comps = settings.components;
+  double predicted = static_cast<double>(run.iterations) * continuum::strip_solve_cost(first.rows, first.intervals, comps).iteration_seconds +
+                     (branch_share - 1.0) * predicted_seconds(run, first.rows, first.intervals, comps) / branch_share;
   if (chosen && continuum::followed_to_end(run.branch.end) && !(stop && stop())) {
     StripFrontsSettings st = settings;
     if (settings.rows > 0) st.max_rows = settings.rows;            // a given count is kept
@@ -744,7 +784,7 @@ FrontsResult compute_strip_fronts(const Scene& s, bool scaling, const std::funct
     limited = choice.limited;
     const auto& fo = choice.front;
     const bool resolve = fo.rows != run.front.rows || fo.intervals != run.front.intervals;
-    predicted = choice.spent + predicted_seconds(run, fo.rows, fo.intervals) * (resolve ? 1.0 : (branch_share - 1.0) / branch_share);
+    predicted = choice.spent + predicted_seconds(run, fo.rows, fo.intervals, comps) * (resolve ? 1.0 : (branch_share - 1.0) / branch_share);
     if (resolve && !(stop && stop())) {
       const continuum::StripFront start = run.branch.first;
       const std::string label = run.start + "; re-solved on the chosen meshes from that front";
@@ -781,14 +821,15 @@ FrontsResult compute_strip_fronts(const Scene& s, bool scaling, const std::funct
 
 std::string strip_fronts_refusal(const StripFrontsSettings& st, double max_memory_gib) {
   const int rows = st.rows > 0 ? st.rows : st.first_rows, intervals = st.intervals > 0 ? st.intervals : st.first_intervals;
-  const auto cost = continuum::strip_solve_cost(rows, intervals);
+  const auto cost = continuum::strip_solve_cost(rows, intervals, st.components);
   const std::string key = st.rows > 0 ? "--rows" : "--intervals";
   const std::string mesh = std::to_string(rows) + " rows and " + std::to_string(intervals) + " intervals";
   if (cost.iteration_seconds > continuum::strip_max_iteration_seconds)
     return key + ": one Newton iteration of the strip solve on " + mesh + " is estimated at " +
            core::format_number(cost.iteration_seconds, 3) + " s, more than " +
            core::format_number(continuum::strip_max_iteration_seconds) +
-           " s (a stop request is seen between iterations; cost ~ intervals (2 rows + 4)^2, docs/fronts.md §10.20); "
+           " s (a stop request is seen between iterations; cost ~ intervals (2 rows + 4)^2, in-plane (4 rows + 6)^2, "
+           "docs/fronts.md §10.20); "
            "use fewer rows or intervals, or leave them to --rtol";
   if (cost.memory_bytes > max_memory_gib * 1073741824.0)
     return key + ": the strip solve on " + mesh + " needs about " + core::format_number(cost.memory_bytes / 1073741824.0, 3) +
@@ -806,8 +847,10 @@ FrontsResult compute_fronts(const Scene& s, bool scaling, const std::function<bo
   const auto wall0 = std::chrono::steady_clock::now();
   if (s.drive.loading != core::Loading::homogeneous)
     throw core::ParamError("drive.loading", "steady fronts are solved for homogeneous loading (docs/model.md §6)");
-  if (s.bulk.body() == core::BodyKind::strip) {
-    FrontsResult r = compute_strip_fronts(s, scaling, stop, strip);
+  if (s.bulk.body() == core::BodyKind::strip || s.bulk.body() == core::BodyKind::inplane) {
+    StripFrontsSettings st = strip;
+    if (s.bulk.body() == core::BodyKind::inplane) st.components = 2;  // docs/fronts.md §11.6
+    FrontsResult r = compute_strip_fronts(s, scaling, stop, st);
     r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
     return r;
   }

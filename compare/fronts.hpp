@@ -23,6 +23,9 @@ struct FrontProfile {
   /// The strip (bulk.height > 0): the rows y_0 = 0 < … < y_M = H and the bulk fields on xi × y, node-major
   /// ([xi.size()][y.size()]): u(ξ, y) and its lift u(ξ, y) − u(ξ, 0). Empty for the 1D chain.
   std::vector<double> y, u_xy, lift_xy;
+  /// The in-plane strip: u_y(ξ, y) on xi × y (node-major) and the interface normal stress σ_yy(ξ, 0) (`sigma_yy` in
+  /// `fields`); empty otherwise.
+  std::vector<double> uy_xy;
 };
 
 /// The default whole-branch budget of the strip's mesh choice (`fronts --budget`): 5 CPU minutes (H = 50 chooses
@@ -41,6 +44,9 @@ struct StripFrontsSettings {
   /// a refinement whose predicted cost (what was spent, plus the branch, its profiles and estimates on the finer
   /// meshes) is above it is not made, and the verdict says "NOT met (budget)" (docs/fronts.md §10.20).
   double budget_seconds = default_fronts_budget_seconds;
+  /// Displacement components per row: 1 on the antiplane strip, 2 on the in-plane strip (u_x, u_y; its Newton
+  /// iteration costs ~4× the antiplane one's on the same mesh: continuum::strip_solve_cost, docs/fronts.md §11.5).
+  int components = 1;
 };
 /// The 1D chain's tolerance check (its mesh is fixed: 600 intervals, error ~1e−10 relative).
 inline constexpr double default_fronts_rtol = 1e-3;
@@ -71,7 +77,9 @@ struct FrontsResult {
 /// On a scene with bulk.height > 0 the strip's branch (continuum/strip_front.hpp) with `strip` settings; its
 /// profiles carry u(ξ, y); `scaling` then varies μ' (bulk.mu at fixed H), α, η, κ around the scene's values
 /// (four values each, the limiting front at σ_c^d: c_min at the branch's end) against the 1D scale
-/// sqrt(μα/(ηκ)) with μ = μ'H (docs/fronts.md §10.14).
+/// sqrt(μα/(ηκ)) with μ = μ'H (docs/fronts.md §10.14). On the in-plane strip (bulk.body = "inplane") the same stages
+/// with its solver (continuum/inplane_front.hpp, docs/fronts.md §11.6): profiles carry u_x and u_y, the 1D c_min is
+/// that of μ = E'H (the scene's μ), and `strip.components` is set to 2.
 FrontsResult compute_fronts(const Scene& s, bool scaling, const std::function<bool()>& stop = {},
                             const StripFrontsSettings& strip = {});
 

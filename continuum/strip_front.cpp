@@ -9,10 +9,14 @@
 #include <cstdint>
 #include <numeric>
 #include <optional>
+#include <stdexcept>
 #include <utility>
 
 #include "continuum/friction_law.hpp"
+#include "continuum/far_field.hpp"
+#include "continuum/rows_block.hpp"
 #include "continuum/front_solver.hpp"
+#include "continuum/inplane_front.hpp"
 #include "continuum/sigma_continuation.hpp"
 #include "core/strip.hpp"
 
@@ -24,6 +28,11 @@ using front_solver::Arclength;
 using front_solver::branch_point;
 using front_solver::end_of;
 using front_solver::make_mesh;
+using far_field::interp_rows;
+using far_field::left_subspace;
+using far_field::make_rows;
+using far_field::row_grading_of;
+using far_field::Subspace;
 using Vec = Eigen::VectorXd;
 using Mat = Eigen::MatrixXd;
 using CVec = Eigen::VectorXcd;
@@ -47,30 +56,9 @@ struct Model {
   int iA() const { return 2 * (M + 1); }
   int iS() const { return 2 * (M + 1) + 1; }
   double sound_speed() const { return std::sqrt(cs2); }
+  far_field::InterfaceIndex interface() const { return {iA(), iS(), iu(0), ip(0)}; }
+  int far_count() const { return M + 1; }  // the far-field conditions on each side (docs/fronts.md §10.3)
 };
-
-// Rows graded toward the interface: y_j = H (e^{γ j/M} − 1)/(e^γ − 1), γ from the first spacing (TOMS 748);
-// uniform (γ = 0) when H/M ≤ first spacing.
-double row_grading_of(double H, int M, double first, double grading) {
-  if (grading > 0.0) return grading;
-  if (!(first > 0.0) || !(H / M > first)) return 0.0;
-  auto spacing = [&](double gm) { return std::log(H * std::expm1(gm / M) / std::expm1(gm)) - std::log(first); };
-  double hi = 1.0;
-  while (spacing(hi) > 0.0) hi *= 2.0;
-  std::uintmax_t iters = 200;
-  const auto br = boost::math::tools::toms748_solve(spacing, 1e-9, hi, boost::math::tools::eps_tolerance<double>(50), iters);
-  return 0.5 * (br.first + br.second);
-}
-
-std::vector<double> make_rows(double H, int M, double g) {
-  std::vector<double> y(static_cast<std::size_t>(M) + 1);
-  for (int j = 0; j <= M; ++j) {
-    const double s = static_cast<double>(j) / M;
-    y[static_cast<std::size_t>(j)] = g > 0.0 ? H * std::expm1(g * s) / std::expm1(g) : H * s;
-  }
-  y.back() = H;
-  return y;
-}
 
 Model make_model(const core::InterfaceParams& law, const core::BulkParams& bulk, const StripFrontOptions& o) {
   Model m;
@@ -84,14 +72,7 @@ Model make_model(const core::InterfaceParams& law, const core::BulkParams& bulk,
   m.M = std::max(1, o.rows);
   m.gamma = row_grading_of(m.H, m.M, o.row_spacing, o.row_grading);
   m.y = make_rows(m.H, m.M, m.gamma);
-  m.k.resize(static_cast<std::size_t>(m.M));
-  m.w.assign(static_cast<std::size_t>(m.M) + 1, 0.0);
-  for (int j = 0; j < m.M; ++j) {
-    const auto a = static_cast<std::size_t>(j);
-    m.k[a] = m.y[a + 1] - m.y[a];
-    m.w[a] += 0.5 * m.k[a];
-    m.w[a + 1] += 0.5 * m.k[a];
-  }
+  far_field::row_widths(m.y, m.k, m.w);
   return m;
 }
 
@@ -105,10 +86,7 @@ enum class Side { behind, ahead };
 // are not dynamic (their components are 0). The unknowns of the rows j ≥ 1 are d_j = u_j − u_0 (the
 // strain across the height is small against u itself, so the fluxes are computed without cancellation):
 // d_j' = p_j − p_0. f, its Jacobian J, ∂f/∂c and ∂f/∂σ_d.
-struct Rhs {
-  Vec f, fc, fs;
-  Mat J;
-};
+using Rhs = far_field::Rhs;
 Rhs rhs(const Model& m, const Vec& y, double c, double sd, Side side, bool with_jacobian = true) {
   const int M = m.M, n = m.ns();
   Rhs r;
@@ -118,8 +96,7 @@ Rhs rhs(const Model& m, const Vec& y, double c, double sd, Side side, bool with_
   if (with_jacobian) r.J = Mat::Zero(n, n);
   const double b2 = 1.0 - c * c / m.cs2, db2 = -2.0 * c / m.cs2;
   const double p0 = y[m.ip(0)], v = -c * p0;
-  const double A = y[m.iA()], s = y[m.iS()];
-  const double tau = (side == Side::behind ? s : m.alpha * y[m.iu(0)]) + m.eta * v;
+  const double tau = (side == Side::behind ? y[m.iS()] : m.alpha * y[m.iu(0)]) + m.eta * v;
   auto d = [&](int j) { return j == 0 ? 0.0 : y[m.iu(j)]; };
   auto add = [&](int row, int j, double value) {  // ∂(row)/∂d_j (nothing for d_0 = 0)
     if (j > 0) r.J(row, m.iu(j)) += value;
@@ -154,24 +131,12 @@ Rhs rhs(const Model& m, const Vec& y, double c, double sd, Side side, bool with_
       else r.J(m.ip(0), m.iu(0)) += g * m.alpha;
     }
   }
-  if (side == Side::behind) {
-    const double speed = std::abs(v), sign = v >= 0.0 ? 1.0 : -1.0;
-    const double relax = 1.0 - A - m.kappa * A * speed, source = m.alpha * A * v - s * speed;
-    r.f[m.iA()] = -relax / c;
-    r.f[m.iS()] = -source / c;
-    const double dA_dv = m.kappa * A * sign / c, dS_dv = -(m.alpha * A - s * sign) / c;
-    // total c-derivative at fixed p_0: explicit + ∂/∂v · ∂v/∂c, ∂v/∂c = −p_0
-    r.fc[m.iA()] = relax / (c * c) + dA_dv * (-p0);
-    r.fc[m.iS()] = source / (c * c) + dS_dv * (-p0);
-    if (with_jacobian) {
-      r.J(m.iA(), m.iA()) = (1.0 + m.kappa * speed) / c;
-      r.J(m.iA(), m.ip(0)) = dA_dv * (-c);
-      r.J(m.iS(), m.iA()) = -m.alpha * v / c;
-      r.J(m.iS(), m.iS()) = speed / c;
-      r.J(m.iS(), m.ip(0)) = dS_dv * (-c);
-    }
-  }
+  if (side == Side::behind) far_field::interface_law_rows(m.law(), y, c, m.interface(), with_jacobian, r);
   return r;
+}
+
+Rhs behind_rhs(const Model& m, const Vec& y, double c, double sd, bool with_jacobian) {
+  return rhs(m, y, c, sd, Side::behind, with_jacobian);
 }
 
 // The sliding state behind (σ_ss(v_b) = σ_d on the strengthening branch; v_m at the saddle-node), with
@@ -199,73 +164,12 @@ Vec stuck_state(const Model& m, double sd) {
   return y;
 }
 
-// The far-field conditions (docs/fronts.md §10.3). Behind, in the coordinates z = (u_1 − u_0, …, u_M − u_0,
-// p, A, σ̄) that remove the translation u → u + const (the one null mode of the sliding state), the M + 1
-// modes that decay in forward ξ (λ_s and M bulk modes, growing toward −∞) must be absent at ξ = −L: their
-// left eigenvectors annihilate z(−L) − z_b. Ahead, the M + 1 modes of the linear stuck system (u, p) that
-// grow with ξ must be absent at the tip. Both as an orthonormal basis Q of the left eigenspace (its columns).
-struct Subspace {
-  Mat Q;                      ///< columns: orthonormal basis of the excluded modes' left eigenspace
-  std::vector<std::complex<double>> excluded, kept;  ///< eigenvalues, sorted by real part
-  bool ok = false;
-  std::string why;
-};
-
+// The far-field conditions (docs/fronts.md §10.3; far_field::Subspace). Behind, in the coordinates z = (u_1 − u_0, …,
+// u_M − u_0, p, A, σ̄) that remove the translation u → u + const (the one null mode of the sliding state), the M + 1
+// modes that decay in forward ξ (λ_s and M bulk modes, growing toward −∞) must be absent at ξ = −L. Ahead, the M + 1
+// modes of the linear stuck system (u, p) that grow with ξ must be absent at the tip.
 // T: y → z (drops u_0, the translation u → u + const); behind only.
-Mat translation_free(const Model& m) {
-  const int n = m.ns();
-  Mat T = Mat::Zero(n - 1, n);
-  for (int r = 1; r < n; ++r) T(r - 1, r) = 1.0;
-  return T;
-}
-
-// The left eigenspace of the `count` eigenvalues of Jr with the smallest (lowest = true) or largest real parts.
-Subspace left_subspace(const Mat& Jr, int count, bool lowest, bool allow_null) {
-  Subspace out;
-  const Eigen::EigenSolver<Mat> es(Jr.transpose(), true);
-  if (es.info() != Eigen::Success) {
-    out.why = "eigenproblem of the far field failed";
-    return out;
-  }
-  const int n = static_cast<int>(Jr.rows());
-  std::vector<int> order(static_cast<std::size_t>(n));
-  std::iota(order.begin(), order.end(), 0);
-  const CVec ev = es.eigenvalues();
-  std::sort(order.begin(), order.end(), [&](int a, int b) {
-    return lowest ? ev[a].real() < ev[b].real() : ev[a].real() > ev[b].real();
-  });
-  const double scale = std::max(1.0, Jr.cwiseAbs().maxCoeff());
-  const double last = ev[order[static_cast<std::size_t>(count) - 1]].real(), next = ev[order[static_cast<std::size_t>(count)]].real();
-  const double sgn = lowest ? 1.0 : -1.0;  // excluded: sgn·Re < 0
-  const bool gap = sgn * next > 0.0 && (sgn * last < 0.0 || (allow_null && std::abs(last) <= 1e-8 * scale));
-  for (int r = 0; r < n; ++r) (r < count ? out.excluded : out.kept).push_back(ev[order[static_cast<std::size_t>(r)]]);
-  if (!gap) {
-    out.why = "the far field has not " + std::to_string(count) + " modes of each sign (the " + std::to_string(count) +
-              "th and next real parts: " + core::format_number(last) + ", " + core::format_number(next) + ")";
-    return out;
-  }
-  Mat W(n, count);
-  int col = 0;
-  for (int r = 0; r < count; ++r) {
-    const int k = order[static_cast<std::size_t>(r)];
-    const CVec l = es.eigenvectors().col(k);
-    if (std::abs(ev[k].imag()) <= 1e-12 * scale) {
-      W.col(col++) = l.real();
-    } else if (ev[k].imag() > 0.0) {
-      if (col + 2 > count) break;
-      W.col(col++) = l.real();
-      W.col(col++) = l.imag();
-    }
-  }
-  if (col != count) {
-    out.why = "a complex pair of far-field modes is split by the count";
-    return out;
-  }
-  const Eigen::HouseholderQR<Mat> qr(W);
-  out.Q = qr.householderQ() * Mat::Identity(n, count);
-  out.ok = true;
-  return out;
-}
+Mat translation_free(const Model& m) { return far_field::translation_free(m.ns()); }
 
 Subspace behind_subspace(const Model& m, double c, double sd) {
   const Vec yb = behind_state(m, c, sd);
@@ -283,149 +187,12 @@ Subspace ahead_subspace(const Model& m, double c, double sd) {
   return left_subspace(J, m.M + 1, false, false);
 }
 
-// The strip's node block for the collocation (docs/fronts.md §10.3): y = (u_0, d_1 … d_M, p_0 … p_M, A, σ̄) at
-// every node, rows
-//   M + 1  behind: Q_ref,bᵀ P_b(c, σ_d) T (y_0 − y_b) = 0     (no mode growing toward −∞ at ξ = −L)
-//   N · ns Lobatto IIIA on every interval (docs/fronts.md eq. 5; front_solver::Collocation)
-//   M + 1  tip: Q_ref,aᵀ P_a(c) ((u, p)_N − stuck) = 0        (only decaying modes ahead)
-//   3      tip: A_N = 1, σ̄_N = α u_{0,N}, σ̄_N + η v_N = 1   (Θ switches at the tip)
-//   (1     pseudo-arclength)
-// P = Q Qᵀ is the orthogonal projector on the excluded left eigenspace; the reference bases Q_ref (fixed for
-// one Newton solve, from the far fields at (c0, s0)) make the rows smooth in c and σ_d, which enter through
-// finite differences.
-class StripBlock {
- public:
-  using Vec = strip_detail::Vec;
-  using Mat = strip_detail::Mat;
-  using Rhs = strip_detail::Rhs;
-  static constexpr bool keep_zero_columns = false;
-
-  StripBlock(const Model& m, double c0, double s0) : m_(m), T_(translation_free(m)) {
-    const Subspace b = behind_subspace(m_, c0, s0), a = ahead_subspace(m_, c0, s0);
-    ok_ = b.ok && a.ok;
-    why_ = !b.ok ? "behind: " + b.why : (!a.ok ? "ahead: " + a.why : std::string());
-    if (ok_) {
-      Qb_ = b.Q;
-      Qa_ = a.Q;
-    }
-  }
-  bool ok() const { return ok_; }
-  const std::string& why() const { return why_; }
-  const Model& model() const { return m_; }
-  int width() const { return m_.ns(); }
-  int behind_count() const { return m_.M + 1; }
-  bool admissible(double c) const { return ok_ && c > 0.0 && c < m_.sound_speed(); }
-  Rhs rhs(const Vec& y, double c, double sd, bool with_jacobian) const {
-    return strip_detail::rhs(m_, y, c, sd, Side::behind, with_jacobian);
-  }
-
-  // The far-field rows as functions of (node state, c, σ_d).
-  Vec behind_projection(const Vec& y0, double c, double sd, Mat* dy) const {
-    const Subspace b = behind_subspace(m_, c, sd);
-    if (!b.ok) return Vec::Constant(m_.M + 1, nan_value);
-    const Mat G = Qb_.transpose() * b.Q * b.Q.transpose() * T_;
-    if (dy) *dy = G;
-    return G * (y0 - behind_state(m_, c, sd));
-  }
-  Vec ahead_projection(const Vec& yN, double c, double sd, Mat* dy) const {
-    const Subspace a = ahead_subspace(m_, c, sd);
-    if (!a.ok) return Vec::Constant(m_.M + 1, nan_value);
-    const Mat G = Qa_.transpose() * a.Q * a.Q.transpose();
-    if (dy) *dy = G;
-    return G * (yN - stuck_state(m_, sd)).head(m_.nb());
-  }
-
-  // Behind: ξ_0 = −L (rows 0 … M); c and σ_d columns by central differences.
-  bool behind_rows(const Vec& y0, double c, double sd, front_solver::Rows& rows, front_solver::ScalarColumns col) const {
-    Mat G;
-    rows.F.segment(0, m_.M + 1) = behind_projection(y0, c, sd, rows.jacobian() ? &G : nullptr);
-    if (!rows.jacobian()) return true;
-    rows.block(0, 0, G);
-    const double hc = 1e-6 * c;
-    rows.column(0, col.c, (behind_projection(y0, c + hc, sd, nullptr) - behind_projection(y0, c - hc, sd, nullptr)) / (2.0 * hc));
-    if (col.free_sigma()) {
-      const double hs = std::min(1e-7, 0.25 * (sd - steady_minimum_stress(m_.law())));
-      rows.column(0, col.sigma, (behind_projection(y0, c, sd + hs, nullptr) - behind_projection(y0, c, sd - hs, nullptr)) / (2.0 * hs));
-    }
-    return true;
-  }
-
-  // The tip ξ_N = 0 (rows `row` …, y_N at column `base`): the decaying subspace ahead, and Θ's switch.
-  bool tip_rows(const Vec& yN, int row, int base, double c, double sd, front_solver::Rows& rows,
-                front_solver::ScalarColumns col) const {
-    Mat G;
-    rows.F.segment(row, m_.M + 1) = ahead_projection(yN, c, sd, rows.jacobian() ? &G : nullptr);
-    if (rows.jacobian()) {
-      rows.block(row, base, G);
-      const double hc = 1e-6 * c;
-      rows.column(row, col.c, (ahead_projection(yN, c + hc, sd, nullptr) - ahead_projection(yN, c - hc, sd, nullptr)) / (2.0 * hc));
-      if (col.free_sigma()) {
-        const double hs = 1e-7;
-        rows.column(row, col.sigma, (ahead_projection(yN, c, sd + hs, nullptr) - ahead_projection(yN, c, sd - hs, nullptr)) / (2.0 * hs));
-      }
-    }
-    const int r2 = row + m_.M + 1;
-    rows.F[r2] = yN[m_.iA()] - 1.0;
-    rows.F[r2 + 1] = yN[m_.iS()] - m_.alpha * yN[m_.iu(0)];
-    rows.F[r2 + 2] = yN[m_.iS()] - m_.eta * c * yN[m_.ip(0)] - 1.0;
-    if (!rows.jacobian()) return true;
-    rows.entry(r2, base + m_.iA(), 1.0);
-    rows.entry(r2 + 1, base + m_.iS(), 1.0);
-    rows.entry(r2 + 1, base + m_.iu(0), -m_.alpha);
-    rows.entry(r2 + 2, base + m_.iS(), 1.0);
-    rows.entry(r2 + 2, base + m_.ip(0), -m_.eta * c);
-    rows.entry(r2 + 2, col.c, -m_.eta * yN[m_.ip(0)]);
-    return true;
-  }
-
- private:
-  Model m_;
-  Mat T_, Qb_, Qa_;
-  bool ok_ = false;
-  std::string why_;
-};
+// The strip's node block for the collocation (docs/fronts.md §10.3): y = (u_0, d_1 … d_M, p_0 … p_M, A, σ̄) at every
+// node, M + 1 far-field rows on each side (far_field::RowsBlock, shared with the in-plane strip).
+using StripBlock = far_field::RowsBlock<Model>;
 
 // The discrete boundary-value problem of the strip: the shared collocation on its block.
 using Collocation = front_solver::Collocation<StripBlock>;
-
-// The collocation on mesh xi with the far-field bases at the guess c0 and the predicted σ_d.
-Collocation make_collocation(const Model& m, std::vector<double> xi, double c0, double sigma_d, std::optional<Arclength> arc) {
-  const double s0 = arc ? arc->sigma0 + arc->step * arc->t_sigma : sigma_d;
-  return Collocation(StripBlock(m, c0, s0), std::move(xi), sigma_d, arc);
-}
-
-// Damped Newton with the strip's rule (docs/fronts.md §10.4, §10.11): a step below the tolerance, or at the
-// round-off floor (below 1e-6 and no longer shrinking), is taken and ends the iteration.
-front_solver::NewtonResult newton(const Collocation& col, Vec& x, double tol, int max_iter, const std::function<bool()>& stop = {}) {
-  if (!col.block().ok()) {
-    front_solver::NewtonResult out;
-    out.failure = "no far-field subspace: " + col.block().why();
-    return out;
-  }
-  front_solver::NewtonRule rule;
-  rule.tolerance = tol;
-  rule.max_iterations = max_iter;
-  rule.floor_tolerance = 1e-6;
-  rule.inadmissible_guess =
-      "the initial guess is not admissible (c outside (0, c_s), or the far fields have no saddle structure)";
-  rule.stop = &stop;
-  return front_solver::newton([&](const Vec& z, Vec& F, Eigen::SparseMatrix<double>* jac) { return col.assemble(z, F, jac); },
-                              x, rule);
-}
-
-// L: the nonlinear region near the tip plus `decay_lengths` e-folds of the slowest mode approaching the
-// sliding state (the error of the linear projection is quadratic in the distance from it).
-double domain_length(const Model& m, const StripFrontOptions& o, double c, double sd, double* slowest_out = nullptr) {
-  const Subspace b = behind_subspace(m, c, sd);
-  double slowest = std::numeric_limits<double>::infinity();
-  for (const auto& l : b.kept)
-    if (l.real() > 0.0) slowest = std::min(slowest, l.real());
-  if (!std::isfinite(slowest)) slowest = 1.0 / c;
-  if (slowest_out) *slowest_out = slowest;
-  if (o.domain_length > 0.0) return o.domain_length;
-  const double vb = m.saddle_node ? steady_minimum_velocity(m.law()) : strengthening_branch_velocity(m.law(), sd);
-  return o.tip_length * c / (1.0 + m.kappa * vb) + o.decay_lengths / slowest;
-}
 
 StripFront empty_front(const core::InterfaceParams& law, const core::BulkParams& bulk, double sd) {
   StripFront f;
@@ -435,16 +202,6 @@ StripFront empty_front(const core::InterfaceParams& law, const core::BulkParams&
   f.rho_strip = bulk.rho / bulk.height;
   f.sigma_d = sd;
   return f;
-}
-
-// Linear interpolation of a column of node values in y, continued above the old top with slope `top_slope`.
-double interp_rows(const std::vector<double>& yo, const double* col, double yy, double top_slope) {
-  const std::size_t n = yo.size();
-  if (yy >= yo.back()) return col[n - 1] + top_slope * (yy - yo.back());
-  const auto it = std::upper_bound(yo.begin(), yo.end(), yy);
-  const std::size_t b = std::max<std::size_t>(1, static_cast<std::size_t>(it - yo.begin())), a = b - 1;
-  const double t = (yy - yo[a]) / (yo[b] - yo[a]);
-  return (1.0 - t) * col[a] + t * col[b];
 }
 
 // A guess on the mesh of `col` from a strip front stretched by `s` in ξ and y (the front's lengths scale
@@ -615,15 +372,7 @@ void finish(const Collocation& col, const Vec& x, StripFront& f) {
     for (int j = 1; j <= m.M; ++j) mode[static_cast<std::size_t>(j)] += mode[0];  // d_j → u_j = u_0 + d_j
     f.ahead_mode.push_back(std::move(mode));
   }
-  f.status = FrontStatus::converged;
-  f.reason.clear();
-  if (f.min_slip_rate <= 0.0) {
-    f.status = FrontStatus::reverse_slip;
-    f.reason = "v <= 0 behind the tip (min v = " + core::format_number(f.min_slip_rate) + ")";
-  } else if (f.overstress_margin <= 0.0) {
-    f.status = FrontStatus::resticks;
-    f.reason = "|sigma|/A - 1 <= 0 behind the tip (min " + core::format_number(f.overstress_margin) + "): Theta = 1 violated";
-  }
+  far_field::classify(f);
 }
 
 // One Newton solve on a fresh mesh from an initial iterate built by `start`.
@@ -631,46 +380,8 @@ template <class Start>
 StripFront solve_on_mesh(const core::InterfaceParams& law, const core::BulkParams& bulk, const Model& m,
                          const StripFrontOptions& o, double sd, double c_guess, std::optional<Arclength> arc,
                          Start&& start) {
-  StripFront f = empty_front(law, bulk, sd);
-  f.saddle_node_limit = m.saddle_node;
-  const double L = domain_length(m, o, c_guess, arc ? arc->sigma0 : sd);
-  const Collocation col = make_collocation(m, make_mesh(L, o.intervals, o.tip_spacing, o.grading), c_guess, sd, arc);
-  if (!col.block().ok()) {  // the far fields have not M + 1 modes of each sign at the guess
-    f.status = FrontStatus::not_a_saddle;
-    f.reason = col.block().why();
-    f.c = c_guess;
-    return f;
-  }
-  Vec x = start(col);
-  x[col.c_index()] = c_guess;
-  if (arc) x[col.c_index() + 1] = sd;
-  const auto nr = newton(col, x, o.tolerance, o.max_newton, o.stop);
-  f.newton_iterations = nr.iterations;
-  f.domain_length = L;
-  if (!nr.converged) {
-    f.status = nr.stopped ? FrontStatus::stopped
-                          : col.c_of(x) >= 0.999 * m.sound_speed() ? FrontStatus::sonic : FrontStatus::newton_failed;
-    f.reason = nr.failure;
-    f.c = col.c_of(x);
-    f.sigma_d = col.sigma_of(x);
-    return f;
-  }
-  finish(col, x, f);
-  f.residual_norm = nr.residual;
-  if (o.estimate_error && o.intervals % 2 == 0 && o.intervals >= 8)  // the ξ part, (c_2h − c_h)/15 (docs/fronts.md §3)
-    f.speed_error = front_solver::coarse_speed_error(col, x, StripBlock(m, f.c, f.sigma_d), f.sigma_d, [&](const Collocation& coarse, Vec& xc) {
-      return newton(coarse, xc, o.tolerance, o.max_newton, o.stop);
-    });
-  return f;
-}
-
-bool admissible_sigma(const core::InterfaceParams& law, double sd, StripFront& f) {
-  const double sigma_c = steady_minimum_stress(law);
-  if (sd > sigma_c && sd < 1.0) return true;
-  f.status = FrontStatus::no_front_state;
-  f.reason = "sigma_d = " + core::format_number(sd) + " outside (sigma_c^d, 1) = (" + core::format_number(sigma_c) +
-             ", 1): no sliding state on the strengthening branch behind, or no stuck state ahead";
-  return false;
+  return far_field::solve_rows_on_mesh(empty_front(law, bulk, sd), m, o, sd, c_guess, arc, std::forward<Start>(start),
+                                       FrontStatus::not_a_saddle);
 }
 
 }  // namespace strip_detail
@@ -678,12 +389,13 @@ bool admissible_sigma(const core::InterfaceParams& law, double sd, StripFront& f
 StripFront solve_strip_front(const core::InterfaceParams& law, const core::BulkParams& bulk, double sigma_d,
                              const StripFrontOptions& o, const StripFront* guess) {
   using namespace strip_detail;
+  if (bulk.body() == core::BodyKind::inplane) return solve_inplane_front(law, bulk, sigma_d, o, guess);  // §11
   StripFront f = empty_front(law, bulk, sigma_d);
   if (!(bulk.height > 0.0)) {
     f.reason = "bulk.height must be > 0 for the strip (H = " + core::format_number(bulk.height) + ")";
     return f;
   }
-  if (!admissible_sigma(law, sigma_d, f)) return f;
+  if (!far_field::admissible_sigma(law, sigma_d, f)) return f;
   if (guess && guess->status == FrontStatus::converged) {
     const Model m = make_model(law, bulk, o);
     return solve_on_mesh(law, bulk, m, o, sigma_d, guess->c, std::nullopt,
@@ -696,31 +408,19 @@ StripFront solve_strip_front(const core::InterfaceParams& law, const core::BulkP
     f.reason = "cold start: no 1D front at this sigma_d: " + f1.reason;
     return f;
   }
-  core::BulkParams b = bulk;
-  b.height = std::min(bulk.height, o.thin_height);
-  const Model m0 = make_model(law, b, o);
-  StripFront g = solve_on_mesh(law, b, m0, o, sigma_d, f1.c, std::nullopt,
-                               [&](const Collocation& col) { return from_one_dimensional(col, f1); });
-  while (g.status == FrontStatus::converged && b.height < bulk.height) {
-    if (o.stop && o.stop()) {
-      g.status = FrontStatus::stopped;
-      g.reason = "cold start: stopped on request at H = " + core::format_number(b.height);
-      break;
-    }
-    b.height = std::min(bulk.height, b.height * o.height_factor);
-    const Model m = make_model(law, b, o);
-    StripFront next = solve_on_mesh(law, b, m, o, sigma_d, g.c, std::nullopt,
-                                    [&](const Collocation& col) { return transfer(col, g, sigma_d); });
-    if (next.status != FrontStatus::converged)
-      next.reason = "cold start: growing the strip failed at H = " + core::format_number(b.height) + ": " + next.reason;
-    g = std::move(next);
-  }
-  return g;
+  return far_field::grow_from_thin(bulk, o, [&](const core::BulkParams& b, const StripFront* last) {
+    if (!last)
+      return solve_on_mesh(law, b, make_model(law, b, o), o, sigma_d, f1.c, std::nullopt,
+                           [&](const Collocation& col) { return from_one_dimensional(col, f1); });
+    return solve_on_mesh(law, b, make_model(law, b, o), o, sigma_d, last->c, std::nullopt,
+                         [&](const Collocation& col) { return transfer(col, *last, sigma_d); });
+  });
 }
 
 StripFront solve_strip_saddle_node_front(const core::InterfaceParams& law, const core::BulkParams& bulk,
                                          const StripFrontOptions& o, const StripFront& guess, double c_guess) {
   using namespace strip_detail;
+  if (bulk.body() == core::BodyKind::inplane) return solve_inplane_saddle_node_front(law, bulk, o, guess, c_guess);
   const double sigma_c = steady_sliding(law, steady_minimum_velocity(law)).sigma;
   if (c_guess > 0.0) return solve_strip_front_stretched(law, bulk, sigma_c, o, guess, c_guess, true);
   Model m = make_model(law, bulk, o);
@@ -732,6 +432,8 @@ StripFront solve_strip_saddle_node_front(const core::InterfaceParams& law, const
 StripFront solve_strip_front_stretched(const core::InterfaceParams& law, const core::BulkParams& bulk, double sigma_d,
                                        const StripFrontOptions& o, const StripFront& from, double c_guess, bool saddle_node) {
   using namespace strip_detail;
+  if (bulk.body() == core::BodyKind::inplane)
+    return solve_inplane_front_stretched(law, bulk, sigma_d, o, from, c_guess, saddle_node);
   Model m = make_model(law, bulk, o);
   m.saddle_node = saddle_node;
   const double s = c_guess / from.c;
@@ -756,8 +458,8 @@ StripFrontOptions with_rows(double H, const StripFrontOptions& o, int rows) {
 // (2M + 4)²; measured 1.1–1.6e−7 s per interval and ns² (8 rows × 300 and 3000 intervals: 0.022, 0.21 s; 32 × 300:
 // 0.21 s; 64 × 300: 0.85 s; 17 and 34 uniform rows × 600: 0.10, 0.39 s) and ≤ 80 bytes (8 × 3000: 70; 64 × 300: 23).
 // Before issue 36's budget the constant was 8e−7, the wall time of the shared machine under a load of 9–12.
-StripSolveCost strip_solve_cost(int rows, int intervals) {
-  const double ns = 2.0 * (std::max(1, rows) + 1) + 2.0, n = std::max(1, intervals);
+StripSolveCost strip_solve_cost(int rows, int intervals, int components) {
+  const double ns = 2.0 * std::max(1, components) * (std::max(1, rows) + 1) + 2.0, n = std::max(1, intervals);
   StripSolveCost c;
   c.iteration_seconds = 1.6e-7 * n * ns * ns;
   c.memory_bytes = 80.0 * n * ns * ns + 64.0e6;
@@ -803,16 +505,13 @@ StripSpeedError estimate_strip_speed_error(const StripFront& f, const StripFront
 
 StripFrontSample sample_strip_front(const StripFront& f, std::span<const double> xs) {
   using namespace strip_detail;
+  if (f.bulk.body() == core::BodyKind::inplane)
+    throw std::invalid_argument("sample_strip_front: the in-plane front has no sampler yet (docs/fronts.md §11.7)");
   StripFrontOptions o;
   o.rows = f.rows();
   Model m = make_model(f.law, f.bulk, o);
   m.y = f.y;  // the front's own rows
-  for (int j = 0; j < m.M; ++j) m.k[static_cast<std::size_t>(j)] = m.y[static_cast<std::size_t>(j) + 1] - m.y[static_cast<std::size_t>(j)];
-  std::fill(m.w.begin(), m.w.end(), 0.0);
-  for (int j = 0; j < m.M; ++j) {
-    m.w[static_cast<std::size_t>(j)] += 0.5 * m.k[static_cast<std::size_t>(j)];
-    m.w[static_cast<std::size_t>(j) + 1] += 0.5 * m.k[static_cast<std::size_t>(j)];
-  }
+  far_field::row_widths(m.y, m.k, m.w);
   const std::size_t ro = f.y.size();
   auto node = [&](std::size_t i) {
     Vec y(m.ns());
@@ -919,6 +618,7 @@ class StripContinuation
     return solve_strip_front(law_, bulk_, sigma_d, o_.front, guess);
   }
   StripFront correct(double sigma_p, double c_p, const Arclength& arc) const {
+    if (bulk_.body() == core::BodyKind::inplane) return correct_inplane_front(law_, bulk_, o_.front, sigma_p, c_p, arc, cur_);
     return solve_on_mesh(law_, bulk_, make_model(law_, bulk_, o_.front), o_.front, sigma_p, c_p, arc,
                          [&](const Collocation& col) { return transfer(col, cur_, sigma_p); });
   }
@@ -995,7 +695,7 @@ StripBranch continue_strip_fronts(const core::InterfaceParams& law, const core::
 namespace slipfront::continuum {
 
 bool strip_start_needs_height_path(const core::BulkParams& bulk) {
-  if (!(bulk.height > 0.0) || !(bulk.mu > 0.0)) return false;
+  if (!(bulk.height > 0.0) || !(bulk.mu > 0.0) || bulk.body() == core::BodyKind::inplane) return false;  // §11.7
   return bulk.height > strip_path_start_ratio * core::Strip::modulus(bulk);  // H/ℓ, ℓ = μ'
 }
 

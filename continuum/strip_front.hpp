@@ -65,7 +65,9 @@ struct StripSolveCost {
   double iteration_seconds = 0.0;  ///< one Newton iteration (assembly, four far-field eigenproblems, SparseLU), CPU s
   double memory_bytes = 0.0;       ///< the Jacobian, its triplets and the LU factors
 };
-StripSolveCost strip_solve_cost(int rows, int intervals);
+/// `components`: unknowns per row and ξ node pair (1: the antiplane strip's u; 2: the in-plane strip's u_x, u_y, whose
+/// block is (4M + 4)², docs/fronts.md §11.5).
+StripSolveCost strip_solve_cost(int rows, int intervals, int components = 1);
 /// A stop request is seen between Newton iterations: a mesh whose iteration is estimated above this (CPU s;
 /// ~5 s of wall time on the shared machine under load) is refused up front (`slipfront fronts --rows/--intervals`),
 /// so that a stop is always prompt. At 300 intervals: up to 69 rows, as with the wall-time calibration before.
@@ -79,7 +81,7 @@ struct StripFront {
 
   core::InterfaceParams law;
   core::BulkParams bulk;          ///< as given: μ, ρ integrated over the height, `height` = H
-  double mu_strip = 0.0, rho_strip = 0.0;  ///< μ' = μ/H, ρ' = ρ/H
+  double mu_strip = 0.0, rho_strip = 0.0;  ///< μ' = μ/H, ρ' = ρ/H (in-plane: μ' = μ(1 − ν)/(2H), docs/model.md §10.2)
   double sigma_d = 0.0;
 
   double c = 0.0;
@@ -90,6 +92,10 @@ struct StripFront {
   std::vector<double> slip_rate, area, sigma_bar, slip, traction;  ///< interface: v, A, σ̄, u(ξ,0), τ = σ̄ + η v
   std::vector<double> u, strain;  ///< bulk u(ξ_i, y_j) and ∂ξ u (u → σ_d/α + σ_d y/μ' far ahead)
   std::vector<double> lift;       ///< u(ξ_i, y_j) − u(ξ_i, 0): the solver's unknowns for j ≥ 1 (not rounded by u's size)
+  /// The in-plane strip only (bulk.body() == inplane, continuum/inplane_front.hpp; empty for the antiplane strip):
+  /// u, strain, lift above are u_x's; uy = u_y(ξ_i, y_j) (0 on the interface), uy_strain = ∂ξ u_y, both node-major,
+  /// and normal_stress = σ_yy(ξ_i, 0), the interface's normal traction (the reaction that holds u_y = 0).
+  std::vector<double> uy, uy_strain, normal_stress;
 
   double residual_norm = 0.0;     ///< max-norm of the discrete equations at the returned solution
   double speed_error = std::numeric_limits<double>::quiet_NaN();  ///< the ξ part (options.estimate_error)

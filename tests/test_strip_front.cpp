@@ -12,6 +12,7 @@
 #include "compare/fit.hpp"
 #include "continuum/steady_front.hpp"
 #include "continuum/strip_front.hpp"
+#include "front_defect.hpp"
 
 namespace continuum = slipfront::continuum;
 namespace core = slipfront::core;
@@ -78,23 +79,14 @@ struct Transcription {
   // The largest Hermite–Simpson defect of each component, over the magnitude of the terms it balances
   // (the largest over the intervals of |Δy| + h/6 (|f_i| + 4|f_m| + |f_{i+1}|)).
   double scaled_defect() const {
-    const std::size_t ns = 2 * f.y.size() + 2;
-    std::vector<double> worst(ns, 0.0), scale(ns, 1e-300);
-    for (std::size_t i = 0; i + 1 < f.xi.size(); ++i) {
-      const double h = f.xi[i + 1] - f.xi[i];
-      const auto a = node(i), b = node(i + 1), fa = rhs(a), fb = rhs(b);
-      std::vector<double> m(ns);
-      for (std::size_t r = 0; r < ns; ++r) m[r] = (a[r] + b[r]) / 2 + h / 8 * (fa[r] - fb[r]);
-      const auto fm = rhs(m);
-      for (std::size_t r = 0; r < ns; ++r) {
-        const double defect = b[r] - a[r] - h / 6 * (fa[r] + 4 * fm[r] + fb[r]);
-        worst[r] = std::max(worst[r], std::abs(defect));
-        scale[r] = std::max(scale[r], std::abs(b[r] - a[r]) + h / 6 * (std::abs(fa[r]) + 4 * std::abs(fm[r]) + std::abs(fb[r])));
-      }
-    }
-    double out = 0.0;
-    for (std::size_t r = 0; r < ns; ++r) out = std::max(out, worst[r] / scale[r]);
-    return out;
+    return slipfront::testing::scaled_collocation_defect(
+        f.xi, 2 * f.y.size() + 2, [this](std::size_t i) { return node(i); },
+        [this](const std::vector<double>& s, std::vector<double>* size) {
+          std::vector<double> r = rhs(s);
+          size->resize(r.size());
+          for (std::size_t idx = 0; idx < r.size(); ++idx) (*size)[idx] = std::abs(r[idx]);
+          return r;
+        });
   }
 };
 

@@ -1,4 +1,4 @@
-// The accuracy-stepped integrator on the in-plane strip (issue 38; docs/performance.md §17, docs/numerics.md §8.9),
+// The accuracy-stepped integrator on the in-plane strip (issue 38; docs/performance.md §18, docs/numerics.md §8.9),
 // in one run:
 //  1. work-precision on fig1_inplane (configs/fig1_inplane.toml: H = 17, ν = 1/3, dx = dy = 0.5, 601 × 35 nodes, two
 //     components each), the continuum model to t = 110 (t^ ≈ 98, the arrest by ≈ 103): the explicit reference scheme
@@ -15,7 +15,9 @@
 //   build/bench/bench_inplane_work_precision                          (~10 min on a quiet core)
 //   SLIPFRONT_BENCH_QUICK=1 build/bench/bench_inplane_work_precision  H = 4 (9 rows), L = 60, to t = 40: a smoke test
 //   SLIPFRONT_BENCH_ONLY=3e-2 …  one adaptive run at rtol 3e-2 (=x0.5: one explicit run at cfl 0.5), for perf
+//     (with SLIPFRONT_BENCH_L=<length>, SLIPFRONT_BENCH_T_END=<t_end>: a shorter strip or run)
 //   SLIPFRONT_BENCH_PART=1 | 2 … one part only
+#include <malloc.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -24,6 +26,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <ctime>
 #include <limits>
 #include <string>
@@ -176,21 +179,43 @@ struct Cost {
   double nodes = 0.0, cpu_per_step = 0.0, rss_kb = 0.0, iterations_per_solve = 0.0;
 };
 
-// The run in a child process: its CPU per step, its peak RSS (from wait4), its Krylov iterations per solve.
+// A field of /proc/self/status in kB (VmRSS, VmHWM).
+double status_kb(const char* key) {
+  FILE* f = std::fopen("/proc/self/status", "r");
+  if (f == nullptr) return 0.0;
+  char line[256];
+  double kb = 0.0;
+  while (std::fgets(line, sizeof line, f))
+    if (std::strncmp(line, key, std::strlen(key)) == 0) kb = std::atof(line + std::strlen(key));
+  std::fclose(f);
+  return kb;
+}
+
+// The run in a child process: its CPU per step, its peak resident memory above its start, its Krylov iterations per
+// solve.
 Cost child_cost(const compare::Scene& s, bool is_adaptive) {
   int fd[2];
   if (pipe(fd) != 0) std::exit(1);
   const pid_t pid = fork();
   if (pid == 0) {
     close(fd[0]);
+    // the run's own peak: the resident set's high-water mark reset at the start (Linux: clear_refs 5), less the
+    // resident set then (the parent's pages the child shares)
+    malloc_trim(0);
+    if (FILE* c = std::fopen("/proc/self/clear_refs", "w")) {
+      std::fputs("5", c);
+      std::fclose(c);
+    }
+    const double rss0 = status_kb("VmRSS:");
     const Run x = is_adaptive ? run_with<Adaptive>("", s) : run_with<Explicit>("", s);
     const double solves = x.r.scalars.count("stage_solves") ? x.r.scalars.at("stage_solves") : 1.0;
-    const double out[2] = {x.cpu / x.r.scalars.at("steps"), static_cast<double>(x.iterations) / solves};
+    const double out[3] = {x.cpu / x.r.scalars.at("steps"), static_cast<double>(x.iterations) / solves,
+                           status_kb("VmHWM:") - rss0};
     if (write(fd[1], out, sizeof out) != static_cast<ssize_t>(sizeof out)) _exit(1);
     _exit(0);
   }
   close(fd[1]);
-  double in[2] = {0.0, 0.0};
+  double in[3] = {0.0, 0.0, 0.0};
   const bool got = read(fd[0], in, sizeof in) == static_cast<ssize_t>(sizeof in);
   close(fd[0]);
   int status = 0;
@@ -201,7 +226,7 @@ Cost child_cost(const compare::Scene& s, bool is_adaptive) {
     std::exit(1);
   }
   const core::BodyShape sh = core::InPlane::shape(s.bulk, s.drive, s.grid);
-  return {static_cast<double>(sh.nodes()), in[0], static_cast<double>(ru.ru_maxrss), in[1]};
+  return {static_cast<double>(sh.nodes()), in[0], in[2], in[1]};
 }
 
 // Least squares y = a + b x.
@@ -225,7 +250,7 @@ void scaling() {
   std::printf("cost per step and memory against bulk nodes (fig1 on the in-plane strip H = %g, dx = dy = 0.5, to t = "
               "%g; each size in its own process)\n",
               inplane(60.0, 1.0).bulk.height, t_end);
-  std::printf("%-10s %8s %14s %12s %14s\n", "integrator", "nodes", "cpu/step ms", "peak RSS MB", "iterations/solve");
+  std::printf("%-10s %8s %14s %12s %14s\n", "integrator", "nodes", "cpu/step ms", "peak +RSS MB", "iterations/solve");
   for (const bool is_adaptive : {false, true}) {
     std::vector<double> lx, ly, nodes, rss;
     for (const double L : lengths) {
@@ -244,7 +269,7 @@ void scaling() {
     const auto [a, exponent] = fit_line(lx, ly);
     const auto [base, per_node] = fit_line(nodes, rss);
     std::printf("%s: CPU per step ∝ nodes^%.3f (fitted over %zu sizes); memory %.0f bytes per node (%.0f per dof; "
-                "fitted slope of the peak RSS, intercept %.1f MB)\n",
+                "fitted slope of the run's peak resident memory, intercept %.1f MB)\n",
                 is_adaptive ? "adaptive (rtol 3e-2)" : "explicit", exponent, lengths.size(), per_node, per_node / 2.0,
                 base / 1048576.0);
     (void)a;
@@ -255,7 +280,9 @@ void scaling() {
 
 int main() {
   if (const char* only = std::getenv("SLIPFRONT_BENCH_ONLY")) {
-    const double L = quick() ? 60.0 : 300.0, t_end = quick() ? 40.0 : 110.0;
+    const char* l = std::getenv("SLIPFRONT_BENCH_L");
+    const char* te = std::getenv("SLIPFRONT_BENCH_T_END");
+    const double L = l ? std::atof(l) : quick() ? 60.0 : 300.0, t_end = te ? std::atof(te) : quick() ? 40.0 : 110.0;
     compare::Scene s = inplane(L, t_end);
     if (only[0] == 'x') {
       s.time.cfl = std::atof(only + 1);

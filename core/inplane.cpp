@@ -95,6 +95,11 @@ struct InPlane::Fast {
   double c = 0.0;
   std::vector<double> d;                        // the interface coefficient per site
   std::vector<double> rhs;                      // a copy of the right-hand side (rhs and x may alias)
+  Eigen::VectorXd guess;                        // krylov's initial guess (kept for the BiCGSTAB fallback)
+  // The end columns' u_y in the preconditioner: their diagonal (the implicit step), or (the adaptive stage solves,
+  // docs/numerics.md §8.9) each column's u_y–u_y block, tridiagonal in y, solved exactly (Thomas; end_work: its sweep).
+  bool end_columns_tridiagonal = false;
+  std::vector<double> end_work;
 
   explicit Fast(const InPlane& b) : nx(b.sites()), rows(b.rows()), N(nx - 1), ns(nx - 2) {
     bx = static_cast<double*>(fftw_malloc(rows * nx * sizeof(double)));
@@ -579,7 +584,31 @@ const double* InPlane::apply_preconditioner(const double* r) const {
       z[q] = j == 0 ? r[q] : r[q] / (node_mass(i, j) / f.c + f.c * f.kdiag[q]);
     }
   }
+  if (f.end_columns_tridiagonal) end_columns_exact(r, z);
   return z;
+}
+
+// The end columns' u_y (rows j ≥ 1; row 0 held) by their own block of A(c, ·): M/c + c K restricted to the column,
+// tridiagonal in y (the one element beside the column couples (i, j) to (i, j + 1): K_e's u_y entries of its nodes on
+// that side), solved exactly by the Thomas algorithm. Replaces their diagonal in z.
+void InPlane::end_columns_exact(const double* r, double* z) const {
+  Fast& f = *fast_;
+  const std::size_t nx = nx_, R = f.rows, P = plane(), N = f.N;
+  f.end_work.resize(R);
+  double* cp = f.end_work.data();
+  for (const std::size_t i : {std::size_t{0}, N}) {
+    const double off = f.c * (i == 0 ? ke_[4 * 8 + 6] : ke_[5 * 8 + 7]);  // K(u_y(i, j), u_y(i, j + 1))
+    double prev = 0.0, cprev = 0.0;
+    for (std::size_t j = 1; j < R; ++j) {  // forward sweep
+      const std::size_t q = P + j * nx + i;
+      const double diag = node_mass(i, j) / f.c + f.c * f.kdiag[q] - (j > 1 ? off * cprev : 0.0);
+      cprev = off / diag;
+      cp[j] = cprev;
+      prev = (r[q] - (j > 1 ? off * prev : 0.0)) / diag;
+      z[q] = prev;
+    }
+    for (std::size_t j = R - 1; j-- > 1;) z[P + j * nx + i] -= cp[j] * z[P + (j + 1) * nx + i];  // back substitution
+  }
 }
 
 void InPlane::apply_system(const double* x, double* y) const {
@@ -624,6 +653,7 @@ void InPlane::solve_system(double c, std::span<const double> d, std::span<const 
   const double dbar = std::max(mean / static_cast<double>(nx), 0.0);
   if (c != f.fact_c || dbar != f.fact_d) factorise_modes(c, dbar);
   f.c = c;
+  f.end_columns_tridiagonal = false;
   bool fell_back = false;
   last_iterations_ = krylov(x, 1e-12, fell_back);
 }
@@ -639,8 +669,8 @@ int InPlane::krylov(std::span<double> x, double tol, bool& fell_back) {
   const Eigen::Map<const Eigen::VectorXd> b(f.rhs.data(), static_cast<Eigen::Index>(n));
   Eigen::Map<Eigen::VectorXd> w(x.data(), static_cast<Eigen::Index>(n));
   for (std::size_t i = 0; i < nx_; ++i) x[plane() + i] = 0.0;  // the held dofs' guess
-  const Eigen::VectorXd guess = w;
-  w = cg.solveWithGuess(b, guess);
+  f.guess = w;
+  w = cg.solveWithGuess(b, f.guess);
   int iterations = static_cast<int>(cg.iterations());
   fell_back = false;
   if (cg.info() == Eigen::Success && std::isfinite(cg.error())) return iterations;
@@ -649,7 +679,7 @@ int InPlane::krylov(std::span<double> x, double tol, bool& fell_back) {
   bicg.setTolerance(tol);
   bicg.setMaxIterations(500);
   bicg.compute(A);
-  w = bicg.solveWithGuess(b, guess);
+  w = bicg.solveWithGuess(b, f.guess);
   iterations += static_cast<int>(bicg.iterations());
   fell_back = true;
   if (bicg.info() != Eigen::Success || !std::isfinite(bicg.error()))
@@ -731,6 +761,7 @@ void InPlane::solve_stage_system() {
   const double dbar = std::max(mean / static_cast<double>(nx), 0.0);
   if (stage_.c != f.fact_c || dbar != f.fact_d) factorise_modes(stage_.c, dbar);
   f.c = stage_.c;
+  f.end_columns_tridiagonal = true;
   // the held dofs are identity rows: their x is their right-hand side (krylov sets their guess to 0)
   bool fell_back = false;
   stage_.iterations += krylov(stage_.x, stage_.tolerance, fell_back);

@@ -346,28 +346,19 @@ void InPlane::stresses(std::span<const double> u, std::size_t i, std::size_t j, 
 void InPlane::kick(double dt, double eta, double edge_force, std::span<const double> u,
                    std::span<const double> sigma_bar, std::span<const double> v_old, std::span<double> v_new) const {
   elastic_forces(u, force_);
-  const std::size_t nx = nx_, ny = ny_, P = plane();
-  const double edge_per_height = edge_force / H_;
-  for (std::size_t j = 0; j <= ny; ++j)
-    for (std::size_t i = 0; i < nx; ++i) {
-      const std::size_t k = j * nx + i;
-      const double wx = interface_weight(i), m = node_mass(i, j);
-      double fx = force_[k], fy = force_[P + k] + end_load_y(i, j);
-      if (i == 0) fx += edge_per_height * row_weight(j);
-      if (j == ny) {
-        fx += wx * sigma_d_;
-        fy -= wx * p_;
-      }
-      if (j == 0) {
-        // σ_xy = σ̄ + η v with η v centred: m (v⁺ − v⁻)/dt = f − wx (σ̄ + η (v⁺ + v⁻)/2); u_y held at 0.
-        const double damp = 0.5 * wx * eta * dt;
-        v_new[k] = (v_old[k] * (m - damp) + dt * (fx - wx * sigma_bar[i])) / (m + damp);
-        v_new[P + k] = 0.0;
-      } else {
-        v_new[k] = v_old[k] + dt * fx / m;
-        v_new[P + k] = v_old[P + k] + dt * fy / m;
-      }
+  const std::size_t P = plane();
+  node_forces(edge_force, [&](std::size_t k, std::size_t i, std::size_t j, double fx, double fy) {
+    const double wx = interface_weight(i), m = node_mass(i, j);
+    if (j == 0) {
+      // σ_xy = σ̄ + η v with η v centred: m (v⁺ − v⁻)/dt = f − wx (σ̄ + η (v⁺ + v⁻)/2); u_y held at 0.
+      const double damp = 0.5 * wx * eta * dt;
+      v_new[k] = (v_old[k] * (m - damp) + dt * (fx - wx * sigma_bar[i])) / (m + damp);
+      v_new[P + k] = 0.0;
+    } else {
+      v_new[k] = v_old[k] + dt * fx / m;
+      v_new[P + k] = v_old[P + k] + dt * fy / m;
     }
+  });
 }
 
 void InPlane::rhs_step(std::span<const double> c0, double t, double dt, std::span<const double> u,
@@ -694,7 +685,7 @@ int InPlane::krylov(std::span<double> x, double tol, bool& fell_back) {
 
 void InPlane::stage_accelerations(double t, std::span<const double> u, const double* v, const double* sigma_bar,
                                   double eta, std::span<double> a) {
-  const std::size_t nx = nx_, ny = ny_, P = plane();
+  const std::size_t nx = nx_, P = plane();
   // u_y of row 0 is held (0 in every run): a value there enters no force, so that J's column of it is 0 as the
   // stage solve's identity row has it.
   std::span<const double> uf = u;
@@ -705,25 +696,16 @@ void InPlane::stage_accelerations(double t, std::span<const double> u, const dou
     uf = stage_.u_free;
   }
   elastic_forces(uf, force_);
-  const double edge_per_height = drive_force(t, uf) / H_;
-  for (std::size_t j = 0; j <= ny; ++j)
-    for (std::size_t i = 0; i < nx; ++i) {
-      const std::size_t k = j * nx + i;
-      const double wx = interface_weight(i), inv_m = 1.0 / node_mass(i, j);
-      double fx = force_[k], fy = force_[P + k] + end_load_y(i, j);
-      if (i == 0) fx += edge_per_height * row_weight(j);
-      if (j == ny) {
-        fx += wx * sigma_d_;
-        fy -= wx * p_;
-      }
-      if (j == 0) {
-        a[k] = (fx - wx * (sigma_bar[i] + eta * v[i])) * inv_m;
-        a[P + k] = 0.0;
-      } else {
-        a[k] = fx * inv_m;
-        a[P + k] = fy * inv_m;
-      }
+  node_forces(drive_force(t, uf), [&](std::size_t k, std::size_t i, std::size_t j, double fx, double fy) {
+    const double inv_m = 1.0 / node_mass(i, j);
+    if (j == 0) {
+      a[k] = (fx - interface_weight(i) * (sigma_bar[i] + eta * v[i])) * inv_m;
+      a[P + k] = 0.0;
+    } else {
+      a[k] = fx * inv_m;
+      a[P + k] = fy * inv_m;
     }
+  });
 }
 
 void InPlane::set_stage_tolerance(double rtol) { stage_.tolerance = std::clamp(kStageSolveTolerance * rtol, 1e-13, 1e-3); }

@@ -293,6 +293,25 @@ class InPlane {
                 std::span<const double> sigma_bar, double* rhs) const;
   void solve_direct(double c, std::span<const double> d, const double* rhs, std::span<double> W);
   void factorise_modes(double c, double dbar) const;
+  // Calls f(k, i, j, fx, fy) for every node k = (i, j), rows in order: force_ (−K u, the caller's) with the edge force
+  // F wy(j)/H on column 0's u_x, the top's tractions and the end faces' shear; the interface traction is the caller's.
+  template <class F>
+  void node_forces(double edge_force, F&& f) const {
+    const std::size_t nx = nx_, ny = ny_, P = plane();
+    const double edge_per_height = edge_force / H_;
+    for (std::size_t j = 0; j <= ny; ++j)
+      for (std::size_t i = 0; i < nx; ++i) {
+        const std::size_t k = j * nx + i;
+        const double wx = interface_weight(i);
+        double fx = force_[k], fy = force_[P + k] + end_load_y(i, j);
+        if (i == 0) fx += edge_per_height * row_weight(j);
+        if (j == ny) {
+          fx += wx * sigma_d_;
+          fy -= wx * p_;
+        }
+        f(k, i, j, fx, fy);
+      }
+  }
   // The preconditioned Krylov solve of A(c, d) x = rhs (f.rhs, f.c, f.d set; x on entry the guess) to relative
   // residual tol: CG, and BiCGSTAB from the same guess when the CG fails. Returns the iterations.
   int krylov(std::span<double> x, double tol, bool& fell_back);

@@ -64,7 +64,7 @@ decltype(auto) with_integrator_on(const Scene& s, F&& f) {
   switch (s.time.integrator) {
     case core::Integrator::implicit_trapezoidal: return f(ImplicitTag<B>{});
     case core::Integrator::adaptive_rosenbrock:
-      // a body without the adaptive integrator's members (core::InPlane) is refused by Scene::validate
+      // every body of core::with_body has the adaptive integrator's members; a test body may not
       if constexpr (core::AdaptiveBody<B>) return f(AdaptiveTag<B>{});
       else throw core::ParamError("time.integrator", "the adaptive integrator needs the body's stage solve (core::AdaptiveBody)");
     case core::Integrator::central_difference: break;

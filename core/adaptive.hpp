@@ -415,7 +415,7 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
   // and completed here (A and σ̄ by the site elimination, around the body's solve); the body's stage_solve takes
   // the rest of u and v from `in` (the strip fuses that arithmetic into its sweeps) and hdT over its loaded dofs.
   void solve(std::vector<double>& out, const std::vector<double>& b, const std::vector<double>* sub, bool add_back,
-             double hdT) {
+             double hdT, const double* guess_u = nullptr, const double* guess_sub_u = nullptr, double guess_scale = 1.0) {
     ++stats_.solves;
     const std::size_t n = this->n_, m = this->sites_;
     B& body = this->bulk_;
@@ -437,6 +437,9 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
       in.add_v = sb + n;
     }
     in.hdT = hdT;
+    in.guess_u = guess_u;
+    in.guess_sub_u = guess_sub_u;
+    in.guess_scale = guess_scale;
     const auto p_sigma = [&](std::size_t i) {
       const double pa = xa[i] * inv_a1_[i];
       const double ps = (xs[i] + c_alpha_v_[i] * pa) * inv_s1_[i];
@@ -477,15 +480,18 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
     // spreads it over the dofs it loads: the strip's edge column).
     const double hdT =
         b.has_drive_spring() ? kGamma * h * b.spring_K() * b.driver_velocity() / (b.rho() * b.interface_weight(0)) : 0.0;
-    solve(k1_, f0_, nullptr, false, hdT);  // k1 = W⁻¹ (f0 + h d ∂f/∂t)
+    // A body whose stage solve iterates starts from a guess of its x_u: k1 and k2 − k1 of the last accepted step,
+    // k3 ≈ 2 k2 − k1 of this one (the local error h/6 (k1 − 2 k2 + k3) is within the tolerance).
+    const bool guess = stats_.accepted > 0;
+    solve(k1_, f0_, nullptr, false, hdT, guess ? k1_prev_.data() : nullptr);  // k1 = W⁻¹ (f0 + h d ∂f/∂t)
     stage(0.5 * h, k1_, ynew_);
     rhs_stage(this->t_ + 0.5 * h, ynew_, f1_);
-    solve(k2_, f1_, &k1_, true, 0.0);  // k2 = W⁻¹ (f1 − k1) + k1
+    solve(k2_, f1_, &k1_, true, 0.0, guess ? k2_prev_.data() : nullptr, k1_prev_.data());  // k2 = W⁻¹ (f1 − k1) + k1
     stage(h, k2_, ynew_);
     rhs_stage(this->t_ + h, ynew_, f2_);
     for (std::size_t j = 0; j < m; ++j)
       k3_[j] = f2_[j] - detail::kE32 * (k2_[j] - f1_[j]) - 2.0 * (k1_[j] - f0_[j]);
-    solve(k3_, k3_, nullptr, false, hdT);  // k3 = W⁻¹ (f2 − e32 (k2 − f1) − 2 (k1 − f0) + h d ∂f/∂t)
+    solve(k3_, k3_, nullptr, false, hdT, k2_.data(), k1_.data(), 2.0);  // k3 = W⁻¹ (f2 − e32 (k2 − f1) − 2 (k1 − f0) + h d ∂f/∂t)
     return error_norm(h);
   }
 

@@ -127,6 +127,8 @@ namespace slipfront::core {
 /// it apart (the strip's rows j ≥ 1, fused into its sweeps): b_u = bu − sub_u, b_v = bv − sub_v + (the drive's
 /// ∂f/∂t, hdT at the edge site, spread over the body's loaded dofs); after the solve x_u += add_u, x_v += add_v
 /// (sub_*, add_* may be null). The sites' entries are the integrator's (it forms them before, adds back after).
+/// guess_scale · guess_u − guess_sub_u (guess_sub_u may be null; guess_u null: none): a guess of the solve's x_u over all
+/// dofs (before add_u), for a body whose stage solve iterates (the in-plane strip; docs/numerics.md §8.9).
 struct BulkStage {
   const double* bu;
   const double* bv;
@@ -135,6 +137,9 @@ struct BulkStage {
   const double* add_u = nullptr;
   const double* add_v = nullptr;
   double hdT = 0.0;
+  const double* guess_u = nullptr;
+  const double* guess_sub_u = nullptr;
+  double guess_scale = 1.0;
 };
 
 /// The local error of one block (u or v) of a Rosenbrock step, as the `field` norm weighs it: scale = the largest

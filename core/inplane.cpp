@@ -95,6 +95,11 @@ struct InPlane::Fast {
   double c = 0.0;
   std::vector<double> d;                        // the interface coefficient per site
   std::vector<double> rhs;                      // a copy of the right-hand side (rhs and x may alias)
+  Eigen::VectorXd guess;                        // krylov's initial guess (kept for the BiCGSTAB fallback)
+  // The end columns' u_y in the preconditioner: their diagonal (the implicit step), or (the adaptive stage solves,
+  // docs/numerics.md §8.9) each column's u_y–u_y block, tridiagonal in y, solved exactly (Thomas; end_work: its sweep).
+  bool end_columns_tridiagonal = false;
+  std::vector<double> end_work;
 
   explicit Fast(const InPlane& b) : nx(b.sites()), rows(b.rows()), N(nx - 1), ns(nx - 2) {
     bx = static_cast<double*>(fftw_malloc(rows * nx * sizeof(double)));
@@ -212,7 +217,7 @@ InPlane::InPlane(const InPlane& o)
     : x_(o.x_), nx_(o.nx_), ny_(o.ny_), dx_(o.dx_), dy_(o.dy_), H_(o.H_), rho_(o.rho_), mu_(o.mu_), nu_(o.nu_),
       p_(o.p_), rho_p_(o.rho_p_), mu_p_(o.mu_p_), lambda_p_(o.lambda_p_), sigma_d_(o.sigma_d_),
       spring_K_(o.spring_K_), v_d_(o.v_d_), rear_traction_(o.rear_traction_), stable_dt_(o.stable_dt_), ke_(o.ke_),
-      force_(o.force_), rhs_(o.rhs_), dstep_(o.dstep_), step_solver_(o.step_solver_) {}  // the factorisations are made again on first use
+      force_(o.force_), rhs_(o.rhs_), dstep_(o.dstep_), step_solver_(o.step_solver_), stage_(o.stage_) {}  // the factorisations are made again on first use
 InPlane::InPlane(InPlane&& o) noexcept = default;
 InPlane& InPlane::operator=(const InPlane& o) {
   if (this != &o) {
@@ -341,28 +346,19 @@ void InPlane::stresses(std::span<const double> u, std::size_t i, std::size_t j, 
 void InPlane::kick(double dt, double eta, double edge_force, std::span<const double> u,
                    std::span<const double> sigma_bar, std::span<const double> v_old, std::span<double> v_new) const {
   elastic_forces(u, force_);
-  const std::size_t nx = nx_, ny = ny_, P = plane();
-  const double edge_per_height = edge_force / H_;
-  for (std::size_t j = 0; j <= ny; ++j)
-    for (std::size_t i = 0; i < nx; ++i) {
-      const std::size_t k = j * nx + i;
-      const double wx = interface_weight(i), m = node_mass(i, j);
-      double fx = force_[k], fy = force_[P + k] + end_load_y(i, j);
-      if (i == 0) fx += edge_per_height * row_weight(j);
-      if (j == ny) {
-        fx += wx * sigma_d_;
-        fy -= wx * p_;
-      }
-      if (j == 0) {
-        // σ_xy = σ̄ + η v with η v centred: m (v⁺ − v⁻)/dt = f − wx (σ̄ + η (v⁺ + v⁻)/2); u_y held at 0.
-        const double damp = 0.5 * wx * eta * dt;
-        v_new[k] = (v_old[k] * (m - damp) + dt * (fx - wx * sigma_bar[i])) / (m + damp);
-        v_new[P + k] = 0.0;
-      } else {
-        v_new[k] = v_old[k] + dt * fx / m;
-        v_new[P + k] = v_old[P + k] + dt * fy / m;
-      }
+  const std::size_t P = plane();
+  node_forces(edge_force, [&](std::size_t k, std::size_t i, std::size_t j, double fx, double fy) {
+    const double wx = interface_weight(i), m = node_mass(i, j);
+    if (j == 0) {
+      // σ_xy = σ̄ + η v with η v centred: m (v⁺ − v⁻)/dt = f − wx (σ̄ + η (v⁺ + v⁻)/2); u_y held at 0.
+      const double damp = 0.5 * wx * eta * dt;
+      v_new[k] = (v_old[k] * (m - damp) + dt * (fx - wx * sigma_bar[i])) / (m + damp);
+      v_new[P + k] = 0.0;
+    } else {
+      v_new[k] = v_old[k] + dt * fx / m;
+      v_new[P + k] = v_old[P + k] + dt * fy / m;
     }
+  });
 }
 
 void InPlane::rhs_step(std::span<const double> c0, double t, double dt, std::span<const double> u,
@@ -579,7 +575,31 @@ const double* InPlane::apply_preconditioner(const double* r) const {
       z[q] = j == 0 ? r[q] : r[q] / (node_mass(i, j) / f.c + f.c * f.kdiag[q]);
     }
   }
+  if (f.end_columns_tridiagonal) end_columns_exact(r, z);
   return z;
+}
+
+// The end columns' u_y (rows j ≥ 1; row 0 held) by their own block of A(c, ·): M/c + c K restricted to the column,
+// tridiagonal in y (the one element beside the column couples (i, j) to (i, j + 1): K_e's u_y entries of its nodes on
+// that side), solved exactly by the Thomas algorithm. Replaces their diagonal in z.
+void InPlane::end_columns_exact(const double* r, double* z) const {
+  Fast& f = *fast_;
+  const std::size_t nx = nx_, R = f.rows, P = plane(), N = f.N;
+  f.end_work.resize(R);
+  double* cp = f.end_work.data();
+  for (const std::size_t i : {std::size_t{0}, N}) {
+    const double off = f.c * (i == 0 ? ke_[4 * 8 + 6] : ke_[5 * 8 + 7]);  // K(u_y(i, j), u_y(i, j + 1))
+    double prev = 0.0, cprev = 0.0;
+    for (std::size_t j = 1; j < R; ++j) {  // forward sweep
+      const std::size_t q = P + j * nx + i;
+      const double diag = node_mass(i, j) / f.c + f.c * f.kdiag[q] - (j > 1 ? off * cprev : 0.0);
+      cprev = off / diag;
+      cp[j] = cprev;
+      prev = (r[q] - (j > 1 ? off * prev : 0.0)) / diag;
+      z[q] = prev;
+    }
+    for (std::size_t j = R - 1; j-- > 1;) z[P + j * nx + i] -= cp[j] * z[P + (j + 1) * nx + i];  // back substitution
+  }
 }
 
 void InPlane::apply_system(const double* x, double* y) const {
@@ -609,7 +629,7 @@ void InPlane::apply_system(const double* x, double* y) const {
 }
 
 void InPlane::solve_system(double c, std::span<const double> d, std::span<const double> rhs, std::span<double> x) {
-  const std::size_t nx = nx_, n = dofs();
+  const std::size_t nx = nx_;
   if (nx < 3) {  // no interior column: no sine modes
     const std::vector<double> r(rhs.begin(), rhs.end());
     solve_direct(c, d, r.data(), x);
@@ -624,19 +644,134 @@ void InPlane::solve_system(double c, std::span<const double> d, std::span<const 
   const double dbar = std::max(mean / static_cast<double>(nx), 0.0);
   if (c != f.fact_c || dbar != f.fact_d) factorise_modes(c, dbar);
   f.c = c;
+  f.end_columns_tridiagonal = false;
+  bool fell_back = false;
+  last_iterations_ = krylov(x, 1e-12, fell_back);
+}
+
+int InPlane::krylov(std::span<double> x, double tol, bool& fell_back) {
+  Fast& f = *fast_;
+  const std::size_t n = dofs();
   const MatrixFree<const InPlane> A(*this, n);
   Eigen::ConjugateGradient<MatrixFree<const InPlane>, Eigen::Lower | Eigen::Upper, MatrixFreePreconditioner<const InPlane>> cg;
-  cg.setTolerance(1e-12);
+  cg.setTolerance(tol);
   cg.setMaxIterations(500);
   cg.compute(A);
   const Eigen::Map<const Eigen::VectorXd> b(f.rhs.data(), static_cast<Eigen::Index>(n));
   Eigen::Map<Eigen::VectorXd> w(x.data(), static_cast<Eigen::Index>(n));
-  for (std::size_t i = 0; i < nx; ++i) x[plane() + i] = 0.0;  // the held dofs' guess
-  w = cg.solveWithGuess(b, w);
-  last_iterations_ = static_cast<int>(cg.iterations());
-  if (cg.info() != Eigen::Success || !std::isfinite(cg.error()))
-    throw std::runtime_error("InPlane: the conjugate gradient did not converge: " + std::to_string(cg.iterations()) +
-                             " iterations, relative residual " + std::to_string(cg.error()));
+  for (std::size_t i = 0; i < nx_; ++i) x[plane() + i] = 0.0;  // the held dofs' guess
+  f.guess = w;
+  w = cg.solveWithGuess(b, f.guess);
+  int iterations = static_cast<int>(cg.iterations());
+  fell_back = false;
+  if (cg.info() == Eigen::Success && std::isfinite(cg.error())) return iterations;
+  // Indefinite (weakening sites, d < 0, at a large step): BiCGSTAB with the same preconditioner, from the same guess.
+  Eigen::BiCGSTAB<MatrixFree<const InPlane>, MatrixFreePreconditioner<const InPlane>> bicg;
+  bicg.setTolerance(tol);
+  bicg.setMaxIterations(500);
+  bicg.compute(A);
+  w = bicg.solveWithGuess(b, f.guess);
+  iterations += static_cast<int>(bicg.iterations());
+  fell_back = true;
+  if (bicg.info() != Eigen::Success || !std::isfinite(bicg.error()))
+    throw std::runtime_error("InPlane: the conjugate gradient did not converge (relative residual " +
+                             std::to_string(cg.error()) + "), nor BiCGSTAB after it: " +
+                             std::to_string(bicg.iterations()) + " iterations, relative residual " +
+                             std::to_string(bicg.error()));
+  return iterations;
+}
+
+// --- The adaptive integrator's body (core::AdaptiveBody; docs/numerics.md §8.9) -----------------------------------
+
+void InPlane::stage_accelerations(double t, std::span<const double> u, const double* v, const double* sigma_bar,
+                                  double eta, std::span<double> a) {
+  const std::size_t nx = nx_, P = plane();
+  // u_y of row 0 is held (0 in every run): a value there enters no force, so that J's column of it is 0 as the
+  // stage solve's identity row has it.
+  std::span<const double> uf = u;
+  if (std::any_of(u.begin() + static_cast<std::ptrdiff_t>(P), u.begin() + static_cast<std::ptrdiff_t>(P + nx),
+                  [](double z) { return z != 0.0; })) {
+    stage_.u_free.assign(u.begin(), u.end());
+    std::fill_n(stage_.u_free.begin() + static_cast<std::ptrdiff_t>(P), nx, 0.0);
+    uf = stage_.u_free;
+  }
+  elastic_forces(uf, force_);
+  node_forces(drive_force(t, uf), [&](std::size_t k, std::size_t i, std::size_t j, double fx, double fy) {
+    const double inv_m = 1.0 / node_mass(i, j);
+    if (j == 0) {
+      a[k] = (fx - interface_weight(i) * (sigma_bar[i] + eta * v[i])) * inv_m;
+      a[P + k] = 0.0;
+    } else {
+      a[k] = fx * inv_m;
+      a[P + k] = fy * inv_m;
+    }
+  });
+}
+
+void InPlane::set_stage_tolerance(double rtol) { stage_.tolerance = std::clamp(kStageSolveTolerance * rtol, 1e-13, 1e-3); }
+
+// The right-hand side of every dof beyond the sites: b_u = bu − sub_u, b_v = bv − sub_v (+ hdT on the edge column's
+// u_x: the spring's ∂f/∂t, K v_d/(ρ wx(0)) on every node of it, as on the site), r = M (b_v + b_u/c); the held dofs
+// r = b_u + c b_v (identity rows). The guess b_u + c b_v.
+void InPlane::stage_bulk_rhs(const BulkStage& in) {
+  const std::size_t nx = nx_, n = dofs(), P = plane();
+  const double c = stage_.c, inv_c = 1.0 / c, hdT = has_drive_spring() ? in.hdT : 0.0;
+  double *r = stage_.r.data(), *bu = stage_.bu.data(), *x = stage_.x.data();
+  for (std::size_t k = nx; k < n; ++k) {
+    const double u = in.sub_u != nullptr ? in.bu[k] - in.sub_u[k] : in.bu[k];
+    double v = in.sub_v != nullptr ? in.bv[k] - in.sub_v[k] : in.bv[k];
+    const std::size_t node = k < P ? k : k - P;
+    if (k < P && node % nx == 0) v += hdT;
+    bu[k] = u;
+    x[k] = u + c * v;
+    r[k] = (k >= P && node < nx) ? x[k] : node_mass(node % nx, node / nx) * (v + inv_c * u);
+  }
+}
+
+void InPlane::solve_stage_system() {
+  const std::size_t nx = nx_;
+  if (nx < 3) {  // no interior column: the direct solve (as solve_system)
+    solve_direct(stage_.c, stage_.d, stage_.r.data(), stage_.x);
+    return;
+  }
+  if (!fast_) fast_ = std::make_unique<Fast>(*this);
+  Fast& f = *fast_;
+  f.d.assign(stage_.d.begin(), stage_.d.end());
+  f.rhs.assign(stage_.r.begin(), stage_.r.end());
+  double mean = 0.0;
+  for (double v : f.d) mean += v;
+  const double dbar = std::max(mean / static_cast<double>(nx), 0.0);
+  if (stage_.c != f.fact_c || dbar != f.fact_d) factorise_modes(stage_.c, dbar);
+  f.c = stage_.c;
+  f.end_columns_tridiagonal = true;
+  // the held dofs are identity rows: their x is their right-hand side (krylov sets their guess to 0)
+  bool fell_back = false;
+  stage_.iterations += krylov(stage_.x, stage_.tolerance, fell_back);
+  if (fell_back) ++stage_.fallbacks;
+}
+
+// After the solve, every dof beyond the sites: x_u ← x + add_u, x_v ← (x − b_u)/c + add_v.
+void InPlane::stage_bulk_finish(const BulkStage& in, double* xu, double* xv) const {
+  const std::size_t nx = nx_, n = dofs();
+  const double inv_c = 1.0 / stage_.c;
+  const double *x = stage_.x.data(), *bu = stage_.bu.data();
+  for (std::size_t k = nx; k < n; ++k) {
+    xu[k] = in.add_u != nullptr ? x[k] + in.add_u[k] : x[k];
+    const double v = (x[k] - bu[k]) * inv_c;
+    xv[k] = in.add_v != nullptr ? v + in.add_v[k] : v;
+  }
+}
+
+StageError InPlane::stage_error(const double* y, const double* yn, const double* k1, const double* k2,
+                                const double* k3) const {
+  StageError r;
+  for (std::size_t j = 0, n = dofs(); j < n; ++j) {
+    r.scale = std::max(r.scale, std::max(std::abs(y[j]), std::abs(yn[j])));
+    const double e = std::abs(k1[j] - 2.0 * k2[j] + k3[j]);
+    r.emax = std::max(r.emax, e);
+    r.probe += e + yn[j];
+  }
+  return r;
 }
 
 }  // namespace slipfront::core

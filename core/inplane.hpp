@@ -18,10 +18,12 @@
 // +wx(i) σ_top (σ_top = σ_d under homogeneous loading, else 0), u_y −wx(i) p (the normal load); edge column u_x
 // +F(t) wy(j)/H, F = K (v_d t − ū0) + F_r, ū0 = Σ_j wy(j) u_x(0, j)/H (as core::Strip).
 //
-// Not here yet: the adaptive integrator's members (core::AdaptiveBody; time.integrator = "adaptive" is refused on it).
+// The adaptive integrator's body (core::AdaptiveBody, docs/numerics.md §8.9): the stage representation is the node
+// values; the W solve's u system is the implicit step's matrix A(γh, η + q_σ), solved by the same preconditioned CG.
 //
 // Thread safety: an InPlane holds mutable workspace (the force buffer, the factorisation), so one object serves
 // one thread at a time; copies are independent.
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <memory>
@@ -214,9 +216,75 @@ class InPlane {
   /// guess; rhs and x may alias); throws std::runtime_error when it does not converge.
   void solve_system(double c, std::span<const double> d, std::span<const double> rhs, std::span<double> x);
 
-  // Internal to the CG (inplane_solve.cpp): y = A x of the current step, z = P⁻¹ r (held dofs: identity).
+  // Internal to the CG (inplane.cpp): y = A x of the current step, z = P⁻¹ r (held dofs: identity).
   void apply_system(const double* x, double* y) const;
   const double* apply_preconditioner(const double* r) const;
+
+  // --- The adaptive integrator's body (core::AdaptiveBody, core/body.hpp; docs/numerics.md §8.9) -----------------
+  // The stage representation is the node values (both components, the dof layout above: the interface slips first).
+  // v' of every dof is the explicit scheme's force over the lumped mass with σ̄ + η v on the interface (u_y of row 0
+  // held: its v' is 0 and its u enters no force). The W solve leaves for x_u (docs/numerics.md §8.5, §8.9)
+  //   A(c, d) x_u = M b_v + (M/c) b_u + E wx (d b_u0 − c p_σ),   d = η + q_σ,   then x_v = (x_u − b_u)/c,
+  // the held dofs x_u = b_u + c b_v, solved by solve_system's preconditioned CG (BiCGSTAB when the CG fails: A
+  // indefinite) to a relative residual of kStageSolveTolerance · rtol, from the integrator's guess (BulkStage: the
+  // last accepted step's same stage, k1 and k2) or else the x_u of W = I, b_u + c b_v.
+  std::size_t components() const { return 2; }
+  static constexpr bool stage_is_nodes = true;
+  const char* stage_archive_tag() const { return "adaptive_inplane"; }
+  void to_stage(std::span<const double> u, std::span<double> z) const {
+    if (z.data() != u.data()) std::copy_n(u.data(), u.size(), z.data());
+  }
+  void from_stage(std::span<const double> z, std::span<double> u) const { to_stage(z, u); }
+  double stage_value(const double* z, std::size_t i) const { return z[i]; }
+  double stage_drive_force(double t, std::span<const double> u) const { return drive_force(t, u); }
+  /// a = M⁻¹ (−K u + F(t) b + top and end loads − E wx (σ̄ + η v)) on every dof, 0 on the held u_y of row 0.
+  void stage_accelerations(double t, std::span<const double> u, const double* v, const double* sigma_bar, double eta,
+                           std::span<double> a);
+  /// The stage solves' CG stops at a relative residual of 1e-3 rtol (floor 1e-13; docs/numerics.md §8.9).
+  static constexpr double kStageSolveTolerance = 1e-3;
+  void set_stage_tolerance(double rtol);
+  template <class SiteQ>
+  void stage_factor(double c, double eta, SiteQ&& q_sigma) {
+    stage_.c = c;
+    stage_.d.resize(nx_);
+    for (std::size_t i = 0; i < nx_; ++i) stage_.d[i] = eta + q_sigma(i);
+  }
+  /// The sites' right-hand side (with their p_σ, in order), the rest from `in` (stage_bulk_rhs), the solve, the
+  /// sites' x_v handed back in order, the rest completed (stage_bulk_finish).
+  template <class SiteP, class SiteBack>
+  void stage_solve(const BulkStage& in, SiteP&& p_sigma, SiteBack&& back, double* xu, double* xv) {
+    const std::size_t m = nx_;
+    const double c = stage_.c, inv_c = 1.0 / c;
+    stage_.r.resize(dofs());
+    stage_.bu.resize(dofs());
+    stage_.x.resize(dofs());
+    double *r = stage_.r.data(), *bu = stage_.bu.data(), *x = stage_.x.data();
+    const double* d = stage_.d.data();
+    for (std::size_t i = 0; i < m; ++i) {
+      const double ps = p_sigma(i);
+      r[i] = node_mass(i, 0) * (xv[i] + inv_c * xu[i]) + interface_weight(i) * (d[i] * xu[i] - c * ps);
+      bu[i] = xu[i];
+      x[i] = xu[i] + c * xv[i];  // the guess: x_u of W = I
+    }
+    stage_bulk_rhs(in);
+    if (in.guess_u != nullptr)
+      for (std::size_t k = 0, n = dofs(); k < n; ++k)
+        x[k] = in.guess_scale * in.guess_u[k] - (in.guess_sub_u ? in.guess_sub_u[k] : 0.0);
+    solve_stage_system();
+    for (std::size_t i = 0; i < m; ++i) {
+      xu[i] = x[i];
+      xv[i] = (x[i] - bu[i]) * inv_c;
+      back(i, xv[i]);
+    }
+    stage_bulk_finish(in, xu, xv);
+  }
+  /// 0: stage_error's scale is taken over every node value already.
+  double stage_scale(const double*) const { return 0.0; }
+  /// The field norm's parts over every dof (node values, both components).
+  StageError stage_error(const double* y, const double* yn, const double* k1, const double* k2, const double* k3) const;
+  /// Krylov iterations of every stage solve so far, and how many of them fell back to BiCGSTAB.
+  long long stage_iterations() const { return stage_.iterations; }
+  long long stage_fallbacks() const { return stage_.fallbacks; }
 
  private:
   struct Direct;  // the direct solve's factorisation (inplane.cpp)
@@ -225,6 +293,33 @@ class InPlane {
                 std::span<const double> sigma_bar, double* rhs) const;
   void solve_direct(double c, std::span<const double> d, const double* rhs, std::span<double> W);
   void factorise_modes(double c, double dbar) const;
+  // Calls f(k, i, j, fx, fy) for every node k = (i, j), rows in order: force_ (−K u, the caller's) with the edge force
+  // F wy(j)/H on column 0's u_x, the top's tractions and the end faces' shear; the interface traction is the caller's.
+  template <class F>
+  void node_forces(double edge_force, F&& f) const {
+    const std::size_t nx = nx_, ny = ny_, P = plane();
+    const double edge_per_height = edge_force / H_;
+    for (std::size_t j = 0; j <= ny; ++j)
+      for (std::size_t i = 0; i < nx; ++i) {
+        const std::size_t k = j * nx + i;
+        const double wx = interface_weight(i);
+        double fx = force_[k], fy = force_[P + k] + end_load_y(i, j);
+        if (i == 0) fx += edge_per_height * row_weight(j);
+        if (j == ny) {
+          fx += wx * sigma_d_;
+          fy -= wx * p_;
+        }
+        f(k, i, j, fx, fy);
+      }
+  }
+  // The preconditioned Krylov solve of A(c, d) x = rhs (f.rhs, f.c, f.d set; x on entry the guess) to relative
+  // residual tol: CG, and BiCGSTAB from the same guess when the CG fails. Returns the iterations.
+  int krylov(std::span<double> x, double tol, bool& fell_back);
+  // The adaptive stage solve's parts beyond the sites (docs/numerics.md §8.9).
+  void stage_bulk_rhs(const BulkStage& in);
+  void solve_stage_system();
+  void stage_bulk_finish(const BulkStage& in, double* xu, double* xv) const;
+  void end_columns_exact(const double* r, double* z) const;
 
   std::vector<double> x_;
   std::size_t nx_ = 0, ny_ = 0;
@@ -238,9 +333,15 @@ class InPlane {
   std::unique_ptr<Fast> fast_;
   StepSolver step_solver_ = StepSolver::cg;
   int last_iterations_ = 0;
+  struct AdaptiveStage {  // the adaptive stage solve: c, d, the right-hand side, b_u, the solution, the CG's tolerance
+    double c = 0.0, tolerance = 1e-12;
+    std::vector<double> d, r, bu, x, u_free;  // u_free: stage_accelerations' u with the held dofs zeroed
+    long long iterations = 0, fallbacks = 0;
+  } stage_;
 };
 
 static_assert(Body<InPlane>);
 static_assert(RunBody<InPlane>);
+static_assert(AdaptiveBody<InPlane>);
 
 }  // namespace slipfront::core

@@ -131,20 +131,21 @@ TEST_CASE("inplane scenes: bulk.body selects the in-plane strip, and its keys ar
                  "this scene's body is the antiplane strip");
   expect_refused({"bulk.poisson=0.3"}, "bulk.poisson", "this scene's body is the 1D chain");
   expect_refused({"drive.loading=spring_block", "bulk.body=inplane"}, "bulk.body", "has no body to choose");
-  expect_refused(with({"time.integrator=adaptive"}), "time.integrator", "does not run the in-plane strip");
+  CHECK_NOTHROW(parse(with({"time.integrator=adaptive"})).validate());  // refused before issue 38's adaptive body
   expect_refused(with({"drive.loading=homogeneous", "drive.sigma_d=0.5", "drive.start=steady_front"}), "drive.start",
                  "not for the in-plane strip");
   // too few rows: the antiplane strip's rule (docs/numerics.md §8.2) on the in-plane strip too
   expect_refused({"bulk.height=20", "grid.dy=10", "bulk.body=inplane", "bulk.length=60"}, "grid.dy", "too few rows");
 }
 
-TEST_CASE("inplane scenes: every law runs on the in-plane strip, explicit and implicit, alone and alongside",
+TEST_CASE("inplane scenes: every law runs on the in-plane strip, explicit, implicit and adaptive, alone and alongside",
           "[inplane][laws]") {
   // The real dispatch (compare::run_scene -> with_integrator -> core::with_body): the continuum, the discrete
   // count and agent representations and the mean-field law, each alone and with the continuum in lockstep. Each
   // must complete, yield (t* finite, the stuck phase's end) and write the interface normal stress; the laws that
   // share a limit agree on t* (N = 1000: the discrete models' t* within 2 % of the continuum's).
-  for (const auto integ : {core::Integrator::central_difference, core::Integrator::implicit_trapezoidal}) {
+  for (const auto integ : {core::Integrator::central_difference, core::Integrator::implicit_trapezoidal,
+                           core::Integrator::adaptive_rosenbrock}) {
     INFO(core::to_string(integ));
     compare::Scene base = small_inplane(integ);
     base.time.t_end = 30.0;  // past first yield (t* = 26.5)
@@ -221,12 +222,13 @@ TEST_CASE("inplane scenes: the discrete count law with w = 0 and noise off is th
   }
 }
 
-TEST_CASE("inplane scenes: a restarted in-plane run is the uninterrupted run bit for bit (explicit and implicit)",
+TEST_CASE("inplane scenes: a restarted in-plane run is the uninterrupted run bit for bit (explicit, implicit, adaptive)",
           "[inplane][checkpoint]") {
   // As tests/test_checkpoint.cpp on the chain and tests/test_strip_runs.cpp on the antiplane strip: the checkpoint
   // holds both components of every node (the energy budget, recorded here, reads all dofs), the law's state and
-  // the records.
-  for (const auto integ : {core::Integrator::central_difference, core::Integrator::implicit_trapezoidal}) {
+  // the records. Adaptive: the continuum on the Rosenbrock integrator (tag adaptive_inplane), the count on leap steps.
+  for (const auto integ : {core::Integrator::central_difference, core::Integrator::implicit_trapezoidal,
+                           core::Integrator::adaptive_rosenbrock}) {
     compare::Scene s = small_inplane(integ);
     s.time.t_end = 32.0;  // past first yield (t* = 26.5)
     s.models = {"continuum", "discrete"};

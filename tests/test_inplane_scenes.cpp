@@ -35,20 +35,8 @@ compare::Scene fig1_inplane(double H, double dy) {
 }
 
 /// A small in-plane strip: fig1 on L = 60, dx = 1, H = 4, dy = 1 (5 rows) to t = 60: first yield and the slow front
-/// (the same scene as tests/test_strip_runs.cpp's small_strip, on the in-plane body).
-compare::Scene small_inplane(core::Integrator integ) {
-  compare::Scene s = fig1_inplane(4.0, 1.0);
-  s.name = "small_inplane";
-  s.bulk.length = 60.0;
-  s.grid.dx = 1.0;
-  s.time.t_end = 60.0;
-  s.time.integrator = integ;
-  if (integ == core::Integrator::implicit_trapezoidal) s.time.dt = 0.01;
-  s.output.series_dt = 0.5;
-  s.output.snapshot_dt = 5.0;
-  s.output.compare_dt = 5.0;
-  return s;
-}
+/// (the same scene as tests/test_strip_runs.cpp's small_strip, on the in-plane body: testing::small_strip_scene).
+compare::Scene small_inplane(core::Integrator integ) { return testing::small_strip_scene(integ, "small_inplane", "inplane"); }
 
 const char* base_toml = R"(scene = "inplane_keys"
 models = ["continuum"]

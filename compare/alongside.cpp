@@ -5,6 +5,7 @@
 #include <limits>
 #include <map>
 #include <optional>
+#include <span>
 #include <stdexcept>
 
 #include "compare/contacts.hpp"
@@ -20,13 +21,16 @@ namespace {
 class FieldComparison {
  public:
   explicit FieldComparison(double every) : due_(every > 0 ? every : -1) {}
-  void observe(double t, const LockstepRun::Fields& a, const LockstepRun::Fields& b) {
-    if (!due_.due(t)) return;
+  /// Whether a comparison is due at t (then `record` it: the fields are read only when due).
+  bool due(double t) { return due_.due(t); }
+  void record(double t, const LockstepRun::Fields& a, const LockstepRun::Fields& b) {
     detail::push(c_, "t", t);
     detail::push(c_, "A_distance", relative_rms_distance(a.area, b.area));
     detail::push(c_, "sigma_bar_distance", relative_rms_distance(a.sigma_bar, b.sigma_bar));
     detail::push(c_, "v_distance", relative_rms_distance(a.slip_rate, b.slip_rate));
     detail::push(c_, "u_distance", relative_rms_distance(a.slip, b.slip));
+    if (!a.normal_stress.empty() && !b.normal_stress.empty())  // the in-plane strip's interface normal stress
+      detail::push(c_, "sigma_yy_distance", relative_rms_distance(a.normal_stress, b.normal_stress));
   }
   Columns take() { return std::move(c_); }
   template <class Ar>
@@ -40,7 +44,10 @@ class FieldComparison {
 };
 
 // The definitions of the field distances of a lockstep run against the reference model `r`.
-void define_fields(Comparison& c, const std::string& r) {
+void define_fields(Comparison& c, const std::string& r, const Scene& s) {
+  if (s.bulk.body() == core::BodyKind::inplane)
+    c.definitions["fields/sigma_yy_distance"] = "the same relative L2 distance for the interface normal stress "
+                                                "sigma_yy(x, 0) (the in-plane strip only; 0 where both vanish)";
   const std::pair<const char*, std::string> defs[] = {
       {"fields/A_distance", "||A_discrete - A_" + r + "||_2 / ||A_" + r + "||_2 over the nodes at time t"},
       {"fields/sigma_bar_distance", "the same relative L2 distance for sigma_bar"},
@@ -119,8 +126,8 @@ class Lockstep {
   }
   // the compared model against its reference, when both advanced to the same time (neither failed)
   void observe_fields() {
-    if (compared_ && reference_->time() == compared_->time())
-      fields_.observe(compared_->time(), reference_->fields(), compared_->fields());
+    if (compared_ && reference_->time() == compared_->time() && fields_.due(compared_->time()))
+      fields_.record(compared_->time(), reference_->fields(), compared_->fields());
   }
   const Scene& s_;
   std::vector<std::unique_ptr<LockstepRun>>& runs_;
@@ -241,6 +248,33 @@ void compare_contacts(const ModelResult& c, const ModelResult& d, Comparison& cm
 
 }  // namespace
 
+// The in-plane strip's interface normal stress σ_yy(x, 0, t) (docs/output.md): the histories of its extremes and its
+// snapshots, where both models wrote them (the other bodies have none: no metric).
+void compare_normal_stress(const ModelResult& c, const ModelResult& d, Comparison& cmp) {
+  const std::string& ref = c.model;
+  for (const char* col : {"min_sigma_yy", "max_sigma_yy"}) {
+    if (!c.series.count(col) || !d.series.count(col)) continue;
+    cmp.metrics[std::string(col) + "_history_distance"] = relative_rms_distance(c.series.at(col), d.series.at(col));
+    cmp.definitions[std::string(col) + "_history_distance"] =
+        std::string("relative RMS distance over the series times of ") + col + "(t): sqrt(sum (discrete - " + ref +
+        ")^2 / sum " + ref + "^2)";
+  }
+  const auto a = c.snapshots.find("sigma_yy"), b = d.snapshots.find("sigma_yy");
+  if (a == c.snapshots.end() || b == d.snapshots.end()) return;
+  // the snapshots of both at the same times (a run cut short has fewer: the common ones, its first rows)
+  const std::size_t rows = std::min(c.snapshot_t.size(), d.snapshot_t.size());
+  bool same_times = true;
+  for (std::size_t k = 0; k < rows; ++k) same_times = same_times && c.snapshot_t[k] == d.snapshot_t[k];
+  const std::size_t nx = c.x.size();
+  const std::size_t n = std::min({rows * nx, a->second.size(), b->second.size()});
+  cmp.metrics["sigma_yy_snapshot_distance"] =
+      same_times ? relative_rms_distance(std::span(a->second).first(n), std::span(b->second).first(n)) : nan;
+  cmp.definitions["sigma_yy_snapshot_distance"] =
+      "relative L2 distance of the interface normal stress over every node of the snapshots both models wrote: "
+      "sqrt(sum (sigma_yy_discrete - sigma_yy_" + ref + ")^2 / sum sigma_yy_" + ref +
+      "^2) (the in-plane strip; NaN if the snapshot times differ)";
+}
+
 Comparison compare_results(const Scene& s, const ModelResult& c, const ModelResult& d, const ModelResult* predictor) {
   Comparison cmp;
   cmp.reference = c.model;
@@ -265,6 +299,7 @@ Comparison compare_results(const Scene& s, const ModelResult& c, const ModelResu
         std::string("relative RMS distance over the series times of ") + col +
         "(t): sqrt(sum (discrete - " + ref + ")^2 / sum " + ref + "^2)";
   }
+  compare_normal_stress(c, d, cmp);
   if (c.series.count("tip_x") && d.series.count("tip_x")) {
     const auto& a = c.series.at("tip_x");
     const auto& b = d.series.at("tip_x");
@@ -343,7 +378,7 @@ SceneResult run_scene_with_references(const Scene& s, const std::map<std::string
     const ModelResult& disc = *std::find_if(out.models.begin(), out.models.end(),
                                             [](const ModelResult& r) { return r.model == "discrete"; });
     out.comparison = compare_results(s, ref, disc, &ref);
-    if (runs_in_lockstep(s)) define_fields(out.comparison, reference);  // as the lockstep run (no rows: compare_dt 0)
+    if (runs_in_lockstep(s)) define_fields(out.comparison, reference, s);  // as the lockstep run (no rows: compare_dt 0)
   }
   return out;
 }
@@ -390,7 +425,7 @@ SceneResult run_lockstep_runs(const Scene& s, std::vector<std::unique_ptr<Lockst
     const ModelResult& ref = done.at(std::string(all.reference()->kind().name));
     out.comparison = compare_results(s, ref, done.at(std::string(all.compared()->kind().name)), &ref);
     out.comparison.fields = all.take_fields();
-    define_fields(out.comparison, ref.model);
+    define_fields(out.comparison, ref.model, s);
   }
   for (const auto& m : s.models) out.models.push_back(std::move(done.at(m)));  // in the scene's order
   return out;

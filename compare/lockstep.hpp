@@ -28,6 +28,7 @@ class LockstepRun {
   /// The interface fields the online comparison reads.
   struct Fields {
     std::span<const double> area, sigma_bar, slip_rate, slip;
+    std::span<const double> normal_stress;  ///< σ_yy(x, 0) of a body that has one (the in-plane strip), else empty
   };
   virtual ~LockstepRun() = default;
   virtual const ModelKind& kind() const = 0;
@@ -60,7 +61,9 @@ class LockstepRunOf final : public LockstepRun {
   void close_after_arrest() override { run_.close_after_arrest(); }
   Fields fields() const override {
     const auto& sim = run_.sim();
-    return {sim.law().contact_area(), sim.law().sigma_bar(), sim.slip_rate(), sim.slip()};
+    const bool normal = interface_normal_stress(StepEndState<Stepper>{sim}, normal_);
+    return {sim.law().contact_area(), sim.law().sigma_bar(), sim.slip_rate(), sim.slip(),
+            normal ? std::span<const double>(normal_) : std::span<const double>()};
   }
   void serialize(core::Archive& ar) override { ar(run_); }
   ModelResult finish() override { return run_.finish(); }
@@ -68,6 +71,7 @@ class LockstepRunOf final : public LockstepRun {
  private:
   const ModelKind& kind_;
   DynamicRun<Law, Stepper> run_;
+  mutable std::vector<double> normal_;  // fields()' σ_yy, computed when asked (at the comparison's cadence)
 };
 
 /// The runs of a lockstep, in the order of the table, to the end (or a stop): a checkpoint of ctl.restart is resumed,

@@ -10,6 +10,9 @@ Writes PNGs (default: next to the results file) and prints the path of each one:
                                                                when the file has snapshots/age) with the
                                                                front tip, t*, t^
                                          <scene>_tip.png      tip trajectories and measured events
+                                         <scene>_sigma_yy.png the in-plane strip's interface normal
+                                                               stress: sigma_yy(x, 0) at the snapshots
+                                                               nearest the events, its space-time maps
   imposed-rate sweep                     <scene>_steady_friction.png   sigma(v), A(v) against closed forms
   imposed-rate history                   <scene>_history.png  sigma(t), A(t), v(t), zooms on the jumps
   spring block                           <scene>_stick_slip.png     F(t) with peaks and residuals
@@ -402,6 +405,61 @@ def plot_1d(res: Results, outdir, written, dpi):
         bottom = 0.022 * (text.count("\n") + 1) + 0.02  # keep the axes clear of the event table
         fig.get_layout_engine().set(rect=(0, bottom, 1, 1 - bottom))
     save(fig, outdir, f"{res.scene}_tip.png", written, dpi)
+    plot_normal_stress(res, outdir, written, dpi)
+
+
+def normal_stress_times(ts, ev, count=5):
+    """The snapshot indices the sigma_yy(x) panel draws: the snapshots nearest the events (t*, halfway to t^, t^,
+    the arrest) and the last one; evenly spaced ones when the run has none of those events."""
+    wanted = [ev.get("t_star"), None, ev.get("t_hat"), ev.get("t_arrest"), ts[-1]]
+    if finite(wanted[0]) and finite(wanted[2]):
+        wanted[1] = 0.5 * (wanted[0] + wanted[2])
+    wanted = [w for w in wanted if finite(w) and ts[0] <= w <= ts[-1]]
+    if len(wanted) < 2:
+        wanted = list(np.linspace(ts[0], ts[-1], count))
+    return sorted({int(np.argmin(np.abs(ts - w))) for w in wanted})
+
+
+def plot_normal_stress(res: Results, outdir, written, dpi):
+    """The in-plane strip's interface normal stress (docs/output.md snapshots/sigma_yy; the other bodies have none):
+    sigma_yy(x, 0) at the snapshots nearest the events, every model on one axis (solid: the first, dashed: the
+    others), and its space-time map per model on one symmetric colour scale."""
+    models = [m for m in res.models if dataset(res.group(m), "snapshots/sigma_yy") is not None]
+    if not models:
+        return
+    first = res.group(models[0])
+    x, ts = dataset(first, "x"), dataset(first, "snapshots/t")
+    fields = {m: dataset(res.group(m), "snapshots/sigma_yy") for m in models}
+    if x is None or ts is None or not len(ts) or any(f.shape != (len(ts), len(x)) for f in fields.values()):
+        return
+    # the colour scale at the 95th percentile of |sigma_yy|: the loaded corner's peak (not grid-converged) would
+    # otherwise leave the interface behind the fronts white
+    lim = float(np.nanpercentile(np.abs(np.concatenate([f.ravel() for f in fields.values()])), 95))
+    lim = lim if finite(lim) and lim > 0 else 1.0
+    fig, axes = plt.subplots(1, 1 + len(models), figsize=(7.5 + 6.0 * len(models), 5.5), squeeze=False,
+                             constrained_layout=True)
+    ax = axes[0, 0]
+    for c, k in enumerate(normal_stress_times(ts, events(first))):
+        for j, m in enumerate(models):
+            ax.plot(x, fields[m][k], color=f"C{c}", lw=1.2 if j == 0 else 0.9, ls="-" if j == 0 else "--",
+                    label=f"t = {ts[k]:.4g}" if j == 0 else None)
+    ax.axhline(0.0, color="0.5", lw=0.6)
+    ax.set_xlabel("x")
+    ax.set_ylabel("sigma_yy(x, 0)  (> 0: tension)")
+    ax.set_title("interface normal stress" + (f" ({models[0]} solid, {', '.join(models[1:])} dashed)"
+                                              if len(models) > 1 else f" ({models[0]})"), fontsize=10)
+    ax.legend(fontsize=8, loc="best")
+    for j, m in enumerate(models, start=1):
+        ax = axes[0, j]
+        pc = ax.pcolormesh(x, ts, fields[m], shading="nearest", cmap="RdBu_r", vmin=-lim, vmax=lim, rasterized=True)
+        fig.colorbar(pc, ax=ax, label=f"sigma_yy(x, 0) (clipped at +-{lim:.3g}: 95 % of |values|)", pad=0.01,
+                     extend="both")
+        mark_times(ax, events(res.group(m)), vertical=False)
+        ax.set_xlabel("x")
+        ax.set_ylabel("t")
+        ax.set_title(f"{m}: sigma_yy", fontsize=10)
+    fig.suptitle(res.title("interface normal stress sigma_yy(x, 0, t) (the in-plane strip)", fig), fontsize=11)
+    save(fig, outdir, f"{res.scene}_sigma_yy.png", written, dpi)
 
 
 def _wrap(s, width=150):

@@ -1024,38 +1024,62 @@ STRIP_EVENTS = (("t_star", "first yield t*"), ("t_hat", "instability t^"), ("c_s
 
 def strip_height_study(st, outdir):
     """fig1 on the strip against H/l_e: the five events of both models, the 1D chain as the H -> 0 line (dashed),
-    and their relative differences to it (log-log, with the 0.5 % tolerance and an H^2 guide)."""
+    and their relative differences to it (log-log, with the 0.5 % tolerance and an H^2 guide). A study with runs on
+    the in-plane strip (inplane_height) has its own table: its figure shows the three bodies, its rows its own check."""
     figs, rows = [], []
-    t = st.tables.get("strip_height", {})
-    if not t or not len(t.get("H", [])):
+    inplane = st.tables.get("inplane_height", {})
+    anti = st.tables.get("strip_height", {})
+    anti = anti if anti and len(anti.get("H", [])) else {}
+    if inplane and len(inplane.get("H", [])):  # the in-plane strip's runs (the study inplane_height): three bodies
+        events_vs_height(st, outdir, figs, [("in-plane", inplane, "-")] + ([("antiplane", anti, "--")] if anti else []),
+                         "§10.2", "fig1 on three bodies vs the height: the in-plane strip (solid), the antiplane strip "
+                         "(dashed), the 1D chain (dotted: the H -> 0 line)", "_events_vs_H_bodies.png")
+        rows += height_rows(st, inplane, "inplane_height", "in-plane strip")
+    if not anti:
         return figs, rows
-    H, x = t["H"], t["H_over_le"]
-    strip = H > 0
-    chain = np.where(H == 0)[0]
-    le = float(np.median(H[strip] / x[strip])) if strip.any() else math.nan
+    le = float(np.median(anti["H"][anti["H"] > 0] / anti["H_over_le"][anti["H"] > 0])) if (anti["H"] > 0).any() else math.nan
+    events_vs_height(st, outdir, figs, [("strip", anti, "-")], "§9.2",
+                     f"fig1 on the strip vs its height (l_e = sqrt(mu/alpha) = {le:.4g}; dashed: the 1D chain, the H -> 0 "
+                     "line)", "_events_vs_H.png")
+    rows += height_rows(st, anti, "strip_height", "strip")
+    return figs, rows
+
+
+def events_vs_height(st, outdir, figs, bodies, section, title, suffix):
+    """The five events of both models (open markers: discrete) against H/l_e for each (name, table, line style) of
+    `bodies`, the 1D chain's values as horizontal lines (dashed; dotted beside several bodies), and the first body's
+    relative differences to the chain in log-log with the 0.5 % line and an (H/l_e)^2/3 guide (docs/model.md
+    `section`)."""
+    t0 = bodies[0][1]
+    chain = np.where(t0["H"] == 0)[0]
+    several = len(bodies) > 1
     models = (("continuum", "C0", "o"), ("discrete", "C3", "s"))
     fig, axs = plt.subplots(2, 3, figsize=(15, 8.5), constrained_layout=True)
     for ax, (o, what) in zip(axs.flat, STRIP_EVENTS):
         for m, color, marker in models:
-            y = t.get(f"{o}_{m}")
-            if y is None:
-                continue
-            ok = strip & np.isfinite(y)
-            ax.plot(x[ok], y[ok], marker=marker, color=color, ls="-", lw=0.8, mfc="none" if m == "discrete" else color,
-                    label=m)
-            if len(chain) and math.isfinite(y[chain[0]]):
-                ax.axhline(y[chain[0]], color=color, ls="--", lw=1, label=f"1D chain ({m}): {y[chain[0]]:.4g}")
+            for name, t, ls in bodies:
+                y = t.get(f"{o}_{m}")
+                if y is None:
+                    continue
+                ok = (t["H"] > 0) & np.isfinite(y)
+                ax.plot(t["H_over_le"][ok], y[ok], marker=marker, color=color, ls=ls, lw=0.8,
+                        mfc="none" if m == "discrete" else color, label=f"{name} ({m})" if several else m)
+            y = t0.get(f"{o}_{m}")
+            if y is not None and len(chain) and math.isfinite(y[chain[0]]):
+                ax.axhline(y[chain[0]], color=color, ls=":" if several else "--", lw=1,
+                           label=f"1D chain ({m}): {y[chain[0]]:.4g}")
         ax.axvline(1.0, color="0.6", ls=":", lw=0.8)
         ax.set_xscale("log")
         ax.set_xlabel("H / l_e")
         ax.set_title(what, fontsize=9)
         if ax.get_legend_handles_labels()[0]:
-            ax.legend(fontsize=8)
+            ax.legend(fontsize=7 if several else 8)
     ax = axs.flat[5]
+    x, strip = t0["H_over_le"], t0["H"] > 0
     drawn = False
     for i, (o, what) in enumerate(STRIP_EVENTS):
         for m, _, marker in models:
-            r = t.get(f"{o}_{m}_rel_1d")
+            r = t0.get(f"{o}_{m}_rel_1d")
             if r is None:
                 continue
             ok = strip & np.isfinite(r) & (np.abs(r) > 0)
@@ -1066,18 +1090,28 @@ def strip_height_study(st, outdir):
                 drawn = True
     if drawn:
         xs = np.geomspace(max(np.nanmin(x[strip]), 1e-3), 1.0, 20)
-        ax.loglog(xs, xs ** 2 / 3, "k-", lw=0.8, alpha=0.5, label="(H/l_e)^2 / 3 (model.md §9.2)")
+        ax.loglog(xs, xs ** 2 / 3, "k-", lw=0.8, alpha=0.5, label=f"(H/l_e)^2 / 3 (model.md {section})")
         ax.axhline(0.005, color="k", ls="--", lw=0.8, label="0.5 %")
         ax.set_xlabel("H / l_e")
         ax.set_ylabel("|event / 1D event - 1|  (open, dotted: discrete)")
-        ax.set_title("relative difference to the 1D chain", fontsize=9)
+        ax.set_title(f"{bodies[0][0]}: relative difference to the 1D chain" if several else
+                     "relative difference to the 1D chain", fontsize=9)
         ax.legend(fontsize=8, ncol=2)
     else:
         plot.no_data(ax, "no 1D chain run: no relative differences")
-    fig.suptitle(st.title(f"fig1 on the strip vs its height (l_e = sqrt(mu/alpha) = {le:.4g}; "
-                          "dashed: the 1D chain, the H -> 0 line)"), fontsize=9)
-    save(fig, outdir, f"{st.stem}_events_vs_H.png", figs)
-    thin = st.scalars.get("strip_height_thin_H", math.nan)
+    fig.suptitle(st.title(title), fontsize=9)
+    save(fig, outdir, f"{st.stem}{suffix}", figs)
+
+
+def height_rows(st, t, prefix, body):
+    """The summary rows of one strip body's table of a strip_height study (`prefix`: strip_height for the antiplane
+    strip, inplane_height for the in-plane strip): the H -> 0 limit at the smallest height, the effect of the largest,
+    the dy checks."""
+    rows = []
+    H, x = t["H"], t["H_over_le"]
+    strip = H > 0
+    chain = np.where(H == 0)[0]
+    thin = st.scalars.get(f"{prefix}_thin_H", math.nan)
     if len(chain) and math.isfinite(thin):
         k = int(np.where(H == thin)[0][0])
         big = int(np.argmax(np.where(strip, H, -1)))
@@ -1086,23 +1120,23 @@ def strip_height_study(st, outdir):
             if c is None or d is None:
                 continue
             rc, rd = t[f"{o}_continuum_rel_1d"], t[f"{o}_discrete_rel_1d"]
-            order = st.fit_label(f"strip_height_order_{o}_continuum").replace("slope", "order in H")
+            order = st.fit_label(f"{prefix}_order_{o}_continuum").replace("slope", "order in H")
             worst = max(abs(rc[k]), abs(rd[k]))
-            rows.append(limit_row("strip -> 1D chain as H -> 0 (both models)",
+            rows.append(limit_row(f"{body} -> 1D chain as H -> 0 (both models)",
                                   f"{st.name}: {o}, 1D chain -> H = {thin:g} (H/l_e = {x[k]:.3g})", "1D chain",
                                   f"{c[chain[0]]:.4g} / {d[chain[0]]:.4g}", f"{c[k]:.4g} / {d[k]:.4g}",
                                   f"H = {thin:g} vs 1D (continuum / discrete): {rc[k]:+.3%} / {rd[k]:+.3%}; {order}",
                                   "abs <= 0.5%", verdict_of(worst <= STRIP_THIN_TOL if math.isfinite(worst) else None),
                                   st.source, st.w_label()))
-            rows.append(effect_row("strip height H", f"{st.name}: {o}, 1D chain -> H = {H[big]:g} (H/l_e = {x[big]:.3g}) "
+            rows.append(effect_row(f"{body} height H", f"{st.name}: {o}, 1D chain -> H = {H[big]:g} (H/l_e = {x[big]:.3g}) "
                                    "(continuum / discrete)", f"1D chain {c[chain[0]]:.4g} / {d[chain[0]]:.4g}",
                                    f"H = {H[big]:g}: {c[big]:.4g} / {d[big]:.4g}",
                                    f"{rc[big]:+.2%} / {rd[big]:+.2%}", order, st.source))
-    dy = st.tables.get("strip_height_dy", {})
+    dy = st.tables.get(f"{prefix}_dy", {})
     for k in range(len(dy.get("H", []))):
         rows.append(measure_row(f"{st.name}: events at H = {dy['H'][k]:g}, dy = {dy['dy'][k]:g} against dy = {dy['dy_reference'][k]:g}",
                      "", "", f"largest change {dy['max_rel_ref'][k]:.3%}", "both models, t*, t^, c_slow, c_transient, x_arrest"))
-    return figs, rows
+    return rows
 
 
 DISORDER_LAWS = ("delta", "uniform", "gaussian", "weibull")  # the codes of studies/disorder_limit.cpp's tables
@@ -1510,7 +1544,22 @@ def scene_rows(res, source=""):
                                    f"mean_field {m:.5g}", rel, "deterministic, both N -> inf", source))
     if res.loading() == "homogeneous":
         rows += settle_rows(res, values)
+    rows += normal_stress_rows(res, ref)
     return rows
+
+
+def normal_stress_rows(res, ref):
+    """The in-plane strip's interface normal stress compared (/compare/sigma_yy_snapshot_distance and the histories of
+    its extremes, docs/output.md): one measurement row, no verdict (the discrete model's sampling sets it)."""
+    c = res.f["compare"] if "compare" in res.f else None
+    if c is None or "sigma_yy_snapshot_distance" not in c:
+        return []
+    val = {k: plot.as_float(c[k][()]) if k in c else math.nan
+           for k in ("sigma_yy_snapshot_distance", "min_sigma_yy_history_distance", "max_sigma_yy_history_distance")}
+    return [measure_row(f"{res.scene}: interface normal stress sigma_yy(x, 0, t), discrete against {ref}", "", "",
+                        f"snapshots {val['sigma_yy_snapshot_distance']:.3g}; min/max histories "
+                        f"{val['min_sigma_yy_history_distance']:.3g} / {val['max_sigma_yy_history_distance']:.3g}",
+                        "relative L2 distances (/compare, docs/output.md); figure <scene>_sigma_yy.png")]
 
 
 def scene_answers(res, written):

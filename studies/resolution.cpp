@@ -71,7 +71,7 @@ std::vector<std::pair<std::string, std::vector<std::string>>> level_overrides(co
   const auto set = [&](const char* key, double x) { v.push_back({key, {number_text(x)}}); };
   const bool bulk = one_dimensional(s);
   if (bulk) set("grid.dx", s.grid.dx / f);
-  if (bulk && s.bulk.body() == core::BodyKind::strip) set("grid.dy", s.grid.row_spacing() / f);
+  if (bulk && s.bulk.body() != core::BodyKind::chain) set("grid.dy", s.grid.row_spacing() / f);
   const bool ensemble = s.lists("discrete") || s.lists("mean_field");
   switch (s.time.integrator) {
     case core::Integrator::central_difference:
@@ -354,7 +354,7 @@ void put_levels(StudyReport& rep, const Levels& levels) {
     t["level"].push_back(k);
     t["h"].push_back(l.h);
     t["dx"].push_back(one_dimensional(*l.scene) ? l.scene->grid.dx : nan);
-    t["dy"].push_back(l.scene->bulk.body() == core::BodyKind::strip ? l.scene->grid.row_spacing() : nan);
+    t["dy"].push_back(l.scene->bulk.body() != core::BodyKind::chain ? l.scene->grid.row_spacing() : nan);
     t["dt"].push_back(l.dt);
     t["rtol"].push_back(l.scene->time.integrator == core::Integrator::adaptive_rosenbrock ? l.scene->time.rtol : nan);
     t["runs"].push_back(l.runs);

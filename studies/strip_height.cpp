@@ -58,10 +58,25 @@ struct Point {
 /// By (H, dy): in map order the chain first, then each height's finest dy first.
 using Points = std::map<std::pair<double, double>, Point>;
 
-Points collect_points(const std::vector<Scene>& scenes, const std::vector<std::vector<ModelResult>>& res) {
+// One strip body's table: the antiplane strip's is `strip_height` (its names as before the in-plane strip), the
+// in-plane strip's `inplane_height` (tables, scalars and definitions under that prefix; its notes say which body).
+struct BodyTable {
+  core::BodyKind kind;
+  const char* prefix;  ///< table and scalar names
+  const char* label;   ///< leads its notes ("" for the antiplane strip)
+  const char* thin;    ///< the docs/model.md section of its thin limit
+};
+constexpr BodyTable body_tables[] = {{core::BodyKind::strip, "strip_height", "", "§9.2"},
+                                     {core::BodyKind::inplane, "inplane_height", "in-plane strip: ", "§10.2"}};
+
+// The points of the chain (H = 0) and of the one strip body `body`.
+Points collect_points(const std::vector<Scene>& scenes, const std::vector<std::vector<ModelResult>>& res,
+                      core::BodyKind body) {
   Points points;
   for (std::size_t i = 0; i < scenes.size(); ++i) {
     const Scene& s = scenes[i];
+    const core::BodyKind kind = s.bulk.body();
+    if (kind != core::BodyKind::chain && kind != body) continue;
     const double H = s.bulk.height, dy = H > 0.0 ? (s.grid.dy > 0.0 ? s.grid.dy : s.grid.dx) : 0.0;
     Point& p = points[{H, dy}];
     p.H = H;
@@ -98,7 +113,9 @@ void note_runs(StudyReport& rep, const std::vector<StudyRun>& runs, const std::v
                    (why == reasons.end() ? std::string() : " (" + why->second + ")");
       }
       if (!missing.empty())
-        rep.notes.push_back("run " + runs[i].id + " (H = " + core::format_number(scenes[i].bulk.height) + ", " + m +
+        rep.notes.push_back("run " + runs[i].id + " (" +
+                            (scenes[i].bulk.body() == core::BodyKind::inplane ? "in-plane strip, " : "") +
+                            "H = " + core::format_number(scenes[i].bulk.height) + ", " + m +
                             "): not measured: " + missing);
     }
   bool one_step = !scenes.empty();
@@ -115,7 +132,8 @@ double rel_1d(const Point* chain, const Point& p, const std::string& k) {
   return ref != 0.0 ? p.value.at(k) / ref - 1.0 : nan;
 }
 
-void put_table(StudyReport& rep, const Points& points, const Point* chain) {
+void put_table(StudyReport& rep, const BodyTable& b, const Points& points, const Point* chain) {
+  const std::string P = b.prefix;
   Columns t;
   for (const auto& [hd, p] : points) {
     t["H"].push_back(p.H);
@@ -131,33 +149,34 @@ void put_table(StudyReport& rep, const Points& points, const Point* chain) {
         t[k + "_rel_1d"].push_back(rel_1d(chain, p, k));
       }
   }
-  rep.tables["strip_height"] = t;
+  rep.tables[P] = t;
   auto& def = rep.definitions;
-  def["strip_height/H"] = "bulk.height: the strip's height (0: the 1D chain, the H -> 0 line)";
-  def["strip_height/H_over_le"] = "H / l_e, l_e = sqrt(bulk.mu / interface.alpha) the elastic length (docs/model.md §9.3)";
-  def["strip_height/eps"] = "(H/l_e)^2 = alpha H^2/mu: the 1D model's relative error is O(eps) (docs/model.md §9.2); "
-                            "_rel_1d / eps constant over the heights is second order in H";
-  def["strip_height/dy"] = "grid.dy: the row spacing of the run (0 for the chain)";
-  def["strip_height/row_intervals"] = "H / dy, the strip's row intervals (0 for the chain)";
-  def["strip_height/runs"] = "runs at this height and dy (seeds; the events are their mean)";
+  def[P + "/H"] = "bulk.height: the strip's height (0: the 1D chain, the H -> 0 line)";
+  def[P + "/H_over_le"] = "H / l_e, l_e = sqrt(bulk.mu / interface.alpha) the elastic length (docs/model.md §9.3)";
+  def[P + "/eps"] = "(H/l_e)^2 = alpha H^2/mu: the 1D model's relative error is O(eps) (docs/model.md " +
+                    std::string(b.thin) + "); _rel_1d / eps constant over the heights is second order in H";
+  def[P + "/dy"] = "grid.dy: the row spacing of the run (0 for the chain)";
+  def[P + "/row_intervals"] = "H / dy, the strip's row intervals (0 for the chain)";
+  def[P + "/runs"] = "runs at this height and dy (seeds; the events are their mean)";
   for (const Observable& o : observables)
     for (const char* m : model_names) {
       const std::string k = key(o, m);
-      def["strip_height/" + k] = std::string(o.what) + " of the " + m + " model (docs/output.md events)";
-      def["strip_height/" + k + "_rel_1d"] = k + " / (the same on the 1D chain) - 1";
+      def[P + "/" + k] = std::string(o.what) + " of the " + m + " model (docs/output.md events)";
+      def[P + "/" + k + "_rel_1d"] = k + " / (the same on the 1D chain) - 1";
     }
   if (chain)
     for (const Observable& o : observables)
       for (const char* m : model_names) {
         const std::string k = key(o, m);
-        rep.scalars["strip_height_1d_" + k] = chain->value.at(k);
-        def["strip_height_1d_" + k] = std::string(o.what) + " of the 1D chain (" + m + ")";
+        rep.scalars[P + "_1d_" + k] = chain->value.at(k);
+        def[P + "_1d_" + k] = std::string(o.what) + " of the 1D chain (" + m + ")";
       }
 }
 
 // The H -> 0 check at the smallest height (when it is thin): its largest difference to the chain, a note
 // that it is within strip_height_thin_tolerance or a flag. Returns whether the study has a thin end.
-bool check_thin_end(StudyReport& rep, const Points& points, const Point& chain) {
+bool check_thin_end(StudyReport& rep, const BodyTable& b, const Points& points, const Point& chain) {
+  const std::string P = b.prefix, L = b.label, sec = b.thin;
   const Point* thin = nullptr;  // the smallest height, at its finest dy
   for (const auto& [hd, p] : points)
     if (p.H > 0.0 && (!thin || p.H < thin->H)) thin = &p;
@@ -165,7 +184,7 @@ bool check_thin_end(StudyReport& rep, const Points& points, const Point& chain) 
   const std::string where = "the smallest height H = " + core::format_number(thin->H) + " (H/l_e = " +
                             core::format_number(thin->H / thin->ell_e, 3) + ")";
   if (thin->H / thin->ell_e > thin_fit_limit) {
-    rep.notes.push_back("no H -> 0 check: " + where + " is not thin (H/l_e > " + core::format_number(thin_fit_limit) + ")");
+    rep.notes.push_back(L + "no H -> 0 check: " + where + " is not thin (H/l_e > " + core::format_number(thin_fit_limit) + ")");
     return false;
   }
   double worst = 0.0;
@@ -177,25 +196,26 @@ bool check_thin_end(StudyReport& rep, const Points& points, const Point& chain) 
       if (!std::isfinite(r)) { all_finite = false; continue; }
       if (std::abs(r) >= worst) { worst = std::abs(r); worst_name = key(o, m); }
     }
-  rep.scalars["strip_height_thin_H"] = thin->H;
-  rep.scalars["strip_height_thin_max_rel_diff"] = all_finite ? worst : nan;
-  rep.definitions["strip_height_thin_H"] = "the smallest height of the study (its H -> 0 end)";
-  rep.definitions["strip_height_thin_max_rel_diff"] =
+  rep.scalars[P + "_thin_H"] = thin->H;
+  rep.scalars[P + "_thin_max_rel_diff"] = all_finite ? worst : nan;
+  rep.definitions[P + "_thin_H"] = "the smallest height of the study (its H -> 0 end)";
+  rep.definitions[P + "_thin_max_rel_diff"] =
       "largest |event / 1D event - 1| over t*, t^, c_slow, c_transient, x_arrest and both models at the smallest "
       "height (NaN if an event is missing there or on the chain)";
   if (!all_finite)
-    rep.notes.push_back("FLAG: at " + where + " or on the chain an event was not measured: the H -> 0 check is incomplete");
+    rep.notes.push_back("FLAG: " + L + "at " + where + " or on the chain an event was not measured: the H -> 0 check is incomplete");
   else if (worst <= strip_height_thin_tolerance)
-    rep.notes.push_back("H -> 0: at " + where + " every event of both models is within " + pct(strip_height_thin_tolerance) +
+    rep.notes.push_back(L + "H -> 0: at " + where + " every event of both models is within " + pct(strip_height_thin_tolerance) +
                         " of the 1D chain's (largest: " + worst_name + ", " + pct(worst) + ")");
   else
-    rep.notes.push_back("FLAG: H -> 0: at " + where + " " + worst_name + " differs from the 1D chain's by " + pct(worst) +
-                        ", more than " + pct(strip_height_thin_tolerance) + " (docs/model.md §9.2 predicts O(H^2))");
+    rep.notes.push_back("FLAG: " + L + "H -> 0: at " + where + " " + worst_name + " differs from the 1D chain's by " + pct(worst) +
+                        ", more than " + pct(strip_height_thin_tolerance) + " (docs/model.md " + sec + " predicts O(H^2))");
   return true;
 }
 
 // The observed order: |rel_1d| ~ H^p over the thin heights (the finest dy of each), per event and model.
-void fit_orders(StudyReport& rep, const Points& points, const Point& chain) {
+void fit_orders(StudyReport& rep, const BodyTable& b, const Points& points, const Point& chain) {
+  const std::string P = b.prefix, sec = b.thin;
   std::map<double, const Point*> finest;
   for (const auto& [hd, p] : points)
     if (p.H > 0.0 && p.H / p.ell_e <= thin_fit_limit && !finest.count(p.H)) finest[p.H] = &p;
@@ -208,20 +228,21 @@ void fit_orders(StudyReport& rep, const Points& points, const Point& chain) {
       }
       if (h.size() < 3) continue;
       const LineFit f = fit_power_law(h, d);
-      const std::string name = "strip_height_order_" + key(o, m);
+      const std::string name = P + "_order_" + key(o, m);
       rep.scalars[name] = f.slope;
       rep.scalars[name + "_ci_low"] = f.slope_ci_low;
       rep.scalars[name + "_ci_high"] = f.slope_ci_high;
       rep.scalars[name + "_points"] = f.n;
       rep.definitions[name] = "observed order p of |" + key(o, m) + " / 1D - 1| ~ H^p over the heights with H/l_e <= " +
                               core::format_number(thin_fit_limit) +
-                              " (docs/model.md §9.2 predicts 2; least-squares slope in log-log; _ci_low/_ci_high: 95% "
+                              " (docs/model.md " + sec + " predicts 2; least-squares slope in log-log; _ci_low/_ci_high: 95% "
                               "Student-t interval)";
     }
 }
 
 // Heights run at several dy: each coarser dy against the finest (the dy check of docs/studies.md).
-void put_dy_table(StudyReport& rep, const Points& points) {
+void put_dy_table(StudyReport& rep, const BodyTable& b, const Points& points) {
+  const std::string P = b.prefix;
   Columns d;
   double dy_worst = 0.0;
   bool dy_missing = false;
@@ -247,14 +268,14 @@ void put_dy_table(StudyReport& rep, const Points& points) {
     }
   }
   if (d.empty()) return;
-  rep.tables["strip_height_dy"] = d;
-  rep.definitions["strip_height_dy/dy_reference"] = "the finest dy run at this height";
+  rep.tables[P + "_dy"] = d;
+  rep.definitions[P + "_dy/dy_reference"] = "the finest dy run at this height";
   for (const Observable& o : observables)
     for (const char* m : model_names)
-      rep.definitions["strip_height_dy/" + key(o, m) + "_rel_ref"] = key(o, m) + " at dy / (the same at dy_reference) - 1";
-  rep.definitions["strip_height_dy/max_rel_ref"] = "largest |_rel_ref| of the row (NaN if an event is missing)";
-  rep.scalars["strip_height_dy_max_rel_diff"] = dy_missing ? nan : dy_worst;
-  rep.definitions["strip_height_dy_max_rel_diff"] =
+      rep.definitions[P + "_dy/" + key(o, m) + "_rel_ref"] = key(o, m) + " at dy / (the same at dy_reference) - 1";
+  rep.definitions[P + "_dy/max_rel_ref"] = "largest |_rel_ref| of the row (NaN if an event is missing)";
+  rep.scalars[P + "_dy_max_rel_diff"] = dy_missing ? nan : dy_worst;
+  rep.definitions[P + "_dy_max_rel_diff"] =
       "largest change of an event (t*, t^, c_slow, c_transient, x_arrest; both models) from the finest dy to a coarser "
       "one at the same height";
 }
@@ -263,16 +284,26 @@ void put_dy_table(StudyReport& rep, const Points& points) {
 
 void analyse_strip_height(StudyReport& rep, const std::vector<StudyRun>& runs, const std::vector<Scene>& scenes,
                           const std::vector<std::vector<ModelResult>>& res) {
-  const Points points = collect_points(scenes, res);  // seeds pooled; the chain is H = dy = 0
   note_runs(rep, runs, scenes, res);
-  const auto chain_it = points.find({0.0, 0.0});
-  const Point* chain = chain_it == points.end() ? nullptr : &chain_it->second;  // the H -> 0 line
-  if (!chain)
+  bool inplane = false, chain_run = false;
+  for (const Scene& s : scenes) {
+    inplane = inplane || s.bulk.body() == core::BodyKind::inplane;
+    chain_run = chain_run || s.bulk.body() == core::BodyKind::chain;
+  }
+  if (!chain_run)
     rep.notes.push_back("no 1D run (bulk.height = 0, grid.dy = 0): no H -> 0 line, the _rel_1d columns are NaN; add a "
                         "group with bulk.height = 0 and grid.dy = 0");
-  put_table(rep, points, chain);
-  if (chain && check_thin_end(rep, points, *chain)) fit_orders(rep, points, *chain);
-  put_dy_table(rep, points);
+  for (const BodyTable& b : body_tables) {
+    const Points points = collect_points(scenes, res, b.kind);  // seeds pooled; the chain is H = dy = 0
+    const bool present = std::any_of(points.begin(), points.end(), [](const auto& p) { return p.second.H > 0.0; });
+    // the antiplane table as before (also for a study of the chain alone); the in-plane one when it ran
+    if (b.kind == core::BodyKind::inplane ? !present : (!present && inplane)) continue;
+    const auto chain_it = points.find({0.0, 0.0});
+    const Point* chain = chain_it == points.end() ? nullptr : &chain_it->second;  // the H -> 0 line
+    put_table(rep, b, points, chain);
+    if (chain && check_thin_end(rep, b, points, *chain)) fit_orders(rep, b, points, *chain);
+    put_dy_table(rep, b, points);
+  }
 }
 
 }  // namespace slipfront::studies

@@ -1,7 +1,9 @@
 #pragma once
 // Study kind "strip_height" (issue 19, docs/studies.md): fig1 on the antiplane strip (docs/model.md §9) at
-// several heights H, both models, against the 1D chain (bulk.height = 0) as the H -> 0 line. Pure analysis
-// of study results (no I/O).
+// several heights H, both models, against the 1D chain (bulk.height = 0) as the H -> 0 line. The body is each run's
+// own (bulk.body): runs on the in-plane strip (docs/model.md §10; the study inplane_height, issue 38) get the same
+// analysis in tables and scalars named inplane_height instead of strip_height, so one study can hold the chain and
+// both strips. Pure analysis of study results (no I/O).
 #include <vector>
 
 #include "studies/study.hpp"
@@ -13,7 +15,9 @@ namespace slipfront::studies {
 /// H = 0.25 within 0.5 %).
 inline constexpr double strip_height_thin_tolerance = 0.005;
 
-/// Tables `strip_height` (one row per height and row spacing dy, the chain first as H = 0: H/l_e, eps = (H/l_e)^2,
+/// Per strip body that ran (the antiplane strip's names below; the in-plane strip's with `inplane_height` for
+/// `strip_height`, its notes led by "in-plane strip: "):
+/// tables `strip_height` (one row per height and row spacing dy, the chain first as H = 0: H/l_e, eps = (H/l_e)^2,
 /// t*, t^, c_slow, c_transient, x_arrest of both models, each also relative to the chain's) and, when one height ran at
 /// several dy, `strip_height_dy` (each coarser dy against the finest); scalars: the chain's events, the
 /// smallest height's largest relative difference to them, the observed order in H over the thin heights;

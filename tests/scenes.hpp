@@ -53,6 +53,34 @@ inline compare::Scene fig1_scene() {
   return s;
 }
 
+/// fig1 made small: L = 60, dx = 1, to t = 60 (first yield, t* = 26.5, and the slow front) on `integrator` (implicit:
+/// dt = 0.01), series every 0.5, field snapshots and field comparisons every 5. On the chain; a test adds a height
+/// (small_strip_scene) and its keys; not validated.
+inline compare::Scene small_fig1_scene(core::Integrator integrator) {
+  compare::Scene s = fig1_scene();
+  s.bulk.length = 60.0;
+  s.grid.dx = 1.0;
+  s.time.t_end = 60.0;
+  s.time.integrator = integrator;
+  if (integrator == core::Integrator::implicit_trapezoidal) s.time.dt = 0.01;
+  s.output.series_dt = 0.5;
+  s.output.snapshot_dt = 5.0;
+  s.output.compare_dt = 5.0;
+  return s;
+}
+
+/// small_fig1_scene on a strip of height 4, dy = 1 (61 × 5 nodes): the antiplane strip, or with `body` = "inplane"
+/// the in-plane strip (ν = 1/3); named `name`.
+inline compare::Scene small_strip_scene(core::Integrator integrator, const std::string& name,
+                                        const std::string& body = "") {
+  compare::Scene s = small_fig1_scene(integrator);
+  s.name = name;
+  s.bulk.height = 4.0;
+  s.bulk.body_name = body;
+  s.grid.dy = 1.0;
+  return s;
+}
+
 /// Homogeneous loading (docs/model.md §1): uniform σ_d, free ends, nucleation patch 0 ≤ x < ℓ_n
 /// (ℓ_n = 0: no patch, the stuck state everywhere). Paper bulk and interface parameters.
 inline compare::Scene homogeneous_scene(double sigma_d, double nucleation_length, double t_end) {

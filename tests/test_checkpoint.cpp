@@ -81,16 +81,8 @@ compare::SceneResult restarted(const compare::Scene& s, const std::string& state
 
 // fig1 on L = 60, dx = 1 to t = 60 (through first yield and the slow front), both models.
 compare::Scene small(core::Integrator integ, const std::string& representation) {
-  compare::Scene s = testing::fig1_scene();
+  compare::Scene s = testing::small_fig1_scene(integ);
   s.models = {"continuum", "discrete"};
-  s.bulk.length = 60.0;
-  s.grid.dx = 1.0;
-  s.time.t_end = 60.0;
-  s.time.integrator = integ;
-  if (integ == core::Integrator::implicit_trapezoidal) s.time.dt = 0.01;
-  s.output.series_dt = 0.5;
-  s.output.snapshot_dt = 5.0;
-  s.output.compare_dt = 5.0;
   s.output.sequence = true;
   s.discrete.representation = representation;
   s.discrete.contacts_per_site = 50;

@@ -35,20 +35,8 @@ compare::Scene fig1_inplane(double H, double dy) {
 }
 
 /// A small in-plane strip: fig1 on L = 60, dx = 1, H = 4, dy = 1 (5 rows) to t = 60: first yield and the slow front
-/// (the same scene as tests/test_strip_runs.cpp's small_strip, on the in-plane body).
-compare::Scene small_inplane(core::Integrator integ) {
-  compare::Scene s = fig1_inplane(4.0, 1.0);
-  s.name = "small_inplane";
-  s.bulk.length = 60.0;
-  s.grid.dx = 1.0;
-  s.time.t_end = 60.0;
-  s.time.integrator = integ;
-  if (integ == core::Integrator::implicit_trapezoidal) s.time.dt = 0.01;
-  s.output.series_dt = 0.5;
-  s.output.snapshot_dt = 5.0;
-  s.output.compare_dt = 5.0;
-  return s;
-}
+/// (the same scene as tests/test_strip_runs.cpp's small_strip, on the in-plane body: testing::small_strip_scene).
+compare::Scene small_inplane(core::Integrator integ) { return testing::small_strip_scene(integ, "small_inplane", "inplane"); }
 
 const char* base_toml = R"(scene = "inplane_keys"
 models = ["continuum"]
@@ -219,6 +207,75 @@ TEST_CASE("inplane scenes: the discrete count law with w = 0 and noise off is th
                 "t* = %.6f\n",
                 core::to_string(integ), worst, differ, values, r[0].events.t_star);
     CHECK(worst <= 1e-12);
+  }
+}
+
+TEST_CASE("inplane scenes: the comparison reads the interface normal stress: 0 at the noise-off identity, finite and "
+          "positive with noise, absent on the other bodies",
+          "[inplane][compare]") {
+  // The discrete model against the continuum in lockstep (compare/alongside.cpp): the online distance of sigma_yy(x, 0)
+  // at output.compare_dt (fields/sigma_yy_distance), its snapshots' distance and its extremes' histories (metrics).
+  // (a) w = 0, noise off: the two models are the same law (the identity above), so every distance is exactly 0, at
+  // comparison times after first yield too (where sigma_yy is not 0). (b) With noise (N = 50): the distances are
+  // positive and finite, and the snapshot metric is the relative L2 distance of the written snapshots, recomputed here.
+  // (c) The antiplane strip and the chain have no normal stress: no column, no metric.
+  compare::Scene s = testing::noise_off_count(small_inplane(core::Integrator::central_difference));
+  s.time.t_end = 40.0;  // past first yield (t* = 26.5)
+  s.output.compare_dt = 5.0;
+  s.validate();
+  const auto off = compare::run_scene_alongside(s, {});
+  REQUIRE(off.models.size() == 2);
+  REQUIRE(std::isfinite(off.models[0].events.t_star));
+  const auto& f = off.comparison.fields;
+  REQUIRE(f.count("sigma_yy_distance") == 1);
+  REQUIRE(f.at("sigma_yy_distance").size() == f.at("t").size());
+  REQUIRE(f.at("t").back() > off.models[0].events.t_star);
+  for (const double d : f.at("sigma_yy_distance")) CHECK(d == 0.0);
+  CHECK(off.comparison.definitions.count("fields/sigma_yy_distance") == 1);
+  for (const char* m : {"sigma_yy_snapshot_distance", "min_sigma_yy_history_distance", "max_sigma_yy_history_distance"}) {
+    INFO(m);
+    REQUIRE(off.comparison.metrics.count(m) == 1);
+    CHECK(off.comparison.metrics.at(m) == 0.0);
+  }
+  double syy = 0.0;  // the continuum's sigma_yy is not 0 after first yield: the zeros above are the identity's
+  for (const double v : off.models[0].snapshots.at("sigma_yy")) syy = std::max(syy, std::abs(v));
+  CHECK(syy > 1e-3);
+
+  compare::Scene noisy = s;
+  noisy.discrete.noise = true;
+  noisy.discrete.contacts_per_site = 50;
+  noisy.discrete.seed = 3;
+  noisy.validate();
+  const auto on = compare::run_scene_alongside(noisy, {});
+  const auto& dist = on.comparison.fields.at("sigma_yy_distance");
+  const double worst = *std::max_element(dist.begin(), dist.end());
+  std::printf("inplane comparison of sigma_yy (N = 50, noise): online distances up to %.3g, snapshots %.3g, "
+              "min/max history %.3g %.3g\n", worst, on.comparison.metrics.at("sigma_yy_snapshot_distance"),
+              on.comparison.metrics.at("min_sigma_yy_history_distance"),
+              on.comparison.metrics.at("max_sigma_yy_history_distance"));
+  CHECK(std::isfinite(worst));
+  CHECK(worst > 1e-6);
+  const auto &a = on.models[0].snapshots.at("sigma_yy"), &b = on.models[1].snapshots.at("sigma_yy");
+  REQUIRE(a.size() == b.size());
+  double num = 0.0, den = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i) num += (b[i] - a[i]) * (b[i] - a[i]), den += a[i] * a[i];
+  CHECK(on.comparison.metrics.at("sigma_yy_snapshot_distance") == Approx(std::sqrt(num / den)).epsilon(1e-12));
+  CHECK(on.comparison.metrics.at("sigma_yy_snapshot_distance") > 0.0);
+
+  for (const double H : {0.0, 4.0}) {
+    compare::Scene other = s;
+    other.bulk.height = H;
+    other.bulk.body_name.clear();
+    other.grid.dy = H > 0.0 ? 1.0 : 0.0;
+    other.time.t_end = 10.0;
+    other.validate();
+    const auto r = compare::run_scene_alongside(other, {});
+    INFO("H = " << H);
+    CHECK(r.comparison.fields.count("A_distance") == 1);
+    CHECK(r.comparison.fields.count("sigma_yy_distance") == 0);
+    CHECK(r.comparison.definitions.count("fields/sigma_yy_distance") == 0);
+    CHECK(r.comparison.metrics.count("sigma_yy_snapshot_distance") == 0);
+    CHECK(r.comparison.metrics.count("max_sigma_yy_history_distance") == 0);
   }
 }
 

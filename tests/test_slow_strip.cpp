@@ -1,6 +1,7 @@
 // The antiplane strip, slow tier (docs/numerics.md §8.2–§8.4): fig1_strip's events converge under dx = dy
 // refinement (observed order, Richardson values); the too-few-rows rule for grid.dy against the row error it
-// bounds; the discrete count fronts converge to the continuum with N on the strip.
+// bounds; the discrete count fronts converge to the continuum with N on the strip. The in-plane strip (issue 38,
+// docs/model.md §10): the discrete fronts' convergence with N at H = 5, and fig1_inplane's grid convergence.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -10,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "apps/config.hpp"
 #include "compare/fit.hpp"
 #include "compare/runner.hpp"
 #include "compare/scene.hpp"
@@ -170,22 +172,12 @@ TEST_CASE("strip slow: the row rule: fig1's event errors against (dy/l_e)^2 (H/l
 // 3. Discrete fronts converge to the continuum with N on the strip (docs/numerics.md §8.4)
 // ---------------------------------------------------------------------------------------------
 
-TEST_CASE("strip slow: the discrete count fronts converge to the continuum with N (H = 5)", "[strip][slow][discrete]") {
-  // fig1 on the strip H = 5, dx = dy = 1 (301 × 6 nodes), to t = 130, both models alongside; the discrete one
-  // the count representation with noise, delta thresholds (w = 0: its mean-field limit is the continuum,
-  // docs/model.md §2), N = 1e2 … 1e5 contacts per site, 8 seeds each. Per N and event: the RMS over seeds of
-  // the relative difference discrete − continuum (runs where the discrete event is NaN are counted and
-  // left out). Fitted: RMS ∝ N^p (compare::fit_power_law, 95% interval).
-  // Asserted: t* is the continuum's exactly at every N (before first yield no contact has detached, so the
-  // noise has not acted: the w = 0 identity); every event is measured (finite) at N ≥ 1e4; for t^, c_slow and
-  // x_arrest the RMS at 1e4 and at 1e5 is below the one at 1e2, and the exponent fitted to the three pooled
-  // (each divided by its own RMS at 1e2) has its 95% interval below 0. False alarms: the seeds are fixed (a
-  // failure reproduces); for a correct code the expected fall from 1e2 to 1e5 is ~30× (N^-1/2) against a
-  // ±25% spread of an 8-seed RMS, so the end-to-end comparisons cannot fail by chance. Expected p ≈ −1/2;
-  // measured values in docs/numerics.md §8.4.
+namespace {
+
+// The discrete count fronts against the continuum with N on `base` (a strip of height 5): see the test below.
+compare::LineFit n_convergence(compare::Scene base, const char* label) {
   constexpr int seeds = 8;
   const std::vector<double> Ns = {1e2, 1e3, 1e4, 1e5};
-  compare::Scene base = fig1_strip(5.0, 1.0, 1.0, 130.0);
   base.models = {"continuum", "discrete"};
   base.discrete.representation = "count";
   base.discrete.threshold = "delta";
@@ -221,13 +213,13 @@ TEST_CASE("strip slow: the discrete count fronts converge to the continuum with 
       std::printf("\n");
     }
   }
-  std::printf("continuum H = 5: t* %.5f t^ %.5f c_slow %.6f c_transient %.5f x_arrest %.4f\n", cont.v[0], cont.v[1],
-              cont.v[2], cont.v[3], cont.v[4]);
+  std::printf("continuum (%s) H = 5: t* %.5f t^ %.5f c_slow %.6f c_transient %.5f x_arrest %.4f\n", label, cont.v[0],
+              cont.v[1], cont.v[2], cont.v[3], cont.v[4]);
   std::vector<double> pooled_n, pooled_err;
   for (int e = 1; e < 5; ++e) {
     for (std::size_t n = 0; n < Ns.size(); ++n) rms[e][n] = std::sqrt(rms[e][n] / std::max(1, finite[e][n]));
     const auto fit = compare::fit_power_law(Ns, rms[e]);
-    std::printf("N convergence %-11s RMS", event_names[e]);
+    std::printf("N convergence (%s) %-11s RMS", label, event_names[e]);
     for (std::size_t n = 0; n < Ns.size(); ++n) std::printf(" %.2e (%d/%d)", rms[e][n], finite[e][n], seeds);
     std::printf("; fitted exponent %.2f [%.2f, %.2f] (95%%)\n", fit.slope, fit.slope_ci_low, fit.slope_ci_high);
     if (e == 3) continue;  // c_transient: printed (docs/numerics.md §8.4)
@@ -241,7 +233,100 @@ TEST_CASE("strip slow: the discrete count fronts converge to the continuum with 
     }
   }
   const auto pooled = compare::fit_power_law(pooled_n, pooled_err);
-  std::printf("N convergence pooled (t^, c_slow, x_arrest): exponent %.3f [%.3f, %.3f] (95%%)\n", pooled.slope,
-              pooled.slope_ci_low, pooled.slope_ci_high);
+  std::printf("N convergence (%s) pooled (t^, c_slow, x_arrest): exponent %.3f [%.3f, %.3f] (95%%)\n", label,
+              pooled.slope, pooled.slope_ci_low, pooled.slope_ci_high);
   CHECK(pooled.slope_ci_high < 0.0);
+  return pooled;
+}
+
+}  // namespace
+
+TEST_CASE("strip slow: the discrete count fronts converge to the continuum with N (H = 5)", "[strip][slow][discrete]") {
+  // fig1 on the strip H = 5, dx = dy = 1 (301 × 6 nodes), to t = 130, both models alongside; the discrete one
+  // the count representation with noise, delta thresholds (w = 0: its mean-field limit is the continuum,
+  // docs/model.md §2), N = 1e2 … 1e5 contacts per site, 8 seeds each. Per N and event: the RMS over seeds of
+  // the relative difference discrete − continuum (runs where the discrete event is NaN are counted and
+  // left out). Fitted: RMS ∝ N^p (compare::fit_power_law, 95% interval).
+  // Asserted: t* is the continuum's exactly at every N (before first yield no contact has detached, so the
+  // noise has not acted: the w = 0 identity); every event is measured (finite) at N ≥ 1e4; for t^, c_slow and
+  // x_arrest the RMS at 1e4 and at 1e5 is below the one at 1e2, and the exponent fitted to the three pooled
+  // (each divided by its own RMS at 1e2) has its 95% interval below 0. False alarms: the seeds are fixed (a
+  // failure reproduces); for a correct code the expected fall from 1e2 to 1e5 is ~30× (N^-1/2) against a
+  // ±25% spread of an 8-seed RMS, so the end-to-end comparisons cannot fail by chance. Expected p ≈ −1/2;
+  // measured values in docs/numerics.md §8.4.
+  n_convergence(fig1_strip(5.0, 1.0, 1.0, 130.0), "antiplane");
+}
+
+TEST_CASE("strip slow: the discrete count fronts converge to the continuum with N on the in-plane strip (H = 5)",
+          "[strip][inplane][slow][discrete]") {
+  // Issue 38: the same scene, seeds and assertions as the antiplane strip's test above, on the in-plane strip
+  // (bulk.body = "inplane", ν = 1/3; docs/model.md §10): fig1 at H = 5, dx = dy = 1 (301 × 6 nodes, two components
+  // each), N = 1e2 … 1e5, 8 seeds each. The fitted exponent of the pooled RMS is printed with its 95 % interval.
+  compare::Scene base = fig1_strip(5.0, 1.0, 1.0, 130.0);
+  base.bulk.body_name = "inplane";
+  const auto pooled = n_convergence(base, "in-plane");
+  CHECK(pooled.slope < -0.2);  // a rate, not a drift: N^-1/2 expected
+}
+
+// ---------------------------------------------------------------------------------------------
+// 4. fig1_inplane's events converge under dx = dy refinement (issue 38)
+// ---------------------------------------------------------------------------------------------
+
+TEST_CASE("strip slow: fig1_inplane events converge under dx = dy refinement (1, 0.5, 0.25), explicit",
+          "[strip][inplane][slow][convergence]") {
+  // configs/fig1_inplane.toml itself (H = 17, ν = 1/3, explicit at cfl 0.5: the step tied to the stable step), the
+  // continuum, to t = 130, at dx = dy = 1, 0.5 (the shipped grid), 0.25 (301 × 18, 601 × 35, 1201 × 69 nodes). Per
+  // event: the differences d1 = f(1) − f(0.5), d2 = f(0.5) − f(0.25), the observed order p = log2(d1/d2), the
+  // Richardson extrapolate f(0.25) − d2/(2^p − 1) (docs/numerics.md §8.10). c_slow is not measured at H = 17 on the
+  // in-plane strip (NaN on every grid). Measured (2026-11-27; 134 s, 924 s, 1225 s of wall time at a load of ~16):
+  //   t*          34.9851, 35.1584, 35.2800: order 0.51, extrapolate 35.566 (dx = 0.5: −1.15 %, 0.25: −0.80 %)
+  //   t^          97.9628, 97.8926, 97.8763: order 2.11, extrapolate 97.871 (dx = 0.5: +0.022 %)
+  //   c_transient 21.4000, 21.4329, 21.4808: the changes grow (+0.15 %, +0.22 %): no order at these grids
+  //   x_arrest    92.9974, 92.9722, 92.9929: the changes change sign (−0.027 %, +0.022 %): at its resolution
+  // Asserted, from these with a margin: t* and t^ shrink monotonically at orders in [0.3, 0.8] and [1.5, 3], the finest
+  // grid within 1 % of their extrapolates; c_transient and x_arrest change by less than 0.3 % and 0.05 % per halving.
+  struct Check {
+    const char* name;
+    double compare::Events::*field;
+    double low, high;  ///< the band of the observed order (0, 0: no order; max_change bounds the changes)
+    double max_change;
+  };
+  constexpr Check checks[] = {{"t*", &compare::Events::t_star, 0.3, 0.8, 0.0},
+                              {"t^", &compare::Events::t_hat, 1.5, 3.0, 0.0},
+                              {"c_transient", &compare::Events::c_transient, 0.0, 0.0, 0.003},
+                              {"x_arrest", &compare::Events::x_arrest, 0.0, 0.0, 5e-4}};
+  std::vector<compare::Events> e;
+  for (const char* d : {"1", "0.5", "0.25"}) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const compare::Scene s = app::load_scene(std::string(SLIPFRONT_SOURCE_DIR) + "/configs/fig1_inplane.toml",
+                                             {"models=[\"continuum\"]", "time.t_end=130", "output.snapshot_dt=0",
+                                              "output.bulk_dt=0", std::string("grid.dx=") + d, std::string("grid.dy=") + d});
+    const auto out = run(s);
+    REQUIRE(out.size() == 1);
+    e.push_back(out[0].events);
+    std::printf("  fig1_inplane dx = dy = %s (%.1f s)\n", d,
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
+  for (const Check& c : checks) {
+    const double f1 = e[0].*c.field, f2 = e[1].*c.field, f4 = e[2].*c.field;
+    INFO(c.name << ": " << f1 << ", " << f2 << ", " << f4);
+    REQUIRE(std::isfinite(f1));
+    REQUIRE(std::isfinite(f2));
+    REQUIRE(std::isfinite(f4));
+    const double d1 = f1 - f2, d2 = f2 - f4, p = std::log2(std::abs(d1 / d2));
+    const double rich = f4 - d2 / (std::pow(2.0, p) - 1.0);
+    std::printf("fig1_inplane %-11s dx = 1, 0.5, 0.25: %.6g %.6g %.6g; differences %+.3e %+.3e (relative %+.2e %+.2e); "
+                "observed order %.2f; Richardson %.6g; errors %+.2e %+.2e %+.2e\n",
+                c.name, f1, f2, f4, d1, d2, d1 / f4, d2 / f4, p, rich, f1 / rich - 1, f2 / rich - 1, f4 / rich - 1);
+    if (c.max_change > 0.0) {
+      CHECK(std::abs(d1 / f4) < c.max_change);
+      CHECK(std::abs(d2 / f4) < c.max_change);
+      continue;
+    }
+    CHECK(d1 * d2 > 0.0);  // monotone
+    CHECK(std::abs(d2) < std::abs(d1));
+    CHECK(p >= c.low);
+    CHECK(p <= c.high);
+    CHECK(std::abs(f4 / rich - 1.0) < 0.01);
+  }
 }

@@ -248,18 +248,7 @@ namespace {
 /// fig1 (testing::fig1_scene) on L = 60, dx = 1, H = 4, dy = 1 (61 × 5 nodes) to t = 60: first yield and the
 /// slow front; both models, the discrete one the agent representation with N = 50 contacts per site.
 compare::Scene small_agent_strip(core::Integrator integ) {
-  compare::Scene s = testing::fig1_scene();
-  s.name = "small_agent_strip";
-  s.bulk.length = 60.0;
-  s.bulk.height = 4.0;
-  s.grid.dx = 1.0;
-  s.grid.dy = 1.0;
-  s.time.t_end = 60.0;
-  s.time.integrator = integ;
-  if (integ == core::Integrator::implicit_trapezoidal) s.time.dt = 0.01;
-  s.output.series_dt = 0.5;
-  s.output.snapshot_dt = 5.0;
-  s.output.compare_dt = 5.0;
+  compare::Scene s = testing::small_strip_scene(integ, "small_agent_strip");
   s.output.energy = true;  // reads every dof: a row not restored would change it
   s.models = {"continuum", "discrete"};
   s.discrete.representation = "agent";

@@ -120,19 +120,7 @@ std::vector<double> row_of(const compare::ModelResult& r, const char* field, std
 double rel(double a, double b) { return std::abs(a / b - 1.0); }
 
 /// A small strip: fig1 on L = 60, dx = 1, H = 4, dy = 1 (5 rows) to t = 60: first yield and the slow front.
-compare::Scene small_strip(core::Integrator integ) {
-  compare::Scene s = fig1_strip(4.0, 1.0);
-  s.name = "small_strip";
-  s.bulk.length = 60.0;
-  s.grid.dx = 1.0;
-  s.time.t_end = 60.0;
-  s.time.integrator = integ;
-  if (integ == core::Integrator::implicit_trapezoidal) s.time.dt = 0.01;
-  s.output.series_dt = 0.5;
-  s.output.snapshot_dt = 5.0;
-  s.output.compare_dt = 5.0;
-  return s;
-}
+compare::Scene small_strip(core::Integrator integ) { return testing::small_strip_scene(integ, "small_strip"); }
 
 using testing::same;
 

@@ -18,6 +18,9 @@
 #include <thread>
 #include <vector>
 
+#include "apps/config.hpp"
+#include "compare/scene.hpp"
+#include "compare/study_plan.hpp"
 #include "studies/resolution.hpp"
 #include "h5content.hpp"
 #include "process.hpp"
@@ -191,4 +194,32 @@ TEST_CASE("resolution: SIGINT writes study.h5 with status interrupted, and the s
   CHECK(again.code == 0);
   CHECK(read_h5(out / "study.h5").strings.at("/meta@status") == "complete");
   CHECK(contains(again.out, "resolution check: 4 levels"));
+}
+
+TEST_CASE("resolution: the levels refine grid.dy with grid.dx on either strip (the in-plane strip too)", "[resolution]") {
+  // configs/fig1_inplane.toml (dx = dy = 0.5) and fig1_strip (the same grid) with --coarser 1 --levels 1: every level
+  // sets grid.dy to its grid.dx (1, 0.5, 0.25); the chain (fig1) sets no grid.dy. (Until 2026-11-27 the in-plane
+  // strip's dy was left at the scene's: docs/numerics.md §8.10.)
+  compare::StudySpec spec;
+  spec.kind = "resolution";
+  studies::ResolutionOptions o;
+  o.levels = 1;
+  o.coarser = 1;
+  spec.kind_options = o;
+  for (const char* scene : {"fig1_inplane", "fig1_strip", "fig1"}) {
+    INFO(scene);
+    const compare::Scene base = app::load_scene(std::string(SLIPFRONT_SOURCE_DIR) + "/configs/" + scene + ".toml",
+                                                {"models=[\"continuum\"]"});
+    const auto groups = studies::resolution_groups(spec, base);
+    REQUIRE(groups.size() == 3);
+    std::vector<std::string> dx, dy;
+    for (const auto& g : groups)
+      for (const auto& [key, values] : g.vary) {
+        if (key == "grid.dx") dx.push_back(values.at(0));
+        if (key == "grid.dy") dy.push_back(values.at(0));
+      }
+    REQUIRE(dx.size() == 3);
+    if (std::string(scene) == "fig1") CHECK(dy.empty());
+    else CHECK(dy == dx);
+  }
 }

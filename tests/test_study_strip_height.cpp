@@ -56,6 +56,7 @@ struct Maker {
   std::vector<compare::StudyRun> runs;
   std::vector<compare::Scene> scenes;
   std::vector<std::vector<compare::ModelResult>> results;
+  std::string body;  ///< bulk.body of the runs added next with H > 0 ("": the antiplane strip)
 
   void add(double H, double dy, compare::Events e, double dt = 0.001, const compare::Events* discrete = nullptr) {
     compare::StudyRun r;
@@ -65,6 +66,7 @@ struct Maker {
     s.bulk.mu = 300.0;
     s.interface.alpha = 1.05;
     s.bulk.height = H;
+    if (H > 0.0) s.bulk.body_name = body;
     s.grid.dx = 0.5;
     s.grid.dy = dy;
     s.time.dt = dt;
@@ -224,4 +226,44 @@ TEST_CASE("strip_height analysis: a height run at several dy gives the dy table 
   CHECK(d.at("max_rel_ref")[1] == Approx(0.025));
   CHECK(r.scalars.at("strip_height_dy_max_rel_diff") == Approx(0.025));
   CHECK(r.tables.at("strip_height").at("H").size() == 4);  // every (H, dy) is a row of the main table
+}
+
+TEST_CASE("strip_height analysis: in-plane runs get their own inplane_height table and check beside the antiplane strip's",
+          "[study][strip][inplane]") {
+  // Issue 38 (the study inplane_height): the body is each run's (bulk.body). One chain, two heights on each strip: the
+  // antiplane strip's table and scalars keep their names (strip_height*), the in-plane strip's are inplane_height*,
+  // each against the same chain; each body has its own H -> 0 check (here the in-plane strip's fails: 0.8 %).
+  Maker m;
+  m.add(0.0, 0.0, fig1_events());
+  m.add(0.25, 0.25, fig1_events(1.0001));
+  m.add(2.0, 0.5, fig1_events(1.003));
+  m.body = "inplane";
+  m.add(0.25, 0.25, fig1_events(1.008));
+  m.add(2.0, 0.5, fig1_events(1.02));
+  m.add(5.0, 0.5, fig1_events(1.1));
+  const auto r = m.analyse();
+  INFO(notes(r));
+  REQUIRE(r.tables.count("strip_height") == 1);
+  REQUIRE(r.tables.count("inplane_height") == 1);
+  CHECK(r.tables.at("strip_height").at("H") == std::vector<double>{0.0, 0.25, 2.0});
+  CHECK(r.tables.at("inplane_height").at("H") == std::vector<double>{0.0, 0.25, 2.0, 5.0});
+  CHECK(r.tables.at("inplane_height").at("t_hat_discrete_rel_1d")[3] == Approx(0.1));
+  CHECK(r.tables.at("strip_height").at("t_hat_discrete_rel_1d")[2] == Approx(0.003));
+  CHECK(r.scalars.at("strip_height_thin_max_rel_diff") == Approx(1e-4).epsilon(1e-6));
+  CHECK(r.scalars.at("inplane_height_thin_max_rel_diff") == Approx(0.008).epsilon(1e-6));
+  CHECK(r.scalars.at("inplane_height_1d_t_star_continuum") == r.scalars.at("strip_height_1d_t_star_continuum"));
+  CHECK(r.scalars.count("inplane_height_order_t_star_continuum") == 1);  // 3 thin in-plane heights
+  CHECK(r.scalars.count("strip_height_order_t_star_continuum") == 0);    // 2 thin antiplane heights: no fit
+  CHECK(has_note(r, "H -> 0: at the smallest height H = 0.25 (H/l_e = 0.0148) every event of both models is within 0.5 %"));
+  CHECK(has_note(r, "FLAG: in-plane strip: H -> 0: at the smallest height H = 0.25"));
+  CHECK(has_note(r, "docs/model.md §10.2 predicts O(H^2)"));
+  CHECK(r.definitions.count("inplane_height/t_hat_continuum_rel_1d") == 1);
+
+  Maker only;  // a study of the in-plane strip and the chain: no antiplane table
+  only.add(0.0, 0.0, fig1_events());
+  only.body = "inplane";
+  only.add(1.0, 0.5, fig1_events(1.001));
+  const auto o = only.analyse();
+  CHECK(o.tables.count("strip_height") == 0);
+  CHECK(o.tables.at("inplane_height").at("H") == std::vector<double>{0.0, 1.0});
 }

@@ -96,6 +96,11 @@ collapse() {
 # alpha, eta, kappa): one step, so the fronts never start before the scene they share the directory with
 homogeneous_front() { scene homogeneous_front && "$slipfront" fronts configs/homogeneous_front.toml --scaling --out "$out/homogeneous_front" --force; }
 
+# the in-plane strip's steady fronts (docs/fronts.md §11) on 4 rows and 200 intervals: every speed with its estimate
+# (c_min within 4e-5 of the rtol-chosen 16-row mesh's, c(0.5) within 6e-4; ~9 s of CPU against ~190 s for the default
+# choice, 2026-11-27)
+inplane_fronts() { "$slipfront" fronts configs/steady_front_inplane.toml --rows 4 --intervals 200 --out "$out/steady_front_inplane" --force; }
+
 longest_first=(
   "study validity_fig1"         # (64)
   "study strip_height"          # (47)
@@ -119,11 +124,12 @@ longest_first=(
   "collapse 16"                 # (6)
   "study disorder_limit_law"    # (5)
   "study fig2_sweep"            # (4)
+  "inplane_fronts"              # (~9 s of CPU)
 )
 steps=("${longest_first[@]}")
 for f in configs/*.toml; do  # every scene of configs/, the steady-front configurations aside (run by `fronts`)
   n=$(basename "$f" .toml)
-  [[ $n == steady_front_strip || $n == homogeneous_front ]] && continue
+  [[ $n == steady_front_strip || $n == steady_front_inplane || $n == homogeneous_front ]] && continue
   [[ " ${steps[*]} " == *" scene $n "* ]] || steps+=("scene $n")
 done
 for f in configs/studies/*.toml; do
@@ -138,6 +144,7 @@ for s in "${steps[@]}"; do
     scene | study) wanted "$name" || continue ;;
     collapse) wanted strip || continue ;;
     homogeneous_front) name="" ;;
+    inplane_fronts) wanted inplane || continue; name="" ;;
   esac
   launch "$kind${name:+ $name}" "$kind" ${name:+"$name"}
 done

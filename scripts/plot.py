@@ -13,6 +13,8 @@ Writes PNGs (default: next to the results file) and prints the path of each one:
                                          <scene>_sigma_yy.png the in-plane strip's interface normal
                                                                stress: sigma_yy(x, 0) at the snapshots
                                                                nearest the events, its space-time maps
+                                         <scene>_sequence.png the slip events (output.sequence): arrest
+                                                               position and speed of each against its start
   imposed-rate sweep                     <scene>_steady_friction.png   sigma(v), A(v) against closed forms
   imposed-rate history                   <scene>_history.png  sigma(t), A(t), v(t), zooms on the jumps
   spring block                           <scene>_stick_slip.png     F(t) with peaks and residuals
@@ -406,6 +408,7 @@ def plot_1d(res: Results, outdir, written, dpi):
         fig.get_layout_engine().set(rect=(0, bottom, 1, 1 - bottom))
     save(fig, outdir, f"{res.scene}_tip.png", written, dpi)
     plot_normal_stress(res, outdir, written, dpi)
+    plot_sequence(res, outdir, written, dpi)
 
 
 def normal_stress_times(ts, ev, count=5):
@@ -460,6 +463,33 @@ def plot_normal_stress(res: Results, outdir, written, dpi):
         ax.set_title(f"{m}: sigma_yy", fontsize=10)
     fig.suptitle(res.title("interface normal stress sigma_yy(x, 0, t) (the in-plane strip)", fig), fontsize=11)
     save(fig, outdir, f"{res.scene}_sigma_yy.png", written, dpi)
+
+
+def plot_sequence(res: Results, outdir, written, dpi):
+    """The slip events of an edge-loaded run (output.sequence, docs/output.md sequence/): each event's arrest position
+    and speed against its start time, every model (a filled marker: the event spanned the interface)."""
+    models = [m for m in res.models if dataset(res.group(m), "sequence/t_start") is not None]
+    if not models or all(len(dataset(res.group(m), "sequence/t_start")) == 0 for m in models):
+        return
+    fig, (ax_x, ax_c) = plt.subplots(2, 1, figsize=(8.0, 6.4), sharex=True)
+    for i, m in enumerate(models):
+        g = res.group(m)
+        t0, xa = dataset(g, "sequence/t_start"), dataset(g, "sequence/x_arrest")
+        ce, span = dataset(g, "sequence/c_event"), dataset(g, "sequence/spanning")
+        st = style(m, i)
+        for k in range(len(t0)):
+            face = st["color"] if span[k] == 1 else "none"
+            lab = m if k == 0 else None
+            ax_x.plot(t0[k], xa[k], st.get("marker", "o"), color=st["color"], mfc=face, ms=8, label=lab)
+            ax_c.plot(t0[k], ce[k], st.get("marker", "o"), color=st["color"], mfc=face, ms=8, label=lab)
+        ax_x.plot(t0, xa, "-", color=st["color"], lw=0.8, alpha=0.5)
+        ax_c.plot(t0, ce, "-", color=st["color"], lw=0.8, alpha=0.5)
+    ax_x.set_ylabel("arrest position x_arrest")
+    ax_c.set_ylabel("event speed c_event")
+    ax_c.set_xlabel("event start t")
+    ax_x.legend(fontsize=9, title="filled: spanned the interface", title_fontsize=9)
+    fig.suptitle(res.title("the sequence of slip events (output.sequence, docs/model.md §3.2)", fig), fontsize=11)
+    save(fig, outdir, f"{res.scene}_sequence.png", written, dpi)
 
 
 def _wrap(s, width=150):

@@ -74,7 +74,7 @@ TEST_CASE("inplane fronts verb: the branch, c_min against the 1D c_min of mu = E
   CHECK(o.out.find("c_min / c_min(1D, mu = E'H) = 1.0012") != std::string::npos);
 }
 
-TEST_CASE("inplane fronts verb: a supershear scene sigma_d is reported, not failed; --scaling collapses on mu = E'H",
+TEST_CASE("inplane fronts verb: a supershear scene sigma_d is reported, not failed, and --scaling collapses on mu = E'H",
           "[fronts][cli][inplane]") {
   // sigma_d = 0.9: the 1D front of mu = E'H runs at 121 > c_s = 100; the in-plane solver does not solve supershear
   // fronts (docs/fronts.md §11.2). 2 rows, 100 intervals: the branch and the verdict as usual, the scene's front named.

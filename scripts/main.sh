@@ -103,6 +103,7 @@ inplane_fronts() { "$slipfront" fronts configs/steady_front_inplane.toml --rows 
 
 longest_first=(
   "study validity_fig1"         # (64)
+  "scene fig1_aging"            # (~52 wall beside the CI, 2026-11-27: the age-structured mean field to t = 400)
   "study strip_height"          # (47)
   "collapse 100000"             # (34)
   "study fig2_strip"            # (32)

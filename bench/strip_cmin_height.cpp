@@ -22,6 +22,52 @@ namespace compare = slipfront::compare;
 namespace continuum = slipfront::continuum;
 namespace studies = slipfront::studies;
 
+// --check: mesh convergence at the largest H, each variant re-solved from the path's last front (printed to stderr).
+static void check_meshes_at_largest_height(const studies::StripCminHeightOptions& o, const continuum::StripHeightPath& path) {
+  const double mu = o.mu_strip, rho = o.rho_strip;
+  const auto& law = o.law;
+  const continuum::StripHeightOptions po = studies::strip_cmin_path_options(o);
+  const auto& last = path.fronts.back();
+  const double h = last.bulk.height, lt = continuum::strip_tip_zone(law, last.c, last.v_behind);
+  struct Variant {
+    const char* what;
+    int rows, intervals;
+    double tip_res, row_res, decay, rho_factor;
+  };
+  const int rows = o.rows, intervals = o.intervals;
+  const std::vector<Variant> variants{{"base", rows, intervals, 30, 10, 20, 1},
+                                      {"2x rows", 2 * rows, intervals, 30, 10, 20, 1},
+                                      {"4x rows", 4 * rows, intervals, 30, 10, 20, 1},
+                                      {"2x intervals", rows, 2 * intervals, 30, 10, 20, 1},
+                                      {"tip, first row /2", rows, intervals, 60, 20, 20, 1},
+                                      {"2x rows, first row /2", 2 * rows, intervals, 30, 20, 20, 1},
+                                      {"L: 30 e-folds", rows, intervals, 30, 10, 30, 1},
+                                      {"rho' / 100", rows, intervals, 30, 10, 20, 0.01}};
+  // Each variant starts from the converged variant with the most rows not above its own (the path's front
+  // for the 12-row ones): 48 rows started from the 12-row front did not converge in 40 Newton iterations,
+  // from the converged 24-row front it does (docs/fronts.md §10.13).
+  std::vector<continuum::StripFront> solved;
+  double base = 0.0;
+  for (const auto& v : variants) {
+    const continuum::StripFront* from = &last;
+    for (const auto& s : solved)
+      if (s.status == continuum::FrontStatus::converged && s.rows() <= v.rows && s.rows() > from->rows()) from = &s;
+    continuum::StripFrontOptions fo = continuum::following_tip(po.front, lt, v.tip_res, v.row_res);
+    fo.rows = v.rows;
+    fo.intervals = v.intervals;
+    fo.decay_lengths = v.decay;
+    fo.max_newton = 40;
+    const auto tv = std::chrono::steady_clock::now();
+    const auto fr = continuum::solve_strip_saddle_node_front(law, {rho * v.rho_factor * h, mu * h, 1000.0, h}, fo, *from);
+    const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - tv).count();
+    if (base == 0.0) base = fr.c;
+    std::fprintf(stderr, "check H = %g %-24s rows %3d intervals %4d: c = %.10g (%+.2e vs base) %s, newton %d, residual %.1e, L = %.4g, %.1f s (from %d rows)\n",
+                 h, v.what, v.rows, v.intervals, fr.c, fr.c / base - 1.0, continuum::to_string(fr.status), fr.newton_iterations,
+                 fr.residual_norm, fr.domain_length, sec, from->rows());
+    solved.push_back(fr);
+  }
+}
+
 int main(int argc, char** argv) {
   studies::StripCminHeightOptions o;
   bool check = false;
@@ -59,51 +105,7 @@ int main(int argc, char** argv) {
   o.log = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
   const auto path = studies::strip_cmin_limiting_path(o);
 
-  // Mesh convergence at the largest H: each variant re-solved from the path's last front.
-  if (check && !path.fronts.empty()) {
-    const double mu = o.mu_strip, rho = o.rho_strip;
-    const auto& law = o.law;
-    const continuum::StripHeightOptions po = studies::strip_cmin_path_options(o);
-    const auto& last = path.fronts.back();
-    const double h = last.bulk.height, lt = continuum::strip_tip_zone(law, last.c, last.v_behind);
-    struct Variant {
-      const char* what;
-      int rows, intervals;
-      double tip_res, row_res, decay, rho_factor;
-    };
-    const int rows = o.rows, intervals = o.intervals;
-    const std::vector<Variant> variants{{"base", rows, intervals, 30, 10, 20, 1},
-                                        {"2x rows", 2 * rows, intervals, 30, 10, 20, 1},
-                                        {"4x rows", 4 * rows, intervals, 30, 10, 20, 1},
-                                        {"2x intervals", rows, 2 * intervals, 30, 10, 20, 1},
-                                        {"tip, first row /2", rows, intervals, 60, 20, 20, 1},
-                                        {"2x rows, first row /2", 2 * rows, intervals, 30, 20, 20, 1},
-                                        {"L: 30 e-folds", rows, intervals, 30, 10, 30, 1},
-                                        {"rho' / 100", rows, intervals, 30, 10, 20, 0.01}};
-    // Each variant starts from the converged variant with the most rows not above its own (the path's front
-    // for the 12-row ones): 48 rows started from the 12-row front did not converge in 40 Newton iterations,
-    // from the converged 24-row front it does (docs/fronts.md §10.13).
-    std::vector<continuum::StripFront> solved;
-    double base = 0.0;
-    for (const auto& v : variants) {
-      const continuum::StripFront* from = &last;
-      for (const auto& s : solved)
-        if (s.status == continuum::FrontStatus::converged && s.rows() <= v.rows && s.rows() > from->rows()) from = &s;
-      continuum::StripFrontOptions fo = continuum::following_tip(po.front, lt, v.tip_res, v.row_res);
-      fo.rows = v.rows;
-      fo.intervals = v.intervals;
-      fo.decay_lengths = v.decay;
-      fo.max_newton = 40;
-      const auto tv = std::chrono::steady_clock::now();
-      const auto fr = continuum::solve_strip_saddle_node_front(law, {rho * v.rho_factor * h, mu * h, 1000.0, h}, fo, *from);
-      const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - tv).count();
-      if (base == 0.0) base = fr.c;
-      std::fprintf(stderr, "check H = %g %-24s rows %3d intervals %4d: c = %.10g (%+.2e vs base) %s, newton %d, residual %.1e, L = %.4g, %.1f s (from %d rows)\n",
-                   h, v.what, v.rows, v.intervals, fr.c, fr.c / base - 1.0, continuum::to_string(fr.status), fr.newton_iterations,
-                   fr.residual_norm, fr.domain_length, sec, from->rows());
-      solved.push_back(fr);
-    }
-  }
+  if (check && !path.fronts.empty()) check_meshes_at_largest_height(o, path);
 
   const std::string csv = studies::strip_cmin_csv(studies::strip_cmin_rows(o, path));
   std::fwrite(csv.data(), 1, csv.size(), f);

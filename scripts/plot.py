@@ -17,6 +17,7 @@ Writes PNGs (default: next to the results file) and prints the path of each one:
                                                                position and speed of each against its start
   imposed-rate sweep                     <scene>_steady_friction.png   sigma(v), A(v) against closed forms
   imposed-rate history                   <scene>_history.png  sigma(t), A(t), v(t), zooms on the jumps
+                                         <scene>_peaks.png    with holds (v = 0): static peak against hold time
   spring block                           <scene>_stick_slip.png     F(t) with peaks and residuals
 Every model group present (continuum, discrete, ...) is drawn: maps side by side, curves overlaid.
 Missing groups, datasets or events (NaN) are skipped, not fatal.
@@ -193,6 +194,51 @@ def sigma_ss(v, alpha, kappa, eta):
 
 def area_ss(v, kappa):
     return 1.0 / (1.0 + kappa * np.abs(np.asarray(v, dtype=float)))
+
+
+def aging_params(res: Results):
+    """(b, tau_a) of a scene with contact aging (interface.aging_b > 0, docs/model.md §11), else None."""
+    b, tau = res.param("interface", "aging_b", 0.0), res.param("interface", "aging_tau", 1.0)
+    return (float(b), float(tau)) if b and float(b) > 0 else None
+
+
+def exp_e1(x):
+    """e^x E_1(x) for x > 0 (docs/model.md §11.1): the power series of E_1 below 1, 64-point Gauss-Laguerre of
+    the integral of e^-t/(x + t) above (both to ~1e-8 at x = 1)."""
+    x = np.atleast_1d(np.asarray(x, dtype=float))
+    out = np.empty_like(x)
+    small = x < 1.0
+    k = np.arange(1, 40)
+    kk = k * np.array([math.factorial(int(i)) for i in k], dtype=float)
+    xs = x[small]
+    out[small] = np.exp(xs) * (-np.euler_gamma - np.log(xs) - np.sum((-xs[:, None]) ** k / kk, axis=1))
+    t, w = np.polynomial.laguerre.laggauss(64)
+    out[~small] = np.sum(w / (x[~small, None] + t), axis=1)
+    return out
+
+
+def aged_sigma_ss(v, alpha, kappa, eta, b, tau, closure=False):
+    """The steady law with contact aging (docs/model.md §11.1, §11.4): the age-structured balance's
+    alpha (1 + b e^x E_1(x))/(1 + kappa v) + eta v, x = kappa v tau_a (mean_field and the ensemble), or the
+    one-variable closure's alpha (1 + b ln(1 + 1/x))/(1 + kappa v) + eta v (the continuum law with aging)."""
+    v = np.abs(np.asarray(v, dtype=float))
+    x = kappa * v * tau
+    aged = np.log1p(1.0 / x) if closure else exp_e1(x)
+    return alpha * (1.0 + b * aged) / (1.0 + kappa * v) + eta * v
+
+
+def aged_minimum_of_friction(p, ag):
+    """v_m and sigma_c^d of the age-structured balance's steady law (docs/model.md §11.1), on a fine grid (relative
+    spacing 1e-4 in v around the minimum: sigma_c^d to ~1e-9)."""
+    vv = np.geomspace(1e-4, 1e4, 20001)
+    s = aged_sigma_ss(vv, *p, *ag)
+    k = int(np.argmin(s))
+    if not 0 < k < len(vv) - 1:
+        return math.nan, math.nan
+    vv = np.geomspace(vv[k - 1], vv[k + 1], 2001)
+    s = aged_sigma_ss(vv, *p, *ag)
+    k = int(np.argmin(s))
+    return float(vv[k]), float(s[k])
 
 
 def minimum_of_friction(alpha, kappa, eta):
@@ -510,7 +556,10 @@ def _wrap(s, width=150):
 def plot_sweep(res: Results, outdir, written, dpi):
     fig, (ax, axA, axr) = plt.subplots(3, 1, figsize=(8.5, 11), sharex=True, constrained_layout=True,
                                        gridspec_kw=dict(height_ratios=[1.6, 1, 0.8]))
-    p = interface_params(res)
+    p, ag = interface_params(res), aging_params(res)
+    law = None  # the closed form each model is held to: with aging the age-structured balance's (§11.1)
+    if p:
+        law = (lambda u: aged_sigma_ss(u, *p, *ag)) if ag else (lambda u: sigma_ss(u, *p))  # noqa: E731
     axz = ax.inset_axes([0.06, 0.5, 0.36, 0.45])  # zoom on the minimum
     vmins, vmaxs = [], []
     for j, m in enumerate(res.models):
@@ -527,7 +576,7 @@ def plot_sweep(res: Results, outdir, written, dpi):
                        zorder=st["zorder"], label=f"{m}: time average ± stderr")
         if A is not None and len(A) == len(v):
             axA.plot(v, A, ls="none", marker=st["marker"], ms=4, color=st["color"], label=m)
-        ref = sigma_ss(v, *p) if p else dataset(g, "friction_law/sigma_closed_form")
+        ref = law(v) if law else dataset(g, "friction_law/sigma_closed_form")
         if ref is not None and len(ref) == len(v):
             rel = (s - ref) / ref
             rel_err = yerr / np.abs(ref) if yerr is not None else None
@@ -544,13 +593,16 @@ def plot_sweep(res: Results, outdir, written, dpi):
         save(fig, outdir, f"{res.scene}_steady_friction.png", written, dpi)
         return
     vv = np.geomspace(min(vmins), max(vmaxs), 400)
-    if p:
+    if p and ag:
+        vm, sc = aged_law_lines(ax, axz, axA, vv, p, ag)
+    elif p:
         alpha, kappa, eta = p
         for a in (ax, axz):
             a.plot(vv, sigma_ss(vv, *p), color="k", lw=1, zorder=1,
                    label=f"closed form alpha/(1+kappa v) + eta v  (alpha={alpha:g}, kappa={kappa:g}, eta={eta:g})")
         axA.plot(vv, area_ss(vv, kappa), color="k", lw=1, label="closed form 1/(1+kappa v)")
         vm, sc = minimum_of_friction(*p)
+    if p:
         if finite(vm):
             ax.axvline(vm, color="0.4", ls=":", lw=1)
             ax.axhline(sc, color="0.4", ls=":", lw=1)
@@ -560,7 +612,7 @@ def plot_sweep(res: Results, outdir, written, dpi):
             axz.axvline(vm, color="0.4", ls=":", lw=1)
             axz.axhline(sc, color="0.4", ls=":", lw=1)
             axz.set_xlim(vm / 5, vm * 5)
-            axz.set_ylim(sc * 0.95, sigma_ss(vm * 5, *p) * 1.02)
+            axz.set_ylim(sc * 0.95, float(law(vm * 5)) * 1.02)
             axA.axvline(vm, color="0.4", ls=":", lw=1)
             axr.axvline(vm, color="0.4", ls=":", lw=1)
     else:
@@ -583,13 +635,30 @@ def plot_sweep(res: Results, outdir, written, dpi):
     axA.legend(fontsize=8)
     axA.grid(alpha=0.3, which="both")
     axr.axhline(0, color="k", lw=0.8)
-    axr.set_ylabel("(sigma - closed form) / closed form")
+    axr.set_ylabel("(sigma - balance's closed form) / closed form" if ag else "(sigma - closed form) / closed form")
     axr.set_xlabel("imposed slip rate v")
     if axr.has_data():
         axr.legend(fontsize=8)
     axr.grid(alpha=0.3, which="both")
     fig.suptitle(res.title("steady friction law", fig), fontsize=10)
     save(fig, outdir, f"{res.scene}_steady_friction.png", written, dpi)
+
+
+def aged_law_lines(ax, axz, axA, vv, p, ag):
+    """The steady law with aging (docs/model.md §11.1, §11.4): the balance's closed form (black, what mean_field and
+    the ensemble must follow), the closure's (dashed, the continuum law's) and the law without aging (grey); the
+    balance's minimum, found on vv. Returns (v_m, sigma_c^d) of the balance."""
+    (alpha, kappa, eta), (b, tau) = p, ag
+    bal, clo = aged_sigma_ss(vv, *p, b, tau), aged_sigma_ss(vv, *p, b, tau, closure=True)
+    for a in (ax, axz):
+        a.plot(vv, bal, color="k", lw=1, zorder=1,
+               label=f"balance: alpha (1 + b e^x E1(x))/(1+kappa v) + eta v, x = kappa v tau_a (b={b:g}, tau_a={tau:g})")
+        a.plot(vv, clo, color="k", lw=1, ls="--", zorder=1, label="one-variable closure: b ln(1 + 1/x) in place of b e^x E1(x)")
+        a.plot(vv, sigma_ss(vv, *p), color="0.6", lw=1, ls=":", zorder=1, label="without aging (b = 0)")
+    axA.plot(vv, (1.0 + b * exp_e1(kappa * vv * tau)) / (1.0 + kappa * vv), color="k", lw=1, label="balance's closed form")
+    axA.plot(vv, area_ss(vv, kappa), color="0.6", lw=1, ls=":", label="without aging 1/(1+kappa v)")
+    k = int(np.argmin(bal))
+    return (float(vv[k]), float(bal[k])) if 0 < k < len(vv) - 1 else (math.nan, math.nan)
 
 
 # --------------------------------------------------------------------------------------------
@@ -668,6 +737,85 @@ def plot_history(res: Results, outdir, written, dpi):
         no_data(axes[0, 0], "no series")
     fig.suptitle(res.title("imposed slip-rate history", fig), fontsize=10)
     save(fig, outdir, f"{res.scene}_history.png", written, dpi)
+    plot_hold_peaks(res, outdir, written, dpi)
+
+
+def hold_segments(t, v):
+    """[(start, end, holding)] index ranges of a series where the slip rate is 0 (a hold) or not."""
+    hold = v == 0.0
+    edges = np.flatnonzero(np.diff(hold.astype(int))) + 1
+    bounds = np.concatenate(([0], edges, [len(t)]))
+    return [(a, b, bool(hold[a])) for a, b in zip(bounds[:-1], bounds[1:])]
+
+
+def hold_peaks(t, v, sigma):
+    """Slide-hold-slide (docs/model.md §11.1): per hold followed by a slide, (t_h, the slide's static peak max sigma,
+    sigma just before the hold), t_h from the last sliding sample to the last held one."""
+    out = []
+    segs = hold_segments(t, v)
+    for k in range(1, len(segs) - 1):
+        a, b, holding = segs[k]
+        if holding:
+            na, nb, _ = segs[k + 1]
+            out.append((t[b - 1] - t[a - 1], sigma[na:nb].max(), sigma[a - 1]))
+    return np.array(out).reshape(-1, 3)
+
+
+def peak_slope(peaks, fit_from=10.0):
+    """Least-squares d peak / d ln t_h over the holds t_h >= fit_from (NaN with fewer than two)."""
+    fit = peaks[:, 0] >= fit_from
+    return float(np.polyfit(np.log(peaks[fit, 0]), peaks[fit, 1], 1)[0]) if fit.sum() >= 2 else math.nan
+
+
+def model_hold_peaks(res: Results):
+    """{model: hold_peaks} of every model whose series has holds (an imposed-rate history with v = 0 segments)."""
+    out = {}
+    for m in res.models:
+        g = res.group(m)
+        t, v, sg = (dataset(g, f"series/{k}") for k in ("t", "slip_rate", "sigma"))
+        if t is not None and v is not None and sg is not None and len(t) == len(v) == len(sg):
+            pk = hold_peaks(t, v, sg)
+            if len(pk):
+                out[m] = pk
+    return out
+
+
+def plot_hold_peaks(res: Results, outdir, written, dpi):
+    """<scene>_peaks.png of a slide-hold-slide history: each model's static peak against the hold time with its
+    ln t_h slope (t_h >= 10), and every model's peak minus the age-structured balance's (mean_field: the closure's
+    error and the ensemble's noise). Nothing when the history has no hold."""
+    pk = model_hold_peaks(res)
+    if not pk:
+        return
+    fig, (ax, axd) = plt.subplots(2, 1, figsize=(7, 7.5), sharex=True, constrained_layout=True,
+                                  gridspec_kw=dict(height_ratios=[1.6, 1]))
+    ag = aging_params(res)
+    ref = pk.get("mean_field")
+    for j, m in enumerate(res.models):
+        if m not in pk:
+            continue
+        st, p = style(m, j), pk[m]
+        ax.semilogx(p[:, 0], p[:, 1], marker=st["marker"], color=st["color"], ls="-", lw=1,
+                    label=f"{m}: d peak / d ln t_h = {peak_slope(p):.4f} (t_h >= 10)")
+        if ref is not None and m != "mean_field" and len(ref) == len(p):
+            axd.semilogx(p[:, 0], p[:, 1] - ref[:, 1], marker=st["marker"], color=st["color"], ls="-", lw=1,
+                         label=f"{m} - mean_field")
+    if ag and len(next(iter(pk.values()))):
+        th = np.geomspace(max(1e-3, min(p[:, 0].min() for p in pk.values())), max(p[:, 0].max() for p in pk.values()))
+        p0 = pk.get("mean_field", next(iter(pk.values())))
+        ax.semilogx(th, p0[-1, 1] + ag[0] * np.log(th / p0[-1, 0]), color="0.5", ls=":", lw=1,
+                    label=f"slope b = {ag[0]:g} (the contacts' own), through the longest hold")
+    ax.set_ylabel("static peak max sigma after the hold")
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3, which="both")
+    axd.axhline(0, color="k", lw=0.8)
+    axd.set_ylabel("peak - mean_field's peak")
+    axd.set_xlabel("hold time t_h")
+    if axd.has_data():
+        axd.legend(fontsize=8)
+    axd.grid(alpha=0.3, which="both")
+    fig.suptitle(res.title("slide-hold-slide: static friction peak against hold time", fig), fontsize=10)
+    save(fig, outdir, f"{res.scene}_peaks.png", written, dpi)
 
 
 def _autoscale_y(axes, lo, hi):

@@ -9,32 +9,14 @@ draws peak - sigma before the hold against t_h on a log axis.
     /usr/bin/python3 scripts/slide_hold_slide.py out/slide_hold_slide [--plot shs.png]
 """
 import argparse
+import os
 import sys
 
 import h5py
 import numpy as np
 
-
-def segments(t, v):
-    """[(start, end, holding)] index ranges of constant slip-rate sign (v == 0: a hold)."""
-    hold = v == 0.0
-    edges = np.flatnonzero(np.diff(hold.astype(int))) + 1
-    bounds = np.concatenate(([0], edges, [len(t)]))
-    return [(a, b, bool(hold[a])) for a, b in zip(bounds[:-1], bounds[1:])]
-
-
-def peaks(t, v, sigma):
-    """(t_h, peak after the hold, sigma just before the hold) per hold followed by a slide."""
-    out = []
-    segs = segments(t, v)
-    for k in range(1, len(segs) - 1):
-        a, b, holding = segs[k]
-        if not holding:
-            continue
-        t_h = t[b - 1] - t[a - 1]  # from the last sliding sample to the last held one
-        na, nb, _ = segs[k + 1]
-        out.append((t_h, sigma[na:nb].max(), sigma[a - 1]))
-    return np.array(out)
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from plot import hold_peaks, peak_slope  # noqa: E402  (one implementation: scripts/plot.py draws <scene>_peaks.png)
 
 
 def main():
@@ -48,12 +30,11 @@ def main():
         models = [m for m in ("discrete", "mean_field", "continuum") if m in f and "series" in f[m]]
         for m in models:
             s = f[m]["series"]
-            rows[m] = peaks(s["t"][()], s["slip_rate"][()], s["sigma"][()])
+            rows[m] = hold_peaks(s["t"][()], s["slip_rate"][()], s["sigma"][()])
     if not rows:
         sys.exit("no 0D series in " + a.dir)
     for m, p in rows.items():
-        fit = p[:, 0] >= a.fit_from
-        slope = np.polyfit(np.log(p[fit, 0]), p[fit, 1], 1)[0] if fit.sum() >= 2 else float("nan")
+        slope = peak_slope(p, a.fit_from)
         print(f"{m}: slope d peak / d ln t_h over t_h >= {a.fit_from:g}: {slope:.5f}")
         for t_h, pk, before in p:
             print(f"  t_h = {t_h:8.3f}  peak = {pk:.6f}  peak - sigma before hold = {pk - before:.6f}")

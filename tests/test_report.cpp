@@ -582,3 +582,53 @@ TEST_CASE("report: strip_cmin_height's rows show c_min with its estimate, the me
   CHECK(md.find("**1 of 3 heights NOT met** their rtol (H = 1e+04)") != std::string::npos);
   CHECK(md.find("rtol NOT met at 1 of 3 heights (H = 1e+04)") != std::string::npos);
 }
+
+TEST_CASE("report: contact aging's limits are verdict rows, and aging and a load profile against fig1 are effects",
+          "[report][aging]") {
+  // friction_law_aging (9 rates, agent N = 1000), slide_hold_slide (holds 1, 3, 10, 30; agent N = 1000), fig1 and
+  // fig1_load_profile (continuum, to t = 40: first yield) in one tree. The report tests the ensemble against the
+  // age-structured mean field (the sweep's minimum, the peaks' ln t_h slope) and the closure's steady offset against the
+  // derived one (docs/model.md §11.4), draws <scene>_peaks.png, and lists the load profile's t* against fig1's as an
+  // effect; check_report.py, which reads the files, passes.
+  const std::string bin = SLIPFRONT_BINARY, src = SLIPFRONT_SOURCE_DIR;
+  const slipfront::testing::TempDir scratch("report-aging");
+  const fs::path& dir = scratch.path;
+  const std::string n1000 = " -q --force --set discrete.contacts_per_site=1000";
+  REQUIRE(sh(bin + " run " + src + "/configs/friction_law_aging.toml --out " + (dir / "friction_law_aging").string() +
+             n1000 + " --set drive.points=9 > /dev/null") == 0);
+  REQUIRE(sh(bin + " run " + src + "/configs/slide_hold_slide.toml --out " + (dir / "slide_hold_slide").string() + n1000 +
+             " --set time.t_end=144 --set 'drive.v=[1,0,1,0,1,0,1,0,1]' --set 'drive.switch_times=[0,20,21,41,44,64,74,94,124]'"
+             " > /dev/null") == 0);
+  for (const std::string scene : {"fig1", "fig1_load_profile"})
+    REQUIRE(sh(bin + " run " + src + "/configs/" + scene + ".toml --out " + (dir / scene).string() +
+               " -q --force --set time.t_end=40 --set 'models=[\"continuum\"]' > /dev/null") == 0);
+  REQUIRE(sh(bin + " report " + dir.string() + " > /dev/null") == 0);
+  const std::string md = slipfront::testing::slurp(dir / "report.md");
+  const Summary sum = summary_of(md);
+
+  const auto closure = rows_naming(sum.limits, "friction_law_aging/results.h5");
+  CHECK(std::any_of(closure.begin(), closure.end(), [](const std::string& r) {
+    return r.find("closure -> age-structured balance: the steady offset") != std::string::npos &&
+           r.find("| mean_field |") != std::string::npos && r.find("| pass |") != std::string::npos;
+  }));
+  CHECK(std::any_of(closure.begin(), closure.end(), [](const std::string& r) {
+    return r.find("discrete -> mean_field as N -> inf at w = 0 | friction_law_aging: sigma_c^d (closed form with aging") !=
+           std::string::npos;
+  }));
+  const auto peaks = rows_naming(sum.limits, "slide_hold_slide/results.h5");
+  CHECK(std::any_of(peaks.begin(), peaks.end(), [](const std::string& r) {
+    return r.find("static peak slope d peak / d ln t_h") != std::string::npos &&
+           (r.find("| pass |") != std::string::npos || r.find("| FAIL |") != std::string::npos);
+  }));
+  CHECK(md.find("slide_hold_slide: the one-variable closure's static peaks against mean_field's") != std::string::npos);
+  CHECK(md.find("slide_hold_slide_peaks.png") != std::string::npos);
+  const auto load = rows_naming(sum.effects, "fig1_load_profile/results.h5");
+  CHECK(std::any_of(load.begin(), load.end(), [](const std::string& r) {
+    return r.find("normal-load profile") != std::string::npos && r.find("fig1_load_profile: t_star (continuum)") != std::string::npos &&
+           r.find("fig1 continuum 25.6") != std::string::npos;
+  }));
+  CHECK(rows_naming(sum.limits, "fig1_load_profile/results.h5").empty());  // an effect, never a verdict
+  const auto check = slipfront::testing::run({"/usr/bin/python3", src + "/scripts/check_report.py", (dir / "report.md").string()}, dir);
+  INFO(check.out + check.err);
+  CHECK(check.code == 0);
+}

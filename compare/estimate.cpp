@@ -8,6 +8,7 @@
 #include "compare/initial.hpp"
 #include "continuum/friction_law.hpp"
 #include "core/bodies.hpp"
+#include "discrete/aging.hpp"
 #include "discrete/count_law.hpp"
 #include "discrete/streams.hpp"
 
@@ -111,7 +112,9 @@ struct LawCost {
   double ns_per_site_step = 0.0;
   std::string what;
 };
-LawCost law_cost(const Scene& s, const std::string& model, double steps) {
+double turnover_fraction(const Scene& s);
+
+LawCost law_cost_without_aging(const Scene& s, const std::string& model, double steps) {
   const StepCosts& c = step_costs();
   LawCost out;
   if (model == "continuum") {
@@ -127,7 +130,7 @@ LawCost law_cost(const Scene& s, const std::string& model, double steps) {
     out.what = "mean-field law (" + count(b) + " threshold classes)";
     return out;
   }
-  const double n = static_cast<double>(d.contacts_per_site), f = active_fraction(s.drive.loading);
+  const double n = static_cast<double>(d.contacts_per_site), f = turnover_fraction(s);
   if (d.representation == "count") {
     const double b = count_bins(d), det = d.renewal == "quenched" ? b : 1.0;
     const double unspread = discrete::CountLaw::keeps_unspread(d, static_cast<std::size_t>(b)) ? 1.0 : 0.0;
@@ -146,6 +149,49 @@ LawCost law_cost(const Scene& s, const std::string& model, double steps) {
     out.ns_per_site_step = c.naive_contact * n;
     out.what = "naive agent law (" + count(n) + " contacts per site)";
   }
+  return out;
+}
+
+// The longest time one site's contacts age in a run: t_end, or a sweep's longest point (t_end + slip_end / v_min).
+double longest_run(const Scene& s) {
+  if (s.drive.loading == Loading::imposed_rate && s.drive.sweep_points > 0)
+    return s.time.t_end + s.time.slip_end / std::max(s.drive.v_min, 1e-300);
+  return s.time.t_end;
+}
+
+// Contact aging (interface.aging_b > 0, docs/model.md §11): the closure's logarithm per site-step; the age-structured
+// mean field's cohorts, ~ln(1 + t/τ_a)/ε per threshold class (discrete::cohort_merge_width), each with its area every
+// step (4 numbers); the agent's area summed over its contacts every step.
+void add_aging_cost(const Scene& s, const std::string& model, LawCost& out) {
+  if (!s.interface.ages_contacts()) return;
+  const StepCosts& c = step_costs();
+  if (model == "continuum") {
+    out.ns_per_site_step += c.aging_closure;
+    out.bytes_per_site += word;  // the mean-age state
+  } else if (model == "mean_field") {
+    const double cohorts =
+        count_bins(s.discrete) * std::log1p(longest_run(s) / s.interface.aging_tau) / discrete::cohort_merge_width;
+    out.ns_per_site_step += c.aging_cohort * cohorts;
+    out.bytes_per_site += growth * 4.0 * word * cohorts;
+    out.what += ", ~" + count(cohorts) + " age cohorts per site";
+  } else if (s.discrete.representation == "agent" || s.discrete.representation == "naive") {
+    out.ns_per_site_step += c.aging_contact * static_cast<double>(s.discrete.contacts_per_site);
+  }
+}
+
+// The share of sites whose contacts turn over in a step: the loading's active fraction, or every site where a
+// normal-load profile puts the resting area below 1 (they attach at rate a and detach at 1 − a at rest, docs/model.md
+// §12.2: measured fig1_load_profile 28 s against fig1's 3.6 s).
+double turnover_fraction(const Scene& s) {
+  const auto& p = s.interface.load_p;
+  const bool below = s.interface.has_load_profile() && s.interface.load_exponent != 0.0 &&
+                     std::any_of(p.begin(), p.end(), [](double x) { return x < 1.0; });
+  return below ? 1.0 : active_fraction(s.drive.loading);
+}
+
+LawCost law_cost(const Scene& s, const std::string& model, double steps) {
+  LawCost out = law_cost_without_aging(s, model, steps);
+  add_aging_cost(s, model, out);
   return out;
 }
 
@@ -453,7 +499,7 @@ void put_notes(const Scene& s, Estimate& e) {
   if (s.output.ages && s.lists("mean_field"))
     e.notes.push_back("output.ages: the mean_field model carries no contact age (docs/model.md §2.2): none is written "
                       "under /mean_field");
-  if (s.lists("mean_field") && (s.discrete.threshold == "delta" || s.discrete.width == 0.0))
+  if (s.lists("mean_field") && (s.discrete.threshold == "delta" || s.discrete.width == 0.0) && !s.interface.ages_contacts())
     e.notes.push_back("mean_field with discrete.width = 0: the population balance is the continuum law (docs/model.md "
                       "§2.2); set discrete.threshold and discrete.width for a disordered interface");
   if (s.lists("discrete") && s.discrete.representation == "count" && s.discrete.threads > 1) {
@@ -502,6 +548,14 @@ const StepCosts& step_costs() {
       .agent_site = 5.0,
       .agent_event = 60.0,
       .naive_contact = 1.0,
+      // contact aging, fig1_aging (601 sites) to t_end = 50 ... 200 and slide_hold_slide, CPU of one run each
+      // (2026-11-27): the closure 0.97 s against 0.25 s without aging at t_end = 100 (4.2e7 site-steps); the mean field
+      // 1.7, 14.3, 54.4, 83.0 s at t_end = 50, 100, 150, 200 against 0.8 s without aging at 100: ~1.8 ns per cohort
+      // once the interface slides (each cohort's area is a logarithm), less at rest; the agent 15 s for 5.8e4 steps of
+      // 1e4 contacts
+      .aging_closure = 17.0,
+      .aging_cohort = 1.8,
+      .aging_contact = 25.0,
       .law_step = 250.0,
       .step = 250.0,
       .strip_explicit = 2.0,

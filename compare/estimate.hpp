@@ -111,6 +111,9 @@ struct StepCosts {
   double agent_site;      ///< agent representation, per site-step
   double agent_event;     ///< agent representation, per contact state change
   double naive_contact;   ///< naive agent loop, per contact of a site-step
+  double aging_closure;   ///< contact aging (docs/model.md §11.4): the continuum closure's extra per site-step
+  double aging_cohort;    ///< contact aging (§11.3): the age-structured mean field, per age cohort of a site-step
+  double aging_contact;   ///< contact aging (§11.2): the agent's area sum, per contact of a site-step
   double law_step;        ///< imposed slip rate: one exact step of the continuum law with its measurements
   double step;            ///< bulk scenes: per step, whatever the grid (measurements, records, lockstep)
   double strip_explicit;  ///< the strip (docs/model.md §9): per node-step of its bulk, explicit kick and drift

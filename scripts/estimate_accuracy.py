@@ -51,6 +51,12 @@ CASES = [
     ("friction_law agent N=1e3", "configs/friction_law.toml",
      ['models=["discrete"]', "discrete.representation=agent", "discrete.contacts_per_site=1000"]),
     ("velocity_step (history)", "configs/velocity_step.toml", []),
+    # contact aging and a normal-load profile (issue 40; compare/estimate.cpp add_aging_cost, turnover_fraction)
+    ("fig1_aging mean_field t_end 200", "configs/fig1_aging.toml", ['models=["mean_field"]', "time.t_end=200"]),
+    ("fig1_aging closure t_end 200", "configs/fig1_aging.toml", ['models=["continuum"]', "time.t_end=200"]),
+    ("slide_hold_slide (agent N=1e4 with aging)", "configs/slide_hold_slide.toml", []),
+    ("friction_law_aging agent N=1e3", "configs/friction_law_aging.toml", ["discrete.contacts_per_site=1000"]),
+    ("fig1_load_profile discrete", "configs/fig1_load_profile.toml", ['models=["discrete"]']),
     # the leap integrator (the discrete and mean_field models under time.integrator = adaptive) and the implicit
     # integrator's error control (issue 36: time.leap_epsilon and time.implicit_tolerance in the estimate)
     ("fig1 discrete leap", "configs/fig1.toml", ['models=["discrete"]', "time.integrator=adaptive"]),

@@ -245,3 +245,38 @@ TEST_CASE("estimate (issue 36): leap_epsilon and implicit_tolerance outside thei
   CHECK(slow.find("(discrete, leap: ") != std::string::npos);
   CHECK(slow.find("coarsen the grid or the step (time.leap_epsilon, time.implicit_tolerance)") != std::string::npos);
 }
+
+TEST_CASE("estimate (issue 40): contact aging and a normal-load profile are in the run time", "[estimate]") {
+  // Measured (compare/estimate.cpp step_costs, CPU of one run each): the age-structured mean field on fig1_aging 14.3 s
+  // at t_end = 100 and 83.0 s at t_end = 200 against 0.8 s without aging at 100 (its cohorts grow as ln(1 + t/tau_a)
+  // and each costs a logarithm once the interface slides); the closure 0.97 s against 0.25 s; the count ensemble with
+  // fig1_load_profile's profile 9.8 s against 1.06 s on fig1 (every site with a resting area below 1 turns over).
+  // The estimate must follow those ratios within the factor docs/robustness.md §3 states for run times (0.55 .. 5.9).
+  Scene s = app::load_scene(std::string(SLIPFRONT_SOURCE_DIR) + "/configs/fig1_aging.toml", {"time.t_end=100"});
+  const auto model_seconds = [](const Scene& sc, const std::string& m) {
+    for (const auto& e : compare::estimate(sc).models)
+      if (e.model == m) return e.seconds;
+    FAIL("no estimate of " << m);
+    return 0.0;
+  };
+  const double mf_aged = model_seconds(s, "mean_field"), closure = model_seconds(s, "continuum");
+  Scene at200 = s;
+  at200.time.t_end = 200;
+  const double mf_200 = model_seconds(at200, "mean_field");
+  s.interface.aging_b = 0.0;
+  const double mf_plain = model_seconds(s, "mean_field"), plain = model_seconds(s, "continuum");
+  CHECK(mf_aged / mf_plain > 18.0 / 5.9);
+  CHECK(mf_aged / mf_plain < 18.0 / 0.55);
+  CHECK(mf_200 / mf_aged > (83.0 / 14.3) / 5.9);
+  CHECK(mf_200 / mf_aged < (83.0 / 14.3) / 0.55);
+  CHECK(closure / plain > (0.97 / 0.25) / 5.9);
+  CHECK(closure / plain < (0.97 / 0.25) / 0.55);
+
+  const Scene load = app::load_scene(std::string(SLIPFRONT_SOURCE_DIR) + "/configs/fig1_load_profile.toml", {});
+  Scene flat = load;
+  flat.interface.load_x.clear();
+  flat.interface.load_p.clear();
+  const double with_load = model_seconds(load, "discrete"), without = model_seconds(flat, "discrete");
+  CHECK(with_load / without > (9.8 / 1.06) / 5.9);
+  CHECK(with_load / without < (9.8 / 1.06) / 0.55);
+}

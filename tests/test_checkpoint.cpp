@@ -18,6 +18,7 @@
 
 #include "apps/checkpoint.hpp"
 #include "compare/alongside.hpp"
+#include "identical.hpp"
 #include "scenes.hpp"
 
 using namespace slipfront;
@@ -25,40 +26,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
+using testing::require_identical;
 using testing::same;
 
-// Every field of two results, exactly (the wall time aside).
-void require_identical(const compare::SceneResult& x, const compare::SceneResult& y) {
-  REQUIRE(x.models.size() == y.models.size());
-  for (std::size_t m = 0; m < x.models.size(); ++m) {
-    const auto &a = x.models[m], &b = y.models[m];
-    INFO("model " << a.model);
-    CHECK(a.status == b.status);
-    CHECK(a.model == b.model);
-    CHECK(same(a.series, b.series));
-    CHECK(same(a.snapshot_t, b.snapshot_t));
-    CHECK(same(a.snapshots, b.snapshots));
-    CHECK(same(a.bulk_t, b.bulk_t));  // the strip's bulk snapshots (tests/test_strip_output.cpp)
-    CHECK(same(a.bulk, b.bulk));
-    CHECK(same(a.cycles, b.cycles));
-    CHECK(same(a.sequence, b.sequence));  // output.sequence: computed from the series at the end
-    CHECK(same(a.contacts, b.contacts));
-    CHECK(a.contacts_2d.size() == b.contacts_2d.size());
-    for (const auto& [k, t] : a.contacts_2d) CHECK(same(t.data, b.contacts_2d.at(k).data));
-    for (const auto& [name, field] : compare::event_fields) {
-      CHECK(same(a.events.*field, b.events.*field));
-      CHECK(same(a.events_alt.*field, b.events_alt.*field));
-    }
-    CHECK(a.events.reasons == b.events.reasons);
-    CHECK(a.labels == b.labels);
-    REQUIRE(a.scalars.size() == b.scalars.size());
-    for (const auto& [k, v] : a.scalars) CHECK(same(v, b.scalars.at(k)));
-  }
-  CHECK(same(x.comparison.fields, y.comparison.fields));
-  CHECK(same(x.comparison.contacts, y.comparison.contacts));
-  REQUIRE(x.comparison.metrics.size() == y.comparison.metrics.size());
-  for (const auto& [k, v] : x.comparison.metrics) CHECK(same(v, y.comparison.metrics.at(k)));
-}
 
 struct Saved {
   double t;

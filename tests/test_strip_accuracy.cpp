@@ -22,9 +22,11 @@
 #include "core/implicit.hpp"
 #include "core/stepper.hpp"
 #include "core/strip.hpp"
+#include "identical.hpp"
 #include "scenes.hpp"
 
 using namespace slipfront;
+using testing::require_identical;
 
 namespace {
 
@@ -257,27 +259,6 @@ compare::Scene small_agent_strip(core::Integrator integ) {
   return s;
 }
 
-void require_identical(const compare::SceneResult& x, const compare::SceneResult& y) {
-  using testing::same;
-  REQUIRE(x.models.size() == y.models.size());
-  for (std::size_t m = 0; m < x.models.size(); ++m) {
-    const auto &a = x.models[m], &b = y.models[m];
-    INFO("model " << a.model);
-    CHECK(a.status == b.status);
-    CHECK(same(a.series, b.series));
-    CHECK(same(a.snapshot_t, b.snapshot_t));
-    CHECK(same(a.snapshots, b.snapshots));
-    for (const auto& [name, field] : compare::event_fields) {
-      CHECK(same(a.events.*field, b.events.*field));
-      CHECK(same(a.events_alt.*field, b.events_alt.*field));
-    }
-    REQUIRE(a.scalars.size() == b.scalars.size());
-    for (const auto& [k, v] : a.scalars) CHECK(same(v, b.scalars.at(k)));
-  }
-  CHECK(same(x.comparison.fields, y.comparison.fields));
-  REQUIRE(x.comparison.metrics.size() == y.comparison.metrics.size());
-  for (const auto& [k, v] : x.comparison.metrics) CHECK(same(v, y.comparison.metrics.at(k)));
-}
 
 }  // namespace
 

@@ -23,9 +23,11 @@
 #include "core/bulk.hpp"
 #include "core/inplane.hpp"
 #include "core/strip.hpp"
+#include "identical.hpp"
 #include "scenes.hpp"
 
 using namespace slipfront;
+using testing::require_identical;
 
 namespace {
 
@@ -376,23 +378,6 @@ compare::Scene small_strip() {
   s.output.series_dt = 0.5;
   s.output.snapshot_dt = 5.0;
   return s;
-}
-
-using testing::same;
-
-void require_identical(const compare::ModelResult& a, const compare::ModelResult& b) {
-  CHECK(a.status == b.status);
-  CHECK(same(a.series, b.series));
-  CHECK(same(a.snapshot_t, b.snapshot_t));
-  CHECK(same(a.snapshots, b.snapshots));
-  CHECK(same(a.bulk_t, b.bulk_t));
-  for (const auto& [name, col] : a.bulk) CHECK(same(col, b.bulk.at(name)));
-  for (const auto& [name, field] : compare::event_fields) {
-    CHECK(same(a.events.*field, b.events.*field));
-    CHECK(same(a.events_alt.*field, b.events_alt.*field));
-  }
-  REQUIRE(a.scalars.size() == b.scalars.size());
-  for (const auto& [k, v] : a.scalars) CHECK(same(v, b.scalars.at(k)));
 }
 
 }  // namespace

@@ -18,9 +18,11 @@
 #include "compare/runner.hpp"
 #include "compare/scene.hpp"
 #include "core/strip.hpp"
+#include "identical.hpp"
 #include "scenes.hpp"
 
 using namespace slipfront;
+using testing::require_identical;
 
 namespace {
 
@@ -322,31 +324,8 @@ TEST_CASE("strip runs: the discrete count law with w = 0 and noise off is the co
 }
 
 // ---------------------------------------------------------------------------------------------
-// 4. Checkpoint and restart on the strip
+// 4. Checkpoint and restart on the strip (testing::require_identical, tests/identical.hpp)
 // ---------------------------------------------------------------------------------------------
-
-namespace {
-void require_identical(const compare::SceneResult& x, const compare::SceneResult& y) {
-  REQUIRE(x.models.size() == y.models.size());
-  for (std::size_t m = 0; m < x.models.size(); ++m) {
-    const auto &a = x.models[m], &b = y.models[m];
-    INFO("model " << a.model);
-    CHECK(a.status == b.status);
-    CHECK(same(a.series, b.series));
-    CHECK(same(a.snapshot_t, b.snapshot_t));
-    CHECK(same(a.snapshots, b.snapshots));
-    for (const auto& [name, field] : compare::event_fields) {
-      CHECK(same(a.events.*field, b.events.*field));
-      CHECK(same(a.events_alt.*field, b.events_alt.*field));
-    }
-    REQUIRE(a.scalars.size() == b.scalars.size());
-    for (const auto& [k, v] : a.scalars) CHECK(same(v, b.scalars.at(k)));
-  }
-  CHECK(same(x.comparison.fields, y.comparison.fields));
-  REQUIRE(x.comparison.metrics.size() == y.comparison.metrics.size());
-  for (const auto& [k, v] : x.comparison.metrics) CHECK(same(v, y.comparison.metrics.at(k)));
-}
-}  // namespace
 
 TEST_CASE("strip runs: a restarted strip run is the uninterrupted run bit for bit (explicit and implicit, both models)",
           "[strip][checkpoint]") {

@@ -14,10 +14,12 @@
 #include "compare/fit.hpp"
 #include "continuum/inplane_front.hpp"
 #include "continuum/steady_front.hpp"
+#include "front_checks.hpp"
 #include "front_defect.hpp"
 
 namespace continuum = slipfront::continuum;
 namespace core = slipfront::core;
+namespace testing = slipfront::testing;
 using continuum::FrontStatus;
 using continuum::StripFront;
 using continuum::StripFrontOptions;
@@ -145,24 +147,6 @@ struct Transcription {
   }
 };
 
-double one_dimensional_speed(double sigma_d) {
-  const auto f = continuum::solve_steady_front(paper, core::BulkParams{0.01, 300.0, 300.0}, sigma_d);
-  REQUIRE(f.status == FrontStatus::converged);
-  return f.c;
-}
-
-// Order of |c(H) − c_1D| over H (least squares of the logs) and the Richardson limit of the two smallest H (order 2).
-struct ThinLimit {
-  double order, limit;
-};
-ThinLimit thin_limit(const std::vector<double>& H, const std::vector<double>& c, double c_1d) {
-  std::vector<double> gap;
-  for (double ci : c) gap.push_back(std::abs(ci - c_1d));
-  const auto fit = slipfront::compare::fit_power_law(H, gap);
-  const double r2 = (H[1] / H[0]) * (H[1] / H[0]);
-  return {fit.slope, c[0] - (c[1] - c[0]) / (r2 - 1.0)};
-}
-
 }  // namespace
 
 TEST_CASE("inplane front: the solution satisfies its discrete equations", "[inplane][front]") {
@@ -278,8 +262,7 @@ TEST_CASE("inplane front: the speed converges at 4th order in xi and about 2nd a
     REQUIRE(f.status == FrontStatus::converged);
     c.push_back(f.c);
   }
-  const double o1 = std::log2(std::abs(c[1] - c[0]) / std::abs(c[2] - c[1]));
-  const double o2 = std::log2(std::abs(c[2] - c[1]) / std::abs(c[3] - c[2]));
+  const auto [o1, o2] = testing::successive_orders(c);
   WARN("inplane rows: successive orders " << o1 << ", " << o2);
   CHECK(o2 > o1);
   CHECK(o2 > 1.7);
@@ -290,7 +273,7 @@ TEST_CASE("inplane front: H -> 0 recovers the 1D fronts of mu = E'H at second or
   // μ, ρ fixed (μ' = μ(1 − ν)/(2H)): the strip tends to the 1D chain with the plate modulus (docs/model.md §10.2).
   // Observed (4 rows, 600 intervals): c(H) − c_1D ≈ −7.2e−3 H² at σ_d = 0.3, −3.9e−2 H² at 0.5.
   for (double sigma_d : {0.3, 0.5}) {
-    const double c_1d = one_dimensional_speed(sigma_d);
+    const double c_1d = testing::one_dimensional_speed(paper, sigma_d);
     StripFrontOptions o;
     o.rows = 4;
     std::vector<double> H{0.1, 0.2, 0.4}, c;
@@ -299,7 +282,7 @@ TEST_CASE("inplane front: H -> 0 recovers the 1D fronts of mu = E'H at second or
       REQUIRE(f.status == FrontStatus::converged);
       c.push_back(f.c);
     }
-    const auto lim = thin_limit(H, c, c_1d);
+    const auto lim = testing::thin_limit(H, c, c_1d);
     WARN("inplane sigma_d = " << sigma_d << ": |c - c_1D| ~ H^" << lim.order << ", Richardson limit/c_1D - 1 = "
                               << lim.limit / c_1d - 1.0);
     CHECK(std::abs(lim.order - 2.0) < 0.05);
@@ -328,7 +311,7 @@ TEST_CASE("inplane front: the limiting front at sigma_c^d tends to the 1D c_min 
     CHECK(std::abs(end.v_behind - continuum::steady_minimum_velocity(paper)) < 1e-12);
     c.push_back(end.c);
   }
-  const auto lim = thin_limit(H, c, end_1d.c);
+  const auto lim = testing::thin_limit(H, c, end_1d.c);
   WARN("inplane c_min(H) - c_min(1D) ~ H^" << lim.order << ", Richardson limit/c_min(1D) - 1 = " << lim.limit / end_1d.c - 1.0);
   CHECK(std::abs(lim.order - 2.0) < 0.1);
   CHECK(std::abs(lim.limit / end_1d.c - 1.0) < 1e-7);

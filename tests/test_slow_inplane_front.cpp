@@ -9,9 +9,11 @@
 #include "compare/fit.hpp"
 #include "continuum/inplane_front.hpp"
 #include "continuum/steady_front.hpp"
+#include "front_checks.hpp"
 
 namespace continuum = slipfront::continuum;
 namespace core = slipfront::core;
+namespace testing = slipfront::testing;
 using continuum::FrontStatus;
 using continuum::StripFront;
 using continuum::StripFrontOptions;
@@ -69,8 +71,7 @@ TEST_CASE("slow inplane front: the rows converge at about 2nd order", "[inplane]
     REQUIRE(f.status == FrontStatus::converged);
     c.push_back(f.c);
   }
-  const double o1 = std::log2(std::abs(c[1] - c[0]) / std::abs(c[2] - c[1]));
-  const double o2 = std::log2(std::abs(c[2] - c[1]) / std::abs(c[3] - c[2]));
+  const auto [o1, o2] = testing::successive_orders(c);
   WARN("inplane rows: successive orders " << o1 << ", " << o2);
   CHECK(o2 > o1);
   CHECK(o2 > 1.6);

@@ -12,10 +12,12 @@
 #include "compare/fit.hpp"
 #include "continuum/steady_front.hpp"
 #include "continuum/strip_front.hpp"
+#include "front_checks.hpp"
 #include "front_defect.hpp"
 
 namespace continuum = slipfront::continuum;
 namespace core = slipfront::core;
+namespace testing = slipfront::testing;
 using continuum::FrontStatus;
 using continuum::StripFront;
 using continuum::StripFrontOptions;
@@ -89,26 +91,6 @@ struct Transcription {
         });
   }
 };
-
-// c of the strip fronts at the given H (cold starts), and of the 1D front, at σ_d.
-double one_dimensional_speed(double sigma_d) {
-  const auto f = continuum::solve_steady_front(paper, core::BulkParams{0.01, 300.0, 300.0}, sigma_d);
-  REQUIRE(f.status == FrontStatus::converged);
-  return f.c;
-}
-
-// Order p and coefficient a of |c(H) − c_1D| = a H^p fitted over H; with its Richardson limit from the two
-// smallest H, c(H₁) − (c(H₂) − c(H₁))/((H₂/H₁)² − 1).
-struct ThinLimit {
-  double order, limit;
-};
-ThinLimit thin_limit(const std::vector<double>& H, const std::vector<double>& c, double c_1d) {
-  std::vector<double> gap;
-  for (double ci : c) gap.push_back(std::abs(ci - c_1d));
-  const auto fit = slipfront::compare::fit_power_law(H, gap);
-  const double r2 = (H[1] / H[0]) * (H[1] / H[0]);
-  return {fit.slope, c[0] - (c[1] - c[0]) / (r2 - 1.0)};
-}
 
 }  // namespace
 
@@ -235,7 +217,7 @@ TEST_CASE("strip front: H -> 0 recovers the 1D fronts at second order in H", "[s
   // μ, ρ fixed (μ' = μ/H): the strip tends to the 1D chain (docs/model.md §9.2). Observed c(H) − c_1D =
   // −2.06e−3 H², −1.078e−2 H², −1.950e−2 H² at σ_d = 0.3, 0.5, 0.8 (4 rows, 600 intervals).
   for (double sigma_d : {0.3, 0.5, 0.8}) {
-    const double c_1d = one_dimensional_speed(sigma_d);
+    const double c_1d = testing::one_dimensional_speed(paper, sigma_d);
     StripFrontOptions o;
     o.rows = 4;
     std::vector<double> H{0.1, 0.2, 0.4}, c;
@@ -244,7 +226,7 @@ TEST_CASE("strip front: H -> 0 recovers the 1D fronts at second order in H", "[s
       REQUIRE(f.status == FrontStatus::converged);
       c.push_back(f.c);
     }
-    const auto lim = thin_limit(H, c, c_1d);
+    const auto lim = testing::thin_limit(H, c, c_1d);
     WARN("sigma_d = " << sigma_d << ": |c - c_1D| ~ H^" << lim.order << ", Richardson limit/c_1D - 1 = " << lim.limit / c_1d - 1.0);
     CHECK(std::abs(lim.order - 2.0) < 0.05);
     CHECK(std::abs(lim.limit / c_1d - 1.0) < 1e-7);
@@ -271,7 +253,7 @@ TEST_CASE("strip front: the limiting front at sigma_c^d tends to the 1D c_min at
     CHECK(std::abs(end.v_behind - continuum::steady_minimum_velocity(paper)) < 1e-12);
     c.push_back(end.c);
   }
-  const auto lim = thin_limit(H, c, end_1d.c);
+  const auto lim = testing::thin_limit(H, c, end_1d.c);
   WARN("c_min(H) - c_min(1D) ~ H^" << lim.order << ", Richardson limit/c_min(1D) - 1 = " << lim.limit / end_1d.c - 1.0);
   CHECK(std::abs(lim.order - 2.0) < 0.05);
   CHECK(std::abs(lim.limit / end_1d.c - 1.0) < 1e-7);

@@ -87,7 +87,7 @@ TEST_CASE("wave_speeds: the in-plane strip's c_s, c_p, c_R and the antiplane str
   CHECK(w.c_s == Approx(std::sqrt(mu_p / rho_p)).epsilon(1e-12));
   CHECK(w.c_s == Approx(100.0).epsilon(1e-12));
   CHECK(w.c_p == Approx(2.0 * w.c_s).epsilon(1e-12));  // sqrt(2(1 - nu)/(1 - 2 nu)) = 2 at nu = 1/3
-  CHECK(w.c_R / w.c_s == Approx(0.93253).margin(5e-6));  // MODEL.md §7's table
+  CHECK(w.c_R / w.c_s == Approx(0.93253).margin(5e-6));  // docs/model.md §10.3
   // the antiplane twin: mu' H = 100 on the same H and rho
   const auto a = studies::wave_speeds(core::BulkParams(0.01, 100.0, 1000.0, 17.0));
   CHECK(a.c_s == Approx(100.0).epsilon(1e-12));

@@ -731,7 +731,7 @@ def spectrum_speeds_panels(axs, t, label, style):
         rate = t["K"][e] * t["v_d"][e]
         order = np.argsort(rate)
         axs[1].plot(rate[order], t["c_peak_over_cs"][e][order], "^", label=f"{label}: peak", **style)
-        axs[1].plot(rate[order], t["c_settled_over_cs"][e][order], "o-", label=f"{label}: c_transient", **style)
+        axs[1].plot(rate[order], t["c_settled_over_cs"][e][order], "o", label=f"{label}: c_transient", **style)
 
 
 def front_spectrum_speeds(st, outdir):
@@ -765,8 +765,8 @@ def front_spectrum_speeds(st, outdir):
     rows.append(measure_row("in-plane fronts above c_s (peak or settled), fastest peak / c_s",
                             f"{int(st.scalars.get('spectrum_supershear_runs', 0))} runs",
                             f"{st.scalars.get('spectrum_max_peak_over_cs', math.nan):.3g}", "",
-                            f"settled speeds leave ({sub:.3g}, {sup:.3g}) c_s empty; c_R = {c_R / c_s:.4g} c_s "
-                            f"(docs/fronts.md §12)"))
+                            f"settled speeds nearest c_s: {sub:.3g} c_s below, {sup:.3g} c_s above; c_R = "
+                            f"{c_R / c_s:.4g} c_s (docs/fronts.md §12)"))
     if twin is not None:
         rows.append(measure_row("antiplane twin: fastest peak / c_s (bounded by 1)",
                                 f"{twin.scalars.get('spectrum_max_peak_over_cs', math.nan):.3g}", "", "",

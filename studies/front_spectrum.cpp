@@ -142,8 +142,9 @@ void add_spectrum_speeds(StudyReport& rep, const std::vector<StudyRun>& runs, co
   rep.scalars["spectrum_fastest_subshear"] = sub;
   rep.scalars["spectrum_slowest_supershear"] = super;
   rep.definitions["spectrum_fastest_subshear"] =
-      "largest c_settled / c_s below 1 and (spectrum_slowest_supershear) smallest above 1: the settled speeds leave the "
-      "gap between them empty (docs/fronts.md §12)";
+      "largest c_settled / c_s below 1 and (spectrum_slowest_supershear) smallest above 1: the settled speeds nearest "
+      "c_s from either side; a gap of speeds at c_s would show as a wide interval between them at adjacent sigma_d "
+      "(docs/fronts.md §12)";
 }
 
 }  // namespace slipfront::studies

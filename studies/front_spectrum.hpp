@@ -27,8 +27,8 @@ PeakSpeed front_peak_speed(const ModelResult& r, double x_end, double span);
 /// Adds the table `front_spectrum_speeds` (one row per run, in run order: its loading, σ_d, K, v_d, the stored
 /// elastic energy per unit length of the homogeneous stuck state, the peak and the settled speed and their ratios to
 /// c_s, the body's c_s, c_p, c_R), the scalars spectrum_c_s, spectrum_c_p, spectrum_c_R (NaN unless every run shares
-/// them), spectrum_max_peak_over_cs, spectrum_max_settled_over_cs, spectrum_supershear_runs and the gap the settled
-/// speeds leave around c_s (spectrum_fastest_subshear, spectrum_slowest_supershear), with their definitions.
+/// them), spectrum_max_peak_over_cs, spectrum_max_settled_over_cs, spectrum_supershear_runs and the settled speeds
+/// nearest c_s from below and above (spectrum_fastest_subshear, spectrum_slowest_supershear), with their definitions.
 void add_spectrum_speeds(StudyReport& rep, const std::vector<StudyRun>& runs, const std::vector<Scene>& scenes,
                          const std::vector<std::vector<ModelResult>>& res);
 

@@ -1,7 +1,7 @@
 // The supershear front of the in-plane strip (issue 39 item 4, docs/fronts.md §12), pinned: homogeneous_inplane's
 // body (c_s = 100, c_R = 93.25, c_p = 200) at sigma_d = 0.9 runs its nucleated front above c_s by more than the
-// grid's error, measured here as the change from dx = dy = 1 to 0.5 (the scheme is first order in the tip speed:
-// the finer grid's error is about that change); its antiplane twin (the same mu', rho, H: the same c_s) stays below
+// grid's error, estimated here as the change from dx = dy = 1 to 0.5 (at first order, the finer grid's error is
+// about that change; at higher order, less), and three times that as the margin; its antiplane twin (the same mu', rho, H: the same c_s) stays below
 // c_s at every instant of its run at the same sigma_d. Slow tier: about 1 min of CPU (the finer in-plane grid).
 #include <catch2/catch.hpp>
 

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "compare/peak_speed.hpp"
+
 namespace slipfront::compare {
 
 double tip_position(std::span<const double> x, std::span<const double> area, double threshold) {
@@ -29,6 +31,19 @@ double ls_slope(std::span<const double> t, std::span<const double> y) {
     sty += (t[i] - mt) * (y[i] - my);
   }
   return stt > 0 ? sty / stt : nan;
+}
+
+PeakSpeed peak_tip_speed(std::span<const double> t, std::span<const double> x, double span) {
+  PeakSpeed p{nan, nan, nan};
+  const std::size_t n = std::min(t.size(), x.size());
+  std::size_t j = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    while (j < n && t[j] < t[i] + span - 1e-12) ++j;
+    if (j == n) break;
+    const double s = (x[j] - x[i]) / (t[j] - t[i]);
+    if (!(s <= p.c)) p = {s, x[i], t[i]};
+  }
+  return p;
 }
 
 SettledSpeed settled_speed(std::span<const double> t, std::span<const double> x, double x_end, double window, double band) {
@@ -177,15 +192,7 @@ void measure_transient(Events& ev, const std::vector<double>& ts, const std::vec
   if (std::isfinite(ev.t_arrest)) ev.x_arrest = x1;
   if (!(x1 > x0)) return;
   ev.c_transient = slope_middle_distance(wt, wy, x0, x1);
-  double peak = nan;
-  std::size_t j = 0;
-  for (std::size_t i = 0; i < wt.size(); ++i) {
-    while (j < wt.size() && wt[j] < wt[i] + 0.5 - 1e-12) ++j;
-    if (j == wt.size()) break;
-    const double s = (wy[j] - wy[i]) / (wt[j] - wt[i]);
-    if (!(s <= peak)) peak = s;
-  }
-  ev.c_transient_peak = peak;
+  ev.c_transient_peak = peak_tip_speed(wt, wy, 0.5).c;
 }
 
 // Homogeneous loading: the front from the patch, c_front (docs/model.md §3.1), and no transient.

@@ -102,6 +102,7 @@ homogeneous_front() { scene homogeneous_front && "$slipfront" fronts configs/hom
 inplane_fronts() { "$slipfront" fronts configs/steady_front_inplane.toml --rows 4 --intervals 200 --out "$out/steady_front_inplane" --force; }
 
 longest_first=(
+  "study front_spectrum_inplane"  # (76: 16 in-plane runs, explicit, 2026-11-27; docs/fronts.md §12)
   "study validity_fig1"         # (64)
   "scene fig1_aging"            # (~52 wall beside the CI, 2026-11-27: the age-structured mean field to t = 400)
   "study strip_height"          # (47)
@@ -125,6 +126,7 @@ longest_first=(
   "collapse 16"                 # (6)
   "study disorder_limit_law"    # (5)
   "study fig2_sweep"            # (4)
+  "study front_spectrum_strip"  # (4: the antiplane twin of front_spectrum_inplane)
   "inplane_fronts"              # (~9 s of CPU)
 )
 steps=("${longest_first[@]}")

@@ -701,6 +701,76 @@ def front_spectrum_study(st, outdir):
     if math.isfinite(st.scalars.get("branch_c_min", math.nan)):
         rows.append(measure_row("minimal steady front speed c_min (solved branch)", f"{st.scalars['branch_c_min']:.4g}", "", "",
                      f"at sigma_d = {st.scalars.get('branch_sigma_d_at_c_min', math.nan):.5g} (end of the branch)"))
+    speeds = front_spectrum_speeds(st, outdir)  # the spectrum against c_s, c_R, c_p (docs/fronts.md §12)
+    return figs + speeds[0], rows + speeds[1]
+
+
+SPECTRUM_TWIN = "front_spectrum_strip"  # the antiplane twin of an in-plane front_spectrum study (docs/fronts.md §12)
+
+
+def spectrum_twin(st):
+    """The antiplane twin's Study beside an in-plane front_spectrum study (its directory's sibling), or None."""
+    path = os.path.join(os.path.dirname(st.dir), SPECTRUM_TWIN, "study.h5")
+    if os.path.abspath(path) == os.path.abspath(st.path) or not os.path.exists(path):
+        return None
+    try:
+        twin = Study(path)
+    except STUDY_UNREADABLE:
+        return None
+    return twin if "front_spectrum_speeds" in twin.tables else None
+
+
+def spectrum_speeds_panels(axs, t, label, style):
+    """One body's runs of front_spectrum_speeds on the two panels: homogeneous against sigma_d, edge against the
+    loading rate K v_d of its drive."""
+    h = t["homogeneous"] == 1
+    e = ~h
+    axs[0].plot(t["sigma_d"][h], t["c_peak_over_cs"][h], "^", label=f"{label}: peak", **style)
+    axs[0].plot(t["sigma_d"][h], t["c_settled_over_cs"][h], "o-", label=f"{label}: settled (c_front)", **style)
+    if e.any():
+        rate = t["K"][e] * t["v_d"][e]
+        order = np.argsort(rate)
+        axs[1].plot(rate[order], t["c_peak_over_cs"][e][order], "^", label=f"{label}: peak", **style)
+        axs[1].plot(rate[order], t["c_settled_over_cs"][e][order], "o", label=f"{label}: c_transient", **style)
+
+
+def front_spectrum_speeds(st, outdir):
+    """front_spectrum_inplane.png (issue 39 item 4): every run's peak and settled tip speed over c_s, the in-plane
+    strip's and its antiplane twin's, with c_R, c_s, c_p marked; the summary rows of the supershear question."""
+    figs, rows = [], []
+    t = st.tables.get("front_spectrum_speeds", {})
+    c_p = st.scalars.get("spectrum_c_p", math.nan)
+    if not t or not math.isfinite(c_p):  # only an in-plane study draws it (with its twin when there)
+        return figs, rows
+    c_s, c_R = st.scalars["spectrum_c_s"], st.scalars.get("spectrum_c_R", math.nan)
+    twin = spectrum_twin(st)
+    fig, axs = plt.subplots(1, 2, figsize=(12, 4.8), sharey=True)
+    spectrum_speeds_panels(axs, t, "in-plane", dict(color="C0"))
+    if twin is not None:
+        spectrum_speeds_panels(axs, twin.tables["front_spectrum_speeds"], "antiplane", dict(color="C3", mfc="none"))
+    for ax in axs:
+        ax.axhspan(c_R / c_s, 1.0, color="0.85", zorder=0)
+        ax.axhline(c_R / c_s, color="k", ls="--", lw=0.9, label=f"c_R = {c_R / c_s:.4g} c_s")
+        ax.axhline(1.0, color="k", ls="-", lw=0.9, label="c_s")
+        ax.axhline(c_p / c_s, color="k", ls=":", lw=0.9, label=f"c_p = {c_p / c_s:.3g} c_s")
+        ax.set_ylim(0, 1.08 * c_p / c_s)
+    axs[0].set_xlabel("applied stress sigma_d (homogeneous loading, nucleation patch)")
+    axs[1].set_xlabel("loading rate K v_d of the drive (edge loading; fig1: 0.75)")
+    axs[0].set_ylabel("tip speed / c_s")
+    axs[0].legend(fontsize=7)
+    axs[1].legend(fontsize=7)
+    fig.suptitle(st.title(f"the spectrum of fronts: in-plane strip (c_s = {c_s:.4g}) and its antiplane twin"), fontsize=9)
+    save(fig, outdir, "front_spectrum_inplane.png", figs)
+    sub, sup = st.scalars.get("spectrum_fastest_subshear", math.nan), st.scalars.get("spectrum_slowest_supershear", math.nan)
+    rows.append(measure_row("in-plane fronts above c_s (peak or settled), fastest peak / c_s",
+                            f"{int(st.scalars.get('spectrum_supershear_runs', 0))} runs",
+                            f"{st.scalars.get('spectrum_max_peak_over_cs', math.nan):.3g}", "",
+                            f"settled speeds nearest c_s: {sub:.3g} c_s below, {sup:.3g} c_s above; c_R = "
+                            f"{c_R / c_s:.4g} c_s (docs/fronts.md §12)"))
+    if twin is not None:
+        rows.append(measure_row("antiplane twin: fastest peak / c_s (bounded by 1)",
+                                f"{twin.scalars.get('spectrum_max_peak_over_cs', math.nan):.3g}", "", "",
+                                f"{int(twin.scalars.get('spectrum_supershear_runs', 0))} runs above c_s"))
     return figs, rows
 
 

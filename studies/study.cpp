@@ -8,6 +8,7 @@
 #include "compare/difference.hpp"
 #include "studies/disorder_limit.hpp"
 #include "studies/fig2_cmin.hpp"
+#include "studies/front_spectrum.hpp"
 #include "compare/fit.hpp"
 #include "compare/fronts.hpp"
 #include "studies/resolution.hpp"
@@ -300,7 +301,9 @@ void spectrum(StudyReport& rep, const StudySpec&, const std::vector<StudyRun>& r
     const auto* c = find_model(res[idx[0]], "continuum");
     const auto* d = find_model(res[idx[0]], "discrete");
     const auto& s = scenes[idx[0]];
-    const double solved = solved_front_speed(s, sd);
+    // the 1D solver's front is the chain's; on a strip it would be the thin limit, not this body's front
+    const bool chain = s.bulk.body() == core::BodyKind::chain;
+    const double solved = chain ? solved_front_speed(s, sd) : nan;
     t["sigma_d"].push_back(sd);
     t["c_front_continuum"].push_back(c ? c->events.c_front : nan);
     t["c_front_discrete"].push_back(d ? d->events.c_front : nan);
@@ -336,7 +339,11 @@ void spectrum(StudyReport& rep, const StudySpec&, const std::vector<StudyRun>& r
   rep.scalars["nucleation_limit_sigma_d"] = limit_started;
   rep.definitions["nucleation_limit_sigma_d"] =
       "lowest sigma_d at which the nucleation patch started a front (continuum): a property of the start, not of the branch";
-  if (!scenes.empty()) {
+  add_spectrum_speeds(rep, runs, scenes, res);  // peak and settled speeds against c_s, c_R, c_p (docs/fronts.md §12)
+  if (!scenes.empty() && scenes[0].bulk.body() != core::BodyKind::chain)
+    rep.notes.push_back("a strip: c_solved and the solved branch are not computed (the 1D solver's fronts are the thin "
+                        "limit; `slipfront fronts` on the scene solves the strip's branch, docs/fronts.md §10.14, §11.6)");
+  else if (!scenes.empty()) {
     const auto branch = continuum::continue_steady_fronts(scenes[0].interface, scenes[0].bulk);
     Columns b;
     for (const auto& p : branch.points) {

@@ -32,14 +32,19 @@ continuum::StripFrontOptions strip_start_options(const Scene& s) {
 
 FrontStartCost front_start_cost(const Scene& s) {
   FrontStartCost c;
-  if (s.drive.loading != core::Loading::homogeneous || s.drive.start != "steady_front" || s.bulk.body() != core::BodyKind::strip) return c;
+  const core::BodyKind body = s.bulk.body();
+  if (s.drive.loading != core::Loading::homogeneous || s.drive.start != "steady_front" || body == core::BodyKind::chain)
+    return c;
   const continuum::StripFrontOptions o = strip_start_options(s);
-  constexpr double iterations_per_solve = 5.0;  // measured 32 and 39 stop polls over 7 and 8 solves (H = 17, 34)
+  // antiplane: measured 32 and 39 stop polls over 7 and 8 solves (H = 17, 34); in-plane: 23 over 5 solves (H = 8,
+  // 8 rows; docs/fronts.md §11.8)
+  constexpr double iterations_per_solve = 5.0;
   c.rows = o.rows;
   c.intervals = o.intervals;
   c.solves = 1;
   for (double h = std::min(s.bulk.height, o.thin_height); h < s.bulk.height; h *= o.height_factor) ++c.solves;
-  const auto per = continuum::strip_solve_cost(o.rows, o.intervals);
+  // the in-plane block carries u_x and u_y: (4M + 4)² against the antiplane (2M + 4)² (docs/fronts.md §11.5)
+  const auto per = continuum::strip_solve_cost(o.rows, o.intervals, body == core::BodyKind::inplane ? 2 : 1);
   c.seconds = iterations_per_solve * c.solves * per.iteration_seconds;
   c.memory_bytes = per.memory_bytes;
   return c;
@@ -48,12 +53,16 @@ FrontStartCost front_start_cost(const Scene& s) {
 std::optional<FrontStart> front_start(const Scene& s, const std::function<bool()>& stop) {
   if (s.drive.loading != core::Loading::homogeneous || s.drive.start != "steady_front") return std::nullopt;
   auto refuse = [&](continuum::FrontStatus status, const std::string& reason) {
-    return core::ParamError("drive.sigma_d", "no steady front" + std::string(s.bulk.body() == core::BodyKind::strip ? " in the strip" : "") +
+    const core::BodyKind body = s.bulk.body();
+    const char* where = body == core::BodyKind::strip     ? " in the strip"
+                        : body == core::BodyKind::inplane ? " in the in-plane strip"
+                                                          : "";
+    return core::ParamError("drive.sigma_d", "no steady front" + std::string(where) +
                                                  " at sigma_d = " + core::format_number(s.drive.sigma_d) +
                                                  " to start from (" + continuum::to_string(status) + ": " + reason + ")");
   };
   FrontStart out;
-  if (s.bulk.body() == core::BodyKind::strip) {
+  if (s.bulk.body() != core::BodyKind::chain) {  // either strip: solve_strip_front solves the in-plane front on inplane
     continuum::StripFrontOptions o = strip_start_options(s);
     o.stop = stop;
     auto front = continuum::solve_strip_front(s.interface, s.bulk, s.drive.sigma_d, o);

@@ -15,6 +15,7 @@
 #include "compare/dispatch.hpp"
 #include "compare/scene.hpp"
 #include "continuum/friction_law.hpp"
+#include "continuum/inplane_front.hpp"
 #include "continuum/steady_front.hpp"
 #include "continuum/strip_front.hpp"
 #include "core/adaptive.hpp"
@@ -30,7 +31,8 @@ double dynamic_time_step(const Scene& s);
 std::int64_t fixed_step_count(const Scene& s);
 
 /// The solved front a steady-front start begins from: the chain's (continuum::SteadyFront) or, on the strip
-/// (bulk.height > 0), the strip's (continuum::StripFront, solved on the scene's own rows: docs/fronts.md §10.15).
+/// (bulk.height > 0), the strip's (continuum::StripFront, solved on the scene's own rows: docs/fronts.md §10.15; on the
+/// in-plane strip the in-plane front, its bulk.body() inplane: docs/fronts.md §11.8).
 struct FrontStart {
   std::optional<continuum::SteadyFront> chain;
   std::optional<continuum::StripFront> strip;
@@ -42,9 +44,9 @@ struct FrontStart {
 };
 
 /// Homogeneous loading with drive.start = "steady_front": the steady front at σ_d (docs/model.md §6),
-/// solved by continuum::solve_steady_front on the chain and by continuum::solve_strip_front on the strip
-/// (strip_start_options); nothing otherwise. Throws core::ParamError naming drive.sigma_d when there is no
-/// front there. `stop` is polled before every Newton iteration of the strip's solve (and every height of its
+/// solved by continuum::solve_steady_front on the chain and by continuum::solve_strip_front on either strip (the
+/// in-plane solver on bulk.body = "inplane"; strip_start_options); nothing otherwise. Throws core::ParamError naming
+/// drive.sigma_d when there is no front there. `stop` is polled before every Newton iteration of the strip's solve (and every height of its
 /// cold start): true returns a FrontStart with `stopped` within one iteration. Its cost: front_start_cost.
 std::optional<FrontStart> front_start(const Scene& s, const std::function<bool()>& stop = {});
 
@@ -60,10 +62,10 @@ std::optional<FrontStart> front_start_for(const Scene& s, const std::function<bo
   return front_start(s, stop);
 }
 
-/// What front_start costs on the strip (docs/fronts.md §10.15; compare::estimate counts it once per model): the
-/// 1D front, then the cold start's solves at H_0 = 0.5, 1, 2, … H on the scene's rows and the solver's 600
-/// intervals, each ~5 Newton iterations at continuum::strip_solve_cost. Zero for the chain (~0.05 s) and for a
-/// scene without a steady-front start.
+/// What front_start costs on the strip (docs/fronts.md §10.15, §11.8; compare::estimate counts it once per model):
+/// the 1D front, then the cold start's solves at H_0 = 0.5, 1, 2, … H on the scene's rows and the solver's 600
+/// intervals, each ~5 Newton iterations at continuum::strip_solve_cost (two components on the in-plane strip). Zero
+/// for the chain (~0.05 s) and for a scene without a steady-front start.
 struct FrontStartCost {
   double seconds = 0.0;     ///< CPU seconds (strip_solve_cost's calibration)
   double memory_bytes = 0.0;///< the solver's Jacobian and LU factors while it runs
@@ -124,7 +126,8 @@ void apply_normal_load(const Scene& s, Stepper& sim) {
 /// σ̄ = 0), or, under homogeneous loading, the stuck state A = 1, σ̄ = σ_d, u = σ_d/α with a nucleation
 /// patch 0 ≤ x < ℓ_n in steady sliding at σ_d on the strengthening branch — or the solved steady front
 /// with its tip at drive.front_x (docs/model.md §6), plus the slip-rate kick drive.kick_dv behind it (on
-/// the strip: u and v of every row from the strip's front, the kick on the interface row only).
+/// the strip: u and v of every row from the strip's front, the kick on the interface row only; on the in-plane strip
+/// u_x, u_y and both velocities of every row from the in-plane front, docs/fronts.md §11.8).
 /// The interface's state is lifted into the body by the body (core::RunBody::lift): on the strip
 /// (docs/model.md §9.4) every row above the interface carries the uniform shear σ_d, u(x, y) = u(x, 0) + σ_d y/μ',
 /// moving with the interface's slip rate (the chain has one row, y = 0).
@@ -145,13 +148,19 @@ void set_initial_conditions(const Scene& s, Stepper& sim, const std::optional<Fr
                                             " rows, the strip " + std::to_string(rows));
     std::vector<double> xi(n);
     for (std::size_t i = 0; i < n; ++i) xi[i] = x[i] - s.drive.front_x;
-    const auto f = continuum::sample_strip_front(*front->strip, xi);
+    // the in-plane strip's front (docs/fronts.md §11.8) also sets u_y and its velocity, component 1 of every node
+    const bool inplane = body.shape().components == 2 && front->strip->bulk.body() == core::BodyKind::inplane;
+    const auto fp = inplane ? continuum::sample_inplane_front(*front->strip, xi)
+                            : continuum::InPlaneFrontSample{continuum::sample_strip_front(*front->strip, xi), {}, {}};
+    const auto& f = fp.x;
     for (std::size_t i = 0; i < n; ++i) {
       const bool kicked = x[i] <= s.drive.front_x && x[i] >= s.drive.front_x - s.drive.kick_length;
       sim.law().set_site(i, f.interface.area[i], f.interface.sigma_bar[i]);
-      for (std::size_t j = 0; j < rows; ++j)
+      for (std::size_t j = 0; j < rows; ++j) {
         sim.set_initial(body.dof(i, j, 0), f.u[i * rows + j],
                         f.velocity[i * rows + j] + (kicked && j == 0 ? s.drive.kick_dv : 0.0));
+        if (inplane) sim.set_initial(body.dof(i, j, 1), fp.uy[i * rows + j], fp.uy_velocity[i * rows + j]);
+      }
     }
     return;
   }

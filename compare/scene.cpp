@@ -71,14 +71,6 @@ void check_strip_rows(const Scene& s) {
           std::to_string(need) + " rows), or set limits.min_nodes_per_elastic_length = 0 to run it anyway");
 }
 
-// What the in-plane strip (docs/model.md §10) does not run yet: a steady-front start (the solved fronts are the
-// chain's and the antiplane strip's). (It runs every integrator: the adaptive one since issue 38, docs/numerics.md §8.9.)
-void check_inplane(const Scene& s) {
-  if (s.drive.loading == core::Loading::homogeneous && s.drive.start == "steady_front")
-    throw core::ParamError("drive.start", "a steady front is solved for the 1D chain and the antiplane strip, not for the "
-                                    "in-plane strip (bulk.body = \"inplane\"): use drive.start = \"nucleation\"");
-}
-
 // Contact aging (docs/model.md §11): the models that carry what it needs. The count and naive representations keep
 // no ages; the steady-front and nucleation starts and the Rosenbrock state [A | σ̄] know no aging yet.
 void check_aging(const Scene& s) {
@@ -218,7 +210,6 @@ void Scene::validate() const {
                                         "age would be written (use discrete.representation = \"agent\", or add \"continuum\" "
                                         "to models)");
   if (bulk.body() != core::BodyKind::chain) check_strip_rows(*this);
-  if (bulk.body() == core::BodyKind::inplane) check_inplane(*this);
   if (drive.loading == core::Loading::imposed_rate && drive.sweep_points == 0 && drive.v_times.back() >= time.t_end)
     throw ParamError("drive.switch_times", "every switch time must be before time.t_end (" +
                                               core::format_number(time.t_end) + "), got " +

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <optional>
+#include <stdexcept>
 #include <utility>
 
 #include "continuum/far_field.hpp"
@@ -503,6 +504,76 @@ std::vector<double> inplane_front_node(const StripFront& f, std::size_t i) {
   y[m.iA()] = f.area[i];
   y[m.iS()] = f.sigma_bar[i];
   return {y.data(), y.data() + y.size()};
+}
+
+}  // namespace slipfront::continuum
+
+namespace slipfront::continuum {
+
+InPlaneFrontSample sample_inplane_front(const StripFront& f, std::span<const double> xs) {
+  using namespace inplane_detail;
+  if (f.status != FrontStatus::converged || f.bulk.body() != core::BodyKind::inplane || f.uy.empty())
+    throw std::invalid_argument("sample_inplane_front: needs a converged in-plane front");
+  const Model m = make_model(f.law, f.bulk, {}, &f.y);
+  const std::size_t ro = f.y.size();
+  const double c = f.c;
+  auto node = [&](std::size_t i) {
+    const auto v = inplane_front_node(f, i);
+    return Vec(Eigen::Map<const Vec>(v.data(), static_cast<Eigen::Index>(v.size())));
+  };
+  InPlaneFrontSample out;
+  auto& sx = out.x;
+  for (auto* v : {&sx.u, &sx.velocity, &out.uy, &out.uy_velocity}) v->reserve(xs.size() * ro);
+  // every row of a state in the solver's layout (u_0, d_j, w_j, p_j, q_j; docs/fronts.md §11.1)
+  auto put_rows = [&](const Vec& y) {
+    for (std::size_t j = 0; j < ro; ++j) {
+      const int jj = static_cast<int>(j);
+      sx.u.push_back(y[m.iu(0)] + (j == 0 ? 0.0 : y[m.iu(jj)]));
+      sx.velocity.push_back(-c * y[m.ip(jj)]);
+      out.uy.push_back(j == 0 ? 0.0 : y[m.iw(jj)]);
+      out.uy_velocity.push_back(j == 0 ? 0.0 : -c * y[m.iq(jj)]);
+    }
+  };
+  const Vec ys = stuck_state(m, f.sigma_d);
+  for (double xi : xs) {
+    double A, s;
+    if (xi > 0.0) {  // the modes of the stuck system: the bulk part − stuck
+      Vec y = ys;
+      for (std::size_t k = 0; k < f.ahead_rate.size(); ++k) {
+        const auto e = std::exp(f.ahead_rate[k] * xi);
+        for (int r = 0; r < m.nb(); ++r) y[r] += (f.ahead_mode[k][static_cast<std::size_t>(r)] * e).real();
+      }
+      put_rows(y);
+      A = 1.0;
+      s = f.law.alpha * y[m.iu(0)];
+    } else if (xi >= f.xi.front()) {  // the collocation solution: cubic Hermite on the interval
+      const auto it = std::upper_bound(f.xi.begin(), f.xi.end(), xi);
+      const std::size_t b = std::min<std::size_t>(static_cast<std::size_t>(it - f.xi.begin()), f.xi.size() - 1), a = b - 1;
+      const double h = f.xi[b] - f.xi[a], t = (xi - f.xi[a]) / h;
+      const Vec ya = node(a), yb = node(b);
+      const Vec fa = rhs(m, ya, c, f.sigma_d, Side::behind, false).f, fb = rhs(m, yb, c, f.sigma_d, Side::behind, false).f;
+      const double h00 = (2 * t - 3) * t * t + 1, h10 = ((t - 2) * t + 1) * t, h01 = (3 - 2 * t) * t * t, h11 = (t - 1) * t * t;
+      const Vec y = h00 * ya + h10 * h * fa + h01 * yb + h11 * h * fb;
+      put_rows(y);
+      A = y[m.iA()];
+      s = y[m.iS()];
+    } else {  // beyond −L: the sliding state
+      for (std::size_t j = 0; j < ro; ++j) {
+        sx.u.push_back(f.u[j] - f.v_behind / c * (xi - f.xi.front()));
+        sx.velocity.push_back(f.v_behind);
+        out.uy.push_back(f.uy[j]);
+        out.uy_velocity.push_back(0.0);
+      }
+      A = f.area_behind;
+      s = f.sigma_bar_behind;
+    }
+    const std::size_t first = sx.u.size() - ro;
+    sx.interface.slip_rate.push_back(sx.velocity[first]);
+    sx.interface.area.push_back(A);
+    sx.interface.sigma_bar.push_back(s);
+    sx.interface.slip.push_back(sx.u[first]);
+  }
+  return out;
 }
 
 }  // namespace slipfront::continuum

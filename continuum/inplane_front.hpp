@@ -65,4 +65,16 @@ StripFront correct_inplane_front(const core::InterfaceParams& law, const core::B
 /// `ahead_mode`.
 std::vector<double> inplane_front_node(const StripFront& front, std::size_t i);
 
+/// The whole in-plane front at positions ξ on its own rows (docs/fronts.md §11.8), the in-plane form of
+/// sample_strip_front: `x` holds the interface fields and u_x(ξ, y_j), ∂t u_x = −c ∂ξ u_x of every row (index
+/// k·(M + 1) + j, k the position); uy, uy_velocity the same for u_y (0 on the interface row). On [−L, 0] the cubic
+/// Hermite of the collocation solution; ahead of the tip the stored modes (→ the stuck state u_x = σ_d/α + σ_d y/μ',
+/// u_y = −p y/(λ' + 2μ')); behind −L the sliding state: every row's u_x translating at v_b with the lift it has at −L,
+/// u_y at rest at its value there. sample_strip_front and sample_strip_interface return `x` for an in-plane front.
+struct InPlaneFrontSample {
+  StripFrontSample x;
+  std::vector<double> uy, uy_velocity;
+};
+InPlaneFrontSample sample_inplane_front(const StripFront& front, std::span<const double> xi);
+
 }  // namespace slipfront::continuum

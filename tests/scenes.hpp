@@ -93,6 +93,26 @@ inline compare::Scene homogeneous_scene(double sigma_d, double nucleation_length
   return s;
 }
 
+/// Homogeneous loading at σ_d on a strip of height H (the paper's column μ = 300, ρ = 0.01 integrated over the height;
+/// body "inplane": the in-plane strip, ν = 1/3, μ = E'H; else the antiplane strip), grid dx, dy, started from the solved
+/// strip front with its tip at 100 on [0, 400], continuum alone, explicit, c_front fitted over the last 0.7 of the run,
+/// series every 0.05, no snapshots; t_end is the caller's (docs/fronts.md §10.15, §11.8).
+inline compare::Scene strip_front_start_scene(double H, double sigma_d, double dx, double dy, const std::string& body = "") {
+  compare::Scene s = homogeneous_scene(sigma_d, 0.0, 1.0);
+  s.models = {"continuum"};
+  s.bulk.height = H;
+  s.bulk.body_name = body;
+  s.bulk.length = 400.0;
+  s.grid.dx = dx;
+  s.grid.dy = dy;
+  s.drive.start = "steady_front";
+  s.drive.front_x = 100.0;
+  s.measure.behind_tip_fraction = 0.7;
+  s.output.snapshot_dt = 0.0;
+  s.output.series_dt = 0.05;
+  return s;
+}
+
 /// A short homogeneous run on a small chain (L = 60, dx = 1, σ_d = 0.55, a nucleation patch ℓ_n = 20, t_end = 3) on
 /// `integrator` (implicit: dt = 0.005): series every 0.1, snapshots every 0.5; not validated (a test adds its keys).
 inline compare::Scene short_front_scene(core::Integrator integrator) {

@@ -21,7 +21,9 @@
 // With seeds 1–288 the default's 84/288 (0.29) passed it at p = 0.009. The reference grown to 401 runs (2026-11-27:
 // 76/401 = 0.190 ± 0.020; the 113 new seeds 20/113, p = 0.78 against the first 288) puts it at p = 0.0019: this check
 // now FAILS on the leap default — the known early-transient excess of issue 36 item 3 (docs/numerics.md §9.5), not
-// hidden by a wider α.
+// hidden by a wider α. Its mechanism (docs/numerics.md §9.6): the mode is decided by a rare first re-sticking at the
+// loaded edge, which the law's yield test, made at each step's start, sees too seldom; watched at every count event
+// (an experiment, not yet in the code) the fraction is 0.20–0.25 on both seed sets and the N = 10³ checks pass.
 //
 // At N = 10⁴ (unimodal: t^ ≈ 108 with sd 2.0, a few late runs; early = c_transient < 20 in 46 of the reference's 48
 // runs), 96 leap runs against 48 reference runs. Power against t^ shifted by one sd (2.0): 0.98; of the early fraction's

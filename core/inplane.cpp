@@ -845,16 +845,35 @@ void InPlane::setup_end_columns() {
   const std::size_t nb = f.bdof.size();
   std::vector<long> index(n, -1);
   for (std::size_t q = 0; q < nb; ++q) index[f.bdof[q]] = static_cast<long>(q);
-  const Eigen::SparseMatrix<double> K = stiffness_matrix();
+  // K's columns of B from the elements beside the end columns (cells 0 and N − 1 of every row), not the whole matrix
   f.kbb = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(nb), static_cast<Eigen::Index>(nb));
-  f.kcol.assign(nb, {});
-  for (std::size_t q = 0; q < nb; ++q)
-    for (Eigen::SparseMatrix<double>::InnerIterator it(K, static_cast<Eigen::Index>(f.bdof[q])); it; ++it) {
-      const auto p = static_cast<std::size_t>(it.row());
-      if (p >= P && p < P + nx) continue;  // held
-      if (index[p] >= 0) f.kbb(index[p], static_cast<Eigen::Index>(q)) = it.value();
-      else f.kcol[q].emplace_back(p, it.value());
+  std::vector<std::vector<std::pair<std::size_t, double>>> entries(nb);
+  for (const std::size_t ic : {std::size_t{0}, N - 1})
+    for (std::size_t j = 0; j < ny_; ++j) {
+      const std::size_t nd[4] = {j * nx + ic, j * nx + ic + 1, (j + 1) * nx + ic, (j + 1) * nx + ic + 1};
+      std::size_t d[8];
+      for (std::size_t a = 0; a < 4; ++a) {
+        d[a] = nd[a];
+        d[a + 4] = P + nd[a];
+      }
+      for (std::size_t b = 0; b < 8; ++b) {
+        if (index[d[b]] < 0) continue;
+        const auto q = static_cast<std::size_t>(index[d[b]]);
+        for (std::size_t a = 0; a < 8; ++a) {
+          if (d[a] >= P && d[a] < P + nx) continue;  // held
+          if (index[d[a]] >= 0) f.kbb(index[d[a]], static_cast<Eigen::Index>(q)) += ke_[a * 8 + b];
+          else entries[q].emplace_back(d[a], ke_[a * 8 + b]);
+        }
+      }
     }
+  f.kcol.assign(nb, {});
+  for (std::size_t q = 0; q < nb; ++q) {  // merge each column's entries by dof
+    std::stable_sort(entries[q].begin(), entries[q].end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+    for (const auto& [p, v] : entries[q]) {
+      if (!f.kcol[q].empty() && f.kcol[q].back().first == p) f.kcol[q].back().second += v;
+      else f.kcol[q].emplace_back(p, v);
+    }
+  }
   // the band's classes: 0–3 u_x of columns 0, 1, N − 1, N; 4–5 u_y of columns 1, N − 1
   f.band_column = {0, 1, N - 1, N, 1, N - 1};
   const std::size_t M = N + 1, R = f.rows;

@@ -19,7 +19,8 @@
 // +F(t) wy(j)/H, F = K (v_d t − ū0) + F_r, ū0 = Σ_j wy(j) u_x(0, j)/H (as core::Strip).
 //
 // The adaptive integrator's body (core::AdaptiveBody, docs/numerics.md §8.9): the stage representation is the node
-// values; the W solve's u system is the implicit step's matrix A(γh, η + q_σ), solved by the same preconditioned CG.
+// values; the W solve's u system is the implicit step's matrix A(γh, η + q_σ), solved directly (the capacitance method,
+// solve_stage_direct; the preconditioned CG of the implicit step as reference and fallback).
 //
 // Thread safety: an InPlane holds mutable workspace (the force buffer, the factorisation), so one object serves
 // one thread at a time; copies are independent.
@@ -226,9 +227,11 @@ class InPlane {
   // v' of every dof is the explicit scheme's force over the lumped mass with σ̄ + η v on the interface (u_y of row 0
   // held: its v' is 0 and its u enters no force). The W solve leaves for x_u (docs/numerics.md §8.5, §8.9)
   //   A(c, d) x_u = M b_v + (M/c) b_u + E wx (d b_u0 − c p_σ),   d = η + q_σ,   then x_v = (x_u − b_u)/c,
-  // the held dofs x_u = b_u + c b_v, solved by solve_system's preconditioned CG (BiCGSTAB when the CG fails: A
-  // indefinite) to a relative residual of kStageSolveTolerance · rtol, from the integrator's guess (BulkStage: the
-  // last accepted step's same stage, k1 and k2) or else the x_u of W = I, b_u + c b_v.
+  // the held dofs x_u = b_u + c b_v, solved directly (solve_stage_direct, docs/numerics.md §8.9: two separable solves,
+  // the capacitance factors of the end columns' u_y and the spring cached per c, the interface coefficient's spread
+  // about d_ref = η + c α by an nx-sized system to a relative residual of kStageSolveTolerance · rtol); when that
+  // system fails, or with set_stage_solver(krylov), by solve_system's preconditioned CG (BiCGSTAB when the CG fails)
+  // from the integrator's guess (BulkStage: the last accepted step's same stage, k1 and k2) or else b_u + c b_v.
   std::size_t components() const { return 2; }
   static constexpr bool stage_is_nodes = true;
   const char* stage_archive_tag() const { return "adaptive_inplane"; }

@@ -77,7 +77,9 @@ struct Run {
   compare::ModelResult r;
   double cpu = 0.0;                   // process CPU seconds
   long long iterations = 0;           // the adaptive stage solves' Krylov iterations (0: explicit)
-  long long fallbacks = 0;            // of which solves fell back to BiCGSTAB
+  long long fallbacks = 0;            // direct stage solves that fell back to the Krylov solve
+  long long builds = 0;               // capacitance factorisations (distinct stage coefficients not in the cache)
+  long long interface = 0;            // interface-system iterations of the direct stage solves
   double err = 0.0;                   // max relative event error against the explicit run
 };
 
@@ -91,10 +93,12 @@ Run run_with(const std::string& label, const compare::Scene& s) {
   const double c0 = cpu_now();
   compare::DynamicRun<Law, Stepper> run(s, Law(s.interface, sites), "continuum");
   while (!run.done()) run.step();
-  Run x{label, {}, 0.0, 0, 0, 0.0};
+  Run x{label, {}, 0.0, 0, 0, 0, 0, 0.0};
   if constexpr (compare::DenseStepper<Stepper>) {
     x.iterations = run.sim().bulk().stage_iterations();
-    x.fallbacks = run.sim().bulk().stage_fallbacks();
+    x.fallbacks = run.sim().bulk().stage_direct_failures();
+    x.builds = run.sim().bulk().stage_capacitance_builds();
+    x.interface = run.sim().bulk().stage_interface_iterations();
   }
   x.r = run.finish();
   x.cpu = cpu_now() - c0;
@@ -125,8 +129,9 @@ void print_run(const Run& x) {
   std::printf("%s: %.0f steps, cpu %.3f s (%.3g ms/step)", x.label.c_str(), x.r.scalars.at("steps"), x.cpu,
               1e3 * x.cpu / x.r.scalars.at("steps"));
   if (solves > 0)
-    std::printf(", %.0f stage solves, %.1f Krylov iterations/solve (%lld BiCGSTAB)", solves,
-                static_cast<double>(x.iterations) / solves, x.fallbacks);
+    std::printf(", %.0f stage solves (%lld by the Krylov fallback, %.1f Krylov iterations/solve), %lld capacitance "
+                "factorisations, %.1f interface iterations/solve", solves, x.fallbacks,
+                static_cast<double>(x.iterations) / solves, x.builds, static_cast<double>(x.interface) / solves);
   std::printf("; t* %.9g t^ %.9g c_transient %.9g x_arrest %.9g\n", x.r.events.t_star, x.r.events.t_hat,
               x.r.events.c_transient, x.r.events.x_arrest);
   std::fflush(stdout);

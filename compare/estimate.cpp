@@ -322,9 +322,9 @@ Stepping bulk_stepping(const Scene& s, const std::string& model, double sites, M
   const double t_end = s.time.t_end;
   const double stable = explicit_stable_dt(s);
   const Integrator integ = s.time.integrator;
-  // the strips: their measured costs per degree of freedom (the in-plane strip: two per node; on the adaptive and leap
-  // integrators, which do not run it, the antiplane strip's)
-  const bool strip = s.bulk.body() != core::BodyKind::chain;
+  // the strips: their measured costs per degree of freedom (the in-plane strip: two per node; on the leap integrator
+  // the antiplane strip's)
+  const bool strip = s.bulk.body() != core::BodyKind::chain, inplane = s.bulk.body() == core::BodyKind::inplane;
   if (integ == Integrator::adaptive_rosenbrock && model != "continuum") {
     m.integrator = "leap";
     m.steps = leap_steps(s, sites);
@@ -346,7 +346,8 @@ Stepping bulk_stepping(const Scene& s, const std::string& model, double sites, M
     m.steps_basis = "adaptive: t_end/dt_max + nodes + 8 t_end (rtol/1e-3)^-0.77, an estimate";
     // the strip: the law and the interface's elimination per site, the bulk per node (u, v, their ten stage
     // vectors, the masses and the u system's rhs, Strip::solve_system's workspace: docs/performance.md §13)
-    if (strip) return {10.0, c.explicit_bulk, c.strip_adaptive, 31.0};
+    // the in-plane strip: its own measured cost per dof-step (docs/performance.md §18)
+    if (strip) return {10.0, c.explicit_bulk, inplane ? c.inplane_adaptive : c.strip_adaptive, 31.0};
     return {66.0, c.adaptive_bulk};
   }
   const bool implicit = integ == Integrator::implicit_trapezoidal;
@@ -363,7 +364,6 @@ Stepping bulk_stepping(const Scene& s, const std::string& model, double sites, M
     m.steps_basis += "; with time.implicit_tolerance = " + format_number(s.time.implicit_tolerance) + " ~" +
                      format_number(substeps, 3) + " substeps a step (halvings, at most 2^time.implicit_max_halvings)";
   if (strip) {  // the strips: the law per site, the bulk per dof (u, v; implicit: V + 3 + 6 solve vectors)
-    const bool inplane = s.bulk.body() == core::BodyKind::inplane;
     const double per_dof = inplane ? (implicit ? c.inplane_implicit : c.inplane_explicit)
                                    : (implicit ? c.strip_implicit : c.strip_explicit);
     return {6.0, c.explicit_bulk, per_dof, implicit ? 12.0 : 3.0};
@@ -567,6 +567,9 @@ const StepCosts& step_costs() {
       // transforms)
       .inplane_explicit = 12.0,
       .inplane_implicit = 1400.0,
+      // fig1_inplane to t = 110, continuum, adaptive (bench_inplane_work_precision, one run): 4.10 s for 395 steps at
+      // rtol 5e-2 (247 ns per dof-step), 3.71 s for 341 at 1e-1 (259), capacitance factorisations included
+      .inplane_adaptive = 250.0,
       .checkpoint = 7e6,
       .checkpoint_byte = 2.0,
   };

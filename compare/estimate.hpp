@@ -122,6 +122,8 @@ struct StepCosts {
   double strip_leap;      ///< the strip: per node-step of its bulk, the leap step's trial solves (CG at large steps)
   double inplane_explicit;  ///< the in-plane strip (docs/model.md §10): per dof-step (two per node), explicit Q1 kick
   double inplane_implicit;  ///< the in-plane strip: per dof-step, the implicit step's preconditioned CG solve
+  double inplane_adaptive;  ///< the in-plane strip: per dof-step, the adaptive step (rhs, three direct stage solves,
+                            ///< the capacitance factors of each new step size, docs/numerics.md §8.9)
   double checkpoint;      ///< one checkpoint: create, sync and rename the file
   double checkpoint_byte; ///< per byte of a checkpoint: archive the state, checksum and write it
 };

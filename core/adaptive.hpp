@@ -190,7 +190,7 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
   void step() {
     if (!started_) start();
     else if (!state_made_) make_state();
-    double h = std::min(h_next_, opt_.dt_max);
+    double h = std::min(quantize(std::min(h_next_, opt_.dt_max)), opt_.dt_max);
     const double h_wanted = h;
     if (t_stop_ > this->t_ && h >= t_stop_ - this->t_) h = t_stop_ - this->t_;
     bool rejected = false;
@@ -665,8 +665,14 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
       if (err <= 1.0) return err;
       ++stats_.rejected;
       rejected = true;
-      h *= std::isfinite(err) ? std::clamp(detail::kSafety * std::pow(err, -1.0 / 3.0), 0.1, 0.5) : 0.25;
+      h = quantize(h * (std::isfinite(err) ? std::clamp(detail::kSafety * std::pow(err, -1.0 / 3.0), 0.1, 0.5) : 0.25));
     }
+  }
+  // A body may restrict the step sizes to a grid (B::quantized_step(h), near h; the in-plane strip, so that its stage
+  // matrices repeat and their factors are reused, docs/numerics.md §8.9); the others take h as proposed.
+  static double quantize(double h) {
+    if constexpr (requires { B::quantized_step(h); }) return B::quantized_step(h);
+    else return h;
   }
 
   // Stage 2: fraction θ ∈ [0, 1) of the trial step at which the first site crosses its switching

@@ -15,6 +15,7 @@
 #include <Eigen/Core>
 #include <Eigen/Eigenvalues>
 #include <Eigen/IterativeLinearSolvers>
+#include <Eigen/LU>
 #include <Eigen/SparseCholesky>
 
 #include "core/matrix_free.hpp"
@@ -76,6 +77,18 @@ struct InPlane::Direct {
   Eigen::VectorXd w;
 };
 
+// The capacitance factors of one stage coefficient c (docs/numerics.md §8.9), with S the separable part of A(c, d_ref):
+// the dense capacitance matrix C = D_Q − sᵀ S⁻¹ s of the dofs Q = B and the spring's μ = c K_s bᵀx (sources
+// s = [A_IB, b]; D_Q = diag(A_BB, −1/(c K_s))) by its LU; Y = Eᵀ S⁻¹ s, their effect on the interface row's u_x; and
+// the interface's Green's function of S, diagonal in cosine modes (gs: with the transforms' scaling).
+struct InPlane::Capacitance {
+  double c = 0.0, d_ref = 0.0;
+  Eigen::PartialPivLU<Eigen::MatrixXd> lu;
+  Eigen::MatrixXd Y;
+  std::vector<double> gs;
+  long long used = 0;
+};
+
 // The CG's workspace (docs/model.md §10.6): the transforms, the mode factors, the step's coefficients.
 // Modes along x: u_x(i, j) = Σ_k a_jk cos(πik/N), k = 0 … N (N = nx − 1); u_y(i, j) = Σ_k b_jk sin(πik/N),
 // k = 1 … N − 1, on the interior columns (the end columns' u_y are outside the separable part). Per mode, the
@@ -100,11 +113,29 @@ struct InPlane::Fast {
   // docs/numerics.md §8.9) each column's u_y–u_y block, tridiagonal in y, solved exactly (Thomas; end_work: its sweep).
   bool end_columns_tridiagonal = false;
   std::vector<double> end_work;
+  // The direct stage solve (docs/numerics.md §8.9). The capacitance dofs B: the end columns' u_y of the rows j ≥ 1
+  // (column 0, then column N), bdof; K's entries of their columns on the other, unheld dofs (kcol) and among them
+  // (kbb); the one-row cosine transform of the interface (b1, dct1); the factors of the last few c (cache).
+  std::vector<std::size_t> bdof;
+  std::vector<std::vector<std::pair<std::size_t, double>>> kcol;
+  // The band of dofs the end columns touch (u_x of columns 0, 1, N−1, N and u_y of 1, N−1, every row): kband, kcol
+  // with the band index (class·rows + j) in place of the dof; phase_in/out[class][k], the modal images of a unit
+  // value there (the forward transforms' scaling included) and the node value of a mode (for the capacitance build).
+  std::vector<std::vector<std::pair<std::size_t, double>>> kband;
+  std::array<std::size_t, 6> band_column{};
+  std::vector<double> phase_in, phase_out, zband;
+  Eigen::MatrixXd kbb;
+  double* b1 = nullptr;
+  fftw_plan dct1 = nullptr;
+  std::vector<std::unique_ptr<Capacitance>> cache;
+  long long clock = 0;
+  std::vector<double> t, r2;  // the two separable solves' right-hand side and result
 
   explicit Fast(const InPlane& b) : nx(b.sites()), rows(b.rows()), N(nx - 1), ns(nx - 2) {
     bx = static_cast<double*>(fftw_malloc(rows * nx * sizeof(double)));
     by = static_cast<double*>(fftw_malloc(rows * ns * sizeof(double)));
-    if (bx == nullptr || by == nullptr) {
+    b1 = static_cast<double*>(fftw_malloc(nx * sizeof(double)));
+    if (bx == nullptr || by == nullptr || b1 == nullptr) {
       release();
       throw std::bad_alloc();
     }
@@ -117,8 +148,9 @@ struct InPlane::Fast {
       // FFTW_ESTIMATE: no timing, so the same sizes and alignment give the same plan (bit-reproducible runs).
       dct = fftw_plan_many_r2r(1, &lx, r, bx, nullptr, 1, lx, bx, nullptr, 1, lx, &kc, FFTW_ESTIMATE);
       dst = fftw_plan_many_r2r(1, &ly, r, by, nullptr, 1, ly, by, nullptr, 1, ly, &ks, FFTW_ESTIMATE);
+      dct1 = fftw_plan_r2r_1d(lx, b1, b1, kc, FFTW_ESTIMATE);
     }
-    if (dct == nullptr || dst == nullptr) {
+    if (dct == nullptr || dst == nullptr || dct1 == nullptr) {
       release();
       throw std::runtime_error("InPlane: FFTW could not plan the cosine and sine transforms");
     }
@@ -149,11 +181,13 @@ struct InPlane::Fast {
       const std::lock_guard<std::mutex> lock(fftw_planner_mutex());
       if (dct != nullptr) fftw_destroy_plan(dct);
       if (dst != nullptr) fftw_destroy_plan(dst);
+      if (dct1 != nullptr) fftw_destroy_plan(dct1);
     }
-    dct = dst = nullptr;
+    dct = dst = dct1 = nullptr;
     if (bx != nullptr) fftw_free(bx);
     if (by != nullptr) fftw_free(by);
-    bx = by = nullptr;
+    if (b1 != nullptr) fftw_free(b1);
+    bx = by = b1 = nullptr;
   }
 };
 
@@ -181,7 +215,7 @@ double InPlane::stable_time_step(const BulkParams& bulk, const DriveParams& driv
 InPlane::InPlane(const BulkParams& bulk, const DriveParams& drive, const InterfaceParams& law,
                  const InPlaneParams& material, double dx, double dy)
     : dx_(dx), dy_(dy), H_(bulk.height), rho_(bulk.rho), mu_(bulk.mu), nu_(material.poisson),
-      p_(material.normal_load) {
+      p_(material.normal_load), alpha_(law.alpha) {
   if (drive.loading != Loading::edge && drive.loading != Loading::homogeneous)
     throw std::invalid_argument("InPlane: only edge and homogeneous loading have an in-plane strip");
   check_material(material);
@@ -216,8 +250,10 @@ InPlane::InPlane(const BulkParams& bulk, const DriveParams& drive, const Interfa
 InPlane::InPlane(const InPlane& o)
     : x_(o.x_), nx_(o.nx_), ny_(o.ny_), dx_(o.dx_), dy_(o.dy_), H_(o.H_), rho_(o.rho_), mu_(o.mu_), nu_(o.nu_),
       p_(o.p_), rho_p_(o.rho_p_), mu_p_(o.mu_p_), lambda_p_(o.lambda_p_), sigma_d_(o.sigma_d_),
-      spring_K_(o.spring_K_), v_d_(o.v_d_), rear_traction_(o.rear_traction_), stable_dt_(o.stable_dt_), ke_(o.ke_),
-      force_(o.force_), rhs_(o.rhs_), dstep_(o.dstep_), step_solver_(o.step_solver_), stage_(o.stage_) {}  // the factorisations are made again on first use
+      spring_K_(o.spring_K_), v_d_(o.v_d_), rear_traction_(o.rear_traction_), stable_dt_(o.stable_dt_), alpha_(o.alpha_),
+      ke_(o.ke_),
+      force_(o.force_), rhs_(o.rhs_), dstep_(o.dstep_), step_solver_(o.step_solver_),
+      stage_solver_(o.stage_solver_), stage_(o.stage_) {}  // the factorisations are made again on first use
 InPlane::InPlane(InPlane&& o) noexcept = default;
 InPlane& InPlane::operator=(const InPlane& o) {
   if (this != &o) {
@@ -505,15 +541,63 @@ void InPlane::factorise_modes(double coef, double dbar) const {
       }
       dprev = inverse(dj);
       uprev = j + 1 < R ? block(j, j + 1) : Block{};
-      std::copy(dprev.begin(), dprev.end(), f.dinv.begin() + static_cast<std::ptrdiff_t>((k * R + j) * 4));
-      std::copy(uprev.begin(), uprev.end(), f.up.begin() + static_cast<std::ptrdiff_t>((k * R + j) * 4));
+      for (std::size_t q = 0; q < 4; ++q) {  // planes [(q·R + j)·(N+1) + k]: the sweeps run along k
+        f.dinv[(q * R + j) * (N + 1) + k] = dprev[q];
+        f.up[(q * R + j) * (N + 1) + k] = uprev[q];
+      }
     }
   }
   f.fact_c = coef;
   f.fact_d = dbar;
 }
 
-const double* InPlane::apply_preconditioner(const double* r) const {
+namespace {
+
+// Per mode k of the factors (dinv, up: four planes, [(q·R + j)·(N+1) + k] for the block's entry q), the 2 × 2-block
+// tridiagonal solve in y in place on the modal values a, b ([j·(N+1) + k]): forward y_j = Dinv_j (r_j − U_{j−1}ᵀ y_{j−1}),
+// back x_j = y_j − Dinv_j U_j x_{j+1}; every mode at once, row by row (contiguous in k).
+void solve_modes(const double* dinv, const double* up, std::size_t N, std::size_t R, double* ga, double* gb) {
+  const std::size_t M = N + 1, Q = R * M;
+  for (std::size_t j = 0; j < R; ++j) {
+    double* a = ga + j * M;
+    double* b = gb + j * M;
+    const double *D0 = dinv + j * M, *D1 = D0 + Q, *D2 = D1 + Q, *D3 = D2 + Q;
+    if (j > 0) {
+      const double *U0 = up + (j - 1) * M, *U1 = U0 + Q, *U2 = U1 + Q, *U3 = U2 + Q;
+      const double *ya = a - M, *yb = b - M;
+      for (std::size_t k = 0; k < M; ++k) {
+        const double ra = a[k] - (U0[k] * ya[k] + U2[k] * yb[k]), rb = b[k] - (U1[k] * ya[k] + U3[k] * yb[k]);
+        a[k] = D0[k] * ra + D1[k] * rb;
+        b[k] = D2[k] * ra + D3[k] * rb;
+      }
+    } else {
+      for (std::size_t k = 0; k < M; ++k) {
+        const double ra = a[k], rb = b[k];
+        a[k] = D0[k] * ra + D1[k] * rb;
+        b[k] = D2[k] * ra + D3[k] * rb;
+      }
+    }
+  }
+  for (std::size_t j = R - 1; j-- > 0;) {
+    double* a = ga + j * M;
+    double* b = gb + j * M;
+    const double *xa = a + M, *xb = b + M;
+    const double *D0 = dinv + j * M, *D1 = D0 + Q, *D2 = D1 + Q, *D3 = D2 + Q;
+    const double *U0 = up + j * M, *U1 = U0 + Q, *U2 = U1 + Q, *U3 = U2 + Q;
+    for (std::size_t k = 0; k < M; ++k) {
+      const double ua = U0[k] * xa[k] + U1[k] * xb[k], ub = U2[k] * xa[k] + U3[k] * xb[k];
+      a[k] -= D0[k] * ua + D1[k] * ub;
+      b[k] -= D2[k] * ua + D3[k] * ub;
+    }
+  }
+}
+
+}  // namespace
+
+// z = S⁻¹ r, S the separable part of the factorised A(c, dbar): u_x of every node and u_y of the interior columns in
+// their modes; the end columns' u_y (outside the sine modes) get 0 (row 0: held, their r; the interior columns' held
+// u_y come back from their identity rows through the sine transforms).
+void InPlane::separable_solve(const double* r, double* z) const {
   Fast& f = *fast_;
   const std::size_t nx = nx_, N = f.N, R = f.rows, ns = f.ns, P = plane();
   const double inv2N = 1.0 / (2.0 * static_cast<double>(N)), invN = 1.0 / static_cast<double>(N);
@@ -530,34 +614,7 @@ const double* InPlane::apply_preconditioner(const double* r) const {
       f.gb[j * (N + 1) + k] = (k == 0 || k == N) ? 0.0 : f.by[j * ns + k - 1] * invN;
     }
   // 2. per mode, the block tridiagonal solve in y
-  for (std::size_t k = 0; k <= N; ++k) {
-    const double* Di = f.dinv.data() + k * R * 4;
-    const double* Up = f.up.data() + k * R * 4;
-    double ya = 0.0, yb = 0.0;
-    for (std::size_t j = 0; j < R; ++j) {  // y_j = Dinv_j (r_j − U_{j−1}ᵀ y_{j−1})
-      double ra = f.ga[j * (N + 1) + k], rb = f.gb[j * (N + 1) + k];
-      if (j > 0) {
-        const double* U = Up + (j - 1) * 4;
-        ra -= U[0] * ya + U[2] * yb;
-        rb -= U[1] * ya + U[3] * yb;
-      }
-      const double* D = Di + j * 4;
-      ya = D[0] * ra + D[1] * rb;
-      yb = D[2] * ra + D[3] * rb;
-      f.ga[j * (N + 1) + k] = ya;
-      f.gb[j * (N + 1) + k] = yb;
-    }
-    double xa = ya, xb = yb;
-    for (std::size_t j = R - 1; j-- > 0;) {  // x_j = y_j − Dinv_j U_j x_{j+1}
-      const double* U = Up + j * 4;
-      const double ua = U[0] * xa + U[1] * xb, ub = U[2] * xa + U[3] * xb;
-      const double* D = Di + j * 4;
-      xa = f.ga[j * (N + 1) + k] - (D[0] * ua + D[1] * ub);
-      xb = f.gb[j * (N + 1) + k] - (D[2] * ua + D[3] * ub);
-      f.ga[j * (N + 1) + k] = xa;
-      f.gb[j * (N + 1) + k] = xb;
-    }
-  }
+  solve_modes(f.dinv.data(), f.up.data(), N, R, f.ga.data(), f.gb.data());
   // 3. back to the nodes: u_x = Σ a_k cos (REDFT00 of a with the interior modes halved), u_y = Σ b_k sin
   for (std::size_t j = 0; j < R; ++j) {
     for (std::size_t k = 0; k <= N; ++k) f.bx[j * nx + k] = f.ga[j * (N + 1) + k] * ((k == 0 || k == N) ? 1.0 : 0.5);
@@ -565,16 +622,24 @@ const double* InPlane::apply_preconditioner(const double* r) const {
   }
   fftw_execute(f.dct);
   if (ns > 0) fftw_execute(f.dst);
-  double* z = f.z.data();
   for (std::size_t j = 0; j < R; ++j) {
     for (std::size_t i = 0; i < nx; ++i) z[j * nx + i] = f.bx[j * nx + i];
     for (std::size_t i = 1; i < N; ++i) z[P + j * nx + i] = f.by[j * ns + i - 1];
-    // the end columns' u_y: their diagonal (row 0: held, identity)
+    for (const std::size_t i : {std::size_t{0}, N}) z[P + j * nx + i] = j == 0 ? r[P + i] : 0.0;  // row 0: held
+  }
+}
+
+const double* InPlane::apply_preconditioner(const double* r) const {
+  Fast& f = *fast_;
+  const std::size_t nx = nx_, N = f.N, R = f.rows, P = plane();
+  double* z = f.z.data();
+  separable_solve(r, z);
+  // the end columns' u_y: their diagonal (row 0: held, identity)
+  for (std::size_t j = 1; j < R; ++j)
     for (const std::size_t i : {std::size_t{0}, N}) {
       const std::size_t q = P + j * nx + i;
-      z[q] = j == 0 ? r[q] : r[q] / (node_mass(i, j) / f.c + f.c * f.kdiag[q]);
+      z[q] = r[q] / (node_mass(i, j) / f.c + f.c * f.kdiag[q]);
     }
-  }
   if (f.end_columns_tridiagonal) end_columns_exact(r, z);
   return z;
 }
@@ -717,15 +782,279 @@ void InPlane::stage_bulk_rhs(const BulkStage& in) {
   const std::size_t nx = nx_, n = dofs(), P = plane();
   const double c = stage_.c, inv_c = 1.0 / c, hdT = has_drive_spring() ? in.hdT : 0.0;
   double *r = stage_.r.data(), *bu = stage_.bu.data(), *x = stage_.x.data();
-  for (std::size_t k = nx; k < n; ++k) {
-    const double u = in.sub_u != nullptr ? in.bu[k] - in.sub_u[k] : in.bu[k];
-    double v = in.sub_v != nullptr ? in.bv[k] - in.sub_v[k] : in.bv[k];
-    const std::size_t node = k < P ? k : k - P;
-    if (k < P && node % nx == 0) v += hdT;
-    bu[k] = u;
-    x[k] = u + c * v;
-    r[k] = (k >= P && node < nx) ? x[k] : node_mass(node % nx, node / nx) * (v + inv_c * u);
+  for (std::size_t k = nx; k < n; ++k) {  // rows j ≥ 1 of u_x, then every row of u_y (row 0: held)
+    const std::size_t node = k < P ? k : k - P, i = node % nx;
+    const std::size_t end = std::min(k + (nx - i), n);  // the rest of this row
+    const double wy = row_weight(node / nx);
+    const bool held = k >= P && node < nx;
+    for (; k < end; ++k) {
+      const std::size_t ik = k - (end - nx);
+      const double u = in.sub_u != nullptr ? in.bu[k] - in.sub_u[k] : in.bu[k];
+      double v = in.sub_v != nullptr ? in.bv[k] - in.sub_v[k] : in.bv[k];
+      if (k < P && ik == 0) v += hdT;
+      bu[k] = u;
+      x[k] = u + c * v;
+      r[k] = held ? x[k] : rho_p_ * interface_weight(ik) * wy * (v + inv_c * u);  // node_mass(ik, j)
+    }
+    --k;
   }
+}
+
+namespace {
+
+// The interface system of the direct stage solve, (I + G₀ Δ) ξ = ξ₀ on the interface row's u_x (docs/numerics.md
+// §8.9): G₀ u = G_S u + Y C⁻¹ Yᵀ u, G_S diagonal in cosine modes (gs, one-row DCT-I both ways, b1 its buffer),
+// Δ = diag(wx (d − d_ref)). For Eigen's BiCGSTAB through MatrixFree; no preconditioner (the identity).
+struct InterfaceSystem {
+  const Eigen::PartialPivLU<Eigen::MatrixXd>* lu;
+  const Eigen::MatrixXd* Y;
+  const double* gs;
+  const double* delta;
+  const double* scale_in;  // dx/wx(i)
+  double* b1;
+  fftw_plan dct1;
+  std::size_t nx;
+  mutable std::vector<double> z;
+  mutable long long applications = 0;
+  void apply_system(const double* x, double* y) const {
+    ++applications;
+    for (std::size_t i = 0; i < nx; ++i) b1[i] = delta[i] * x[i] * scale_in[i];
+    fftw_execute(dct1);
+    for (std::size_t k = 0; k < nx; ++k) b1[k] *= gs[k];
+    fftw_execute(dct1);
+    const Eigen::Map<const Eigen::VectorXd> xv(x, static_cast<Eigen::Index>(nx));
+    const Eigen::Map<const Eigen::VectorXd> dv(delta, static_cast<Eigen::Index>(nx));
+    const Eigen::VectorXd corr = (*Y) * lu->solve(Y->transpose() * dv.cwiseProduct(xv));
+    for (std::size_t i = 0; i < nx; ++i) y[i] = x[i] + b1[i] + corr[static_cast<Eigen::Index>(i)];
+  }
+  const double* apply_preconditioner(const double* r) const {
+    z.assign(r, r + nx);
+    return z.data();
+  }
+};
+
+}  // namespace
+
+// The end columns' u_y (the capacitance dofs B) and K's entries of their columns, once.
+void InPlane::setup_end_columns() {
+  Fast& f = *fast_;
+  if (!f.bdof.empty()) return;
+  const std::size_t nx = nx_, N = f.N, P = plane(), n = dofs();
+  for (const std::size_t i : {std::size_t{0}, N})
+    for (std::size_t j = 1; j <= ny_; ++j) f.bdof.push_back(P + j * nx + i);
+  const std::size_t nb = f.bdof.size();
+  std::vector<long> index(n, -1);
+  for (std::size_t q = 0; q < nb; ++q) index[f.bdof[q]] = static_cast<long>(q);
+  // K's columns of B from the elements beside the end columns (cells 0 and N − 1 of every row), not the whole matrix
+  f.kbb = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(nb), static_cast<Eigen::Index>(nb));
+  std::vector<std::vector<std::pair<std::size_t, double>>> entries(nb);
+  for (const std::size_t ic : {std::size_t{0}, N - 1})
+    for (std::size_t j = 0; j < ny_; ++j) {
+      const std::size_t nd[4] = {j * nx + ic, j * nx + ic + 1, (j + 1) * nx + ic, (j + 1) * nx + ic + 1};
+      std::size_t d[8];
+      for (std::size_t a = 0; a < 4; ++a) {
+        d[a] = nd[a];
+        d[a + 4] = P + nd[a];
+      }
+      for (std::size_t b = 0; b < 8; ++b) {
+        if (index[d[b]] < 0) continue;
+        const auto q = static_cast<std::size_t>(index[d[b]]);
+        for (std::size_t a = 0; a < 8; ++a) {
+          if (d[a] >= P && d[a] < P + nx) continue;  // held
+          if (index[d[a]] >= 0) f.kbb(index[d[a]], static_cast<Eigen::Index>(q)) += ke_[a * 8 + b];
+          else entries[q].emplace_back(d[a], ke_[a * 8 + b]);
+        }
+      }
+    }
+  f.kcol.assign(nb, {});
+  for (std::size_t q = 0; q < nb; ++q) {  // merge each column's entries by dof
+    std::stable_sort(entries[q].begin(), entries[q].end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+    for (const auto& [p, v] : entries[q]) {
+      if (!f.kcol[q].empty() && f.kcol[q].back().first == p) f.kcol[q].back().second += v;
+      else f.kcol[q].emplace_back(p, v);
+    }
+  }
+  // the band's classes: 0–3 u_x of columns 0, 1, N − 1, N; 4–5 u_y of columns 1, N − 1
+  f.band_column = {0, 1, N - 1, N, 1, N - 1};
+  const std::size_t M = N + 1, R = f.rows;
+  f.phase_in.assign(6 * M, 0.0);
+  f.phase_out.assign(6 * M, 0.0);
+  const double pi_N = std::numbers::pi / static_cast<double>(N), invN = 1.0 / static_cast<double>(N);
+  for (std::size_t cl = 0; cl < 6; ++cl) {
+    const std::size_t i = f.band_column[cl];
+    for (std::size_t k = 0; k <= N; ++k) {
+      const auto ik = static_cast<double>((i * k) % (2 * N));  // cos, sin of π i k/N, the argument reduced
+      const bool end_mode = k == 0 || k == N;
+      if (cl < 4) {
+        const double cs = std::cos(pi_N * ik);
+        f.phase_out[cl * M + k] = cs;
+        f.phase_in[cl * M + k] = ((i == 0 || i == N) ? 1.0 : 2.0) * cs * dx_ / interface_weight(i) * (end_mode ? 0.5 * invN : invN);
+      } else if (!end_mode) {
+        const double sn = std::sin(pi_N * ik);
+        f.phase_out[cl * M + k] = sn;
+        f.phase_in[cl * M + k] = 2.0 * sn * invN;
+      }
+    }
+  }
+  const auto band_of = [&](std::size_t p) -> std::size_t {
+    const std::size_t comp = p >= P ? 1 : 0, node = p - comp * P, i = node % nx, j = node / nx;
+    for (std::size_t cl = comp == 0 ? 0 : 4; cl < (comp == 0 ? 4u : 6u); ++cl)
+      if (f.band_column[cl] == i) return cl * R + j;
+    throw std::logic_error("InPlane: an end column's stencil reaches outside the band");
+  };
+  f.kband.assign(nb, {});
+  for (std::size_t q = 0; q < nb; ++q)
+    for (const auto& [p, k] : f.kcol[q]) f.kband[q].emplace_back(band_of(p), k);
+  f.zband.assign(6 * R, 0.0);
+}
+
+// The capacitance factors of (c, d_ref) from the cache, or made (docs/numerics.md §8.9): per capacitance dof, its
+// source s_q (column q of c K on the other dofs, or the spring's b; both in the band of the end columns) put in the
+// modes directly, every mode's sweep, and S⁻¹ s_q read at the band and on the interface row: C and Y; the
+// interface's Green's function of S from one modal sweep with a unit source on row 0's u_x in every mode.
+InPlane::Capacitance& InPlane::capacitance(double c, double d_ref) {
+  Fast& f = *fast_;
+  for (auto& e : f.cache)
+    if (e->c == c && e->d_ref == d_ref) {
+      e->used = ++f.clock;
+      return *e;
+    }
+  setup_end_columns();
+  if (c != f.fact_c || d_ref != f.fact_d) factorise_modes(c, d_ref);
+  const std::size_t nx = nx_, N = f.N, R = f.rows, nb = f.bdof.size();
+  const bool spring = spring_K_ > 0.0;
+  const auto q = static_cast<Eigen::Index>(nb + (spring ? 1 : 0));
+  auto cap = std::make_unique<Capacitance>();
+  cap->c = c;
+  cap->d_ref = d_ref;
+  Eigen::MatrixXd C(q, q);
+  cap->Y.resize(static_cast<Eigen::Index>(nx), q);
+  const std::size_t M = N + 1;
+  double* zb = f.zband.data();
+  for (Eigen::Index col = 0; col < q; ++col) {
+    // the source's modes, directly (it lives in the band: no transform), then every mode's sweep
+    std::fill(f.ga.begin(), f.ga.end(), 0.0);
+    std::fill(f.gb.begin(), f.gb.end(), 0.0);
+    const auto cb = static_cast<std::size_t>(col);
+    const auto add = [&](std::size_t band, double value) {
+      const std::size_t cl = band / R, j = band % R;
+      double* g = (cl < 4 ? f.ga.data() : f.gb.data()) + j * M;
+      const double* ph = f.phase_in.data() + cl * M;
+      for (std::size_t k = 0; k < M; ++k) g[k] += value * ph[k];
+    };
+    if (cb < nb) {
+      for (const auto& [band, k] : f.kband[cb]) add(band, c * k);
+    } else {
+      for (std::size_t j = 0; j < R; ++j) add(j, row_weight(j) / H_);  // b: u_x of column 0 (class 0)
+    }
+    solve_modes(f.dinv.data(), f.up.data(), N, R, f.ga.data(), f.gb.data());
+    // S⁻¹ s at the band's dofs (node values of the modes) and on the interface row (one-row transform)
+    for (std::size_t cl = 0; cl < 6; ++cl)
+      for (std::size_t j = 0; j < R; ++j) {
+        const double* g = (cl < 4 ? f.ga.data() : f.gb.data()) + j * M;
+        const double* ph = f.phase_out.data() + cl * M;
+        double v = 0.0;
+        for (std::size_t k = 0; k < M; ++k) v += g[k] * ph[k];
+        zb[cl * R + j] = v;
+      }
+    for (std::size_t k = 0; k < M; ++k) f.b1[k] = f.ga[k] * ((k == 0 || k == N) ? 1.0 : 0.5);
+    fftw_execute(f.dct1);
+    for (std::size_t row = 0; row < nb; ++row) {
+      double a = 0.0;
+      for (const auto& [band, k] : f.kband[row]) a += c * k * zb[band];
+      double d = cb < nb ? c * f.kbb(static_cast<Eigen::Index>(row), col) : 0.0;
+      if (row == cb) d += node_mass(row < ny_ ? 0 : N, row % ny_ + 1) / c;
+      C(static_cast<Eigen::Index>(row), col) = d - a;
+    }
+    if (spring) {
+      double bz = 0.0;
+      for (std::size_t j = 0; j < R; ++j) bz += row_weight(j) / H_ * zb[j];
+      C(q - 1, col) = -bz - (cb == nb ? 1.0 / (c * spring_K_) : 0.0);
+    }
+    for (std::size_t i = 0; i < nx; ++i) cap->Y(static_cast<Eigen::Index>(i), col) = f.b1[i];
+  }
+  cap->lu.compute(C);
+  // G_S: the modal solve of a unit source on row 0's u_x in every mode, with the transforms' scalings
+  std::fill(f.ga.begin(), f.ga.end(), 0.0);
+  std::fill(f.gb.begin(), f.gb.end(), 0.0);
+  for (std::size_t k = 0; k <= N; ++k) f.ga[k] = 1.0;
+  solve_modes(f.dinv.data(), f.up.data(), N, R, f.ga.data(), f.gb.data());
+  cap->gs.resize(nx);
+  const double inv2N = 1.0 / (2.0 * static_cast<double>(N));
+  for (std::size_t k = 0; k <= N; ++k) cap->gs[k] = f.ga[k] * ((k == 0 || k == N) ? inv2N : 2.0 * inv2N * 0.5);
+  ++stage_.builds;
+  cap->used = ++f.clock;
+  if (f.cache.size() < kCapacitanceCache) {
+    f.cache.push_back(std::move(cap));
+    return *f.cache.back();
+  }
+  auto oldest = std::min_element(f.cache.begin(), f.cache.end(), [](const auto& a, const auto& b) { return a->used < b->used; });
+  *oldest = std::move(cap);
+  return **oldest;
+}
+
+// The stage system A(c, d) x = r solved directly (docs/numerics.md §8.9): S the separable part of A(c, d_ref),
+// d_ref = η + c α (a stuck site's); the capacitance dofs w = (x_B, μ) and the interface's force f = Δ ξ,
+// Δ = diag(wx (d − d_ref)), ξ = Eᵀ x:
+//   t = S⁻¹ r_I,   ρ = [r_B; 0] − sᵀ t,   ξ₀ = Eᵀ t − Y C⁻¹ ρ,   (I + G₀ Δ) ξ = ξ₀,   f = Δ ξ,
+//   w = C⁻¹ (ρ + Yᵀ f),   x_I = S⁻¹ (r_I − E f − s w),   x_B = w_B.
+// Two separable solves and an interface system of nx unknowns (BiCGSTAB on one-row transforms, to the stage
+// tolerance; none when every site has d = d_ref). Returns false when that system does not converge.
+bool InPlane::solve_stage_direct() {
+  Fast& f = *fast_;
+  const double c = stage_.c, d_ref = stage_.eta + c * alpha_;
+  const Capacitance& cap = capacitance(c, d_ref);
+  if (c != f.fact_c || d_ref != f.fact_d) factorise_modes(c, d_ref);
+  const std::size_t nx = nx_, n = dofs(), nb = f.bdof.size(), R = f.rows;
+  const bool spring = spring_K_ > 0.0;
+  const Eigen::Index q = cap.Y.cols(), m = static_cast<Eigen::Index>(nx);
+  const double* r = stage_.r.data();
+  f.r2.assign(r, r + n);
+  f.t.resize(n);
+  for (const std::size_t b : f.bdof) f.r2[b] = 0.0;
+  separable_solve(f.r2.data(), f.t.data());
+  Eigen::VectorXd rho(q);
+  for (std::size_t b = 0; b < nb; ++b) {
+    double a = 0.0;
+    for (const auto& [p, k] : f.kcol[b]) a += c * k * f.t[p];
+    rho[static_cast<Eigen::Index>(b)] = r[f.bdof[b]] - a;
+  }
+  if (spring) {
+    double a = 0.0;
+    for (std::size_t j = 0; j < R; ++j) a += row_weight(j) / H_ * f.t[j * nx];
+    rho[q - 1] = -a;
+  }
+  const Eigen::VectorXd v0 = cap.lu.solve(rho);
+  Eigen::VectorXd force = Eigen::VectorXd::Zero(m), delta(m), scale(m);
+  bool varies = false;
+  for (std::size_t i = 0; i < nx; ++i) {
+    delta[static_cast<Eigen::Index>(i)] = interface_weight(i) * (stage_.d[i] - d_ref);
+    scale[static_cast<Eigen::Index>(i)] = dx_ / interface_weight(i);
+    varies = varies || delta[static_cast<Eigen::Index>(i)] != 0.0;
+  }
+  if (varies) {
+    const Eigen::VectorXd xi0 = Eigen::Map<const Eigen::VectorXd>(f.t.data(), m) - cap.Y * v0;
+    const InterfaceSystem sys{&cap.lu, &cap.Y, cap.gs.data(), delta.data(), scale.data(), f.b1, f.dct1, nx, {}};
+    const MatrixFree<const InterfaceSystem> A(sys, nx);
+    Eigen::BiCGSTAB<MatrixFree<const InterfaceSystem>, MatrixFreePreconditioner<const InterfaceSystem>> solver;
+    solver.setTolerance(stage_.tolerance);
+    solver.setMaxIterations(200);
+    solver.compute(A);
+    const Eigen::VectorXd xi = solver.solveWithGuess(xi0, xi0);
+    stage_.interface_iterations += sys.applications;
+    if (solver.info() != Eigen::Success || !xi.allFinite()) return false;
+    force = delta.cwiseProduct(xi);
+  }
+  const Eigen::VectorXd w = v0 + cap.lu.solve(cap.Y.transpose() * force);
+  for (std::size_t i = 0; i < nx; ++i) f.r2[i] -= force[static_cast<Eigen::Index>(i)];
+  for (std::size_t b = 0; b < nb; ++b)
+    for (const auto& [p, k] : f.kcol[b]) f.r2[p] -= c * k * w[static_cast<Eigen::Index>(b)];
+  if (spring)
+    for (std::size_t j = 0; j < R; ++j) f.r2[j * nx] -= w[q - 1] * row_weight(j) / H_;
+  double* x = stage_.x.data();
+  separable_solve(f.r2.data(), x);
+  for (std::size_t b = 0; b < nb; ++b) x[f.bdof[b]] = w[static_cast<Eigen::Index>(b)];
+  return w.allFinite();
 }
 
 void InPlane::solve_stage_system() {
@@ -735,6 +1064,10 @@ void InPlane::solve_stage_system() {
     return;
   }
   if (!fast_) fast_ = std::make_unique<Fast>(*this);
+  if (stage_solver_ == StageSolver::direct) {
+    if (solve_stage_direct()) return;
+    ++stage_.direct_failures;
+  }
   Fast& f = *fast_;
   f.d.assign(stage_.d.begin(), stage_.d.end());
   f.rhs.assign(stage_.r.begin(), stage_.r.end());

@@ -19,12 +19,14 @@
 // +F(t) wy(j)/H, F = K (v_d t − ū0) + F_r, ū0 = Σ_j wy(j) u_x(0, j)/H (as core::Strip).
 //
 // The adaptive integrator's body (core::AdaptiveBody, docs/numerics.md §8.9): the stage representation is the node
-// values; the W solve's u system is the implicit step's matrix A(γh, η + q_σ), solved by the same preconditioned CG.
+// values; the W solve's u system is the implicit step's matrix A(γh, η + q_σ), solved directly (the capacitance method,
+// solve_stage_direct; the preconditioned CG of the implicit step as reference and fallback).
 //
 // Thread safety: an InPlane holds mutable workspace (the force buffer, the factorisation), so one object serves
 // one thread at a time; copies are independent.
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <memory>
 #include <span>
@@ -225,9 +227,11 @@ class InPlane {
   // v' of every dof is the explicit scheme's force over the lumped mass with σ̄ + η v on the interface (u_y of row 0
   // held: its v' is 0 and its u enters no force). The W solve leaves for x_u (docs/numerics.md §8.5, §8.9)
   //   A(c, d) x_u = M b_v + (M/c) b_u + E wx (d b_u0 − c p_σ),   d = η + q_σ,   then x_v = (x_u − b_u)/c,
-  // the held dofs x_u = b_u + c b_v, solved by solve_system's preconditioned CG (BiCGSTAB when the CG fails: A
-  // indefinite) to a relative residual of kStageSolveTolerance · rtol, from the integrator's guess (BulkStage: the
-  // last accepted step's same stage, k1 and k2) or else the x_u of W = I, b_u + c b_v.
+  // the held dofs x_u = b_u + c b_v, solved directly (solve_stage_direct, docs/numerics.md §8.9: two separable solves,
+  // the capacitance factors of the end columns' u_y and the spring cached per c, the interface coefficient's spread
+  // about d_ref = η + c α by an nx-sized system to a relative residual of kStageSolveTolerance · rtol); when that
+  // system fails, or with set_stage_solver(krylov), by solve_system's preconditioned CG (BiCGSTAB when the CG fails)
+  // from the integrator's guess (BulkStage: the last accepted step's same stage, k1 and k2) or else b_u + c b_v.
   std::size_t components() const { return 2; }
   static constexpr bool stage_is_nodes = true;
   const char* stage_archive_tag() const { return "adaptive_inplane"; }
@@ -246,6 +250,7 @@ class InPlane {
   template <class SiteQ>
   void stage_factor(double c, double eta, SiteQ&& q_sigma) {
     stage_.c = c;
+    stage_.eta = eta;
     stage_.d.resize(nx_);
     for (std::size_t i = 0; i < nx_; ++i) stage_.d[i] = eta + q_sigma(i);
   }
@@ -278,6 +283,19 @@ class InPlane {
     }
     stage_bulk_finish(in, xu, xv);
   }
+  /// The step sizes the integrator may take on this body (core::AdaptiveSimulation asks when the body has this member):
+  /// h rounded to the nearest of the geometric grid 2^(m/kStepLevels), m an integer (up to 4.4 % either way; the error
+  /// test still decides), so that the stage matrix A(γh, ·) takes few distinct values and its capacitance factors
+  /// (solve_stage_direct) are reused from a cache (docs/numerics.md §8.9).
+  static constexpr int kStepLevels = 8;
+  static double quantized_step(double h) {
+    if (!(h > 0.0) || !std::isfinite(h)) return h;
+    return std::exp2(std::round(std::log2(h) * kStepLevels) / kStepLevels);
+  }
+  /// The stage solve: direct (the capacitance method of docs/numerics.md §8.9, the default) or the preconditioned
+  /// Krylov solve (the reference it replaced; also the direct solve's fallback when its interface system fails).
+  enum class StageSolver { direct, krylov };
+  void set_stage_solver(StageSolver s) { stage_solver_ = s; }
   /// 0: stage_error's scale is taken over every node value already.
   double stage_scale(const double*) const { return 0.0; }
   /// The field norm's parts over every dof (node values, both components).
@@ -285,6 +303,12 @@ class InPlane {
   /// Krylov iterations of every stage solve so far, and how many of them fell back to BiCGSTAB.
   long long stage_iterations() const { return stage_.iterations; }
   long long stage_fallbacks() const { return stage_.fallbacks; }
+  /// Capacitance factorisations made (one per distinct stage coefficient c not in the cache) and interface iterations
+  /// of the direct stage solves (docs/numerics.md §8.9).
+  long long stage_capacitance_builds() const { return stage_.builds; }
+  long long stage_interface_iterations() const { return stage_.interface_iterations; }
+  /// Direct stage solves whose interface system did not converge (then solved by the Krylov solve).
+  long long stage_direct_failures() const { return stage_.direct_failures; }
 
  private:
   struct Direct;  // the direct solve's factorisation (inplane.cpp)
@@ -320,23 +344,33 @@ class InPlane {
   void solve_stage_system();
   void stage_bulk_finish(const BulkStage& in, double* xu, double* xv) const;
   void end_columns_exact(const double* r, double* z) const;
+  // The direct stage solve (docs/numerics.md §8.9): z = S⁻¹ r for the separable part S of A(c, d_ref) (the end
+  // columns' u_y excluded: z there 0; held dofs identity), the capacitance factors of c (cached), the solve.
+  void separable_solve(const double* r, double* z) const;
+  struct Capacitance;
+  static constexpr std::size_t kCapacitanceCache = 32;  // the factors of this many stage coefficients c are kept
+  Capacitance& capacitance(double c, double d_ref);
+  void setup_end_columns();
+  bool solve_stage_direct();
 
   std::vector<double> x_;
   std::size_t nx_ = 0, ny_ = 0;
   double dx_ = 1.0, dy_ = 1.0, H_ = 1.0, rho_ = 1.0, mu_ = 1.0, nu_ = 0.0, p_ = 0.0;
   double rho_p_ = 1.0, mu_p_ = 1.0, lambda_p_ = 0.0;
   double sigma_d_ = 0.0, spring_K_ = 0.0, v_d_ = 0.0, rear_traction_ = 0.0, stable_dt_ = 0.0;
+  double alpha_ = 1.0;  // the law's α: the stage solve's reference interface coefficient d_ref = η + c α (stuck, A = 1)
   std::array<double, 64> ke_{};
   mutable std::vector<double> force_;  // the kick's −K u
   std::vector<double> rhs_, dstep_;    // the implicit step's right-hand side and interface coefficients
   std::unique_ptr<Direct> direct_;
   std::unique_ptr<Fast> fast_;
   StepSolver step_solver_ = StepSolver::cg;
+  StageSolver stage_solver_ = StageSolver::direct;
   int last_iterations_ = 0;
   struct AdaptiveStage {  // the adaptive stage solve: c, d, the right-hand side, b_u, the solution, the CG's tolerance
-    double c = 0.0, tolerance = 1e-12;
+    double c = 0.0, eta = 0.0, tolerance = 1e-12;
     std::vector<double> d, r, bu, x, u_free;  // u_free: stage_accelerations' u with the held dofs zeroed
-    long long iterations = 0, fallbacks = 0;
+    long long iterations = 0, fallbacks = 0, builds = 0, interface_iterations = 0, direct_failures = 0;
   } stage_;
 };
 

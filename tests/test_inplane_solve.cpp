@@ -195,3 +195,82 @@ TEST_CASE("inplane solve: solve_system solves A(c, d) for any right-hand side", 
     CHECK(std::sqrt(res / nr) < 1e-11);
   }
 }
+
+namespace {
+
+// The adaptive stage solve (docs/numerics.md §8.9) checked through the body's own right-hand side: a(t; u, v, σ̄) is
+// affine, so J x = a(0; x) − a(0; 0), and x from stage_factor/stage_solve must satisfy x_u − c x_v = b_u and
+// x_v − c (a(0; x_u, x_v, x_σ) − a(0; 0)) = b_v with the sites' x_σ = p + q x_v. Returns the larger residual of the
+// two rows relative to the largest term in them (c J x included: at c = 3 it is ~1e4 times b, and its round-off with
+// it); xu_out the solution's x_u.
+double stage_residual(core::InPlane& b, double c, double eta, const std::vector<double>& q, std::mt19937& g,
+                      std::vector<double>* xu_out = nullptr) {
+  const std::size_t n = b.dofs(), m = b.sites();
+  std::vector<double> bu = random_vector(n, g), bv = random_vector(n, g), p = random_vector(m, g);
+  for (std::size_t i = 0; i < m; ++i) bu[b.plane() + i] = bv[b.plane() + i] = 0.0;  // held
+  b.stage_factor(c, eta, [&](std::size_t i) { return q[i]; });
+  std::vector<double> xu(bu), xv(bv), back(m, 0.0);
+  b.stage_solve(core::BulkStage{bu.data(), bv.data()}, [&](std::size_t i) { return p[i]; },
+                [&](std::size_t i, double v) { back[i] = v; }, xu.data(), xv.data());
+  std::vector<double> zero(n, 0.0), a0(n), ax(n), xs(m);
+  for (std::size_t i = 0; i < m; ++i) xs[i] = p[i] + q[i] * xv[i];
+  b.stage_accelerations(0.0, zero, zero.data(), zero.data(), eta, a0);
+  b.stage_accelerations(0.0, xu, xv.data(), xs.data(), eta, ax);
+  double res = 0.0, size = 0.0;
+  for (std::size_t k = 0; k < n; ++k) {
+    res = std::max({res, std::abs(xu[k] - c * xv[k] - bu[k]), std::abs(xv[k] - c * (ax[k] - a0[k]) - bv[k])});
+    size = std::max({size, std::abs(bu[k]), std::abs(bv[k]), std::abs(xu[k]), std::abs(xv[k]), c * std::abs(ax[k] - a0[k])});
+  }
+  if (xu_out != nullptr) *xu_out = xu;
+  return res / size;
+}
+
+}  // namespace
+
+TEST_CASE("inplane solve: the direct stage solve (capacitance on the end columns, interface system) is exact",
+          "[inplane][solve][adaptive]") {
+  // The default stage solve of the adaptive integrator: two separable solves, the capacitance matrix of the end
+  // columns' u_y (and the spring), the interface coefficient's spread about d_ref = η + cα by an nx-sized system. Its
+  // residual must be round-off at every c (the step's M/c dominant, balanced, c K dominant), edge (spring) and
+  // homogeneous loading, q_σ per site random (some d < d_ref) or all at a stuck site's cα (no interface system);
+  // the Krylov reference agrees; the factors of a c are made once (cached) and again for a new c.
+  std::mt19937 g(41);
+  struct Shape {
+    std::size_t nx, ny;
+  };
+  for (const Shape sh : {Shape{33, 8}, Shape{65, 4}, Shape{17, 16}})
+    for (const bool edge : {true, false}) {
+      core::InPlane b = strip(sh.nx, sh.ny, 0.5, edge);
+      b.set_stage_tolerance(1e-12);  // the interface system to 1e-13
+      const double eta = 0.1, alpha = 1.05;
+      long long builds = 0;
+      for (const double c : {0.004, 0.3, 3.0})
+        for (const bool uniform : {false, true}) {
+          INFO("nx " << sh.nx << " ny " << sh.ny << (edge ? " edge" : " homogeneous") << " c " << c
+                     << (uniform ? " q = c alpha" : " q random"));
+          const std::vector<double> q = uniform ? std::vector<double>(sh.nx, c * alpha) : random_vector(sh.nx, g, -0.02, 1.0);
+          const long long its = b.stage_interface_iterations();
+          std::vector<double> xd, xk;
+          std::mt19937 g1 = g;
+          b.set_stage_solver(core::InPlane::StageSolver::direct);
+          const double rd = stage_residual(b, c, eta, q, g, &xd);
+          // round-off: ~ε times the system's condition number κ ≈ 1 + (c ω_max)², ω_max = 2/stable_dt (1e-15 κ:
+          // 1.6e-14 at c = 0.004, 8.7e-11 at 0.3, 8.7e-9 at 3 on nx 33), or the interface system's 1e-13 (residuals
+          // to 1e-12 measured at c = 0.004 with it): bound max(1e-11, 1e-15 κ), for the Krylov reference as well
+          const double kappa = 1.0 + std::pow(2.0 * c / b.stable_dt(), 2), bound = std::max(1e-11, 1e-15 * kappa);
+          CHECK(rd < bound);
+          CHECK(b.stage_direct_failures() == 0);
+          CHECK(b.stage_capacitance_builds() == builds + (uniform ? 0 : 1));  // the second solve of c: cached
+          builds = b.stage_capacitance_builds();
+          if (uniform) CHECK(b.stage_interface_iterations() == its);
+          else CHECK(b.stage_interface_iterations() > its);
+          b.set_stage_solver(core::InPlane::StageSolver::krylov);
+          const double rk = stage_residual(b, c, eta, q, g1, &xk);  // the same input (the generator copied)
+          CHECK(rk < bound);
+          CHECK(max_rel(xd, xk) < 1e-9);
+          std::printf("inplane direct stage solve (nx %zu, ny %zu, %s, c %g, q %s): residual %.1e (Krylov %.1e; "
+                      "1e-15 kappa %.1e), interface iterations %lld\n", sh.nx, sh.ny, edge ? "edge" : "homogeneous", c,
+                      uniform ? "c alpha" : "random", rd, rk, 1e-15 * kappa, b.stage_interface_iterations() - its);
+        }
+    }
+}

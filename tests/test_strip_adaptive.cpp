@@ -228,8 +228,8 @@ TEST_CASE("adaptive body: the chain's and the strips' stage solves solve I − c
           core::Strip strip(s2.bulk, s2.drive, s2.law, s2.dx, s2.dy);
           CHECK(stage_contract_residual(strip, c, s2.law.eta, hdT, with_sub, g) < 1e-10);
           // the in-plane strip (issue 38): two components per node, u_y of the interface held (its a = 0, its u
-          // in no force), the stage solve by the preconditioned CG to a relative residual of 1e-13 (the floor of
-          // set_stage_tolerance; at 1e-12 the residual here is 2e-10 at c = 0.3: the solve's tolerance, not the algebra)
+          // in no force), the stage solve direct (the capacitance method, docs/numerics.md §8.9; its interface system
+          // to 1e-13, the floor of set_stage_tolerance; round-off to the system's conditioning: tests/test_inplane_solve.cpp)
           core::InPlane inplane(s2.bulk, s2.drive, s2.law, core::InPlaneParams{1.0 / 3.0, rows > 2 ? 0.1 : 0.0}, s2.dx,
                                 s2.dy);
           inplane.set_stage_tolerance(1e-12);

@@ -116,6 +116,7 @@ longest_first=(
   "study front_branch"          # (14)
   "study front_spectrum"        # (13)
   "study steady_front_N"        # (12)
+  "study inplane_cmin_height"   # (62 s of CPU, 2026-11-27: the in-plane strip's c_min(H), 12 rows; docs/fronts.md §11.8)
   "study strip_cmin_height"     # (9)
   "homogeneous_front"           # (3 + 4, 8 beside another step)
   "scene contacts"              # (7)

@@ -102,6 +102,7 @@ homogeneous_front() { scene homogeneous_front && "$slipfront" fronts configs/hom
 inplane_fronts() { "$slipfront" fronts configs/steady_front_inplane.toml --rows 4 --intervals 200 --out "$out/steady_front_inplane" --force; }
 
 longest_first=(
+  "study fig2_inplane"          # (~240 s of CPU, estimated 2026-11-27: 14 in-plane runs at H = 2, 17; docs/fronts.md §11.9)
   "study validity_fig1"         # (64)
   "scene fig1_aging"            # (~52 wall beside the CI, 2026-11-27: the age-structured mean field to t = 400)
   "study strip_height"          # (47)

@@ -59,6 +59,21 @@ min_nodes_per_elastic_length = 0
 
 const char* const small_paths = "[paths]\nhmin = 1.0\nhmax = 10.0\nper_decade = 1.0\nrows = 6\nintervals = 150\nbranches = false\n";
 
+// The library's options of small_paths at the scene's law, rho' = 1e-9 and the strip material mu'.
+studies::StripCminHeightOptions small_options(double mu_strip) {
+  studies::StripCminHeightOptions o;
+  o.law = {1.05, 8.0, 0.1};
+  o.mu_strip = mu_strip;
+  o.rho_strip = 1e-9;
+  o.hmin = 1.0;
+  o.hmax = 10.0;
+  o.per_decade = 1.0;
+  o.rows = 6;
+  o.intervals = 150;
+  o.branches = false;
+  return o;
+}
+
 fs::path write_study(const fs::path& dir, const std::string& name, const std::string& body) {
   const fs::path f = dir / (name + ".toml");
   write_text(f, "study = \"" + name + "\"\nkind = \"strip_cmin_height\"\nscene = \"strip.toml\"\n" + body);
@@ -81,16 +96,7 @@ TEST_CASE("study strip_cmin_height: slipfront study writes a complete study.h5 w
   CHECK(!fs::exists(dir.path / "out" / "runs"));  // no scene runs
 
   // The library called directly with the scene's material and the study's [paths].
-  studies::StripCminHeightOptions lib;
-  lib.law = {1.05, 8.0, 0.1};
-  lib.mu_strip = 300.0;
-  lib.rho_strip = 1e-9;
-  lib.hmin = 1.0;
-  lib.hmax = 10.0;
-  lib.per_decade = 1.0;
-  lib.rows = 6;
-  lib.intervals = 150;
-  lib.branches = false;
+  const studies::StripCminHeightOptions lib = small_options(300.0);
   const auto direct = studies::strip_cmin_height(lib);
   REQUIRE(direct.path.complete);
   REQUIRE(direct.rows.size() == 2);
@@ -307,18 +313,10 @@ TEST_CASE("study strip_cmin_height on the in-plane strip: the kind reads the bod
   REQUIRE(o.code == 0);
   CHECK(contains(o.err, "in-plane strip, nu = 0.333333, p = 0: E' = 2 mu'/(1 - nu) = 300"));
 
-  studies::StripCminHeightOptions lib;
-  lib.law = {1.05, 8.0, 0.1};
+  // mu' = mu (1 - nu)/(2H) as the scene gives it (~100)
+  studies::StripCminHeightOptions lib = small_options(4800.0 * (1.0 - 1.0 / 3.0) / (2.0 * 16.0));
   lib.body = core::BodyKind::inplane;
   lib.poisson = 1.0 / 3.0;
-  lib.mu_strip = 4800.0 * (1.0 - 1.0 / 3.0) / (2.0 * 16.0);  // mu' = mu (1 - nu)/(2H) as the scene gives it (~100)
-  lib.rho_strip = 1e-9;
-  lib.hmin = 1.0;
-  lib.hmax = 10.0;
-  lib.per_decade = 1.0;
-  lib.rows = 6;
-  lib.intervals = 150;
-  lib.branches = false;
   const auto direct = studies::strip_cmin_height(lib);
   REQUIRE(direct.path.complete);
   REQUIRE(direct.rows.size() == 2);

@@ -37,7 +37,7 @@ FrontStartCost front_start_cost(const Scene& s) {
     return c;
   const continuum::StripFrontOptions o = strip_start_options(s);
   // antiplane: measured 32 and 39 stop polls over 7 and 8 solves (H = 17, 34); in-plane: 23 over 5 solves (H = 8,
-  // 8 rows; docs/fronts.md §11.8)
+  // 8 rows; docs/fronts.md §11.10)
   constexpr double iterations_per_solve = 5.0;
   c.rows = o.rows;
   c.intervals = o.intervals;

@@ -32,7 +32,7 @@ std::int64_t fixed_step_count(const Scene& s);
 
 /// The solved front a steady-front start begins from: the chain's (continuum::SteadyFront) or, on the strip
 /// (bulk.height > 0), the strip's (continuum::StripFront, solved on the scene's own rows: docs/fronts.md §10.15; on the
-/// in-plane strip the in-plane front, its bulk.body() inplane: docs/fronts.md §11.8).
+/// in-plane strip the in-plane front, its bulk.body() inplane: docs/fronts.md §11.10).
 struct FrontStart {
   std::optional<continuum::SteadyFront> chain;
   std::optional<continuum::StripFront> strip;
@@ -62,7 +62,7 @@ std::optional<FrontStart> front_start_for(const Scene& s, const std::function<bo
   return front_start(s, stop);
 }
 
-/// What front_start costs on the strip (docs/fronts.md §10.15, §11.8; compare::estimate counts it once per model):
+/// What front_start costs on the strip (docs/fronts.md §10.15, §11.10; compare::estimate counts it once per model):
 /// the 1D front, then the cold start's solves at H_0 = 0.5, 1, 2, … H on the scene's rows and the solver's 600
 /// intervals, each ~5 Newton iterations at continuum::strip_solve_cost (two components on the in-plane strip). Zero
 /// for the chain (~0.05 s) and for a scene without a steady-front start.
@@ -127,7 +127,7 @@ void apply_normal_load(const Scene& s, Stepper& sim) {
 /// patch 0 ≤ x < ℓ_n in steady sliding at σ_d on the strengthening branch — or the solved steady front
 /// with its tip at drive.front_x (docs/model.md §6), plus the slip-rate kick drive.kick_dv behind it (on
 /// the strip: u and v of every row from the strip's front, the kick on the interface row only; on the in-plane strip
-/// u_x, u_y and both velocities of every row from the in-plane front, docs/fronts.md §11.8).
+/// u_x, u_y and both velocities of every row from the in-plane front, docs/fronts.md §11.10).
 /// The interface's state is lifted into the body by the body (core::RunBody::lift): on the strip
 /// (docs/model.md §9.4) every row above the interface carries the uniform shear σ_d, u(x, y) = u(x, 0) + σ_d y/μ',
 /// moving with the interface's slip rate (the chain has one row, y = 0).
@@ -148,7 +148,7 @@ void set_initial_conditions(const Scene& s, Stepper& sim, const std::optional<Fr
                                             " rows, the strip " + std::to_string(rows));
     std::vector<double> xi(n);
     for (std::size_t i = 0; i < n; ++i) xi[i] = x[i] - s.drive.front_x;
-    // the in-plane strip's front (docs/fronts.md §11.8) also sets u_y and its velocity, component 1 of every node
+    // the in-plane strip's front (docs/fronts.md §11.10) also sets u_y and its velocity, component 1 of every node
     const bool inplane = body.shape().components == 2 && front->strip->bulk.body() == core::BodyKind::inplane;
     const auto fp = inplane ? continuum::sample_inplane_front(*front->strip, xi)
                             : continuum::InPlaneFrontSample{continuum::sample_strip_front(*front->strip, xi), {}, {}};

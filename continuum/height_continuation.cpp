@@ -1,5 +1,6 @@
 // The continuation of the strip's fronts in the height H (docs/fronts.md §10.11, §10.16): at a fixed strip material
-// (continue_strip_height) or a fixed column (continue_strip_height_at_column). Declared in continuum/strip_front.hpp;
+// (continue_strip_height; the in-plane strip's: continue_inplane_height, §11.8) or a fixed column
+// (continue_strip_height_at_column, either body). Declared in continuum/strip_front.hpp;
 // every solve is solve_strip_front_stretched on meshes that follow the predicted front.
 #include <algorithm>
 #include <cmath>
@@ -9,6 +10,7 @@
 #include <utility>
 
 #include "continuum/friction_law.hpp"
+#include "continuum/inplane_front.hpp"
 #include "continuum/strip_front.hpp"
 
 namespace slipfront::continuum {
@@ -190,9 +192,30 @@ StripHeightPath continue_strip_height(const core::InterfaceParams& law, double m
 StripHeightPath continue_strip_height_at_column(const core::InterfaceParams& law, const core::BulkParams& column,
                                                 const StripHeightOptions& o) {
   // fixed column (μ, ρ integrated over the height): the thin strip's c_min is the 1D one of μ (slope 0)
+  // the column's body (bulk.body, bulk.poisson, bulk.normal_load) at every H: an in-plane column stays in-plane
   return continue_height(
-      law, [&](double H) { return core::BulkParams{column.rho, column.mu, column.length, H}; },
+      law,
+      [&](double H) {
+        core::BulkParams b = column;
+        b.height = H;
+        return b;
+      },
       std::sqrt(column.mu / column.rho), 0.0, o);
+}
+
+StripHeightPath continue_inplane_height(const core::InterfaceParams& law, double mu_strip, double rho_strip, double poisson,
+                                        double normal_load, const StripHeightOptions& o, double length) {
+  // fixed material (μ', ρ', ν): the scene's μ = E'H, E' = 2μ'/(1 − ν) (docs/model.md §10.2), ρ = ρ'H; the thin strip's
+  // c_min is the 1D one of μ = E'H, c ∝ sqrt(H) (slope ½)
+  const double plate = 2.0 * mu_strip / (1.0 - poisson);
+  const auto bulk_at = [&](double H) {
+    core::BulkParams b{rho_strip * H, plate * H, length, H};
+    b.body_name = "inplane";
+    b.poisson = poisson;
+    b.normal_load = normal_load;
+    return b;
+  };
+  return continue_height(law, bulk_at, std::sqrt(mu_strip / rho_strip), 0.5, o);
 }
 
 }  // namespace slipfront::continuum

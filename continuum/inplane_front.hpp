@@ -60,12 +60,19 @@ StripFront correct_inplane_front(const core::InterfaceParams& law, const core::B
                                  const StripFrontOptions& options, double sigma_p, double c_p,
                                  const front_solver::Arclength& arc, const StripFront& from);
 
+/// c_min(H) of the in-plane strip at a fixed material (docs/fronts.md §11.8): continue_strip_height's path in H (the
+/// limiting front, or the front at options.sigma_d) with μ' (shear modulus per height), ρ', ν and the top's normal load
+/// p held: bulk.mu = E'H with E' = 2μ'/(1 − ν), bulk.rho = ρ'H, bulk.body = inplane. Every solve dispatches to the
+/// in-plane solver (solve_strip_front_stretched); steps, predictor, meshes and step control are the antiplane path's.
+StripHeightPath continue_inplane_height(const core::InterfaceParams& law, double mu_strip, double rho_strip, double poisson,
+                                        double normal_load, const StripHeightOptions& options, double length = 1000.0);
+
 /// The state of a solved in-plane front at node i in the solver's unknowns (docs/fronts.md §11.1): (u_0, d_1 … d_M,
 /// w_1 … w_M, p_0 … p_M, q_1 … q_M, A, σ̄), d_j = u_x,j − u_x,0, w_j = u_y,j, p = ∂ξu_x, q = ∂ξu_y; the layout of
 /// `ahead_mode`.
 std::vector<double> inplane_front_node(const StripFront& front, std::size_t i);
 
-/// The whole in-plane front at positions ξ on its own rows (docs/fronts.md §11.8), the in-plane form of
+/// The whole in-plane front at positions ξ on its own rows (docs/fronts.md §11.10), the in-plane form of
 /// sample_strip_front: `x` holds the interface fields and u_x(ξ, y_j), ∂t u_x = −c ∂ξ u_x of every row (index
 /// k·(M + 1) + j, k the position); uy, uy_velocity the same for u_y (0 on the interface row). On [−L, 0] the cubic
 /// Hermite of the collocation solution; ahead of the tip the stored modes (→ the stuck state u_x = σ_d/α + σ_d y/μ',

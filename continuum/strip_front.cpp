@@ -505,7 +505,7 @@ StripSpeedError estimate_strip_speed_error(const StripFront& f, const StripFront
 
 StripFrontSample sample_strip_front(const StripFront& f, std::span<const double> xs) {
   using namespace strip_detail;
-  if (f.bulk.body() == core::BodyKind::inplane) return sample_inplane_front(f, xs).x;  // u_x's rows (docs/fronts.md §11.8)
+  if (f.bulk.body() == core::BodyKind::inplane) return sample_inplane_front(f, xs).x;  // u_x's rows (docs/fronts.md §11.10)
   StripFrontOptions o;
   o.rows = f.rows();
   Model m = make_model(f.law, f.bulk, o);

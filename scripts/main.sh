@@ -103,6 +103,7 @@ inplane_fronts() { "$slipfront" fronts configs/steady_front_inplane.toml --rows 
 
 longest_first=(
   "study front_spectrum_inplane"  # (76: 16 in-plane runs, explicit, 2026-11-27; docs/fronts.md §12)
+  "study fig2_inplane"          # (~240 s of CPU, estimated 2026-11-27: 14 in-plane runs at H = 2, 17; docs/fronts.md §11.9)
   "study validity_fig1"         # (64)
   "scene fig1_aging"            # (~52 wall beside the CI, 2026-11-27: the age-structured mean field to t = 400)
   "study strip_height"          # (47)
@@ -117,6 +118,7 @@ longest_first=(
   "study front_branch"          # (14)
   "study front_spectrum"        # (13)
   "study steady_front_N"        # (12)
+  "study inplane_cmin_height"   # (62 s of CPU, 2026-11-27: the in-plane strip's c_min(H), 12 rows; docs/fronts.md §11.8)
   "study strip_cmin_height"     # (9)
   "homogeneous_front"           # (3 + 4, 8 beside another step)
   "scene contacts"              # (7)

@@ -530,7 +530,7 @@ def fig2_study(st, outdir):
         return figs, rows
     heights = st.tables.get("fig2_heights", {})
     if heights and len(heights.get("H", [])) > 1:
-        return fig2_strip_plots(st, outdir)
+        return fig2_bodies_plots(st, outdir, *fig2_strip_plots(st, outdir))
     fig, axs = plt.subplots(1, 2, figsize=(12, 5))
     for i, (name, t) in enumerate(sorted(groups.items())):
         for ax, m in zip(axs, ("continuum", "discrete")):
@@ -585,6 +585,74 @@ def fig2_answer(st, groups, figure):
              + ("" if yes else f", more than {FIG2_SPREAD - 1:.0%} apart"))
     return [answer_row("Fig. 2 right: does the transient front speed scale as sqrt(mu alpha/(eta kappa))?",
                        short + " (continuum).", yes, short, figure, 3)]
+
+
+def fig2_bodies_plots(st, outdir, figs, rows):
+    """Fig. 2 (right) in-plane beside the antiplane strip and the 1D chain (issue 39 item 3, docs/fronts.md §11.9): for a
+    fig2 study whose runs are on the in-plane strip (fig2_all/inplane), c_transient against the run's own c_min per
+    height, beside the antiplane study of the main job (../fig2_strip/study.h5: its strips and its chain); one summary
+    row per in-plane height against the antiplane strip at the same H. `figs`, `rows` (fig2_strip_plots') are returned
+    with these added; unchanged for any other fig2 study or when ../fig2_strip is missing."""
+    a = st.tables.get("fig2_all", {})
+    if "inplane" not in a or not np.any(a["inplane"] == 1):
+        return figs, rows
+    other = None
+    path = os.path.join(os.path.dirname(st.dir), "fig2_strip", "study.h5")
+    if os.path.exists(path):
+        try:
+            other = Study(path).tables.get("fig2_all")
+        except (OSError, KeyError) as e:
+            print(f"report.py: warning: {path}: {e}", file=sys.stderr)
+    Hs = sorted(set(a["H"][a["inplane"] == 1]))
+    fig, axs = plt.subplots(1, len(Hs) + 1, figsize=(5 * (len(Hs) + 1), 5), squeeze=False)
+    axs = axs[0]
+
+    def draw(ax, t, sel, mk, col, lab):
+        x, y = t["c_min"][sel], t["c_continuum"][sel]
+        ok = np.isfinite(x) & np.isfinite(y)
+        ax.plot(x[ok], y[ok], mk, color=col, mfc="none" if col != "C0" else col, label=lab)
+        return x[ok], y[ok]
+    for k, H in enumerate(Hs):
+        ax = axs[k]
+        xi, yi = draw(ax, a, (a["H"] == H) & (a["inplane"] == 1), "o", "C0", f"in-plane H = {H:g}")
+        if other is not None:
+            draw(ax, other, other["H"] == H, "s", "C1", f"antiplane H = {H:g}")
+        top = max(np.nanmax(xi) if xi.size else 1.0, np.nanmax(yi) if yi.size else 1.0) * 1.1
+        ax.plot([0, top], [0, top], "k:", lw=1, label="c_transient = c_min")
+        ax.set_xlabel("c_min of the run's own strip")
+        ax.set_ylabel("c_transient (continuum)")
+        ax.set_title(f"H = {H:g}", fontsize=9)
+        ax.legend(fontsize=8)
+        r = yi / xi
+        if r.size:
+            line = (f"in-plane H = {H:g}: c_transient/c_min {np.mean(r):.3g} (scatter {100 * np.std(r, ddof=1) / np.mean(r):.0f} %"
+                    f" over {r.size} runs), {int(np.sum(r < 1))} below c_min")
+            base = ""
+            if other is not None:
+                sel = (other["H"] == H) & np.isfinite(other["ratio_continuum"])
+                if sel.any():
+                    ro = other["ratio_continuum"][sel]
+                    base = f"antiplane {np.mean(ro):.3g} ({int(np.sum(ro < 1))} of {ro.size} below)"
+            rows.append(effect_row(f"body at H = {H:g}: in-plane vs antiplane strip", "c_transient / c_min, mean over runs",
+                                   base or "no antiplane study beside", f"{np.mean(r):.3g}",
+                                   f"{int(np.sum(r < 1))} of {r.size} in-plane runs below c_min", line + " (docs/fronts.md §11.9)",
+                                   st.source))
+    ax = axs[-1]
+    for k, H in enumerate(Hs):
+        sel = (a["H"] == H) & (a["inplane"] == 1)
+        x, y = a["X"][sel], a["c_continuum"][sel]
+        ok = np.isfinite(y)
+        ax.plot(x[ok], y[ok], "o^s"[k % 3], color=f"C{k + 2}", label=f"in-plane H = {H:g}")
+    if other is not None:
+        ch = other["H"] == 0
+        ax.plot(other["X"][ch], other["c_continuum"][ch], "D", color="k", mfc="none", label="1D chain (fig2_strip)")
+    ax.set_xlabel("sqrt(mu alpha/(eta kappa)), mu = E'H (in-plane), integrated")
+    ax.set_ylabel("c_transient")
+    ax.set_title("the paper's axis: in-plane and the 1D chain", fontsize=9)
+    ax.legend(fontsize=8)
+    fig.suptitle(st.title("Fig. 2 (right) in-plane beside the antiplane strip and the 1D chain"), fontsize=9)
+    save(fig, outdir, f"{st.stem}_fig2_right_bodies.png", figs)
+    return figs, rows
 
 
 def fig2_height_label(H, h, k):
@@ -1532,6 +1600,87 @@ def strip_cmin_section(path, root, figdir):
     return figs, rows
 
 
+CMIN_BODIES_AGREE = 0.01  # the two bodies "agree": in-plane c_min within 1 % of the antiplane one at the same 1D material
+
+
+def cmin_bodies_plots(st, outdir):
+    """c_min(H) of both strips on one plot (issue 39 item 2, docs/fronts.md §11.8): a strip_cmin_height study on the
+    in-plane strip (scalar inplane = 1) beside the antiplane study of the main job (../strip_cmin_height/, the same 1D
+    material: l, l_kappa, s equal), with the 1D line, the paper's regimes and the lengths; below, c_min/c_min,1D and the
+    local exponents of both. One summary row: where the bodies agree, where not. ([], []) for the antiplane study or
+    when either CSV is missing."""
+    if st.scalars.get("inplane", 0.0) != 1.0:
+        return [], []
+    anti_path = os.path.join(os.path.dirname(st.dir), "strip_cmin_height", CMIN_CSV)
+    try:
+        tin = read_cmin_csv(os.path.join(st.dir, CMIN_CSV))
+        tan = read_cmin_csv(anti_path) if os.path.exists(anti_path) else None
+    except OSError as e:
+        print(f"report.py: warning: {e}", file=sys.stderr)
+        return [], []
+    if tin is None:
+        return [], []
+    ain = cmin_analysis(tin)
+    l, lk, s = ain["l"], ain["lk"], ain["s"]
+    fig, (ax, bx, cx) = plt.subplots(3, 1, figsize=(9, 11), sharex=True, constrained_layout=True,
+                                     gridspec_kw={"height_ratios": [3, 2, 2]})
+    bodies = [("in-plane strip", tin, ain, "C0", "o")]
+    if tan is not None:
+        bodies.append(("antiplane strip", tan, cmin_analysis(tan), "C1", "s"))
+    for name, t, a, col, mk in bodies:
+        e = t["c_min_error"]
+        ax.errorbar(a["H"], a["c"], yerr=np.where(np.isfinite(e), e, 0), fmt=mk + "-", color=col, lw=1, ms=4,
+                    label=f"c_min, {name}")
+        bx.semilogx(a["H"], a["ratio"], mk + "-", color=col, lw=1, label=name)
+        if len(a["expo"]):
+            cx.semilogx(a["Hmid"], a["expo"], mk + "-", color=col, lw=1, label=f"d ln c_min/d ln H, {name}")
+            cx.semilogx(a["Hmid"], a["pred"], mk + ":", color=col, lw=1, mfc="none", label=f"1/2 - eps/2 from its c/s ({name})")
+    ax.loglog(ain["H"], ain["c1"], "--", color="k", lw=1, label="1D c_min of the same column mu = E'H = mu'H")
+    Hs = np.geomspace(ain["H"][0], ain["H"][-1], 200)
+    inter = intermediate_form(Hs, ain)
+    if np.isfinite(inter).any():
+        ax.loglog(Hs, inter, "-", color="C2", lw=0.8, label="paper, l << H << l_kappa (A sqrt(H/l_kappa)(l/H)^(eps/2))")
+    bm = Hs > lk * 1.05
+    if bm.any():
+        eb = np.log(Hs[bm] / lk) / np.log(Hs[bm] / l)
+        ax.loglog(Hs[bm], s * np.tan(np.pi * eb / 2), "-", color="C3", lw=0.8, label="Brener-Marchenko, H >> l_kappa")
+    ax.axhline(s, color="0.6", ls=":", lw=0.8)
+    for b in (ax, bx, cx):
+        for x in (l, lk):
+            if ain["H"][0] <= x <= ain["H"][-1]:
+                b.axvline(x, color="0.4", ls="-.", lw=0.8)
+    ax.set_ylabel("c_min")
+    ax.legend(fontsize=7, loc="upper left")
+    bx.axhline(1.0, color="k", ls="--", lw=0.8)
+    bx.set_ylabel("c_min / c_min,1D")
+    bx.legend(fontsize=7)
+    cx.axhline(0.5, color="k", ls="--", lw=0.8)
+    cx.set_ylim(0, 0.7)
+    cx.set_ylabel("local exponent")
+    cx.set_xlabel(f"H (l = {l:.4g}, l_kappa = {lk:.4g}: dash-dotted)")
+    cx.legend(fontsize=7, loc="lower left")
+    fig.suptitle(f"c_min(H) of the in-plane and antiplane strips at the same 1D material (s = {s:.4g}); "
+                 f"{st.name}", fontsize=9)
+    figs = []
+    save(fig, outdir, f"{st.stem}_cmin_bodies.png", figs)
+    rows = [measure_row("c_min(H) in-plane: c_min/c_min,1D at the smallest and largest H",
+                        f"{ain['ratio'][0]:.6g} (H = {ain['H'][0]:.4g}), {ain['ratio'][-1]:.4g} (H = {ain['H'][-1]:.4g})",
+                        "", "", "docs/fronts.md §11.8")]
+    if tan is not None:
+        common = np.intersect1d(tin["H"], tan["H"])
+        rin = np.array([tin["c_min"][tin["H"] == h][0] for h in common])
+        ran = np.array([tan["c_min"][tan["H"] == h][0] for h in common])
+        q = rin / ran
+        agree = np.abs(q - 1) <= CMIN_BODIES_AGREE
+        n = int(np.argmin(agree)) if not agree.all() else len(common)
+        upto = f"up to H = {common[n - 1]:.4g} (H/l = {common[n - 1] / l:.3g})" if n else "at no height"
+        short = (f"in-plane c_min within {CMIN_BODIES_AGREE:.0%} of the antiplane one {upto}; "
+                 f"in-plane/antiplane = {q[-1]:.3g} at H = {common[-1]:.4g} (H/l_kappa = {common[-1] / lk:.3g})")
+        rows.append(answer_row("Does c_min(H) of the paper's in-plane body follow the antiplane strip's "
+                               "(the same 1D material)?", short + ".", bool(agree.all()), short, figs[0], 4))
+    return figs, rows
+
+
 def study_plots(kind):
     """The plots of a study of `kind`: the function `<kind>_study(st, outdir) -> (figures, summary rows)` of this file.
     The kinds are the program's one table (studies::study_kinds() in studies/study.cpp; `slipfront study --list-kinds
@@ -1540,8 +1689,8 @@ def study_plots(kind):
     def resolution_study(st, outdir):  # the errors and orders: the section's scalars and notes (tables in study.h5)
         return [], []
 
-    def strip_cmin_height_study(st, outdir):  # its strip_cmin_height.csv has its own section (cmin_section)
-        return [], []
+    def strip_cmin_height_study(st, outdir):  # its CSV has its own section (cmin_section); in-plane: both bodies
+        return cmin_bodies_plots(st, outdir)
 
     def runs_study(st, outdir):  # no analysis: nothing to draw
         return [], []

@@ -18,8 +18,27 @@ namespace {
 
 constexpr double inf = std::numeric_limits<double>::infinity();
 
-// One material column: the law and the integrated μ, ρ (docs/model.md §9.1); its heights, increasing.
-using ColumnKey = std::tuple<double, double, double, double, double>;  // α, κ, η, μ, ρ
+// One material column: the law, the integrated μ, ρ (docs/model.md §9.1) and the strip's body (in-plane with ν and p,
+// §10.2: its μ is E'H); its heights, increasing.
+using ColumnKey = std::tuple<double, double, double, double, double, bool, double, double>;  // α, κ, η, μ, ρ, in-plane, ν, p
+
+ColumnKey column_key(const Scene& s) {
+  const bool inplane = s.bulk.body() == core::BodyKind::inplane;
+  return {s.interface.alpha, s.interface.kappa, s.interface.eta, s.bulk.mu, s.bulk.rho, inplane,
+          inplane ? s.bulk.poisson : 0.0, inplane ? s.bulk.normal_load : 0.0};
+}
+
+// The column of `key` at height 0 (the chain; continue_strip_height_at_column keeps its body at every H > 0).
+core::BulkParams column_bulk(const ColumnKey& key) {
+  const auto [a, k, e, mu, rho, inplane, nu, p] = key;
+  core::BulkParams b{rho, mu, 1000.0, 0.0};
+  if (inplane) {
+    b.body_name = "inplane";
+    b.poisson = nu;
+    b.normal_load = p;
+  }
+  return b;
+}
 
 struct ColumnResult {
   std::map<double, double> c_min;        // H -> c_min (H = 0: the chain's)
@@ -28,11 +47,12 @@ struct ColumnResult {
 };
 
 // The chain's c_min: the end of the 1D branch (docs/fronts.md §4); the strip's: the limiting front continued in
-// H at the fixed column from a thin strip (§10.16), 8 rows and 200 intervals (within 1e-3 of 12 rows, §10.13).
-ColumnResult column_speeds(const core::InterfaceParams& law, double mu, double rho, const std::vector<double>& heights) {
+// H at the fixed column from a thin strip (§10.16; on the in-plane strip its own, §11.9), 8 rows and 200 intervals
+// (within 1e-3 of 12 rows, §10.13).
+ColumnResult column_speeds(const core::InterfaceParams& law, const core::BulkParams& column, const std::vector<double>& heights) {
   ColumnResult out;
   if (heights.front() == 0.0) {
-    const auto b = continuum::continue_steady_fronts(law, {rho, mu, 1000.0, 0.0});
+    const auto b = continuum::continue_steady_fronts(law, {column.rho, column.mu, 1000.0, 0.0});
     if (b.end == continuum::BranchEnd::saddle_node && std::isfinite(b.c_min)) {
       out.c_min[0.0] = b.c_min;
       out.error[0.0] = nan;
@@ -51,7 +71,7 @@ ColumnResult column_speeds(const core::InterfaceParams& law, double mu, double r
   o.front.rows = 8;
   o.front.intervals = 200;
   o.front.max_newton = 12;
-  const auto path = continuum::continue_strip_height_at_column(law, {rho, mu, 1000.0, 0.0}, o);
+  const auto path = continuum::continue_strip_height_at_column(law, column, o);
   for (const auto& f : path.fronts) {
     out.c_min[f.bulk.height] = f.c;
     if (std::find(strip.begin(), strip.end(), f.bulk.height) == strip.end()) continue;  // the path's start only
@@ -71,14 +91,13 @@ ColumnResult column_speeds(const core::InterfaceParams& law, double mu, double r
 std::vector<double> minimal_front_speeds(const std::vector<Scene>& scenes, std::vector<std::string>& why,
                                          std::vector<double>* error) {
   std::map<ColumnKey, std::vector<double>> columns;
-  for (const auto& s : scenes)
-    columns[{s.interface.alpha, s.interface.kappa, s.interface.eta, s.bulk.mu, s.bulk.rho}].push_back(s.bulk.height);
+  for (const auto& s : scenes) columns[column_key(s)].push_back(s.bulk.height);
   std::map<ColumnKey, std::future<ColumnResult>> jobs;
   for (auto& [key, hs] : columns) {
     std::sort(hs.begin(), hs.end());
     hs.erase(std::unique(hs.begin(), hs.end()), hs.end());
-    const auto [a, k, e, mu, rho] = key;
-    jobs[key] = std::async(std::launch::async, column_speeds, core::InterfaceParams{a, k, e}, mu, rho, hs);
+    const auto [a, k, e, mu, rho, inplane, nu, p] = key;
+    jobs[key] = std::async(std::launch::async, column_speeds, core::InterfaceParams{a, k, e}, column_bulk(key), hs);
   }
   std::map<ColumnKey, ColumnResult> done;
   for (auto& [key, job] : jobs) done[key] = job.get();
@@ -87,7 +106,7 @@ std::vector<double> minimal_front_speeds(const std::vector<Scene>& scenes, std::
   if (error) error->assign(scenes.size(), nan);
   for (std::size_t i = 0; i < scenes.size(); ++i) {
     const auto& s = scenes[i];
-    const auto& r = done.at({s.interface.alpha, s.interface.kappa, s.interface.eta, s.bulk.mu, s.bulk.rho});
+    const auto& r = done.at(column_key(s));
     const auto it = r.c_min.find(s.bulk.height);
     out.push_back(it == r.c_min.end() ? nan : it->second);
     if (error && r.error.count(s.bulk.height)) (*error)[i] = r.error.at(s.bulk.height);
@@ -104,6 +123,7 @@ void fig2_against_cmin(StudyReport& rep, Columns& all, const std::vector<Scene>&
   std::map<double, std::vector<std::size_t>> by_height;
   for (std::size_t i = 0; i < scenes.size(); ++i) {
     all["H"].push_back(scenes[i].bulk.height);
+    all["inplane"].push_back(scenes[i].bulk.body() == core::BodyKind::inplane ? 1.0 : 0.0);
     all["c_min"].push_back(c_min[i]);
     all["c_min_error"].push_back(c_min_error[i]);
     for (const char* m : models) {
@@ -151,6 +171,8 @@ void fig2_against_cmin(StudyReport& rep, Columns& all, const std::vector<Scene>&
   }
   rep.tables["fig2_heights"] = h;
   rep.definitions["fig2_all/H"] = "bulk.height of the run (0: the 1D chain)";
+  rep.definitions["fig2_all/inplane"] = "1: the run's body is the in-plane strip (its c_min the in-plane strip's, "
+                                        "docs/fronts.md §11.9); 0: the chain or the antiplane strip";
   rep.definitions["fig2_all/c_min"] =
       "minimal steady front speed of the run's own scene: the end of the 1D branch (chain) or the strip's limiting "
       "front at the run's H, continued in H at fixed mu, rho (docs/fronts.md §10.16)";
@@ -160,7 +182,7 @@ void fig2_against_cmin(StudyReport& rep, Columns& all, const std::vector<Scene>&
   rep.definitions["fig2_all/ratio_continuum"] = "c_transient / c_min (continuum)";
   rep.definitions["fig2_all/ratio_discrete"] = "c_transient / c_min (discrete)";
   rep.definitions["fig2_heights/H_over_l_min"] =
-      "smallest H/l over the height's runs, l = mu' = mu/H (docs/fronts.md §10.12); _max: the largest";
+      "smallest H/l over the height's runs, l = mu/H (mu' antiplane, E' in-plane; docs/fronts.md §10.12, §11.9); _max: the largest";
   rep.definitions["fig2_heights/H_over_l_kappa_min"] =
       "smallest H/l_kappa over the height's runs, l_kappa = mu' kappa/(eta alpha); _max: the largest";
   rep.definitions["fig2_heights/slope_continuum"] =

@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "studies/study.hpp"
+#include "continuum/inplane_front.hpp"
 #include "continuum/steady_front.hpp"
 #include "core/strip.hpp"
 
@@ -38,6 +39,34 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 
 }  // namespace
 
+double strip_cmin_column_modulus(const StripCminHeightOptions& o) {
+  return o.body == core::BodyKind::inplane ? 2.0 * o.mu_strip / (1.0 - o.poisson) : o.mu_strip;
+}
+
+core::BulkParams strip_cmin_bulk(const StripCminHeightOptions& o, double H) {
+  core::BulkParams b{o.rho_strip * H, strip_cmin_column_modulus(o) * H, 1000.0, H};
+  if (o.body == core::BodyKind::inplane) {
+    b.body_name = "inplane";
+    b.poisson = o.poisson;
+    b.normal_load = o.normal_load;
+  }
+  return b;
+}
+
+namespace {
+
+// The path in H at o's material on o's body (continuum::continue_strip_height or its in-plane form, §11.8).
+continuum::StripHeightPath continue_path(const StripCminHeightOptions& o, const continuum::StripHeightOptions& po) {
+  if (o.body == core::BodyKind::inplane)
+    return continuum::continue_inplane_height(o.law, o.mu_strip, o.rho_strip, o.poisson, o.normal_load, po);
+  return continuum::continue_strip_height(o.law, o.mu_strip, o.rho_strip, po);
+}
+
+// The cost model's unknowns per row (continuum::strip_solve_cost): 2 on the in-plane strip (u_x, u_y).
+int components(const StripCminHeightOptions& o) { return o.body == core::BodyKind::inplane ? 2 : 1; }
+
+}  // namespace
+
 std::vector<double> strip_cmin_heights(const StripCminHeightOptions& o) {
   std::vector<double> H;
   const int n = static_cast<int>(std::lround(o.per_decade * std::log10(o.hmax / o.hmin)));
@@ -59,13 +88,15 @@ continuum::StripHeightOptions strip_cmin_path_options(const StripCminHeightOptio
 }
 
 continuum::StripHeightPath strip_cmin_limiting_path(const StripCminHeightOptions& o) {
-  const double mu = o.mu_strip, rho = o.rho_strip;
+  const double mu = o.mu_strip, rho = o.rho_strip, ell = strip_cmin_column_modulus(o);
   const auto& law = o.law;
+  if (o.body == core::BodyKind::inplane)
+    say(o, format("in-plane strip, nu = %g, p = %g: E' = 2 mu'/(1 - nu) = %g", o.poisson, o.normal_load, ell));
   say(o, format("material mu' = %g rho' = %g (c_s = %g), alpha = %g kappa = %g eta = %g: l = %g, l_kappa = %g, s = %g", mu,
-                rho, std::sqrt(mu / rho), law.alpha, law.kappa, law.eta, mu, mu * law.kappa / (law.eta * law.alpha),
-                mu / law.eta));
+                rho, std::sqrt(mu / rho), law.alpha, law.kappa, law.eta, ell, ell * law.kappa / (law.eta * law.alpha),
+                ell / law.eta));
   const auto t0 = std::chrono::steady_clock::now();
-  auto path = continuum::continue_strip_height(law, mu, rho, strip_cmin_path_options(o));
+  auto path = continue_path(o, strip_cmin_path_options(o));
   say(o, format("limiting path: %zu fronts, %zu steps, %.1f s%s%s", path.fronts.size(), path.steps.size(), seconds_since(t0),
                 path.complete ? "" : ", incomplete: ", path.reason.c_str()));
   for (const auto& st : path.steps)
@@ -89,10 +120,12 @@ namespace {
 struct ChosenPathCost {
   long iterations = 0;        // every Newton iteration so far (the solves poll the stop before each)
   double spent = 0.0;         // their cost
+  int components = 1;         // unknowns per row (2: in-plane)
   std::function<bool()> counted;
   // the iterations since `before` charged at the price of `rows` × `intervals`
   void charge(long before, int rows, int intervals) {
-    spent += static_cast<double>(iterations - before) * continuum::strip_solve_cost(rows, intervals).iteration_seconds;
+    spent += static_cast<double>(iterations - before) *
+             continuum::strip_solve_cost(rows, intervals, components).iteration_seconds;
   }
 };
 
@@ -122,7 +155,7 @@ std::pair<std::string, std::string> chosen_refusal(const StripCminHeightOptions&
   const std::string mesh = std::to_string(fine.rows) + " rows, " + std::to_string(fine.intervals) + " intervals";
   if (fine.rows > o.max_rows || fine.intervals > o.max_intervals)
     return {"limit", "limit: max " + std::to_string(o.max_rows) + " rows, " + std::to_string(o.max_intervals) + " intervals"};
-  const double price = continuum::strip_solve_cost(fine.rows, fine.intervals).iteration_seconds;
+  const double price = continuum::strip_solve_cost(fine.rows, fine.intervals, cost.components).iteration_seconds;
   if (price > continuum::strip_max_iteration_seconds) return {"limit", "limit: " + mesh + " exceed the Newton iteration limit"};
   const double per_height = static_cast<double>(cost.iterations) / static_cast<double>(k + 1);
   const double total = cost.spent + (26.0 + static_cast<double>(n - k - 1) * per_height) * price;
@@ -186,6 +219,7 @@ continuum::StripHeightPath strip_cmin_chosen_path(const StripCminHeightOptions& 
                                                   double& predicted_seconds) {
   const std::vector<double> heights = strip_cmin_heights(o);
   ChosenPathCost cost;
+  cost.components = components(o);
   cost.counted = [&cost, stop = o.stop] { return ++cost.iterations, stop && stop(); };
   continuum::StripHeightPath out;
   continuum::StripFront last;
@@ -196,7 +230,7 @@ continuum::StripHeightPath strip_cmin_chosen_path(const StripCminHeightOptions& 
     po.heights = k == 0 ? std::vector<double>{heights[0]} : std::vector<double>{heights[k - 1], heights[k]};
     po.start = k == 0 ? nullptr : &last;
     const long before = cost.iterations;
-    continuum::StripHeightPath seg = continuum::continue_strip_height(o.law, o.mu_strip, o.rho_strip, po);
+    continuum::StripHeightPath seg = continue_path(o, po);
     cost.charge(before, rows, intervals);
     // the steps of the segment (its first, the start re-solved on the path's meshes, is the last height's)
     out.steps.insert(out.steps.end(), seg.steps.begin() + (k == 0 || seg.steps.empty() ? 0 : 1), seg.steps.end());
@@ -235,15 +269,16 @@ continuum::StripHeightPath strip_cmin_start_path(const StripCminHeightOptions& o
   os.sigma_d = 0.8;
   os.front.rows = o.branch_rows;
   os.front.intervals = o.branch_intervals;
-  auto start_path = continuum::continue_strip_height(o.law, o.mu_strip, o.rho_strip, os);
+  auto start_path = continue_path(o, os);
   say(o, format("sigma_d = 0.8 path: %zu fronts%s%s", start_path.fronts.size(), start_path.complete ? "" : ", incomplete: ",
                 start_path.reason.c_str()));
   return start_path;
 }
 
-// The 1D chain's c_min at the same material (μ = μ'H, ρ = ρ'H) and its estimate; a note where it is not computed.
+// The 1D chain's c_min at the same material (μ = μ'H, in-plane E'H; ρ = ρ'H) and its estimate; a note where it is not
+// computed.
 continuum::FrontBranch strip_cmin_1d_pass(const StripCminHeightOptions& o, double h, StripCminRow& r) {
-  const double mu = o.mu_strip, rho = o.rho_strip;
+  const double mu = strip_cmin_column_modulus(o), rho = o.rho_strip;
   continuum::ContinuationOptions c1;
   c1.stop = o.stop;  // the 1D pass stops with the study (it took ~60 s per height unpolled)
   auto b1 = continuum::continue_steady_fronts(o.law, {rho * h, mu * h, 1000.0, 0.0}, c1);
@@ -274,7 +309,7 @@ void strip_cmin_front_error(const StripCminHeightOptions& o, const continuum::St
 // The whole branch at height h from the σ_d = 0.8 path's front: its c_min against the limiting path's.
 void strip_cmin_branch(const StripCminHeightOptions& o, const continuum::StripHeightOptions& po,
                        const continuum::StripFront& start, const continuum::StripFront& fr, StripCminRow& r) {
-  const double mu = o.mu_strip, rho = o.rho_strip, h = fr.bulk.height;
+  const double h = fr.bulk.height;
   continuum::StripContinuationOptions co;
   co.sigma_start = 0.8;
   co.front = po.front;
@@ -286,7 +321,7 @@ void strip_cmin_branch(const StripCminHeightOptions& o, const continuum::StripHe
   co.start = &start;
   co.stop = o.stop;
   const auto tb = std::chrono::steady_clock::now();
-  const auto br = continuum::continue_strip_fronts(o.law, {rho * h, mu * h, 1000.0, h}, co);
+  const auto br = continuum::continue_strip_fronts(o.law, strip_cmin_bulk(o, h), co);
   r.branch_seconds = seconds_since(tb);
   r.branch_c_min = br.c_min;
   r.branch_sigma_d_at_c_min = br.sigma_d_at_c_min;
@@ -321,9 +356,9 @@ void judge_height(const StripCminHeightOptions& o, const StripCminMesh* m, Strip
 
 std::vector<StripCminRow> strip_cmin_rows(const StripCminHeightOptions& o, const continuum::StripHeightPath& path,
                                           const std::vector<StripCminMesh>* meshes) {
-  const double mu = o.mu_strip, rho = o.rho_strip;
+  const double ell = strip_cmin_column_modulus(o), cs = std::sqrt(o.mu_strip / o.rho_strip);
   const auto& law = o.law;
-  const double ell = mu, ell_kappa = mu * law.kappa / (law.eta * law.alpha), s = mu / law.eta, cs = std::sqrt(mu / rho);
+  const double ell_kappa = ell * law.kappa / (law.eta * law.alpha), s = ell / law.eta;
   const continuum::StripHeightOptions po = strip_cmin_path_options(o);
   const continuum::StripHeightPath start_path = o.branches ? strip_cmin_start_path(o, po) : continuum::StripHeightPath{};
   std::vector<StripCminRow> rows;
@@ -466,14 +501,17 @@ void check_strip_cmin_paths(const StripCminHeightOptions& o) {
 }
 
 StripCminHeightOptions strip_cmin_study_options(const StudySpec& spec, const Scene& base) {
-  if (base.bulk.body() != core::BodyKind::strip)
+  if (base.bulk.body() == core::BodyKind::chain)
     throw core::ParamError("scene", "the kind strip_cmin_height needs a strip scene (bulk.height > 0): its material is "
                                     "mu' = bulk.mu/bulk.height, rho' = bulk.rho/bulk.height; " + spec.scene_file +
                                     " is the 1D chain (bulk.height = 0)");
   StripCminHeightOptions o = spec.kind_options.has_value() ? kind_options<StripCminHeightOptions>(spec)
                                                            : strip_cmin_study_defaults();
   o.law = base.interface;
-  o.mu_strip = core::Strip::modulus(base.bulk);
+  o.body = base.bulk.body();
+  o.poisson = base.bulk.poisson;
+  o.normal_load = base.bulk.normal_load;
+  o.mu_strip = o.body == core::BodyKind::inplane ? continuum::inplane_material(base.bulk).mu : core::Strip::modulus(base.bulk);
   o.rho_strip = base.bulk.rho / base.bulk.height;
   check_strip_cmin_paths(o);
   return o;
@@ -485,7 +523,17 @@ namespace {
 
 // The study's scalars: the material, the law and the lengths and speeds of docs/fronts.md §10.12.
 void put_strip_cmin_scalars(StudyReport& rep, const StripCminHeightOptions& o, const StripCminHeight& r) {
-  const double ell = o.mu_strip, ell_kappa = o.mu_strip * o.law.kappa / (o.law.eta * o.law.alpha);
+  const double ell = strip_cmin_column_modulus(o), ell_kappa = ell * o.law.kappa / (o.law.eta * o.law.alpha);
+  const bool inplane = o.body == core::BodyKind::inplane;
+  rep.scalars["inplane"] = inplane ? 1.0 : 0.0;
+  rep.scalars["mu_column"] = ell;
+  rep.scalars["poisson"] = inplane ? o.poisson : std::nan("");
+  rep.scalars["c_R"] = inplane ? continuum::rayleigh_ratio(o.poisson) * std::sqrt(o.mu_strip / o.rho_strip) : std::nan("");
+  rep.definitions["inplane"] = "1: the in-plane strip (bulk.body = \"inplane\", docs/fronts.md §11.8); 0: the antiplane strip";
+  rep.definitions["mu_column"] = "the column stiffness per height mu/H: mu' (antiplane), E' = 2 mu'/(1 - nu) (in-plane); the 1D "
+                                 "c_min compared with is that of mu = mu_column H";
+  rep.definitions["poisson"] = "nu of the in-plane strip (bulk.poisson); NaN on the antiplane strip";
+  rep.definitions["c_R"] = "Rayleigh speed of the in-plane strip's material c_R(nu) c_s; NaN on the antiplane strip";
   rep.scalars["mu_strip"] = o.mu_strip;
   rep.scalars["rho_strip"] = o.rho_strip;
   rep.scalars["alpha"] = o.law.alpha;
@@ -493,19 +541,21 @@ void put_strip_cmin_scalars(StudyReport& rep, const StripCminHeightOptions& o, c
   rep.scalars["eta"] = o.law.eta;
   rep.scalars["ell"] = ell;
   rep.scalars["ell_kappa"] = ell_kappa;
-  rep.scalars["s"] = o.mu_strip / o.law.eta;
+  rep.scalars["s"] = ell / o.law.eta;
   rep.scalars["c_s"] = std::sqrt(o.mu_strip / o.rho_strip);
   rep.scalars["heights_target"] = static_cast<double>(strip_cmin_heights(o).size());
   rep.scalars["heights_reached"] = static_cast<double>(r.rows.size());
   rep.scalars["path_steps"] = static_cast<double>(r.path.steps.size());
-  rep.definitions["mu_strip"] = "the strip material mu' = bulk.mu/bulk.height of the base scene, held along the path in H";
+  rep.definitions["mu_strip"] = "the strip's shear modulus per height mu' of the base scene, held along the path in H: "
+                                "bulk.mu/bulk.height (antiplane), bulk.mu (1 - nu)/(2 bulk.height) (in-plane)";
   rep.definitions["rho_strip"] = "rho' = bulk.rho/bulk.height of the base scene, held along the path";
   rep.definitions["alpha"] = "interface.alpha of the base scene";
   rep.definitions["kappa"] = "interface.kappa of the base scene";
   rep.definitions["eta"] = "interface.eta of the base scene";
-  rep.definitions["ell"] = "the paper's elastic length of the strip, l = mu' (docs/fronts.md §10.12)";
-  rep.definitions["ell_kappa"] = "l_kappa = mu' kappa/(eta alpha)";
-  rep.definitions["s"] = "the paper's speed s = mu'/eta";
+  rep.definitions["ell"] = "the paper's elastic length of the strip, l = mu_column (mu' antiplane, docs/fronts.md §10.12; "
+                           "E' in-plane, §11.8)";
+  rep.definitions["ell_kappa"] = "l_kappa = l kappa/(eta alpha)";
+  rep.definitions["s"] = "the paper's speed s = l/eta";
   rep.definitions["c_s"] = "shear wave speed sqrt(mu'/rho')";
   rep.definitions["heights_target"] = "target heights of [paths]: round(per_decade log10(hmax/hmin)) + 1";
   rep.definitions["heights_reached"] = "target heights the limiting path reached (the table's rows)";
@@ -551,12 +601,12 @@ void put_strip_cmin_table(StudyReport& rep, const StripCminHeight& r) {
   rep.tables["strip_cmin_height"] = t;
   const std::map<std::string, std::string> defs = {
       {"H", "strip height (a target height of [paths] the limiting path reached)"},
-      {"H_over_l", "H/l, l = mu'"},
-      {"H_over_l_kappa", "H/l_kappa, l_kappa = mu' kappa/(eta alpha)"},
+      {"H_over_l", "H/l, l = mu_column (mu' antiplane, E' in-plane)"},
+      {"H_over_l_kappa", "H/l_kappa, l_kappa = l kappa/(eta alpha)"},
       {"c_min", "speed of the limiting front at sigma_c^d (the strip's c_min), continued in H at fixed mu', rho'"},
-      {"c_min_over_s", "c_min/s, s = mu'/eta"},
+      {"c_min_over_s", "c_min/s, s = l/eta"},
       {"c_min_over_cs", "c_min/c_s, c_s = sqrt(mu'/rho')"},
-      {"c_min_1d", "c_min of the 1D chain of the same column stiffness mu = mu' H, rho = rho' H (end of its branch)"},
+      {"c_min_1d", "c_min of the 1D chain of the same column stiffness mu = mu_column H, rho = rho' H (end of its branch)"},
       {"ratio_to_1d", "c_min/c_min_1d"},
       {"local_exponent", "d ln c_min/d ln H to the next height (NaN at the last)"},
       {"branch_c_min", "paths.branches: c_min of the branch c(sigma_d) from sigma_d = 0.8 to its end (NaN without)"},

@@ -27,8 +27,12 @@ struct StudyOutcome;
 
 struct StripCminHeightOptions {
   core::InterfaceParams law{1.05, 8.0, 0.1};
-  double mu_strip = 300.0;    ///< μ' = μ/H, held along the path
+  double mu_strip = 300.0;    ///< μ' = μ/H, held along the path (in-plane: the shear modulus μ' = μ(1 − ν)/(2H))
   double rho_strip = 1e-9;    ///< ρ' = ρ/H (1e-9: the quasi-static material of docs/fronts.md §10.12)
+  /// The body (docs/fronts.md §11.8): the antiplane strip (core::BodyKind::strip) or the in-plane strip
+  /// (core::BodyKind::inplane, with ν and the top's normal load p; its column stiffness is E' = 2μ'/(1 − ν) per height).
+  core::BodyKind body = core::BodyKind::strip;
+  double poisson = 1.0 / 3.0, normal_load = 0.0;
   double hmin = 1.0, hmax = 1e6;
   double per_decade = 2.0;    ///< target heights per decade: round(per_decade · log10(hmax/hmin)) + 1 of them
   int rows = 16, intervals = 400;               ///< the limiting path's mesh
@@ -53,6 +57,12 @@ struct StripCminHeightOptions {
 
 /// The study's defaults (a [paths] without `rows`, or none): the meshes chosen by rtol = 1e-3 from 8 rows.
 StripCminHeightOptions strip_cmin_study_defaults();
+
+/// The column stiffness per unit height, the 1D μ/H of the body (μ' antiplane, E' = 2μ'/(1 − ν) in-plane): the paper's
+/// lengths ℓ = μ/H, ℓ_κ = ℓκ/(ηα) and speed s = ℓ/η, and the 1D c_min of μ = (μ/H)·H compared with.
+double strip_cmin_column_modulus(const StripCminHeightOptions& o);
+/// The scene's bulk of o's body and material at height H (μ, ρ integrated over the height, docs/model.md §9.1, §10.2).
+core::BulkParams strip_cmin_bulk(const StripCminHeightOptions& o, double H);
 
 /// The target heights: hmin · (hmax/hmin)^(k/n), k = 0..n, n = round(per_decade · log10(hmax/hmin)).
 std::vector<double> strip_cmin_heights(const StripCminHeightOptions& o);
@@ -131,8 +141,9 @@ std::span<const core::KeyDomain> strip_cmin_path_domains();
 inline constexpr int strip_cmin_max_heights = 1000;
 void check_strip_cmin_paths(const StripCminHeightOptions& o);
 
-/// The study's [paths] with the base scene's law and strip material: μ' = bulk.mu/bulk.height, ρ' =
-/// bulk.rho/bulk.height (docs/model.md §9.1). Throws core::ParamError (key "scene") unless the scene is a strip.
+/// The study's [paths] with the base scene's law, body and strip material: μ' = bulk.mu/bulk.height, ρ' =
+/// bulk.rho/bulk.height (docs/model.md §9.1); on an in-plane scene μ' = bulk.mu (1 − ν)/(2 bulk.height) with ν, p
+/// (§10.2). Throws core::ParamError (key "scene") unless the scene is a strip of either body.
 StripCminHeightOptions strip_cmin_study_options(const StudySpec& spec, const Scene& base);
 /// The same, as the kind's check before any work (studies::StudyCheck).
 void check_strip_cmin_study(const StudySpec& spec, const Scene& base);

@@ -96,7 +96,7 @@ inline compare::Scene homogeneous_scene(double sigma_d, double nucleation_length
 /// Homogeneous loading at σ_d on a strip of height H (the paper's column μ = 300, ρ = 0.01 integrated over the height;
 /// body "inplane": the in-plane strip, ν = 1/3, μ = E'H; else the antiplane strip), grid dx, dy, started from the solved
 /// strip front with its tip at 100 on [0, 400], continuum alone, explicit, c_front fitted over the last 0.7 of the run,
-/// series every 0.05, no snapshots; t_end is the caller's (docs/fronts.md §10.15, §11.8).
+/// series every 0.05, no snapshots; t_end is the caller's (docs/fronts.md §10.15, §11.10).
 inline compare::Scene strip_front_start_scene(double H, double sigma_d, double dx, double dy, const std::string& body = "") {
   compare::Scene s = homogeneous_scene(sigma_d, 0.0, 1.0);
   s.models = {"continuum"};

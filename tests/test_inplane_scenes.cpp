@@ -120,7 +120,7 @@ TEST_CASE("inplane scenes: bulk.body selects the in-plane strip, and its keys ar
   expect_refused({"bulk.poisson=0.3"}, "bulk.poisson", "this scene's body is the 1D chain");
   expect_refused({"drive.loading=spring_block", "bulk.body=inplane"}, "bulk.body", "has no body to choose");
   CHECK_NOTHROW(parse(with({"time.integrator=adaptive"})).validate());  // refused before issue 38's adaptive body
-  // a steady-front start was refused before issue 39 item 1 (now the in-plane front, docs/fronts.md §11.8)
+  // a steady-front start was refused before issue 39 item 1 (now the in-plane front, docs/fronts.md §11.10)
   CHECK_NOTHROW(parse(with({"drive.loading=homogeneous", "drive.sigma_d=0.5", "drive.start=steady_front"})).validate());
   // too few rows: the antiplane strip's rule (docs/numerics.md §8.2) on the in-plane strip too
   expect_refused({"bulk.height=20", "grid.dy=10", "bulk.body=inplane", "bulk.length=60"}, "grid.dy", "too few rows");

@@ -334,7 +334,7 @@ TEST_CASE("strip slow: fig1_inplane events converge under dx = dy refinement (1,
 }
 
 // ---------------------------------------------------------------------------------------------
-// 5. Both models on one in-plane steady front (issue 39 item 5, docs/fronts.md §11.8)
+// 5. Both models on one in-plane steady front (issue 39 item 5, docs/fronts.md §11.10)
 // ---------------------------------------------------------------------------------------------
 
 TEST_CASE("strip slow: discrete fronts started from the solved in-plane front converge on the continuum's speed with N",

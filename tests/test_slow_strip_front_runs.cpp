@@ -50,12 +50,12 @@ TEST_CASE("slow strip front runs: the speed gap converges with the grid", "[slow
 
 TEST_CASE("slow strip front runs: in-plane runs from the solved in-plane front keep its speed at two H and two sigma_d",
           "[slow][inplane][fronts]") {
-  // Issue 39's test (docs/fronts.md §11.8): the in-plane strip (ν = 1/3, the paper's column μ = 300 = E'H, ρ = 0.01) at
+  // Issue 39's test (docs/fronts.md §11.10): the in-plane strip (ν = 1/3, the paper's column μ = 300 = E'H, ρ = 0.01) at
   // H = 2 (dx = dy = 0.5) and H = 17 (dx = 0.5, dy = 1), σ_d = 0.3 and 0.5, started from the in-plane front solved on the
   // run's rows, explicit, 200 units of travel: every gap within 0.5 % (issue 39's bound). Then the grid halved (dx, dy)
   // at H = 2, σ_d = 0.5: the gap smaller. Measured (2026-11-27; 82 s of CPU): gaps −9.17e−4, −9.25e−4 (H = 2, σ_d = 0.3,
   // 0.5), −2.94e−3, −2.87e−3 (H = 17); H = 2, σ_d = 0.5 halved: −4.12e−4 (ratio 2.24). Finding: at H = 17, dy = 1 the
-  // in-plane gap is 2.6x the antiplane strip's (the lumped rows of the solve against the Q1 body, docs/fronts.md §11.8).
+  // in-plane gap is 2.6x the antiplane strip's (the lumped rows of the solve against the Q1 body, docs/fronts.md §11.10).
   struct Case { double H, sd, dy; };
   for (const Case c : {Case{2.0, 0.3, 0.5}, Case{2.0, 0.5, 0.5}, Case{17.0, 0.3, 1.0}, Case{17.0, 0.5, 1.0}}) {
     const double g = gap(c.H, c.sd, 0.5, c.dy, "inplane");

@@ -23,7 +23,7 @@ namespace {
 /// Homogeneous loading at σ_d on the strip of height H (paper material, μ = 300 and ρ = 0.01 integrated over
 /// the height), grid dx, dy, started from the solved strip front, tip at 100 on [0, 400], run until the tip
 /// has run `travel` length units, continuum alone (explicit). `body`: "inplane" for the in-plane strip (ν = 1/3,
-/// μ = E'H; docs/fronts.md §11.8), else the antiplane strip.
+/// μ = E'H; docs/fronts.md §11.10), else the antiplane strip.
 compare::Scene strip_front_scene(double H, double sigma_d, double dx, double dy, double travel, double c_guess,
                                  const std::string& body = "") {
   compare::Scene s = testing::strip_front_start_scene(H, sigma_d, dx, dy, body);
@@ -177,7 +177,7 @@ TEST_CASE("strip front runs: no strip front to start from is refused naming sigm
 }
 
 // ---------------------------------------------------------------------------------------------------
-// The in-plane strip (issue 39 items 1 and 2, docs/fronts.md §11.8): the same start on the in-plane front.
+// The in-plane strip (issue 39 items 1 and 2, docs/fronts.md §11.10): the same start on the in-plane front.
 
 TEST_CASE("in-plane front runs: the sampled front is the solved front at its nodes, both components",
           "[inplane][fronts]") {

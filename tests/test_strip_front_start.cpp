@@ -122,7 +122,7 @@ TEST_CASE("strip front start: SIGINT during the start's solve ends the run inter
 
 TEST_CASE("strip front start: the in-plane start is in the estimate within a factor 3 and polls stop",
           "[fronts][inplane][estimate]") {
-  // Issue 39 item 1 (docs/fronts.md §11.8): the in-plane strip's start (H = 8 on 8 rows, two components: the cold
+  // Issue 39 item 1 (docs/fronts.md §11.10): the in-plane strip's start (H = 8 on 8 rows, two components: the cold
   // start's 5 solves at H = 0.5 … 8) priced by front_start_cost at strip_solve_cost(rows, intervals, 2), against the CPU
   // time of the same solve; the stop is polled before every Newton iteration and between the heights (a request ends
   // the solve at that poll, no front). Fails if the in-plane start is left out of the estimate (0, as before) or

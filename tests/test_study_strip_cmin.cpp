@@ -13,6 +13,7 @@
 
 #include "studies/strip_cmin_height.hpp"
 #include "continuum/steady_front.hpp"
+#include "continuum/inplane_front.hpp"
 #include "h5content.hpp"
 #include "process.hpp"
 #include "scenes.hpp"
@@ -58,6 +59,21 @@ min_nodes_per_elastic_length = 0
 
 const char* const small_paths = "[paths]\nhmin = 1.0\nhmax = 10.0\nper_decade = 1.0\nrows = 6\nintervals = 150\nbranches = false\n";
 
+// The library's options of small_paths at the scene's law, rho' = 1e-9 and the strip material mu'.
+studies::StripCminHeightOptions small_options(double mu_strip) {
+  studies::StripCminHeightOptions o;
+  o.law = {1.05, 8.0, 0.1};
+  o.mu_strip = mu_strip;
+  o.rho_strip = 1e-9;
+  o.hmin = 1.0;
+  o.hmax = 10.0;
+  o.per_decade = 1.0;
+  o.rows = 6;
+  o.intervals = 150;
+  o.branches = false;
+  return o;
+}
+
 fs::path write_study(const fs::path& dir, const std::string& name, const std::string& body) {
   const fs::path f = dir / (name + ".toml");
   write_text(f, "study = \"" + name + "\"\nkind = \"strip_cmin_height\"\nscene = \"strip.toml\"\n" + body);
@@ -80,16 +96,7 @@ TEST_CASE("study strip_cmin_height: slipfront study writes a complete study.h5 w
   CHECK(!fs::exists(dir.path / "out" / "runs"));  // no scene runs
 
   // The library called directly with the scene's material and the study's [paths].
-  studies::StripCminHeightOptions lib;
-  lib.law = {1.05, 8.0, 0.1};
-  lib.mu_strip = 300.0;
-  lib.rho_strip = 1e-9;
-  lib.hmin = 1.0;
-  lib.hmax = 10.0;
-  lib.per_decade = 1.0;
-  lib.rows = 6;
-  lib.intervals = 150;
-  lib.branches = false;
+  const studies::StripCminHeightOptions lib = small_options(300.0);
   const auto direct = studies::strip_cmin_height(lib);
   REQUIRE(direct.path.complete);
   REQUIRE(direct.rows.size() == 2);
@@ -282,4 +289,87 @@ TEST_CASE("study strip_cmin_height: a height whose rtol the budget does not allo
   CHECK(h.numbers.at("/study/scalars@budget_seconds") == 1.0);
   CHECK(contains(o.out, "note: NOT met (budget) at H = 100: c_min = "));
   CHECK(contains(h.strings.at("/meta@message"), "1 of 3 heights NOT met"));
+}
+
+TEST_CASE("study strip_cmin_height on the in-plane strip: the kind reads the body from the scene; c_min at H = 1 is "
+          "solve_inplane_saddle_node_front's, the analysis columns are there",
+          "[study][strip][cmin][inplane]") {
+  // Issue 39 item 2 (docs/fronts.md §11.8): the scene of write_strip_scene with bulk.body = "inplane" (column mu = 4800
+  // on H = 16: E' = 300, mu' = E'(1 - nu)/2 = 100 at nu = 1/3; rho' = 1e-9). `slipfront study` on H = 1, 10 (6 rows,
+  // 150 intervals, ~2 s) against the library with the in-plane options, bit for bit; the path's front at H = 1 against
+  // the limiting front solved on its own meshes by solve_inplane_saddle_node_front from a cold in-plane front at
+  // sigma_d = 0.3 (a different start: the same discrete solution, within 1e-8); and against the antiplane strip of the
+  // same 1D material (mu' = 300), which differs by more than 1e-5 at H = 1 (the in-plane H^2 correction is larger).
+  // Fails if the kind ignores the body (the antiplane c_min, mu_strip 300, inplane = 0), if a column of the analysis
+  // is missing or NaN, or if the 1D ratio at H = 1 is not within (0, 1e-3).
+  const TempDir dir("study-cmin-inplane");
+  write_strip_scene(dir.path);
+  std::string scene = slurp(dir.path / "strip.toml");
+  scene.replace(scene.find("height = 16.0\n"), 14, "height = 16.0\nbody = \"inplane\"\npoisson = 0.3333333333333333\n");
+  write_text(dir.path / "strip.toml", scene);
+  const fs::path study = write_study(dir.path, "cmin_inplane", small_paths);
+  const Output o = run({bin, "study", study.string(), "--out", (dir.path / "out").string()}, dir.path, {}, {}, 120.0);
+  INFO(o.out << o.err);
+  REQUIRE(o.code == 0);
+  CHECK(contains(o.err, "in-plane strip, nu = 0.333333, p = 0: E' = 2 mu'/(1 - nu) = 300"));
+
+  // mu' = mu (1 - nu)/(2H) as the scene gives it (~100)
+  studies::StripCminHeightOptions lib = small_options(4800.0 * (1.0 - 1.0 / 3.0) / (2.0 * 16.0));
+  lib.body = core::BodyKind::inplane;
+  lib.poisson = 1.0 / 3.0;
+  const auto direct = studies::strip_cmin_height(lib);
+  REQUIRE(direct.path.complete);
+  REQUIRE(direct.rows.size() == 2);
+  const continuum::StripFront& f = direct.path.fronts[0];
+  CHECK(f.bulk.body() == core::BodyKind::inplane);
+  CHECK(!f.uy.empty());
+  CHECK(f.saddle_node_limit);
+
+  const H5Content h = read_h5(dir.path / "out" / "study.h5");
+  CHECK(h.strings.at("/meta@status") == "complete");
+  const std::string table = "/study/tables/strip_cmin_height/";
+  std::vector<double> c_min;
+  for (const auto& r : direct.rows) c_min.push_back(r.c_min);
+  CHECK(same_bits(h.datasets.at(table + "c_min"), c_min));
+  CHECK(h.numbers.at("/study/scalars@inplane") == 1.0);
+  CHECK(std::abs(h.numbers.at("/study/scalars@mu_strip") - 100.0) < 1e-12);
+  CHECK(std::abs(h.numbers.at("/study/scalars@mu_column") - 300.0) < 1e-12);
+  CHECK(std::abs(h.numbers.at("/study/scalars@ell") - 300.0) < 1e-12);
+  CHECK(std::abs(h.numbers.at("/study/scalars@c_R") / h.numbers.at("/study/scalars@c_s") - 0.93253) < 1e-5);
+  // the analysis: regimes (H/l, H/l_kappa, c/s), local exponent, ratio to 1D, each with its estimate
+  for (const char* col : {"H_over_l", "H_over_l_kappa", "c_min_over_s", "c_min_1d", "ratio_to_1d", "c_min_error",
+                          "ratio_to_1d_error"}) {
+    INFO(col);
+    REQUIRE(h.datasets.count(table + col) == 1);
+    CHECK(std::isfinite(h.datasets.at(table + col)[0]));
+  }
+  CHECK(h.datasets.count(table + "rtol_met") == 1);  // NaN here: no paths.rtol, not judged
+  CHECK(std::isfinite(h.datasets.at(table + "local_exponent")[0]));
+  CHECK(std::abs(h.datasets.at(table + "local_exponent")[0] - 0.5) < 0.01);  // the 1D regime: c_min ∝ sqrt(H)
+  const double ratio = h.datasets.at(table + "ratio_to_1d")[0];
+  CHECK(ratio - 1.0 > 0.0);
+  CHECK(ratio - 1.0 < 1e-3);
+
+  // The same limiting front solved directly on its own meshes from a cold front at sigma_d = 0.3.
+  continuum::StripFrontOptions fo = continuum::following_tip({}, continuum::strip_tip_zone(f.law, f.c, f.v_behind));
+  fo.rows = f.rows();
+  fo.row_grading = f.row_grading;
+  fo.intervals = direct.rows[0].intervals;
+  const auto cold = continuum::solve_inplane_front(f.law, f.bulk, 0.3, fo);
+  REQUIRE(cold.status == continuum::FrontStatus::converged);
+  const auto own = continuum::solve_inplane_saddle_node_front(f.law, f.bulk, fo, cold);
+  REQUIRE(own.status == continuum::FrontStatus::converged);
+  INFO("path c_min(H = 1) = " << f.c << " +- " << direct.rows[0].c_min_error << ", direct " << own.c);
+  CHECK(std::abs(own.c / f.c - 1.0) < 1e-8);
+
+  // The antiplane strip of the same 1D material (mu' = E' = 300) on the same settings: another c_min.
+  studies::StripCminHeightOptions anti = lib;
+  anti.body = core::BodyKind::strip;
+  anti.mu_strip = 300.0;
+  anti.hmax = 10.0;
+  const auto a = studies::strip_cmin_height(anti);
+  REQUIRE(a.rows.size() == 2);
+  INFO("antiplane c_min(H = 1) = " << a.rows[0].c_min);
+  CHECK(std::abs(a.rows[0].c_min_1d / direct.rows[0].c_min_1d - 1.0) < 1e-12);  // the same 1D line
+  CHECK(std::abs(a.rows[0].c_min / f.c - 1.0) > 1e-5);
 }

@@ -78,6 +78,8 @@ bool imposed_sweep(const Scene& s) { return imposed(s) && s.drive.sweep_points !
 bool dt_given(const Scene& s) { return s.time.dt != 0.0; }
 bool aging(const Scene& s) { return s.interface.ages_contacts(); }
 bool load_profile(const Scene& s) { return s.interface.has_load_profile(); }
+bool load_coupled(const Scene& s) { return s.interface.load_coupling != "none"; }  // an unknown value is refused
+bool normal_load(const Scene& s) { return s.interface.has_normal_load(); }
 bool cfl_used(const Scene& s) { return !imposed(s) && s.time.dt == 0.0; }
 bool bulk_scene(const Scene& s) { return !imposed(s); }
 // a body of height: the antiplane or the in-plane strip (bulk.height given)
@@ -131,8 +133,13 @@ const std::vector<Section>& schema() {
            // a normal-load profile (docs/model.md §12), used when load_p is given: without it, today's configuration
            {"load_x", at<&Scene::interface, &InterfaceParams::load_x>, load_profile, "with interface.load_p"},
            {"load_p", at<&Scene::interface, &InterfaceParams::load_p>, load_profile, "when given (a normal-load profile)"},
-           {"load_exponent", at<&Scene::interface, &InterfaceParams::load_exponent>, load_profile, "with interface.load_p"},
-           {"load_channel", at<&Scene::interface, &InterfaceParams::load_channel>, load_profile, "with interface.load_p"},
+           {"load_exponent", at<&Scene::interface, &InterfaceParams::load_exponent>, normal_load,
+            "with interface.load_p or load_coupling"},
+           {"load_channel", at<&Scene::interface, &InterfaceParams::load_channel>, normal_load,
+            "with interface.load_p or load_coupling"},
+           // the in-plane strip's own normal load (docs/model.md §12.5), used when not "none": refused on other bodies
+           {"load_coupling", at<&Scene::interface, &InterfaceParams::load_coupling>, load_coupled,
+            "when not \"none\" (the in-plane strip's sigma_yy)"},
        }},
       {"bulk",
        {

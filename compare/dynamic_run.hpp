@@ -8,10 +8,12 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -19,6 +21,7 @@
 #include "compare/contacts.hpp"
 #include "compare/dispatch.hpp"
 #include "compare/initial.hpp"
+#include "compare/load_coupling.hpp"
 #include "compare/measure.hpp"
 #include "compare/record.hpp"
 #include "compare/result.hpp"
@@ -119,7 +122,7 @@ class DynamicRun {
   DynamicRun(const Scene& s, Law law, std::string model, ContactPredictionSetup prediction = {},
              const std::function<bool()>& stop = {})
       : s_(s), wall0_(std::chrono::steady_clock::now()), front_(front_start_for<Law>(s, stop)),
-        sim_(make_stepper<Stepper>(s, std::move(law), front_)),
+        body_scene_(coupled_body_scene(s)), sim_(make_stepper<Stepper>(body_scene_, std::move(law), front_)),
         one_d_(core::is_one_dimensional(s.drive.loading)), tracker_(s.measure, sim_.bulk().x()),
         cycles_(s.measure), behind_(s.measure), recorder_(s, r_), contacts_due_(s.output.contact_every()) {
     r_.model = std::move(model);
@@ -134,6 +137,7 @@ class DynamicRun {
     }
     sim_.track_energy(s.output.energy);
     set_initial_conditions(s, sim_, front_);
+    if (s.interface.couples_load()) start_load_coupling();
     if (start_stopped()) {
       r_.status = RunStatus::interrupted;
       r_.message = "stopped on request in the steady-front start's solve (drive.start = \"steady_front\"), before the "
@@ -172,10 +176,14 @@ class DynamicRun {
     try {
       const double t0 = sim_.time();
       if (predict_) remember_start();
+      if (coupling_) couple_normal_load();  // docs/model.md §12.5: p = −σ_yy(x, 0, t0), frozen over the step
       sim_.step();                    // 1. step
       observe(t0, sim_.time());       // 2. observe
       record(t0, sim_.time());        // 3. record
     } catch (const core::NumericalError& e) {
+      r_.status = RunStatus::failed;
+      r_.message = e.what();
+    } catch (const LoadCouplingError& e) {
       r_.status = RunStatus::failed;
       r_.message = e.what();
     }
@@ -186,6 +194,10 @@ class DynamicRun {
   template <class Ar>
   void serialize(Ar& ar) {
     ar.tag("dynamic run");
+    if (coupling_) {  // docs/model.md §12.5: the law's resting areas, installed before its state is restored over them
+      ar(*coupling_);
+      if (ar.loading()) install_coupled_load(coupling_->last_factors());
+    }
     ar(r_, sim_, tracker_, cycles_, behind_, recorder_, contacts_due_, nsteps_, quiet_);
     // the continuum's contact prediction (docs/model.md §7.2), made by the constructor from the scene: present
     // in the checkpoint exactly when the restarted run made one
@@ -228,6 +240,9 @@ class DynamicRun {
     r_.events = tracker_.finish(homogeneous);
     r_.events_alt = tracker_.finish(homogeneous, true);
     r_.events.v_behind = r_.events_alt.v_behind = behind_.value();
+    const double rest = min_resting_area();  // docs/model.md §12.5: a tip threshold the resting area is below
+    void_tip_events(r_.events, s_.measure.A_tip, "measure.A_tip", rest);
+    void_tip_events(r_.events_alt, s_.measure.A_tip_alt, "measure.A_tip_alt", rest);
     if (s_.output.sequence && s_.drive.loading == Loading::edge)  // docs/model.md §3.2
       r_.sequence = slip_sequence(r_.series.at("t"), r_.series.at("max_v"), r_.series.at("tip_x"), s_.measure, r_.x.back());
     // docs/model.md §3: σ_ss(v_behind) = σ_d behind a steady front, in the law's own steady state
@@ -235,6 +250,12 @@ class DynamicRun {
       if (homogeneous && std::isfinite(behind_.value()))
         r_.scalars["sigma_ss_at_v_behind"] = sim_.law().steady_sliding(behind_.value()).sigma;
     r_.scalars["steps"] = static_cast<double>(sim_.steps());
+    if (coupling_) {  // docs/output.md: the coupled load's range and where a law could not take it (§12.5)
+      r_.scalars["load_ratio_max"] = coupling_->max_ratio();
+      r_.scalars["load_ratio_min"] = coupling_->min_ratio();
+      r_.scalars["load_clamped_site_steps"] = static_cast<double>(coupling_->clamped_site_steps());
+      r_.scalars["load_tension_site_steps"] = static_cast<double>(coupling_->tension_site_steps());
+    }
     if constexpr (Stepper::error_control) {
       r_.scalars["substeps"] = static_cast<double>(sim_.substeps());
       r_.scalars["max_linearisation_defect"] = sim_.max_defect();
@@ -262,6 +283,53 @@ class DynamicRun {
   }
 
  private:
+  // The smallest resting area the law was given (a normal-load profile or the coupling, docs/model.md §12): 1 without.
+  double min_resting_area() const {
+    double a = 1.0;
+    if (coupling_) a = std::min(a, coupling_->min_resting_area());
+    if (s_.interface.has_load_profile())
+      for (const double x : r_.x) a = std::min(a, s_.interface.resting_area_at(x));
+    return a;
+  }
+  // A front tip is the largest x with A below the threshold; where the resting area itself is below it, sites at rest
+  // count as "behind the front" and the tip's speeds and arrest measure the load, not a front: NaN, with the reason.
+  static void void_tip_events(Events& e, double threshold, const char* key, double rest) {
+    if (!(rest < threshold)) return;
+    const std::string why = std::string("the resting area (p/p_0)^m falls to ") + core::format_number(rest, 4) +
+                            " < " + key + " = " + core::format_number(threshold) +
+                            ": sites at rest are below the tip threshold, so this tip does not mark a front "
+                            "(docs/model.md §12.5); use a threshold below the smallest resting area";
+    for (auto [name, value] : {std::pair<const char*, double*>{"c_slow", &e.c_slow}, {"c_transient", &e.c_transient},
+                               {"c_transient_peak", &e.c_transient_peak}, {"x_arrest", &e.x_arrest},
+                               {"c_front", &e.c_front}, {"c_front_middle", &e.c_front_middle}}) {
+      *value = std::numeric_limits<double>::quiet_NaN();
+      e.reasons[name] = why;
+    }
+  }
+
+  // docs/model.md §12.5: the in-plane strip's own normal load. The continuum takes any resting area; the ensembles'
+  // contacts at p_0 are their capacity under re-attachment (compare/load_coupling.hpp: clamped and counted).
+  void start_load_coupling() {
+    if constexpr (Law::hooks.normal_load && requires(std::span<double> o) { sim_.bulk().interface_normal_stress(sim_.displacement(), o); }) {
+      coupling_.emplace(s_.interface, s_.bulk.normal_load, !std::is_same_v<Law, continuum::FrictionLaw>);
+      couple_normal_load();
+    } else {
+      throw core::ParamError("interface.load_coupling", "this model's law or body takes no coupled normal load "
+                                                        "(core::LawHooks::normal_load on the in-plane strip)");
+    }
+  }
+  void couple_normal_load() {
+    if constexpr (Law::hooks.normal_load && requires(std::span<double> o) { sim_.bulk().interface_normal_stress(sim_.displacement(), o); }) {
+      normal_stress_.resize(sim_.bulk().sites());
+      sim_.bulk().interface_normal_stress(sim_.displacement(), normal_stress_);
+      install_coupled_load(coupling_->resting_areas(normal_stress_, r_.x, sim_.time()));
+    }
+  }
+  void install_coupled_load(std::span<const double> factor) {
+    if constexpr (Law::hooks.normal_load)
+      if (!factor.empty()) sim_.law().set_normal_load(factor);
+  }
+
   // 2. The shared measurements see the step [t0, t1]: on the dense output (observe_dense), or at the
   // step end — the contact prediction, max|v| and yield (t*, t^, arrest), the tips when a sample is due,
   // the stick–slip cycles of a 0D block.
@@ -423,10 +491,18 @@ class DynamicRun {
     });
   }
 
+  // docs/model.md §12.5: with the coupling the body carries no top load; p_0 is the contacts' reference load, superposed
+  static Scene coupled_body_scene(const Scene& s) {
+    Scene b = s;
+    if (s.interface.couples_load()) b.bulk.normal_load = 0.0;
+    return b;
+  }
+
   const Scene& s_;
   std::chrono::steady_clock::time_point wall0_;
   ModelResult r_;
   std::optional<FrontStart> front_;  // a steady-front start
+  Scene body_scene_;                 // the scene the body is built from (coupled_body_scene)
   Stepper sim_;
   bool one_d_;
   FrontTracker tracker_;
@@ -442,6 +518,8 @@ class DynamicRun {
   std::vector<double> a0_, sb0_, hazard_;     // the prediction's view of the current step
   std::vector<double> n0_, totals_;           // ... per threshold class (core::LawHooks::class_hazards)
   bool after_arrest_closed_ = false;          // close_after_arrest: phase 3 is over (another model's next event)
+  std::optional<LoadCoupling> coupling_;      // docs/model.md §12.5 (interface.load_coupling = "sigma_yy")
+  std::vector<double> normal_stress_;         // σ_yy(x_i, 0) at the step's start
 };
 
 /// Bulk scenes run alone: one DynamicRun driven by run_loop (checkpoints written after `header`), and,

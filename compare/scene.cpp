@@ -90,6 +90,25 @@ void check_aging(const Scene& s) {
                                         "(not yet, docs/model.md §11); use explicit or implicit");
 }
 
+// What a normal load of either kind (a profile, the in-plane coupling) is not built with yet (docs/model.md §12).
+void check_normal_load_carriers(const Scene& s) {
+  using core::ParamError;
+  if (s.interface.ages_contacts())
+    throw ParamError("interface.aging_b", "contact aging together with a normal-load profile or coupling "
+                                          "(interface.load_p, load_coupling) is not built yet (docs/model.md §12): set "
+                                          "one of them");
+  if (s.output.ages)
+    throw ParamError("output.ages", "the mean contact age with a normal load: the age equation of docs/model.md "
+                                    "§7.1 knows no spontaneous detachment (the re-attachment channel's 1 - a), not yet");
+  if (s.lists("discrete") && s.discrete.representation == "naive")
+    throw ParamError("discrete.representation",
+                     "the naive representation does not carry a normal load: use representation = \"count\" or "
+                     "\"agent\", or the model mean_field (docs/model.md §12)");
+  if (s.lists("discrete") && s.discrete.contact_statistics)
+    throw ParamError("discrete.contact_statistics", "contact statistics with a normal load: their prediction "
+                                                    "(docs/model.md §7.2) knows no spontaneous detachment, not yet");
+}
+
 // A prescribed normal load (docs/model.md §12): on an edge-loaded chain or antiplane strip, with the models and
 // integrators that carry it; everything else is refused before any work.
 void check_normal_load(const Scene& s) {
@@ -111,19 +130,7 @@ void check_normal_load(const Scene& s) {
     throw ParamError("time.integrator", "adaptive with a normal-load profile: the adaptive integrators' rates relax A "
                                         "towards 1, not the load's (p/p_0)^m (not yet, docs/model.md §12); use explicit "
                                         "or implicit");
-  if (ip.ages_contacts())
-    throw ParamError("interface.aging_b", "contact aging together with a normal-load profile is not built yet (docs/model.md "
-                                          "§12): set one of them");
-  if (s.output.ages)
-    throw ParamError("output.ages", "the mean contact age with a normal-load profile: the age equation of docs/model.md "
-                                    "§7.1 knows no spontaneous detachment (the re-attachment channel's 1 - a), not yet");
-  if (s.lists("discrete") && s.discrete.representation == "naive")
-    throw ParamError("discrete.representation",
-                     "the naive representation does not carry a normal load: use representation = \"count\" or "
-                     "\"agent\", or the model mean_field (docs/model.md §12)");
-  if (s.lists("discrete") && s.discrete.contact_statistics)
-    throw ParamError("discrete.contact_statistics", "contact statistics with a normal-load profile: their prediction "
-                                                    "(docs/model.md §7.2) knows no spontaneous detachment, not yet");
+  check_normal_load_carriers(s);
   if (ip.load_exponent == 0.0) return;  // (p/p_0)^0 = 1 everywhere: today's model
   for (std::size_t k = 0; k < ip.load_p.size(); ++k) {
     if (ip.instantaneous_load() && !(ip.load_p[k] > 0.0))
@@ -135,6 +142,29 @@ void check_normal_load(const Scene& s) {
                                                "site's N contacts are its capacity at p_0, so the discrete and "
                                                "mean_field models need p <= p_0 (docs/model.md §12.2)");
   }
+}
+
+// The in-plane strip's own normal load (docs/model.md §12.5): p(x, t) = −σ_yy(x, 0, t) against p_0 = bulk.normal_load,
+// on the models and integrators that take a changing load; everything else is refused before any work.
+void check_load_coupling(const Scene& s) {
+  using core::ParamError;
+  const auto& ip = s.interface;
+  if (!ip.couples_load()) return;
+  if (s.bulk.body() != core::BodyKind::inplane)
+    throw ParamError("interface.load_coupling", "\"sigma_yy\" needs the in-plane strip (bulk.body = \"inplane\"): the chain "
+                                                "and the antiplane strip have no interface normal stress (use "
+                                                "interface.load_p for a prescribed profile, docs/model.md §12)");
+  if (!(s.bulk.normal_load > 0.0))
+    throw ParamError("bulk.normal_load", "must be > 0 with interface.load_coupling = \"sigma_yy\": it is the reference "
+                                         "load p_0 of p = p_0 - sigma_yy (docs/model.md §12.5), got " + core::format_number(s.bulk.normal_load));
+  if (ip.has_load_profile())
+    throw ParamError("interface.load_p", "a prescribed profile and interface.load_coupling = \"sigma_yy\" together: the "
+                                         "in-plane strip's load is its own sigma_yy (docs/model.md §12.5); set one of them");
+  if (s.time.integrator != core::Integrator::central_difference && s.time.integrator != core::Integrator::implicit_trapezoidal)
+    throw ParamError("time.integrator", "adaptive with interface.load_coupling: the adaptive integrators' rates relax A "
+                                        "towards 1 and their stages know no load that changes within a step (not yet, "
+                                        "docs/model.md §12.5); use explicit or implicit");
+  check_normal_load_carriers(s);
 }
 
 }  // namespace
@@ -195,6 +225,7 @@ void Scene::validate() const {
   if (lists("mean_field")) check_mean_field(*this);
   check_aging(*this);
   check_normal_load(*this);
+  check_load_coupling(*this);
   // (scene rules, not DiscreteParams::validate, which every law's constructor runs on its own parameters)
   if (discrete_runs && discrete.contact_statistics && discrete.representation == "count")  // would record nothing
     throw ParamError("discrete.contact_statistics",

@@ -40,6 +40,8 @@ const KeyDomain continuum_domains[] = {
     {"interface.load_exponent", K::number, 0.0, cap, false, false, false, "",
      "(m of the resting area (p/p_0)^m; 1: Bowden-Tabor, 0: no load dependence)"},
     {"interface.load_channel", K::choice, 0, 0, false, false, false, "reattachment|instantaneous"},
+    {"interface.load_coupling", K::choice, 0, 0, false, false, false, "none|sigma_yy",
+     "(the in-plane strip's own normal load p = -sigma_yy(x, 0, t), docs/model.md §12.5)"},
     {"bulk.rho", K::number, 0.0, cap, true},
     {"bulk.mu", K::number, 0.0, cap, true},
     {"bulk.length", K::number, 0.0, cap, true},
@@ -190,8 +192,15 @@ void InterfaceParams::validate() const {
   check_in_domain("interface.eta", eta);
   check_in_domain("interface.aging_b", aging_b);
   if (ages_contacts()) check_in_domain("interface.aging_tau", aging_tau);
+  require(load_coupling == "none" || load_coupling == "sigma_yy", "interface.load_coupling",
+          "unknown coupling '" + load_coupling + "' (expected none or sigma_yy)");
   if (!has_load_profile()) {
     require(load_x.empty(), "interface.load_x", "given without interface.load_p (the load at those positions)");
+    if (couples_load()) {
+      check_in_domain("interface.load_exponent", load_exponent);
+      require(load_channel == "reattachment" || load_channel == "instantaneous", "interface.load_channel",
+              "unknown channel '" + load_channel + "' (expected reattachment or instantaneous)");
+    }
     return;
   }
   for (const double p : load_p) check_in_domain("interface.load_p", p);

@@ -84,7 +84,13 @@ struct InterfaceParams {
   std::vector<double> load_x = {}, load_p = {};
   double load_exponent = 1.0;
   std::string load_channel = "reattachment";
+  /// The in-plane strip's own normal load (docs/model.md §12.5): "sigma_yy" feeds p(x, t)/p_0 = −σ_yy(x, 0, t)/p_0
+  /// (p_0 = bulk.normal_load) to the law's normal-load hook every step; "none" (the default) is today's model.
+  std::string load_coupling = "none";
   bool has_load_profile() const { return !load_p.empty(); }
+  bool couples_load() const { return load_coupling == "sigma_yy"; }
+  /// A normal load of either kind: the profile or the coupling (load_exponent and load_channel are used).
+  bool has_normal_load() const { return has_load_profile() || couples_load(); }
   bool instantaneous_load() const { return load_channel == "instantaneous"; }
   /// p(x)/p_0 from the table (linear interpolation; constant beyond its ends); 1 without a table.
   double load_at(double x) const;

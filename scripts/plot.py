@@ -931,6 +931,38 @@ def plot_generic(res: Results, outdir, written, dpi):
     save(fig, outdir, f"{res.scene}_series.png", written, dpi)
 
 
+def plot_growth_rates(path, outdir, dpi):
+    """docs/model.md §12.6: growth rates Re s against kH of homogeneous sliding on the in-plane strip under the normal-load
+    coupling, both channels: the linearisation (continuum::inplane_growth_rates: the least-damped resolved mode, and the
+    fastest of all modes) as lines, the seeded grid runs (tests/test_inplane_load.cpp) as markers. `path`: the CSV the
+    test writes with SLIPFRONT_GROWTH_CSV set (columns channel, kH, kind, re_s, im_s). Returns the PNGs written."""
+    rows = np.genfromtxt(path, delimiter=",", names=True, dtype=None, encoding="utf-8")
+    fig, ax = plt.subplots(figsize=(7.5, 4.8))
+    colors = {"reattachment": "tab:blue", "instantaneous": "tab:red"}
+    styles = {"theory_resolved": ("-", "least-damped resolved mode (omega H/c_p < 4)"),
+              "theory_max": (":", "fastest mode of all (16 rows)")}
+    for channel, color in colors.items():
+        for kind, (ls, what) in styles.items():
+            sel = (rows["channel"] == channel) & (rows["kind"] == kind)
+            if sel.any():
+                ax.plot(rows["kH"][sel], rows["re_s"][sel], ls, color=color, label=f"{channel}: {what}")
+        sel = (rows["channel"] == channel) & (rows["kind"] == "run")
+        if sel.any():
+            ax.plot(rows["kH"][sel], rows["re_s"][sel], "o", color=color, label=f"{channel}: seeded grid run")
+    ax.axhline(0.0, color="0.5", lw=0.8)
+    ax.set_xscale("log")
+    ax.set_xlabel("kH")
+    ax.set_ylabel("growth rate Re s")
+    ax.set_title("in-plane strip, homogeneous sliding v0 = 2, p_0 = 0.3 (H = 4): growth rates under the coupling",
+                 fontsize=9)
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    written = []
+    save(fig, outdir, "inplane_growth_rates.png", written, dpi)
+    for w in written:
+        print(w)
+    return 0 if written else 1
+
+
 PLOTTERS = {"1d": plot_1d, "sweep": plot_sweep, "history": plot_history, "spring_block": plot_spring_block,
             "unknown": plot_generic}
 
@@ -941,6 +973,8 @@ def main(argv=None) -> int:
     ap.add_argument("--outdir", help="directory for the PNGs (default: the directory of RESULTS)")
     ap.add_argument("--dpi", type=int, default=120, help="resolution of the PNGs (default 120)")
     args = ap.parse_args(argv)
+    if args.results.endswith("growth_rates.csv"):  # docs/model.md §12.6 (tests/test_inplane_load.cpp writes it)
+        return plot_growth_rates(args.results, args.outdir or os.path.dirname(os.path.abspath(args.results)), args.dpi)
 
     try:
         res = Results(args.results)

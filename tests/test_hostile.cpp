@@ -50,6 +50,8 @@ const std::vector<Base>& bases() {
       {"edge, strip", {"bulk.height=4", "grid.dy=1"}},
       {"edge, strip with bulk snapshots", {"bulk.height=4", "grid.dy=1", "output.bulk_dt=0.5"}},
       {"edge, in-plane strip", {"bulk.height=4", "grid.dy=1", "bulk.body=inplane"}},
+      {"edge, in-plane strip, coupled normal load",
+       {"bulk.height=4", "grid.dy=1", "bulk.body=inplane", "bulk.normal_load=1", "interface.load_coupling=sigma_yy"}},
       {"edge, agent with contact statistics", {"discrete.representation=agent", "discrete.contact_statistics=true"}},
       {"homogeneous, steady-front start",
        {"drive.loading=homogeneous", "drive.sigma_d=0.5", "drive.start=steady_front", "drive.front_x=5"}},

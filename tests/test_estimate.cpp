@@ -281,6 +281,7 @@ TEST_CASE("estimate (issue 40): contact aging and a normal-load profile are in t
   const double with_load = model_seconds(load, "discrete"), without = model_seconds(flat, "discrete");
   CHECK(with_load / without > (9.8 / 1.06) / 5.9);
   CHECK(with_load / without < (9.8 / 1.06) / 0.55);
+}
 
 TEST_CASE("estimate (issue 38): the in-plane strip's run time, explicit and adaptive, within a factor 3 of fig1_inplane's",
           "[estimate]") {

@@ -291,7 +291,7 @@ TEST_CASE("study strip_cmin_height: a height whose rtol the budget does not allo
   CHECK(contains(h.strings.at("/meta@message"), "1 of 3 heights NOT met"));
 }
 
-TEST_CASE("study strip_cmin_height on the in-plane strip: the kind reads the body from the scene; c_min at H = 1 is "
+TEST_CASE("study strip_cmin_height on the in-plane strip: the kind reads the body from the scene, and c_min at H = 1 is "
           "solve_inplane_saddle_node_front's, the analysis columns are there",
           "[study][strip][cmin][inplane]") {
   // Issue 39 item 2 (docs/fronts.md §11.8): the scene of write_strip_scene with bulk.body = "inplane" (column mu = 4800

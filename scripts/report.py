@@ -1419,6 +1419,17 @@ CMIN_1D_TOL = 0.01  # "the 1D regime holds": c_min within 1 % of the 1D c_min at
 CMIN_LEAVE = 0.01  # "the crossover": the local exponent first below 1/2 - 0.01
 
 
+def cmin_is_inplane(path):
+    """Whether a strip_cmin_height CSV comes from the in-plane strip: the scalar `inplane` of the study.h5 beside it
+    (docs/fronts.md §11.8); False without one (the antiplane strip's CSVs before issue 39)."""
+    h5 = os.path.join(os.path.dirname(path), "study.h5")
+    try:
+        with h5py.File(h5, "r") as f:
+            return bool(plot.as_float(f["study/scalars"].attrs.get("inplane", 0.0)) == 1.0)
+    except (OSError, KeyError):
+        return False
+
+
 def read_cmin_csv(path):
     """The columns of a strip_cmin_height CSV as float arrays (rows with a finite positive H and c_min), sorted by H;
     None when it has no such row or lacks a column the figure needs."""
@@ -1590,9 +1601,11 @@ def strip_cmin_section(path, root, figdir):
     unmet = [f"{h:.4g}" for h, v in zip(H, t["rtol_met"]) if v == 0]
     if unmet:
         errs += f"; rtol NOT met at {len(unmet)} of {len(H)} heights (H = {', '.join(unmet)})"
-    rows = [measure_row(f"c_min(H) of the strip, H = {H[0]:.4g} .. {H[-1]:.4g}: does the 1D c_min hold?",
+    body = "the in-plane strip" if cmin_is_inplane(path) else "the strip"
+    rows = [measure_row(f"c_min(H) of {body}, H = {H[0]:.4g} .. {H[-1]:.4g}: does the 1D c_min hold?",
                         f"{holds}; {cross}", "", gap, expo + errs),
-            answer_row("Does the minimal steady front speed vary smoothly from 1D to 2D as H grows?",
+            answer_row("Does the minimal steady front speed vary smoothly from 1D to 2D as H grows?"
+                       + (" (the in-plane strip)" if body != "the strip" else ""),
                        f"c_min(H) at fixed strip material, H = {H[0]:.4g} .. {H[-1]:.4g}: {holds}; {cross}; {gap}.",
                        bool(np.all(np.isfinite(c)) and np.all(np.isfinite(a["expo"]))),
                        f"c_min is found at every H = {H[0]:.4g} .. {H[-1]:.4g}; {holds}; {cross}",

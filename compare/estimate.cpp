@@ -346,8 +346,10 @@ Stepping bulk_stepping(const Scene& s, const std::string& model, double sites, M
     m.steps_basis = "adaptive: t_end/dt_max + nodes + 8 t_end (rtol/1e-3)^-0.77, an estimate";
     // the strip: the law and the interface's elimination per site, the bulk per node (u, v, their ten stage
     // vectors, the masses and the u system's rhs, Strip::solve_system's workspace: docs/performance.md §13)
-    // the in-plane strip: its own measured cost per dof-step (docs/performance.md §18)
-    if (strip) return {10.0, c.explicit_bulk, inplane ? c.inplane_adaptive : c.strip_adaptive, 31.0};
+    // the in-plane strip: its own measured cost per dof-step and its memory, 1201 bytes a node, 600 a dof (75 words:
+    // the stage vectors, the mode factors and the cache of capacitance factors; docs/performance.md §18). The strips'
+    // "bulk nodes" here are their degrees of freedom (the in-plane strip has two a node).
+    if (strip) return {10.0, c.explicit_bulk, inplane ? c.inplane_adaptive : c.strip_adaptive, inplane ? 75.0 : 31.0};
     return {66.0, c.adaptive_bulk};
   }
   const bool implicit = integ == Integrator::implicit_trapezoidal;
@@ -366,7 +368,10 @@ Stepping bulk_stepping(const Scene& s, const std::string& model, double sites, M
   if (strip) {  // the strips: the law per site, the bulk per dof (u, v; implicit: V + 3 + 6 solve vectors)
     const double per_dof = inplane ? (implicit ? c.inplane_implicit : c.inplane_explicit)
                                    : (implicit ? c.strip_implicit : c.strip_explicit);
-    return {6.0, c.explicit_bulk, per_dof, implicit ? 12.0 : 3.0};
+    // words a dof: 3 (explicit) and 12 (implicit); the in-plane strip's explicit 4 (32 bytes a dof measured,
+    // docs/performance.md §18; its implicit not measured)
+    const double per_node = implicit ? 12.0 : inplane ? 4.0 : 3.0;
+    return {6.0, c.explicit_bulk, per_dof, per_node};
   }
   return {implicit ? 10.0 : 8.0, implicit ? c.implicit_bulk : c.explicit_bulk};
 }

@@ -49,8 +49,6 @@ using far_field::interp_rows;
 using far_field::Subspace;
 using Vec = Eigen::VectorXd;
 using Mat = Eigen::MatrixXd;
-using CVec = Eigen::VectorXcd;
-constexpr double nan_value = std::numeric_limits<double>::quiet_NaN();
 
 // The strip across its height: rows y_0 = 0 (interface) < … < y_M = H (the antiplane front's, docs/fronts.md §10.2),
 // spacings k_j, dual widths w_j. The state at a ξ node (docs/fronts.md §11.1):
@@ -280,26 +278,15 @@ Vec transfer(const Collocation& col, const StripFront& g, double sd, double s) {
   Vec x = Vec::Zero(col.size());
   std::vector<double> rcol(ro), pcol(ro), wcol(ro), qcol(ro);
   for (int i = 0; i < col.nodes(); ++i) {
-    const double xo = col.xi()[static_cast<std::size_t>(i)] / s;
-    double shift = 0.0, t = 0.0;
-    std::size_t a = 0, b = 0;
-    if (xo <= g.xi.front()) {
-      shift = -g.v_behind / g.c * (xo - g.xi.front());
-    } else {
-      const auto it = std::upper_bound(g.xi.begin(), g.xi.end(), xo);
-      b = std::min<std::size_t>(static_cast<std::size_t>(it - g.xi.begin()), g.xi.size() - 1);
-      a = b - 1;
-      t = (xo - g.xi[a]) / (g.xi[b] - g.xi[a]);
-    }
-    auto lerp = [&](const std::vector<double>& f, std::size_t j) { return (1.0 - t) * f[a * ro + j] + t * f[b * ro + j]; };
+    const far_field::MeshBracket k = far_field::bracket(g, col.xi()[static_cast<std::size_t>(i)] / s);
     for (std::size_t j = 0; j < ro; ++j) {
-      rcol[j] = lerp(g.lift, j) - old_strain * g.y[j];
-      pcol[j] = lerp(g.strain, j);
-      wcol[j] = lerp(g.uy, j);
-      qcol[j] = lerp(g.uy_strain, j);
+      rcol[j] = k.lerp(g.lift, ro, j) - old_strain * g.y[j];
+      pcol[j] = k.lerp(g.strain, ro, j);
+      wcol[j] = k.lerp(g.uy, ro, j);
+      qcol[j] = k.lerp(g.uy_strain, ro, j);
     }
     const double top_slope = (wcol[ro - 1] - wcol[ro - 2]) / (g.y[ro - 1] - g.y[ro - 2]);
-    const double u0 = (1.0 - t) * g.slip[a] + t * g.slip[b] + shift;
+    const double u0 = k.lerp(g.slip) + k.shift;
     for (int j = 0; j <= m.M; ++j) {
       const double yy = m.y[static_cast<std::size_t>(j)], yo = yy / s;
       x[ns * i + m.iu(j)] = j == 0 ? u0 : new_strain * yy + interp_rows(g.y, rcol.data(), yo, 0.0);
@@ -308,8 +295,8 @@ Vec transfer(const Collocation& col, const StripFront& g, double sd, double s) {
       x[ns * i + m.iw(j)] = s * interp_rows(g.y, wcol.data(), yo, top_slope);
       x[ns * i + m.iq(j)] = interp_rows(g.y, qcol.data(), yo, 0.0);
     }
-    x[ns * i + m.iA()] = (1.0 - t) * g.area[a] + t * g.area[b];
-    x[ns * i + m.iS()] = (1.0 - t) * g.sigma_bar[a] + t * g.sigma_bar[b];
+    x[ns * i + m.iA()] = k.lerp(g.area);
+    x[ns * i + m.iS()] = k.lerp(g.sigma_bar);
   }
   x[col.c_index()] = g.c * s;
   if (col.size() > col.c_index() + 1) x[col.c_index() + 1] = sd;
@@ -387,37 +374,10 @@ void finish(const Collocation& col, const Vec& x, StripFront& f) {
     f.traction[a] = f.sigma_bar[a] + m.eta * f.slip_rate[a];
     f.normal_stress[a] = normal_stress(m, yi);
   }
-  f.v_tip = f.slip_rate.back();
-  f.sigma_bar_tip = f.sigma_bar.back();
-  const Vec yb = behind_state(m, c, sd);
-  f.v_behind = -c * yb[m.ip(0)];
-  f.area_behind = yb[m.iA()];
-  f.sigma_bar_behind = yb[m.iS()];
-  f.overstress_margin = front_solver::overstress_margin(f.sigma_bar, f.slip_rate, f.area, m.eta);
-  f.min_slip_rate = *std::min_element(f.slip_rate.begin(), f.slip_rate.end());
-  const Subspace b = behind_subspace(m, c, sd);
-  f.stable_eigenvalue = b.excluded.empty() ? nan_value : b.excluded.back().real();
-  f.slowest_growing = nan_value;
-  for (const auto& l : b.kept)
-    if (l.real() > 0.0 && !(l.real() >= f.slowest_growing)) f.slowest_growing = l.real();
-  // Modes ahead: the decaying ones carry the bulk state at the tip minus the stuck state (the solver's layout).
+  // modes ahead: the decaying ones carry the bulk state at the tip minus the stuck state (the solver's layout)
   const Vec ys = stuck_state(m, sd);
   const Mat Ja = rhs(m, ys, c, sd, Side::ahead).J.topLeftCorner(m.nb(), m.nb());
-  const Eigen::EigenSolver<Mat> es(Ja, true);
-  const CVec d = es.eigenvectors().partialPivLu().solve((col.y(x, n - 1).head(m.nb()) - ys.head(m.nb())).cast<std::complex<double>>());
-  f.ahead_rate.clear();
-  f.ahead_mode.clear();
-  f.slowest_ahead = std::numeric_limits<double>::infinity();
-  for (int k = 0; k < m.nb(); ++k) {
-    const auto l = es.eigenvalues()[k];
-    if (l.real() >= 0.0) continue;
-    f.slowest_ahead = std::min(f.slowest_ahead, -l.real());
-    f.ahead_rate.push_back(l);
-    std::vector<std::complex<double>> mode(static_cast<std::size_t>(m.nb()));
-    for (int r = 0; r < m.nb(); ++r) mode[static_cast<std::size_t>(r)] = d[k] * es.eigenvectors()(r, k);
-    f.ahead_mode.push_back(std::move(mode));
-  }
-  far_field::classify(f);
+  far_field::finish_diagnostics(m, c, sd, Ja, col.y(x, n - 1).head(m.nb()) - ys.head(m.nb()), f, [](auto&) {});
 }
 
 // One Newton solve on a fresh mesh from the iterate built by `start`.
@@ -449,19 +409,16 @@ StripFront solve_inplane_front(const core::InterfaceParams& law, const core::Bul
     return solve_on_mesh(law, bulk, make_model(law, bulk, o), o, sigma_d, guess->c, std::nullopt,
                          [&](const Collocation& col) { return transfer(col, *guess, sigma_d, 1.0); });
   // Cold start (docs/fronts.md §11.3): the 1D front of μ (= E'H), then the strip grown from H_0 at fixed μ, ρ.
-  const SteadyFront f1 = solve_steady_front(law, {bulk.rho, bulk.mu, bulk.length, 0.0}, sigma_d);
-  if (f1.status != FrontStatus::converged) {
-    f.status = f1.status;
-    f.reason = "cold start: no 1D front at this sigma_d: " + f1.reason;
-    return f;
-  }
-  return far_field::grow_from_thin(bulk, o, [&](const core::BulkParams& b, const StripFront* last) {
-    if (!last)
-      return solve_on_mesh(law, b, make_model(law, b, o), o, sigma_d, f1.c, std::nullopt,
-                           [&](const Collocation& col) { return from_one_dimensional(col, f1); });
-    return solve_on_mesh(law, b, make_model(law, b, o), o, sigma_d, last->c, std::nullopt,
-                         [&](const Collocation& col) { return transfer(col, *last, sigma_d, 1.0); });
-  });
+  return far_field::cold_start(
+      law, bulk, o, sigma_d, std::move(f),
+      [&](const core::BulkParams& b, const SteadyFront& f1) {
+        return solve_on_mesh(law, b, make_model(law, b, o), o, sigma_d, f1.c, std::nullopt,
+                             [&](const Collocation& col) { return from_one_dimensional(col, f1); });
+      },
+      [&](const core::BulkParams& b, const StripFront& last) {
+        return solve_on_mesh(law, b, make_model(law, b, o), o, sigma_d, last.c, std::nullopt,
+                             [&](const Collocation& col) { return transfer(col, last, sigma_d, 1.0); });
+      });
 }
 
 StripFront solve_inplane_front_stretched(const core::InterfaceParams& law, const core::BulkParams& bulk, double sigma_d,

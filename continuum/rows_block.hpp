@@ -14,11 +14,13 @@
 #include <Eigen/Sparse>
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <functional>
 #include <limits>
 #include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "continuum/far_field.hpp"
 #include "continuum/friction_law.hpp"
@@ -198,6 +200,69 @@ inline bool admissible_sigma(const core::InterfaceParams& law, double sd, StripF
   return false;
 }
 
+/// Where ξ_o falls on a front's mesh, for a guess transferred from it (docs/fronts.md §10.11): the nodes a, b and the
+/// weight t of b, or behind its −L (a = b = 0, t = 0) the slip continued at the sliding state's rate (`shift`).
+struct MeshBracket {
+  std::size_t a = 0, b = 0;
+  double t = 0.0, shift = 0.0;
+  /// f linearly between the nodes (f at node k is f[k · stride + offset]).
+  double lerp(const std::vector<double>& f, std::size_t stride = 1, std::size_t offset = 0) const {
+    return (1.0 - t) * f[a * stride + offset] + t * f[b * stride + offset];
+  }
+};
+inline MeshBracket bracket(const StripFront& g, double xo) {
+  MeshBracket k;
+  if (xo <= g.xi.front()) {
+    k.shift = -g.v_behind / g.c * (xo - g.xi.front());
+  } else {
+    const auto it = std::upper_bound(g.xi.begin(), g.xi.end(), xo);
+    k.b = std::min<std::size_t>(static_cast<std::size_t>(it - g.xi.begin()), g.xi.size() - 1);
+    k.a = k.b - 1;
+    k.t = (xo - g.xi[k.a]) / (g.xi[k.b] - g.xi[k.a]);
+  }
+  return k;
+}
+
+/// A converged front's diagnostics beside its fields (docs/fronts.md §10.3), once its interface fields (slip_rate,
+/// sigma_bar, area) are stored: the tip's and the sliding state's values, the overstress margin, the modes behind (λ_s,
+/// the excluded one nearest 0, and the slowest approach) and ahead (the decaying modes of `Ja`, the Jacobian ahead at
+/// the stuck state, with their amplitudes in `tip` = the bulk state at the tip minus the stuck state; `to_fields`
+/// maps one mode's bulk unknowns to the front's stored layout), then the status.
+template <class Model, class ToFields>
+void finish_diagnostics(const Model& m, double c, double sd, const Eigen::MatrixXd& Ja, const Eigen::VectorXd& tip,
+                        StripFront& f, ToFields&& to_fields) {
+  constexpr double nan_value = std::numeric_limits<double>::quiet_NaN();
+  f.v_tip = f.slip_rate.back();
+  f.sigma_bar_tip = f.sigma_bar.back();
+  const Eigen::VectorXd yb = behind_state(m, c, sd);
+  f.v_behind = -c * yb[m.ip(0)];
+  f.area_behind = yb[m.iA()];
+  f.sigma_bar_behind = yb[m.iS()];
+  f.overstress_margin = front_solver::overstress_margin(f.sigma_bar, f.slip_rate, f.area, m.eta);  // as in 1D
+  f.min_slip_rate = *std::min_element(f.slip_rate.begin(), f.slip_rate.end());
+  const Subspace b = behind_subspace(m, c, sd);
+  f.stable_eigenvalue = b.excluded.empty() ? nan_value : b.excluded.back().real();
+  f.slowest_growing = nan_value;
+  for (const auto& l : b.kept)
+    if (l.real() > 0.0 && !(l.real() >= f.slowest_growing)) f.slowest_growing = l.real();
+  const Eigen::EigenSolver<Eigen::MatrixXd> es(Ja, true);
+  const Eigen::VectorXcd d = es.eigenvectors().partialPivLu().solve(tip.cast<std::complex<double>>());
+  f.ahead_rate.clear();
+  f.ahead_mode.clear();
+  f.slowest_ahead = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < Ja.rows(); ++k) {
+    const auto l = es.eigenvalues()[k];
+    if (l.real() >= 0.0) continue;
+    f.slowest_ahead = std::min(f.slowest_ahead, -l.real());
+    f.ahead_rate.push_back(l);
+    std::vector<std::complex<double>> mode(static_cast<std::size_t>(Ja.rows()));
+    for (int r = 0; r < Ja.rows(); ++r) mode[static_cast<std::size_t>(r)] = d[k] * es.eigenvectors()(r, k);
+    to_fields(mode);
+    f.ahead_mode.push_back(std::move(mode));
+  }
+  classify(f);
+}
+
 /// The cold start's growth in H (docs/fronts.md §10.4, §11.3): solve(b, nullptr) on H_0 = min(H, o.thin_height) (from
 /// the 1D front), then H multiplied by o.height_factor at fixed μ, ρ up to bulk.height, each solve(b, &last) from the
 /// last front; o.stop polled between them.
@@ -219,6 +284,23 @@ StripFront grow_from_thin(const core::BulkParams& bulk, const StripFrontOptions&
     g = std::move(next);
   }
   return g;
+}
+
+/// The cold start (docs/fronts.md §10.4, §11.3): the 1D front of μ (the body's modulus times H) at σ_d, then the strip
+/// grown from it at fixed μ, ρ (grow_from_thin): `first(b, f1)` solves the thinnest strip from the 1D front f1,
+/// `next(b, last)` each thicker one from the last. `f` (the empty front) carries the 1D solve's failure.
+template <class First, class Next>
+StripFront cold_start(const core::InterfaceParams& law, const core::BulkParams& bulk, const StripFrontOptions& o,
+                      double sigma_d, StripFront f, First&& first, Next&& next) {
+  const SteadyFront f1 = solve_steady_front(law, {bulk.rho, bulk.mu, bulk.length, 0.0}, sigma_d);
+  if (f1.status != FrontStatus::converged) {
+    f.status = f1.status;
+    f.reason = "cold start: no 1D front at this sigma_d: " + f1.reason;
+    return f;
+  }
+  return grow_from_thin(bulk, o, [&](const core::BulkParams& b, const StripFront* last) {
+    return last ? next(b, *last) : first(b, f1);
+  });
 }
 
 }  // namespace slipfront::continuum::far_field

@@ -35,9 +35,7 @@ using far_field::row_grading_of;
 using far_field::Subspace;
 using Vec = Eigen::VectorXd;
 using Mat = Eigen::MatrixXd;
-using CVec = Eigen::VectorXcd;
 using CMat = Eigen::MatrixXcd;
-constexpr double nan_value = std::numeric_limits<double>::quiet_NaN();
 
 // The strip across its height (docs/model.md §9.6 rows): nodes y_0 = 0 (interface) < … < y_M = H, spacings
 // k_j = y_{j+1} − y_j, dual widths w_j (half cells on both faces). The state at a ξ node is
@@ -216,29 +214,19 @@ Vec transfer_stretched(const Collocation& col, const StripFront& g, double sd, d
   Vec x = Vec::Zero(col.size());
   std::vector<double> rcol(ro), pcol(ro);
   for (int i = 0; i < col.nodes(); ++i) {
-    const double xo = col.xi()[static_cast<std::size_t>(i)] / s;
-    double shift = 0.0, t = 0.0;
-    std::size_t a = 0, b = 0;
-    if (xo <= g.xi.front()) {
-      shift = -g.v_behind / g.c * (xo - g.xi.front());
-    } else {
-      const auto it = std::upper_bound(g.xi.begin(), g.xi.end(), xo);
-      b = std::min<std::size_t>(static_cast<std::size_t>(it - g.xi.begin()), g.xi.size() - 1);
-      a = b - 1;
-      t = (xo - g.xi[a]) / (g.xi[b] - g.xi[a]);
-    }
+    const far_field::MeshBracket k = far_field::bracket(g, col.xi()[static_cast<std::size_t>(i)] / s);
     for (std::size_t j = 0; j < ro; ++j) {
-      rcol[j] = (1.0 - t) * g.lift[a * ro + j] + t * g.lift[b * ro + j] - old_strain * g.y[j];
-      pcol[j] = (1.0 - t) * g.strain[a * ro + j] + t * g.strain[b * ro + j];
+      rcol[j] = k.lerp(g.lift, ro, j) - old_strain * g.y[j];
+      pcol[j] = k.lerp(g.strain, ro, j);
     }
-    const double u0 = (1.0 - t) * g.slip[a] + t * g.slip[b] + shift;
+    const double u0 = k.lerp(g.slip) + k.shift;
     for (int j = 0; j <= M; ++j) {
       const double yy = m.y[static_cast<std::size_t>(j)], yo = yy / s;
       x[ns * i + m.iu(j)] = j == 0 ? u0 : new_strain * yy + interp_rows(g.y, rcol.data(), yo, 0.0);
       x[ns * i + m.ip(j)] = interp_rows(g.y, pcol.data(), yo, 0.0) / s;
     }
-    x[ns * i + m.iA()] = (1.0 - t) * g.area[a] + t * g.area[b];
-    x[ns * i + m.iS()] = (1.0 - t) * g.sigma_bar[a] + t * g.sigma_bar[b];
+    x[ns * i + m.iA()] = k.lerp(g.area);
+    x[ns * i + m.iS()] = k.lerp(g.sigma_bar);
   }
   x[col.c_index()] = g.c * s;
   if (col.size() > col.c_index() + 1) x[col.c_index() + 1] = sd;
@@ -254,30 +242,19 @@ Vec transfer(const Collocation& col, const StripFront& g, double sd) {
   const std::size_t ro = static_cast<std::size_t>(Mo) + 1;
   std::vector<double> ucol(ro), pcol(ro);
   for (int i = 0; i < col.nodes(); ++i) {
-    const double xi = col.xi()[static_cast<std::size_t>(i)];
-    double shift = 0.0;
-    std::size_t a = 0, b = 0;
-    double t = 0.0;
-    if (xi <= g.xi.front()) {
-      shift = -g.v_behind / g.c * (xi - g.xi.front());
-    } else {
-      const auto it = std::upper_bound(g.xi.begin(), g.xi.end(), xi);
-      b = std::min<std::size_t>(static_cast<std::size_t>(it - g.xi.begin()), g.xi.size() - 1);
-      a = b - 1;
-      t = (xi - g.xi[a]) / (g.xi[b] - g.xi[a]);
-    }
+    const far_field::MeshBracket k = far_field::bracket(g, col.xi()[static_cast<std::size_t>(i)]);
     for (std::size_t j = 0; j < ro; ++j) {
-      ucol[j] = (1.0 - t) * g.lift[a * ro + j] + t * g.lift[b * ro + j];
-      pcol[j] = (1.0 - t) * g.strain[a * ro + j] + t * g.strain[b * ro + j];
+      ucol[j] = k.lerp(g.lift, ro, j);
+      pcol[j] = k.lerp(g.strain, ro, j);
     }
-    const double u0 = (1.0 - t) * g.slip[a] + t * g.slip[b] + shift;
+    const double u0 = k.lerp(g.slip) + k.shift;
     for (int j = 0; j <= M; ++j) {
       const double yy = m.y[static_cast<std::size_t>(j)];
       x[ns * i + m.iu(j)] = j == 0 ? u0 : interp_rows(g.y, ucol.data(), yy, sd / m.mu_s);
       x[ns * i + m.ip(j)] = interp_rows(g.y, pcol.data(), yy, 0.0);
     }
-    x[ns * i + m.iA()] = (1.0 - t) * g.area[a] + t * g.area[b];
-    x[ns * i + m.iS()] = (1.0 - t) * g.sigma_bar[a] + t * g.sigma_bar[b];
+    x[ns * i + m.iA()] = k.lerp(g.area);
+    x[ns * i + m.iS()] = k.lerp(g.sigma_bar);
   }
   x[col.c_index()] = g.c;
   if (col.size() > col.c_index() + 1) x[col.c_index() + 1] = sd;
@@ -340,39 +317,12 @@ void finish(const Collocation& col, const Vec& x, StripFront& f) {
     f.sigma_bar[a] = x[ns * i + m.iS()];
     f.traction[a] = f.sigma_bar[a] + m.eta * f.slip_rate[a];
   }
-  f.v_tip = f.slip_rate.back();
-  f.sigma_bar_tip = f.sigma_bar.back();
-  const Vec yb = behind_state(m, c, sd);
-  f.v_behind = -c * yb[m.ip(0)];
-  f.area_behind = yb[m.iA()];
-  f.sigma_bar_behind = yb[m.iS()];
-  f.overstress_margin = front_solver::overstress_margin(f.sigma_bar, f.slip_rate, f.area, m.eta);  // as in 1D
-  f.min_slip_rate = *std::min_element(f.slip_rate.begin(), f.slip_rate.end());
-  // Modes behind: λ_s (the excluded one nearest 0) and the slowest approach.
-  const Subspace b = behind_subspace(m, c, sd);
-  f.stable_eigenvalue = b.excluded.empty() ? nan_value : b.excluded.back().real();
-  f.slowest_growing = nan_value;
-  for (const auto& l : b.kept)
-    if (l.real() > 0.0 && !(l.real() >= f.slowest_growing)) f.slowest_growing = l.real();
-  // Modes ahead: the decaying ones carry (u, p)(0) − stuck.
+  // modes ahead: the decaying ones carry (u, p)(0) − stuck; the solver's d_j are stored as u_j = u_0 + d_j
   const Vec ys = stuck_state(m, sd);
   const Mat Ja = rhs(m, ys, c, sd, Side::ahead).J.topLeftCorner(m.nb(), m.nb());
-  const Eigen::EigenSolver<Mat> es(Ja, true);
-  const CVec d = es.eigenvectors().partialPivLu().solve((x.segment(ns * (n - 1), m.nb()) - ys.head(m.nb())).cast<std::complex<double>>());
-  f.ahead_rate.clear();
-  f.ahead_mode.clear();
-  f.slowest_ahead = std::numeric_limits<double>::infinity();
-  for (int k = 0; k < m.nb(); ++k) {
-    const auto l = es.eigenvalues()[k];
-    if (l.real() >= 0.0) continue;
-    f.slowest_ahead = std::min(f.slowest_ahead, -l.real());
-    f.ahead_rate.push_back(l);
-    std::vector<std::complex<double>> mode(static_cast<std::size_t>(m.nb()));
-    for (int r = 0; r < m.nb(); ++r) mode[static_cast<std::size_t>(r)] = d[k] * es.eigenvectors()(r, k);
-    for (int j = 1; j <= m.M; ++j) mode[static_cast<std::size_t>(j)] += mode[0];  // d_j → u_j = u_0 + d_j
-    f.ahead_mode.push_back(std::move(mode));
-  }
-  far_field::classify(f);
+  far_field::finish_diagnostics(m, c, sd, Ja, x.segment(ns * (n - 1), m.nb()) - ys.head(m.nb()), f, [&](auto& mode) {
+    for (int j = 1; j <= m.M; ++j) mode[static_cast<std::size_t>(j)] += mode[0];
+  });
 }
 
 // One Newton solve on a fresh mesh from an initial iterate built by `start`.
@@ -402,19 +352,16 @@ StripFront solve_strip_front(const core::InterfaceParams& law, const core::BulkP
                          [&](const Collocation& col) { return transfer(col, *guess, sigma_d); });
   }
   // Cold start: the 1D front, then the strip grown from H_0 = min(H, thin_height) at fixed μ, ρ.
-  const SteadyFront f1 = solve_steady_front(law, {bulk.rho, bulk.mu, bulk.length, 0.0}, sigma_d);
-  if (f1.status != FrontStatus::converged) {
-    f.status = f1.status;
-    f.reason = "cold start: no 1D front at this sigma_d: " + f1.reason;
-    return f;
-  }
-  return far_field::grow_from_thin(bulk, o, [&](const core::BulkParams& b, const StripFront* last) {
-    if (!last)
-      return solve_on_mesh(law, b, make_model(law, b, o), o, sigma_d, f1.c, std::nullopt,
-                           [&](const Collocation& col) { return from_one_dimensional(col, f1); });
-    return solve_on_mesh(law, b, make_model(law, b, o), o, sigma_d, last->c, std::nullopt,
-                         [&](const Collocation& col) { return transfer(col, *last, sigma_d); });
-  });
+  return far_field::cold_start(
+      law, bulk, o, sigma_d, std::move(f),
+      [&](const core::BulkParams& b, const SteadyFront& f1) {
+        return solve_on_mesh(law, b, make_model(law, b, o), o, sigma_d, f1.c, std::nullopt,
+                             [&](const Collocation& col) { return from_one_dimensional(col, f1); });
+      },
+      [&](const core::BulkParams& b, const StripFront& last) {
+        return solve_on_mesh(law, b, make_model(law, b, o), o, sigma_d, last.c, std::nullopt,
+                             [&](const Collocation& col) { return transfer(col, last, sigma_d); });
+      });
 }
 
 StripFront solve_strip_saddle_node_front(const core::InterfaceParams& law, const core::BulkParams& bulk,

@@ -481,18 +481,7 @@ TEST_CASE("load coupling: a restarted coupled run is the uninterrupted run bit f
     const auto whole = compare::run_scene_alongside(s, {});
     REQUIRE(whole.models.size() == 3);
     REQUIRE(std::isfinite(whole.models[0].events.t_star));
-    std::vector<std::pair<double, std::string>> saved;
-    compare::RunControl ctl;
-    ctl.checkpoint_every = 8.0;
-    ctl.checkpoint = [&](const std::string& state, double t) { saved.emplace_back(t, state); };
-    testing::require_identical(whole, compare::run_scene_alongside(s, ctl));
-    REQUIRE(saved.size() >= 3);
-    for (const std::size_t k : {std::size_t{0}, saved.size() - 1}) {
-      INFO("restarted from the checkpoint at t = " << saved[k].first);
-      compare::RunControl rc;
-      rc.restart = saved[k].second;
-      testing::require_identical(whole, compare::run_scene_alongside(s, rc));
-    }
+    CHECK(testing::require_restarts_identical(s, whole, 8.0, true) >= 3);
   }
 }
 

@@ -106,9 +106,10 @@ TEST_CASE("inplane load ensembles: the count ensemble converges to the mean fiel
 TEST_CASE("inplane load ensembles: fig1_inplane_load restarted is the uninterrupted run bit for bit, both channels",
           "[inplane_load][checkpoint][slow]") {
   // configs/fig1_inplane_load.toml itself (the continuum, H = 17, p_0 = 10) to t = 36 (past first yield, t* = 28.5 under
-  // re-attachment, 33.1 under the instantaneous channel), under re-attachment, the instantaneous channel and the regularised one (L = 1, v* = 0.1): the run
-  // with checkpoints every 16 and the run restarted from the first checkpoint against the run without: every field
-  // exactly (tests/identical.hpp). The small-strip version with the ensembles alongside is in tests/test_inplane_load.cpp.
+  // re-attachment, 33.1 under the instantaneous channel), under re-attachment, the instantaneous channel and the
+  // regularised one (L = 1, v* = 0.1): the run with checkpoints every 16 and the run restarted from the first checkpoint
+  // against the run without: every field exactly (tests/identical.hpp). The small-strip version with the ensembles
+  // alongside is in tests/test_inplane_load.cpp.
   struct Case {
     const char* channel;
     double length;

@@ -80,6 +80,7 @@ bool aging(const Scene& s) { return s.interface.ages_contacts(); }
 bool load_profile(const Scene& s) { return s.interface.has_load_profile(); }
 bool load_coupled(const Scene& s) { return s.interface.load_coupling != "none"; }  // an unknown value is refused
 bool normal_load(const Scene& s) { return s.interface.has_normal_load(); }
+bool load_relaxed(const Scene& s) { return s.interface.relaxes_load(); }
 bool cfl_used(const Scene& s) { return !imposed(s) && s.time.dt == 0.0; }
 bool bulk_scene(const Scene& s) { return !imposed(s); }
 // a body of height: the antiplane or the in-plane strip (bulk.height given)
@@ -140,6 +141,11 @@ const std::vector<Section>& schema() {
            // the in-plane strip's own normal load (docs/model.md §12.5), used when not "none": refused on other bodies
            {"load_coupling", at<&Scene::interface, &InterfaceParams::load_coupling>, load_coupled,
             "when not \"none\" (the in-plane strip's sigma_yy)"},
+           // the regularised instantaneous channel (docs/model.md §12.7), used when not 0: refused where it acts on nothing
+           {"load_relaxation_length", at<&Scene::interface, &InterfaceParams::load_relaxation_length>, load_relaxed,
+            "when not 0 (the regularised instantaneous channel)"},
+           {"load_relaxation_speed", at<&Scene::interface, &InterfaceParams::load_relaxation_speed>, load_relaxed,
+            "with interface.load_relaxation_length > 0"},
        }},
       {"bulk",
        {

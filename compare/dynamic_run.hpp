@@ -322,7 +322,7 @@ class DynamicRun {
     if constexpr (Law::hooks.normal_load && requires(std::span<double> o) { sim_.bulk().interface_normal_stress(sim_.displacement(), o); }) {
       normal_stress_.resize(sim_.bulk().sites());
       sim_.bulk().interface_normal_stress(sim_.displacement(), normal_stress_);
-      install_coupled_load(coupling_->resting_areas(normal_stress_, r_.x, sim_.time()));
+      install_coupled_load(coupling_->resting_areas(normal_stress_, r_.x, sim_.time(), sim_.slip_rate(), sim_.dt()));
     }
   }
   void install_coupled_load(std::span<const double> factor) {

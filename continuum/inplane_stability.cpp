@@ -54,17 +54,21 @@ double lumped_mass(const InPlaneStabilityParams& p, int dof) {
 
 void check(const InPlaneStabilityParams& p, double k) {
   if (!(k > 0.0) || p.elements < 2 || !(p.height > 0.0) || !(p.mu_p > 0.0) || !(p.rho_p > 0.0) || !(p.p0 > 0.0) ||
-      !(p.v0 > 0.0))
-    throw std::invalid_argument("inplane stability: k, H, μ', ρ', p_0, v_0 must be > 0 and elements >= 2");
+      !(p.v0 > 0.0) || !(p.relaxation_length >= 0.0) || !(p.relaxation_speed >= 0.0))
+    throw std::invalid_argument("inplane stability: k, H, μ', ρ', p_0, v_0 must be > 0, L, v* >= 0 and elements >= 2");
 }
 
-// The first-order system ż = J z, z = [q | q̇ | ℓ]: q the free dofs (X_0..X_N, Y_1..Y_N), ℓ the law's two perturbations.
+bool regularised(const InPlaneStabilityParams& p) { return p.relaxation_length > 0.0; }
+
+// The first-order system ż = J z, z = [q | q̇ | ℓ | δp_eff]: q the free dofs (X_0..X_N, Y_1..Y_N), ℓ the law's two
+// perturbations, δp_eff the regularised load (only with relaxation_length > 0).
 Eigen::MatrixXcd growth_matrix(const InPlaneStabilityParams& p, double k) {
   check(p, k);
   const int N = p.elements;
   const Eigen::MatrixXd K = strip_stiffness(p, k);
   const auto f = free_dofs(N);
-  const int n = static_cast<int>(f.size()), size = 2 * n + 2, la = 2 * n, lb = 2 * n + 1;
+  const int n = static_cast<int>(f.size()), la = 2 * n, lb = 2 * n + 1, pe = 2 * n + 2;
+  const int size = regularised(p) ? 2 * n + 3 : 2 * n + 2;
   const int y0 = N + 1;  // the held dof Y_0: its reaction is the interface normal stress
   // steady sliding at v0 (docs/model.md §1.4): A0 = 1/(1 + κ v0), σ̄0 = α A0
   const double A0 = 1.0 / (1.0 + p.kappa * p.v0), sb0 = p.alpha * A0, r = 1.0 + p.kappa * p.v0;
@@ -79,6 +83,15 @@ Eigen::MatrixXcd growth_matrix(const InPlaneStabilityParams& p, double k) {
   Eigen::RowVectorXcd dp(size);
   dp.setZero();
   for (int b = 0; b < n; ++b) dp(b) = Complex(0.0, 1.0) * K(y0, f[b]);
+  if (regularised(p)) {
+    // δṗ_eff = β (δp − δp_eff), β = (v0 + v*)/L (the |v| factor multiplies p_eff − p = 0 at the steady state); the law
+    // then sees δp_eff in place of δp
+    const double beta = (p.v0 + p.relaxation_speed) / p.relaxation_length;
+    J.row(pe) = beta * dp;
+    J(pe, pe) = -beta;
+    dp.setZero();
+    dp(pe) = 1.0;
+  }
   // X_0 (free dof 0): m0 Ẍ0 = −(Kq)_{X0} − δτ, δτ = δσ̄ + η δv, δv = w_0
   const double m0 = lumped_mass(p, 0);
   J(n, n) -= p.eta / m0;
@@ -118,10 +131,14 @@ InPlaneMode leading_mode(const InPlaneStabilityParams& p, double k, double max_f
   Eigen::ComplexEigenSolver<Eigen::MatrixXcd> es(growth_matrix(p, k), true);
   if (es.info() != Eigen::Success) throw std::runtime_error("inplane stability: the eigenvalue solver failed");
   const auto& ev = es.eigenvalues();
+  // The sliding breaks the symmetry x -> -x, so the modes of e^{ikx} need not come in pairs ±ω: every frequency
+  // sign counts; of two with the same rate (to 1e-12 of |s|), the one with Im s >= 0.
   Eigen::Index best = -1;
-  for (Eigen::Index a = 0; a < ev.size(); ++a)
-    if (ev(a).imag() >= 0.0 && std::abs(ev(a).imag()) <= max_frequency && (best < 0 || ev(a).real() > ev(best).real()))
-      best = a;
+  for (Eigen::Index a = 0; a < ev.size(); ++a) {
+    if (std::abs(ev(a).imag()) > max_frequency) continue;
+    const double gain = best < 0 ? 1.0 : ev(a).real() - ev(best).real(), tie = 1e-12 * std::abs(ev(a));
+    if (gain > tie || (std::abs(gain) <= tie && ev(a).imag() >= 0.0 && ev(best).imag() < 0.0)) best = a;
+  }
   if (best < 0) throw std::runtime_error("inplane stability: no mode below the frequency bound");
   const int N = p.elements, n = 2 * N + 1;
   const auto z = es.eigenvectors().col(best);
@@ -143,6 +160,7 @@ InPlaneMode leading_mode(const InPlaneStabilityParams& p, double k, double max_f
   }
   m.law_a = z(2 * n) / norm;
   m.law_b = z(2 * n + 1) / norm;
+  m.p_eff = regularised(p) ? z(2 * n + 2) / norm : Complex(0.0);
   return m;
 }
 

@@ -42,6 +42,10 @@ const KeyDomain continuum_domains[] = {
     {"interface.load_channel", K::choice, 0, 0, false, false, false, "reattachment|instantaneous"},
     {"interface.load_coupling", K::choice, 0, 0, false, false, false, "none|sigma_yy",
      "(the in-plane strip's own normal load p = -sigma_yy(x, 0, t), docs/model.md §12.5)"},
+    {"interface.load_relaxation_length", K::number, 0.0, cap, false, false, false, "",
+     "(L of the regularised instantaneous channel, docs/model.md §12.7; 0: off)"},
+    {"interface.load_relaxation_speed", K::number, 0.0, cap, false, false, false, "",
+     "(v* of the regularised instantaneous channel: the relaxation rate is (|v| + v*)/L)"},
     {"bulk.rho", K::number, 0.0, cap, true},
     {"bulk.mu", K::number, 0.0, cap, true},
     {"bulk.length", K::number, 0.0, cap, true},
@@ -186,6 +190,25 @@ void check_in_domain(const char* key, double value) {
   check_in_domain(*d, value);
 }
 
+namespace {
+// docs/model.md §12.7: the regularisation acts on a load that changes in time under the instantaneous channel only.
+void check_load_relaxation(const InterfaceParams& ip) {
+  check_in_domain("interface.load_relaxation_length", ip.load_relaxation_length);
+  check_in_domain("interface.load_relaxation_speed", ip.load_relaxation_speed);
+  if (!ip.relaxes_load()) {
+    require(ip.load_relaxation_speed == 0.0, "interface.load_relaxation_speed",
+            "given without interface.load_relaxation_length > 0 (the regularisation's length; 0: off)");
+    return;
+  }
+  require(ip.couples_load(), "interface.load_relaxation_length",
+          "regularises the coupled load (docs/model.md §12.7): needs interface.load_coupling = \"sigma_yy\" (a "
+          "prescribed profile does not change in time)");
+  require(ip.instantaneous_load(), "interface.load_relaxation_length",
+          "regularises the instantaneous channel (docs/model.md §12.7): needs interface.load_channel = "
+          "\"instantaneous\", got '" + ip.load_channel + "' (the re-attachment channel already follows p at unit rate)");
+}
+}  // namespace
+
 void InterfaceParams::validate() const {
   check_in_domain("interface.alpha", alpha);
   check_in_domain("interface.kappa", kappa);
@@ -194,6 +217,7 @@ void InterfaceParams::validate() const {
   if (ages_contacts()) check_in_domain("interface.aging_tau", aging_tau);
   require(load_coupling == "none" || load_coupling == "sigma_yy", "interface.load_coupling",
           "unknown coupling '" + load_coupling + "' (expected none or sigma_yy)");
+  if (load_channel == "reattachment" || load_channel == "instantaneous") check_load_relaxation(*this);
   if (!has_load_profile()) {
     require(load_x.empty(), "interface.load_x", "given without interface.load_p (the load at those positions)");
     if (couples_load()) {

@@ -87,6 +87,12 @@ struct InterfaceParams {
   /// The in-plane strip's own normal load (docs/model.md §12.5): "sigma_yy" feeds p(x, t)/p_0 = −σ_yy(x, 0, t)/p_0
   /// (p_0 = bulk.normal_load) to the law's normal-load hook every step; "none" (the default) is today's model.
   std::string load_coupling = "none";
+  /// The regularisation of the coupled instantaneous channel (docs/model.md §12.7, Prakash–Clifton): the law sees
+  /// p_eff, ṗ_eff = −((|v| + v*)/L)(p_eff − p), L = load_relaxation_length, v* = load_relaxation_speed; L = 0 (the
+  /// default): off, p_eff = p (today's channel bit for bit).
+  double load_relaxation_length = 0.0;
+  double load_relaxation_speed = 0.0;
+  bool relaxes_load() const { return load_relaxation_length != 0.0; }
   bool has_load_profile() const { return !load_p.empty(); }
   bool couples_load() const { return load_coupling == "sigma_yy"; }
   /// A normal load of either kind: the profile or the coupling (load_exponent and load_channel are used).

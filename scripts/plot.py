@@ -932,13 +932,16 @@ def plot_generic(res: Results, outdir, written, dpi):
 
 
 def plot_growth_rates(path, outdir, dpi):
-    """docs/model.md §12.6: growth rates Re s against kH of homogeneous sliding on the in-plane strip under the normal-load
+    """docs/model.md §12.6, §12.7: growth rates Re s against kH of homogeneous sliding on the in-plane strip under the normal-load
     coupling, both channels: the linearisation (continuum::inplane_growth_rates: the least-damped resolved mode, and the
     fastest of all modes) as lines, the seeded grid runs (tests/test_inplane_load.cpp) as markers. `path`: the CSV the
     test writes with SLIPFRONT_GROWTH_CSV set (columns channel, kH, kind, re_s, im_s). Returns the PNGs written."""
     rows = np.genfromtxt(path, delimiter=",", names=True, dtype=None, encoding="utf-8")
     fig, ax = plt.subplots(figsize=(7.5, 4.8))
+    # the two channels, then any regularised one (docs/model.md §12.7: "instantaneous L=..."), in the file's order
     colors = {"reattachment": "tab:blue", "instantaneous": "tab:red"}
+    for channel in dict.fromkeys(rows["channel"]):
+        colors.setdefault(str(channel), ["tab:green", "tab:purple", "tab:orange", "tab:brown"][(len(colors) - 2) % 4])
     styles = {"theory_resolved": ("-", "least-damped resolved mode (omega H/c_p < 4)"),
               "theory_max": (":", "fastest mode of all (16 rows)")}
     for channel, color in colors.items():

@@ -4,7 +4,13 @@
 
 #include <catch2/catch.hpp>
 
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "compare/alongside.hpp"
 #include "compare/result.hpp"
+#include "compare/run_control.hpp"
 #include "scenes.hpp"
 
 namespace slipfront::testing {
@@ -43,6 +49,28 @@ inline void require_identical(const compare::SceneResult& x, const compare::Scen
   CHECK(same(x.comparison.contacts, y.comparison.contacts));
   REQUIRE(x.comparison.metrics.size() == y.comparison.metrics.size());
   for (const auto& [k, v] : x.comparison.metrics) CHECK(same(v, y.comparison.metrics.at(k)));
+}
+
+/// A scene run with checkpoints every `every` and restarted from its first checkpoint and, when `last`, its last one,
+/// against the run without checkpoints (`whole`, run_scene_alongside of s): every field exactly. Returns the number of
+/// checkpoints written.
+inline std::size_t require_restarts_identical(const compare::Scene& s, const compare::SceneResult& whole, double every,
+                                              bool last) {
+  std::vector<std::pair<double, std::string>> saved;
+  compare::RunControl ctl;
+  ctl.checkpoint_every = every;
+  ctl.checkpoint = [&](const std::string& state, double t) { saved.emplace_back(t, state); };
+  require_identical(whole, compare::run_scene_alongside(s, ctl));
+  REQUIRE(!saved.empty());
+  std::vector<std::size_t> from = {0};
+  if (last && saved.size() > 1) from.push_back(saved.size() - 1);
+  for (const std::size_t k : from) {
+    INFO("restarted from the checkpoint at t = " << saved[k].first);
+    compare::RunControl rc;
+    rc.restart = saved[k].second;
+    require_identical(whole, compare::run_scene_alongside(s, rc));
+  }
+  return saved.size();
 }
 
 }  // namespace slipfront::testing

@@ -140,8 +140,8 @@ TEST_CASE("slow studies: both models on an in-plane Fig. 2 point, the discrete m
           "[slow][studies][inplane]") {
   // docs/fronts.md §11.11, configs/studies/checks/front_speeds_inplane_N.toml: fig1_inplane at H = 17 (the crossover
   // point of fig2_inplane, mu = E'H = 300), explicit, dx = dy = 1, stopped at the arrest; the count representation with
-  // noise, N = 1e2 .. 1e6 x 6 seeds, 48 runs of both models alongside (~26 s of CPU each: ~20 min of CPU, ~11 min on 2
-  // quiet cores). Fixed seeds: deterministic; for a fresh set of seeds a 95 % interval misses -1/2 at 5 %.
+  // noise, N = 1e2 .. 1e6 x 6 seeds, 48 runs of both models alongside (measured 1144 s of CPU, ~10 min on 2 quiet
+  // cores). Fixed seeds: deterministic; for a fresh set of seeds a 95 % interval misses -1/2 at 5 %.
   const auto r = run("checks/front_speeds_inplane_N");
   const auto& t = r.tables.at("front_speeds");
   // t* is the continuum's exactly (no draw before first yield)

@@ -206,6 +206,17 @@ void transient_vs_N(StudyReport& rep, const StudySpec& spec, const std::vector<S
            "exponent p of distance_mean(N) ~ N^p");
 }
 
+// RMS over the finite values of (x - reference) / reference; NaN when none is finite.
+double rms_relative_difference(const std::vector<double>& xs, double reference) {
+  double ms = 0.0;
+  int k = 0;
+  for (double x : xs) {
+    const double r = (x - reference) / reference;
+    if (std::isfinite(r)) { ms += r * r; ++k; }
+  }
+  return k ? std::sqrt(ms / k) : nan;
+}
+
 // front_speeds: fig1 event times and speeds of the discrete model over seeds vs N.
 void fronts_vs_N(StudyReport& rep, const StudySpec& spec, const std::vector<StudyRun>& runs, const std::vector<Scene>&,
                  const std::vector<std::vector<ModelResult>>& res) {
@@ -231,6 +242,7 @@ void fronts_vs_N(StudyReport& rep, const StudySpec& spec, const std::vector<Stud
       t[n + "_sd"].push_back(sd_of(d));
       t[n + "_finite"].push_back(finite_count(d));
       t[n + "_rel_diff"].push_back((mean_of(d) - cont) / cont);
+      t[n + "_rms_rel_diff"].push_back(rms_relative_difference(d, cont));
     }
   }
   for (const Obs& o : obs) {
@@ -238,6 +250,10 @@ void fronts_vs_N(StudyReport& rep, const StudySpec& spec, const std::vector<Stud
     rep.definitions["front_speeds/" + n + "_mean"] = "mean over seeds of the discrete " + n + " (docs/model.md §3)";
     rep.definitions["front_speeds/" + n + "_sd"] = "standard deviation over seeds of the discrete " + n;
     rep.definitions["front_speeds/" + n + "_rel_diff"] = "(mean - continuum) / continuum";
+    rep.definitions["front_speeds/" + n + "_rms_rel_diff"] =
+        "RMS over seeds of (discrete - continuum) / continuum: the seed mean's bias and the spread together";
+    put_fits(rep, "front_" + n + "_rms_exponent", t["N"], t[n + "_rms_rel_diff"], spec.fit_from,
+             "exponent p of the RMS over seeds of |discrete - continuum|/continuum of " + n + " ~ N^p");
     put_fits(rep, "front_" + n + "_sd_exponent", t["N"], t[n + "_sd"], spec.fit_from,
              "exponent p of the seed spread of " + n + " ~ N^p");
     std::vector<double> absdiff;

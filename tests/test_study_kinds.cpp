@@ -2,7 +2,9 @@
 // analysis; a study file is validated against it and analyse_study dispatches on it.
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <fstream>
+#include <limits>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -161,4 +163,48 @@ TEST_CASE("study kinds: `slipfront study --list-kinds --json` is the table, and 
   CHECK(checked.out == "table.json: ok " + names + "\n"  // every kind of the table, in its order, has its plots
                        "new_kind.json: missing new_kind\n"
                        "without.json: extra friction_law\n");
+}
+
+TEST_CASE("study kinds: front_speeds reports the RMS over seeds of the discrete model's relative difference and its "
+          "rate in N",
+          "[study][kinds][front_speeds]") {
+  // Synthetic runs (no scene is run): at each N four seeds whose c_transient differs from the continuum's by
+  // (1, -1, 2, -2) x 0.03 N^-1/2 (relative) and a fifth without a transient front (NaN: left out). The table's
+  // c_transient_rms_rel_diff is then 0.03 sqrt(2.5) N^-1/2 exactly, its fitted exponent -1/2 (the points lie on the line:
+  // the interval is the point), and the seed mean's bias 0. A continuum speed of 20.
+  const std::vector<double> Ns{100, 1000, 10000, 100000};
+  const double seed_offsets[] = {1.0, -1.0, 2.0, -2.0};
+  const double c0 = 20.0, nan = std::numeric_limits<double>::quiet_NaN();
+  std::vector<compare::StudyRun> runs;
+  std::vector<std::vector<compare::ModelResult>> results;
+  for (double N : Ns)
+    for (int k = 0; k < 5; ++k) {
+      compare::StudyRun r;
+      r.point["discrete.contacts_per_site"] = std::to_string(static_cast<long>(N));
+      r.seed = k + 1;
+      runs.push_back(r);
+      std::vector<compare::ModelResult> m(2);
+      m[0].model = "continuum";
+      m[0].events.c_transient = c0;
+      m[1].model = "discrete";
+      m[1].events.c_transient = k < 4 ? c0 * (1.0 + 0.03 * seed_offsets[k] / std::sqrt(N)) : nan;
+      results.push_back(m);
+    }
+  compare::StudySpec spec;
+  spec.name = "synthetic";
+  spec.kind = "front_speeds";
+  const std::vector<compare::Scene> scenes(runs.size());
+  const auto rep = studies::analyse_study(spec, runs, scenes, results);
+  const auto& t = rep.tables.at("front_speeds");
+  REQUIRE(t.at("N") == Ns);
+  for (std::size_t i = 0; i < Ns.size(); ++i) {
+    INFO("N = " << Ns[i]);
+    CHECK(t.at("c_transient_rms_rel_diff")[i] == Approx(0.03 * std::sqrt(2.5) / std::sqrt(Ns[i])).epsilon(1e-9));
+    CHECK(std::abs(t.at("c_transient_rel_diff")[i]) < 1e-12);
+    CHECK(t.at("c_transient_finite")[i] == 4.0);
+  }
+  CHECK(rep.scalars.at("front_c_transient_rms_exponent") == Approx(-0.5).epsilon(1e-9));
+  CHECK(rep.scalars.at("front_c_transient_rms_exponent_ci_low") == Approx(-0.5).epsilon(1e-6));
+  CHECK(rep.scalars.at("front_c_transient_rms_exponent_ci_high") == Approx(-0.5).epsilon(1e-6));
+  CHECK(rep.definitions.count("front_speeds/c_transient_rms_rel_diff") == 1);
 }

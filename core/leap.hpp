@@ -15,6 +15,8 @@
 //                   κ |dv_i/dt| h ≤ ε (1 + κ|v_i|)     the detachment rate changes by a fraction ε at most
 //                   h ≤ ε (τ_i ≤ s_0), h (1 + κ|v_i|) ≤ ε (τ_i > s_0), ε/4 at a sliding site that a count
 //                                                      fluctuation can take below s_0 (kSlidingShare, kNoiseReach)
+//                                                      unless the law watches it (its yield test at every count
+//                                                      event: discrete::CountLaw::advance_watched)
 //                                                      at a site whose contacts move (A < 1, or τ_i > s_0) and
 //                                                      whose contact stress τ_i is within 20 % of the range of
 //                                                      thresholds [s_0, s_1] (yield_onset, yield_saturation;
@@ -32,7 +34,9 @@
 // The tests are made in the order 2, 3, 1 (the cheap ones first: a trial they shorten does not pay for the
 // defect's re-solves), and 2–3 again after a re-solve.
 // Within a step the sampled counts are exact for the frozen rates (the two-state chain's transition
-// probabilities), so the step error is that of freezing the rates (tests 2 and 3) and of the body's
+// probabilities; a law with a watched step — the count law at one threshold, fresh renewal — takes the accepted
+// step of a site near its threshold event by event with the yield test after every event, docs/numerics.md §9.7),
+// so the step error is that of freezing the rates (tests 2 and 3) and of the body's
 // trapezoidal rule (test 1 and 2 on v); quiet stretches (no site moves its rates) grow the step by ×2 per
 // step up to time.dt_max.
 //
@@ -45,6 +49,8 @@
 #include <cstdint>
 #include <limits>
 #include <span>
+#include <utility>
+#include <concepts>
 #include <vector>
 
 #include "core/adaptive.hpp"
@@ -86,15 +92,15 @@ class LeapSimulation : public ImplicitSimulation<Law, B> {
   /// The band of contact stress about the range of thresholds, relative to its ends, in which a site whose contacts move
   /// keeps the step a fraction ε of its relaxation time (leap_ratio).
   static constexpr double kBand = 0.2;
-  /// A sliding site in that band (τ > s_0) keeps the step this share of ε of its relaxation time: the law tests a
-  /// site's yield state only at a step's start, and the re-sticking of a sliding site (a count fluctuation taking τ
-  /// below s_0, random, so not located) is seen only at the next step's, its contacts detaching until then. At ε
-  /// (share 1) that made fig1's late-mode t^ at N = 10³ late by 3.5 ± 0.7 against the explicit reference (288 runs);
-  /// at ε/4 by 0.3 ± 0.5 and 1.3 ± 0.6 on two sets of 288 seeds (at ε/2, 144 seeds: 2.1; docs/numerics.md §9.4,
-  /// tests/test_slow_leap.cpp). With the law's yield test watched at every count event instead (an experiment,
-  /// docs/numerics.md §9.6) the late-mode t^ at N = 10³ stays the reference's at share 1
-  /// (z = +0.4 and −1.8 on two sets of 288 seeds) in 1/3.4 of the steps (at N = 10⁴ +0.7 against the
-  /// explicit reference at cfl = 0.25, 0.0 against cfl = 0.125).
+  /// A sliding site in that band (τ > s_0) keeps the step this share of ε of its relaxation time where the law tests
+  /// its yield state only at a step's start: the re-sticking of a sliding site (a count fluctuation taking τ below s_0,
+  /// random, so not located) is then seen only at the next step's, its contacts detaching until then. At ε (share 1)
+  /// that made fig1's late-mode t^ at N = 10³ late by 3.5 ± 0.7 against the explicit reference (288 runs); at ε/4 by
+  /// 0.3 ± 0.5 and 1.3 ± 0.6 on two sets of 288 seeds (docs/numerics.md §9.4). A site the law watches (watched(): the
+  /// count law at one threshold with fresh renewal, within the noise reach and its event cap, discrete::CountLaw::
+  /// watches) keeps share 1: its yield test is made at every count event of the step, which removes that delay and
+  /// the early-transient excess the share left (docs/numerics.md §9.6, §9.7; tests/test_slow_leap.cpp). Binned or
+  /// quenched thresholds, the agent law, a normal load and a site past the event cap keep this share.
   static constexpr double kSlidingShare = 0.25;
   /// ... only where a count fluctuation can reach the threshold (core::LawHooks::count_noise): τ_i − s_0 ≤ kNoiseReach
   /// τ_i / √(N A_i), a site's stress fluctuating by ~τ/√(N A) over its relaxation time (N A attached contacts), of
@@ -234,8 +240,8 @@ class LeapSimulation : public ImplicitSimulation<Law, B> {
   //   rates   κ |dv_i/dt| h / (1 + κ|W_i|), dv/dt from W and the previous step's rate over the mean of the two
   //           steps' lengths: the change of the detachment rate over the step, relative to the site's rates
   //   state   h (1 + κ|W_i| [τ_i > s_0]) (over kSlidingShare where a count fluctuation can take a sliding site's τ_i
-  //           below s_0: noisy_near) at a site whose contacts move (A_i < 1, or τ_i > s_0) and whose contact
-  //           stress τ_i = |σ̄_i + ηW_i|/A_i lies in the threshold range widened by kBand, (1 − kBand) s_0 ≤ τ_i ≤
+  //           below s_0 and the law does not watch the site) at a site whose contacts move (A_i < 1, or τ_i > s_0)
+  //           and whose contact stress τ_i = |σ̄_i + ηW_i|/A_i lies in the threshold range widened by kBand, (1 − kBand) s_0 ≤ τ_i ≤
   //           (1 + kBand) s_1 (s_0, s_1 the weakest and strongest thresholds): the step is a small
   //           part of the time in which the site's counts relax, so that a fluctuation that takes τ across a
   //           threshold and back (a site that re-sticks, or yields again) is seen by the law's yield test, as it
@@ -256,11 +262,24 @@ class LeapSimulation : public ImplicitSimulation<Law, B> {
       r = std::max(r, scale * std::abs(w - w_prev_[i]) / (1.0 + speed));
       const double tau = contact_stress(sb[i] + eta * w, area[i]);
       if ((area[i] < 1.0 || tau > s0) && tau >= (1.0 - kBand) * s0 && tau <= (1.0 + kBand) * s1) {
-        const bool noisy_near = tau - s0 <= reach * tau / std::sqrt(area[i]);  // false for reach = 0 (τ > s_0 here)
-        r = std::max(r, tau > s0 ? h * (1.0 + speed) / (noisy_near ? kSlidingShare : 1.0) : h);
+        // false for reach = 0 (τ > s_0 here); a site the law watches (its yield test at every count event) needs no share
+        const bool shared = tau - s0 <= reach * tau / std::sqrt(area[i]) && !watched(i, w, h);
+        r = std::max(r, tau > s0 ? h * (1.0 + speed) / (shared ? kSlidingShare : 1.0) : h);
       }
     }
     return std::isfinite(r) ? r / opt_.leap_epsilon : std::numeric_limits<double>::infinity();
+  }
+
+  // A law with a watched step (discrete::CountLaw::advance_watched: the yield test at every count event of a site near
+  // its threshold) takes its accepted steps by it; watched(i, w, h) says whether it watches site i over a step of h
+  // at the rate w (then the site keeps ε unshared: its re-sticking is seen when it happens, not at the next step).
+  static constexpr bool kWatchedLaw = requires(Law& law, std::span<const double> v) {
+    { law.advance_watched(1.0, v, 1.0) } -> std::same_as<LawStepInfo>;
+    { std::as_const(law).watches(std::size_t{0}, 1.0, 1.0, 1.0) } -> std::same_as<bool>;
+  };
+  bool watched(std::size_t i, double w, double h) const {
+    if constexpr (kWatchedLaw) return this->law_.watches(i, w, h, kNoiseReach);
+    else return false;
   }
 
   // kNoiseReach / √N of a law with count noise (τ_i − s_0 ≤ this τ_i / √A_i is within reach of a fluctuation); 0 for a
@@ -315,7 +334,16 @@ class LeapSimulation : public ImplicitSimulation<Law, B> {
     this->yielded_any_ = false;
     this->vmax_step_ = 0.0;
     const double t_end = (t_stop_ > t && h == t_stop_ - t) ? t_stop_ : t + h;
-    this->accept_trial(t, h, t_end);
+    if constexpr (kWatchedLaw) {  // ImplicitSimulation::accept_trial with the law's watched step
+      ++this->substeps_;
+      const double edge0 = this->bulk_.edge_slip(this->displacement());
+      this->commit(h);
+      if (this->energy_) this->work_over_step(t, h, edge0);
+      this->yielded_any_ |= this->law_.advance_watched(h, this->slip_rate(), kNoiseReach).any_yield;
+      if (this->energy_) this->mechanical_now(t_end);
+    } else {
+      this->accept_trial(t, h, t_end);
+    }
     this->t_ = t_end;
     ++this->steps_;
     ++stats_.accepted;

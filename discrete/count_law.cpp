@@ -299,6 +299,10 @@ bool CountLaw::advance_sites(std::size_t lo, std::size_t hi, double dt, const do
       sigma_bar_[i] = detail::relax_stress(sb, alpha * 0.5 * (a0 + a0) * vi, 0.0 * speed, dt);
       continue;
     }
+    if (watch_reach_ > 0.0 && watches(i, vi, dt, watch_reach_)) {  // advance_watched: event by event
+      any |= step_watched(i, vi, dt);
+      continue;
+    }
     const std::size_t k = overloaded_bins(tau);
     const double n_over = overloaded_count(i, k);
     const double n_att = n_att_[i];
@@ -311,6 +315,54 @@ bool CountLaw::advance_sites(std::size_t lo, std::size_t hi, double dt, const do
     // 4. stress: exact update with Ā = (A + A')/2 and Y frozen
     sigma_bar_[i] = detail::relax_stress(sb, alpha * 0.5 * (a0 + a1) * vi, y * speed, dt);
   }
+  return any;
+}
+
+core::LawStepInfo CountLaw::advance_watched(double dt, std::span<const double> v, double reach) {
+  watch_reach_ = reach;
+  struct Reset {  // advance() alone never watches, whatever advance_watched's end (an exception included)
+    double& r;
+    ~Reset() { r = 0.0; }
+  } reset{watch_reach_};
+  return advance(dt, v);
+}
+
+bool CountLaw::watches(std::size_t i, double v, double dt, double reach) const {
+  if (!noise_ || quenched_ || nbins_ != 1 || !rest_.empty()) return false;
+  const double n = n_att_[i];
+  if (!(n > 0.0)) return false;
+  const double tau = core::contact_stress(sigma_bar_[i] + ip_.eta * v, area_[i]);
+  return std::abs(tau - thresholds_[0]) <= reach * tau / std::sqrt(n) &&
+         n_contacts_ * (1.0 + ip_.kappa * std::abs(v)) * dt <= kWatchCap;
+}
+
+// One threshold s_0, fresh renewal, no load (watches): the site is n attached contacts and N − n detached ones, all
+// overloaded or none (Y = 1 or 0). Between events A = n/N is fixed and σ̄ relaxes exactly (relax_stress at the rate
+// Y|v|); an event comes at the total rate R = (N − n) + κ|v| n [τ > s_0] (an exponential waiting time), is an
+// attachment with probability (N − n)/R, and τ is tested again after it. At most ~kWatchCap events (their number
+// has a mean ≤ N (1 + κ|v|) dt ≤ kWatchCap).
+bool CountLaw::step_watched(std::size_t i, double v, double dt) {
+  const double alpha = ip_.alpha, eta = ip_.eta, speed = std::abs(v), detach = ip_.kappa * speed;
+  const double s0 = thresholds_[0], total_contacts = n_contacts_;
+  Engine& e = engine_at(i);
+  double n = n_att_[i], sb = sigma_bar_[i], left = dt;
+  bool any = false;
+  for (;;) {
+    const double a = area_of(i, n);
+    const bool over = core::contact_stress(sb + eta * v, a) > s0;  // (n = 0: τ = ∞, over)
+    any |= over && speed > 0.0;
+    const double attach = total_contacts - n, rate = attach + (over ? detach * n : 0.0);
+    const double wait = rate > 0.0 ? -std::log(uniform01(e)) / rate : std::numeric_limits<double>::infinity();
+    sb = detail::relax_stress(sb, alpha * a * v, over ? speed : 0.0, std::min(wait, left));
+    if (!(wait < left)) break;
+    left -= wait;
+    n += uniform01(e) * rate < attach ? 1.0 : -1.0;
+  }
+  att(i)[0] = n;
+  det(i)[0] = total_contacts - n;
+  n_att_[i] = n;
+  area_[i] = area_of(i, n);
+  sigma_bar_[i] = sb;
   return any;
 }
 

@@ -20,6 +20,10 @@
 //                  (exact: docs/discrete.md, "Unspread arrivals")
 //   4. stress      σ̄_i' = relax(σ̄_i, α Ā_i v_i, Y_i |v_i|, Δt),  Ā = (A + A')/2,
 //                  Y_i = overloaded fraction of the attached contacts at t (1 when none attached)
+// The step-controlled integrator (core/leap.hpp) takes its accepted steps by advance_watched: at one threshold, fresh
+// renewal, noise on and no normal load, a site whose τ is within a count fluctuation of s_0 takes stages 2–4 event by
+// event instead (Gillespie's direct method, the yield test after every event, docs/discrete.md "The watched step",
+// docs/numerics.md §9.7); every other site, and every site under advance(), takes the step above.
 // With w = 0 and noise off this is, operation for operation, FrictionLaw::advance (docs/model.md §2 item 1):
 // the two laws agree bit for bit (tests/test_discrete_identity.cpp).
 //
@@ -110,6 +114,27 @@ class CountLaw : public core::OverloadedSteadyState<CountLaw> {
     };
   }
 
+  // --- the watched step (core/leap.hpp; docs/numerics.md §9.7) ------------------------------------
+  /// The count events a watched site's step may take at most: a site is watched only while N (1 + κ|v|) dt, a bound
+  /// on its expected events over the step (attach ≤ N, detach ≤ κ|v| N), stays within it. At the leap's default
+  /// ε = 0.2 a sliding site's step keeps (1 + κ|v|) dt ≤ ε, so every site near s_0 is watched up to N ≈ 2·10⁴; at
+  /// N = 10⁵ a watched site would draw ~2·10⁴ events a step (~10⁵ per unit time, each an exponential and a uniform),
+  /// where the binomial step at the leap's ε/4 share costs a few draws a step: there the site keeps the binomial step.
+  static constexpr double kWatchCap = 4096.0;
+  /// Whether advance_watched(dt, v, reach) watches site i at slip rate v (the leap integrator's share, core/leap.hpp):
+  /// a law with one threshold s_0 (w = 0 or bins = 1), fresh renewal, the noise on and no normal load; some contact
+  /// attached, its contact stress τ within a count fluctuation of s_0, |τ − s_0| ≤ reach τ/√(N A) (reach: the leap's
+  /// kNoiseReach), and N (1 + κ|v|) dt ≤ kWatchCap. From the state at the step's start: the same answer before and
+  /// during advance_watched.
+  bool watches(std::size_t i, double v, double dt, double reach) const;
+  /// advance(dt, v) with the sites that watches(i, v[i], dt, reach) names stepped event by event (Gillespie's direct
+  /// method: waiting times at the total rate (N − n) + κ|v| n [τ > s_0], the yield test after every event, σ̄ relaxed
+  /// exactly between events with A fixed, v frozen): the two-state chain of docs/model.md §2 with its yield state
+  /// watched continuously, not only at the step's start. Every other site takes advance()'s step. any_yield: some
+  /// site had an overloaded attached contact (or none attached) with v ≠ 0 at the step's start, or, at a watched
+  /// site, at some event of the step.
+  core::LawStepInfo advance_watched(double dt, std::span<const double> v, double reach);
+
   /// The weakest threshold s_0: below it no contact is overloaded (core::LawHooks::yield_onset).
   double yield_onset() const { return thresholds_.front(); }
   /// The strongest threshold s_{B−1}: above it every contact is overloaded.
@@ -165,6 +190,9 @@ class CountLaw : public core::OverloadedSteadyState<CountLaw> {
   /// Stages 2–3 of the step at site i with k overloaded bins and detach rate κ|v|; return A'.
   double step_contacts_sampled(std::size_t i, std::size_t k, double n_over, double detach, double dt);
   double step_contacts_mean(std::size_t i, std::size_t k, double detach, double dt);
+  /// The watched step of site i (advance_watched): counts and σ̄ over [t, t + dt] event by event; returns whether the
+  /// site was overloaded with v ≠ 0 at some event (or at the start).
+  bool step_watched(std::size_t i, double v, double dt);
   /// Noise on, re-attachment channel of a normal load (docs/model.md §12.2): attach a_i, detach 1 − a_i (+ detach in
   /// the overloaded bins); return A'.
   double step_contacts_reattaching(std::size_t i, std::size_t k, double detach, double dt);
@@ -190,6 +218,7 @@ class CountLaw : public core::OverloadedSteadyState<CountLaw> {
   std::vector<double> rest_;  ///< [sites] resting area a_i under a normal load (docs/model.md §12); empty: none
   bool reattach_ = false;     ///< a load through re-attachment: the rates a_i, 1 − a_i
   bool scaled_ = false;       ///< a load at once: contact area a_i, A = a_i n/N
+  double watch_reach_ = 0.0;  ///< inside advance_watched: its reach (> 0); else 0 (advance(): no site watched)
 
   // Counts are whole numbers held in doubles (noise on), or real fractions of the site (noise off).
   // att_ and unspread_ are mutable for settle(), which a const reader of the bins calls.

@@ -167,7 +167,8 @@ TEST_CASE("estimate (issue 36): the leap integrator's steps follow time.leap_eps
           "[estimate]") {
   // Was: the discrete model under time.integrator = adaptive was estimated as the explicit scheme, whatever
   // leap_epsilon (1e-9: 0.17 s estimated, ~45 h projected). Stated basis (docs/robustness.md §3):
-  // max(t_end/dt_max + nodes, R t_end/eps, 20 t_end (1e-8/tol)^0.18), R = 12 v_d on edge loading.
+  // max(t_end/dt_max + nodes, R t_end/eps, 20 t_end (1e-8/tol)^0.18), R = 6 v_d on edge loading for the watched count
+  // law (19 v_d for a noisy law it does not watch; 12 v_d for every law before the watched step, 3.9x over it at eps 0.2).
   Scene s = testing::fig1_scene();
   s.models = {"discrete"};
   s.bulk.length = 60.0;

@@ -230,8 +230,8 @@ double leap_steps(const Scene& s, const std::string& model, double sites) {
   const double t_end = s.time.t_end, eps = s.time.leap_epsilon, tol = s.time.implicit_tolerance;
   const auto& d = s.discrete;
   const bool noisy = model == "discrete" && d.noise;
-  const bool watched = noisy && d.representation == "count" && count_bins(d) == 1.0 &&
-                       d.renewal != "quenched" && !s.interface.has_normal_load() && !s.interface.ages_contacts();
+  const bool watched = noisy && d.representation == "count" && !s.interface.ages_contacts() &&
+                       discrete::CountLaw::may_watch(d, static_cast<std::size_t>(count_bins(d)), s.interface.has_normal_load());
   double rate = 60.0;
   if (s.drive.loading == Loading::edge) rate = (noisy && !watched ? 19.0 : 6.0) * s.drive.v_d;
   if (s.drive.loading == Loading::spring_block) rate = 2.3 * s.drive.v_d;

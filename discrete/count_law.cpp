@@ -328,7 +328,7 @@ core::LawStepInfo CountLaw::advance_watched(double dt, std::span<const double> v
 }
 
 bool CountLaw::watches(std::size_t i, double v, double dt, double reach) const {
-  if (!noise_ || quenched_ || nbins_ != 1 || !rest_.empty()) return false;
+  if (!may_watch(dp_, nbins_, !rest_.empty())) return false;
   const double n = n_att_[i];
   if (!(n > 0.0)) return false;
   const double tau = core::contact_stress(sigma_bar_[i] + ip_.eta * v, area_[i]);

@@ -162,6 +162,12 @@ class CountLaw : public core::OverloadedSteadyState<CountLaw> {
   static bool keeps_unspread(const DiscreteParams& dp, std::size_t bins) {
     return dp.noise && dp.renewal != "quenched" && bins > 1;
   }
+  /// Whether a law with these parameters, `bins` threshold bins and a normal load or not watches any site at all
+  /// (watches below; the estimate prices the leap's steps by this too, compare/estimate.cpp): the noise on, fresh
+  /// renewal, one threshold, no normal load.
+  static bool may_watch(const DiscreteParams& dp, std::size_t bins, bool normal_load) {
+    return dp.noise && dp.renewal != "quenched" && bins == 1 && !normal_load;
+  }
   /// Detached counts of site i: [1] (fresh renewal) or per bin [B] (quenched); units as attached().
   std::span<const double> detached(std::size_t i) const;
   double attached_total(std::size_t i) const { return n_att_[i]; }  ///< Σ_b attached(i)

@@ -2409,8 +2409,6 @@ PAPER_ORDER = ("fig1", "friction_law", "velocity_step", "spring_block", "fig2_sw
 KNOWN_FINDINGS = (
     ("agent contact statistics", "after arrest", "docs/contacts.md §5"),
     ("agent contact statistics", "contacts_strip: contact lifetimes, slow front, tip", "docs/contacts.md §5.1"),
-    # the in-plane Fig. 2 point's c_transient: its spread over seeds falls as N^-0.27, not N^-1/2 (a check study)
-    ("N-rate of a study: spread over seeds as N^-1/2", "front_speeds_inplane_N: c_transient,", "docs/fronts.md §11.11"),
 )
 
 # The main figures linked from the first screen: (label, the end of the figure's file name).

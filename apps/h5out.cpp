@@ -813,7 +813,7 @@ void write_stability_file(const std::filesystem::path& tmp, const compare::Scene
   attr_string(g.get(), "description",
               "growth rates s of perturbations e^{ikx + st} of homogeneous sliding at v0 on the in-plane strip under the "
               "normal-load coupling (docs/model.md §12.6, §12.7): continuum::leading_growth_rate per channel and kH");
-  const auto& p = r.channels.front().params;
+  const auto& p = r.params;
   const double A0 = 1.0 / (1.0 + p.kappa * p.v0);
   const std::pair<const char*, double> scalars[] = {
       {"v0", p.v0}, {"v_m", continuum::steady_minimum_velocity(scene.interface)}, {"normal_load", p.p0},

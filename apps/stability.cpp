@@ -102,7 +102,7 @@ std::vector<StabilityChannel> channels_of(const continuum::InPlaneStabilityParam
 // The summary on stdout: each channel's largest Re s over the grid, and its row check.
 void print_summary(std::ostream& out, const compare::Scene& scene, const StabilityResult& r, double seconds,
                    const fs::path& dir) {
-  const auto& p = r.channels.front().params;
+  const auto& p = r.params;
   const double A0 = 1.0 / (1.0 + p.kappa * p.v0), f = p.exponent * p.alpha * A0 / p.p0;
   out << scene.name << ": growth rates " << compare::to_string(r.status) << " in " << seconds << " s -> "
       << (dir / "stability.h5").string() << (r.status == compare::RunStatus::complete ? ", growth_rates.csv" : "") << "\n"
@@ -186,6 +186,7 @@ bool stability_converged(const std::vector<Complex>& s, double frequency_scale) 
 StabilityResult compute_stability(const continuum::InPlaneStabilityParams& scene_params, double regularised_length,
                                   const std::vector<double>& kh, const std::function<bool()>& stop) {
   StabilityResult r;
+  r.params = scene_params;
   r.kh = kh;
   const double cp = std::sqrt((scene_params.lambda_p + 2.0 * scene_params.mu_p) / scene_params.rho_p);
   r.max_frequency = 4.0 * cp / scene_params.height;  // ωH/c_p ≤ 4, as docs/model.md §12.6's resolved modes
@@ -246,6 +247,9 @@ int stability_command(const StabilityOptions& opts, std::ostream& out, std::ostr
     r = compute_stability(params, opts.relaxation_length, stability_kh(opts),
                           [] { return core::stop_flag().load(std::memory_order_relaxed); });
   } catch (const std::exception& e) {
+    r = StabilityResult();  // nothing of the channels kept: the file says why
+    r.params = params;
+    r.kh = stability_kh(opts);
     r.status = compare::RunStatus::failed;
     r.message = std::string("the linearisation stopped with an error: ") + e.what();
   }

@@ -54,6 +54,7 @@ struct StabilityChannel {
 };
 
 struct StabilityResult {
+  continuum::InPlaneStabilityParams params;  ///< the scene's (its channel, its rows)
   std::vector<double> kh;
   double max_frequency = 0.0;  ///< 4 c_p/H: the resolved modes have |Im s| ≤ it
   std::vector<StabilityChannel> channels;

@@ -7,9 +7,15 @@
 //   - what they say (docs/model.md §12.6, §12.7): re-attachment stable (Re s within round-off), the instantaneous channel's
 //     fastest mode not converged in the rows, the regularised one's (L = 0.03, the waveguide mode at kH = 0.25) converged;
 //   - /meta (status, git_commit, created_utc) and /config (the resolved scene);
+//   - SIGINT: stability.h5 with status interrupted, exit 130, no growth_rates.csv;
 //   - refusals before any work, with the key and the reason: an antiplane strip, the chain, no coupling, v0 on the weakening
 //     branch, an existing stability.h5 without --force.
 #include <catch2/catch.hpp>
+
+#include <signal.h>
+
+#include <chrono>
+#include <thread>
 
 #include <cmath>
 #include <complex>
@@ -194,4 +200,24 @@ TEST_CASE("stability verb: refusals before any work, with the key and the reason
   auto forced = args;
   forced.push_back("--force");
   CHECK(slipfront::testing::run(forced, dir.path).code == 0);
+}
+
+TEST_CASE("stability verb: SIGINT stops between kH values and writes stability.h5 with status interrupted, no CSV",
+          "[stability][cli]") {
+  // 10000 kH values on 32 rows: minutes of work; stopped after 1.5 s, it ends within a kH value's solves (~0.1 s).
+  const TempDir dir("stability-sigint");
+  const fs::path out = dir.path / "s";
+  const auto child = slipfront::testing::spawn({SLIPFRONT_BINARY, "stability", scene_file, "--v0", "2", "--points",
+                                                "10000", "--rows", "32", "--out", out.string()},
+                                               dir.path, dir.path / "out.txt", dir.path / "err.txt");
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  REQUIRE(::kill(child.pid, SIGINT) == 0);
+  const int code = slipfront::testing::wait_for(child, 60);
+  INFO(slipfront::testing::slurp(child.err_path));
+  CHECK(code == 130);
+  const auto f = slipfront::testing::read_h5(out / "stability.h5");
+  CHECK(f.strings.at("/meta@status") == "interrupted");
+  CHECK(f.datasets.at("/stability/kH").size() == 10000);
+  CHECK(f.datasets.at("/stability/uncoupled/fastest_re").size() < 10000);  // what was computed, no more
+  CHECK_FALSE(fs::exists(out / "growth_rates.csv"));
 }

@@ -749,8 +749,10 @@ void put_fronts_scaling(hid_t file, const compare::FrontsResult& fr) {
 
 }  // namespace
 
-void write_fronts_file(const std::filesystem::path& tmp, const compare::Scene& scene, const std::string& resolved_toml,
-                       const compare::FrontsResult& fr, const RunMeta& meta) {
+// A checksummed in-memory file with /meta (models "continuum", the scene's config_hash) and /config: the start of
+// fronts.h5 and stability.h5.
+Hid continuum_file(const std::filesystem::path& tmp, const compare::Scene& scene, const std::string& resolved_toml,
+                   const RunMeta& meta) {
   Hid file = create_in_memory(tmp, /*checksummed=*/true);
   write_meta(file.get(), meta, meta.status, meta.message, scene.name, "continuum");
   {
@@ -761,6 +763,12 @@ void write_fronts_file(const std::filesystem::path& tmp, const compare::Scene& s
     Hid g = make_group(file.get(), "config", "/config");
     attr_string(g.get(), "toml", resolved_toml);
   }
+  return file;
+}
+
+void write_fronts_file(const std::filesystem::path& tmp, const compare::Scene& scene, const std::string& resolved_toml,
+                       const compare::FrontsResult& fr, const RunMeta& meta) {
+  Hid file = continuum_file(tmp, scene, resolved_toml, meta);
   put_fronts_branch(file.get(), fr);
   put_fronts_profiles(file.get(), scene, fr);
   if (!fr.scaling_points.empty()) put_fronts_scaling(file.get(), fr);
@@ -799,16 +807,7 @@ void put_stability_channel(hid_t parent, const StabilityChannel& c) {
 
 void write_stability_file(const std::filesystem::path& tmp, const compare::Scene& scene, const std::string& resolved_toml,
                           const StabilityResult& r, const RunMeta& meta) {
-  Hid file = create_in_memory(tmp, /*checksummed=*/true);
-  write_meta(file.get(), meta, meta.status, meta.message, scene.name, "continuum");
-  {
-    Hid g(H5Gopen2(file.get(), "meta", H5P_DEFAULT), H5Gclose, "open /meta");
-    attr_string(g.get(), "config_hash", config_hash(resolved_toml));
-  }
-  {
-    Hid g = make_group(file.get(), "config", "/config");
-    attr_string(g.get(), "toml", resolved_toml);
-  }
+  Hid file = continuum_file(tmp, scene, resolved_toml, meta);
   Hid g = make_group(file.get(), "stability", "/stability");
   attr_string(g.get(), "description",
               "growth rates s of perturbations e^{ikx + st} of homogeneous sliding at v0 on the in-plane strip under the "

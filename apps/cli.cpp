@@ -23,6 +23,7 @@
 #include "apps/h5out.hpp"
 #include "apps/json_progress.hpp"
 #include "apps/paths.hpp"
+#include "apps/stability.hpp"
 #include "apps/study.hpp"
 #include "compare/alongside.hpp"
 #include "compare/estimate.hpp"
@@ -697,6 +698,7 @@ struct Verbs {
   StudyOptions study;
   FrontsOptions fronts;
   ResolutionCheckOptions resolution;
+  StabilityOptions stability;
   fs::path report_dir;
   std::string python = "/usr/bin/python3";
 };
@@ -851,6 +853,7 @@ int main_cli(int argc, char** argv) {
   CLI::App* const fronts = add_fronts_verb(app, v.fronts);
   CLI::App* const report = add_report_verb(app, v.report_dir, v.python);
   CLI::App* const check_resolution = add_check_resolution_verb(app, v.resolution);
+  CLI::App* const stability = add_stability_verb(app, v.stability);
 
   try {
     app.parse(argc, argv);
@@ -861,7 +864,7 @@ int main_cli(int argc, char** argv) {
   }
   // An empty --out would silently mean the default directory: refuse it.
   for (const auto& [sub, dir] : {std::pair{run, &v.run.out}, std::pair{study, &v.study.out},
-                                  std::pair{check_resolution, &v.resolution.out}})
+                                  std::pair{check_resolution, &v.resolution.out}, std::pair{stability, &v.stability.out}})
     if (*sub && sub->count("--out") > 0 && dir->empty()) {
       print_error(std::cerr, std::string(sub->get_name()) +
                                  ": --out: the output directory is empty; give a directory, or omit --out for the "
@@ -884,6 +887,11 @@ int main_cli(int argc, char** argv) {
   if (*check_resolution) {
     v.resolution.command_line = command_line_of(argc, argv);
     return check_resolution_command(v.resolution, std::cout, std::cerr);
+  }
+  if (*stability) {  // stoppable as `fronts` is: the handler stays until stability.h5 is written
+    v.stability.command_line = command_line_of(argc, argv);
+    const StopSignals signals;
+    return stability_command(v.stability, std::cout, std::cerr);
   }
   if (*fronts) {
     v.fronts.command_line = command_line_of(argc, argv);

@@ -25,6 +25,8 @@
 
 #include "apps/build_info.hpp"
 #include "apps/hdf5_handle.hpp"
+#include "apps/stability.hpp"
+#include "continuum/friction_law.hpp"
 #include "core/checksum.hpp"
 
 namespace slipfront::app {
@@ -747,8 +749,10 @@ void put_fronts_scaling(hid_t file, const compare::FrontsResult& fr) {
 
 }  // namespace
 
-void write_fronts_file(const std::filesystem::path& tmp, const compare::Scene& scene, const std::string& resolved_toml,
-                       const compare::FrontsResult& fr, const RunMeta& meta) {
+// A checksummed in-memory file with /meta (models "continuum", the scene's config_hash) and /config: the start of
+// fronts.h5 and stability.h5.
+Hid continuum_file(const std::filesystem::path& tmp, const compare::Scene& scene, const std::string& resolved_toml,
+                   const RunMeta& meta) {
   Hid file = create_in_memory(tmp, /*checksummed=*/true);
   write_meta(file.get(), meta, meta.status, meta.message, scene.name, "continuum");
   {
@@ -759,9 +763,69 @@ void write_fronts_file(const std::filesystem::path& tmp, const compare::Scene& s
     Hid g = make_group(file.get(), "config", "/config");
     attr_string(g.get(), "toml", resolved_toml);
   }
+  return file;
+}
+
+void write_fronts_file(const std::filesystem::path& tmp, const compare::Scene& scene, const std::string& resolved_toml,
+                       const compare::FrontsResult& fr, const RunMeta& meta) {
+  Hid file = continuum_file(tmp, scene, resolved_toml, meta);
   put_fronts_branch(file.get(), fr);
   put_fronts_profiles(file.get(), scene, fr);
   if (!fr.scaling_points.empty()) put_fronts_scaling(file.get(), fr);
+  save_image(file, tmp);
+}
+
+// /stability/<group>: one channel's rates over the kH grid and its row check (docs/output.md "stability.h5").
+void put_stability_channel(hid_t parent, const StabilityChannel& c) {
+  const std::string where = "/stability/" + c.group;
+  Hid g = make_group(parent, c.group, where);
+  attr_string(g.get(), "label", c.label);
+  attr_int(g.get(), "scene", c.scene ? 1 : 0);
+  attr_int(g.get(), "coupled", c.params.coupled ? 1 : 0);
+  attr_int(g.get(), "instantaneous", c.params.instantaneous ? 1 : 0);
+  attr_double(g.get(), "relaxation_length", c.params.relaxation_length);
+  attr_double(g.get(), "relaxation_speed", c.params.relaxation_speed);
+  attr_double(g.get(), "check_kH", c.check_kh);
+  attr_int(g.get(), "converged", c.converged ? 1 : 0);
+  auto parts = [](const std::vector<std::complex<double>>& z, bool imag) {
+    std::vector<double> v;
+    for (const auto s : z) v.push_back(imag ? s.imag() : s.real());
+    return v;
+  };
+  const std::pair<const char*, const std::vector<std::complex<double>>*> sets[] = {
+      {"resolved", &c.resolved}, {"fastest", &c.fastest}, {"check", &c.check_fastest}};
+  for (const auto& [name, z] : sets)
+    for (const bool imag : {false, true}) {
+      const std::string n = std::string(name) + (imag ? "_im" : "_re");
+      dataset_1d(g.get(), n, parts(*z, imag), std::string(imag ? "Im s" : "Re s") + " of " + name, where + "/" + n);
+    }
+  dataset_1d(g.get(), "roundoff", c.roundoff, "1e-8 of the largest |s| at each kH (the eigensolver's round-off)",
+             where + "/roundoff");
+  const std::vector<double> rows(c.check_rows.begin(), c.check_rows.end());
+  dataset_1d(g.get(), "check_rows", rows, "rows of the row check (check_re, check_im at check_kH)", where + "/check_rows");
+}
+
+void write_stability_file(const std::filesystem::path& tmp, const compare::Scene& scene, const std::string& resolved_toml,
+                          const StabilityResult& r, const RunMeta& meta) {
+  Hid file = continuum_file(tmp, scene, resolved_toml, meta);
+  Hid g = make_group(file.get(), "stability", "/stability");
+  attr_string(g.get(), "description",
+              "growth rates s of perturbations e^{ikx + st} of homogeneous sliding at v0 on the in-plane strip under the "
+              "normal-load coupling (docs/model.md §12.6, §12.7): continuum::leading_growth_rate per channel and kH");
+  const auto& p = r.params;
+  const double A0 = 1.0 / (1.0 + p.kappa * p.v0);
+  const std::pair<const char*, double> scalars[] = {
+      {"v0", p.v0}, {"v_m", continuum::steady_minimum_velocity(scene.interface)}, {"normal_load", p.p0},
+      {"exponent", p.exponent}, {"coupling_coefficient", p.exponent * p.alpha * A0 / p.p0}, {"height", p.height},
+      {"mu_strip", p.mu_p}, {"lambda_strip", p.lambda_p}, {"rho_strip", p.rho_p},
+      {"shear_speed", std::sqrt(p.mu_p / p.rho_p)}, {"pressure_speed", std::sqrt((p.lambda_p + 2.0 * p.mu_p) / p.rho_p)},
+      {"max_frequency", r.max_frequency}};
+  for (const auto& [name, value] : scalars) attr_double(g.get(), name, value);
+  attr_int(g.get(), "rows", p.elements);
+  for (const auto& c : r.channels)
+    if (c.scene) attr_string(g.get(), "scene_channel", c.group);
+  dataset_1d(g.get(), "kH", r.kh, "the wavenumbers k H of the grid", "/stability/kH");
+  for (const auto& c : r.channels) put_stability_channel(g.get(), c);
   save_image(file, tmp);
 }
 
@@ -863,6 +927,11 @@ void write_text_file(const std::filesystem::path& path, const std::string& text)
 void write_fronts(const std::filesystem::path& path, const compare::Scene& scene, const std::string& resolved_toml,
                   const compare::FrontsResult& fronts, const RunMeta& meta) {
   write_atomically(path, [&](const std::filesystem::path& tmp) { write_fronts_file(tmp, scene, resolved_toml, fronts, meta); });
+}
+
+void write_stability(const std::filesystem::path& path, const compare::Scene& scene, const std::string& resolved_toml,
+                     const StabilityResult& result, const RunMeta& meta) {
+  write_atomically(path, [&](const std::filesystem::path& tmp) { write_stability_file(tmp, scene, resolved_toml, result, meta); });
 }
 
 LibraryVersions library_versions() {

@@ -82,6 +82,12 @@ std::string config_hash(const std::string& resolved_toml);
 void write_fronts(const std::filesystem::path& path, const compare::Scene& scene, const std::string& resolved_toml,
                   const compare::FrontsResult& fronts, const RunMeta& meta);
 
+struct StabilityResult;  // apps/stability.hpp
+/// Writes the growth rates of `slipfront stability` (apps/stability.hpp) to `path` (stability.h5) atomically: /meta,
+/// /config, /stability with one group per channel (docs/output.md).
+void write_stability(const std::filesystem::path& path, const compare::Scene& scene, const std::string& resolved_toml,
+                     const StabilityResult& result, const RunMeta& meta);
+
 /// The temporary name write_results uses for `path` in this process.
 std::filesystem::path temporary_path(const std::filesystem::path& path);
 

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The main job: install what is missing, build, then
 #   1. run every scene with both models alongside (out/<scene>/results.h5, with /compare), the steady fronts
-#      (out/homogeneous_front, out/strip_collapse_H*),
+#      (out/homogeneous_front, out/strip_collapse_H*), the in-plane growth rates (out/inplane_stability),
 #   2. run every convergence study in configs/studies/ but inplane_height (out/studies/<study>/study.h5 and one
 #      results.h5 per run),
 #   3. write the report with every plot (out/report.md, out/figures/*.png) and check (check_report.py) that no
@@ -101,6 +101,11 @@ homogeneous_front() { scene homogeneous_front && "$slipfront" fronts configs/hom
 # choice, 2026-11-27)
 inplane_fronts() { "$slipfront" fronts configs/steady_front_inplane.toml --rows 4 --intervals 200 --out "$out/steady_front_inplane" --force; }
 
+# the growth rates of homogeneous sliding on the in-plane strip under the normal-load coupling (docs/model.md §12.6,
+# §12.7): `slipfront stability` on the scene's 16 rows, 41 kH values, four channels and the row check (4.4 s of CPU,
+# 2026-11-28); configs/inplane_stability.toml is the verb's scene, not run as a scene
+inplane_stability() { "$slipfront" stability configs/inplane_stability.toml --v0 2 --out "$out/inplane_stability" --force; }
+
 longest_first=(
   "study front_spectrum_inplane"  # (76: 16 in-plane runs, explicit, 2026-11-27; docs/fronts.md §12)
   "study fig2_inplane"          # (~240 s of CPU, estimated 2026-11-27: 14 in-plane runs at H = 2, 17; docs/fronts.md §11.9)
@@ -130,11 +135,12 @@ longest_first=(
   "study fig2_sweep"            # (4)
   "study front_spectrum_strip"  # (4: the antiplane twin of front_spectrum_inplane)
   "inplane_fronts"              # (~9 s of CPU)
+  "inplane_stability"           # (4.4 s of CPU)
 )
 steps=("${longest_first[@]}")
 for f in configs/*.toml; do  # every scene of configs/, the steady-front configurations aside (run by `fronts`)
   n=$(basename "$f" .toml)
-  [[ $n == steady_front_strip || $n == steady_front_inplane || $n == homogeneous_front ]] && continue
+  [[ $n == steady_front_strip || $n == steady_front_inplane || $n == homogeneous_front || $n == inplane_stability ]] && continue
   [[ " ${steps[*]} " == *" scene $n "* ]] || steps+=("scene $n")
 done
 for f in configs/studies/*.toml; do
@@ -149,7 +155,7 @@ for s in "${steps[@]}"; do
     scene | study) wanted "$name" || continue ;;
     collapse) wanted strip || continue ;;
     homogeneous_front) name="" ;;
-    inplane_fronts) wanted inplane || continue; name="" ;;
+    inplane_fronts | inplane_stability) wanted inplane || continue; name="" ;;
   esac
   launch "$kind${name:+ $name}" "$kind" ${name:+"$name"}
 done

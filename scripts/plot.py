@@ -931,36 +931,51 @@ def plot_generic(res: Results, outdir, written, dpi):
     save(fig, outdir, f"{res.scene}_series.png", written, dpi)
 
 
-def plot_growth_rates(path, outdir, dpi):
+def growth_rates_figure(path, outdir, dpi, title=None, rows_note="16 rows", scene_channel=None):
     """docs/model.md §12.6, §12.7: growth rates Re s against kH of homogeneous sliding on the in-plane strip under the normal-load
-    coupling, both channels: the linearisation (continuum::inplane_growth_rates: the least-damped resolved mode, and the
-    fastest of all modes) as lines, the seeded grid runs (tests/test_inplane_load.cpp) as markers. `path`: the CSV the
-    test writes with SLIPFRONT_GROWTH_CSV set (columns channel, kH, kind, re_s, im_s). Returns the PNGs written."""
+    coupling, every channel in the file: the linearisation (continuum::leading_growth_rate: the least-damped resolved mode,
+    and the fastest of all modes) as lines, seeded grid runs (tests/test_inplane_load.cpp) as markers. `path`: a
+    growth_rates.csv (columns channel, kH, kind, re_s, im_s), written by `slipfront stability` (docs/output.md) or by the
+    test with SLIPFRONT_GROWTH_CSV set; `title` (default: the test's strip), `rows_note` (the rows of the fastest modes)
+    and `scene_channel` (the CSV's channel the scene runs: drawn thicker) from the caller. Returns the PNGs written."""
     rows = np.genfromtxt(path, delimiter=",", names=True, dtype=None, encoding="utf-8")
+    rows = np.atleast_1d(rows)
     fig, ax = plt.subplots(figsize=(7.5, 4.8))
-    # the two channels, then any regularised one (docs/model.md §12.7: "instantaneous L=..."), in the file's order
-    colors = {"reattachment": "tab:blue", "instantaneous": "tab:red"}
-    for channel in dict.fromkeys(rows["channel"]):
-        colors.setdefault(str(channel), ["tab:green", "tab:purple", "tab:orange", "tab:brown"][(len(colors) - 2) % 4])
+    # the uncoupled strip (grey, drawn first), the two channels, then any regularised one (docs/model.md §12.7:
+    # "instantaneous L=..."), in the file's order
+    colors = {"uncoupled": "0.6", "reattachment": "tab:blue", "instantaneous": "tab:red"}
+    more = iter(["tab:purple", "tab:green", "tab:orange", "tab:brown"] * 8)
+    for channel in dict.fromkeys(str(c) for c in rows["channel"]):
+        if channel not in colors:
+            colors[channel] = next(more)
     styles = {"theory_resolved": ("-", "least-damped resolved mode (omega H/c_p < 4)"),
-              "theory_max": (":", "fastest mode of all (16 rows)")}
+              "theory_max": (":", f"fastest mode of all ({rows_note})")}
     for channel, color in colors.items():
+        lw = 2.2 if channel == scene_channel else 1.2
+        mark = " (the scene's)" if channel == scene_channel else ""
         for kind, (ls, what) in styles.items():
             sel = (rows["channel"] == channel) & (rows["kind"] == kind)
             if sel.any():
-                ax.plot(rows["kH"][sel], rows["re_s"][sel], ls, color=color, label=f"{channel}: {what}")
+                ax.plot(rows["kH"][sel], rows["re_s"][sel], ls, color=color, lw=lw, label=f"{channel}{mark}: {what}")
         sel = (rows["channel"] == channel) & (rows["kind"] == "run")
         if sel.any():
             ax.plot(rows["kH"][sel], rows["re_s"][sel], "o", color=color, label=f"{channel}: seeded grid run")
     ax.axhline(0.0, color="0.5", lw=0.8)
     ax.set_xscale("log")
+    ax.set_yscale("symlog", linthresh=1e-3)
     ax.set_xlabel("kH")
-    ax.set_ylabel("growth rate Re s")
-    ax.set_title("in-plane strip, homogeneous sliding v0 = 2, p_0 = 0.3 (H = 4): growth rates under the coupling",
+    ax.set_ylabel("growth rate Re s (symlog, linear within 1e-3)")
+    ax.set_title(title or "in-plane strip, homogeneous sliding v0 = 2, p_0 = 0.3 (H = 4): growth rates under the coupling",
                  fontsize=9)
     ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     written = []
     save(fig, outdir, "inplane_growth_rates.png", written, dpi)
+    return written
+
+
+def plot_growth_rates(path, outdir, dpi):
+    """growth_rates_figure of a growth_rates.csv given on the command line; prints the PNG written."""
+    written = growth_rates_figure(path, outdir, dpi)
     for w in written:
         print(w)
     return 0 if written else 1
@@ -976,7 +991,7 @@ def main(argv=None) -> int:
     ap.add_argument("--outdir", help="directory for the PNGs (default: the directory of RESULTS)")
     ap.add_argument("--dpi", type=int, default=120, help="resolution of the PNGs (default 120)")
     args = ap.parse_args(argv)
-    if args.results.endswith("growth_rates.csv"):  # docs/model.md §12.6 (tests/test_inplane_load.cpp writes it)
+    if args.results.endswith("growth_rates.csv"):  # docs/model.md §12.6 (slipfront stability writes it)
         return plot_growth_rates(args.results, args.outdir or os.path.dirname(os.path.abspath(args.results)), args.dpi)
 
     try:

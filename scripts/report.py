@@ -2413,7 +2413,8 @@ KNOWN_FINDINGS = (
 
 # The main figures linked from the first screen: (label, the end of the figure's file name).
 MAIN_FIGURES = (("Fig. 1", "/fig1_fronts.png"), ("Fig. 2 left", "/friction_law_steady_friction.png"),
-                ("Fig. 2 right", "_fig2_sweep_fig2_right.png"), ("c_min(H)", "_cmin_vs_H.png"))
+                ("Fig. 2 right", "_fig2_sweep_fig2_right.png"), ("c_min(H)", "_cmin_vs_H.png"),
+                ("growth rates under the normal-load coupling", "/inplane_growth_rates.png"))
 
 
 def paper_order(root, path):
@@ -2605,6 +2606,117 @@ def cmin_section(ctx, path):
     return lines + figure_lines(figs, root), rows, []
 
 
+# --------------------------------------------------------------------------------------------
+# the growth rates of homogeneous sliding on the in-plane strip under the normal-load coupling (`slipfront stability`:
+# stability.h5 and growth_rates.csv beside it, docs/output.md; docs/model.md §12.6, §12.7)
+
+GROWTH_CSV = "growth_rates.csv"
+STABILITY_CHANNELS = ("uncoupled", "reattachment", "instantaneous", "regularised")
+
+
+def stability_facts(path):
+    """(the attributes of /stability, kH, {group: its attributes and datasets}) of a stability.h5."""
+    with h5py.File(path, "r") as f:
+        s = f["stability"]
+        facts = attrs(s)
+        kh = s["kH"][()]
+        channels = {}
+        for g in STABILITY_CHANNELS:
+            if g in s:
+                channels[g] = attrs(s[g])
+                channels[g].update({k: s[g][k][()] for k in s[g]})
+    return facts, kh, channels
+
+
+def channel_verdict(c, kh, facts):
+    """(grows, the verdict's text) of one channel, from its rates: stable when no fastest mode's Re s exceeds the
+    eigensolver's round-off at its kH; else the largest rate, where, and whether it converged in the rows."""
+    re, im, off = c["fastest_re"], c["fastest_im"], c["roundoff"]
+    if len(re) == 0:
+        return None, "no rates (the file is not complete)"
+    k = int(np.argmax(re))
+    w = lambda s_im: abs(s_im) * facts["height"] / facts["pressure_speed"]  # noqa: E731 (omega H/c_p)
+    where = f"kH = {kh[k]:.3g}, omega H/c_p = {w(im[k]):.3g}"
+    rows = ", ".join(f"{r:.0f}" for r in c["check_rows"])
+    if not np.any(re > off):
+        res = c["resolved_re"]
+        j = int(np.argmax(res))
+        return False, (f"homogeneous sliding stable (max Re s over kH = {kh[0]:.3g} .. {kh[-1]:.3g}: {re[k]:.2g} at "
+                       f"{where}, within the eigensolver's round-off {off[k]:.2g}; least-damped resolved mode "
+                       f"{res[j]:.3g} at kH = {kh[j]:.3g})")
+    rates = ", ".join(f"{x:.3g}" for x in c["check_re"])
+    freqs = ", ".join(f"{w(x):.3g}" for x in c["check_im"])
+    rows_text = (f"on {rows} rows at kH = {c['check_kH']:.3g}: Re s {rates}, omega H/c_p {freqs}")
+    tail = (f"converged in the rows ({rows_text})" if c["converged"] == 1 else
+            f"ill-posed: the fastest mode moves with the rows ({rows_text})")
+    return True, f"unstable, max rate {re[k]:.3g} at {where}; {tail}"
+
+
+def stability_summary(facts, kh, channels, source, scene):
+    """The verdict lines (one per channel) and one effect row per coupled channel against the uncoupled strip: the
+    coupling's effect on the largest growth rate (a result, no limit: kept apart from the limits that must hold)."""
+    lines, rows = [], []
+    base = channels.get("uncoupled")
+    b = float(np.max(base["fastest_re"])) if base is not None and len(base["fastest_re"]) else math.nan
+    what = (f"p_0 = {facts['normal_load']:.3g}, m = {facts['exponent']:.3g}, coefficient m sigma_bar0/p_0 = "
+            f"{facts['coupling_coefficient']:.3g}")
+    for g in STABILITY_CHANNELS[1:]:
+        if g not in channels:
+            continue
+        c = channels[g]
+        grows, text = channel_verdict(c, kh, facts)
+        name = {"reattachment": "re-attachment channel", "instantaneous": "instantaneous channel"}.get(
+            g, f"regularised instantaneous channel, L = {c['relaxation_length']:.3g}")
+        own = " (the scene's)" if c.get("scene") == 1 else ""
+        lines.append(f"- **{name}{own}**: {text}.")
+        if grows is None:
+            continue
+        top = float(np.max(c["fastest_re"]))
+        rows.append(effect_row(f"normal-load coupling, {name} ({what})",
+                               f"{scene}: largest growth rate Re s of homogeneous sliding at v0 = {facts['v0']:.3g} over "
+                               f"kH = {kh[0]:.3g} .. {kh[-1]:.3g} ({facts['rows']:.0f} rows)",
+                               f"uncoupled {b:.3g}", f"{top:.3g}", f"{top - b:+.3g}",
+                               "stable (within round-off)" if not grows else
+                               "unstable; converged in the rows" if c["converged"] == 1 else
+                               "unstable; ill-posed: not converged in the rows", source))
+    return lines, rows
+
+
+def stability_section(ctx, path):
+    """A stability.h5 (slipfront stability) and the growth_rates.csv beside it: the figure, one verdict per channel
+    and the effect rows."""
+    root = ctx.root
+    try:
+        with h5py.File(path, "r") as f:
+            meta, scene = attrs(f["meta"]), plot.as_str(f["meta"].attrs.get("scene", ""))
+        facts, kh, channels = stability_facts(path)
+    except UNREADABLE as e:
+        return [], [], [unreadable(path, e)]
+    source = os.path.relpath(path, root)
+    lines = [f"## Growth rates of homogeneous sliding under the normal-load coupling (`{scene}`)", "",
+             "The linear stability of homogeneous sliding at v0 on the in-plane strip when the contacts feel p = "
+             "-sigma_yy (docs/model.md §12.6, §12.7; `slipfront stability`, continuum::leading_growth_rate): Re s "
+             "against kH for the uncoupled strip and each channel, the least-damped resolved mode (|omega| H/c_p <= 4) "
+             "and the fastest mode of all; each channel's fastest mode again on 2 and 4 times the rows.", "",
+             f"File: `{source}`, status {meta.get('status', '?')}; v0 = {facts['v0']:.4g} (v_m = {facts['v_m']:.4g}), "
+             f"H = {facts['height']:.4g}, c_s = {facts['shear_speed']:.4g}, c_p = {facts['pressure_speed']:.4g}, "
+             f"p_0 = {facts['normal_load']:.4g}, m = {facts['exponent']:.3g}, m sigma_bar0/p_0 = "
+             f"{facts['coupling_coefficient']:.3g}, {facts['rows']:.0f} rows.", ""]
+    verdicts, rows = stability_summary(facts, kh, channels, source, scene)
+    lines += verdicts + [""]
+    csv_path = os.path.join(os.path.dirname(path), GROWTH_CSV)
+    figs = []
+    if os.path.exists(csv_path):
+        own = next((c["label"] for c in channels.values() if c.get("scene") == 1), None)
+        title = (f"{scene}: in-plane strip H = {facts['height']:.3g}, homogeneous sliding v0 = {facts['v0']:.3g}, "
+                 f"p_0 = {facts['normal_load']:.3g}: growth rates under the coupling")
+        figs = plot.growth_rates_figure(csv_path, figure_dir(ctx.figdir, root, path), 110, title,
+                                        f"{facts['rows']:.0f} rows", own)
+    else:
+        lines += [f"No `{GROWTH_CSV}` beside it (written only when the computation completes): no figure.", ""]
+    return lines + figure_lines(figs, root), rows, []
+
+
 def scalar_lines(st):
     """A study's scalars as bullets: value, 95 % interval and definition (a scalar without one: no colon); the
     scalars without a value in this run (NaN: e.g. a fit with too few points) named in one line."""
@@ -2668,7 +2780,7 @@ def main(argv=None):
     root = os.path.abspath(args.dir)
     figdir = os.path.join(root, "figures")
     os.makedirs(figdir, exist_ok=True)
-    scenes, studies, fronts, cmins = [], [], [], []
+    scenes, studies, fronts, cmins, stabilities = [], [], [], [], []
     for d, subdirs, files in os.walk(root):
         subdirs[:] = sorted(s for s in subdirs if s not in ("runs", "figures"))  # study runs are summarised
         if "results.h5" in files:
@@ -2679,11 +2791,14 @@ def main(argv=None):
             fronts.append(os.path.join(d, "fronts.h5"))
         if CMIN_CSV in files:
             cmins.append(os.path.join(d, CMIN_CSV))
+        if "stability.h5" in files:
+            stabilities.append(os.path.join(d, "stability.h5"))
     # One task per file, run in parallel (fork: matplotlib's Agg backend and h5py are opened in the workers only);
     # their sections are joined in this fixed order, so the report does not depend on the number of workers.
-    kinds = {scene_section: 0, fronts_section: 1, cmin_section: 2, study_section: 3}
+    kinds = {scene_section: 0, fronts_section: 1, cmin_section: 2, study_section: 3, stability_section: 4}
     tasks = sorted([(scene_section, path) for path in scenes] + [(fronts_section, path) for path in fronts]
-                   + [(cmin_section, path) for path in cmins] + [(study_section, path) for path in studies],
+                   + [(cmin_section, path) for path in cmins] + [(study_section, path) for path in studies]
+                   + [(stability_section, path) for path in stabilities],
                    key=lambda t: (paper_order(root, t[1]), kinds[t[0]]))
     context = Context(root, figdir, sorted(studies))
     jobs = report_jobs(len(tasks))
@@ -2699,7 +2814,7 @@ def main(argv=None):
         summary += rows
         missing += miss
     figures = [os.path.join(root, m) for m in re.findall(r"!\[[^\]]*\]\(([^)]+)\)", "\n".join(lines))]
-    lines = (first_screen(summary, sorted(scenes + studies + fronts), figures, root) + summary_tables(summary)
+    lines = (first_screen(summary, sorted(scenes + studies + fronts + stabilities), figures, root) + summary_tables(summary)
              + said_once(lines))
     for m in missing:
         lines.append(f"- could not read {m}")

@@ -9,7 +9,8 @@
 //   - the mean_field law on leap steps: events at ε = 0.2, 0.05, 0.0125 against the converged Rosenbrock run (w = 0:
 //     the same law), the error falling with ε;
 //   - the noise-off identity under the leap integrator: the noise-off count law is mean_field bit for bit, both channels;
-//     both channels give the same continuum run on the Rosenbrock integrator (a profile constant in time);
+//     both channels give the same continuum run on the Rosenbrock integrator (a profile constant in time); the noisy
+//     count ensemble on leap steps rests at its load with the binomial spread (a z-test and a variance ratio);
 //   - a = 1: a law told a = 1 at every site steps today's bits on both adaptive integrators; m = 0 and p = p_0 through
 //     the run layer are today's adaptive runs bit for bit.
 #include <catch2/catch.hpp>
@@ -230,4 +231,41 @@ TEST_CASE("adaptive load: a = 1 everywhere and m = 0 are today's adaptive runs b
     REQUIRE(r.size() == r0.size());
     for (std::size_t k = 0; k < r.size(); ++k) CHECK(testing::same(r[k].series, r0[k].series));
   }
+}
+
+TEST_CASE("adaptive load: the noisy count ensemble on leap steps rests at its load, binomially", "[adaptive_load][count]") {
+  // Re-attachment, fig1 on L = 100 to t = 40 with the profile 1, 1, 0.6 at x = 0, 30, 60 (m = 1), count N = 1000 with
+  // the noise on, seed 7, on leap steps. The sites at x >= 60 never slide by t = 40 (the front is behind x = 30): each
+  // contact is a two-state chain attaching at rate a = 0.6 and detaching at 1 − a, so after 40 relaxation times a
+  // site's count is Binomial(N, a), independently over the sites: A has mean a and variance a(1 − a)/N. Asserted: the
+  // mean over the 81 sites within 4 standard errors (false alarm 6e-5) and their sample variance within [0.5, 1.6] of
+  // a(1 − a)/N (its relative standard error is sqrt(2/80) = 0.16: -3.1 and +3.8 sigma, false alarm ~1e-3).
+  compare::Scene s = loaded_fig1(core::Integrator::adaptive_rosenbrock, "discrete");
+  s.bulk.length = 100.0;
+  s.time.t_end = 40.0;
+  s.output.snapshot_dt = 40.0;
+  s.interface.load_x = {0.0, 30.0, 60.0};
+  s.interface.load_p = {1.0, 1.0, 0.6};
+  s.discrete.representation = "count";
+  s.discrete.noise = true;
+  s.discrete.seed = 7;
+  s.validate();
+  const auto r = compare::run_scene(s, {});
+  REQUIRE(r.size() == 1);
+  REQUIRE(r[0].status == compare::RunStatus::complete);
+  const std::size_t nx = r[0].x.size(), k = r[0].snapshot_t.size() - 1;
+  REQUIRE(r[0].snapshot_t[k] == 40.0);
+  std::vector<double> far;
+  for (std::size_t i = 0; i < nx; ++i)
+    if (r[0].x[i] >= 60.0) far.push_back(r[0].snapshots.at("A")[k * nx + i]);
+  REQUIRE(far.size() == 81);
+  double mean = 0.0, var = 0.0;
+  for (const double a : far) mean += a / 81.0;
+  for (const double a : far) var += (a - mean) * (a - mean) / 80.0;
+  const double binomial = 0.6 * 0.4 / 1000.0, z = (mean - 0.6) / std::sqrt(binomial / 81.0);
+  std::printf("count on leap steps at rest under a = 0.6: mean A %.5f (z = %.2f), variance ratio %.3f\n", mean, z,
+              var / binomial);
+  CHECK(std::abs(z) < 4.0);
+  CHECK(var / binomial > 0.5);
+  CHECK(var / binomial < 1.6);
 }

@@ -126,10 +126,13 @@ void check_normal_load(const Scene& s) {
   if (s.bulk.body() == core::BodyKind::inplane)
     throw ParamError("interface.load_p", "the in-plane strip's normal stress comes from its body (sigma_yy), not from "
                                          "a prescribed profile (docs/model.md §12): use the chain or the antiplane strip");
-  if (s.time.integrator != core::Integrator::central_difference && s.time.integrator != core::Integrator::implicit_trapezoidal)
-    throw ParamError("time.integrator", "adaptive with a normal-load profile: the adaptive integrators' rates relax A "
-                                        "towards 1, not the load's (p/p_0)^m (not yet, docs/model.md §12); use explicit "
-                                        "or implicit");
+  // The adaptive integrators carry a profile (docs/model.md §12.8): the continuum's rates relax A towards (p/p_0)^m, the
+  // other laws take their own loaded step on leap steps; the agent's leap steps under a load are not measured yet.
+  if (s.time.integrator == core::Integrator::adaptive_rosenbrock && s.lists("discrete") &&
+      s.discrete.representation == "agent")
+    throw ParamError("time.integrator", "adaptive with a normal-load profile and the agent representation: its leap "
+                                        "steps under a load are not measured yet (docs/model.md §12.8); use "
+                                        "representation = \"count\", or the explicit or implicit integrator");
   check_normal_load_carriers(s);
   if (ip.load_exponent == 0.0) return;  // (p/p_0)^0 = 1 everywhere: today's model
   for (std::size_t k = 0; k < ip.load_p.size(); ++k) {
@@ -161,9 +164,11 @@ void check_load_coupling(const Scene& s) {
     throw ParamError("interface.load_p", "a prescribed profile and interface.load_coupling = \"sigma_yy\" together: the "
                                          "in-plane strip's load is its own sigma_yy (docs/model.md §12.5); set one of them");
   if (s.time.integrator != core::Integrator::central_difference && s.time.integrator != core::Integrator::implicit_trapezoidal)
-    throw ParamError("time.integrator", "adaptive with interface.load_coupling: the adaptive integrators' rates relax A "
-                                        "towards 1 and their stages know no load that changes within a step (not yet, "
-                                        "docs/model.md §12.5); use explicit or implicit");
+    throw ParamError("time.integrator", "adaptive with interface.load_coupling: the Rosenbrock stages would need the load "
+                                        "p(u) inside the step, its Jacobian couples each site's A to the strip's "
+                                        "displacements (the site-by-site elimination does not hold), and the "
+                                        "instantaneous channel's A = a phi needs phi as state (not built, docs/model.md "
+                                        "§12.5); use explicit or implicit");
   check_normal_load_carriers(s);
 }
 

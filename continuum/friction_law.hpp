@@ -19,7 +19,10 @@
 // relaxes towards the site's resting area a = (p/p_0)^m instead of 1: dA/dt = (a − A) − Θκ|v|A, through either
 // channel. Re-attachment: A' = relax(A, a, r). Instantaneous: contacts of area a, A = a φ with φ §1.1's fraction
 // (φ' = relax(φ, 1, r), the count law's arithmetic: the noise-off identity stays bit for bit), and a change of a scales
-// A and σ̄ at once. A law never given a load is today's, bit for bit (a = 1 enters as 1 · w = w).
+// A and σ̄ at once. A law never given a load is today's, bit for bit (a = 1 enters as 1 · w = w). The adaptive
+// integrator advances [A | σ̄] by rate() with a = resting_area(i) (a profile is constant in time, so both channels
+// have one A equation); it does not carry φ, so under the instantaneous channel a law it advanced is given no new
+// load (the in-plane coupling is refused with it, compare/scene.cpp).
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -204,13 +207,14 @@ class FrictionLaw : public core::OverloadedSteadyState<FrictionLaw> {
   double detachment_hazard(core::SiteState s) const { return sliding(s) ? p_.kappa * std::abs(s.v) : 0.0; }
   /// |σ̄ + η v|: Θ flips where the load crosses A (|σ|/A = 1).
   double load(core::SiteState s) const { return std::abs(s.sigma_bar + p_.eta * s.v); }
-  /// dA/dt = 1 − A − Θ κ A |v|,  dσ̄/dt = α A v − Θ σ̄ |v|. (Without a normal load only: the scene refuses the
-  /// adaptive integrator under a load profile, compare/scene.cpp.)
+  /// dA/dt = a − A − Θ κ A |v|,  dσ̄/dt = α A v − Θ σ̄ |v|, a = s.rest the site's resting area (docs/model.md §12.1; 1
+  /// without a normal load, today's bits: `1.0 - A`). Under a profile that does not change in time both channels have
+  /// this A equation (instantaneous: A = a φ, a fixed), the right-hand side the exact step of advance() integrates.
   core::SiteRate rate(core::SiteState s, bool theta) const {
     const double speed = theta ? std::abs(s.v) : 0.0;
-    return {1.0 - s.area - p_.kappa * s.area * speed, p_.alpha * s.area * s.v - s.sigma_bar * speed};
+    return {s.rest - s.area - p_.kappa * s.area * speed, p_.alpha * s.area * s.v - s.sigma_bar * speed};
   }
-  /// Jacobian of rate() with Θ fixed (sgn v at v = 0 taken as +1).
+  /// Jacobian of rate() with Θ fixed (sgn v at v = 0 taken as +1); the resting area is a constant of the step.
   core::SiteJacobian jacobian(core::SiteState s, bool theta) const {
     if (!theta) return {0.0, -1.0, p_.alpha * s.area, p_.alpha * s.v, 0.0};
     const double sg = s.v >= 0.0 ? 1.0 : -1.0, speed = std::abs(s.v);

@@ -6,7 +6,8 @@
 // (core/body.hpp: the chain of core/bulk.hpp, the strip of core/strip.hpp) and the law's rates, per site i
 //   u' = v                                                 (every dof of the body)
 //   ρ v' = F_i/w_i + σ_d − σ̄_i − η v_i                     (the chain; the strip's: docs/numerics.md §8.5)
-//   (A', σ̄') = law.rate({v_i, A_i, σ̄_i}, Θ_i)              (docs/model.md §1.1: A' = 1 − A − ΘκA|v|, σ̄' = αAv − Θσ̄|v|)
+//   (A', σ̄') = law.rate({v_i, A_i, σ̄_i, a_i}, Θ_i)         (docs/model.md §1.1: A' = a − A − ΘκA|v|, σ̄' = αAv − Θσ̄|v|;
+//                                                            a_i the resting area, 1 but under a normal load, §12.1)
 // integrated as one stiff system (docs/performance.md):
 //   - a 2-stage Rosenbrock method (Shampine–Reichelt "ode23s": order 2, L-stable, embedded order-3
 //     error estimate, order-2 dense output) with the exact Jacobian (law.jacobian and the bulk's
@@ -351,6 +352,13 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
     }
   }
 
+  // The resting area site i's A relaxes towards (docs/model.md §12.1: a prescribed normal load's (p/p_0)^m, constant in
+  // time; 1 without one), for the law's rates.
+  double resting(std::size_t i) const {
+    if constexpr (Law::hooks.normal_load) return this->law_.resting_area(i);
+    else return 1.0;
+  }
+
   // e_i > 0 means site i has crossed its switching surface: Θ = 0 and |σ| > A (1 + band), or Θ = 1 and
   // |σ| < A (1 − band).
   double switch_function(std::size_t i, SiteState st) const {
@@ -373,7 +381,7 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
     std::copy_n(v, n, fu);
     const std::uint8_t* th = theta_.data();
     for (std::size_t i = 0; i < m; ++i) {
-      const SiteRate r = this->law_.rate({v[i], a[i], s[i]}, th[i] != 0);
+      const SiteRate r = this->law_.rate({v[i], a[i], s[i], resting(i)}, th[i] != 0);
       fa[i] = r.area;
       fs[i] = r.sigma_bar;
     }
@@ -633,7 +641,7 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
     const double* a = current(2);
     const double* s = current(3);
     for (std::size_t i = 0; i < n; ++i) {
-      const SiteState st{v[i], a[i], s[i]};
+      const SiteState st{v[i], a[i], s[i], resting(i)};
       if (switch_function(i, st) > -0.5 * opt_.switch_band * st.area) {
         theta_[i] = static_cast<std::uint8_t>(1 - theta_[i]);
         ++stats_.switchings;
@@ -728,7 +736,7 @@ class AdaptiveSimulation : public StepperCore<Law, B> {
     const std::size_t iv = offset(1) + i, ia = offset(2) + i, is = offset(3) + i;
     const double b1 = th * (1.0 - th) * kDenseScale * h, b2 = th * (th - 2.0 * kGamma) * kDenseScale * h;
     const SiteState st{current(1)[i] + b1 * k1_[iv] + b2 * k2_[iv], current(2)[i] + b1 * k1_[ia] + b2 * k2_[ia],
-                       current(3)[i] + b1 * k1_[is] + b2 * k2_[is]};
+                       current(3)[i] + b1 * k1_[is] + b2 * k2_[is], resting(i)};
     const SiteRate now = this->law_.rate(st, theta_[i] != 0), flipped = this->law_.rate(st, theta_[i] == 0);
     const double ja = std::abs(flipped.area - now.area), js = std::abs(flipped.sigma_bar - now.sigma_bar);
     double allow = std::numeric_limits<double>::infinity();

@@ -70,9 +70,11 @@ struct LawHooks {
   /// (compare/initial.hpp). A law without it is refused there, naming drive.start, before the front is solved.
   bool steady_front = false;
   /// A prescribed normal load (docs/model.md §12): set_normal_load(factor), the resting area (p/p_0)^m of every site
-  /// (the law reads its channel, interface.load_channel, from its parameters). The run layer calls it once before
-  /// the initial state (compare/initial.hpp) and only when some factor differs from 1; a law that was never given
-  /// one is today's law, bit for bit. A scene with a profile refuses a model whose law lacks it (compare/scene.cpp).
+  /// (the law reads its channel, interface.load_channel, from its parameters), and resting_area(i), the one site i was
+  /// given (1 before any): what the adaptive integrators relax A towards (SiteState::rest; core/leap.hpp's onset). The
+  /// run layer calls it once before the initial state (compare/initial.hpp) and only when some factor differs from 1; a
+  /// law that was never given one is today's law, bit for bit. A scene with a profile refuses a model whose law lacks
+  /// it (compare/scene.cpp).
   bool normal_load = false;
 };
 
@@ -80,9 +82,12 @@ struct LawStepInfo {
   bool any_yield = false;  ///< some site had Θ = 1 (or an overloaded contact) at the start of the step
 };
 
-/// One site's state as the rates see it.
+/// One site's state as the rates see it; `rest` is the site's resting area a = (p/p_0)^m under a normal load (docs/model.md
+/// §12.1: the A equation relaxes towards it), 1 without one (the adaptive integrator fills it from the law's
+/// resting_area(i), core::LawHooks::normal_load).
 struct SiteState {
   double v, area, sigma_bar;
+  double rest = 1.0;
 };
 /// d/dt of (A, σ̄) at one site.
 struct SiteRate {
@@ -141,7 +146,10 @@ concept HasSteadyState = requires(const L& cl, double v) {
   { cl.steady_velocity(v) } -> std::convertible_to<double>;
 };
 template <class L>
-concept HasNormalLoad = requires(L& law, std::span<const double> factor) { law.set_normal_load(factor); };
+concept HasNormalLoad = requires(L& law, const L& cl, std::span<const double> factor) {
+  law.set_normal_load(factor);
+  { cl.resting_area(std::size_t{0}) } -> std::convertible_to<double>;
+};
 template <class L>
 concept HasClassHazards = requires(const L& cl, std::span<const double> n, std::span<double> out) {
   { cl.prediction_classes() } -> std::convertible_to<std::size_t>;
@@ -176,7 +184,7 @@ consteval bool check_hooks() {
   static_assert(h.steady_state == HasSteadyState<L>,
                 "LawHooks::steady_state must be declared exactly when the law has steady_sliding(v) and steady_velocity(sigma)");
   static_assert(h.normal_load == HasNormalLoad<L>,
-                "LawHooks::normal_load must be declared exactly when the law has set_normal_load(span)");
+                "LawHooks::normal_load must be declared exactly when the law has set_normal_load(span) and resting_area(i)");
   static_assert(h.checkpoints == requires(L& law, Archive& ar) { law.serialize(ar); },
                 "LawHooks::checkpoints must be declared exactly when the law has serialize(ar)");
   return true;

@@ -307,7 +307,8 @@ class LeapSimulation : public ImplicitSimulation<Law, B> {
 
   // Test 3: the earliest fraction of the trial at which a site with no overloaded contact reaches the
   // weakest threshold s_0 (1: none). Its contact stress at the step's start, |σ̄ + ηW|/A, and at its end,
-  // |c0 + c1 W + ηW|/A' with A' = relax(A, 1, 1, h) (attach only), interpolated linearly.
+  // |c0 + c1 W + ηW|/A' with A' = relax(A, a, 1, h) (attach only; a the site's resting area under a normal load,
+  // docs/model.md §12.2, either channel; 1 without, today's bits: 1 · w = w), interpolated linearly.
   double first_onset(double h) const {
     const double s0 = this->law_.yield_onset(), eta = this->law_.params().eta;
     const auto area = this->law_.contact_area(), sb = this->law_.sigma_bar();
@@ -317,10 +318,16 @@ class LeapSimulation : public ImplicitSimulation<Law, B> {
       const double w = this->trial_[i], a = area[i];
       const double start = contact_stress(sb[i] + eta * w, a);
       if (!(start <= s0)) continue;  // already overloaded (or no contact attached)
-      const double end = contact_stress(this->c0_[i] + this->c1_[i] * w + eta * w, a * e + w1);
+      const double end = contact_stress(this->c0_[i] + this->c1_[i] * w + eta * w, a * e + resting(i) * w1);
       if (end > s0) frac = std::min(frac, (s0 - start) / (end - start));
     }
     return frac;
+  }
+
+  // The resting area of site i (docs/model.md §12: a normal load's (p/p_0)^m; 1 without one).
+  double resting(std::size_t i) const {
+    if constexpr (Law::hooks.normal_load) return this->law_.resting_area(i);
+    else return 1.0;
   }
 
   // The step [t, t + h] with the trial's W: remember the start for the dense output, then taken as an implicit

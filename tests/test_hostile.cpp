@@ -64,6 +64,7 @@ const std::vector<Base>& bases() {
       {"imposed sweep", {"drive.loading=imposed_rate", "drive.points=5", "drive.v_min=0.01", "drive.v_max=10"}},
       {"edge, aging agent", {"interface.aging_b=0.1", "discrete.representation=agent"}},
       {"edge, normal load", {"interface.load_x=[0, 10]", "interface.load_p=[1, 0.5]"}},
+      {"edge, normal load, adaptive", {"interface.load_x=[0, 10]", "interface.load_p=[1, 0.5]", "time.integrator=adaptive"}},
   };
   return b;
 }
@@ -480,6 +481,23 @@ TEST_CASE("hostile: asking for records a representation does not carry is refuse
   const auto with_agent =
       compare::estimate(parse_scene(fig1_text, "fig1.toml", {"output.ages=true", "discrete.representation=agent"}));
   for (const auto& n : with_agent.notes) CHECK_FALSE(contains(n, "output.ages"));
+}
+
+TEST_CASE("hostile: a normal load under the adaptive integrator is refused where it is not built", "[hostile]") {
+  // docs/model.md §12.8: a profile runs on the adaptive integrators with the continuum, mean_field and count models; the
+  // agent's leap steps under a load are not measured, and the in-plane coupling is not built (the Rosenbrock stages
+  // would need the load inside the step).
+  const std::vector<std::string> profile = {"interface.load_x=[0, 10]", "interface.load_p=[1, 0.5]",
+                                            "time.integrator=adaptive"};
+  CHECK(refusal(profile).empty());
+  auto agent = profile;
+  agent.push_back("discrete.representation=agent");
+  CHECK(contains(refusal(agent), "time.integrator: adaptive with a normal-load profile and the agent representation"));
+  const std::vector<std::string> coupled = {"bulk.height=4", "grid.dy=1", "bulk.body=inplane", "bulk.normal_load=1",
+                                            "interface.load_coupling=sigma_yy", "time.integrator=adaptive",
+                                            "limits.min_nodes_per_elastic_length=0"};
+  CHECK(contains(refusal(coupled), "time.integrator: adaptive with interface.load_coupling"));
+  CHECK(contains(refusal(coupled), "§12.5"));
 }
 
 TEST_CASE("hostile reproducers (issue 36): one threshold bin with a width is refused, not the delta law labelled w",

@@ -337,7 +337,9 @@ TEST_CASE("normal load: hostile inputs name the key and the reason", "[normal_lo
   refused(scene_text("", load, imposed, "", ""), "interface.load_p", "0D");
   refused(scene_text("", load, "[drive]\nloading = \"homogeneous\"\nsigma_d = 0.5\nnucleation_length = 5\n", "", ""),
           "interface.load_p", "homogeneous");
-  refused(scene_text("", load, edge, "", "integrator = \"adaptive\"\n"), "time.integrator", "normal-load");
+  refused(scene_text("models = [\"discrete\"]\n", load, edge, "[discrete]\nrepresentation = \"agent\"\n",
+                     "integrator = \"adaptive\"\n"),
+          "time.integrator", "agent representation");
   refused(scene_text("", load + "aging_b = 0.1\n", edge, "", ""), "interface.aging_b", "normal-load");
   refused(scene_text("models = [\"discrete\"]\n", load, edge, "[discrete]\nrepresentation = \"naive\"\n", ""),
           "discrete.representation", "normal load");
@@ -349,7 +351,8 @@ TEST_CASE("normal load: hostile inputs name the key and the reason", "[normal_lo
   refused(scene_text("", "load_x = [0.0, 5.0]\nload_p = [1.0, 0.0]\nload_channel = \"instantaneous\"\n", edge, "", ""),
           "interface.load_p", "instantaneous");
   // accepted: both channels with the three models (count and agent), p > p_0 on the continuum alone, explicit and
-  // implicit
+  // implicit; the adaptive integrators with the continuum, mean_field and count (docs/model.md §12.8)
+  CHECK_NOTHROW(app::parse_scene(scene_text(three, load, edge, "", "integrator = \"adaptive\"\n"), "a.toml", {}));
   CHECK_NOTHROW(app::parse_scene(scene_text(three, load, edge, "", ""), "a.toml", {}));
   CHECK_NOTHROW(app::parse_scene(scene_text(three, load, edge, "[discrete]\nrepresentation = \"agent\"\n", ""), "a.toml", {}));
   CHECK_NOTHROW(app::parse_scene(scene_text(three, load + "load_channel = \"instantaneous\"\n", edge, "", ""), "a.toml", {}));

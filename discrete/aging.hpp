@@ -28,7 +28,7 @@ namespace slipfront::discrete {
 /// The relative age span ε within which cohorts merge (docs/model.md §11.3: area error ≤ b ε²/8).
 inline constexpr double cohort_merge_width = 0.01;
 /// The largest Δt/(τ_a + a) whose step of a cohort's logarithm is the Taylor polynomial (above: std::log1p); a
-/// cohort's logarithm is then within (1/64)⁵/5 + (1/64)⁴/20 = 8.6e-10 of ln(1 + a/τ_a) over its life, plus the
+/// cohort's logarithm is then within (1/64)⁵/5 + (1/64)⁴/20 = 3.2e-9 of ln(1 + a/τ_a) over its life, plus the
 /// rounding of its steps (docs/model.md §11.3).
 inline constexpr double cached_log_series_max = 1.0 / 64.0;
 

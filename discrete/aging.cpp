@@ -6,14 +6,24 @@
 
 namespace slipfront::discrete {
 
-void AgeCohorts::step(double dt, double survive, double fresh, double tau) {
+namespace {
+// ln(1 + x) for 0 ≤ x: its Taylor polynomial to x⁴ up to cached_log_series_max (error ≤ x⁵/5), std::log1p above.
+double log1p_step(double x) {
+  if (x > cached_log_series_max) return std::log1p(x);
+  return x * (1.0 - x * (0.5 - x * (1.0 / 3.0 - 0.25 * x)));
+}
+}  // namespace
+
+template <bool keep_logs>
+void AgeCohorts::advance(double dt, double survive, double fresh, double tau) {
   for (auto& c : cohorts_) {
     c.mass *= survive;
+    if constexpr (keep_logs) c.log += log1p_step(dt / (tau + c.age));  // ln(τ + a + Δt) − ln(τ + a)
     c.age += dt;
     c.lo += dt;
     c.hi += dt;
   }
-  if (fresh > 0.0) cohorts_.push_back({fresh, 0.5 * dt, 0.0, dt});
+  if (fresh > 0.0) cohorts_.push_back({fresh, 0.5 * dt, 0.0, dt, keep_logs ? std::log1p(0.5 * dt / tau) : 0.0});
   // merge neighbours (older c, newer n) while the span [n.lo, c.hi] stays within ε (τ_a + n.lo)
   std::size_t out = 0;
   for (std::size_t k = 1; k < cohorts_.size(); ++k) {
@@ -24,6 +34,7 @@ void AgeCohorts::step(double dt, double survive, double fresh, double tau) {
       if (m > 0.0) c.age = (c.mass * c.age + n.mass * n.age) / m;
       c.mass = m;
       c.lo = n.lo;
+      if constexpr (keep_logs) c.log = std::log1p(c.age / tau);
     } else {
       cohorts_[++out] = n;
     }
@@ -31,7 +42,16 @@ void AgeCohorts::step(double dt, double survive, double fresh, double tau) {
   if (!cohorts_.empty()) cohorts_.resize(out + 1);
 }
 
+template void AgeCohorts::advance<true>(double, double, double, double);
+template void AgeCohorts::advance<false>(double, double, double, double);
+
 double AgeCohorts::area(const core::InterfaceParams& p) const {
+  double sum = 0.0;
+  for (const auto& c : cohorts_) sum += c.mass * (1.0 + p.aging_b * c.log);
+  return sum;
+}
+
+double AgeCohorts::area_recomputed(const core::InterfaceParams& p) const {
   double sum = 0.0;
   for (const auto& c : cohorts_) sum += c.mass * p.aged_area(c.age);
   return sum;

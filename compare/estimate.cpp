@@ -161,7 +161,7 @@ double longest_run(const Scene& s) {
 
 // Contact aging (interface.aging_b > 0, docs/model.md §11): the closure's logarithm per site-step; the age-structured
 // mean field's cohorts, ~ln(1 + t/τ_a)/ε per threshold class (discrete::cohort_merge_width), each with its area every
-// step (4 numbers); the agent's area summed over its contacts every step.
+// step (5 numbers: mass, age, the ages it spans, its kept logarithm); the agent's area summed over its contacts every step.
 void add_aging_cost(const Scene& s, const std::string& model, LawCost& out) {
   if (!s.interface.ages_contacts()) return;
   const StepCosts& c = step_costs();
@@ -172,7 +172,7 @@ void add_aging_cost(const Scene& s, const std::string& model, LawCost& out) {
     const double cohorts =
         count_bins(s.discrete) * std::log1p(longest_run(s) / s.interface.aging_tau) / discrete::cohort_merge_width;
     out.ns_per_site_step += c.aging_cohort * cohorts;
-    out.bytes_per_site += growth * 4.0 * word * cohorts;
+    out.bytes_per_site += growth * 5.0 * word * cohorts;
     out.what += ", ~" + count(cohorts) + " age cohorts per site";
   } else if (s.discrete.representation == "agent" || s.discrete.representation == "naive") {
     out.ns_per_site_step += c.aging_contact * static_cast<double>(s.discrete.contacts_per_site);
@@ -562,10 +562,11 @@ const StepCosts& step_costs() {
       // contact aging, fig1_aging (601 sites) to t_end = 50 ... 200 and slide_hold_slide, CPU of one run each
       // (2026-11-27): the closure 0.97 s against 0.25 s without aging at t_end = 100 (4.2e7 site-steps); the mean field
       // 1.7, 14.3, 54.4, 83.0 s at t_end = 50, 100, 150, 200 against 0.8 s without aging at 100: ~1.8 ns per cohort
-      // once the interface slides (each cohort's area is a logarithm), less at rest; the agent 15 s for 5.8e4 steps of
-      // 1e4 contacts
+      // when each cohort's area was a logarithm every step; with the kept logarithms (discrete/aging.hpp, 2026-11-28)
+      // 5.98 and 31.6 s at t_end = 100 and 200 against 0.82 s: ~0.75 ns per cohort (bench_aging new/old 0.40); the
+      // agent 15 s for 5.8e4 steps of 1e4 contacts
       .aging_closure = 17.0,
-      .aging_cohort = 1.8,
+      .aging_cohort = 0.75,
       .aging_contact = 25.0,
       .law_step = 250.0,
       .step = 250.0,
